@@ -1,0 +1,50 @@
+"""Exceptions of profilegen.
+
+Every package exception subclasses a builtin as well, so callers can catch
+either ``GearSetError`` or plain ``ValueError``.
+"""
+
+from __future__ import annotations
+
+__all__ = [
+    "ProfilegenError",
+    "GearSetError",
+    "ToothError",
+    "ConvergenceError",
+    "EnvelopeError",
+    "ExportError",
+]
+
+
+class ProfilegenError(Exception):
+    """Base class of every error raised on purpose by profilegen."""
+
+
+class GearSetError(ProfilegenError, ValueError):
+    """A gear-set field is missing, unknown or out of range.
+
+    ``problems`` holds one line per offending field, each naming the field,
+    the value, the unit and the allowed range; ``str(error)`` joins them on one
+    line.
+    """
+
+    def __init__(self, problems: str | list[str]):
+        self.problems: list[str] = [problems] if isinstance(problems, str) else list(problems)
+        super().__init__("; ".join(self.problems))
+
+
+class ToothError(GearSetError):
+    """The tooth fields describe no valid tooth (arc misses the addendum,
+    flanks cross, tooth wider than the pitch, ...)."""
+
+
+class ConvergenceError(ProfilegenError, RuntimeError):
+    """A solver did not converge; the message names where (φ, t, residual)."""
+
+
+class EnvelopeError(ProfilegenError, RuntimeError):
+    """The envelope could not be classified (e.g. no conjugate point at all)."""
+
+
+class ExportError(ProfilegenError, OSError):
+    """An output file could not be written; nothing partial is left behind."""

@@ -1,0 +1,1313 @@
+"""The gear set: the one input of the pipeline, read from a TOML file in ``profiles/``.
+
+A :class:`GearSet` is a frozen, validated description of one strain wave gear:
+the gear data (module, teeth, waves, rim), the flexspline tooth, the wave
+generator, the material, the torques and the circular-spline clearances. The
+schema (every field: meaning, unit, default, allowed range) is documented in
+``docs/gearset.md``; this module is its single implementation.
+
+Conventions
+-----------
+* Lengths in mm, moduli and stresses in MPa, torques in N·m (as in the files;
+  ``Torque.*_nmm`` give N·mm for the solvers), angles in degrees in the file
+  (``*_deg``) with ``*_rad`` properties for use inside the package.
+* r1 = m·z1/2 is the flexspline (FS) pitch radius, r2 = m·z2/2 the circular
+  spline (CS) pitch radius, r_m the radius of the undeformed neutral line of the
+  FS rim, U the number of waves, w0 = ω*·m the radial deflection of the neutral
+  line on the major axis.
+* Tooth points (``kind = "points"``) are given in the *pitch frame* of one FS
+  tooth: origin at the pitch point on the tooth axis (y = 0 on the pitch circle
+  r1), y radially outward along the tooth axis, x tangential toward the right
+  flank. The kinematics frame (origin on the neutral line) is this frame moved
+  by ``gear.neutral_to_pitch_mm`` = r1 − r_m along y.
+
+Validation collects every problem before raising one
+:class:`~profilegen.errors.GearSetError`; each problem is one line naming the
+field path, the value, the unit and the allowed range, e.g.
+``gear.module_mm = -0.5 mm: must be in (0, 10]``.
+
+>>> gs = load_gearset(default_gearset_path())
+>>> gs.gear.pitch_radius_mm, round(gs.gear.neutral_radius_mm, 6), gs.deflection_mm
+(50.0, 48.95, 0.5)
+>>> gs.with_values({"wave_generator.deflection_coefficient": 0.8}).deflection_mm
+0.4
+"""
+
+from __future__ import annotations
+
+import copy
+import csv
+import dataclasses
+import difflib
+import math
+import numbers
+import os
+import re
+import sys
+import tomllib
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, ClassVar
+
+import numpy as np
+
+from .errors import GearSetError
+
+__all__ = [
+    "GearSet",
+    "Gear",
+    "DctaTooth",
+    "InvoluteTooth",
+    "PointsTooth",
+    "Tooth",
+    "WaveGenerator",
+    "Material",
+    "Torque",
+    "CircularSpline",
+    "SCENES",
+    "TOOTH_KINDS",
+    "WAVE_GENERATOR_CONTOURS",
+    "load_gearset",
+    "parse_gearset",
+    "default_gearset_path",
+    "profiles_dir",
+    "list_profiles",
+    "resolve_gearset",
+]
+
+SCENES = ("sketch", "design", "verify")
+TOOTH_KINDS = ("dcta", "involute", "points")
+WAVE_GENERATOR_CONTOURS = ("elliptical_cam", "cosine_cam", "rollers")
+
+_NAME_RE = re.compile(r"[a-z0-9_-]+")
+_MIN_POINTS = 8
+
+# The seed-004 default double-circular-arc tooth (mm, module-independent).
+_DCTA_DEFAULTS = {
+    "pressure_angle_deg": 10.0,
+    "line_above_pitch_mm": 0.05,
+    "line_below_pitch_mm": 0.20,
+    "tip_arc_radius_mm": 0.65,
+    "root_arc_radius_mm": 0.70,
+    "addendum_mm": 0.40,
+    "dedendum_mm": 0.60,
+}
+
+_TOP_KEYS = ("name", "description", "source", "scene")
+_SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline")
+_GEAR_KEYS = (
+    "module_mm",
+    "flexspline_teeth",
+    "circular_spline_teeth",
+    "waves",
+    "rim_thickness_mm",
+    "neutral_radius_mm",
+)
+_TOOTH_KEYS = {
+    "dcta": (
+        "kind",
+        "pressure_angle_deg",
+        "line_above_pitch_mm",
+        "line_below_pitch_mm",
+        "tip_arc_radius_mm",
+        "root_arc_radius_mm",
+        "addendum_mm",
+        "dedendum_mm",
+        "half_thickness_mm",
+    ),
+    "involute": ("kind", "pressure_angle_deg", "addendum_mm", "dedendum_mm", "half_thickness_mm"),
+    "points": ("kind", "points", "points_file", "smoothing_mm"),
+}
+_WAVE_GENERATOR_KEYS = (
+    "deflection_coefficient",
+    "contour",
+    "roller_count",
+    "roller_radius_mm",
+    "bearing_thickness_mm",
+)
+_MATERIAL_KEYS = (
+    "youngs_modulus_mpa",
+    "poisson_ratio",
+    "yield_strength_mpa",
+    "ultimate_strength_mpa",
+    "bending_endurance_limit_mpa",
+    "shear_endurance_limit_mpa",
+)
+_TORQUE_KEYS = ("rated_nm", "peak_nm", "momentary_nm")
+_CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm")
+_SECTION_KEYS = {
+    "gear": _GEAR_KEYS,
+    "wave_generator": _WAVE_GENERATOR_KEYS,
+    "material": _MATERIAL_KEYS,
+    "torque": _TORQUE_KEYS,
+    "circular_spline": _CIRCULAR_SPLINE_KEYS,
+}
+
+
+# --------------------------------------------------------------------------- types
+
+_FROZEN = dict(frozen=True, slots=True, eq=False, kw_only=True)
+
+
+@dataclass(**_FROZEN)
+class Gear:
+    """Gear data of the set: module, teeth, waves and the flexspline rim."""
+
+    module_mm: float
+    flexspline_teeth: int
+    circular_spline_teeth: int
+    waves: int = 2
+    rim_thickness_mm: float
+    neutral_radius_mm: float
+    """Radius r_m of the undeformed rim neutral line (resolved: given or derived)."""
+
+    @property
+    def pitch_radius_mm(self) -> float:
+        """FS pitch radius r1 = m·z1/2 (mm)."""
+        return self.module_mm * self.flexspline_teeth / 2.0
+
+    @property
+    def cs_pitch_radius_mm(self) -> float:
+        """CS pitch radius r2 = m·z2/2 (mm)."""
+        return self.module_mm * self.circular_spline_teeth / 2.0
+
+    @property
+    def circular_pitch_mm(self) -> float:
+        """Circular pitch p = π·m (mm)."""
+        return math.pi * self.module_mm
+
+    @property
+    def tooth_difference(self) -> int:
+        """z2 − z1 (a positive multiple of the waves)."""
+        return self.circular_spline_teeth - self.flexspline_teeth
+
+    @property
+    def neutral_to_pitch_mm(self) -> float:
+        """r1 − r_m: y of the pitch point in the kinematics (neutral-line) tooth frame (mm)."""
+        return self.pitch_radius_mm - self.neutral_radius_mm
+
+
+@dataclass(**_FROZEN)
+class DctaTooth:
+    """Double-circular-arc tooth with a common tangent (DCTA), pitch frame.
+
+    Right flank from root to tip: a concave root arc (radius ``root_arc_radius_mm``)
+    from the root line (``dedendum_mm`` below the pitch line) to the point B, the
+    common tangent B → A (a straight line through the pitch point
+    ``(half_thickness_mm, 0)``, inclined by ``pressure_angle_deg`` to the tooth
+    axis; A and B lie ``line_above_pitch_mm`` / ``line_below_pitch_mm`` from the
+    pitch point *along the line*), then a convex tip arc (``tip_arc_radius_mm``)
+    up to the tip line (``addendum_mm`` above the pitch line); G1 at A and B.
+    Whether the arcs reach the tip and root lines is checked when the profile
+    is built (``profilegen.teeth``, :class:`~profilegen.errors.ToothError`).
+    """
+
+    kind: ClassVar[str] = "dcta"
+    pressure_angle_deg: float = _DCTA_DEFAULTS["pressure_angle_deg"]
+    line_above_pitch_mm: float = _DCTA_DEFAULTS["line_above_pitch_mm"]
+    line_below_pitch_mm: float = _DCTA_DEFAULTS["line_below_pitch_mm"]
+    tip_arc_radius_mm: float = _DCTA_DEFAULTS["tip_arc_radius_mm"]
+    root_arc_radius_mm: float = _DCTA_DEFAULTS["root_arc_radius_mm"]
+    addendum_mm: float = _DCTA_DEFAULTS["addendum_mm"]
+    dedendum_mm: float = _DCTA_DEFAULTS["dedendum_mm"]
+    half_thickness_mm: float
+
+    @property
+    def pressure_angle_rad(self) -> float:
+        return math.radians(self.pressure_angle_deg)
+
+
+@dataclass(**_FROZEN)
+class InvoluteTooth:
+    """Standard involute tooth (pitch frame): pressure angle, addendum, dedendum, thickness."""
+
+    kind: ClassVar[str] = "involute"
+    pressure_angle_deg: float = 20.0
+    addendum_mm: float
+    dedendum_mm: float
+    half_thickness_mm: float
+
+    @property
+    def pressure_angle_rad(self) -> float:
+        return math.radians(self.pressure_angle_deg)
+
+
+@dataclass(**_FROZEN)
+class PointsTooth:
+    """A tooth given by points of its right flank (pitch frame, root to tip, mm).
+
+    ``points`` is a read-only ``(n, 2)`` array; ``points_file`` names the CSV it
+    was read from (informational only: :meth:`GearSet.to_dict` writes the points
+    inline).
+    """
+
+    kind: ClassVar[str] = "points"
+    points: np.ndarray
+    smoothing_mm: float = 0.0005
+    points_file: str | None = None
+
+    def __post_init__(self):
+        points = np.array(self.points, dtype=float)
+        points.setflags(write=False)
+        object.__setattr__(self, "points", points)
+
+    def __reduce__(self):
+        # through the constructor, so that an unpickled copy is read-only again
+        return (_points_tooth, (self.points, self.smoothing_mm, self.points_file))
+
+    @property
+    def addendum_mm(self) -> float:
+        """Height of the highest point above the pitch circle (mm)."""
+        return float(self.points[:, 1].max())
+
+    @property
+    def dedendum_mm(self) -> float:
+        """Depth of the lowest point below the pitch circle (mm)."""
+        return float(-self.points[:, 1].min())
+
+    @property
+    def half_thickness_mm(self) -> float:
+        """x where the flank first crosses the pitch circle (y = 0), linear interpolation (mm)."""
+        return _pitch_crossing(self.points)
+
+
+def _points_tooth(points, smoothing_mm, points_file) -> PointsTooth:
+    return PointsTooth(points=points, smoothing_mm=smoothing_mm, points_file=points_file)
+
+
+Tooth = DctaTooth | InvoluteTooth | PointsTooth
+_TOOTH_TYPES = (DctaTooth, InvoluteTooth, PointsTooth)
+
+
+@dataclass(**_FROZEN)
+class WaveGenerator:
+    """Wave generator: deflection coefficient ω* (w0 = ω*·m) and contour."""
+
+    deflection_coefficient: float = 1.0
+    contour: str = "elliptical_cam"
+    roller_count: int | None = None
+    roller_radius_mm: float | None = None
+    bearing_thickness_mm: float | None = None
+
+
+@dataclass(**_FROZEN)
+class Material:
+    """Flexspline material (linear elastic) and optional strength limits (MPa)."""
+
+    youngs_modulus_mpa: float
+    poisson_ratio: float
+    yield_strength_mpa: float | None = None
+    ultimate_strength_mpa: float | None = None
+    bending_endurance_limit_mpa: float | None = None
+    shear_endurance_limit_mpa: float | None = None
+
+    @property
+    def shear_modulus_mpa(self) -> float:
+        """G = E / (2 (1 + ν)) (MPa)."""
+        return self.youngs_modulus_mpa / (2.0 * (1.0 + self.poisson_ratio))
+
+
+@dataclass(**_FROZEN)
+class Torque:
+    """Output torques (N·m, as in the files); ``*_nmm`` give N·mm."""
+
+    rated_nm: float
+    peak_nm: float
+    momentary_nm: float | None = None
+
+    @property
+    def rated_nmm(self) -> float:
+        return self.rated_nm * 1e3
+
+    @property
+    def peak_nmm(self) -> float:
+        return self.peak_nm * 1e3
+
+    @property
+    def momentary_nmm(self) -> float | None:
+        return None if self.momentary_nm is None else self.momentary_nm * 1e3
+
+
+@dataclass(**_FROZEN)
+class CircularSpline:
+    """Radial clearances of the CS against the FS tooth (mm, resolved)."""
+
+    root_clearance_mm: float
+    tip_clearance_mm: float
+
+
+_SECTION_TYPES = {
+    "gear": Gear,
+    "tooth": _TOOTH_TYPES,
+    "wave_generator": WaveGenerator,
+    "material": Material,
+    "torque": Torque,
+    "circular_spline": CircularSpline,
+}
+
+
+@dataclass(**_FROZEN)
+class GearSet:
+    """One validated strain wave gear set (see ``docs/gearset.md``).
+
+    Build it with :func:`load_gearset` / :func:`parse_gearset`; constructing it
+    directly (or through :func:`dataclasses.replace` / :meth:`replace`) validates
+    it as well. ``origin`` says where it was read from; ``given`` holds the field
+    paths that were explicit in the input (``None``: all of them), so that
+    :meth:`with_values` re-derives the defaults that depend on a changed value
+    (e.g. the involute addendum = m, the neutral radius).
+    """
+
+    name: str
+    description: str
+    source: str
+    scene: str = "design"
+    gear: Gear
+    tooth: Tooth
+    wave_generator: WaveGenerator
+    material: Material
+    torque: Torque
+    circular_spline: CircularSpline
+    origin: str = field(default="<dict>", repr=False)
+    given: frozenset[str] | None = field(default=None, repr=False)
+
+    def __post_init__(self):
+        if self.given is not None:
+            object.__setattr__(self, "given", frozenset(self.given))
+        wrong = [
+            f"{name}: must be a {_type_label(kind)}, got {type(getattr(self, name)).__name__}"
+            for name, kind in _SECTION_TYPES.items()
+            if not isinstance(getattr(self, name), kind)
+        ]
+        if wrong:
+            raise GearSetError(wrong)
+        reader = _Reader(base_dir=None)
+        reader.read(self.to_dict())
+        if reader.problems:
+            raise GearSetError(reader.problems)
+
+    # ----------------------------------------------------------- derived values
+    @property
+    def deflection_mm(self) -> float:
+        """Radial deflection of the neutral line on the major axis, w0 = ω*·m (mm)."""
+        return self.wave_generator.deflection_coefficient * self.gear.module_mm
+
+    @property
+    def tooth_difference(self) -> int:
+        """z2 − z1."""
+        return self.gear.tooth_difference
+
+    @property
+    def ratio(self) -> float:
+        """Reduction ratio z1/(z2 − z1), wave generator in, FS out, CS fixed.
+
+        The FS turns opposite to the wave generator; the ratio is given as a
+        positive number.
+        """
+        return self.gear.flexspline_teeth / self.gear.tooth_difference
+
+    # ------------------------------------------------------------- conversions
+    def to_dict(self, *, include_defaults: bool = True) -> dict[str, Any]:
+        """JSON-safe nested dict in the file schema; ``parse_gearset`` of it gives an equal one.
+
+        With ``include_defaults=False`` only the fields that were explicit in
+        the input are written (tooth points always inline), so that values
+        derived from others (neutral radius, module-relative defaults) are
+        derived again when the dict is parsed.
+        """
+        g, t, w, mat, tq, cs = (
+            self.gear,
+            self.tooth,
+            self.wave_generator,
+            self.material,
+            self.torque,
+            self.circular_spline,
+        )
+        tooth: dict[str, Any] = {"kind": t.kind}
+        if isinstance(t, PointsTooth):
+            tooth["points"] = np.asarray(t.points, dtype=float).tolist()
+            tooth["smoothing_mm"] = float(t.smoothing_mm)
+        else:
+            for key in _TOOTH_KEYS[t.kind][1:]:
+                tooth[key] = _json_value(getattr(t, key))
+        out: dict[str, Any] = {
+            "name": self.name,
+            "description": self.description,
+            "source": self.source,
+            "scene": self.scene,
+            "gear": {key: _json_value(getattr(g, key)) for key in _GEAR_KEYS},
+            "tooth": tooth,
+            "wave_generator": _optional_fields(w, _WAVE_GENERATOR_KEYS),
+            "material": _optional_fields(mat, _MATERIAL_KEYS),
+            "torque": _optional_fields(tq, _TORQUE_KEYS),
+            "circular_spline": {key: _json_value(getattr(cs, key)) for key in _CIRCULAR_SPLINE_KEYS},
+        }
+        if include_defaults or self.given is None:
+            return out
+        given = self.given
+        keep_always = {"name", "description", "source", "tooth.kind", "tooth.points"}
+        explicit: dict[str, Any] = {}
+        for key, value in out.items():
+            if isinstance(value, dict):
+                section = {
+                    k: v
+                    for k, v in value.items()
+                    if f"{key}.{k}" in given or f"{key}.{k}" in keep_always
+                }
+                if section or key != "circular_spline":
+                    explicit[key] = section
+            elif key in given or key in keep_always:
+                explicit[key] = value
+        return explicit
+
+    def with_values(self, changes: Mapping[str, Any]) -> GearSet:
+        """A new validated gear set with some fields changed (for sweeps).
+
+        ``changes`` maps dotted field paths to values, e.g.
+        ``{"wave_generator.deflection_coefficient": 0.8, "gear.module_mm": 0.4}``;
+        a value ``None`` removes the field so that its default applies again.
+        Defaults that depend on a changed value are derived again.
+        """
+        if not isinstance(changes, Mapping):
+            raise GearSetError(
+                f"with_values: changes must be a mapping of field paths, got {type(changes).__name__}"
+            )
+        data = copy.deepcopy(self.to_dict(include_defaults=False))
+        problems = []
+        for path, value in changes.items():
+            parts = str(path).split(".")
+            if not all(parts):
+                problems.append(
+                    f"{path}: not a field path (expected 'section.field' or a top-level key)"
+                )
+                continue
+            node = data
+            for depth, part in enumerate(parts[:-1]):
+                child = node.setdefault(part, {})
+                if not isinstance(child, dict):
+                    problems.append(f"{path}: {'.'.join(parts[: depth + 1])} is not a section")
+                    break
+                node = child
+            else:
+                if value is None:
+                    node.pop(parts[-1], None)
+                else:
+                    node[parts[-1]] = _json_value(value) if isinstance(value, np.ndarray) else value
+        if problems:
+            raise GearSetError(problems)
+        return parse_gearset(data, origin=self.origin)
+
+    def replace(self, **changes: Any) -> GearSet:
+        """:func:`dataclasses.replace` with validation; the result treats every field as explicit."""
+        changes.setdefault("given", None)
+        return dataclasses.replace(self, **changes)
+
+
+# --------------------------------------------------------------------------- loading
+
+
+def parse_gearset(
+    mapping: Mapping[str, Any], *, origin: str = "<dict>", base_dir: str | os.PathLike | None = None
+) -> GearSet:
+    """Validate a mapping in the file schema and build a :class:`GearSet`.
+
+    ``base_dir`` is the folder that a relative ``tooth.points_file`` is resolved
+    against (the current directory when ``None``). Raises :class:`GearSetError`
+    listing every problem.
+    """
+    if not isinstance(mapping, Mapping):
+        raise GearSetError(
+            f"{origin}: a gear set must be a table (mapping), got {type(mapping).__name__}"
+        )
+    reader = _Reader(base_dir=None if base_dir is None else Path(base_dir))
+    parts = reader.read(mapping)
+    if reader.problems:
+        raise GearSetError(reader.problems)
+    return GearSet(**parts, origin=origin, given=frozenset(reader.given))
+
+
+def load_gearset(path: str | os.PathLike) -> GearSet:
+    """Read and validate a gear-set TOML file.
+
+    Every error is a :class:`GearSetError` naming the file: a missing file, a
+    malformed file (with TOML's line/column message) and each invalid field
+    (one line per field, prefixed with the path).
+    """
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            data = tomllib.load(handle)
+    except FileNotFoundError:
+        raise GearSetError(f"{path}: no such gear-set file") from None
+    except IsADirectoryError:
+        raise GearSetError(f"{path}: is a folder, not a gear-set file") from None
+    except OSError as exc:
+        raise GearSetError(f"{path}: cannot read gear-set file ({exc.strerror or exc})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise GearSetError(f"{path}: malformed TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise GearSetError(
+            f"{path}: malformed TOML: not UTF-8 text ({exc.reason} at byte {exc.start})"
+        ) from None
+    try:
+        return parse_gearset(data, origin=str(path), base_dir=path.parent)
+    except GearSetError as exc:
+        raise type(exc)([f"{path}: {line}" for line in exc.problems]) from None
+
+
+def _profile_dir_candidates() -> list[Path]:
+    return [
+        Path(__file__).resolve().parents[1] / "profiles",
+        Path(sys.prefix) / "share" / "profilegen" / "profiles",
+    ]
+
+
+def profiles_dir() -> Path:
+    """The folder of the shipped profiles: ``<repo>/profiles`` if present, else the installed copy."""
+    candidates = _profile_dir_candidates()
+    for folder in candidates:
+        if (folder / "default.toml").is_file():
+            return folder
+    raise GearSetError(
+        "profiles folder not found (looked for default.toml in "
+        + ", ".join(str(c) for c in candidates)
+        + ")"
+    )
+
+
+def default_gearset_path() -> Path:
+    """Path of ``profiles/default.toml`` (repo checkout first, then ``sys.prefix/share/profilegen``)."""
+    return profiles_dir() / "default.toml"
+
+
+def list_profiles() -> list[Path]:
+    """The shipped gear-set files, sorted by name."""
+    return sorted(profiles_dir().glob("*.toml"))
+
+
+def resolve_gearset(name_or_path: str | os.PathLike) -> Path:
+    """Path of a gear set given as a file path or as a bare profile name (``"default"``).
+
+    A value with a folder separator or a ``.toml`` suffix is a path; a bare name
+    is looked up in :func:`profiles_dir` (then, failing that, as a file in the
+    current folder). Raises :class:`GearSetError` naming what was tried.
+    """
+    text = os.fspath(name_or_path)
+    candidate = Path(text)
+    is_path = (
+        isinstance(name_or_path, os.PathLike)
+        or os.sep in text
+        or (os.altsep is not None and os.altsep in text)
+        or candidate.suffix == ".toml"
+    )
+    if is_path:
+        if candidate.is_file():
+            return candidate
+        raise GearSetError(f"{candidate}: no such gear-set file")
+    try:
+        folder = profiles_dir()
+    except GearSetError:
+        folder = None
+    if folder is not None and (folder / f"{text}.toml").is_file():
+        return folder / f"{text}.toml"
+    if candidate.is_file():
+        return candidate
+    known = ", ".join(p.stem for p in list_profiles()) if folder is not None else "none found"
+    raise GearSetError(f"gear set {text!r}: no such profile (known profiles: {known}) and no such file")
+
+
+# --------------------------------------------------------------------------- validation
+
+_REQUIRED = object()
+
+
+class _Range:
+    """An interval with open/closed ends, printed as ``(0, 10]``."""
+
+    __slots__ = ("lo", "hi", "lo_open", "hi_open", "note")
+
+    def __init__(self, lo, hi=math.inf, *, lo_open=False, hi_open=False, note=""):
+        self.lo, self.hi, self.lo_open, self.hi_open, self.note = lo, hi, lo_open, hi_open, note
+
+    def __contains__(self, v) -> bool:
+        above = v > self.lo if self.lo_open else v >= self.lo
+        below = v < self.hi if self.hi_open or math.isinf(self.hi) else v <= self.hi
+        return above and below
+
+    def describe(self) -> str:
+        if math.isinf(self.hi):
+            text = f"must be {'>' if self.lo_open else '>='} {_fmt(self.lo)}"
+        else:
+            text = (
+                f"must be in {'(' if self.lo_open else '['}{_fmt(self.lo)}, "
+                f"{_fmt(self.hi)}{')' if self.hi_open else ']'}"
+            )
+        return f"{text} ({self.note})" if self.note else text
+
+
+def _fmt(x) -> str:
+    if isinstance(x, numbers.Integral):
+        return str(int(x))
+    return f"{float(x):.6g}"
+
+
+def _show(value) -> str:
+    """A value as it would read in the TOML file (short)."""
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, str):
+        return '"' + value.replace('"', '\\"') + '"'
+    if isinstance(value, numbers.Integral):
+        return str(int(value))
+    if isinstance(value, numbers.Real):
+        return repr(float(value))
+    if isinstance(value, Mapping):
+        return "{...}"
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _type_name(value) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return "boolean"
+    if isinstance(value, str):
+        return "string"
+    if isinstance(value, numbers.Integral):
+        return "integer"
+    if isinstance(value, numbers.Real):
+        return "float"
+    if isinstance(value, Mapping):
+        return "table"
+    if isinstance(value, (list, tuple)):
+        return "array"
+    return type(value).__name__
+
+
+def _type_label(kind) -> str:
+    if isinstance(kind, tuple):
+        return " or ".join(k.__name__ for k in kind)
+    return kind.__name__
+
+
+def _json_value(value):
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
+
+
+def _optional_fields(obj, keys) -> dict[str, Any]:
+    out = {}
+    for key in keys:
+        value = getattr(obj, key)
+        if value is not None:
+            out[key] = _json_value(value)
+    return out
+
+
+def _pitch_crossing(points: np.ndarray) -> float:
+    y = points[:, 1]
+    for i in range(len(y) - 1):
+        y0, y1 = y[i], y[i + 1]
+        if y0 == 0.0:
+            return float(points[i, 0])
+        if (y0 < 0.0) != (y1 < 0.0):
+            s = y0 / (y0 - y1)
+            return float(points[i, 0] + s * (points[i + 1, 0] - points[i, 0]))
+    if y[-1] == 0.0:
+        return float(points[-1, 0])
+    raise GearSetError("tooth.points: the flank does not cross the pitch circle (y = 0)")
+
+
+class _Reader:
+    """Reads one gear-set mapping; collects problems, the explicit paths and the sections."""
+
+    def __init__(self, *, base_dir: Path | None):
+        self.base_dir = base_dir
+        self.problems: list[str] = []
+        self.given: set[str] = set()
+
+    # ----------------------------------------------------------------- helpers
+    def problem(self, line: str) -> None:
+        self.problems.append(line)
+
+    def unknown_keys(self, table: Mapping, prefix: str, allowed, what: str = "") -> None:
+        for key in table:
+            if key in allowed:
+                continue
+            path = f"{prefix}.{key}" if prefix else str(key)
+            hint = difflib.get_close_matches(str(key), list(allowed), n=1)
+            line = f"{path}: unknown key{what} (allowed: {', '.join(allowed)})"
+            if hint:
+                line += f"; did you mean {hint[0]!r}?"
+            self.problem(line)
+
+    def section(self, data: Mapping, name: str, *, required: bool = True) -> Mapping | None:
+        if name not in data:
+            if required:
+                self.problem(f"{name}: missing required section [{name}]")
+            return None
+        table = data[name]
+        if not isinstance(table, Mapping):
+            self.problem(
+                f"{name} = {_show(table)}: must be a table ([{name}] section), got {_type_name(table)}"
+            )
+            return None
+        return table
+
+    def number(
+        self,
+        table: Mapping,
+        prefix: str,
+        key: str,
+        *,
+        unit: str,
+        rng: _Range | None = None,
+        default: Any = _REQUIRED,
+        integer: bool = False,
+    ):
+        """A number field; returns its value (default when absent) or None after a problem."""
+        path = f"{prefix}.{key}" if prefix else key
+        suffix = f" {unit}" if unit else ""
+        if key not in table:
+            if default is _REQUIRED:
+                detail = ", ".join(x for x in ("required", unit, rng.describe() if rng else "") if x)
+                self.problem(f"{path}: missing ({detail})")
+                return None
+            if default is None:
+                return None
+            if rng is not None and default not in rng:
+                self.problem(
+                    f"{path} = {_fmt(default)}{suffix} (default): {rng.describe()}; give it explicitly"
+                )
+                return None
+            return default
+        self.given.add(path)
+        value = table[key]
+        want = "an integer" if integer else "a number"
+        if isinstance(value, (bool, np.bool_)) or not isinstance(value, numbers.Real):
+            self.problem(f"{path} = {_show(value)}: must be {want}, got {_type_name(value)}")
+            return None
+        if integer:
+            if not isinstance(value, numbers.Integral):
+                self.problem(f"{path} = {_show(value)}: must be an integer, got float")
+                return None
+            value = int(value)
+        else:
+            value = float(value)
+            if not math.isfinite(value):
+                self.problem(f"{path} = {_show(value)}{suffix}: must be finite")
+                return None
+        if rng is not None and value not in rng:
+            self.problem(f"{path} = {_show(value)}{suffix}: {rng.describe()}")
+            return None
+        return value
+
+    def string(
+        self,
+        table: Mapping,
+        prefix: str,
+        key: str,
+        *,
+        default: Any = _REQUIRED,
+        choices: tuple[str, ...] | None = None,
+        pattern: re.Pattern | None = None,
+    ):
+        path = f"{prefix}.{key}" if prefix else key
+        if key not in table:
+            if default is _REQUIRED:
+                extra = f", one of {', '.join(map(_show, choices))}" if choices else ""
+                self.problem(f"{path}: missing (required string{extra})")
+                return None
+            return default
+        self.given.add(path)
+        value = table[key]
+        if not isinstance(value, str):
+            self.problem(f"{path} = {_show(value)}: must be a string, got {_type_name(value)}")
+            return None
+        if choices is not None and value not in choices:
+            hint = difflib.get_close_matches(value, choices, n=1)
+            line = f"{path} = {_show(value)}: must be one of {', '.join(map(_show, choices))}"
+            self.problem(line + (f"; did you mean {_show(hint[0])}?" if hint else ""))
+            return None
+        if pattern is not None and not pattern.fullmatch(value):
+            self.problem(
+                f"{path} = {_show(value)}: must match {pattern.pattern} "
+                "(lower-case letters, digits, _ and -)"
+            )
+            return None
+        if choices is None and pattern is None and not value.strip():
+            self.problem(f"{path} = {_show(value)}: must not be empty")
+            return None
+        return value
+
+    # ----------------------------------------------------------------- sections
+    def read(self, data: Mapping) -> dict[str, Any]:
+        """Read everything; returns the GearSet keyword arguments (meaningful only without problems)."""
+        self.unknown_keys(data, "", _TOP_KEYS + _SECTIONS)
+        name = self.string(data, "", "name", pattern=_NAME_RE)
+        description = self.string(data, "", "description")
+        source = self.string(data, "", "source")
+        scene = self.string(data, "", "scene", default="design", choices=SCENES)
+
+        gear_raw = self.read_gear(self.section(data, "gear"))
+        m = gear_raw.get("module_mm")
+        tooth = self.read_tooth(self.section(data, "tooth"), m)
+        gear = self.finish_gear(gear_raw, tooth)
+        wave_generator = self.read_wave_generator(self.section(data, "wave_generator"), gear_raw, gear)
+        material = self.read_material(self.section(data, "material"))
+        torque = self.read_torque(self.section(data, "torque"))
+        circular_spline = self.read_circular_spline(
+            self.section(data, "circular_spline", required=False), m
+        )
+        return dict(
+            name=name,
+            description=description,
+            source=source,
+            scene=scene,
+            gear=gear,
+            tooth=tooth,
+            wave_generator=wave_generator,
+            material=material,
+            torque=torque,
+            circular_spline=circular_spline,
+        )
+
+    def read_gear(self, t: Mapping | None) -> dict[str, Any]:
+        if t is None:
+            return {}
+        self.unknown_keys(t, "gear", _GEAR_KEYS)
+        out: dict[str, Any] = {}
+        out["module_mm"] = m = self.number(
+            t, "gear", "module_mm", unit="mm", rng=_Range(0, 10, lo_open=True)
+        )
+        out["flexspline_teeth"] = z1 = self.number(
+            t, "gear", "flexspline_teeth", unit="", integer=True, rng=_Range(20, 2000)
+        )
+        out["waves"] = waves = self.number(
+            t, "gear", "waves", unit="", integer=True, rng=_Range(2, 4), default=2
+        )
+        z2 = self.number(t, "gear", "circular_spline_teeth", unit="", integer=True, rng=_Range(1))
+        if z2 is not None and z1 is not None and waves is not None:
+            diff = z2 - z1
+            if diff <= 0 or diff % waves:
+                self.problem(
+                    f"gear.circular_spline_teeth = {z2}: z2 − z1 = {diff} must be a positive multiple "
+                    f"of waves = {waves} (e.g. z2 = {z1 + waves})"
+                )
+                z2 = None
+        out["circular_spline_teeth"] = z2
+        r1 = None if m is None or z1 is None else m * z1 / 2.0
+        out["pitch_radius_mm"] = r1
+        rim_rng = (
+            _Range(0, 0.2 * r1, lo_open=True, note="upper bound 0.2·pitch radius")
+            if r1 is not None
+            else _Range(0, lo_open=True)
+        )
+        out["rim_thickness_mm"] = self.number(t, "gear", "rim_thickness_mm", unit="mm", rng=rim_rng)
+        # The neutral radius is checked once the tooth dedendum is known (finish_gear).
+        out["neutral_radius_mm"] = self.number(t, "gear", "neutral_radius_mm", unit="mm", default=None)
+        out["_neutral_given"] = "neutral_radius_mm" in t
+        return out
+
+    def finish_gear(self, raw: dict[str, Any], tooth) -> Gear | None:
+        if not raw:
+            return None
+        r1 = raw["pitch_radius_mm"]
+        dedendum = None if tooth is None else tooth.dedendum_mm
+        r_m = raw["neutral_radius_mm"]
+        if raw["_neutral_given"] and r_m is not None:
+            if r1 is None:
+                rng = _Range(0, lo_open=True)
+            elif dedendum is None:
+                rng = _Range(0.5 * r1, r1, lo_open=True, hi_open=True, note="0.5·r1 < r_m < r1")
+            else:
+                rng = _Range(
+                    0.5 * r1,
+                    r1 - dedendum,
+                    lo_open=True,
+                    hi_open=True,
+                    note=f"0.5·r1 < r_m < root radius r1 − dedendum, r1 = {_fmt(r1)} mm",
+                )
+            if r_m not in rng:
+                self.problem(f"gear.neutral_radius_mm = {_show(r_m)} mm: {rng.describe()}")
+                r_m = None
+        elif not raw["_neutral_given"]:
+            rim = raw["rim_thickness_mm"]
+            r_m = None if None in (r1, dedendum, rim) else r1 - dedendum - rim / 2.0
+        values = {k: raw[k] for k in _GEAR_KEYS if k != "neutral_radius_mm"}
+        if r_m is None or any(v is None for v in values.values()):
+            return None
+        return Gear(**values, neutral_radius_mm=r_m)
+
+    def read_tooth(self, t: Mapping | None, m: float | None):
+        if t is None:
+            return None
+        kind = self.string(t, "tooth", "kind", choices=TOOTH_KINDS)
+        if kind is None:
+            known = set().union(*_TOOTH_KEYS.values())
+            self.unknown_keys(t, "tooth", sorted(known, key=lambda k: (k != "kind", k)))
+            return None
+        allowed = _TOOTH_KEYS[kind]
+        for key in t:
+            if key in allowed:
+                continue
+            owners = [k for k, keys in _TOOTH_KEYS.items() if key in keys]
+            belongs = f"belongs to kind {', '.join(map(_show, owners))}; " if owners else ""
+            hint = difflib.get_close_matches(str(key), list(allowed), n=1)
+            line = (
+                f"tooth.{key}: unknown key for kind {_show(kind)} "
+                f"({belongs}allowed: {', '.join(allowed)})"
+            )
+            self.problem(line + (f"; did you mean {hint[0]!r}?" if hint and not owners else ""))
+        if kind == "dcta":
+            return self.read_dcta(t, m)
+        if kind == "involute":
+            return self.read_involute(t, m)
+        return self.read_points(t, m)
+
+    def _module_range(self, m, lo, factor, *, lo_open, hi_open=False, what="m"):
+        if m is None:
+            return _Range(lo, lo_open=lo_open)
+        return _Range(
+            lo, factor * m, lo_open=lo_open, hi_open=hi_open, note=f"upper bound {_fmt(factor)}·{what}"
+        )
+
+    def read_dcta(self, t: Mapping, m: float | None) -> DctaTooth | None:
+        d = _DCTA_DEFAULTS
+        v: dict[str, Any] = {}
+        v["pressure_angle_deg"] = self.number(
+            t,
+            "tooth",
+            "pressure_angle_deg",
+            unit="deg",
+            rng=_Range(0, 45, lo_open=True, hi_open=True),
+            default=d["pressure_angle_deg"],
+        )
+        for key in ("line_above_pitch_mm", "line_below_pitch_mm"):
+            v[key] = self.number(
+                t,
+                "tooth",
+                key,
+                unit="mm",
+                rng=self._module_range(m, 0, 5, lo_open=False),
+                default=d[key],
+            )
+        for key in ("tip_arc_radius_mm", "root_arc_radius_mm"):
+            v[key] = self.number(
+                t,
+                "tooth",
+                key,
+                unit="mm",
+                rng=self._module_range(m, 0, 10, lo_open=True),
+                default=d[key],
+            )
+        for key in ("addendum_mm", "dedendum_mm"):
+            v[key] = self.number(
+                t, "tooth", key, unit="mm", rng=self._module_range(m, 0, 3, lo_open=True), default=d[key]
+            )
+        v["half_thickness_mm"] = self.half_thickness(t, m)
+        if any(x is None for x in v.values()):
+            return None
+        return DctaTooth(**v)
+
+    def half_thickness(self, t: Mapping, m: float | None):
+        default = None if m is None else math.pi * m / 4.0
+        if m is None:
+            rng = _Range(0, lo_open=True)
+        else:
+            rng = _Range(
+                0, math.pi * m / 2.0, lo_open=True, hi_open=True, note="upper bound half a pitch π·m/2"
+            )
+        value = self.number(t, "tooth", "half_thickness_mm", unit="mm", rng=rng, default=default)
+        return value
+
+    def read_involute(self, t: Mapping, m: float | None) -> InvoluteTooth | None:
+        v: dict[str, Any] = {}
+        v["pressure_angle_deg"] = self.number(
+            t, "tooth", "pressure_angle_deg", unit="deg", rng=_Range(5, 35), default=20.0
+        )
+        for key, factor in (("addendum_mm", 1.0), ("dedendum_mm", 1.25)):
+            v[key] = self.number(
+                t,
+                "tooth",
+                key,
+                unit="mm",
+                rng=self._module_range(m, 0, 3, lo_open=True),
+                default=None if m is None else factor * m,
+            )
+        v["half_thickness_mm"] = self.half_thickness(t, m)
+        if any(x is None for x in v.values()):
+            return None
+        return InvoluteTooth(**v)
+
+    def read_points(self, t: Mapping, m: float | None) -> PointsTooth | None:
+        smoothing = self.number(
+            t, "tooth", "smoothing_mm", unit="mm", rng=_Range(0, 0.1), default=0.0005
+        )
+        has_points, has_file = "points" in t, "points_file" in t
+        if has_points == has_file:
+            which = "both" if has_points else "neither"
+            self.problem(
+                "tooth.points, tooth.points_file: give exactly one of the two for "
+                f'kind "points", got {which}'
+            )
+            return None
+        points_file = None
+        if has_points:
+            label = "tooth.points"
+            self.given.add(label)
+            points = self.point_list(t["points"])
+        else:
+            label = "tooth.points_file"
+            self.given.add("tooth.points")
+            points_file = self.string(t, "tooth", "points_file")
+            points = None if points_file is None else self.points_csv(points_file)
+        if points is None:
+            return None
+        if not self.check_points(points, label, m) or smoothing is None:
+            return None
+        return PointsTooth(points=points, smoothing_mm=smoothing, points_file=points_file)
+
+    def point_list(self, value) -> np.ndarray | None:
+        if not isinstance(value, (list, tuple, np.ndarray)):
+            self.problem(
+                f"tooth.points = {_show(value)}: must be an array of [x_mm, y_mm] pairs, "
+                f"got {_type_name(value)}"
+            )
+            return None
+        rows = []
+        for i, pair in enumerate(value):
+            ok = (
+                isinstance(pair, (list, tuple, np.ndarray))
+                and len(pair) == 2
+                and all(
+                    isinstance(c, numbers.Real) and not isinstance(c, (bool, np.bool_)) for c in pair
+                )
+            )
+            if not ok:
+                self.problem(
+                    f"tooth.points[{i}] = {_show(pair)}: must be an [x_mm, y_mm] pair of numbers"
+                )
+                return None
+            rows.append((float(pair[0]), float(pair[1])))
+        return np.array(rows, dtype=float).reshape(-1, 2)
+
+    def points_csv(self, name: str) -> np.ndarray | None:
+        path = Path(name)
+        if not path.is_absolute() and self.base_dir is not None:
+            path = self.base_dir / path
+        where = f"tooth.points_file = {_show(name)}"
+        try:
+            with path.open(newline="", encoding="utf-8") as handle:
+                lines = [
+                    (n, line)
+                    for n, line in enumerate(handle, 1)
+                    if line.strip() and not line.lstrip().startswith("#")
+                ]
+        except OSError as exc:
+            self.problem(f"{where}: cannot read {path} ({exc.strerror or exc})")
+            return None
+        except UnicodeDecodeError:
+            self.problem(f"{where}: {path} is not UTF-8 text")
+            return None
+        if not lines:
+            self.problem(f"{where}: {path} is empty (expected a header x_mm,y_mm and rows)")
+            return None
+        rows = list(csv.reader(line for _, line in lines))
+        header = [h.strip() for h in rows[0]]
+        if "x_mm" not in header or "y_mm" not in header:
+            self.problem(
+                f"{where}: {path} line {lines[0][0]}: header must name the columns x_mm and y_mm, "
+                f"got {','.join(header)}"
+            )
+            return None
+        ix, iy = header.index("x_mm"), header.index("y_mm")
+        out = []
+        for (number, _), row in zip(lines[1:], rows[1:]):
+            try:
+                out.append((float(row[ix]), float(row[iy])))
+            except (IndexError, ValueError):
+                self.problem(
+                    f"{where}: {path} line {number}: expected numbers in columns x_mm, y_mm, "
+                    f"got {','.join(row)}"
+                )
+                return None
+        return np.array(out, dtype=float).reshape(-1, 2)
+
+    def check_points(self, p: np.ndarray, label: str, m: float | None) -> bool:
+        n_problems = len(self.problems)
+        if len(p) < _MIN_POINTS:
+            self.problem(f"{label}: must have at least {_MIN_POINTS} [x_mm, y_mm] points, got {len(p)}")
+            return False
+        if not np.all(np.isfinite(p)):
+            self.problem(f"{label}: every coordinate must be finite (no nan/inf)")
+            return False
+        repeated = np.flatnonzero(np.all(np.diff(p, axis=0) == 0.0, axis=1))
+        if repeated.size:
+            self.problem(
+                f"{label}: point {repeated[0] + 1} repeats point {repeated[0]} (zero-length segment)"
+            )
+        if not p[0, 1] < p[-1, 1]:
+            self.problem(
+                f"{label}: must run from root to tip (first y = {_fmt(p[0, 1])} mm "
+                f"must be below last y = {_fmt(p[-1, 1])} mm)"
+            )
+        ymin, ymax = p[:, 1].min(), p[:, 1].max()
+        if not ymin < 0.0 < ymax:
+            self.problem(
+                f"{label}: must cross the pitch circle (min y < 0 < max y in the pitch frame), "
+                f"got y in [{_fmt(ymin)}, {_fmt(ymax)}] mm"
+            )
+        xmin, xmax = p[:, 0].min(), p[:, 0].max()
+        half_pitch = None if m is None else math.pi * m / 2.0
+        if xmin < 0.0 or (half_pitch is not None and xmax > half_pitch):
+            allowed = (
+                ">= 0" if half_pitch is None else f"in [0, {_fmt(half_pitch)}] (half a pitch π·m/2)"
+            )
+            self.problem(
+                f"{label}: x must be {allowed} for a right flank, "
+                f"got x in [{_fmt(xmin)}, {_fmt(xmax)}] mm"
+            )
+        if m is not None:
+            if ymax > 3.0 * m:
+                self.problem(
+                    f"{label}: addendum (max y) = {_fmt(ymax)} mm: must be <= {_fmt(3 * m)} (3·m)"
+                )
+            if -ymin > 3.0 * m:
+                self.problem(
+                    f"{label}: dedendum (−min y) = {_fmt(-ymin)} mm: must be <= {_fmt(3 * m)} (3·m)"
+                )
+        return len(self.problems) == n_problems
+
+    def read_wave_generator(
+        self, t: Mapping | None, gear_raw: dict, gear: Gear | None
+    ) -> WaveGenerator | None:
+        if t is None:
+            return None
+        self.unknown_keys(t, "wave_generator", _WAVE_GENERATOR_KEYS)
+        p = "wave_generator"
+        v: dict[str, Any] = {}
+        v["deflection_coefficient"] = self.number(
+            t, p, "deflection_coefficient", unit="", rng=_Range(0, 3, lo_open=True), default=1.0
+        )
+        v["contour"] = contour = self.string(
+            t, p, "contour", default="elliptical_cam", choices=WAVE_GENERATOR_CONTOURS
+        )
+        ok = all(x is not None for x in v.values())
+        if contour == "rollers":
+            count = self.number(t, p, "roller_count", unit="", integer=True)
+            if count is not None and count not in (2, 4):
+                self.problem(f"{p}.roller_count = {count}: must be 2 or 4")
+                count = None
+            waves = gear_raw.get("waves")
+            if count is not None and waves is not None and count % waves:
+                self.problem(f"{p}.roller_count = {count}: must be a multiple of gear.waves = {waves}")
+                count = None
+            if gear is not None:
+                inner = gear.neutral_radius_mm - gear.rim_thickness_mm / 2.0
+                rng = _Range(
+                    0,
+                    inner,
+                    lo_open=True,
+                    hi_open=True,
+                    note="upper bound the rim's inner radius r_m − δ/2",
+                )
+            else:
+                rng = _Range(0, lo_open=True)
+            radius = self.number(t, p, "roller_radius_mm", unit="mm", rng=rng)
+            v["roller_count"], v["roller_radius_mm"] = count, radius
+            ok = ok and count is not None and radius is not None
+        elif contour is not None:
+            for key in ("roller_count", "roller_radius_mm"):
+                if key in t:
+                    self.problem(
+                        f'{p}.{key}: only allowed with contour = "rollers" (contour is {_show(contour)})'
+                    )
+                    ok = False
+        if "bearing_thickness_mm" in t and contour is not None and contour != "elliptical_cam":
+            self.problem(
+                f'{p}.bearing_thickness_mm: only allowed with contour = "elliptical_cam" '
+                f"(contour is {_show(contour)})"
+            )
+            ok = False
+        elif contour == "elliptical_cam":
+            bearing = self.number(t, p, "bearing_thickness_mm", unit="mm", rng=_Range(0), default=None)
+            if "bearing_thickness_mm" in t and bearing is None:
+                ok = False
+            v["bearing_thickness_mm"] = bearing
+        return WaveGenerator(**v) if ok else None
+
+    def read_material(self, t: Mapping | None) -> Material | None:
+        if t is None:
+            return None
+        p = "material"
+        self.unknown_keys(t, p, _MATERIAL_KEYS)
+        v: dict[str, Any] = {}
+        v["youngs_modulus_mpa"] = self.number(
+            t, p, "youngs_modulus_mpa", unit="MPa", rng=_Range(0, 1e6, lo_open=True)
+        )
+        v["poisson_ratio"] = self.number(
+            t, p, "poisson_ratio", unit="", rng=_Range(0, 0.5, hi_open=True)
+        )
+        ok = all(x is not None for x in v.values())
+        for key in _MATERIAL_KEYS[2:]:
+            value = self.number(t, p, key, unit="MPa", rng=_Range(0, lo_open=True), default=None)
+            ok = ok and not (key in t and value is None)
+            v[key] = value
+        ultimate = v["ultimate_strength_mpa"]
+        if ultimate is not None:
+            for key in (
+                "yield_strength_mpa",
+                "bending_endurance_limit_mpa",
+                "shear_endurance_limit_mpa",
+            ):
+                if v[key] is not None and v[key] > ultimate:
+                    self.problem(
+                        f"{p}.{key} = {_fmt(v[key])} MPa: must be <= "
+                        f"material.ultimate_strength_mpa = {_fmt(ultimate)} MPa"
+                    )
+                    ok = False
+        return Material(**v) if ok else None
+
+    def read_torque(self, t: Mapping | None) -> Torque | None:
+        if t is None:
+            return None
+        p = "torque"
+        self.unknown_keys(t, p, _TORQUE_KEYS)
+        rated = self.number(t, p, "rated_nm", unit="N·m", rng=_Range(0, lo_open=True))
+        peak_rng = (
+            _Range(0, lo_open=True) if rated is None else _Range(rated, note="peak >= rated torque")
+        )
+        peak = self.number(t, p, "peak_nm", unit="N·m", rng=peak_rng)
+        if peak is None:
+            momentary_rng = _Range(0, lo_open=True)
+        else:
+            momentary_rng = _Range(peak, note="momentary >= peak torque")
+        momentary = self.number(t, p, "momentary_nm", unit="N·m", rng=momentary_rng, default=None)
+        if rated is None or peak is None or ("momentary_nm" in t and momentary is None):
+            return None
+        return Torque(rated_nm=rated, peak_nm=peak, momentary_nm=momentary)
+
+    def read_circular_spline(self, t: Mapping | None, m: float | None) -> CircularSpline | None:
+        if t is None:
+            t = {}
+        p = "circular_spline"
+        self.unknown_keys(t, p, _CIRCULAR_SPLINE_KEYS)
+        v = {}
+        for key in _CIRCULAR_SPLINE_KEYS:
+            v[key] = self.number(
+                t,
+                p,
+                key,
+                unit="mm",
+                rng=self._module_range(m, 0, 2, lo_open=False),
+                default=None if m is None else 0.25 * m,
+            )
+            if m is None and key not in t:
+                v[key] = None  # derived from the module, which is invalid: already reported
+        if any(x is None for x in v.values()):
+            return None
+        return CircularSpline(**v)
