@@ -1,0 +1,964 @@
+"""Envelope of the flexspline tooth family: meshing-condition roots, classified.
+
+The CS tooth space is the region swept by the FS tooth over one pass
+(φ ∈ [−π/U, π/U]); its boundary is the conjugate CS flank. The meshing
+equation f(t, φ) = ∂Q/∂φ × ∂Q/∂t = 0 gives candidates only (DESIGN trap 2):
+
+* a profile point can have two roots (double conjugation) or none (never in
+  mesh); near folds (f = ∂f/∂φ = 0) the two roots merge;
+* a root's point can lie inside the swept region (a false, interfering flank);
+* part of the true boundary is the path of the tooth's tip corner, which the
+  meshing equation cannot produce.
+
+Method. f factors into φ-terms times t-terms (``Pose.meshing_coefficients``),
+so f on a (t, φ) grid is one matrix product. Its zero set is traced as curves in
+the (t, φ) plane (marching squares), every vertex is projected onto f = 0 with
+Newton steps along ∇f, and the curve is subdivided until the chord sag of its
+image Q(t, φ) in the CS frame is below ``chord_tol_mm``; folds are located on the
+traced curve (sign change of ∂f/∂φ) by bisection. The images, the tip-corner
+paths and the top-land envelope are split at all their mutual crossings, and
+each piece is classified once, at its midpoint, by its depth inside the region
+swept by the tooth and its two neighbours (closure: neighbour families are the
+same family turned by ±2π/z2). Crossings where the boundary switches from one
+piece to another are the branch-switch ridges.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from dataclasses import dataclass, field
+
+import contourpy
+import numpy as np
+import shapely
+
+from .errors import EnvelopeError
+from .kinematics import Motion, unit_radial, unit_tangential
+
+__all__ = [
+    "CONJUGATE",
+    "INTERFERING",
+    "TIP_PATH",
+    "Curve",
+    "EnvelopePiece",
+    "Ridge",
+    "Fold",
+    "Envelope",
+    "ToothShape",
+    "solve_envelope",
+    "swept_depth",
+    "trace_meshing_roots",
+]
+
+log = logging.getLogger(__name__)
+
+CONJUGATE = "conjugate"  # a meshing root on the swept boundary
+INTERFERING = "interfering"  # a meshing root (or corner path) strictly inside the swept region
+TIP_PATH = "tip_path"  # the tip corner's path where it bounds the swept region
+
+
+def _readonly(a, dtype=float) -> np.ndarray:
+    a = np.array(a, dtype=dtype)
+    a.setflags(write=False)
+    return a
+
+
+# ----------------------------------------------------------------------------- the generating curve
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Curve:
+    """A smooth generating curve in the tooth frame, p(t) for t ∈ [0, length].
+
+    ``evaluate(t) -> (p, p′, p″)`` each (n, 2). ``name`` says which part of the
+    tooth it is (``right``, ``left``, ``top``).
+    """
+
+    name: str
+    length: float
+    evaluate: object  # callable t -> (p, dp, ddp)
+
+    def terms(self, t) -> tuple[np.ndarray, np.ndarray]:
+        """t-terms of the meshing function and their t-derivative, each (3, n)."""
+        p, dp, ddp = self.evaluate(np.atleast_1d(t))
+        T = np.stack([np.sum(p * dp, -1), dp[:, 1], dp[:, 0]])
+        Tt = np.stack([np.sum(dp * dp, -1) + np.sum(p * ddp, -1), ddp[:, 1], ddp[:, 0]])
+        return T, Tt
+
+
+def line_curve(name: str, start, end) -> Curve:
+    """A straight segment as a unit-speed curve."""
+    start, end = np.asarray(start, float), np.asarray(end, float)
+    length = float(np.hypot(*(end - start)))
+    u = (end - start) / length
+
+    def evaluate(t):
+        t = np.atleast_1d(np.asarray(t, float))
+        return start + t[:, None] * u, np.broadcast_to(u, (t.size, 2)), np.zeros((t.size, 2))
+
+    return Curve(name, length, evaluate)
+
+
+# ----------------------------------------------------------------------------- the tooth as a region
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ToothShape:
+    """The FS tooth (with its root lands) as the hypograph y ≤ Y(|x|) in the tooth frame.
+
+    Y is the top land ``y_a`` for |x| ≤ x_tip, the flank for x_tip ≤ |x| ≤ x_root
+    (the flank must be monotone in x), and the root circle (about the FS centre
+    (0, −r_m), through the flank's root point) out to the mid-space angle π/z1;
+    beyond that the neighbouring tooth owns the point (−∞ here; the neighbours
+    are handled by closure).
+    """
+
+    flank_x: np.ndarray  # increasing
+    flank_y: np.ndarray
+    flank_cos: np.ndarray  # cos of the flank's slope angle, turns vertical depth into normal depth
+    tip_x: float
+    tip_y: float
+    root_x: float
+    root_radius: float
+    neutral_radius: float
+    half_angle: float  # π / z1
+
+    @classmethod
+    def from_flank(cls, flank: Curve, *, neutral_radius_mm: float, teeth: int, samples: int = 20001):
+        t = np.linspace(0.0, flank.length, samples)
+        p = flank.evaluate(t)[0]
+        x, y = p[::-1, 0], p[::-1, 1]  # tip → root: x increasing
+        if np.any(np.diff(x) <= 0):
+            bad = float(t[::-1][np.argmax(np.diff(x) <= 0)])
+            raise EnvelopeError(
+                f"tooth: the flank must be monotone in x (tooth narrowing toward the tip) for the "
+                f"swept-region test; it turns back at t = {bad:.4f} mm"
+            )
+        return cls(
+            flank_x=_readonly(x),
+            flank_y=_readonly(y),
+            flank_cos=_readonly(1.0 / np.sqrt(1.0 + np.gradient(y, x) ** 2)),
+            tip_x=float(x[0]),
+            tip_y=float(y[0]),
+            root_x=float(x[-1]),
+            root_radius=float(np.hypot(x[-1], y[-1] + neutral_radius_mm)),
+            neutral_radius=float(neutral_radius_mm),
+            half_angle=float(np.pi / teeth),
+        )
+
+    def depth(self, q: np.ndarray) -> np.ndarray:
+        """Approximate signed normal depth of tooth-frame points inside the tooth (mm, > 0 inside)."""
+        ax, y = np.abs(q[..., 0]), q[..., 1]
+        d = (np.interp(ax, self.flank_x, self.flank_y) - y) * np.interp(ax, self.flank_x, self.flank_cos)
+        d = np.where(ax <= self.tip_x, self.tip_y - y, d)
+        rc = np.sqrt(np.maximum(self.root_radius**2 - ax**2, 0.0)) - self.neutral_radius
+        d = np.where(ax >= self.root_x, rc - y, d)
+        outside_sector = np.arctan2(ax, y + self.neutral_radius) > self.half_angle
+        return np.where(outside_sector, -np.inf, d)
+
+
+def swept_depth(
+    points: np.ndarray,
+    motion: Motion,
+    shape: ToothShape,
+    *,
+    phi_range: tuple[float, float],
+    neighbour_angle: float,
+    n_grid: int = 721,
+    refine: int = 40,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Largest depth of CS points inside the region swept by the tooth and its two neighbours.
+
+    Returns (depth_mm, phi_at_max). The maximum over the φ grid is refined by
+    golden-section search in the bracketing grid cells.
+    """
+    pts = np.atleast_2d(np.asarray(points, float))
+    phis = np.linspace(*phi_range, n_grid)
+    pose = motion.pose(phis)
+    best = np.full(len(pts), -np.inf)
+    best_phi = np.zeros(len(pts))
+    best_k = np.zeros(len(pts))
+    for k in (-1.0, 0.0, 1.0):
+        c, s = np.cos(k * neighbour_angle), np.sin(k * neighbour_angle)
+        # turn the point back by k pitches (our angle sense: clockwise from +y)
+        rot = np.stack([pts[:, 0] * c - pts[:, 1] * s, pts[:, 0] * s + pts[:, 1] * c], -1)
+        d = rot[:, None, :] - pose.origin[None]
+        q = np.stack(
+            [
+                np.sum(d * unit_tangential(pose.angle)[None], -1),
+                np.sum(d * unit_radial(pose.angle)[None], -1),
+            ],
+            -1,
+        )
+        depth = shape.depth(q)
+        j = np.argmax(depth, axis=1)
+        val = depth[np.arange(len(pts)), j]
+        better = val > best
+        best = np.where(better, val, best)
+        best_phi = np.where(better, phis[j], best_phi)
+        best_k = np.where(better, k, best_k)
+    # golden-section refinement around the best grid point
+    h = phis[1] - phis[0]
+    lo = np.clip(best_phi - h, *phi_range)
+    hi = np.clip(best_phi + h, *phi_range)
+    c, s = np.cos(best_k * neighbour_angle), np.sin(best_k * neighbour_angle)
+    rot = np.stack([pts[:, 0] * c - pts[:, 1] * s, pts[:, 0] * s + pts[:, 1] * c], -1)
+
+    def depth_at(phi):
+        pose_ = motion.pose(phi)
+        return shape.depth(pose_.to_tooth(rot))
+
+    g = (np.sqrt(5.0) - 1.0) / 2.0
+    x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
+    f1, f2 = depth_at(x1), depth_at(x2)
+    for _ in range(refine):
+        left = f1 > f2
+        hi = np.where(left, x2, hi)
+        lo = np.where(left, lo, x1)
+        x2n = np.where(left, x1, lo + g * (hi - lo))
+        x1n = np.where(left, hi - g * (hi - lo), x2)
+        f2n = np.where(left, f1, np.nan)
+        f1n = np.where(left, np.nan, f2)
+        need1, need2 = np.isnan(f1n), np.isnan(f2n)
+        if need1.any() or need2.any():
+            fx = depth_at(np.where(left, x1n, x2n))
+            f1n = np.where(need1, fx, f1n)
+            f2n = np.where(need2, fx, f2n)
+        x1, x2, f1, f2 = x1n, x2n, f1n, f2n
+    refined = np.maximum(f1, f2)
+    better = refined > best
+    return np.where(better, refined, best), np.where(better, np.where(f1 > f2, x1, x2), best_phi)
+
+
+# ----------------------------------------------------------------------------- tracing f = 0
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Fold:
+    """A fold of the meshing roots: f = ∂f/∂φ = 0 (two roots of one profile point merge)."""
+
+    curve: str
+    t: float
+    phi: float
+    point: tuple[float, float]
+
+    def to_dict(self) -> dict:
+        return {"curve": self.curve, "t_mm": self.t, "phi_rad": self.phi, "x_mm": self.point[0], "y_mm": self.point[1]}
+
+
+def _f_and_grad(curve: Curve, motion: Motion, t, phi):
+    T, Tt = curve.terms(t)
+    a, a_phi = motion.pose(phi).meshing_coefficients()
+    return np.sum(a * T.T, -1), np.sum(a * Tt.T, -1), np.sum(a_phi * T.T, -1)
+
+
+def _project(curve, motion, t, phi, lock_t, lock_phi, phi_range, iterations=8, tol=1e-14):
+    """Newton steps along ∇f onto f = 0; a locked coordinate (curve ends) stays fixed."""
+    t, phi = t.astype(float).copy(), phi.astype(float).copy()
+    for _ in range(iterations):
+        f, ft, fp = _f_and_grad(curve, motion, t, phi)
+        ft = np.where(lock_t, 0.0, ft)
+        fp = np.where(lock_phi, 0.0, fp)
+        g2 = ft * ft + fp * fp
+        step = np.where(g2 > 0, f / np.where(g2 > 0, g2, 1.0), 0.0)
+        t = np.clip(t - step * ft, 0.0, curve.length)
+        phi = np.clip(phi - step * fp, *phi_range)
+        if np.max(np.abs(step) * np.sqrt(g2), initial=0.0) < tol:  # (t, φ) distance to f = 0
+            break
+    return t, phi
+
+
+def _locate_folds(curve, motion, t, phi, iterations=6, h=1e-5):
+    """Refine fold estimates (vectorised): Newton on f = 0, ∂f/∂φ = 0 in (t, φ).
+
+    The Jacobian's ∂²f/∂φ² comes from a central difference of the analytic ∂f/∂φ;
+    the residuals themselves are analytic, so the root is exact to rounding.
+    """
+    for _ in range(iterations):
+        T, Tt = curve.terms(t)
+        a, a_p = motion.pose(phi).meshing_coefficients()
+        a_pp = (motion.pose(phi + h).meshing_coefficients()[1] - motion.pose(phi - h).meshing_coefficients()[1]) / (2 * h)
+        f, ft, fp = np.sum(a * T.T, -1), np.sum(a * Tt.T, -1), np.sum(a_p * T.T, -1)
+        ftp, fpp = np.sum(a_p * Tt.T, -1), np.sum(a_pp * T.T, -1)
+        det = ft * fpp - fp * ftp
+        dt = (f * fpp - fp * fp) / det
+        dp = (ft * fp - ftp * f) / det
+        t, phi = np.clip(t - dt, 0.0, curve.length), phi - dp
+        if np.max(np.abs(dt) + np.abs(dp)) < 1e-14:
+            break
+    return t, phi
+
+
+def _image(curve: Curve, motion: Motion, t, phi) -> np.ndarray:
+    return motion.pose(phi).to_cs(curve.evaluate(t)[0])
+
+
+def _sag(q: np.ndarray, qm: np.ndarray) -> np.ndarray:
+    """Distance of midpoints qm from the chords q[i]–q[i+1]."""
+    return _sag_pairs(q[:-1], q[1:], qm)
+
+
+def _sag_pairs(a: np.ndarray, b: np.ndarray, qm: np.ndarray) -> np.ndarray:
+    """Distance of points qm from the chords a–b."""
+    ab = b - a
+    L2 = np.sum(ab * ab, -1)
+    s = np.clip(np.sum((qm - a) * ab, -1) / np.where(L2 > 0, L2, 1.0), 0, 1)
+    return np.hypot(*(a + s[:, None] * ab - qm).T)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class RootCurve:
+    """One traced branch of f = 0: (t, φ) vertices and their CS images."""
+
+    curve: str
+    t: np.ndarray
+    phi: np.ndarray
+    points: np.ndarray
+    residual: float  # max |f| / |∇f| over the vertices (distance to f = 0 in (t, φ))
+    coarse: np.ndarray  # indices of the tracing grid's vertices (a subset of the refined ones)
+    coarse_sag: np.ndarray  # chord sag of each coarse segment, mm (bounds where crossings can hide)
+
+    def mirrored(self, name: str) -> "RootCurve":
+        """The mirror image x → −x, φ → −φ (a symmetric tooth in a symmetric deformation)."""
+        return RootCurve(
+            name, self.t, _readonly(-self.phi), _readonly(self.points * [-1.0, 1.0]), self.residual, self.coarse, self.coarse_sag
+        )
+
+
+def trace_meshing_roots(
+    curve: Curve,
+    motion: Motion,
+    *,
+    phi_range: tuple[float, float],
+    n_t: int = 96,
+    n_phi: int = 241,
+    chord_tol_mm: float = 1e-6,
+    max_step: float = 0.05,
+    max_rounds: int = 40,
+) -> tuple[list[RootCurve], list[Fold]]:
+    """All roots of f(t, φ) = 0 for one generating curve, traced as curves, refined, with folds."""
+    t_g = np.linspace(0.0, curve.length, n_t)
+    phi_g = np.linspace(*phi_range, n_phi)
+    T, _ = curve.terms(t_g)
+    a, _ = motion.pose(phi_g).meshing_coefficients()
+    F = a @ T  # (n_phi, n_t): the whole grid in one product
+    lines = contourpy.contour_generator(t_g, phi_g, F, line_type=contourpy.LineType.Separate).lines(0.0)
+    lines = [ln for ln in lines if len(ln) >= 2]
+    if not lines:
+        return [], []
+    # all branches in one set of arrays (fewer, larger vectorised calls); a segment joins
+    # two vertices only when both belong to the same branch
+    line_id = np.concatenate([np.full(len(ln), k) for k, ln in enumerate(lines)])
+    t, phi = np.concatenate(lines)[:, 0], np.concatenate(lines)[:, 1]
+    eps_t, eps_p = 1e-12 * curve.length, 1e-12
+    lock_t = (t <= eps_t) | (t >= curve.length - eps_t)
+    lock_p = (phi <= phi_range[0] + eps_p) | (phi >= phi_range[1] - eps_p)
+    t, phi = _project(curve, motion, t, phi, lock_t, lock_p, phi_range)
+    q = _image(curve, motion, t, phi)
+    pending = line_id[1:] == line_id[:-1]  # segments whose chord sag is not yet verified
+    is_coarse = np.ones(len(t), bool)
+    coarse_sag = None
+    for _ in range(max_rounds):
+        seg = np.nonzero(pending)[0]
+        if seg.size == 0:
+            break
+        a, b = seg, seg + 1
+        lt = lock_t[a] & lock_t[b] & (t[a] == t[b])
+        lp = lock_p[a] & lock_p[b] & (phi[a] == phi[b])
+        tm, pm = _project(curve, motion, 0.5 * (t[a] + t[b]), 0.5 * (phi[a] + phi[b]), lt, lp, phi_range)
+        sag = _sag_pairs(q[a], q[b], _image(curve, motion, tm, pm))
+        if coarse_sag is None:
+            coarse_sag = np.zeros(len(t) - 1)
+            coarse_sag[seg] = sag
+        step = np.hypot(t[b] - t[a], phi[b] - phi[a])
+        # sag ∝ h²: split a segment into n so that each part's sag is ~tol/2
+        n = np.maximum(np.ceil(np.sqrt(2.0 * sag / chord_tol_mm)), np.ceil(step / max_step))
+        n = np.minimum(n, 64).astype(int)
+        split = n > 1
+        pending[seg[~split]] = False
+        if not split.any():
+            continue
+        k = n[split]
+        at = np.repeat(seg[split], k - 1)
+        frac = np.concatenate([np.arange(1, m) / m for m in k])
+        ln_t, ln_p = np.repeat(lt[split], k - 1), np.repeat(lp[split], k - 1)
+        tn, pn = _project(
+            curve, motion, t[at] + frac * (t[at + 1] - t[at]), phi[at] + frac * (phi[at + 1] - phi[at]), ln_t, ln_p, phi_range
+        )
+        counts = np.ones(len(t) - 1, int)
+        counts[seg[split]] = k
+        fresh = np.zeros(len(t) - 1, bool)
+        fresh[seg[split]] = True
+        q = np.insert(q, at + 1, _image(curve, motion, tn, pn), axis=0)
+        t, phi = np.insert(t, at + 1, tn), np.insert(phi, at + 1, pn)
+        lock_t, lock_p = np.insert(lock_t, at + 1, ln_t), np.insert(lock_p, at + 1, ln_p)
+        line_id = np.insert(line_id, at + 1, line_id[at])
+        is_coarse = np.insert(is_coarse, at + 1, False)
+        pending = np.repeat(fresh, counts)  # the parts of split segments are checked next round
+    else:
+        log.warning("envelope: chord refinement of %s stopped after %d rounds", curve.name, max_rounds)
+    f, ft, fp = _f_and_grad(curve, motion, t, phi)
+    # folds: t is extremal along a branch (∂f/∂φ changes sign); Newton starts from the vertex
+    # of the parabola t(φ) through the extreme vertex and its neighbours
+    same = line_id[1:] == line_id[:-1]
+    i = np.nonzero(same & (np.sign(fp[1:]) * np.sign(fp[:-1]) < 0))[0]
+    i = np.where(np.abs(fp[i]) < np.abs(fp[i + 1]), i, i + 1)
+    i = i[(i >= 1) & (i <= len(t) - 2)]
+    i = i[(line_id[i - 1] == line_id[i]) & (line_id[i + 1] == line_id[i])]
+    folds = []
+    if i.size:
+        x0, x1, x2 = phi[i - 1], phi[i], phi[i + 1]
+        y0, y1, y2 = t[i - 1], t[i], t[i + 1]
+        d01, d12 = (y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1)
+        c2 = (d12 - d01) / (x2 - x0)
+        pv = np.where(c2 != 0, 0.5 * (x0 + x1) - d01 / np.where(c2 != 0, 2 * c2, 1.0), x1)
+        tv = y1 + d01 * (pv - x1) + c2 * (pv - x0) * (pv - x1)
+        tf, pf = _locate_folds(curve, motion, tv, pv)
+        for tk, pk, qk in zip(tf, pf, _image(curve, motion, tf, pf)):
+            folds.append(Fold(curve.name, float(tk), float(pk), (float(qk[0]), float(qk[1]))))
+    dist = np.abs(f) / np.maximum(np.hypot(ft, fp), 1e-300)  # distance to f = 0 in (t, φ)
+    out = []
+    coarse_idx = np.nonzero(is_coarse)[0]  # same order as the tracing grid's vertices
+    if coarse_sag is None:
+        coarse_sag = np.zeros(coarse_idx.size)
+    for k in range(len(lines)):
+        sel = np.nonzero(line_id == k)[0]
+        mine = np.nonzero(line_id[coarse_idx] == k)[0]
+        ck = coarse_idx[mine]
+        sag_k = coarse_sag[mine[:-1]]
+        out.append(
+            RootCurve(
+                curve.name, _readonly(t[sel]), _readonly(phi[sel]), _readonly(q[sel]), float(dist[sel].max()),
+                _readonly(ck - sel[0], int), _readonly(sag_k),
+            )
+        )
+    return out, folds
+
+
+def trace_corner_path(
+    corner: np.ndarray, motion: Motion, name: str, *, phi_range, chord_tol_mm: float, n_phi: int = 121, max_rounds: int = 40
+) -> RootCurve:
+    """Path of a tooth-frame point over the pass, subdivided to the chord tolerance."""
+    phi = np.linspace(*phi_range, n_phi)
+    corner = np.asarray(corner, float)
+
+    def image(ph):
+        return motion.pose(ph).to_cs(np.broadcast_to(corner, (ph.size, 2)))
+
+    is_coarse = np.ones(phi.size, bool)
+    q = image(phi)
+    coarse_sag = None
+    for _ in range(max_rounds):
+        pm = 0.5 * (phi[1:] + phi[:-1])
+        sag = _sag(q, image(pm))
+        if coarse_sag is None:
+            coarse_sag = sag
+        n = np.minimum(np.ceil(np.sqrt(2.0 * sag / chord_tol_mm)), 64).astype(int)
+        if not (n > 1).any():
+            break
+        at = np.repeat(np.arange(phi.size - 1), n - 1)
+        frac = np.concatenate([np.arange(1, m) / m for m in n])
+        pn = phi[at] + frac * (phi[at + 1] - phi[at])
+        q = np.insert(q, at + 1, image(pn), axis=0)
+        phi = np.insert(phi, at + 1, pn)
+        is_coarse = np.insert(is_coarse, at + 1, False)
+    return RootCurve(
+        name, _readonly(np.full(phi.size, np.nan)), _readonly(phi), _readonly(q), 0.0,
+        _readonly(np.nonzero(is_coarse)[0], int), _readonly(coarse_sag),
+    )
+
+
+# ----------------------------------------------------------------------------- pieces and ridges
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class EnvelopePiece:
+    """A stretch of a root curve or corner path between crossings, classified once.
+
+    ``source`` is the generating part (``right``, ``left``, ``top``,
+    ``right_tip``, ``left_tip``); ``depth_mm`` is how deep its midpoint lies inside
+    the swept region (≤ 0 on the boundary).
+    """
+
+    source: str
+    cls: str
+    points: np.ndarray
+    t: np.ndarray
+    phi: np.ndarray
+    depth_mm: float
+
+    @property
+    def length_mm(self) -> float:
+        return float(np.sum(np.hypot(*np.diff(self.points, axis=0).T)))
+
+    def to_dict(self) -> dict:
+        return {
+            "source": self.source,
+            "class": self.cls,
+            "n_points": int(len(self.points)),
+            "length_mm": self.length_mm,
+            "depth_mm": self.depth_mm,
+            "start_mm": self.points[0].tolist(),
+            "end_mm": self.points[-1].tolist(),
+        }
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Ridge:
+    """Where the CS flank switches from one generating branch to another, with a kink."""
+
+    point: tuple[float, float]
+    sources: tuple[str, str]
+    phi: tuple[float, float]
+    kink_deg: float
+
+    def to_dict(self) -> dict:
+        return {
+            "x_mm": self.point[0],
+            "y_mm": self.point[1],
+            "radius_mm": float(np.hypot(*self.point)),
+            "sources": list(self.sources),
+            "phi_rad": list(self.phi),
+            "kink_deg": self.kink_deg,
+        }
+
+
+def _crossing_params(a1, b1, a2, b2):
+    """Fractions (s, u) where segments a1–b1 and a2–b2 cross, and a validity mask."""
+    d1, d2 = b1 - a1, b2 - a2
+    den = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    safe = np.where(den != 0, den, 1.0)
+    w = a2 - a1
+    s = (w[:, 0] * d2[:, 1] - w[:, 1] * d2[:, 0]) / safe
+    u = (w[:, 0] * d1[:, 1] - w[:, 1] * d1[:, 0]) / safe
+    return s, u, (den != 0) & (s >= 0) & (s < 1) & (u >= 0) & (u < 1)
+
+
+def _segment_crossings(curves: list[RootCurve], n_own: int | None = None) -> list[tuple[int, int, float, int, int, float, np.ndarray]]:
+    """Transversal crossings between traced curves (and of a curve with itself).
+
+    Candidates come from an R-tree over the coarse (tracing-grid) segments, each box
+    grown by the chord sag measured for it, so a crossing of the refined curves
+    cannot hide; only fine segments inside candidate pairs are intersected. A curve
+    is not tested against its own neighbouring coarse segments; only the first
+    ``n_own`` curves are tested (against all). Returns (i, seg_i,
+    s_i, j, seg_j, s_j, point), s being the fraction along the fine segment.
+    """
+    lo, hi, owner, which = [], [], [], []
+    for k, rc in enumerate(curves):
+        c = rc.coarse
+        for m in range(len(c) - 1):
+            seg = rc.points[c[m] : c[m + 1] + 1]
+            lo.append(seg.min(0) - rc.coarse_sag[m])
+            hi.append(seg.max(0) + rc.coarse_sag[m])
+        owner.append(np.full(len(c) - 1, k))
+        which.append(np.arange(len(c) - 1))
+    lo, hi = np.array(lo), np.array(hi)
+    owner, which = np.concatenate(owner), np.concatenate(which)
+    boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
+    n_query = int(np.sum(owner < (len(curves) if n_own is None else n_own)))
+    ci, cj = shapely.STRtree(boxes).query(boxes[:n_query], predicate="intersects")
+    keep = (ci < cj) & ((owner[ci] != owner[cj]) | (np.abs(which[ci] - which[cj]) > 1))
+    ci, cj = ci[keep], cj[keep]
+    si_l, sj_l, oi_l, oj_l = [], [], [], []
+    for a, b in zip(ci, cj):
+        ra, rb = curves[owner[a]], curves[owner[b]]
+        ia = np.arange(ra.coarse[which[a]], ra.coarse[which[a] + 1])
+        ib = np.arange(rb.coarse[which[b]], rb.coarse[which[b] + 1])
+        si_l.append(np.repeat(ia, ib.size))
+        sj_l.append(np.tile(ib, ia.size))
+        oi_l.append(np.full(ia.size * ib.size, owner[a]))
+        oj_l.append(np.full(ia.size * ib.size, owner[b]))
+    if not si_l:
+        return []
+    si, sj = np.concatenate(si_l), np.concatenate(sj_l)
+    oi, oj = np.concatenate(oi_l), np.concatenate(oj_l)
+    starts = np.concatenate([[0], np.cumsum([len(rc.points) for rc in curves])[:-1]])
+    allp = np.vstack([rc.points for rc in curves])
+    a1, b1 = allp[starts[oi] + si], allp[starts[oi] + si + 1]
+    a2, b2 = allp[starts[oj] + sj], allp[starts[oj] + sj + 1]
+    s, u, hit = _crossing_params(a1, b1, a2, b2)
+    hit &= (oi != oj) | (np.abs(si - sj) > 1)
+    out = []
+    for k in np.nonzero(hit)[0]:
+        pt = a1[k] + s[k] * (b1[k] - a1[k])
+        out.append((int(oi[k]), int(si[k]), float(s[k]), int(oj[k]), int(sj[k]), float(u[k]), pt))
+    return out
+
+
+def _split(rc: RootCurve, cuts: list[tuple[int, float, np.ndarray]]):
+    """Split a root curve at (segment, fraction, point) cuts into (points, t, phi) stretches."""
+    cuts = sorted(cuts, key=lambda c: (c[0], c[1]))
+    pieces, start_pt, start_t, start_p = [], None, None, None
+    pts, ts, ps = rc.points, rc.t, rc.phi
+    cur_pts, cur_t, cur_p = [pts[0]], [ts[0]], [ps[0]]
+    ci = 0
+    for seg in range(len(pts) - 1):
+        while ci < len(cuts) and cuts[ci][0] == seg:
+            _, frac, pt = cuts[ci]
+            tc = ts[seg] + frac * (ts[seg + 1] - ts[seg])
+            pc = ps[seg] + frac * (ps[seg + 1] - ps[seg])
+            cur_pts.append(pt)
+            cur_t.append(tc)
+            cur_p.append(pc)
+            pieces.append((np.array(cur_pts), np.array(cur_t), np.array(cur_p)))
+            cur_pts, cur_t, cur_p = [pt], [tc], [pc]
+            ci += 1
+        cur_pts.append(pts[seg + 1])
+        cur_t.append(ts[seg + 1])
+        cur_p.append(ps[seg + 1])
+    pieces.append((np.array(cur_pts), np.array(cur_t), np.array(cur_p)))
+    return [p for p in pieces if len(p[0]) >= 2 and np.ptp(p[0], axis=0).max() > 0]
+
+
+def _midpoint(points: np.ndarray) -> np.ndarray:
+    """The vertex nearest half the arc length: an exact envelope point, not a chord point
+    (a chord of the boundary lies inside the swept region by up to its sag)."""
+    if len(points) == 2:
+        return 0.5 * (points[0] + points[1])
+    s = np.concatenate([[0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])
+    k = int(np.clip(np.argmin(np.abs(s - 0.5 * s[-1])), 1, len(points) - 2))
+    return points[k]
+
+
+def _tangent_at(points: np.ndarray, at_start: bool) -> np.ndarray:
+    d = points[1] - points[0] if at_start else points[-1] - points[-2]
+    return d / np.hypot(*d)
+
+
+# ----------------------------------------------------------------------------- the envelope
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Envelope:
+    """The classified envelope of one CS tooth space.
+
+    ``pieces``: every root stretch and corner-path stretch between crossings, with
+    its class; ``ridges``: branch switches on the CS flank; ``folds``: merged root
+    pairs; ``no_root``: per flank, the t-intervals (mm of arc length, root → tip)
+    that never mesh; ``flank``: the CS flank (boundary of the swept region) of
+    each side as an ordered polyline from its lowest radius to the space's top.
+    """
+
+    pieces: tuple[EnvelopePiece, ...]
+    ridges: tuple[Ridge, ...]
+    folds: tuple[Fold, ...]
+    no_root: dict
+    flank: dict
+    phi_range: tuple[float, float]
+    chord_tol_mm: float
+    residual: float
+    time_s: float
+    diagnostics: dict = field(default_factory=dict)
+
+    def counts(self) -> dict:
+        """Number of pieces and their total length per class."""
+        out = {}
+        for cls in (CONJUGATE, INTERFERING, TIP_PATH):
+            sel = [p for p in self.pieces if p.cls == cls]
+            out[cls] = {"pieces": len(sel), "points": int(sum(len(p.points) for p in sel)), "length_mm": float(sum(p.length_mm for p in sel))}
+        return out
+
+    def table(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """All classified points: (points (n, 2), φ (n,), class (n,) str) — the envelope.csv rows."""
+        pts = np.concatenate([p.points for p in self.pieces])
+        phi = np.concatenate([p.phi for p in self.pieces])
+        cls = np.concatenate([np.full(len(p.points), p.cls, dtype=object) for p in self.pieces])
+        return pts, phi, cls
+
+    @property
+    def max_interference_mm(self) -> float:
+        """Deepest false-flank piece (depth of its midpoint inside the swept region)."""
+        depths = [p.depth_mm for p in self.pieces if p.cls == INTERFERING]
+        return float(max(depths)) if depths else 0.0
+
+    def to_dict(self) -> dict:
+        return {
+            "phi_range_rad": list(self.phi_range),
+            "chord_tol_mm": self.chord_tol_mm,
+            "root_residual": self.residual,
+            "time_s": self.time_s,
+            "counts": self.counts(),
+            "max_interference_mm": self.max_interference_mm,
+            "ridges": [r.to_dict() for r in self.ridges],
+            "folds": [f.to_dict() for f in self.folds],
+            "no_root_t_mm": {k: [list(map(float, iv)) for iv in v] for k, v in self.no_root.items()},
+            "pieces": [p.to_dict() for p in self.pieces],
+            **self.diagnostics,
+        }
+
+    def plot(self, ax=None, **kwargs):
+        from . import plot
+
+        return plot.envelope(self, ax=ax, **kwargs)
+
+
+def _no_root_intervals(roots: list[RootCurve], length: float) -> list[tuple[float, float]]:
+    """Complement in [0, length] of the t-ranges the root curves cover."""
+    spans = sorted((float(r.t.min()), float(r.t.max())) for r in roots)
+    out, cur = [], 0.0
+    for lo, hi in spans:
+        if lo > cur + 1e-12 * length:
+            out.append((cur, lo))
+        cur = max(cur, hi)
+    if cur < length * (1 - 1e-12):
+        out.append((cur, length))
+    return out
+
+
+def solve_envelope(
+    curves: list[Curve],
+    corners: dict[str, np.ndarray],
+    motion: Motion,
+    shape: ToothShape,
+    *,
+    phi_range: tuple[float, float],
+    neighbour_angle: float,
+    chord_tol_mm: float = 1e-6,
+    n_t: int = 96,
+    n_phi: int = 241,
+    depth_tol_mm: float = 1e-7,
+    swept_grid: int = 361,
+    symmetric: bool = False,
+) -> Envelope:
+    """Trace, split and classify; see the module docstring.
+
+    ``curves`` are named ``right``, ``left`` (the flanks, parameter root → tip) and
+    ``top`` (the top land, right tip corner → left); ``corners`` maps ``right`` and
+    ``left`` to the tip-corner points. With ``symmetric`` (a tooth symmetric about
+    its axis in a deformation with ω even and υ odd in φ) the left flank's roots are
+    the mirror images (x → −x, φ → −φ) of the right's and are not traced again.
+    """
+    t0 = time.perf_counter()
+    by_name = {c.name: c for c in curves}
+    traced: dict[str, list[RootCurve]] = {}
+    folds: list[Fold] = []
+    for c in curves:
+        if symmetric and c.name == "left" and "right" in traced:
+            continue
+        traced[c.name], f = trace_meshing_roots(c, motion, phi_range=phi_range, n_t=n_t, n_phi=n_phi, chord_tol_mm=chord_tol_mm)
+        folds += f
+    if symmetric and "left" in by_name:
+        traced["left"] = [r.mirrored("left") for r in traced["right"]]
+        folds += [Fold("left", f.t, -f.phi, (-f.point[0], f.point[1])) for f in folds if f.curve == "right"]
+    roots = [r for name in traced for r in traced[name]]
+    if not roots:
+        raise EnvelopeError("envelope: the meshing equation has no root on any part of the tooth — the tooth never meshes")
+    no_root = {name: _no_root_intervals(traced[name], by_name[name].length) for name in traced if name != "top"}
+    corner_paths = {}
+    for name, p in corners.items():
+        if symmetric and name == "left" and "right" in corner_paths:
+            continue
+        corner_paths[name] = trace_corner_path(p, motion, f"{name}_tip", phi_range=phi_range, chord_tol_mm=chord_tol_mm)
+    if symmetric and "left" in corners:
+        r = corner_paths["right"]
+        corner_paths["left"] = RootCurve(
+            "left_tip", r.t[::-1], _readonly(-r.phi[::-1]), _readonly(r.points[::-1] * [-1.0, 1.0]), 0.0,
+            _readonly(len(r.phi) - 1 - r.coarse[::-1], int), r.coarse_sag[::-1],
+        )
+    t_trace = time.perf_counter() - t0
+    curves_all = roots + list(corner_paths.values())
+    own = len(curves_all)
+    # the neighbouring teeth's families are this one turned by ±2π/z2 (closure); their curves
+    # only cut ours (where the CS tooth between two spaces is bounded by both)
+    for k in (-1.0, 1.0):
+        c, s_ = np.cos(k * neighbour_angle), np.sin(k * neighbour_angle)
+        rot = np.array([[c, -s_], [s_, c]])  # turns a point by +k·angle in our clockwise sense
+        for rc in curves_all[:own]:
+            curves_all.append(RootCurve(rc.curve, rc.t, rc.phi, _readonly(rc.points @ rot.T), 0.0, rc.coarse, rc.coarse_sag))
+    crossings = _segment_crossings(curves_all, own)
+    cuts: dict[int, list] = {k: [] for k in range(len(curves_all))}
+    # tangential junctions: a flank's root curve ending at its tip (t = length) touches the tip
+    # corner's path there, and so does the top land's curve at its ends. Cut the path there, and
+    # ignore the crossings that the discretisation makes next to such a grazing junction.
+    junctions = []
+    for k, rc in enumerate(curves_all[len(roots) :], start=len(roots)):
+        side = rc.curve.removesuffix("_tip")
+        for m, r in enumerate(roots):
+            if r.curve == side:
+                tip_t = by_name[side].length
+            elif r.curve == "top":
+                tip_t = 0.0 if side == "right" else by_name["top"].length
+            else:
+                continue
+            for e in (0, -1):
+                if abs(r.t[e] - tip_t) > 1e-9 * max(tip_t, 1.0):
+                    continue
+                seg = int(np.clip(np.searchsorted(rc.phi, r.phi[e]) - 1, 0, len(rc.phi) - 2))
+                frac = float(np.clip((r.phi[e] - rc.phi[seg]) / (rc.phi[seg + 1] - rc.phi[seg]), 0, 1))
+                junctions.append((k, m, r.points[e].copy()))
+                if not ((seg == 0 and frac == 0) or (seg == len(rc.phi) - 2 and frac == 1)):
+                    cuts[k].append((seg, frac, r.points[e].copy()))
+    graze = 10.0 * np.sqrt(chord_tol_mm)  # how far from a tangential junction a crossing is an artefact
+    for i, si, fi, j, sj, fj, pt in crossings:
+        if any({i, j} == {k, m} and np.hypot(*(pt - jp)) < graze for k, m, jp in junctions):
+            continue
+        cuts[i].append((si, fi, pt))
+        cuts[j].append((sj, fj, pt))
+    stretches = []
+    for k, rc in enumerate(curves_all[:own]):
+        for pts, ts, ps in _split(rc, cuts[k]):
+            stretches.append((rc.curve, pts, ts, ps))
+    mids = np.array([_midpoint(s[1]) for s in stretches])
+    if symmetric:
+        # the swept region is mirror-symmetric: classify |x| once per mirrored pair
+        key = np.round(np.column_stack([np.abs(mids[:, 0]), mids[:, 1]]), 12)
+        uniq, inverse = np.unique(key, axis=0, return_inverse=True)
+        d_u, _ = swept_depth(uniq, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle, n_grid=swept_grid)
+        depth = d_u[inverse.ravel()]
+    else:
+        depth, _ = swept_depth(mids, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle, n_grid=swept_grid)
+    pieces = []
+    for (src, pts, ts, ps), d in zip(stretches, depth):
+        if d > depth_tol_mm:
+            cls = INTERFERING
+        else:
+            cls = TIP_PATH if src.endswith("_tip") else CONJUGATE
+        pieces.append(EnvelopePiece(src, cls, _readonly(pts), _readonly(ts), _readonly(ps), float(d)))
+    def tangent(piece: EnvelopePiece, end: int) -> np.ndarray:
+        """Exact unit tangent at a piece end: R(Φ)p′(t) for a root, dQ/dφ for a corner path."""
+        phi = piece.phi[end : end + 1] if end == 0 else piece.phi[-1:]
+        pose = motion.pose(phi)
+        if piece.source.endswith("_tip"):
+            p = np.asarray(corners[piece.source.removesuffix("_tip")], float)[None]
+            d = pose.origin_d1 + pose.angle_d1[:, None] * (pose.to_cs(np.column_stack([p[:, 1], -p[:, 0]])) - pose.origin)
+        else:
+            t = piece.t[end : end + 1] if end == 0 else piece.t[-1:]
+            d = pose.to_cs(by_name[piece.source].evaluate(t)[1]) - pose.origin
+        d = d[0] / np.hypot(*d[0])
+        inward = piece.points[1] - piece.points[0] if end == 0 else piece.points[-2] - piece.points[-1]
+        return d if np.dot(d, inward) >= 0 else -d  # pointing into the piece, away from the junction
+
+    return Envelope(
+        pieces=tuple(pieces),
+        ridges=tuple(_ridges(pieces, tangent)),
+        folds=tuple(folds),
+        no_root=no_root,
+        flank=_flanks(pieces),
+        phi_range=tuple(map(float, phi_range)),
+        chord_tol_mm=chord_tol_mm,
+        residual=max(r.residual for r in roots),
+        time_s=time.perf_counter() - t0,
+        diagnostics={"trace_time_s": t_trace, "crossings": len(crossings), "root_curves": len(roots), "symmetric": symmetric},
+    )
+
+
+def _boundary_chain(pieces: list[EnvelopePiece], tol: float = 1e-9) -> list[np.ndarray]:
+    """Join boundary pieces end to end into chains (polylines)."""
+    chains = [p.points.copy() for p in pieces]
+    merged = True
+    while merged and len(chains) > 1:
+        merged = False
+        for i in range(len(chains)):
+            for j in range(len(chains)):
+                if i == j:
+                    continue
+                a, b = chains[i], chains[j]
+                for A, B in ((a, b), (a, b[::-1])):
+                    if np.hypot(*(A[-1] - B[0])) < tol:
+                        chains[i] = np.vstack([A, B[1:]])
+                        del chains[j]
+                        merged = True
+                        break
+                    if np.hypot(*(A[0] - B[-1])) < tol:
+                        chains[i] = np.vstack([B, A[1:]])
+                        del chains[j]
+                        merged = True
+                        break
+                if merged:
+                    break
+            if merged:
+                break
+    return chains
+
+
+def _flanks(pieces: list[EnvelopePiece]) -> dict:
+    """The swept boundary as one chain from the right end (x > 0) to the left, and its halves.
+
+    ``boundary``: the whole chain; ``right`` / ``left``: the parts with x ≥ 0 / x ≤ 0,
+    each ordered from its lowest point up to the space's axis.
+    """
+    boundary = [p for p in pieces if p.cls != INTERFERING]
+    chains = _boundary_chain(boundary)
+    if not chains:
+        return {}
+    chain = max(chains, key=len)
+    if chain[0, 0] < chain[-1, 0]:
+        chain = chain[::-1]
+    out = {"boundary": _readonly(chain)}
+    right = chain[chain[:, 0] >= 0]
+    left = chain[chain[:, 0] <= 0][::-1]
+    if len(right) >= 2:
+        out["right"] = _readonly(right)
+    if len(left) >= 2:
+        out["left"] = _readonly(left)
+    out["chains"] = len(chains)
+    return out
+
+
+def _ridges(pieces: list[EnvelopePiece], tangent, tol: float = 1e-9, min_kink_deg: float = 1e-6) -> list[Ridge]:
+    """Points where two boundary pieces meet with a kink (a branch switch on the CS flank)."""
+    boundary = [p for p in pieces if p.cls != INTERFERING]
+    out = []
+    for i, a in enumerate(boundary):
+        for b in boundary[i + 1 :]:
+            for ea in (0, -1):
+                for eb in (0, -1):
+                    if np.hypot(*(a.points[ea] - b.points[eb])) > tol:
+                        continue
+                    # both tangents point away from the junction; a smooth join has them opposite
+                    kink = float(np.degrees(np.pi - np.arccos(np.clip(np.dot(tangent(a, ea), tangent(b, eb)), -1, 1))))
+                    if kink > min_kink_deg:
+                        out.append(Ridge(tuple(map(float, a.points[ea])), (a.source, b.source), (float(a.phi[ea]), float(b.phi[eb])), kink))
+    return out
+
+
+# ----------------------------------------------------------------------------- from a tooth
+
+
+def tooth_curves(tooth) -> tuple[list[Curve], dict[str, np.ndarray], ToothShape]:
+    """The generating curves of a ``teeth.ToothProfile``: both flanks (root → tip), the top
+    land (right tip corner → left), the two tip corners, and the tooth as a region."""
+    length = float(tooth.length_mm)
+    right = Curve("right", length, lambda t: tooth.evaluate(np.atleast_1d(t), side=1))
+    left = Curve("left", length, lambda t: tooth.evaluate(np.atleast_1d(t), side=-1))
+    tip = np.asarray(tooth.tip_point, float)
+    mirror = tip * [-1.0, 1.0]
+    curves = [right, left]
+    if tip[0] > 0:
+        curves.append(line_curve("top", tip, mirror))
+    shape = ToothShape.from_flank(right, neutral_radius_mm=tooth.neutral_radius_mm, teeth=tooth.teeth)
+    return curves, {"right": tip, "left": mirror}, shape
+
+
+def envelope_of(
+    tooth,
+    motion,
+    *,
+    cs_teeth: int,
+    waves: int,
+    chord_tol_mm: float = 1e-6,
+    n_t: int = 96,
+    n_phi: int = 241,
+    symmetric: bool | None = None,
+) -> Envelope:
+    """The classified envelope of one CS space for a tooth in a motion (one pass, φ ∈ [−π/U, π/U]).
+
+    ``symmetric`` defaults to the motion's own claim (ω even, υ odd in φ).
+    """
+    curves, corners, shape = tooth_curves(tooth)
+    if symmetric is None:
+        symmetric = bool(getattr(motion, "symmetric", False))
+    return solve_envelope(
+        curves,
+        corners,
+        motion,
+        shape,
+        phi_range=(-np.pi / waves, np.pi / waves),
+        neighbour_angle=2.0 * np.pi / cs_teeth,
+        chord_tol_mm=chord_tol_mm,
+        n_t=n_t,
+        n_phi=n_phi,
+        symmetric=symmetric,
+    )
