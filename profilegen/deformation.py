@@ -37,6 +37,11 @@ class Deformation(Protocol):
         ...
 
 
+def _check_waves(waves) -> None:
+    if isinstance(waves, bool) or not isinstance(waves, (int, np.integer)) or waves < 1:
+        raise GearSetError(f"gear.waves = {waves!r}: must be a whole number ≥ 1")
+
+
 def _readonly(values) -> np.ndarray:
     array = np.array(values, dtype=float)
     array.setflags(write=False)
@@ -62,13 +67,14 @@ class HarmonicDeformation:
     def __post_init__(self):
         object.__setattr__(self, "cos_mm", _readonly(self.cos_mm))
         object.__setattr__(self, "sin_mm", _readonly(self.sin_mm))
+        _check_waves(self.waves)
         if self.cos_mm.shape != self.sin_mm.shape or self.cos_mm.ndim != 1:
             raise GearSetError(
-                f"deformation harmonics: cos and sin coefficient lists must have equal length, "
-                f"got {self.cos_mm.shape} and {self.sin_mm.shape}"
+                f"cos_mm / sin_mm: the radial and tangential coefficient lists must be 1-D and equally long, "
+                f"got shapes {self.cos_mm.shape} and {self.sin_mm.shape}"
             )
         if not (np.all(np.isfinite(self.cos_mm)) and np.all(np.isfinite(self.sin_mm))):
-            raise GearSetError("deformation harmonics: coefficients must be finite")
+            raise GearSetError("cos_mm / sin_mm: coefficients must be finite (mm)")
 
     @property
     def symmetric(self) -> bool:
@@ -111,6 +117,7 @@ def ring_theory(deflection_mm: float, waves: int = 2) -> HarmonicDeformation:
     """Classical inextensible ring: ω = w0 cos Uφ, υ = −(w0/U) sin Uφ (the `sketch` tier)."""
     if not (np.isfinite(deflection_mm) and deflection_mm > 0):
         raise GearSetError(f"wave_generator.deflection_mm = {deflection_mm} mm: must be > 0")
+    _check_waves(waves)
     return HarmonicDeformation(
         waves=waves,
         cos_mm=[deflection_mm],

@@ -33,7 +33,7 @@ import contourpy
 import numpy as np
 import shapely
 
-from .errors import EnvelopeError
+from .errors import ConvergenceError, EnvelopeError
 from .kinematics import Motion, unit_radial, unit_tangential
 
 __all__ = [
@@ -56,6 +56,12 @@ log = logging.getLogger(__name__)
 CONJUGATE = "conjugate"  # a meshing root on the swept boundary
 INTERFERING = "interfering"  # a meshing root (or corner path) strictly inside the swept region
 TIP_PATH = "tip_path"  # the tip corner's path where it bounds the swept region
+
+
+def _turn(points: np.ndarray, angle: float) -> np.ndarray:
+    """Turn points about the origin by ``angle`` in our sense (clockwise, from +y toward +x)."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.stack([points[:, 0] * c + points[:, 1] * s, -points[:, 0] * s + points[:, 1] * c], -1)
 
 
 def _readonly(a, dtype=float) -> np.ndarray:
@@ -148,7 +154,10 @@ class ToothShape:
         )
 
     def depth(self, q: np.ndarray) -> np.ndarray:
-        """Approximate signed normal depth of tooth-frame points inside the tooth (mm, > 0 inside)."""
+        """Approximate signed normal depth of tooth-frame points inside the tooth (mm, > 0 inside).
+
+        Exact in sign (the classification uses only the sign), first-order in size
+        near the surface."""
         ax, y = np.abs(q[..., 0]), q[..., 1]
         d = (np.interp(ax, self.flank_x, self.flank_y) - y) * np.interp(ax, self.flank_x, self.flank_cos)
         d = np.where(ax <= self.tip_x, self.tip_y - y, d)
@@ -228,7 +237,9 @@ def swept_depth(
         x1, x2, f1, f2 = x1n, x2n, f1n, f2n
     refined = np.maximum(f1, f2)
     better = refined > best
-    return np.where(better, refined, best), np.where(better, np.where(f1 > f2, x1, x2), best_phi)
+    depth = np.where(better, refined, best)
+    phi_best = np.where(better, np.where(f1 > f2, x1, x2), best_phi)
+    return depth, phi_best
 
 
 # ----------------------------------------------------------------------------- tracing f = 0
@@ -265,6 +276,35 @@ def _project(curve, motion, t, phi, lock_t, lock_phi, phi_range, iterations=8, t
         t = np.clip(t - step * ft, 0.0, curve.length)
         phi = np.clip(phi - step * fp, *phi_range)
         if np.max(np.abs(step) * np.sqrt(g2), initial=0.0) < tol:  # (t, φ) distance to f = 0
+            break
+    return t, phi
+
+
+def _check_on_curve(curve, motion, t, phi, tol: float = 1e-10):
+    """Raise _Bridged where a projected point is not on f = 0 (distance in (t, φ) > tol)."""
+    f, ft, fp = _f_and_grad(curve, motion, t, phi)
+    dist = np.abs(f) / np.maximum(np.hypot(ft, fp), 1e-300)
+    if dist.size and dist.max() > tol:
+        k = int(np.argmax(dist))
+        raise _Bridged(float(t[k]), float(phi[k]))
+
+
+def _project_across(curve, motion, t, phi, nt, nphi, length, phi_range, iterations=8, tol=1e-14):
+    """Newton along the chord normal (nt, nφ) in (t, φ) onto f = 0.
+
+    A new point between two vertices of a branch is sought on the line through the
+    chord point perpendicular to the chord, so it stays on the arc between them —
+    a ∇f step can jump onto the other sheet near a fold, where two sheets are close.
+    """
+    t, phi = t.astype(float).copy(), phi.astype(float).copy()
+    for _ in range(iterations):
+        f, ft, fp = _f_and_grad(curve, motion, t, phi)
+        slope = ft * nt + fp * nphi
+        s = np.where(np.abs(slope) > 0, -f / np.where(np.abs(slope) > 0, slope, 1.0), 0.0)
+        s = np.clip(s, -length, length)  # never leave the chord's neighbourhood
+        t = np.clip(t + s * nt, 0.0, curve.length)
+        phi = np.clip(phi + s * nphi, *phi_range)
+        if np.max(np.abs(s), initial=0.0) < tol:
             break
     return t, phi
 
@@ -326,6 +366,13 @@ class RootCurve:
         )
 
 
+class _Bridged(Exception):
+    """A traced segment has no zero set under it: the grid joined two separate root curves."""
+
+    def __init__(self, t: float, phi: float):
+        self.t, self.phi = t, phi
+
+
 def trace_meshing_roots(
     curve: Curve,
     motion: Motion,
@@ -336,8 +383,31 @@ def trace_meshing_roots(
     chord_tol_mm: float = 1e-6,
     max_step: float = 0.05,
     max_rounds: int = 40,
+    max_doublings: int = 4,
 ) -> tuple[list[RootCurve], list[Fold]]:
-    """All roots of f(t, φ) = 0 for one generating curve, traced as curves, refined, with folds."""
+    """All roots of f(t, φ) = 0 for one generating curve, traced as curves, refined, with folds.
+
+    The grid only gives the topology of the zero set. Where it is too coarse for it
+    — two root curves closer than a grid cell, e.g. two folds facing each other
+    across a narrow no-root gap — marching squares joins them, and a new point
+    between two vertices of such a bridge finds no root: the trace is then repeated
+    on a grid twice as fine, up to ``max_doublings`` times, before a
+    ConvergenceError names the place.
+    """
+    for attempt in range(max_doublings + 1):
+        try:
+            return _trace_once(curve, motion, phi_range, n_t, n_phi, chord_tol_mm, max_step, max_rounds)
+        except _Bridged as bridge:
+            log.info("envelope: %s: grid %d×%d bridged two root curves near t = %.6f mm, φ = %.6f rad; refining",
+                     curve.name, n_t, n_phi, bridge.t, bridge.phi)
+            n_t, n_phi = 2 * n_t - 1, 2 * n_phi - 1
+    raise ConvergenceError(
+        f"envelope: {curve.name} flank: the meshing roots near t = {bridge.t:.6f} mm, φ = {bridge.phi:.6f} rad "
+        f"could not be separated on a {n_t}×{n_phi} grid"
+    )
+
+
+def _trace_once(curve, motion, phi_range, n_t, n_phi, chord_tol_mm, max_step, max_rounds):
     t_g = np.linspace(0.0, curve.length, n_t)
     phi_g = np.linspace(*phi_range, n_phi)
     T, _ = curve.terms(t_g)
@@ -355,6 +425,7 @@ def trace_meshing_roots(
     lock_t = (t <= eps_t) | (t >= curve.length - eps_t)
     lock_p = (phi <= phi_range[0] + eps_p) | (phi >= phi_range[1] - eps_p)
     t, phi = _project(curve, motion, t, phi, lock_t, lock_p, phi_range)
+    _check_on_curve(curve, motion, t, phi)
     q = _image(curve, motion, t, phi)
     pending = line_id[1:] == line_id[:-1]  # segments whose chord sag is not yet verified
     is_coarse = np.ones(len(t), bool)
@@ -364,28 +435,33 @@ def trace_meshing_roots(
         if seg.size == 0:
             break
         a, b = seg, seg + 1
-        lt = lock_t[a] & lock_t[b] & (t[a] == t[b])
-        lp = lock_p[a] & lock_p[b] & (phi[a] == phi[b])
-        tm, pm = _project(curve, motion, 0.5 * (t[a] + t[b]), 0.5 * (phi[a] + phi[b]), lt, lp, phi_range)
+        dt_, dp_ = t[b] - t[a], phi[b] - phi[a]
+        step = np.hypot(dt_, dp_)
+        safe = np.where(step > 0, step, 1.0)
+        nt, nphi = -dp_ / safe, dt_ / safe  # chord normal in (t, φ)
+        tm, pm = _project_across(curve, motion, 0.5 * (t[a] + t[b]), 0.5 * (phi[a] + phi[b]), nt, nphi, step, phi_range)
+        _check_on_curve(curve, motion, tm, pm)
         sag = _sag_pairs(q[a], q[b], _image(curve, motion, tm, pm))
-        if coarse_sag is None:
-            coarse_sag = np.zeros(len(t) - 1)
-            coarse_sag[seg] = sag
-        step = np.hypot(t[b] - t[a], phi[b] - phi[a])
         # sag ∝ h²: split a segment into n so that each part's sag is ~tol/2
         n = np.maximum(np.ceil(np.sqrt(2.0 * sag / chord_tol_mm)), np.ceil(step / max_step))
         n = np.minimum(n, 64).astype(int)
-        split = n > 1
+        stuck = step < 1e-12  # cannot split further: a singular point of the root set
+        if stuck.any():
+            log.warning("envelope: %s: %d segments at a singular point of f = 0 (t ≈ %.6f mm, φ ≈ %.6f rad)",
+                        curve.name, int(stuck.sum()), float(t[a][stuck][0]), float(phi[a][stuck][0]))
+        split = (n > 1) & ~stuck
         pending[seg[~split]] = False
         if not split.any():
             continue
         k = n[split]
         at = np.repeat(seg[split], k - 1)
         frac = np.concatenate([np.arange(1, m) / m for m in k])
-        ln_t, ln_p = np.repeat(lt[split], k - 1), np.repeat(lp[split], k - 1)
-        tn, pn = _project(
-            curve, motion, t[at] + frac * (t[at + 1] - t[at]), phi[at] + frac * (phi[at + 1] - phi[at]), ln_t, ln_p, phi_range
+        tn, pn = _project_across(
+            curve, motion, t[at] + frac * (t[at + 1] - t[at]), phi[at] + frac * (phi[at + 1] - phi[at]),
+            np.repeat(nt[split], k - 1), np.repeat(nphi[split], k - 1), np.repeat(step[split], k - 1), phi_range,
         )
+        _check_on_curve(curve, motion, tn, pn)
+        ln_t, ln_p = np.zeros(at.size, bool), np.zeros(at.size, bool)
         counts = np.ones(len(t) - 1, int)
         counts[seg[split]] = k
         fresh = np.zeros(len(t) - 1, bool)
@@ -415,8 +491,19 @@ def trace_meshing_roots(
         pv = np.where(c2 != 0, 0.5 * (x0 + x1) - d01 / np.where(c2 != 0, 2 * c2, 1.0), x1)
         tv = y1 + d01 * (pv - x1) + c2 * (pv - x0) * (pv - x1)
         tf, pf = _locate_folds(curve, motion, tv, pv)
-        for tk, pk, qk in zip(tf, pf, _image(curve, motion, tf, pf)):
+        qf = _image(curve, motion, tf, pf)
+        for tk, pk, qk in zip(tf, pf, qf):
             folds.append(Fold(curve.name, float(tk), float(pk), (float(qk[0]), float(qk[1]))))
+        # make each fold a vertex of its branch, so the branch's t-range ends exactly there
+        for k in np.argsort(-i):
+            j = i[k]
+            lo, hi = (j, j + 1) if (pf[k] - phi[j]) * (phi[j + 1] - phi[j]) > 0 else (j - 1, j)
+            at = hi
+            t, phi = np.insert(t, at, tf[k]), np.insert(phi, at, pf[k])
+            q = np.insert(q, at, qf[k], axis=0)
+            line_id = np.insert(line_id, at, line_id[j])
+            is_coarse = np.insert(is_coarse, at, False)
+        f, ft, fp = _f_and_grad(curve, motion, t, phi)
     dist = np.abs(f) / np.maximum(np.hypot(ft, fp), 1e-300)  # distance to f = 0 in (t, φ)
     out = []
     coarse_idx = np.nonzero(is_coarse)[0]  # same order as the tracing grid's vertices
@@ -477,8 +564,9 @@ class EnvelopePiece:
     """A stretch of a root curve or corner path between crossings, classified once.
 
     ``source`` is the generating part (``right``, ``left``, ``top``,
-    ``right_tip``, ``left_tip``); ``depth_mm`` is how deep its midpoint lies inside
-    the swept region (≤ 0 on the boundary).
+    ``right_tip``, ``left_tip``); ``depth_mm`` is the approximate depth of its
+    midpoint inside the swept region (≤ 0 on the boundary) — the classification
+    measure, right in sign, first-order in size.
     """
 
     source: str
@@ -535,55 +623,48 @@ def _crossing_params(a1, b1, a2, b2):
     return s, u, (den != 0) & (s >= 0) & (s < 1) & (u >= 0) & (u < 1)
 
 
-def _segment_crossings(curves: list[RootCurve], n_own: int | None = None) -> list[tuple[int, int, float, int, int, float, np.ndarray]]:
+def _segment_crossings(curves: list[RootCurve], n_own: int | None = None, chunk: int = 3) -> list[tuple[int, int, float, int, int, float, np.ndarray]]:
     """Transversal crossings between traced curves (and of a curve with itself).
 
-    Candidates come from an R-tree over the coarse (tracing-grid) segments, each box
-    grown by the chord sag measured for it, so a crossing of the refined curves
-    cannot hide; only fine segments inside candidate pairs are intersected. A curve
-    is not tested against its own neighbouring coarse segments; only the first
-    ``n_own`` curves are tested (against all). Returns (i, seg_i,
-    s_i, j, seg_j, s_j, point), s being the fraction along the fine segment.
+    Runs of ``chunk`` consecutive segments go into an R-tree by their bounding
+    boxes; the segments of overlapping runs are intersected exactly. A curve's
+    neighbouring segments are not tested against each other; only the first
+    ``n_own`` curves are tested (against all). Returns (i, seg_i, s_i, j, seg_j,
+    s_j, point), s being the fraction along the segment.
     """
-    lo, hi, owner, which = [], [], [], []
-    for k, rc in enumerate(curves):
-        c = rc.coarse
-        for m in range(len(c) - 1):
-            seg = rc.points[c[m] : c[m + 1] + 1]
-            lo.append(seg.min(0) - rc.coarse_sag[m])
-            hi.append(seg.max(0) + rc.coarse_sag[m])
-        owner.append(np.full(len(c) - 1, k))
-        which.append(np.arange(len(c) - 1))
-    lo, hi = np.array(lo), np.array(hi)
-    owner, which = np.concatenate(owner), np.concatenate(which)
+    n_pts = np.array([len(rc.points) for rc in curves])
+    point_start = np.concatenate([[0], np.cumsum(n_pts)[:-1]])
+    allp = np.vstack([rc.points for rc in curves])
+    # runs: [r0, r1) in global segment-start indices, never crossing into the next curve
+    r0 = np.concatenate([point_start[k] + np.arange(0, n - 1, chunk) for k, n in enumerate(n_pts)])
+    r1 = np.concatenate([np.minimum(point_start[k] + np.arange(0, n - 1, chunk) + chunk, point_start[k] + n - 1) for k, n in enumerate(n_pts)])
+    owner = np.concatenate([np.full(len(range(0, n - 1, chunk)), k) for k, n in enumerate(n_pts)])
+    seg_lo = np.minimum(allp[:-1], allp[1:])
+    seg_hi = np.maximum(allp[:-1], allp[1:])
+    lo = np.minimum.reduceat(seg_lo, r0)
+    hi = np.maximum.reduceat(seg_hi, r0)
     boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
     n_query = int(np.sum(owner < (len(curves) if n_own is None else n_own)))
     ci, cj = shapely.STRtree(boxes).query(boxes[:n_query], predicate="intersects")
-    keep = (ci < cj) & ((owner[ci] != owner[cj]) | (np.abs(which[ci] - which[cj]) > 1))
+    keep = ci <= cj
     ci, cj = ci[keep], cj[keep]
-    si_l, sj_l, oi_l, oj_l = [], [], [], []
-    for a, b in zip(ci, cj):
-        ra, rb = curves[owner[a]], curves[owner[b]]
-        ia = np.arange(ra.coarse[which[a]], ra.coarse[which[a] + 1])
-        ib = np.arange(rb.coarse[which[b]], rb.coarse[which[b] + 1])
-        si_l.append(np.repeat(ia, ib.size))
-        sj_l.append(np.tile(ib, ia.size))
-        oi_l.append(np.full(ia.size * ib.size, owner[a]))
-        oj_l.append(np.full(ia.size * ib.size, owner[b]))
-    if not si_l:
+    if ci.size == 0:
         return []
-    si, sj = np.concatenate(si_l), np.concatenate(sj_l)
-    oi, oj = np.concatenate(oi_l), np.concatenate(oj_l)
-    starts = np.concatenate([[0], np.cumsum([len(rc.points) for rc in curves])[:-1]])
-    allp = np.vstack([rc.points for rc in curves])
-    a1, b1 = allp[starts[oi] + si], allp[starts[oi] + si + 1]
-    a2, b2 = allp[starts[oj] + sj], allp[starts[oj] + sj + 1]
+    na, nb = r1[ci] - r0[ci], r1[cj] - r0[cj]
+    size = na * nb
+    pair = np.repeat(np.arange(ci.size), size)
+    local = np.arange(size.sum()) - np.repeat(np.cumsum(size) - size, size)
+    gi = r0[ci][pair] + local // nb[pair]
+    gj = r0[cj][pair] + local % nb[pair]
+    oi, oj = owner[ci][pair], owner[cj][pair]
+    ok = (gi < gj) & ((oi != oj) | (gj - gi > 1))
+    gi, gj, oi, oj = gi[ok], gj[ok], oi[ok], oj[ok]
+    a1, b1, a2, b2 = allp[gi], allp[gi + 1], allp[gj], allp[gj + 1]
     s, u, hit = _crossing_params(a1, b1, a2, b2)
-    hit &= (oi != oj) | (np.abs(si - sj) > 1)
     out = []
     for k in np.nonzero(hit)[0]:
         pt = a1[k] + s[k] * (b1[k] - a1[k])
-        out.append((int(oi[k]), int(si[k]), float(s[k]), int(oj[k]), int(sj[k]), float(u[k]), pt))
+        out.append((int(oi[k]), int(gi[k] - point_start[oi[k]]), float(s[k]), int(oj[k]), int(gj[k] - point_start[oj[k]]), float(u[k]), pt))
     return out
 
 
@@ -669,9 +750,27 @@ class Envelope:
 
     @property
     def max_interference_mm(self) -> float:
-        """Deepest false-flank piece (depth of its midpoint inside the swept region)."""
-        depths = [p.depth_mm for p in self.pieces if p.cls == INTERFERING]
-        return float(max(depths)) if depths else 0.0
+        """How deep the deepest false flank cuts into where the CS has material (mm).
+
+        The largest distance to the swept boundary (this space's chain and its
+        neighbours', turned by ±2π/z2) of an interfering vertex lying above the radius
+        where neighbouring spaces meet; below it the CS has no material, and a point
+        there is only "deep" in the flexspline's own rim.
+        """
+        chain = self.flank.get("boundary")
+        if chain is None:
+            return 0.0
+        r_meet = max(np.hypot(*chain[0]), np.hypot(*chain[-1]))
+        bad = [p.points[np.hypot(p.points[:, 0], p.points[:, 1]) >= r_meet] for p in self.pieces if p.cls == INTERFERING]
+        bad = [b for b in bad if len(b)]
+        if not bad:
+            return 0.0
+        from scipy.spatial import cKDTree
+
+        pitch = self.diagnostics.get("neighbour_angle", 0.0)
+        walls = [chain] + [_turn(chain, k * pitch) for k in (-1, 1) if pitch]
+        dist, _ = cKDTree(np.vstack(walls)).query(np.vstack(bad))
+        return float(dist.max())
 
     def to_dict(self) -> dict:
         return {
@@ -762,11 +861,20 @@ def solve_envelope(
     own = len(curves_all)
     # the neighbouring teeth's families are this one turned by ±2π/z2 (closure); their curves
     # only cut ours (where the CS tooth between two spaces is bounded by both)
+    theta_all = np.concatenate([np.arctan2(rc.points[:, 0], rc.points[:, 1]) for rc in curves_all])
+    theta_lo, theta_hi = theta_all.min(), theta_all.max()
     for k in (-1.0, 1.0):
         c, s_ = np.cos(k * neighbour_angle), np.sin(k * neighbour_angle)
         rot = np.array([[c, -s_], [s_, c]])  # turns a point by +k·angle in our clockwise sense
         for rc in curves_all[:own]:
-            curves_all.append(RootCurve(rc.curve, rc.t, rc.phi, _readonly(rc.points @ rot.T), 0.0, rc.coarse, rc.coarse_sag))
+            pts = rc.points @ rot.T
+            th = np.arctan2(pts[:, 0], pts[:, 1])
+            # only the part of the copy that reaches into our curves' angular range can cut them
+            near = (th <= theta_hi) & (th >= theta_lo)
+            near = near | np.concatenate([near[1:], [False]]) | np.concatenate([[False], near[:-1]])
+            for run in np.split(np.arange(len(pts)), np.nonzero(np.diff(near.astype(int)))[0] + 1):
+                if near[run[0]] and run.size >= 2:
+                    curves_all.append(RootCurve(rc.curve, rc.t[run], rc.phi[run], _readonly(pts[run]), 0.0, np.array([0, run.size - 1]), np.zeros(1)))
     crossings = _segment_crossings(curves_all, own)
     cuts: dict[int, list] = {k: [] for k in range(len(curves_all))}
     # tangential junctions: a flank's root curve ending at its tip (t = length) touches the tip
@@ -840,7 +948,8 @@ def solve_envelope(
         chord_tol_mm=chord_tol_mm,
         residual=max(r.residual for r in roots),
         time_s=time.perf_counter() - t0,
-        diagnostics={"trace_time_s": t_trace, "crossings": len(crossings), "root_curves": len(roots), "symmetric": symmetric},
+        diagnostics={"trace_time_s": t_trace, "crossings": len(crossings), "root_curves": len(roots), "symmetric": symmetric,
+                     "neighbour_angle": neighbour_angle},
     )
 
 
@@ -897,7 +1006,7 @@ def _flanks(pieces: list[EnvelopePiece]) -> dict:
     return out
 
 
-def _ridges(pieces: list[EnvelopePiece], tangent, tol: float = 1e-9, min_kink_deg: float = 1e-6) -> list[Ridge]:
+def _ridges(pieces: list[EnvelopePiece], tangent, tol: float = 1e-9, min_kink_deg: float = 1e-3) -> list[Ridge]:
     """Points where two boundary pieces meet with a kink (a branch switch on the CS flank)."""
     boundary = [p for p in pieces if p.cls != INTERFERING]
     out = []
