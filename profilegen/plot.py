@@ -1,0 +1,305 @@
+"""Figures: the classified envelope of a CS tooth space, and clearance curves.
+
+matplotlib is imported inside the functions only (``import profilegen`` stays
+light), and only its object-oriented API is used — :class:`matplotlib.figure.Figure`
+with an Agg canvas, never pyplot — so nothing here touches a display or the
+global backend. Every function takes an optional ``ax`` and returns the ``Axes``;
+:func:`envelope_figure` builds a two-panel figure fit for a paper and can save it.
+
+Colours: conjugate flank blue (thick), tip-corner path green (thick), interfering
+(false) flank red (thin), the flexspline tooth family light grey, ridges black
+dots with their kink angle, folds magenta triangles.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import os
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["CLASS_STYLE", "PAPER_RC", "envelope", "envelope_figure", "clearance", "tooth_line", "family_outlines"]
+
+#: Line style per envelope class, in legend order.
+CLASS_STYLE: dict[str, dict[str, Any]] = {
+    "conjugate": {"color": "#1f5fbf", "linewidth": 2.2, "zorder": 4},
+    "tip_path": {"color": "#2ca02c", "linewidth": 2.2, "zorder": 4},
+    "interfering": {"color": "#d62728", "linewidth": 0.7, "zorder": 3},
+}
+_OTHER_STYLE = {"color": "0.3", "linewidth": 1.0, "zorder": 3}
+_FAMILY_COLOR = "0.80"
+_RIDGE_STYLE = {"marker": "o", "color": "k", "markersize": 4.5, "linestyle": "none", "zorder": 6}
+_FOLD_STYLE = {"marker": "^", "color": "#c000c0", "markersize": 5.5, "linestyle": "none", "zorder": 6}
+
+#: Font sizes and line widths for paper figures (used by the functions that create a figure).
+PAPER_RC: dict[str, Any] = {
+    "font.size": 9,
+    "axes.titlesize": 9,
+    "axes.labelsize": 9,
+    "xtick.labelsize": 8,
+    "ytick.labelsize": 8,
+    "legend.fontsize": 8,
+    "figure.titlesize": 10,
+    "axes.linewidth": 0.7,
+    "xtick.major.width": 0.7,
+    "ytick.major.width": 0.7,
+    "legend.frameon": True,
+    "legend.framealpha": 0.9,
+    "legend.edgecolor": "0.8",
+}
+
+
+def _new_axes(figsize: tuple[float, float]) -> "Axes":
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=figsize, layout="constrained")
+    FigureCanvasAgg(fig)
+    return fig.add_subplot()
+
+
+def _check_zoom(zoom: Any) -> tuple[float, float, float, float] | None:
+    if zoom is None:
+        return None
+    try:
+        z = tuple(float(v) for v in zoom)
+    except (TypeError, ValueError):
+        raise ValueError(f"zoom must be (xmin, xmax, ymin, ymax) in mm, got {zoom!r}") from None
+    if len(z) != 4 or not all(map(math.isfinite, z)) or not (z[0] < z[1] and z[2] < z[3]):
+        raise ValueError(f"zoom must be finite (xmin, xmax, ymin, ymax) in mm with xmin < xmax, ymin < ymax, got {zoom!r}")
+    return z
+
+
+def _tidy(ax: "Axes") -> None:
+    from matplotlib.ticker import MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis):
+        axis.set_major_locator(MaxNLocator(nbins=5, steps=[1, 2, 2.5, 5, 10]))
+    ax.ticklabel_format(useOffset=False, style="plain")
+    ax.tick_params(direction="out", length=3)
+
+
+def tooth_line(tooth: Any, *, n_per_mm: float = 400.0) -> np.ndarray:
+    """The visible edge of ``tooth.outline()``: root land, flanks and top land, open (m, 2).
+
+    The outline closes the tooth through its rim sector (radial cuts at the
+    mid-space lines and the neutral circle); those cuts are not edges of the part
+    and would draw false lines in a tooth family, so the points strictly inside
+    the root circle are dropped and the rest is joined into one polyline from
+    the right mid-space line to the left one.
+    """
+    outline = np.asarray(tooth.outline(n_per_mm=n_per_mm), dtype=float)
+    r_m = getattr(tooth, "neutral_radius_mm", None)
+    y_f = getattr(tooth, "dedendum_y_mm", None)
+    if r_m is None or y_f is None:
+        return np.vstack([outline, outline[:1]])
+    r = np.hypot(outline[:, 0], outline[:, 1] + r_m)
+    keep = r >= r_m + y_f - 1e-9 * max(abs(y_f), 1.0)
+    if keep.all() or not keep.any():
+        return np.vstack([outline, outline[:1]])
+    first_cut = int(np.argmin(keep))  # the kept points run from after the cut round to before it
+    last_cut = len(keep) - 1 - int(np.argmin(keep[::-1]))
+    return np.vstack([outline[last_cut + 1 :], outline[:first_cut]])
+
+
+def family_outlines(tooth: Any, motion: Any, phi: np.ndarray, *, n_per_mm: float = 400.0) -> list[np.ndarray]:
+    """:func:`tooth_line` placed in the CS frame at each φ (rad) — one (m, 2) array each."""
+    line = tooth_line(tooth, n_per_mm=n_per_mm)
+    return [motion.pose(np.array([p])).to_cs(line) for p in np.asarray(phi, dtype=float)]
+
+
+def _classes(env: Any) -> list[str]:
+    """Classes present in ``env.pieces``, known ones in :data:`CLASS_STYLE` order first."""
+    present = {p.cls for p in env.pieces}
+    return [c for c in CLASS_STYLE if c in present] + sorted(present - set(CLASS_STYLE))
+
+
+def envelope(
+    env: Any,
+    ax: "Axes | None" = None,
+    *,
+    tooth: Any = None,
+    motion: Any = None,
+    family: int = 41,
+    zoom: tuple[float, float, float, float] | None = None,
+    legend: bool = True,
+) -> "Axes":
+    """Draw a classified :class:`~profilegen.envelope.Envelope` in the CS frame (mm).
+
+    With ``tooth`` and ``motion`` the FS tooth family is drawn in light grey: the
+    tooth outline at ``family`` evenly spaced φ over ``env.phi_range``. Pieces
+    are drawn by class (see :data:`CLASS_STYLE`), ridges as black dots annotated
+    with their kink angle, folds as magenta triangles. ``zoom`` = (xmin, xmax,
+    ymin, ymax) in mm sets the view (the aspect ratio stays 1, so one range may
+    grow). With ``legend`` the axes' legend lists one entry per class present,
+    labelled with the class name; ridges and folds, when present, get a second,
+    separate legend.
+    """
+    zoom = _check_zoom(zoom)
+    if (tooth is None) != (motion is None):
+        raise ValueError("tooth and motion must be given together (both draw the FS tooth family), got only "
+                         + ("tooth" if motion is None else "motion"))
+    if isinstance(family, bool) or not isinstance(family, (int, np.integer)) or family < 1:
+        raise ValueError(f"family must be an integer number of tooth positions >= 1, got {family!r}")
+    from matplotlib import patheffects
+    from matplotlib.collections import LineCollection
+    from matplotlib.legend import Legend
+    from matplotlib.lines import Line2D
+
+    if ax is None:
+        ax = _new_axes((5.0, 5.0))
+    if tooth is not None:
+        phi = np.linspace(*env.phi_range, int(family)) if family > 1 else np.array([np.mean(env.phi_range)])
+        ax.add_collection(LineCollection(family_outlines(tooth, motion, phi), colors=_FAMILY_COLOR,
+                                         linewidths=0.45, zorder=1, label="_family"))
+    handles = []
+    for cls in _classes(env):
+        style = CLASS_STYLE.get(cls, _OTHER_STYLE)
+        segs = [np.asarray(p.points, dtype=float) for p in env.pieces if p.cls == cls]
+        ax.add_collection(LineCollection(segs, colors=style["color"], linewidths=style["linewidth"],
+                                         zorder=style["zorder"], capstyle="round", joinstyle="round"))
+        handles.append(Line2D([], [], color=style["color"], linewidth=style["linewidth"], label=cls))
+    markers = []
+    if env.ridges:
+        xy = np.array([r.point for r in env.ridges], dtype=float)
+        ax.plot(xy[:, 0], xy[:, 1], **_RIDGE_STYLE)
+        halo = [patheffects.withStroke(linewidth=2.5, foreground="white")]
+        for r in env.ridges:
+            out = 1.0 if r.point[0] >= 0 else -1.0  # label on the outer side of the space axis
+            ax.annotate(f"{r.kink_deg:.1f}°", r.point, xytext=(5 * out, 4), textcoords="offset points",
+                        ha="left" if out > 0 else "right", fontsize="small", zorder=7,
+                        annotation_clip=True, path_effects=halo)
+        markers.append(Line2D([], [], label="ridge (kink)", **_RIDGE_STYLE))
+    if env.folds:
+        xy = np.array([f.point for f in env.folds], dtype=float)
+        ax.plot(xy[:, 0], xy[:, 1], **_FOLD_STYLE)
+        markers.append(Line2D([], [], label="fold", **_FOLD_STYLE))
+    if zoom is not None:  # exact limits; the axes box takes the aspect
+        ax.set_aspect("equal", adjustable="box")
+        ax.set_xlim(zoom[0], zoom[1])
+        ax.set_ylim(zoom[2], zoom[3])
+    else:
+        ax.set_aspect("equal", adjustable="datalim")
+        ax.autoscale_view()
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    _tidy(ax)
+    if legend and markers:
+        ax.add_artist(Legend(ax, markers, [m.get_label() for m in markers], loc="lower left"))
+    if legend and handles:
+        ax.legend(handles=handles, loc="lower right" if markers else "best")
+    return ax
+
+
+def _frame(points: np.ndarray, margin: float, *, ratio: float, anchor_top: bool = False) -> tuple[float, float, float, float]:
+    """Limits around ``points`` with a margin, widened to width/height = ``ratio``.
+
+    The short side grows symmetrically, or, with ``anchor_top``, downward only
+    (below a CS space lie the FS tooth and the false flanks; above it, CS material).
+    """
+    lo, hi = points.min(0), points.max(0)
+    pad = margin * max(float(np.max(hi - lo)), 1e-3)
+    x0, x1, y0, y1 = lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad
+    w, h = x1 - x0, y1 - y0
+    if w / h > ratio:
+        grow = w / ratio - h
+        y0, y1 = (y0 - grow, y1) if anchor_top else (y0 - grow / 2, y1 + grow / 2)
+    else:
+        grow = h * ratio - w
+        x0, x1 = x0 - grow / 2, x1 + grow / 2
+    return float(x0), float(x1), float(y0), float(y1)
+
+
+def envelope_figure(
+    env: Any,
+    tooth: Any,
+    motion: Any,
+    *,
+    title: str = "",
+    path: str | os.PathLike | None = None,
+) -> "Figure":
+    """Two panels: (a) the whole tooth space, (b) a zoom on the right flank; saved as PNG.
+
+    (a) is framed on the CS space boundary ``env.flank["boundary"]`` with a
+    margin, (b) on its x ≥ 0 half ``env.flank["right"]``; the zoom region is
+    outlined in (a). ``title`` becomes the suptitle. With ``path`` the figure is
+    written as a 150 dpi PNG, atomically (an unwritable path raises
+    ``ExportError`` and leaves nothing behind).
+    """
+    import matplotlib
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    from matplotlib.lines import Line2D
+    from matplotlib.patches import Rectangle
+
+    flank = getattr(env, "flank", None) or {}
+    allpts = np.concatenate([np.asarray(p.points, dtype=float) for p in env.pieces])
+    boundary = np.asarray(flank.get("boundary", allpts), dtype=float)
+    right = np.asarray(flank.get("right", boundary[boundary[:, 0] >= 0]), dtype=float)
+    if len(right) < 2:
+        right = boundary
+    with matplotlib.rc_context(PAPER_RC):
+        fig = Figure(figsize=(7.2, 4.3), layout="constrained")
+        FigureCanvasAgg(fig)
+        ax_all, ax_zoom = fig.subplots(1, 2)
+        whole = _frame(boundary, 0.12, ratio=1.0, anchor_top=True)
+        zoom = _frame(right, 0.06, ratio=1.0)
+        envelope(env, ax_all, tooth=tooth, motion=motion, zoom=whole, legend=False)
+        envelope(env, ax_zoom, tooth=tooth, motion=motion, zoom=zoom, legend=False)
+        ax_all.add_patch(Rectangle((zoom[0], zoom[2]), zoom[1] - zoom[0], zoom[3] - zoom[2], fill=False,
+                                   edgecolor="0.35", linewidth=0.7, linestyle=(0, (4, 2)), zorder=8))
+        ax_all.set_title("(a) CS tooth space", loc="left")
+        ax_zoom.set_title("(b) right flank", loc="left")
+        ax_zoom.set_ylabel("")
+        handles = [Line2D([], [], color=CLASS_STYLE.get(c, _OTHER_STYLE)["color"],
+                          linewidth=CLASS_STYLE.get(c, _OTHER_STYLE)["linewidth"], label=c) for c in _classes(env)]
+        if env.ridges:
+            handles.append(Line2D([], [], label="ridge (kink)", **_RIDGE_STYLE))
+        if env.folds:
+            handles.append(Line2D([], [], label="fold", **_FOLD_STYLE))
+        fig.legend(handles=handles, loc="outside lower center", ncols=len(handles), frameon=False)
+        if title:
+            fig.suptitle(title)
+        if path is not None:
+            from .export import atomic_write
+
+            buf = io.BytesIO()
+            fig.savefig(buf, format="png", dpi=150)
+            with atomic_write(path, "wb") as f:
+                f.write(buf.getvalue())
+    return fig
+
+
+def clearance(phi_rad: Any, clearance_mm: Any, ax: "Axes | None" = None) -> "Axes":
+    """Clearance (µm) against φ (degrees), with the zero line and the minimum marked."""
+    phi = np.asarray(phi_rad, dtype=float)
+    c = np.asarray(clearance_mm, dtype=float)
+    if phi.ndim != 1 or phi.size < 1:
+        raise ValueError(f"phi_rad must be a non-empty 1-D array (rad), got shape {phi.shape}")
+    if c.shape != phi.shape:
+        raise ValueError(f"clearance_mm must have the shape of phi_rad {phi.shape}, got {c.shape}")
+    for name, a in (("phi_rad", phi), ("clearance_mm", c)):
+        if not np.isfinite(a).all():
+            raise ValueError(f"{name} must be finite, got {a[~np.isfinite(a)][0]} at index {int(np.argmax(~np.isfinite(a)))}")
+    if ax is None:
+        ax = _new_axes((5.0, 3.0))
+    deg, um = np.degrees(phi), c * 1e3
+    ax.axhline(0.0, color="0.55", linewidth=0.8, zorder=1)
+    ax.plot(deg, um, color=CLASS_STYLE["conjugate"]["color"], linewidth=1.4, zorder=2)
+    k = int(np.argmin(um))
+    ax.plot(deg[k], um[k], "o", color="k", markersize=4, zorder=3)
+    right_half = deg[k] > 0.5 * (deg.min() + deg.max())
+    ax.annotate(f"min {um[k]:.2f} µm at φ = {deg[k]:.2f}°".replace("-", "\u2212"), (deg[k], um[k]),
+                xytext=(-6 if right_half else 6, -6), textcoords="offset points", fontsize="small",
+                ha="right" if right_half else "left", va="top")
+    ax.margins(x=0.02, y=0.15)
+    ax.set_xlabel("φ (°)")
+    ax.set_ylabel("clearance (µm)")
+    ax.ticklabel_format(useOffset=False, style="plain")
+    return ax
