@@ -1,0 +1,72 @@
+"""profilegen — conjugate tooth profiles for strain wave gears (harmonic drives).
+
+Conventions (used everywhere):
+
+* units mm, N, MPa inside; torques in N·m in files and at the CLI; angles in
+  radians inside and ``*_deg`` only in files and reports;
+* φ is the angle from the wave-generator major axis to a flexspline tooth's
+  *undeformed* position, in the wave-generator frame; ω(φ) is the radial
+  displacement of the rim's neutral line (outward +), υ(φ) the tangential one
+  (toward increasing φ), both read on the neutral line;
+* the CS frame has its origin at the gear centre and y along the CS tooth-space
+  axis; polar angles run from +y toward +x.
+
+The pipeline, stage by stage:
+
+>>> import profilegen as pg
+>>> gs = pg.load_gearset(pg.default_gearset_path())
+>>> gs.gear.neutral_radius_mm, gs.deflection_mm
+(48.95, 0.5)
+>>> tooth = pg.tooth_from_gearset(gs)
+>>> motion = pg.HarmonicDriveMotion(pg.ring_theory(gs.deflection_mm, 2), 48.95, 2, 202)
+>>> env = pg.envelope_of(tooth, motion, cs_teeth=202, waves=2, chord_tol_mm=1e-5)
+>>> sorted(env.counts())
+['conjugate', 'interfering', 'tip_path']
+>>> result = pg.design(gs, scene="sketch")   # all stages, with times and error estimates
+>>> result.form.clearance.min_mm > -1e-4
+True
+"""
+
+from .deformation import HarmonicDeformation, ring_theory
+from .envelope import Envelope, envelope_of
+from .errors import ConvergenceError, EnvelopeError, ExportError, GearSetError, ProfilegenError, ToothError
+from .gearform import CircularSplineForm, circular_spline_form, clearance_map
+from .gearset import GearSet, default_gearset_path, list_profiles, load_gearset, parse_gearset, resolve_gearset
+from .kinematics import HarmonicDriveMotion, RackMotion
+from .pipeline import SCENES, Design, design, write_design
+from .teeth import ToothProfile, dcta_tooth, involute_tooth, points_tooth, tooth_from_gearset
+
+__all__ = [
+    "CircularSplineForm",
+    "ConvergenceError",
+    "Design",
+    "Envelope",
+    "EnvelopeError",
+    "ExportError",
+    "GearSet",
+    "GearSetError",
+    "HarmonicDeformation",
+    "HarmonicDriveMotion",
+    "ProfilegenError",
+    "RackMotion",
+    "SCENES",
+    "ToothError",
+    "ToothProfile",
+    "circular_spline_form",
+    "clearance_map",
+    "dcta_tooth",
+    "default_gearset_path",
+    "design",
+    "envelope_of",
+    "involute_tooth",
+    "list_profiles",
+    "load_gearset",
+    "parse_gearset",
+    "points_tooth",
+    "resolve_gearset",
+    "ring_theory",
+    "tooth_from_gearset",
+    "write_design",
+]
+
+__version__ = "0.1.0"

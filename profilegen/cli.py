@@ -1,0 +1,145 @@
+"""`profilegen ...` — the command line. No logic of its own: it parses, calls, reports.
+
+Exit codes: 0 success, 2 bad input (gear set, file, option) or a failed stage,
+with one line on stderr naming the field; nothing is written on failure.
+"""
+
+from __future__ import annotations
+
+import argparse
+import logging
+import sys
+from pathlib import Path
+
+from .errors import ProfilegenError
+
+__all__ = ["main"]
+
+
+def _load(name_or_path: str | None):
+    from .gearset import default_gearset_path, load_gearset, resolve_gearset
+
+    path = default_gearset_path() if name_or_path is None else resolve_gearset(name_or_path)
+    return load_gearset(path)
+
+
+def _cmd_design(args) -> int:
+    from .pipeline import SCENES, design, write_design
+
+    if args.scene == "list":
+        for s in SCENES.values():
+            print(f"{s.name:8s} rim: {s.rim:22s} envelope chord {s.chord_tol_mm:g} mm — {s.description}")
+        return 0
+    gearset = _load(args.gearset)
+    out = Path(args.out) if args.out else Path("export") / gearset.name
+    stages = ["tooth", "deformation", "envelope", "gearform", "files"]
+    bar = _progress(len(stages), quiet=args.quiet)
+    result = design(gearset, scene=args.scene, progress=lambda name: bar(name))
+    bar("files")
+    written = write_design(result, out)
+    bar(None)
+    if not args.quiet:
+        _summary(result, written)
+    return 0
+
+
+def _summary(result, written) -> None:
+    env = result.envelope
+    c = env.counts()
+    print(f"gear set {result.gearset.name!r}, scene {result.scene.name!r}")
+    for s in result.stages:
+        err = "" if s.error_estimate is None else f"  error {s.error_estimate:.3g}"
+        print(f"  {s.stage:12s} {s.tier:28s} {s.time_s * 1e3:8.1f} ms{err}")
+    print(
+        f"  envelope: {c['conjugate']['pieces']} conjugate, {c['interfering']['pieces']} interfering, "
+        f"{c['tip_path']['pieces']} tip-path pieces; {len(env.ridges)} ridges, {len(env.folds)} folds; "
+        f"deepest false flank {env.max_interference_mm * 1e3:.1f} µm"
+    )
+    f = result.form
+    print(f"  CS: tip circle r = {f.tip_radius_mm:.4f} mm, root circle r = {f.root_radius_mm:.4f} mm, "
+          f"min clearance {f.clearance.min_mm * 1e3:.4f} µm")
+    for w in result.warnings:
+        print(f"  note: {w}")
+    for p in written:
+        print(f"  wrote {p}")
+
+
+def _progress(total: int, *, quiet: bool):
+    """A tqdm bar over the stages on stderr (silent when quiet or not a terminal)."""
+    if quiet or not sys.stderr.isatty():
+        return lambda name: None
+    from tqdm import tqdm
+
+    bar = tqdm(total=total, desc="design", unit="stage", leave=False, file=sys.stderr)
+    state = {"started": False}
+
+    def step(name):
+        if state["started"]:
+            bar.update(1)
+        state["started"] = True
+        if name is None:
+            bar.close()
+        else:
+            bar.set_postfix_str(name)
+
+    return step
+
+
+def _cmd_check(args) -> int:
+    from .errors import GearSetError
+    from .gearset import load_gearset, resolve_gearset
+    from .teeth import tooth_from_gearset
+
+    status = 0
+    for name in args.gearsets:
+        try:
+            gs = load_gearset(resolve_gearset(name))
+            tooth_from_gearset(gs)
+        except GearSetError as exc:
+            status = 2
+            for line in exc.problems:
+                print(f"{name}: {line}", file=sys.stderr)
+        else:
+            print(f"{name}: ok ({gs.name}: m {gs.gear.module_mm:g} mm, z {gs.gear.flexspline_teeth}/{gs.gear.circular_spline_teeth})")
+    return status
+
+
+def _cmd_profiles(args) -> int:
+    from .gearset import list_profiles, load_gearset
+
+    for path in list_profiles():
+        gs = load_gearset(path)
+        print(f"{path.stem:22s} {gs.description}")
+    return 0
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="profilegen", description="Conjugate tooth profiles for strain wave gears.")
+    p.add_argument("-v", "--verbose", action="store_true", help="log what each stage does")
+    sub = p.add_subparsers(dest="command", required=True)
+    d = sub.add_parser("design", help="run the pipeline on a gear set and write export/<name>/")
+    d.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
+    d.add_argument("--scene", choices=["sketch", "design", "verify", "list"], help="fidelity preset (default: the gear set's); 'list' shows them")
+    d.add_argument("--out", help="output folder (default: export/<gear-set name>/)")
+    d.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    d.set_defaults(func=_cmd_design)
+    c = sub.add_parser("check", help="validate gear-set files and print every problem")
+    c.add_argument("gearsets", nargs="+", help="gear-set TOML files or bundled names")
+    c.set_defaults(func=_cmd_check)
+    ls = sub.add_parser("profiles", help="list the bundled gear sets")
+    ls.set_defaults(func=_cmd_profiles)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    try:
+        return args.func(args)
+    except ProfilegenError as exc:
+        print(f"profilegen: error: {exc}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,295 @@
+"""The circular-spline outline from the classified envelope, and the clearance map.
+
+One CS tooth space is the swept boundary (``Envelope.flank["boundary"]``) with two
+designer's choices added, both radial clearances from the gear set:
+
+* the CS **tip circle** r_a2 = (radius where the swept regions of two neighbouring
+  FS teeth meet, on the CS tooth's axis) + ``tip_clearance_mm``;
+* the CS **root circle** r_f2 = (highest point of the swept region, the FS tip on
+  the major axis) + ``root_clearance_mm``. Above the last point where the flank is
+  within 45° of radial, each flank continues along its tangent to the root circle
+  (a convex boundary's tangent stays outside the swept region; the clearance map
+  checks it).
+
+The full outline repeats the space every 2π/z2 and joins neighbouring spaces by
+arcs of the tip circle. The clearance map is the signed distance, for each φ,
+between the deformed FS tooth (with its root lands) and the CS outline: ≥ 0 is
+clearance, < 0 interference; on the working flank it is 0 up to the chord
+tolerance.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+
+from .errors import EnvelopeError
+
+__all__ = ["CircularSplineForm", "ClearanceMap", "circular_spline_form", "clearance_map", "turn"]
+
+
+def _readonly(a) -> np.ndarray:
+    a = np.array(a, dtype=float)
+    a.setflags(write=False)
+    return a
+
+
+def turn(points: np.ndarray, angle: float) -> np.ndarray:
+    """Turn points about the gear centre by ``angle`` in our sense (clockwise, from +y toward +x)."""
+    c, s = np.cos(angle), np.sin(angle)
+    p = np.asarray(points, float)
+    return np.stack([p[..., 0] * c + p[..., 1] * s, -p[..., 0] * s + p[..., 1] * c], -1)
+
+
+def _polar_angle(p: np.ndarray) -> np.ndarray:
+    return np.arctan2(p[..., 0], p[..., 1])
+
+
+def _arc(radius: float, theta_a: float, theta_b: float, chord_tol_mm: float) -> np.ndarray:
+    """Points on a circle about the origin from angle θa to θb, chord sag ≤ tol (ends included)."""
+    step = 2.0 * np.sqrt(2.0 * chord_tol_mm / radius)
+    n = max(2, int(np.ceil(abs(theta_b - theta_a) / step)) + 1)
+    th = np.linspace(theta_a, theta_b, n)
+    return np.stack([radius * np.sin(th), radius * np.cos(th)], -1)
+
+
+def _circle_crossing(chain: np.ndarray, radius: float) -> tuple[int, np.ndarray]:
+    """First crossing of a polyline, walked from its start, with the circle r = radius."""
+    r = np.hypot(chain[:, 0], chain[:, 1])
+    above = r >= radius
+    if above[0]:
+        return 0, chain[0]
+    k = int(np.argmax(above))
+    if not above[k]:
+        raise EnvelopeError(f"gearform: the CS flank never reaches the circle r = {radius:.6f} mm")
+    a, b = chain[k - 1], chain[k]
+    # solve |a + s (b − a)| = radius for s in [0, 1]
+    d = b - a
+    A, B, C = d @ d, 2 * a @ d, a @ a - radius**2
+    s = (-B + np.sqrt(max(B * B - 4 * A * C, 0.0))) / (2 * A)
+    return k, a + np.clip(s, 0, 1) * d
+
+
+def _leave_point(flank: np.ndarray, max_angle_deg: float = 45.0) -> int:
+    """Index of the last flank vertex (walking up) whose tangent is within max_angle of radial."""
+    d = np.diff(flank, axis=0)
+    mid = 0.5 * (flank[1:] + flank[:-1])
+    radial = mid / np.hypot(mid[:, 0], mid[:, 1])[:, None]
+    cosang = np.abs(np.sum(d * radial, 1)) / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-300)
+    steep = np.nonzero(cosang >= np.cos(np.radians(max_angle_deg)))[0]
+    if steep.size == 0:
+        raise EnvelopeError("gearform: the CS flank is nowhere steeper than 45° from radial — no working flank")
+    return int(steep[-1]) + 1
+
+
+def _tangent_to_circle(p: np.ndarray, direction: np.ndarray, radius: float) -> np.ndarray:
+    """Where the ray p + s·direction (s ≥ 0) meets the circle r = radius from inside."""
+    d = direction / np.hypot(*direction)
+    B = 2 * p @ d
+    C = p @ p - radius**2
+    s = (-B + np.sqrt(max(B * B - 4 * C, 0.0))) / 2
+    return p + s * d
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ClearanceMap:
+    """Signed clearance between the deformed FS tooth and the CS outline over one pass."""
+
+    phi: np.ndarray
+    clearance_mm: np.ndarray
+
+    def __post_init__(self):
+        object.__setattr__(self, "phi", _readonly(self.phi))
+        object.__setattr__(self, "clearance_mm", _readonly(self.clearance_mm))
+
+    @property
+    def min_mm(self) -> float:
+        return float(self.clearance_mm.min())
+
+    @property
+    def at_phi(self) -> float:
+        return float(self.phi[np.argmin(self.clearance_mm)])
+
+    def to_dict(self) -> dict:
+        return {"min_clearance_mm": self.min_mm, "at_phi_rad": self.at_phi, "samples": int(self.phi.size)}
+
+    def plot(self, ax=None):
+        from . import plot
+
+        return plot.clearance(self.phi, self.clearance_mm, ax=ax)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class CircularSplineForm:
+    """One CS tooth space, the whole CS inner outline, and the clearance map.
+
+    ``space``: left tip-circle point → left flank → root → right flank → right
+    tip-circle point (mm, CS frame). ``outline``: the closed inner outline of all
+    z2 spaces (first point not repeated). ``working_flank``: per side, the part of
+    the swept boundary kept as the CS flank (tip circle → leave point).
+    """
+
+    space: np.ndarray
+    outline: np.ndarray
+    working_flank: dict
+    tip_radius_mm: float
+    root_radius_mm: float
+    outer_radius_mm: float
+    cs_teeth: int
+    clearance: ClearanceMap | None
+    time_s: float
+    warnings: tuple[str, ...] = field(default_factory=tuple)
+
+    def polygon(self) -> shapely.Polygon:
+        """The CS ring as shapely geometry: outer circle with the toothed outline as its hole."""
+        outer = _arc(self.outer_radius_mm, 0.0, 2 * np.pi, 1e-4)[:-1]
+        return shapely.Polygon(outer, holes=[self.outline])
+
+    def outline_for_cad(self, tolerance_mm: float) -> np.ndarray:
+        """The closed outline (first point repeated) with each space simplified to ``tolerance_mm``
+        (Douglas–Peucker on one space, then repeated, so every space is identical)."""
+        n_unit = len(self.outline) // self.cs_teeth
+        unit = self.outline[: n_unit + 1] if len(self.outline) > n_unit else self.outline[:n_unit]
+        unit = shapely.get_coordinates(shapely.simplify(shapely.LineString(unit), tolerance_mm, preserve_topology=False))
+        pitch = 2 * np.pi / self.cs_teeth
+        ring = np.vstack([turn(unit[:-1], k * pitch) for k in range(self.cs_teeth)])
+        return np.vstack([ring, ring[:1]])
+
+    def to_dict(self) -> dict:
+        return {
+            "tip_radius_mm": self.tip_radius_mm,
+            "root_radius_mm": self.root_radius_mm,
+            "outer_radius_mm": self.outer_radius_mm,
+            "space_points": int(len(self.space)),
+            "outline_points": int(len(self.outline)),
+            "clearance": None if self.clearance is None else self.clearance.to_dict(),
+            "time_s": self.time_s,
+            "warnings": list(self.warnings),
+        }
+
+
+def circular_spline_form(
+    envelope,
+    *,
+    cs_teeth: int,
+    tip_clearance_mm: float,
+    root_clearance_mm: float,
+    outer_radius_mm: float | None = None,
+    chord_tol_mm: float = 1e-6,
+) -> CircularSplineForm:
+    """Build the CS outline from the classified swept boundary (see the module docstring)."""
+    t0 = time.perf_counter()
+    chain = envelope.flank.get("boundary")
+    if chain is None or len(chain) < 3:
+        raise EnvelopeError("gearform: the envelope has no swept boundary to build the CS from")
+    warnings = []
+    if envelope.flank.get("chains", 1) > 1:
+        warnings.append(f"the swept boundary came in {envelope.flank['chains']} chains; the longest is used")
+    r = np.hypot(chain[:, 0], chain[:, 1])
+    r_mid = float(max(r[0], r[-1]))  # where the neighbours' swept regions meet
+    r_top = float(r.max())
+    tip_r = r_mid + tip_clearance_mm
+    root_r = r_top + root_clearance_mm
+    if tip_r >= r_top:
+        raise EnvelopeError(
+            f"gearform: the tip circle r_a2 = {tip_r:.4f} mm (meeting radius {r_mid:.4f} + "
+            f"circular_spline.tip_clearance_mm {tip_clearance_mm}) lies above the space's top {r_top:.4f} mm"
+        )
+    sides = {}
+    for name, ch in (("right", chain), ("left", chain[::-1])):
+        k, p_tip = _circle_crossing(ch, tip_r)
+        flank = np.vstack([p_tip, ch[k:]])
+        top = int(np.argmax(np.hypot(flank[:, 0], flank[:, 1])))
+        flank = flank[: top + 1]
+        j = _leave_point(flank)
+        work = flank[: j + 1]
+        p_root = _tangent_to_circle(work[-1], work[-1] - work[-2], root_r)
+        sides[name] = (work, p_root)
+    (wr, pr), (wl, pl) = sides["right"], sides["left"]
+    th_r, th_l = float(_polar_angle(pr)), float(_polar_angle(pl))
+    if th_r <= th_l:
+        # the two tangent extensions cross before reaching the root circle: a pointed root
+        d1, d2 = pr - wr[-1], pl - wl[-1]
+        den = d1[0] * d2[1] - d1[1] * d2[0]
+        s = ((wl[-1] - wr[-1])[0] * d2[1] - (wl[-1] - wr[-1])[1] * d2[0]) / den
+        apex = wr[-1] + s * d1
+        root = apex[None]
+        warnings.append(
+            f"the flank extensions meet at r = {np.hypot(*apex):.4f} mm below the root circle "
+            f"{root_r:.4f} mm: pointed root (reduce circular_spline.root_clearance_mm)"
+        )
+    else:
+        root = _arc(root_r, th_l, th_r, chord_tol_mm)
+    # space: left tip point → up the left flank → root (left to right) → down the right flank
+    space = np.vstack([wl, root, wr[::-1]])
+    keep = np.concatenate([[True], np.hypot(*np.diff(space, axis=0).T) > 1e-12])
+    space = space[keep]
+    pitch = 2 * np.pi / cs_teeth
+    th_space_r, th_space_l = float(_polar_angle(space[-1])), float(_polar_angle(space[0]))
+    land = _arc(tip_r, th_space_r, th_space_l + pitch, chord_tol_mm)[1:-1]
+    unit = np.vstack([space, land])
+    outline = np.vstack([turn(unit, k * pitch) for k in range(cs_teeth)])
+    if outer_radius_mm is None:
+        outer_radius_mm = 1.25 * root_r
+    form = CircularSplineForm(
+        space=_readonly(space),
+        outline=_readonly(outline),
+        working_flank={"right": _readonly(wr), "left": _readonly(wl)},
+        tip_radius_mm=tip_r,
+        root_radius_mm=root_r,
+        outer_radius_mm=float(outer_radius_mm),
+        cs_teeth=cs_teeth,
+        clearance=None,
+        time_s=time.perf_counter() - t0,
+        warnings=tuple(warnings),
+    )
+    return form
+
+
+def _local_outline(form: CircularSplineForm, neighbours: int = 1) -> np.ndarray:
+    """The CS outline around space 0: spaces −n..n with their tip lands, as one polyline."""
+    pitch = 2 * np.pi / form.cs_teeth
+    n_unit = len(form.outline) // form.cs_teeth
+    unit = form.outline[:n_unit]
+    parts = [turn(unit, k * pitch) for k in range(-neighbours, neighbours + 1)]
+    return np.vstack(parts)
+
+
+def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples: int = 361, candidates: int = 24) -> ClearanceMap:
+    """Signed distance between the FS tooth (with root lands) and the CS outline at each φ.
+
+    For each φ the CS outline vertices are taken into the tooth frame; an
+    approximate normal depth (``ToothShape``) picks the ``candidates`` nearest, and
+    shapely gives their exact distance to the tooth outline (negative inside).
+    """
+    from .envelope import tooth_curves
+
+    _, _, shape = tooth_curves(tooth)
+    outline = tooth.outline(n_per_mm=400.0)
+    poly = shapely.Polygon(outline)
+    shapely.prepare(poly)
+    # the real FS surface: root lands, flanks, top land — not the polygon's radial sector
+    # edges and neutral-line arc, which only close it
+    centre = np.array([0.0, -tooth.neutral_radius_mm])
+    on_surface = np.hypot(*(outline - centre).T) >= shape.root_radius - 1e-6
+    k = int(np.argmin(on_surface))  # a vertex off the surface; the surface run follows it
+    rolled, mask = np.roll(outline, -k, axis=0), np.roll(on_surface, -k)
+    surface = shapely.LineString(rolled[mask])
+    cs = _local_outline(form)
+    phis = np.linspace(*phi_range, samples)
+    pose = motion.pose(phis)
+    out = np.empty(samples)
+    for i in range(samples):
+        d = cs - pose.origin[i]
+        c, s = np.cos(pose.angle[i]), np.sin(pose.angle[i])
+        q = np.stack([d[:, 0] * c - d[:, 1] * s, d[:, 0] * s + d[:, 1] * c], -1)  # (d·e_t, d·e_r)
+        depth = shape.depth(q)
+        near = np.argsort(-depth)[:candidates]
+        pts = shapely.points(q[near])
+        dist = shapely.distance(pts, surface)
+        inside = shapely.contains_xy(poly, q[near, 0], q[near, 1])
+        out[i] = np.min(np.where(inside, -dist, dist))
+    return ClearanceMap(phis, out)
