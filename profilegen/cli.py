@@ -57,7 +57,7 @@ def _summary(result, written) -> None:
     )
     f = result.form
     print(f"  CS: tip circle r = {f.tip_radius_mm:.4f} mm, root circle r = {f.root_radius_mm:.4f} mm, "
-          f"min clearance {f.clearance.min_mm * 1e3:.4f} µm")
+          f"min clearance {f.clearance.min_mm * 1e6:.3g} nm (chord tolerance {result.scene.chord_tol_mm * 1e6:g} nm)")
     for w in result.warnings:
         print(f"  note: {w}")
     for p in written:

@@ -166,7 +166,7 @@ def design(
     if scene.rim != "ring theory":
         note = f"scene {scene.name!r} asks for the {scene.rim} rim, which is not built yet: ring theory used"
         warnings.append(note)
-        log.warning(note)
+        log.info(note)
     stages.append(StageReport("deformation", "ring theory", 2, time.perf_counter() - t0, None,
                               "none: ring theory is the model itself (no FEM reference yet)", note))
     motion = _harmonic_motion(gearset, deformation)

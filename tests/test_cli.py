@@ -1,0 +1,137 @@
+"""The README commands end to end, and bad input at the command line: one line naming
+the field, exit code 2, nothing written."""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from profilegen.cli import main
+
+ROOT = Path(__file__).resolve().parents[1]
+DEFAULT = (ROOT / "profiles" / "default.toml").read_text()
+
+
+def run_cli(*args, cwd: Path) -> subprocess.CompletedProcess:
+    """`profilegen ARGS` as a user types it (the module form, which is the same entry point)."""
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    return subprocess.run([sys.executable, "-m", "profilegen", *args], cwd=cwd, capture_output=True, text=True, env=env, timeout=300)
+
+
+def test_design_without_arguments_writes_the_default_set(tmp_path):
+    """The README quickstart: `profilegen design` on the bundled default set."""
+    res = run_cli("design", cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    out = tmp_path / "export" / "default"
+    assert sorted(p.name for p in out.iterdir()) == ["circular_spline.dxf", "design.json", "envelope.csv", "envelope.png"]
+    data = json.loads((out / "design.json").read_text())
+    assert data["gearset"]["name"] == "default"
+    for stage in ("tooth", "deformation", "envelope", "gearform"):
+        assert data["stages"][stage]["time_s"] >= 0
+    assert "ring theory used" in " ".join(data["warnings"])  # design scene says it ran the sketch tier
+    # the CSV holds the classified envelope, in mm and rad
+    header = (out / "envelope.csv").read_text().splitlines()[0]
+    assert header == "x_mm,y_mm,phi_rad,class"
+    rows = np.genfromtxt(out / "envelope.csv", delimiter=",", skip_header=1, usecols=(0, 1, 2))
+    assert np.all(np.isfinite(rows)) and np.all(np.abs(rows[:, 2]) <= np.pi / 2 + 1e-12)
+    assert (out / "envelope.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_design_dxf_is_the_closed_cs_outline_in_mm(tmp_path):
+    import ezdxf
+
+    assert main(["design", "--scene", "sketch", "--out", str(tmp_path / "o"), "-q"]) == 0
+    doc = ezdxf.readfile(tmp_path / "o" / "circular_spline.dxf")
+    assert doc.header["$INSUNITS"] == 4  # millimetres
+    assert len(doc.audit().errors) == 0
+    (cs,) = [e for e in doc.modelspace() if e.dxftype() == "LWPOLYLINE" and e.dxf.layer == "CS"]
+    assert cs.closed
+    pts = np.array([p[:2] for p in cs.get_points()])
+    data = json.loads((tmp_path / "o" / "design.json").read_text())
+    r = np.hypot(pts[:, 0], pts[:, 1])
+    cs_data = data["circular_spline"]
+    assert r.min() == pytest.approx(cs_data["tip_radius_mm"], abs=1e-9)
+    assert r.max() == pytest.approx(cs_data["root_radius_mm"], abs=1e-9)
+    # z2 identical spaces: the outline is periodic in 2π/z2
+    theta = np.arctan2(pts[:, 0], pts[:, 1])
+    deepest = np.sort(theta[np.abs(r - r.max()) < 1e-9])
+    gaps = np.diff(np.unique(np.round(deepest / (2 * np.pi / 202))))
+    assert np.all(gaps == 1)
+
+
+def test_every_bundled_profile_checks(tmp_path):
+    res = run_cli("check", *sorted(p.stem for p in (ROOT / "profiles").glob("*.toml")), cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.count(": ok") == len(list((ROOT / "profiles").glob("*.toml")))
+
+
+def _bad(tmp_path: Path, text: str) -> Path:
+    p = tmp_path / "bad.toml"
+    p.write_text(text)
+    return p
+
+
+BAD_INPUT = {
+    # case: (file text or None for a missing file, the name the one-line error must contain)
+    "module out of range": (DEFAULT.replace("module_mm = 0.5", "module_mm = -0.5"), "gear.module_mm"),
+    "unknown key": (DEFAULT.replace("rim_thickness_mm = 0.9", "rim_thicknes_mm = 0.9"), "rim_thicknes_mm"),
+    "malformed TOML": (DEFAULT.replace("[gear]", "[gear"), "bad.toml"),
+    "missing file": (None, "nowhere.toml"),
+    "self-intersecting tooth": (DEFAULT.replace("addendum_mm = 0.40", "addendum_mm = 1.4"), "tooth."),
+    "tooth difference vs waves": (DEFAULT.replace("circular_spline_teeth = 202", "circular_spline_teeth = 203"), "gear.circular_spline_teeth"),
+    "poisson ratio": (DEFAULT.replace("poisson_ratio = 0.295", "poisson_ratio = 0.7"), "material.poisson_ratio"),
+    "torque order": (DEFAULT.replace("peak_nm = 660.0", "peak_nm = 100.0"), "torque.peak_nm"),
+    "deflection": (DEFAULT.replace("deflection_coefficient = 1.0", "deflection_coefficient = 0"), "wave_generator.deflection_coefficient"),
+}
+
+
+@pytest.mark.parametrize("case", sorted(BAD_INPUT))
+def test_bad_input_is_one_line_exit_2_and_writes_nothing(tmp_path, case, capsys):
+    text, name = BAD_INPUT[case]
+    path = tmp_path / "nowhere.toml" if text is None else _bad(tmp_path, text)
+    out = tmp_path / "out"
+    status = main(["design", str(path), "--out", str(out)])
+    err = capsys.readouterr().err.strip()
+    assert status == 2
+    assert len(err.splitlines()) == 1 and err.startswith("profilegen: error:")
+    assert name in err
+    assert not out.exists()
+    assert [p.name for p in tmp_path.iterdir()] == ([] if text is None else ["bad.toml"])  # no staging left
+
+
+def test_check_prints_every_problem(tmp_path, capsys):
+    text = DEFAULT.replace("module_mm = 0.5", "module_mm = -0.5").replace("poisson_ratio = 0.295", "poisson_ratio = 0.7")
+    status = main(["check", str(_bad(tmp_path, text))])
+    err = capsys.readouterr().err
+    assert status == 2
+    assert "gear.module_mm" in err and "material.poisson_ratio" in err
+
+
+def test_unwritable_output_is_a_named_error(tmp_path, capsys):
+    blocker = tmp_path / "file"
+    blocker.write_text("")
+    status = main(["design", "--scene", "sketch", "--out", str(blocker / "sub")])
+    err = capsys.readouterr().err
+    assert status == 2 and str(blocker) in err
+
+
+def test_scene_list(capsys):
+    assert main(["design", "--scene", "list"]) == 0
+    out = capsys.readouterr().out
+    assert all(s in out for s in ("sketch", "design", "verify"))
+
+
+def test_readme_python_example_runs(tmp_path, monkeypatch):
+    """The README's profile-generation script, exactly as printed there."""
+    readme = (ROOT / "README.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", readme, flags=re.S)
+    assert blocks, "README has no python example"
+    monkeypatch.chdir(tmp_path)
+    exec(compile(blocks[0], "README.md", "exec"), {"__name__": "__readme__"})
