@@ -15,7 +15,7 @@ The pipeline, stage by stage:
 
 >>> import profilegen as pg
 >>> gs = pg.load_gearset(pg.default_gearset_path())
->>> gs.gear.neutral_radius_mm, gs.deflection_mm
+>>> round(gs.gear.neutral_radius_mm, 9), gs.deflection_mm  # r_m = r1 − dedendum − rim/2
 (48.95, 0.5)
 >>> tooth = pg.tooth_from_gearset(gs)
 >>> motion = pg.HarmonicDriveMotion(pg.ring_theory(gs.deflection_mm, 2), 48.95, 2, 202)
