@@ -131,7 +131,7 @@ class ToothShape:
     half_angle: float  # π / z1
 
     @classmethod
-    def from_flank(cls, flank: Curve, *, neutral_radius_mm: float, teeth: int, samples: int = 20001):
+    def from_flank(cls, flank: Curve, *, neutral_radius_mm: float, teeth: int, samples: int = 8001):
         t = np.linspace(0.0, flank.length, samples)
         p = flank.evaluate(t)[0]
         x, y = p[::-1, 0], p[::-1, 1]  # tip → root: x increasing
@@ -175,7 +175,7 @@ def swept_depth(
     phi_range: tuple[float, float],
     neighbour_angle: float,
     n_grid: int = 721,
-    refine: int = 40,
+    refine: int = 26,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Largest depth of CS points inside the region swept by the tooth and its two neighbours.
 
@@ -289,14 +289,16 @@ def _check_on_curve(curve, motion, t, phi, tol: float = 1e-10):
         raise _Bridged(float(t[k]), float(phi[k]))
 
 
-def _project_across(curve, motion, t, phi, nt, nphi, length, phi_range, iterations=8, tol=1e-14):
+def _project_across(curve, motion, t, phi, nt, nphi, length, phi_range, iterations=8, tol=1e-13):
     """Newton along the chord normal (nt, nφ) in (t, φ) onto f = 0.
 
     A new point between two vertices of a branch is sought on the line through the
     chord point perpendicular to the chord, so it stays on the arc between them —
     a ∇f step can jump onto the other sheet near a fold, where two sheets are close.
+    Raises _Bridged where Newton does not converge: there is no root under the chord.
     """
     t, phi = t.astype(float).copy(), phi.astype(float).copy()
+    s = np.zeros_like(t)
     for _ in range(iterations):
         f, ft, fp = _f_and_grad(curve, motion, t, phi)
         slope = ft * nt + fp * nphi
@@ -305,7 +307,11 @@ def _project_across(curve, motion, t, phi, nt, nphi, length, phi_range, iteratio
         t = np.clip(t + s * nt, 0.0, curve.length)
         phi = np.clip(phi + s * nphi, *phi_range)
         if np.max(np.abs(s), initial=0.0) < tol:
-            break
+            return t, phi
+    bad = np.abs(s) > 1e-10  # quadratic convergence: the last step bounds the distance left
+    if bad.any():
+        k = int(np.argmax(np.abs(s)))
+        raise _Bridged(float(t[k]), float(phi[k]))
     return t, phi
 
 
@@ -440,7 +446,6 @@ def _trace_once(curve, motion, phi_range, n_t, n_phi, chord_tol_mm, max_step, ma
         safe = np.where(step > 0, step, 1.0)
         nt, nphi = -dp_ / safe, dt_ / safe  # chord normal in (t, φ)
         tm, pm = _project_across(curve, motion, 0.5 * (t[a] + t[b]), 0.5 * (phi[a] + phi[b]), nt, nphi, step, phi_range)
-        _check_on_curve(curve, motion, tm, pm)
         sag = _sag_pairs(q[a], q[b], _image(curve, motion, tm, pm))
         # sag ∝ h²: split a segment into n so that each part's sag is ~tol/2
         n = np.maximum(np.ceil(np.sqrt(2.0 * sag / chord_tol_mm)), np.ceil(step / max_step))
@@ -460,7 +465,6 @@ def _trace_once(curve, motion, phi_range, n_t, n_phi, chord_tol_mm, max_step, ma
             curve, motion, t[at] + frac * (t[at + 1] - t[at]), phi[at] + frac * (phi[at + 1] - phi[at]),
             np.repeat(nt[split], k - 1), np.repeat(nphi[split], k - 1), np.repeat(step[split], k - 1), phi_range,
         )
-        _check_on_curve(curve, motion, tn, pn)
         ln_t, ln_p = np.zeros(at.size, bool), np.zeros(at.size, bool)
         counts = np.ones(len(t) - 1, int)
         counts[seg[split]] = k
@@ -646,7 +650,9 @@ def _segment_crossings(curves: list[RootCurve], n_own: int | None = None, chunk:
     boxes = shapely.box(lo[:, 0], lo[:, 1], hi[:, 0], hi[:, 1])
     n_query = int(np.sum(owner < (len(curves) if n_own is None else n_own)))
     ci, cj = shapely.STRtree(boxes).query(boxes[:n_query], predicate="intersects")
-    keep = ci <= cj
+    # a run and its successor always touch; a loop that small (< 2·chunk segments) is
+    # below the chord resolution, so a curve's neighbouring runs are not paired
+    keep = (ci < cj) & ((owner[ci] != owner[cj]) | (cj - ci > 1))
     ci, cj = ci[keep], cj[keep]
     if ci.size == 0:
         return []
@@ -657,7 +663,7 @@ def _segment_crossings(curves: list[RootCurve], n_own: int | None = None, chunk:
     gi = r0[ci][pair] + local // nb[pair]
     gj = r0[cj][pair] + local % nb[pair]
     oi, oj = owner[ci][pair], owner[cj][pair]
-    ok = (gi < gj) & ((oi != oj) | (gj - gi > 1))
+    ok = (oi != oj) | (gj - gi > 1)
     gi, gj, oi, oj = gi[ok], gj[ok], oi[ok], oj[ok]
     a1, b1, a2, b2 = allp[gi], allp[gi + 1], allp[gj], allp[gj + 1]
     s, u, hit = _crossing_params(a1, b1, a2, b2)
@@ -670,26 +676,20 @@ def _segment_crossings(curves: list[RootCurve], n_own: int | None = None, chunk:
 
 def _split(rc: RootCurve, cuts: list[tuple[int, float, np.ndarray]]):
     """Split a root curve at (segment, fraction, point) cuts into (points, t, phi) stretches."""
-    cuts = sorted(cuts, key=lambda c: (c[0], c[1]))
-    pieces, start_pt, start_t, start_p = [], None, None, None
     pts, ts, ps = rc.points, rc.t, rc.phi
-    cur_pts, cur_t, cur_p = [pts[0]], [ts[0]], [ps[0]]
-    ci = 0
-    for seg in range(len(pts) - 1):
-        while ci < len(cuts) and cuts[ci][0] == seg:
-            _, frac, pt = cuts[ci]
-            tc = ts[seg] + frac * (ts[seg + 1] - ts[seg])
-            pc = ps[seg] + frac * (ps[seg + 1] - ps[seg])
-            cur_pts.append(pt)
-            cur_t.append(tc)
-            cur_p.append(pc)
-            pieces.append((np.array(cur_pts), np.array(cur_t), np.array(cur_p)))
-            cur_pts, cur_t, cur_p = [pt], [tc], [pc]
-            ci += 1
-        cur_pts.append(pts[seg + 1])
-        cur_t.append(ts[seg + 1])
-        cur_p.append(ps[seg + 1])
-    pieces.append((np.array(cur_pts), np.array(cur_t), np.array(cur_p)))
+    # each cut becomes a vertex inserted after its segment's start; stretches run cut to cut
+    cuts = sorted(cuts, key=lambda c: (c[0], c[1]))
+    seg = np.array([c[0] for c in cuts], int)
+    frac = np.array([c[1] for c in cuts], float)
+    cut_pts = np.array([c[2] for c in cuts], float).reshape(-1, 2)
+    cut_t = ts[seg] + frac * (ts[seg + 1] - ts[seg]) if seg.size else np.zeros(0)
+    cut_p = ps[seg] + frac * (ps[seg + 1] - ps[seg]) if seg.size else np.zeros(0)
+    P = np.insert(pts, seg + 1, cut_pts, axis=0)
+    T = np.insert(ts, seg + 1, cut_t)
+    F = np.insert(ps, seg + 1, cut_p)
+    at = seg + 1 + np.arange(seg.size)  # positions of the cut vertices after insertion
+    bounds = np.concatenate([[0], at, [len(P) - 1]])
+    pieces = [(P[a : b + 1], T[a : b + 1], F[a : b + 1]) for a, b in zip(bounds[:-1], bounds[1:])]
     return [p for p in pieces if len(p[0]) >= 2 and np.ptp(p[0], axis=0).max() > 0]
 
 
@@ -861,14 +861,16 @@ def solve_envelope(
     own = len(curves_all)
     # the neighbouring teeth's families are this one turned by ±2π/z2 (closure); their curves
     # only cut ours (where the CS tooth between two spaces is bounded by both)
-    theta_all = np.concatenate([np.arctan2(rc.points[:, 0], rc.points[:, 1]) for rc in curves_all])
-    theta_lo, theta_hi = theta_all.min(), theta_all.max()
+    thetas = [np.arctan2(rc.points[:, 0], rc.points[:, 1]) for rc in curves_all]
+    theta_lo, theta_hi = min(th.min() for th in thetas), max(th.max() for th in thetas)
     for k in (-1.0, 1.0):
         c, s_ = np.cos(k * neighbour_angle), np.sin(k * neighbour_angle)
-        rot = np.array([[c, -s_], [s_, c]])  # turns a point by +k·angle in our clockwise sense
-        for rc in curves_all[:own]:
+        rot = np.array([[c, -s_], [s_, c]])  # pts @ rot.T turns by −k·angle in our (clockwise) sense
+        for rc, th0 in zip(curves_all[:own], thetas):
+            th = th0 - k * neighbour_angle
+            if th.max() < theta_lo or th.min() > theta_hi:
+                continue
             pts = rc.points @ rot.T
-            th = np.arctan2(pts[:, 0], pts[:, 1])
             # only the part of the copy that reaches into our curves' angular range can cut them
             near = (th <= theta_hi) & (th >= theta_lo)
             near = near | np.concatenate([near[1:], [False]]) | np.concatenate([[False], near[:-1]])

@@ -61,17 +61,28 @@ class Pose:
     angle_d1: np.ndarray
     angle_d2: np.ndarray
 
+    @property
+    def cos_sin(self) -> tuple[np.ndarray, np.ndarray]:
+        """cos Φ and sin Φ (n,)."""
+        return np.cos(self.angle), np.sin(self.angle)
+
     def to_cs(self, points: np.ndarray) -> np.ndarray:
-        """Tooth-frame points (n, 2) — one per pose — to the CS frame."""
+        """Tooth-frame points (n, 2) — one per pose — to the CS frame: p_x e_t(Φ) + p_y e_r(Φ) + O."""
         p = np.asarray(points, dtype=float)
-        return p[..., :1] * unit_tangential(self.angle) + p[..., 1:] * unit_radial(self.angle) + self.origin
+        c, s = self.cos_sin
+        out = np.empty(np.broadcast_shapes(p.shape, self.origin.shape))
+        out[..., 0] = p[..., 0] * c + p[..., 1] * s + self.origin[..., 0]
+        out[..., 1] = p[..., 1] * c - p[..., 0] * s + self.origin[..., 1]
+        return out
 
     def to_tooth(self, points: np.ndarray) -> np.ndarray:
         """CS-frame points (n, 2) — one per pose — to the tooth frame (inverse of ``to_cs``)."""
         d = np.asarray(points, dtype=float) - self.origin
-        return np.stack(
-            [np.sum(d * unit_tangential(self.angle), -1), np.sum(d * unit_radial(self.angle), -1)], -1
-        )
+        c, s = self.cos_sin
+        out = np.empty(d.shape)
+        out[..., 0] = d[..., 0] * c - d[..., 1] * s
+        out[..., 1] = d[..., 0] * s + d[..., 1] * c
+        return out
 
     def meshing_coefficients(self) -> tuple[np.ndarray, np.ndarray]:
         """``a`` and ``∂a/∂φ`` (each (n, 3)) such that the meshing function is
@@ -82,14 +93,18 @@ class Pose:
         velocity in the tooth frame. The separation into φ-terms and t-terms is
         what makes the envelope's grid search one matrix product.
         """
-        et, er = unit_tangential(self.angle), unit_radial(self.angle)
-        vx = np.sum(self.origin_d1 * et, -1)
-        vy = np.sum(self.origin_d1 * er, -1)
+        c, s = self.cos_sin
+        o1x, o1y = self.origin_d1[:, 0], self.origin_d1[:, 1]
+        o2x, o2y = self.origin_d2[:, 0], self.origin_d2[:, 1]
+        # components along e_t(Φ) = (c, −s) and e_r(Φ) = (s, c)
+        vx, vy = o1x * c - o1y * s, o1x * s + o1y * c
         # v′ = Φ′ Kᵀ v + Rᵀ O″,  Kᵀ v = (−v_y, v_x)
-        vx_d = -self.angle_d1 * vy + np.sum(self.origin_d2 * et, -1)
-        vy_d = self.angle_d1 * vx + np.sum(self.origin_d2 * er, -1)
-        a = np.stack([self.angle_d1, vx, -vy], -1)
-        a_d = np.stack([self.angle_d2, vx_d, -vy_d], -1)
+        vx_d = -self.angle_d1 * vy + (o2x * c - o2y * s)
+        vy_d = self.angle_d1 * vx + (o2x * s + o2y * c)
+        a = np.empty((c.size, 3))
+        a_d = np.empty((c.size, 3))
+        a[:, 0], a[:, 1], a[:, 2] = self.angle_d1, vx, -vy
+        a_d[:, 0], a_d[:, 1], a_d[:, 2] = self.angle_d2, vx_d, -vy_d
         return a, a_d
 
 
@@ -123,13 +138,18 @@ class HarmonicDriveMotion:
         (w, w1, w2, w3), (u, u1, u2, u3) = self.deformation.evaluate(phi, order=3)
         k, rm = self.beta_rate, self.neutral_radius_mm
         beta = k * phi
-        er, et = unit_radial(beta), unit_tangential(beta)
+        sb, cb = np.sin(beta), np.cos(beta)  # e_r(β) = (sb, cb), e_t(β) = (cb, −sb)
         # origin O = (r_m + ω) e_r + υ e_t and its φ-derivatives (de_r/dβ = e_t, de_t/dβ = −e_r)
+        a0, b0 = rm + w, u
         a1, b1 = w1 - k * u, u1 + k * (rm + w)
         a2, b2 = w2 - k * u1 - k * b1, u2 + k * w1 + k * a1
-        origin = (rm + w)[:, None] * er + u[:, None] * et
-        origin_d1 = a1[:, None] * er + b1[:, None] * et
-        origin_d2 = a2[:, None] * er + b2[:, None] * et
+
+        def combine(ra, ta):
+            out = np.empty((phi.size, 2))
+            out[:, 0] = ra * sb + ta * cb
+            out[:, 1] = ra * cb - ta * sb
+            return out
+
         # Φ = β + atan2(N, D),  N = υ − ω′,  D = r_m + ω + υ′
         n0, n1, n2 = u - w1, u1 - w2, u2 - w3
         d0, d1, d2 = rm + w + u1, w1 + u2, w2 + u3
@@ -139,9 +159,9 @@ class HarmonicDriveMotion:
         tilt_d2 = (n2 * d0 - n0 * d2) / q - num * 2.0 * (n0 * n1 + d0 * d1) / q**2
         return Pose(
             phi=phi,
-            origin=origin,
-            origin_d1=origin_d1,
-            origin_d2=origin_d2,
+            origin=combine(a0, b0),
+            origin_d1=combine(a1, b1),
+            origin_d2=combine(a2, b2),
             angle=beta + np.arctan2(n0, d0),
             angle_d1=k + tilt_d1,
             angle_d2=tilt_d2,
