@@ -193,7 +193,8 @@ def design(
 
         region = swept_region(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves, n_phi=4001)
         error = float(np.max(boundary_distance(env.flank["boundary"], region)))
-        measure = "max distance of the swept boundary to the brute-force union of 4001 tooth positions (mm)"
+        measure = ("max distance of the swept boundary to the brute-force union of 4001 tooth positions (mm); "
+                   "bounded below by the brute force's own notch error, ≈ 0.6 mm / 4001 for the default set")
     stages.append(StageReport("gearform", "shapely outline", len(form.outline), time.perf_counter() - t0, error, measure))
     warnings += list(form.warnings)
     if cmap.min_mm < -10 * scene.chord_tol_mm:
