@@ -34,7 +34,7 @@ import numpy as np
 import shapely
 
 from .errors import ConvergenceError, EnvelopeError
-from .kinematics import Motion, unit_radial, unit_tangential
+from .kinematics import Motion, turn, unit_radial, unit_tangential
 
 __all__ = [
     "CONJUGATE",
@@ -56,12 +56,6 @@ log = logging.getLogger(__name__)
 CONJUGATE = "conjugate"  # a meshing root on the swept boundary
 INTERFERING = "interfering"  # a meshing root (or corner path) strictly inside the swept region
 TIP_PATH = "tip_path"  # the tip corner's path where it bounds the swept region
-
-
-def _turn(points: np.ndarray, angle: float) -> np.ndarray:
-    """Turn points about the origin by ``angle`` in our sense (clockwise, from +y toward +x)."""
-    c, s = np.cos(angle), np.sin(angle)
-    return np.stack([points[:, 0] * c + points[:, 1] * s, -points[:, 0] * s + points[:, 1] * c], -1)
 
 
 def _readonly(a, dtype=float) -> np.ndarray:
@@ -703,11 +697,6 @@ def _midpoint(points: np.ndarray) -> np.ndarray:
     return points[k]
 
 
-def _tangent_at(points: np.ndarray, at_start: bool) -> np.ndarray:
-    d = points[1] - points[0] if at_start else points[-1] - points[-2]
-    return d / np.hypot(*d)
-
-
 # ----------------------------------------------------------------------------- the envelope
 
 
@@ -768,7 +757,7 @@ class Envelope:
         from scipy.spatial import cKDTree
 
         pitch = self.diagnostics.get("neighbour_angle", 0.0)
-        walls = [chain] + [_turn(chain, k * pitch) for k in (-1, 1) if pitch]
+        walls = [chain] + [turn(chain, k * pitch) for k in (-1, 1) if pitch]
         dist, _ = cKDTree(np.vstack(walls)).query(np.vstack(bad))
         return float(dist.max())
 

@@ -27,21 +27,15 @@ import numpy as np
 import shapely
 
 from .errors import EnvelopeError
+from .kinematics import turn
 
-__all__ = ["CircularSplineForm", "ClearanceMap", "circular_spline_form", "clearance_map", "turn"]
+__all__ = ["CircularSplineForm", "ClearanceMap", "circular_spline_form", "clearance_map"]
 
 
 def _readonly(a) -> np.ndarray:
     a = np.array(a, dtype=float)
     a.setflags(write=False)
     return a
-
-
-def turn(points: np.ndarray, angle: float) -> np.ndarray:
-    """Turn points about the gear centre by ``angle`` in our sense (clockwise, from +y toward +x)."""
-    c, s = np.cos(angle), np.sin(angle)
-    p = np.asarray(points, float)
-    return np.stack([p[..., 0] * c + p[..., 1] * s, -p[..., 0] * s + p[..., 1] * c], -1)
 
 
 def _polar_angle(p: np.ndarray) -> np.ndarray:

@@ -34,7 +34,14 @@ import numpy as np
 
 from .deformation import Deformation
 
-__all__ = ["Pose", "Motion", "HarmonicDriveMotion", "RackMotion", "unit_radial", "unit_tangential"]
+__all__ = ["Pose", "Motion", "HarmonicDriveMotion", "RackMotion", "turn", "unit_radial", "unit_tangential"]
+
+
+def turn(points, angle: float) -> np.ndarray:
+    """Points (..., 2) turned about the gear centre by ``angle`` (rad) in our sense, +y toward +x."""
+    p = np.asarray(points, dtype=float)
+    c, s = np.cos(angle), np.sin(angle)
+    return np.stack([p[..., 0] * c + p[..., 1] * s, -p[..., 0] * s + p[..., 1] * c], -1)
 
 
 def unit_radial(theta):
@@ -122,6 +129,16 @@ class HarmonicDriveMotion:
     neutral_radius_mm: float
     waves: int
     cs_teeth: int
+
+    @classmethod
+    def from_gearset(cls, gearset, deformation=None) -> "HarmonicDriveMotion":
+        """The motion of a gear set's FS tooth; ring theory unless a deformation is given."""
+        g = gearset.gear
+        if deformation is None:
+            from .deformation import ring_theory
+
+            deformation = ring_theory(gearset.deflection_mm, g.waves)
+        return cls(deformation, g.neutral_radius_mm, g.waves, g.circular_spline_teeth)
 
     @property
     def symmetric(self) -> bool:

@@ -128,11 +128,6 @@ class Design:
         }
 
 
-def _harmonic_motion(gearset: GearSet, deformation) -> HarmonicDriveMotion:
-    g = gearset.gear
-    return HarmonicDriveMotion(deformation, g.neutral_radius_mm, g.waves, g.circular_spline_teeth)
-
-
 def design(
     gearset: GearSet,
     *,
@@ -169,7 +164,7 @@ def design(
         log.info(note)
     stages.append(StageReport("deformation", "ring theory", 2, time.perf_counter() - t0, None,
                               "none: ring theory is the model itself (no FEM reference yet)", note))
-    motion = _harmonic_motion(gearset, deformation)
+    motion = HarmonicDriveMotion.from_gearset(gearset, deformation)
 
     step("envelope")
     env = envelope_of(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves,

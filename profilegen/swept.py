@@ -38,14 +38,9 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-__all__ = ["swept_region", "boundary_distance", "turn"]
+from .kinematics import turn
 
-
-def turn(points: np.ndarray, angle: float) -> np.ndarray:
-    """Points (n, 2) turned about the origin by ``angle`` (rad, +y toward +x)."""
-    p = np.asarray(points, dtype=float)
-    c, s = np.cos(angle), np.sin(angle)
-    return np.stack([p[..., 0] * c + p[..., 1] * s, -p[..., 0] * s + p[..., 1] * c], -1)
+__all__ = ["swept_region", "boundary_distance"]
 
 
 def swept_region(tooth, motion, *, cs_teeth: int, waves: int, n_phi: int, neighbours: int = 1,

@@ -127,6 +127,21 @@ def _gear_args(module_mm: Any, teeth: Any, neutral_radius_mm: Any) -> tuple[floa
     return m, z1, r_m
 
 
+def _tooth_levels(m: float, z1: int, r_m: float, ha: float, hf: float, half_thickness_mm: Any) -> tuple[float, float, float, float]:
+    """Half thickness h and the pitch, addendum and dedendum lines y_p, y_a, y_f of the
+    tooth frame; the dedendum line must lie above the neutral line."""
+    h = math.pi * m / 4.0 if half_thickness_mm is None else _num(
+        half_thickness_mm, "tooth.half_thickness_mm", lo=0.0)
+    y_p = m * z1 / 2.0 - r_m
+    y_a, y_f = y_p + ha, y_p - hf
+    if y_f <= 0.0:
+        raise ToothError(
+            f"tooth.dedendum_mm = {hf:g} mm puts the dedendum line y_f = y_p - dedendum = "
+            f"{y_f:.6g} mm at or below the neutral line (y_p = r1 - r_m = {y_p:.6g} mm); "
+            f"must be < {y_p:.6g} mm")
+    return h, y_p, y_a, y_f
+
+
 # --------------------------------------------------------------------------- segments
 
 
@@ -577,18 +592,8 @@ def dcta_tooth(*, module_mm: float, teeth: int, neutral_radius_mm: float,
     rf = _num(root_arc_radius_mm, "tooth.root_arc_radius_mm", lo=0.0)
     ha = _num(addendum_mm, "tooth.addendum_mm", lo=0.0)
     hf = _num(dedendum_mm, "tooth.dedendum_mm", lo=0.0)
-    h = math.pi * m / 4.0 if half_thickness_mm is None else _num(
-        half_thickness_mm, "tooth.half_thickness_mm", lo=0.0)
-
+    h, y_p, y_a, y_f = _tooth_levels(m, z1, r_m, ha, hf, half_thickness_mm)
     r1 = m * z1 / 2.0
-    y_p = r1 - r_m
-    y_a = y_p + ha
-    y_f = y_p - hf
-    if y_f <= 0.0:
-        raise ToothError(
-            f"tooth.dedendum_mm = {hf:g} mm puts the dedendum line y_f = y_p - dedendum = "
-            f"{y_f:.6g} mm at or below the neutral line (y_p = r1 - r_m = {y_p:.6g} mm); "
-            f"must be < {y_p:.6g} mm")
     a = math.radians(alpha_deg)
     sa, ca = math.sin(a), math.cos(a)
     d = np.array([-sa, ca])
@@ -683,17 +688,8 @@ def involute_tooth(*, module_mm: float, teeth: int, neutral_radius_mm: float,
                      hi_open=True, unit="deg")
     ha = m if addendum_mm is None else _num(addendum_mm, "tooth.addendum_mm", lo=0.0)
     hf = 1.25 * m if dedendum_mm is None else _num(dedendum_mm, "tooth.dedendum_mm", lo=0.0)
-    h = math.pi * m / 4.0 if half_thickness_mm is None else _num(
-        half_thickness_mm, "tooth.half_thickness_mm", lo=0.0)
-
+    h, y_p, y_a, y_f = _tooth_levels(m, z1, r_m, ha, hf, half_thickness_mm)
     r1 = m * z1 / 2.0
-    y_p = r1 - r_m
-    y_a = y_p + ha
-    y_f = y_p - hf
-    if y_f <= 0.0:
-        raise ToothError(
-            f"tooth.dedendum_mm = {hf:g} mm puts the dedendum line y_f = {y_f:.6g} mm at or "
-            f"below the neutral line; must be < y_p = {y_p:.6g} mm")
     a = math.radians(alpha_deg)
     r_b = r1 * math.cos(a)
     # polar angle from +y (clockwise positive) of the base-circle point of the right flank

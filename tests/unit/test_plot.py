@@ -18,23 +18,6 @@ ROOT = Path(__file__).resolve().parents[2]
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
 
-@pytest.fixture(scope="module")
-def default_set():
-    from profilegen.deformation import ring_theory
-    from profilegen.envelope import envelope_of
-    from profilegen.gearset import default_gearset_path, load_gearset
-    from profilegen.kinematics import HarmonicDriveMotion
-    from profilegen.teeth import tooth_from_gearset
-
-    gs = load_gearset(default_gearset_path())
-    tooth = tooth_from_gearset(gs)
-    motion = HarmonicDriveMotion(
-        ring_theory(gs.deflection_mm, gs.gear.waves), gs.gear.neutral_radius_mm, gs.gear.waves, gs.gear.circular_spline_teeth
-    )
-    env = envelope_of(tooth, motion, cs_teeth=gs.gear.circular_spline_teeth, waves=gs.gear.waves)
-    return tooth, motion, env
-
-
 def _classes(env):
     return {p.cls for p in env.pieces}
 

@@ -46,8 +46,8 @@ from profilegen.envelope import (
     trace_meshing_roots,
 )
 from profilegen.errors import EnvelopeError
-from profilegen.kinematics import HarmonicDriveMotion, RackMotion
-from profilegen.swept import boundary_distance, swept_region, turn
+from profilegen.kinematics import HarmonicDriveMotion, RackMotion, turn
+from profilegen.swept import boundary_distance, swept_region
 from profilegen.teeth import dcta_tooth, involute_tooth
 
 M, Z1, Z2, U, RM = 0.5, 200, 202, 2, 48.95
