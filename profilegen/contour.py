@@ -1,0 +1,225 @@
+"""Contours made of true lines and circular arcs — what CAD and wire EDM take.
+
+Points are in the plane of the drawing (mm); arc angles here are the usual math
+angles, from +x counter-clockwise (as in DXF), *not* the CS frame's polar angle.
+An :class:`Arc` keeps its direction of travel through a signed sweep, so a
+:class:`Chain` of elements runs in one direction and its continuity can be
+checked element to element. ``Arc.to_ccw()`` gives the DXF form (always
+counter-clockwise from ``start_angle`` to ``end_angle``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ProfilegenError
+
+__all__ = ["Line", "Arc", "Chain", "ContourError"]
+
+
+class ContourError(ProfilegenError, ValueError):
+    """A contour is not what it claims to be (gap, overlap, degenerate element)."""
+
+
+def _pt(p) -> np.ndarray:
+    a = np.array(p, dtype=float).reshape(2)
+    a.setflags(write=False)
+    return a
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Line:
+    """A straight segment from ``start`` to ``end`` (mm)."""
+
+    start: np.ndarray
+    end: np.ndarray
+
+    def __post_init__(self):
+        object.__setattr__(self, "start", _pt(self.start))
+        object.__setattr__(self, "end", _pt(self.end))
+
+    @property
+    def length(self) -> float:
+        return float(np.hypot(*(self.end - self.start)))
+
+    def tangent(self, at_end: bool = False) -> np.ndarray:
+        d = self.end - self.start
+        return d / np.hypot(*d)
+
+    def sample(self, chord_tol_mm: float = 1e-4) -> np.ndarray:
+        return np.vstack([self.start, self.end])
+
+    def distance(self, points: np.ndarray) -> np.ndarray:
+        """Unsigned distance of points (n, 2) to the segment."""
+        p = np.atleast_2d(points)
+        d = self.end - self.start
+        s = np.clip(((p - self.start) @ d) / (d @ d), 0.0, 1.0)
+        return np.hypot(*(p - (self.start + s[:, None] * d)).T)
+
+    def reversed(self) -> "Line":
+        return Line(self.end, self.start)
+
+    def transformed(self, matrix: np.ndarray, offset=(0.0, 0.0)) -> "Line":
+        m, o = np.asarray(matrix, float), np.asarray(offset, float)
+        return Line(m @ self.start + o, m @ self.end + o)
+
+    def to_dict(self) -> dict:
+        return {"type": "line", "start_mm": self.start.tolist(), "end_mm": self.end.tolist(), "length_mm": self.length}
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Arc:
+    """A circular arc: centre, radius, start angle and signed sweep (rad; > 0 counter-clockwise)."""
+
+    centre: np.ndarray
+    radius: float
+    start_angle: float
+    sweep: float
+
+    def __post_init__(self):
+        object.__setattr__(self, "centre", _pt(self.centre))
+        if not (self.radius > 0 and math.isfinite(self.radius)):
+            raise ContourError(f"arc radius must be > 0 mm and finite, got {self.radius!r}")
+        if not (0 < abs(self.sweep) <= 2 * math.pi + 1e-12):
+            raise ContourError(f"arc sweep must be in (0, 2π] rad in magnitude, got {self.sweep!r}")
+
+    @property
+    def end_angle(self) -> float:
+        return self.start_angle + self.sweep
+
+    def point_at(self, angle: float) -> np.ndarray:
+        return self.centre + self.radius * np.array([math.cos(angle), math.sin(angle)])
+
+    @property
+    def start(self) -> np.ndarray:
+        return self.point_at(self.start_angle)
+
+    @property
+    def end(self) -> np.ndarray:
+        return self.point_at(self.end_angle)
+
+    @property
+    def length(self) -> float:
+        return abs(self.sweep) * self.radius
+
+    @property
+    def curvature(self) -> float:
+        """Signed curvature 1/R: > 0 when the arc turns left (counter-clockwise)."""
+        return math.copysign(1.0 / self.radius, self.sweep)
+
+    def tangent(self, at_end: bool = False) -> np.ndarray:
+        a = self.end_angle if at_end else self.start_angle
+        s = math.copysign(1.0, self.sweep)
+        return s * np.array([-math.sin(a), math.cos(a)])
+
+    def sample(self, chord_tol_mm: float = 1e-4) -> np.ndarray:
+        step = 2.0 * math.sqrt(2.0 * chord_tol_mm / self.radius) if chord_tol_mm < self.radius else math.pi / 4
+        n = max(2, int(math.ceil(abs(self.sweep) / step)) + 1)
+        a = np.linspace(self.start_angle, self.end_angle, n)
+        return self.centre + self.radius * np.column_stack([np.cos(a), np.sin(a)])
+
+    def distance(self, points: np.ndarray) -> np.ndarray:
+        """Unsigned distance of points (n, 2) to the arc (its circle where the point faces the arc)."""
+        p = np.atleast_2d(points)
+        rel = p - self.centre
+        ang = np.arctan2(rel[:, 1], rel[:, 0])
+        # fraction of the sweep at the point's angle, unwrapped from the start
+        frac = np.mod((ang - self.start_angle) * math.copysign(1.0, self.sweep), 2 * math.pi) / abs(self.sweep)
+        on = frac <= 1.0
+        d_circle = np.abs(np.hypot(*rel.T) - self.radius)
+        d_ends = np.minimum(np.hypot(*(p - self.start).T), np.hypot(*(p - self.end).T))
+        return np.where(on, d_circle, d_ends)
+
+    def reversed(self) -> "Arc":
+        return Arc(self.centre, self.radius, self.end_angle, -self.sweep)
+
+    def to_ccw(self) -> tuple[np.ndarray, float, float, float]:
+        """(centre, radius, start_deg, end_deg) running counter-clockwise — DXF's ARC."""
+        a0, a1 = (self.start_angle, self.end_angle) if self.sweep > 0 else (self.end_angle, self.start_angle)
+        return self.centre, self.radius, math.degrees(a0) % 360.0, math.degrees(a1) % 360.0
+
+    def transformed(self, matrix: np.ndarray, offset=(0.0, 0.0)) -> "Arc":
+        """Under a rotation (det +1) or a reflection (det −1) and a shift."""
+        m, o = np.asarray(matrix, float), np.asarray(offset, float)
+        det = float(np.linalg.det(m))
+        start = m @ (self.start - self.centre)
+        return Arc(m @ self.centre + o, self.radius, math.atan2(start[1], start[0]), self.sweep * math.copysign(1.0, det))
+
+    def to_dict(self) -> dict:
+        return {
+            "type": "arc",
+            "centre_mm": self.centre.tolist(),
+            "radius_mm": self.radius,
+            "start_mm": self.start.tolist(),
+            "end_mm": self.end.tolist(),
+            "sweep_deg": math.degrees(self.sweep),
+            "length_mm": self.length,
+        }
+
+
+Element = Line | Arc
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Chain:
+    """Elements joined end to start, in order of travel."""
+
+    elements: tuple
+
+    def __post_init__(self):
+        object.__setattr__(self, "elements", tuple(self.elements))
+        if not self.elements:
+            raise ContourError("a chain needs at least one element")
+
+    @property
+    def start(self) -> np.ndarray:
+        return self.elements[0].start
+
+    @property
+    def end(self) -> np.ndarray:
+        return self.elements[-1].end
+
+    @property
+    def length(self) -> float:
+        return float(sum(e.length for e in self.elements))
+
+    def gaps(self, closed: bool = False) -> np.ndarray:
+        """Distances between each element's end and the next one's start (mm)."""
+        els = self.elements + ((self.elements[0],) if closed else ())
+        return np.array([np.hypot(*(a.end - b.start)) for a, b in zip(els[:-1], els[1:])])
+
+    def kinks_deg(self, closed: bool = False) -> np.ndarray:
+        """Tangent angle jumps at the joins (degrees; 0 for G1)."""
+        els = self.elements + ((self.elements[0],) if closed else ())
+        out = []
+        for a, b in zip(els[:-1], els[1:]):
+            c = float(np.clip(a.tangent(at_end=True) @ b.tangent(), -1.0, 1.0))
+            out.append(math.degrees(math.acos(c)))
+        return np.array(out)
+
+    def check(self, *, closed: bool = False, gap_tol_mm: float = 1e-9) -> None:
+        """Raise ContourError naming the first join whose gap exceeds the tolerance."""
+        g = self.gaps(closed)
+        if g.size and g.max() > gap_tol_mm:
+            k = int(np.argmax(g))
+            raise ContourError(f"chain: gap of {g[k]:.3e} mm after element {k} (tolerance {gap_tol_mm:g} mm)")
+
+    def sample(self, chord_tol_mm: float = 1e-4) -> np.ndarray:
+        pts = [self.elements[0].sample(chord_tol_mm)]
+        pts += [e.sample(chord_tol_mm)[1:] for e in self.elements[1:]]
+        return np.vstack(pts)
+
+    def distance(self, points: np.ndarray) -> np.ndarray:
+        return np.min([e.distance(points) for e in self.elements], axis=0)
+
+    def transformed(self, matrix, offset=(0.0, 0.0)) -> "Chain":
+        return Chain(tuple(e.transformed(matrix, offset) for e in self.elements))
+
+    def reversed(self) -> "Chain":
+        return Chain(tuple(e.reversed() for e in reversed(self.elements)))
+
+    def to_dict(self) -> dict:
+        return {"elements": [e.to_dict() for e in self.elements], "length_mm": self.length}
