@@ -29,7 +29,7 @@ import shapely
 from .errors import EnvelopeError
 from .kinematics import turn
 
-__all__ = ["CircularSplineForm", "ClearanceMap", "circular_spline_form", "clearance_map"]
+__all__ = ["CircularSplineForm", "ClearanceMap", "circular_spline_form", "clearance_map", "cs_chain"]
 
 
 def _readonly(a) -> np.ndarray:
@@ -252,12 +252,15 @@ def _local_outline(form: CircularSplineForm, neighbours: int = 1) -> np.ndarray:
     return np.vstack(parts)
 
 
-def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples: int = 361, candidates: int = 24) -> ClearanceMap:
+def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples: int = 361, candidates: int = 24,
+                  cs_points: np.ndarray | None = None) -> ClearanceMap:
     """Signed distance between the FS tooth (with root lands) and the CS outline at each φ.
 
-    For each φ the CS outline vertices are taken into the tooth frame; an
-    approximate normal depth (``ToothShape``) picks the ``candidates`` nearest, and
-    shapely gives their exact distance to the tooth outline (negative inside).
+    ``cs_points`` (the CS outline around space 0, mm) defaults to the form's own
+    polyline outline; pass a sampled arc-fit outline to check that instead. For each
+    φ the CS points are taken into the tooth frame; an approximate normal depth
+    (``ToothShape``) picks the ``candidates`` nearest, and shapely gives their exact
+    distance to the tooth's surface (negative inside).
     """
     from .envelope import tooth_curves
 
@@ -272,7 +275,7 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
     k = int(np.argmin(on_surface))  # a vertex off the surface; the surface run follows it
     rolled, mask = np.roll(outline, -k, axis=0), np.roll(on_surface, -k)
     surface = shapely.LineString(rolled[mask])
-    cs = _local_outline(form)
+    cs = _local_outline(form) if cs_points is None else np.asarray(cs_points, float)
     phis = np.linspace(*phi_range, samples)
     pose = motion.pose(phis)
     out = np.empty(samples)
@@ -287,3 +290,85 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
         inside = shapely.contains_xy(poly, q[near, 0], q[near, 1])
         out[i] = np.min(np.where(inside, -dist, dist))
     return ClearanceMap(phis, out)
+
+
+# ----------------------------------------------------------------------------- true arcs and lines
+
+
+_MIRROR = np.array([[-1.0, 0.0], [0.0, 1.0]])
+
+
+def _math_angle(p) -> float:
+    return float(np.arctan2(p[1], p[0]))
+
+
+def _clip_start_to_circle(element, radius: float):
+    """The element with its start moved (along itself) onto the circle r = radius about the origin."""
+    from .contour import Arc, Line
+
+    if isinstance(element, Line):
+        d = element.tangent()
+        p = element.start
+        B, C = 2 * p @ d, p @ p - radius**2
+        roots = np.roots([1.0, B, C]).real
+        s = roots[np.argmin(np.abs(roots))]
+        return Line(p + s * d, element.end)
+    # arc: intersect its circle with the tip circle; keep the intersection nearest the start
+    c, R = element.centre, element.radius
+    dist = float(np.hypot(*c))
+    a = (radius**2 - R**2 + dist**2) / (2 * dist)
+    h = np.sqrt(max(radius**2 - a**2, 0.0))
+    u = c / dist
+    base = a * u
+    cands = [base + h * np.array([-u[1], u[0]]), base - h * np.array([-u[1], u[0]])]
+    p = min(cands, key=lambda q: np.hypot(*(q - element.start)))
+    new_start = _math_angle(p - c)
+    end = element.end_angle
+    sweep = end - new_start
+    sign = np.sign(element.sweep)
+    sweep = (sweep - sign * 2 * np.pi) if sign * sweep > 2 * np.pi else sweep
+    sweep = (sweep + sign * 2 * np.pi) if sign * sweep < 0 else sweep
+    return Arc(c, R, new_start, sweep)
+
+
+def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: int):
+    """The closed CS inner outline as true arcs and lines, from a fitted right flank.
+
+    ``flank`` is a contour.Chain in the CS frame running up the right flank of space 0
+    (from near the tip circle toward the root). Its start is moved exactly onto the tip
+    circle; from its end a line continues along its end tangent to the root circle; the
+    left flank is the mirror image; the root is an arc of the root circle; neighbouring
+    spaces are joined by arcs of the tip circle. Returns (space, outline): the chain of
+    one space (left tip point → right tip point) and the closed chain of all z2 spaces.
+    """
+    from .contour import Arc, Chain, Line
+
+    els = list(flank.elements)
+    els[0] = _clip_start_to_circle(els[0], tip_radius_mm)
+    end, d = els[-1].end, els[-1].tangent(at_end=True)
+    B, C = 2 * end @ d, end @ end - root_radius_mm**2
+    s = (-B + np.sqrt(max(B * B - 4 * C, 0.0))) / 2
+    hit = end + s * d
+    if s > 1e-12:
+        els.append(Line(end, hit))
+    right = Chain(tuple(els))
+    left_up = right.transformed(_MIRROR)  # mirror keeps the travel direction: tip circle → root
+    if _math_angle(hit) >= _math_angle(hit * [-1, 1]):
+        raise EnvelopeError("gearform: the fitted flanks cross before the root circle — reduce circular_spline.root_clearance_mm")
+    a_left, a_right = _math_angle(hit * [-1, 1]), _math_angle(hit)  # math angles, left > right
+    root = Arc(np.zeros(2), root_radius_mm, a_left, a_right - a_left)  # clockwise across the top
+    space = Chain(tuple(left_up.elements) + (root,) + tuple(right.reversed().elements))
+    pitch = 2 * np.pi / cs_teeth
+    # our CS polar angle runs clockwise; space k+1 is space k turned by −pitch in math angles
+    def rot(k):
+        c, s_ = np.cos(-k * pitch), np.sin(-k * pitch)
+        return np.array([[c, -s_], [s_, c]])
+
+    parts = []
+    for k in range(cs_teeth):
+        sp = space.transformed(rot(k))
+        nxt_start = rot(k + 1) @ space.start
+        a0, a1 = _math_angle(sp.end), _math_angle(nxt_start)
+        sweep = (a1 - a0 + np.pi) % (2 * np.pi) - np.pi  # the short way, clockwise (negative)
+        parts += list(sp.elements) + [Arc(np.zeros(2), tip_radius_mm, a0, sweep)]
+    return space, Chain(tuple(parts))

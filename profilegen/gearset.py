@@ -65,6 +65,7 @@ __all__ = [
     "Material",
     "Torque",
     "CircularSpline",
+    "FIT_METHODS",
     "SCENES",
     "TOOTH_KINDS",
     "WAVE_GENERATOR_CONTOURS",
@@ -135,7 +136,8 @@ _MATERIAL_KEYS = (
     "shear_endurance_limit_mpa",
 )
 _TORQUE_KEYS = ("rated_nm", "peak_nm", "momentary_nm")
-_CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm")
+_CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm", "fit_method")
+FIT_METHODS = ("one_sided", "least_squares", "minimax")
 _SECTION_KEYS = {
     "gear": _GEAR_KEYS,
     "wave_generator": _WAVE_GENERATOR_KEYS,
@@ -331,10 +333,12 @@ class Torque:
 
 @dataclass(**_FROZEN)
 class CircularSpline:
-    """Radial clearances of the CS against the FS tooth (mm, resolved)."""
+    """Radial clearances of the CS against the FS tooth (mm, resolved) and how its flank is
+    fitted with an arc–line–arc (``one_sided``: never inside the swept region)."""
 
     root_clearance_mm: float
     tip_clearance_mm: float
+    fit_method: str = "one_sided"
 
 
 _SECTION_TYPES = {
@@ -1296,8 +1300,8 @@ class _Reader:
             t = {}
         p = "circular_spline"
         self.unknown_keys(t, p, _CIRCULAR_SPLINE_KEYS)
-        v = {}
-        for key in _CIRCULAR_SPLINE_KEYS:
+        v = {"fit_method": self.string(t, p, "fit_method", default="one_sided", choices=FIT_METHODS)}
+        for key in ("root_clearance_mm", "tip_clearance_mm"):
             v[key] = self.number(
                 t,
                 p,

@@ -584,3 +584,13 @@ def test_pickles_for_process_pools():
     again = pickle.loads(pickle.dumps(gs))
     assert again.to_dict() == gs.to_dict()
     assert not again.tooth.points.flags.writeable
+
+
+def test_fit_method_is_validated_and_defaults_to_one_sided():
+    base = load_gearset(default_gearset_path()).to_dict()
+    assert parse_gearset(base).circular_spline.fit_method == "one_sided"
+    base["circular_spline"]["fit_method"] = "minimax"
+    assert parse_gearset(base).circular_spline.fit_method == "minimax"
+    base["circular_spline"]["fit_method"] = "minimx"
+    with pytest.raises(GearSetError, match=r"circular_spline\.fit_method.*did you mean \"minimax\""):
+        parse_gearset(base)
