@@ -196,8 +196,9 @@ class Chain:
         els = self.elements + ((self.elements[0],) if closed else ())
         out = []
         for a, b in zip(els[:-1], els[1:]):
-            c = float(np.clip(a.tangent(at_end=True) @ b.tangent(), -1.0, 1.0))
-            out.append(math.degrees(math.acos(c)))
+            ta, tb = a.tangent(at_end=True), b.tangent()
+            # atan2 of cross and dot: acos loses half the digits near 0
+            out.append(abs(math.degrees(math.atan2(ta[0] * tb[1] - ta[1] * tb[0], ta @ tb))))
         return np.array(out)
 
     def check(self, *, closed: bool = False, gap_tol_mm: float = 1e-9) -> None:

@@ -1,0 +1,82 @@
+"""The CS outline: closure, periodicity, clearances, and the clearance map's physics."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import shapely
+
+import profilegen as pg
+from profilegen.contour import Arc, Chain, Line
+from profilegen.gearform import circular_spline_form, clearance_map, cs_chain
+
+
+@pytest.fixture(scope="module")
+def form_default(default_set):
+    tooth, motion, env = default_set
+    return circular_spline_form(env, cs_teeth=202, tip_clearance_mm=0.125, root_clearance_mm=0.125)
+
+
+def test_outline_is_periodic_closed_and_valid(form_default):
+    f = form_default
+    ring = shapely.LinearRing(f.outline)
+    assert ring.is_valid and ring.is_simple
+    r = np.hypot(*f.outline.T)
+    assert r.min() == pytest.approx(f.tip_radius_mm, abs=1e-9)
+    assert r.max() == pytest.approx(f.root_radius_mm, abs=1e-9)
+    n = len(f.outline) // 202
+    unit = f.outline[:n]
+    turned = pg.kinematics.turn(unit, 2 * math.pi / 202)
+    np.testing.assert_allclose(turned, f.outline[n : 2 * n], atol=1e-9)
+    assert f.polygon().is_valid
+
+
+def test_clearances_are_the_gear_set_values(form_default, default_set):
+    """Tip circle = where neighbouring swept regions meet + tip clearance; root circle =
+    highest point of the swept region (FS tip on the major axis) + root clearance."""
+    tooth, motion, env = default_set
+    chain = env.flank["boundary"]
+    r_meet = max(np.hypot(*chain[0]), np.hypot(*chain[-1]))
+    assert form_default.tip_radius_mm == pytest.approx(r_meet + 0.125, abs=1e-12)
+    # highest FS point: a tip corner near the major axis, found here by a dense scan of φ
+    phi = np.linspace(-0.05, 0.05, 200001)
+    corner = np.broadcast_to(tooth.tip_point, (phi.size, 2))
+    top = np.hypot(*motion.pose(phi).to_cs(corner).T).max()
+    assert top > np.hypot(tooth.tip_point[0], 48.95 + 0.5 + tooth.addendum_y_mm) - 1e-12
+    # (the chain's vertices find the maximum to the envelope's chord tolerance)
+    assert form_default.root_radius_mm == pytest.approx(top + 0.125, abs=env.chord_tol_mm)
+
+
+def test_clearance_map_zero_on_the_working_flank_never_negative(form_default, default_set):
+    """Conjugate action: the tooth touches the CS over the working zone (clearance 0 to the
+    chord tolerance) and never enters it."""
+    tooth, motion, env = default_set
+    cmap = clearance_map(form_default, tooth, motion, phi_range=env.phi_range, samples=181)
+    assert cmap.min_mm >= -2 * env.chord_tol_mm
+    touching = np.abs(cmap.clearance_mm) < 1e-5
+    assert touching.sum() > 30  # continuous contact over a wide zone (|φ| up to ~65°)
+    assert np.all(cmap.clearance_mm[np.abs(cmap.phi) > 1.45] > 0.05)  # out of mesh near the minor axis
+
+
+def test_cs_chain_closes_exactly_from_any_g1_flank(form_default):
+    """A G1 arc–line–arc flank (here made up) becomes a closed outline with gaps ≤ 1e-9 mm,
+    starting exactly on the tip circle, mirror-symmetric."""
+    f = form_default
+    w = f.working_flank["right"]
+    p0 = w[0] + np.array([0.003, -0.002])  # deliberately off the tip circle
+    # up the flank, turning toward the space axis (−x): counter-clockwise arcs
+    a1 = Arc(p0 - np.array([1.0, 0.0]), 1.0, 0.0, 0.1)
+    line = Line(a1.end, a1.end + 0.2 * a1.tangent(at_end=True))
+    t = line.tangent()
+    n = np.array([-t[1], t[0]])  # left normal
+    a2 = Arc(line.end + 0.8 * n, 0.8, math.atan2(-n[1], -n[0]), 0.2)
+    space, outline = cs_chain(Chain((a1, line, a2)), tip_radius_mm=f.tip_radius_mm, root_radius_mm=f.root_radius_mm, cs_teeth=202)
+    assert outline.gaps(closed=True).max() <= 1e-9
+    assert np.hypot(*space.start) == pytest.approx(f.tip_radius_mm, abs=1e-12)
+    assert np.hypot(*space.end) == pytest.approx(f.tip_radius_mm, abs=1e-12)
+    np.testing.assert_allclose(space.start * [-1, 1], space.end, atol=1e-12)
+    assert np.all(space.kinks_deg()[:2] < 1e-9)  # the flank itself stays G1
+    assert len(outline.elements) == 202 * (len(space.elements) + 1)
+    assert shapely.Polygon(outline.sample(1e-3)).is_valid
