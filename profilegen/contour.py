@@ -17,7 +17,7 @@ import numpy as np
 
 from .errors import ProfilegenError
 
-__all__ = ["Line", "Arc", "Chain", "ContourError"]
+__all__ = ["Line", "Arc", "Polyline", "Chain", "ContourError"]
 
 
 class ContourError(ProfilegenError, ValueError):
@@ -160,7 +160,54 @@ class Arc:
         }
 
 
-Element = Line | Arc
+@dataclass(frozen=True, slots=True, eq=False)
+class Polyline:
+    """Points joined by straight segments (mm) — for drawn shapes that are not made of
+    arcs (the deformed flexspline, the wave generator), not for manufactured profiles."""
+
+    points: np.ndarray
+
+    def __post_init__(self):
+        p = np.array(self.points, dtype=float)
+        if p.ndim != 2 or p.shape[1] != 2 or len(p) < 2 or not np.isfinite(p).all():
+            raise ContourError(f"polyline points must be finite (n ≥ 2, 2) mm, got shape {p.shape}")
+        p.setflags(write=False)
+        object.__setattr__(self, "points", p)
+
+    @property
+    def start(self) -> np.ndarray:
+        return self.points[0]
+
+    @property
+    def end(self) -> np.ndarray:
+        return self.points[-1]
+
+    @property
+    def closed(self) -> bool:
+        return bool(np.all(np.abs(self.points[-1] - self.points[0]) <= 1e-12))
+
+    @property
+    def length(self) -> float:
+        return float(np.sum(np.hypot(*np.diff(self.points, axis=0).T)))
+
+    def tangent(self, at_end: bool = False) -> np.ndarray:
+        d = self.points[-1] - self.points[-2] if at_end else self.points[1] - self.points[0]
+        return d / np.hypot(*d)
+
+    def sample(self, chord_tol_mm: float = 1e-4) -> np.ndarray:
+        return self.points
+
+    def reversed(self) -> "Polyline":
+        return Polyline(self.points[::-1])
+
+    def transformed(self, matrix: np.ndarray, offset=(0.0, 0.0)) -> "Polyline":
+        return Polyline(self.points @ np.asarray(matrix, float).T + np.asarray(offset, float))
+
+    def to_dict(self) -> dict:
+        return {"type": "polyline", "points": int(len(self.points)), "length_mm": self.length}
+
+
+Element = Line | Arc | Polyline
 
 
 @dataclass(frozen=True, slots=True, eq=False)

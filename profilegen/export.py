@@ -278,9 +278,36 @@ def write_outline_dxf(
             polylines[name].append(p)
     flags = _closed_flags(layers, closed)
 
+    standard = {k.lower() for k in DXF_LAYER_COLORS}
+    extra = [n for n in polylines if n.lower() not in standard]
+    with dxf_document(extra, rename=seen) as doc:
+        msp = doc.modelspace()
+        lo, hi = np.full(2, np.inf), np.full(2, -np.inf)
+        for name, lines in polylines.items():
+            for p in lines:
+                same_ends = bool(np.all(np.abs(p[-1] - p[0]) <= _CLOSE_TOL_MM))
+                close = same_ends if flags[name] is None else flags[name]
+                if close and same_ends and len(p) > 2:
+                    p = p[:-1]
+                msp.add_lwpolyline(p.tolist(), format="xy", close=close, dxfattribs={"layer": name})
+                lo, hi = np.minimum(lo, p.min(0)), np.maximum(hi, p.max(0))
+        save_dxf(doc, path, (lo, hi) if np.all(np.isfinite(lo)) else None)
+
+
+@contextlib.contextmanager
+def dxf_document(extra_layers=(), *, rename: Mapping[str, str] | None = None):
+    """A new deterministic DXF R2010 document in mm with the standard layers.
+
+    Holds the process-wide lock around ezdxf's fixed-metadata switch (fixed dates,
+    GUIDs and version marker, so identical input gives a byte-identical file) until
+    the block ends: write the file inside it, with :func:`save_dxf`. ``rename`` maps
+    a lower-cased standard layer name to the caller's spelling.
+    """
+    import ezdxf
+
     with _FIXED_DXF_LOCK:
         saved = ezdxf.options.write_fixed_meta_data_for_testing
-        ezdxf.options.write_fixed_meta_data_for_testing = True  # fixed dates, GUIDs, ezdxf marker
+        ezdxf.options.write_fixed_meta_data_for_testing = True
         try:
             doc = ezdxf.new("R2010", setup=False)
             doc.units = ezdxf.units.MM  # $INSUNITS = 4
@@ -289,30 +316,28 @@ def write_outline_dxf(
                 "$TDINDWG": 0.0, "$TDUSRTIMER": 0.0,
             }.items():
                 doc.header[var] = value
-            standard = {k.lower(): (k, c) for k, c in DXF_LAYER_COLORS.items()}
-            names = [seen.get(k.lower(), k) for k in DXF_LAYER_COLORS] + [n for n in polylines if n.lower() not in standard]
-            for name in names:
-                color = standard.get(name.lower(), (name, 7))[1]
-                doc.layers.add(name, color=color, linetype="Continuous")
-            msp = doc.modelspace()
-            lo, hi = np.full(2, np.inf), np.full(2, -np.inf)
-            for name, lines in polylines.items():
-                for p in lines:
-                    same_ends = bool(np.all(np.abs(p[-1] - p[0]) <= _CLOSE_TOL_MM))
-                    close = same_ends if flags[name] is None else flags[name]
-                    if close and same_ends and len(p) > 2:
-                        p = p[:-1]
-                    msp.add_lwpolyline(p.tolist(), format="xy", close=close, dxfattribs={"layer": name})
-                    lo, hi = np.minimum(lo, p.min(0)), np.maximum(hi, p.max(0))
-            if np.all(np.isfinite(lo)):
-                msp.dxf.extmin = (float(lo[0]), float(lo[1]), 0.0)
-                msp.dxf.extmax = (float(hi[0]), float(hi[1]), 0.0)
-                size = hi - lo
-                doc.set_modelspace_vport(height=float(max(size[1], size[0] * 0.75, 1e-3) * 1.1), center=tuple((lo + hi) / 2))
-            with atomic_write(path, "w", encoding=doc.output_encoding) as f:
-                doc.write(f)
+            rename = rename or {}
+            for name, color in DXF_LAYER_COLORS.items():
+                doc.layers.add(rename.get(name.lower(), name), color=color, linetype="Continuous")
+            for name in extra_layers:
+                doc.layers.add(name, color=7, linetype="Continuous")
+            yield doc
         finally:
             ezdxf.options.write_fixed_meta_data_for_testing = saved
+
+
+def save_dxf(doc, path: str | os.PathLike, extents) -> None:
+    """Set the drawing extents and view from (lo, hi) (or None) and write the file atomically."""
+    msp = doc.modelspace()
+    if extents is not None:
+        lo, hi = extents
+        msp.dxf.extmin = (float(lo[0]), float(lo[1]), 0.0)
+        msp.dxf.extmax = (float(hi[0]), float(hi[1]), 0.0)
+        size = hi - lo
+        doc.set_modelspace_vport(height=float(max(size[1], size[0] * 0.75, 1e-3) * 1.1),
+                                 center=(float(lo[0] + hi[0]) / 2, float(lo[1] + hi[1]) / 2))
+    with atomic_write(path, "w", encoding=doc.output_encoding) as f:
+        doc.write(f)
 
 
 def read_dxf_polylines(path: str | os.PathLike) -> dict[str, list[np.ndarray]]:

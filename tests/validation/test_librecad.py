@@ -1,0 +1,171 @@
+"""Validation of profilegen.cad's DXF against an independent CAD program: LibreCAD.
+
+Source: LibreCAD 2.2 (Debian package ``librecad``), whose DXF reader is libdxfrw — no
+ezdxf code involved. Its command line prints a DXF to PDF,
+``librecad dxf2pdf [-a] [-c] [-s SCALE] -t OUTDIR FILE.dxf`` → ``OUTDIR/FILE.pdf``,
+headless with ``QT_QPA_PLATFORM=offscreen``; poppler's ``pdftoppm -png -r 100``
+rasterises the page. Install both (Debian 12: LibreCAD 2.2.0, poppler 22.12; ~14 s
+with a warm apt cache, 33.5 MB to download, 199 MB on disk) with
+
+    apt-get update && DEBIAN_FRONTEND=noninteractive apt-get install -y librecad poppler-utils
+
+What is checked:
+
+* the golden toy gear (``tests/golden/toy_gear.dxf``: 60 ARCs — 12 of them clockwise
+  in the contour, stored counter-clockwise —, 26 LINEs, 2 CIRCLEs, 1 TEXT) prints,
+  fitted to the page, with dark pixels and red (CS layer) pixels on a white page;
+* units: printed at scale 1:1 (``-s 1``), the 22 mm construction cross is 22 mm long
+  on paper (LibreCAD reads ``$INSUNITS = 4``; with ``$INSUNITS = 1`` it would lay
+  the same numbers out in inches);
+* a real circular spline: five tooth spaces of the default gear set's CS (sketch scene),
+  each flank replaced by three arcs through its polyline, root and tip lands as arcs
+  about the gear centre, written by ``write_contours_dxf``, prints with red pixels.
+
+Skipped with the reason when LibreCAD or pdftoppm is missing. LibreCAD keeps its
+settings under ``$HOME/.config``; HOME points into tmp_path so nothing outside is touched.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from profilegen.cad import chain_gaps, read_dxf_contours, write_contours_dxf
+from profilegen.contour import Arc, Chain, Line
+
+GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "toy_gear.dxf"
+DPI = 100
+
+pytestmark = [
+    pytest.mark.skipif(shutil.which("librecad") is None,
+                       reason="LibreCAD is not installed (apt-get install -y librecad poppler-utils)"),
+    pytest.mark.skipif(shutil.which("pdftoppm") is None,
+                       reason="pdftoppm is not installed (apt-get install -y poppler-utils)"),
+]
+
+
+def _librecad_png(dxf: Path, work: Path, *options: str) -> np.ndarray:
+    """Print ``dxf`` with LibreCAD to PDF, rasterise the page at DPI, return it as RGB floats in [0, 1]."""
+    import matplotlib.image
+
+    out = work / "pdf"
+    out.mkdir(parents=True, exist_ok=True)
+    env = dict(os.environ, QT_QPA_PLATFORM="offscreen", HOME=str(work),
+               XDG_CONFIG_HOME=str(work / ".config"), XDG_RUNTIME_DIR=str(work / "run"))
+    (work / "run").mkdir(mode=0o700, exist_ok=True)
+    run = subprocess.run(["librecad", "dxf2pdf", *options, "-t", str(out), str(dxf)],
+                         env=env, capture_output=True, text=True, timeout=120)
+    pdf = out / (dxf.stem + ".pdf")
+    assert run.returncode == 0 and pdf.exists(), f"librecad failed ({run.returncode}):\n{run.stdout}\n{run.stderr}"
+    assert pdf.stat().st_size > 2000, f"{pdf} is only {pdf.stat().st_size} bytes"
+    subprocess.run(["pdftoppm", "-png", "-r", str(DPI), "-singlefile", str(pdf), str(out / dxf.stem)],
+                   check=True, capture_output=True, timeout=120)
+    img = matplotlib.image.imread(out / (dxf.stem + ".png"))
+    return img[..., :3].astype(float)
+
+
+def _dark(img):
+    return img.min(axis=-1) < 0.6
+
+
+def _red(img):
+    return (img[..., 0] > 0.6) & (img[..., 1] < 0.4) & (img[..., 2] < 0.4)
+
+
+def test_toy_gear_prints_fitted(tmp_path):
+    img = _librecad_png(GOLDEN, tmp_path, "-a")
+    h, w = img.shape[:2]
+    assert (w, h) == pytest.approx((420 / 25.4 * DPI, 297 / 25.4 * DPI), abs=2)  # A3 landscape
+    assert np.median(img) > 0.99  # a white page ...
+    assert _dark(img).sum() > 2000 and _red(img).sum() > 1000  # ... with the drawing, the CS in red
+    ys, xs = np.nonzero(_red(img))
+    # fitted and centred: the gear's red outline is round (as wide as high) and mid-page
+    assert (xs.max() - xs.min()) == pytest.approx(ys.max() - ys.min(), rel=0.03)
+    assert (xs.max() + xs.min()) / 2 == pytest.approx(w / 2, rel=0.02)
+
+
+def test_toy_gear_prints_at_scale_one_in_mm(tmp_path):
+    img = _librecad_png(GOLDEN, tmp_path, "-c", "-s", "1")
+    ys, xs = np.nonzero(_dark(img))
+    rows = np.bincount(ys)
+    axis_row = int(np.argmax(rows))  # the horizontal construction line, −11 … 11 mm
+    cols = np.nonzero(_dark(img)[axis_row])[0]
+    length_mm = (cols.max() - cols.min() + 1) / DPI * 25.4
+    assert length_mm == pytest.approx(22.0, abs=0.6)  # ± 2 px at 100 dpi
+
+
+# ----------------------------------------------------------------------------- a real CS
+
+
+def _arc_through(p, m, q) -> Line | Arc:
+    """The circular arc from p through m to q (a Line if the three are collinear)."""
+    p, m, q = (np.asarray(v, float) for v in (p, m, q))
+    d = 2 * ((m - p)[0] * (q - p)[1] - (m - p)[1] * (q - p)[0])
+    if abs(d) < 1e-12 * np.hypot(*(q - p)) ** 2:
+        return Line(p, q)
+    b, c = m - p, q - p
+    centre = p + np.array([c[1] * (b @ b) - b[1] * (c @ c), b[0] * (c @ c) - c[0] * (b @ b)]) / d
+    return _arc_about(centre, p, q, ccw=d > 0)
+
+
+def _arc_about(centre, p, q, *, ccw: bool) -> Arc:
+    c = np.asarray(centre, float)
+    a0 = math.atan2(p[1] - c[1], p[0] - c[0])
+    a1 = math.atan2(q[1] - c[1], q[0] - c[0])
+    sweep = (a1 - a0) % (2 * math.pi)
+    if not ccw:
+        sweep -= 2 * math.pi
+    return Arc(c, float(np.hypot(*(np.asarray(p) - c))), a0, sweep)
+
+
+def _flank_arcs(points: np.ndarray, n: int = 3) -> list:
+    """n arcs through a flank polyline: piece k runs from vertex i_k through the middle vertex to i_{k+1}."""
+    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])
+    cuts = [int(np.argmin(np.abs(s - s[-1] * k / n))) for k in range(n + 1)]
+    out = []
+    for i, j in zip(cuts[:-1], cuts[1:]):
+        out.append(_arc_through(points[i], points[(i + j) // 2], points[j]))
+    return out
+
+
+def real_cs_sector(spaces: int = 5):
+    """Five CS tooth spaces of the default gear set (sketch scene) as arcs, and the tip/root circles' arcs."""
+    from profilegen.gearset import default_gearset_path, load_gearset
+    from profilegen.pipeline import design
+
+    form = design(load_gearset(default_gearset_path()), scene="sketch").form
+    space, z = np.asarray(form.space), form.cs_teeth
+    on_root = np.nonzero(np.abs(np.hypot(*space.T) - form.root_radius_mm) < 1e-9)[0]
+    i0, i1 = int(on_root.min()), int(on_root.max())
+    pitch = 2 * math.pi / z
+    # CS frame: polar angles run from +y toward +x (clockwise), so the spaces follow clockwise
+    left, right = space[: i0 + 1], space[i1:]
+    unit = _flank_arcs(left) + [_arc_about((0, 0), space[i0], space[i1], ccw=False)] + _flank_arcs(right)
+    turn = np.array([[math.cos(pitch), math.sin(pitch)], [-math.sin(pitch), math.cos(pitch)]])  # one pitch clockwise
+    next_start = turn @ space[0]
+    unit.append(_arc_about((0, 0), space[-1], next_start, ccw=False))  # tip land to the next space
+    elements = []
+    for k in range(-(spaces // 2), spaces - spaces // 2):
+        m = np.linalg.matrix_power(turn, k) if k >= 0 else np.linalg.matrix_power(turn.T, -k)
+        elements += [e.transformed(m) for e in unit]
+    span = (spaces // 2 + 1) * pitch
+    circles = [Arc((0, 0), r, math.pi / 2 - span, 2 * span) for r in (form.tip_radius_mm, form.root_radius_mm)]
+    return Chain(elements[:-1]), circles, form
+
+
+def test_real_cs_sector_prints(tmp_path):
+    chain, circles, form = real_cs_sector()
+    assert chain.gaps().max() <= 1e-9
+    dxf = tmp_path / "cs_sector.dxf"
+    write_contours_dxf(dxf, {"CS": [chain], "construction": circles},
+                       texts=[("annotation", (-3.0, form.tip_radius_mm - 1.0), 0.25, "default CS, 5 spaces, arcs")])
+    back = read_dxf_contours(dxf)["CS"]
+    assert len(back) == len(chain.elements) and chain_gaps(back).max() <= 1e-9
+    img = _librecad_png(dxf, tmp_path, "-a")
+    assert np.median(img) > 0.99 and _red(img).sum() > 1000
