@@ -210,8 +210,6 @@ def write_contours_dxf(
     are written at full double precision (shortest round-trip repr); the header's
     dates and GUIDs are fixed, so identical input gives a byte-identical file.
     """
-    import ezdxf
-
     if units not in _UNITS:
         raise ValueError(f"units must be one of {sorted(_UNITS)} (profilegen works in mm), got {units!r}")
     names, items, texts = _check_layers(layers, texts)

@@ -394,16 +394,18 @@ def trace_meshing_roots(
     on a grid twice as fine, up to ``max_doublings`` times, before a
     ConvergenceError names the place.
     """
+    last = None
     for attempt in range(max_doublings + 1):
         try:
             return _trace_once(curve, motion, phi_range, n_t, n_phi, chord_tol_mm, max_step, max_rounds)
         except _Bridged as bridge:
+            last = bridge
             log.info("envelope: %s: grid %d×%d bridged two root curves near t = %.6f mm, φ = %.6f rad; refining",
                      curve.name, n_t, n_phi, bridge.t, bridge.phi)
             n_t, n_phi = 2 * n_t - 1, 2 * n_phi - 1
     raise ConvergenceError(
-        f"envelope: {curve.name} flank: the meshing roots near t = {bridge.t:.6f} mm, φ = {bridge.phi:.6f} rad "
-        f"could not be separated on a {n_t}×{n_phi} grid"
+        f"envelope: {curve.name} flank: the meshing roots near t = {last.t:.6f} mm, φ = {last.phi:.6f} rad "
+        f"could not be separated on grids up to {(n_t + 1) // 2}×{(n_phi + 1) // 2}"
     )
 
 

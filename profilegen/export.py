@@ -255,7 +255,6 @@ def write_outline_dxf(
     round-trip repr). The file is byte-identical for identical input: creation and
     update dates are fixed to 2000-01-01 and the GUIDs to zero.
     """
-    import ezdxf
     from ezdxf.lldxf.validator import is_valid_layer_name
 
     if not isinstance(layers, Mapping):

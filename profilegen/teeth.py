@@ -593,7 +593,6 @@ def dcta_tooth(*, module_mm: float, teeth: int, neutral_radius_mm: float,
     ha = _num(addendum_mm, "tooth.addendum_mm", lo=0.0)
     hf = _num(dedendum_mm, "tooth.dedendum_mm", lo=0.0)
     h, y_p, y_a, y_f = _tooth_levels(m, z1, r_m, ha, hf, half_thickness_mm)
-    r1 = m * z1 / 2.0
     a = math.radians(alpha_deg)
     sa, ca = math.sin(a), math.cos(a)
     d = np.array([-sa, ca])

@@ -438,3 +438,15 @@ def test_flank_not_monotone_in_x_is_a_named_error():
 
     with pytest.raises(EnvelopeError, match="tooth"):
         ToothShape.from_flank(Curve("right", 0.3 * math.pi, bulge), neutral_radius_mm=RM, teeth=Z1)
+
+
+def test_unresolvable_bridge_is_a_named_convergence_error(dcta):
+    """If no grid separates the root curves, the trace says where instead of returning garbage:
+    with no doublings allowed, the coarse grid that bridges the default set's facing folds
+    (t ≈ 0.695 / 0.723 mm at φ ≈ 0.17 rad) must fail loudly."""
+    from profilegen.envelope import tooth_curves, trace_meshing_roots
+    from profilegen.errors import ConvergenceError
+
+    right = tooth_curves(dcta)[0][0]
+    with pytest.raises(ConvergenceError, match=r"right flank: the meshing roots near t = 0\.[67]"):
+        trace_meshing_roots(right, _motion(0.5), phi_range=(-math.pi / 2, math.pi / 2), n_t=48, n_phi=121, max_doublings=0)
