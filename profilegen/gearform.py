@@ -258,37 +258,35 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
 
     ``cs_points`` (the CS outline around space 0, mm) defaults to the form's own
     polyline outline; pass a sampled arc-fit outline to check that instead. For each
-    φ the CS points are taken into the tooth frame; an approximate normal depth
-    (``ToothShape``) picks the ``candidates`` nearest, and shapely gives their exact
-    distance to the tooth's surface (negative inside).
+    φ a KD-tree over the CS points finds the ``candidates`` nearest to the placed
+    tooth surface, and shapely gives their exact distance to that surface (negative
+    inside the tooth).
     """
-    from .envelope import tooth_curves
+    from scipy.spatial import cKDTree
 
-    _, _, shape = tooth_curves(tooth)
-    outline = tooth.outline(n_per_mm=400.0)
-    poly = shapely.Polygon(outline)
+    poly = shapely.Polygon(tooth.outline(n_per_mm=400.0))
     shapely.prepare(poly)
-    # the real FS surface: root lands, flanks, top land — not the polygon's radial sector
-    # edges and neutral-line arc, which only close it
-    centre = np.array([0.0, -tooth.neutral_radius_mm])
-    on_surface = np.hypot(*(outline - centre).T) >= shape.root_radius - 1e-6
-    k = int(np.argmin(on_surface))  # a vertex off the surface; the surface run follows it
-    rolled, mask = np.roll(outline, -k, axis=0), np.roll(on_surface, -k)
-    surface = shapely.LineString(rolled[mask])
+    # distances to the real FS surface, not to the polygon's radial sector edges and
+    # neutral-line arc, which only close it
+    surface = shapely.LineString(tooth.surface(n_per_mm=400.0))
+    surface_pts = tooth.surface(n_per_mm=200.0)  # to find the candidates
     cs = _local_outline(form) if cs_points is None else np.asarray(cs_points, float)
+    tree = cKDTree(cs)
     phis = np.linspace(*phi_range, samples)
     pose = motion.pose(phis)
     out = np.empty(samples)
     for i in range(samples):
-        d = cs - pose.origin[i]
         c, s = np.cos(pose.angle[i]), np.sin(pose.angle[i])
+        placed = np.stack([surface_pts[:, 0] * c + surface_pts[:, 1] * s, surface_pts[:, 1] * c - surface_pts[:, 0] * s], -1) + pose.origin[i]
+        dist, idx = tree.query(placed)
+        order = idx[np.argsort(dist)]
+        near = np.array(list(dict.fromkeys(order[: 4 * candidates].tolist()))[:candidates])  # nearest first
+        near = np.unique(np.clip(near[:, None] + np.arange(-2, 3), 0, len(cs) - 1))  # and their neighbours
+        d = cs[near] - pose.origin[i]
         q = np.stack([d[:, 0] * c - d[:, 1] * s, d[:, 0] * s + d[:, 1] * c], -1)  # (d·e_t, d·e_r)
-        depth = shape.depth(q)
-        near = np.argsort(-depth)[:candidates]
-        pts = shapely.points(q[near])
-        dist = shapely.distance(pts, surface)
-        inside = shapely.contains_xy(poly, q[near, 0], q[near, 1])
-        out[i] = np.min(np.where(inside, -dist, dist))
+        exact = shapely.distance(shapely.points(q), surface)
+        inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
+        out[i] = np.min(np.where(inside, -exact, exact))
     return ClearanceMap(phis, out)
 
 

@@ -86,26 +86,11 @@ def _tidy(ax: "Axes") -> None:
 
 
 def tooth_line(tooth: Any, *, n_per_mm: float = 400.0) -> np.ndarray:
-    """The visible edge of ``tooth.outline()``: root land, flanks and top land, open (m, 2).
-
-    The outline closes the tooth through its rim sector (radial cuts at the
-    mid-space lines and the neutral circle); those cuts are not edges of the part
-    and would draw false lines in a tooth family, so the points strictly inside
-    the root circle are dropped and the rest is joined into one polyline from
-    the right mid-space line to the left one.
-    """
+    """The visible edge of a tooth (``ToothProfile.surface``): root land, flanks, top land."""
+    if hasattr(tooth, "surface"):
+        return tooth.surface(n_per_mm=n_per_mm)
     outline = np.asarray(tooth.outline(n_per_mm=n_per_mm), dtype=float)
-    r_m = getattr(tooth, "neutral_radius_mm", None)
-    y_f = getattr(tooth, "dedendum_y_mm", None)
-    if r_m is None or y_f is None:
-        return np.vstack([outline, outline[:1]])
-    r = np.hypot(outline[:, 0], outline[:, 1] + r_m)
-    keep = r >= r_m + y_f - 1e-9 * max(abs(y_f), 1.0)
-    if keep.all() or not keep.any():
-        return np.vstack([outline, outline[:1]])
-    first_cut = int(np.argmin(keep))  # the kept points run from after the cut round to before it
-    last_cut = len(keep) - 1 - int(np.argmin(keep[::-1]))
-    return np.vstack([outline[last_cut + 1 :], outline[:first_cut]])
+    return np.vstack([outline, outline[:1]])
 
 
 def family_outlines(tooth: Any, motion: Any, phi: np.ndarray, *, n_per_mm: float = 400.0) -> list[np.ndarray]:

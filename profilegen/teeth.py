@@ -498,6 +498,17 @@ class ToothProfile:
         return poly
 
     # --- reporting ------------------------------------------------------------
+    def surface(self, n_per_mm: float = 400.0) -> np.ndarray:
+        """The tooth's real surface as an open polyline (m, 2): root land, flanks, top land,
+        from the right mid-space line to the left one — ``outline()`` without the radial
+        cuts and the neutral-line arc that only close it as a region."""
+        outline = self.outline(n_per_mm=n_per_mm)
+        r = np.hypot(outline[:, 0], outline[:, 1] + self.neutral_radius_mm)
+        keep = r >= self.neutral_radius_mm + self.dedendum_y_mm - 1e-9 * max(abs(self.dedendum_y_mm), 1.0)
+        first_cut = int(np.argmin(keep))  # the kept points run from after the cut round to before it
+        last_cut = len(keep) - 1 - int(np.argmin(keep[::-1]))
+        return np.vstack([outline[last_cut + 1 :], outline[:first_cut]])
+
     def to_dict(self) -> dict[str, Any]:
         return {
             "kind": self.kind,
