@@ -33,9 +33,9 @@ def _cmd_design(args) -> int:
         return 0
     gearset = _load(args.gearset)
     out = Path(args.out) if args.out else Path("export") / gearset.name
-    stages = ["tooth", "deformation", "envelope", "gearform", "files"]
+    stages = ["tooth", "deformation", "envelope", "gearform", "arcfit", "files"]
     bar = _progress(len(stages), quiet=args.quiet)
-    result = design(gearset, scene=args.scene, progress=lambda name: bar(name))
+    result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name))
     bar("files")
     written = write_design(result, out)
     bar(None)
@@ -59,6 +59,12 @@ def _summary(result, written) -> None:
     f = result.form
     print(f"  CS: tip circle r = {f.tip_radius_mm:.4f} mm, root circle r = {f.root_radius_mm:.4f} mm, "
           f"min clearance {f.clearance.min_mm * 1e6:.3g} nm (chord tolerance {result.scene.chord_tol_mm * 1e6:g} nm)")
+    if result.profile is not None:
+        p = result.profile
+        fits = ", ".join(f"{m} {fit.max_error_mm * 1e3:.3f}" for m, fit in p.fits.items())
+        print(f"  arc–line–arc fit, max deviation (µm): {fits}; CAD uses {p.method}"
+              + (f", max backlash {p.flank_fit.max_backlash_mm * 1e3:.3f} µm" if p.flank_fit.max_backlash_mm is not None else ""))
+        print(f"  fitted CS vs FS tooth at {p.positions} positions: min clearance {p.clearance.min_mm * 1e3:.4f} µm")
     for w in result.warnings:
         print(f"  note: {w}")
     for p in written:
@@ -122,6 +128,8 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
     d.add_argument("--scene", choices=["sketch", "design", "verify", "list"], help="fidelity preset (default: the gear set's); 'list' shows them")
     d.add_argument("--out", help="output folder (default: export/<gear-set name>/)")
+    d.add_argument("--fit", choices=["one_sided", "least_squares", "minimax"],
+                   help="arc–line–arc fit of the CS flank for CAD (default: the gear set's circular_spline.fit_method)")
     d.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     d.set_defaults(func=_cmd_design)
     c = sub.add_parser("check", help="validate gear-set files and print every problem")

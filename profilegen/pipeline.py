@@ -22,7 +22,8 @@ from .deformation import ring_theory
 from .envelope import Envelope, envelope_of
 from .errors import ExportError, GearSetError
 from .gearform import CircularSplineForm, circular_spline_form, clearance_map
-from .gearset import GearSet
+from .gearset import FIT_METHODS, GearSet
+from .contour import Arc, Line, Polyline
 from .kinematics import HarmonicDriveMotion
 from .teeth import tooth_from_gearset
 
@@ -45,10 +46,11 @@ class Scene:
     clearance_samples: int
     brute_force_check: bool  # cross-check the boundary against the brute-force swept region
     description: str
+    fit_check_positions: int = 2001  # FS tooth poses the fitted CS profile is checked against
 
 
 SCENES: dict[str, Scene] = {
-    "sketch": Scene("sketch", "ring theory", 1e-4, 48, 121, 91, False, "interactive use and sweeps: analytic rim, coarse envelope"),
+    "sketch": Scene("sketch", "ring theory", 1e-4, 48, 121, 91, False, "interactive use and sweeps: analytic rim, coarse envelope", 361),
     "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False, "the default: 1 nm envelope, classified"),
     "verify": Scene("verify", "toothed-rim FEM", 1e-7, 192, 481, 721, True, "sign-off: 0.1 nm envelope + brute-force swept-region cross-check"),
 }
@@ -78,6 +80,44 @@ class StageReport:
 
 
 @dataclass(frozen=True, slots=True, eq=False)
+class CSProfile:
+    """The manufacturable CS profile: arc–line–arc fits of the flank and the outline they make.
+
+    ``fits``: one ProfileFit per method (the report compares them); ``method``: the
+    one used for CAD; ``branches``: per-branch fits where the working flank has a
+    ridge (else None); ``space``/``outline``: contour chains of one space and of the
+    closed CS; ``clearance``: the fitted outline against the FS tooth family.
+    """
+
+    fits: dict
+    method: str
+    branches: object
+    space: object
+    outline: object
+    clearance: object
+    positions: int
+
+    @property
+    def flank_fit(self):
+        return self.fits[self.method]
+
+    def to_dict(self) -> dict:
+        f = self.flank_fit
+        return {
+            "method": self.method,
+            "fits": {m: fit.to_dict() for m, fit in self.fits.items()},
+            "branches": None if self.branches is None else self.branches.to_dict(),
+            "max_error_mm": f.max_error_mm,
+            "rms_error_mm": f.rms_error_mm,
+            "max_backlash_mm": f.max_backlash_mm,
+            "space": self.space.to_dict(),
+            "outline_elements": len(self.outline.elements),
+            "outline_max_gap_mm": float(self.outline.gaps(closed=True).max()),
+            "clearance_check": {"positions": self.positions, **self.clearance.to_dict()},
+        }
+
+
+@dataclass(frozen=True, slots=True, eq=False)
 class Design:
     """Everything one design run produced (inputs, stage results, reports, warnings)."""
 
@@ -90,6 +130,7 @@ class Design:
     form: CircularSplineForm
     stages: tuple[StageReport, ...]
     warnings: tuple[str, ...] = field(default_factory=tuple)
+    profile: "CSProfile | None" = None
 
     @property
     def time_s(self) -> float:
@@ -124,6 +165,13 @@ class Design:
             },
             "circular_spline": self.form.to_dict(),
             "min_clearance_mm": None if self.form.clearance is None else self.form.clearance.min_mm,
+            "profile": None if self.profile is None else {
+                "method": self.profile.method,
+                "max_error_mm": self.profile.flank_fit.max_error_mm,
+                "max_backlash_mm": self.profile.flank_fit.max_backlash_mm,
+                "min_clearance_mm": self.profile.clearance.min_mm,
+                "clearance_positions": self.profile.positions,
+            },
             "warnings": list(self.warnings),
         }
 
@@ -132,9 +180,13 @@ def design(
     gearset: GearSet,
     *,
     scene: str | Scene | None = None,
+    fit_method: str | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> Design:
-    """Run every stage for one gear set (see the module docstring)."""
+    """Run every stage for one gear set (see the module docstring).
+
+    ``fit_method`` overrides ``gearset.circular_spline.fit_method`` for the CAD profile.
+    """
     if scene is None:
         scene = gearset.scene
     if isinstance(scene, str):
@@ -194,7 +246,71 @@ def design(
     warnings += list(form.warnings)
     if cmap.min_mm < -10 * scene.chord_tol_mm:
         warnings.append(f"the FS tooth interferes with the CS outline by {-cmap.min_mm * 1e3:.3f} µm at φ = {np.degrees(cmap.at_phi):.2f}°")
-    return Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings))
+
+    step("arcfit")
+    t0 = time.perf_counter()
+    method = fit_method or gearset.circular_spline.fit_method
+    if method not in FIT_METHODS:
+        raise GearSetError(f"fit method = {method!r}: must be one of {', '.join(FIT_METHODS)}")
+    profile = _fit_profile(env, form, tooth, motion, method=method, positions=scene.fit_check_positions)
+    fit = profile.flank_fit
+    stages.append(StageReport("arcfit", f"arc–line–arc, {method}", len(profile.space.elements),
+                              time.perf_counter() - t0, fit.max_error_mm,
+                              "max normal deviation of the fitted CS flank from the envelope (mm)"))
+    if profile.clearance.min_mm < -1e-6:
+        warnings.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} µm "
+                        f"at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
+    return Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile)
+
+
+def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CSProfile:
+    """Fit the right working flank by every method, build the CS outline from the chosen one,
+    and check it against the FS tooth family at ``positions`` poses."""
+    from .arcfit import fit_profile, fit_profile_per_branch
+    from .envelope import swept_depth, tooth_curves
+    from .gearform import cs_chain
+
+    flank = form.working_flank["right"]
+    _, _, shape = tooth_curves(tooth)
+    pitch = 2 * np.pi / form.cs_teeth
+
+    def swept(points):
+        return swept_depth(points, motion, shape, phi_range=env.phi_range, neighbour_angle=pitch)[0]
+
+    # a one-sided fit touches the envelope's vertices; between them it can be inside by up to
+    # the envelope's own chord error, so that is the tolerance of the swept-region check
+    tol = max(1e-7, env.chord_tol_mm)
+    # ridges on the fitted part of the right flank: one composite per branch is used, and one
+    # composite over the whole flank (which cannot follow the kink) is only for comparison
+    lo, hi = np.hypot(*flank[0]), np.hypot(*flank[-1])
+    ridges = [r.point for r in env.ridges if r.point[0] > 0 and lo < np.hypot(*r.point) < hi]
+    check = None if ridges else swept
+    fits = {m: fit_profile(flank, method=m, space_side="left", swept=check if m == "one_sided" else None, swept_tol_mm=tol)
+            for m in FIT_METHODS}
+    branches = None
+    chain = fits[method].chain
+    if ridges:
+        branches = fit_profile_per_branch(flank, ridges, method=method, space_side="left",
+                                          swept=swept if method == "one_sided" else None, swept_tol_mm=tol)
+        from .contour import Chain, Line
+
+        # each branch fit ends at the foot of its own last point: at a ridge the two fits
+        # meet within the backlash, with the ridge's kink; a short line closes any gap
+        els = list(branches.fits[0].chain.elements)
+        for f in branches.fits[1:]:
+            nxt = f.chain.elements
+            if np.hypot(*(els[-1].end - nxt[0].start)) > 1e-12:
+                els.append(Line(els[-1].end, nxt[0].start))
+            els += list(nxt)
+        chain = Chain(tuple(els))
+    space, outline = cs_chain(chain, tip_radius_mm=form.tip_radius_mm, root_radius_mm=form.root_radius_mm, cs_teeth=form.cs_teeth)
+    n_unit = len(space.elements) + 1
+    local = outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]
+    from .contour import Chain as _Chain
+
+    cs_points = _Chain(tuple(local)).sample(1e-7)
+    cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
+    return CSProfile(fits, method, branches, space, outline, cmap, positions)
 
 
 def _with_clearance(form: CircularSplineForm, cmap) -> CircularSplineForm:
@@ -204,12 +320,12 @@ def _with_clearance(form: CircularSplineForm, cmap) -> CircularSplineForm:
 
 
 def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True) -> list[Path]:
-    """Write envelope.csv, circular_spline.dxf, design.json (and envelope.png) into out_dir.
+    """Write every output file of a design into out_dir (see the README, "Outputs").
 
     Everything is first written into a temporary folder next to ``out_dir`` and
     moved into place only when all files exist: a failed run leaves nothing new.
     """
-    from . import export
+    from . import cad, export
 
     out = Path(out_dir)
     try:
@@ -219,15 +335,30 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
         raise ExportError(f"cannot write to {out}: {exc.strerror or exc}") from exc
     try:
         export.write_envelope_csv(staging / "envelope.csv", result.envelope)
-        layers = {
-            "CS": [result.form.outline_for_cad(DXF_TOLERANCE_MM)],
-            "construction": [np.vstack([c, c[:1]]) for c in _circles(result)],
-        }
-        export.write_outline_dxf(staging / "circular_spline.dxf", layers)
         data = result.to_dict()
-        data["dxf_tolerance_mm"] = DXF_TOLERANCE_MM
-        data["files"] = ["envelope.csv", "circular_spline.dxf", "design.json"] + (["envelope.png"] if figure else [])
-        export.write_json(staging / "design.json", data)
+        prof = result.profile
+        if prof is not None:
+            circles = [Arc(np.zeros(2), r, 0.0, 2 * np.pi) for r in (result.form.tip_radius_mm, result.form.root_radius_mm)]
+            g = result.gearset
+            label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
+                     f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
+                     f"max deviation {prof.flank_fit.max_error_mm * 1e3:.3f} um")
+            r_out = result.form.root_radius_mm
+            note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
+            cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
+            cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
+            cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result), texts=note)
+            cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
+            export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
+            export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
+            if figure:
+                from .report import fit_report_html
+
+                html = fit_report_html(result, prof.fits, chosen=prof.method, clearance=prof.clearance, positions=prof.positions)
+                with export.atomic_write(staging / "fit_report.html", "w") as f:
+                    f.write(html)
+        else:  # no arc fit: the exact outline as a polyline
+            export.write_outline_dxf(staging / "circular_spline.dxf", {"CS": [result.form.outline_for_cad(DXF_TOLERANCE_MM)]})
         if figure:
             from . import plot
 
@@ -235,6 +366,8 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
             title = (f"{g.name}: m {g.gear.module_mm:g} mm, z {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}, "
                      f"ω* {g.wave_generator.deflection_coefficient:g}, scene {result.scene.name}")
             plot.envelope_figure(result.envelope, result.tooth, result.motion, title=title, path=staging / "envelope.png")
+        data["files"] = sorted(p.name for p in staging.iterdir()) + ["design.json"]
+        export.write_json(staging / "design.json", data)
         out.mkdir(parents=True, exist_ok=True)
         written = []
         for f in sorted(staging.iterdir()):
@@ -245,6 +378,38 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
         raise ExportError(f"cannot write to {out}: {exc.strerror or exc}") from exc
     finally:
         shutil.rmtree(staging, ignore_errors=True)
+
+
+def _space_guides(result: Design) -> list:
+    """Construction for the one-space drawing: tip and root circle arcs over the space, its axis."""
+    f = result.form
+    half = 1.5 * np.pi / f.cs_teeth
+    arcs = [Arc(np.zeros(2), r, np.pi / 2 - half, 2 * half) for r in (f.tip_radius_mm, f.root_radius_mm)]
+    return arcs + [Line((0.0, f.tip_radius_mm - 0.2), (0.0, f.root_radius_mm + 0.2))]
+
+
+def _assembly_layers(result: Design) -> dict:
+    """CS (true arcs), the deformed FS in its assembled position (all z1 teeth, wave generator
+    at ψ = 0, major axis along +y) and the wave-generator contour, i.e. the deformed rim bore."""
+    from .kinematics import turn
+
+    g = result.gearset.gear
+    tooth, motion = result.tooth, result.motion
+    surface = tooth.surface(n_per_mm=100.0)
+    fs = []
+    for k in range(g.flexspline_teeth):
+        theta = 2 * np.pi * k / g.flexspline_teeth  # carrier angle = φ at ψ = 0
+        pose = motion.pose(np.array([theta]))
+        pts = pose.to_cs(surface)
+        fs.append(Polyline(turn(pts, theta - motion.beta_rate * theta)))
+    phi = np.linspace(0.0, 2 * np.pi, 4 * g.flexspline_teeth + 1)
+    (w,), (u,) = result.deformation.evaluate(phi, order=0)
+    r_bore = g.neutral_radius_mm - g.rim_thickness_mm / 2 + w
+    from .kinematics import unit_radial, unit_tangential
+
+    bore = r_bore[:, None] * unit_radial(phi) + u[:, None] * unit_tangential(phi)
+    bore[-1] = bore[0]
+    return {"CS": [result.profile.outline], "FS": fs + [Polyline(bore)], "WG": [Polyline(bore)]}
 
 
 def _circles(result: Design) -> list[np.ndarray]:

@@ -30,7 +30,10 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
     res = run_cli("design", cwd=tmp_path)
     assert res.returncode == 0, res.stderr
     out = tmp_path / "export" / "default"
-    assert sorted(p.name for p in out.iterdir()) == ["circular_spline.dxf", "design.json", "envelope.csv", "envelope.png"]
+    assert sorted(p.name for p in out.iterdir()) == [
+        "assembly.dxf", "circular_spline.csv", "circular_spline.dxf", "circular_spline.svg", "design.json",
+        "envelope.csv", "envelope.png", "fit_report.html", "profile_fit.json", "tooth_space.dxf",
+    ]
     data = json.loads((out / "design.json").read_text())
     assert data["gearset"]["name"] == "default"
     for stage in ("tooth", "deformation", "envelope", "gearform"):
@@ -44,26 +47,32 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
     assert (out / "envelope.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
-def test_design_dxf_is_the_closed_cs_outline_in_mm(tmp_path):
-    import ezdxf
+def test_design_dxf_is_the_closed_cs_outline_of_true_arcs_in_mm(tmp_path):
+    """circular_spline.dxf: only LINE and ARC on layer CS, mm units, audit clean, one closed
+    chain (gaps ≤ 1e-9 mm after read-back), z2 identical spaces between the tip and root circles,
+    and its flank within the reported deviation of the exact envelope."""
+    from profilegen import cad
 
     assert main(["design", "--scene", "sketch", "--out", str(tmp_path / "o"), "-q"]) == 0
-    doc = ezdxf.readfile(tmp_path / "o" / "circular_spline.dxf")
-    assert doc.header["$INSUNITS"] == 4  # millimetres
-    assert len(doc.audit().errors) == 0
-    (cs,) = [e for e in doc.modelspace() if e.dxftype() == "LWPOLYLINE" and e.dxf.layer == "CS"]
-    assert cs.closed
-    pts = np.array([p[:2] for p in cs.get_points()])
+    path = tmp_path / "o" / "circular_spline.dxf"
+    assert cad.audit(path) == 0
+    import ezdxf
+
+    assert ezdxf.readfile(path).header["$INSUNITS"] == 4  # millimetres
+    layers = cad.read_dxf_contours(path)
+    cs = layers["CS"]
+    assert {type(e).__name__ for e in cs} <= {"Line", "Arc"}
+    chain = cad.oriented_chain(cs)
+    assert chain.gaps(closed=True).max() <= 1e-9
     data = json.loads((tmp_path / "o" / "design.json").read_text())
+    pts = chain.sample(1e-4)
     r = np.hypot(pts[:, 0], pts[:, 1])
-    cs_data = data["circular_spline"]
-    assert r.min() == pytest.approx(cs_data["tip_radius_mm"], abs=1e-9)
-    assert r.max() == pytest.approx(cs_data["root_radius_mm"], abs=1e-9)
-    # z2 identical spaces: the outline is periodic in 2π/z2
-    theta = np.arctan2(pts[:, 0], pts[:, 1])
-    deepest = np.sort(theta[np.abs(r - r.max()) < 1e-9])
-    gaps = np.diff(np.unique(np.round(deepest / (2 * np.pi / 202))))
-    assert np.all(gaps == 1)
+    assert r.min() == pytest.approx(data["circular_spline"]["tip_radius_mm"], abs=1e-9)
+    assert r.max() == pytest.approx(data["circular_spline"]["root_radius_mm"], abs=1e-6)
+    assert len(cs) % 202 == 0  # z2 identical spaces, each with its tip land
+    fit = json.loads((tmp_path / "o" / "profile_fit.json").read_text())
+    assert fit["outline_max_gap_mm"] <= 1e-9
+    assert fit["clearance_check"]["min_clearance_mm"] >= -1e-6  # the one-sided profile never cuts the FS
 
 
 def test_every_bundled_profile_checks(tmp_path):

@@ -1,0 +1,47 @@
+"""The manufacturable CS profile through the pipeline: fits, closure, the FS check, ridges."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import profilegen as pg
+
+
+@pytest.fixture(scope="module")
+def default_design():
+    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="design")
+
+
+def test_default_profile_is_one_sided_and_closed(default_design):
+    p = default_design.profile
+    assert p.method == "one_sided"
+    # one-sided = minimax moved by its error: backlash exactly twice the minimax deviation
+    assert p.flank_fit.max_backlash_mm == pytest.approx(2 * p.fits["minimax"].max_error_mm, rel=1e-6)
+    assert p.fits["minimax"].max_error_mm <= p.fits["least_squares"].max_error_mm
+    assert p.outline.gaps(closed=True).max() <= 1e-9
+    assert p.positions >= 2000 and p.clearance.min_mm >= -default_design.envelope.chord_tol_mm
+    # the mirror image is the left flank: the space is symmetric about its axis
+    np.testing.assert_allclose(p.space.start * [-1, 1], p.space.end, atol=1e-9)
+
+
+def test_fit_method_override(default_design):
+    gs = pg.load_gearset(pg.default_gearset_path())
+    r = pg.design(gs, scene="sketch", fit_method="least_squares")
+    assert r.profile.method == "least_squares"
+    with pytest.raises(pg.GearSetError, match="fit method"):
+        pg.design(gs, scene="sketch", fit_method="best")
+
+
+def test_flank_with_a_ridge_is_fitted_per_branch():
+    """An involute FS tooth gives a CS flank with a 12° branch-switch ridge: one composite per
+    branch follows it to well under a micrometre, one composite over the kink cannot."""
+    d = pg.load_gearset(pg.default_gearset_path()).to_dict()
+    d["tooth"] = {"kind": "involute", "pressure_angle_deg": 20.0}
+    r = pg.design(pg.parse_gearset(d), scene="design")
+    assert any(rr.kink_deg > 5 for rr in r.envelope.ridges)
+    p = r.profile
+    assert p.branches is not None and len(p.branches.fits) == 2
+    assert max(f.max_error_mm for f in p.branches.fits) < 1e-4 < p.fits["one_sided"].max_error_mm
+    assert p.outline.gaps(closed=True).max() <= 1e-9
+    assert p.clearance.min_mm >= -1e-6
