@@ -45,3 +45,17 @@ def test_flank_with_a_ridge_is_fitted_per_branch():
     assert max(f.max_error_mm for f in p.branches.fits) < 1e-4 < p.fits["one_sided"].max_error_mm
     assert p.outline.gaps(closed=True).max() <= 1e-9
     assert p.clearance.min_mm >= -1e-6
+
+
+def test_outline_has_no_overlaps_and_files_are_deterministic(default_design, tmp_path):
+    """The closed chain bounds a simple polygon (no overlaps, no self-contact), and the same
+    design writes byte-identical DXF and SVG files."""
+    import shapely
+
+    ring = shapely.LinearRing(default_design.profile.outline.sample(1e-4))
+    assert ring.is_simple and shapely.Polygon(ring).is_valid
+    a = pg.write_design(default_design, tmp_path / "a", figure=False)
+    b = pg.write_design(default_design, tmp_path / "b", figure=False)
+    for name in ("circular_spline.dxf", "tooth_space.dxf", "assembly.dxf", "circular_spline.svg"):
+        assert (tmp_path / "a" / name).read_bytes() == (tmp_path / "b" / name).read_bytes(), name
+    assert [p.name for p in a] == [p.name for p in b]

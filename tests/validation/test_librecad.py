@@ -37,7 +37,7 @@ import numpy as np
 import pytest
 
 from profilegen.cad import chain_gaps, read_dxf_contours, write_contours_dxf
-from profilegen.contour import Arc, Chain, Line
+from profilegen.contour import Arc, Chain
 
 GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "toy_gear.dxf"
 DPI = 100
@@ -103,60 +103,20 @@ def test_toy_gear_prints_at_scale_one_in_mm(tmp_path):
 # ----------------------------------------------------------------------------- a real CS
 
 
-def _arc_through(p, m, q) -> Line | Arc:
-    """The circular arc from p through m to q (a Line if the three are collinear)."""
-    p, m, q = (np.asarray(v, float) for v in (p, m, q))
-    d = 2 * ((m - p)[0] * (q - p)[1] - (m - p)[1] * (q - p)[0])
-    if abs(d) < 1e-12 * np.hypot(*(q - p)) ** 2:
-        return Line(p, q)
-    b, c = m - p, q - p
-    centre = p + np.array([c[1] * (b @ b) - b[1] * (c @ c), b[0] * (c @ c) - c[0] * (b @ b)]) / d
-    return _arc_about(centre, p, q, ccw=d > 0)
-
-
-def _arc_about(centre, p, q, *, ccw: bool) -> Arc:
-    c = np.asarray(centre, float)
-    a0 = math.atan2(p[1] - c[1], p[0] - c[0])
-    a1 = math.atan2(q[1] - c[1], q[0] - c[0])
-    sweep = (a1 - a0) % (2 * math.pi)
-    if not ccw:
-        sweep -= 2 * math.pi
-    return Arc(c, float(np.hypot(*(np.asarray(p) - c))), a0, sweep)
-
-
-def _flank_arcs(points: np.ndarray, n: int = 3) -> list:
-    """n arcs through a flank polyline: piece k runs from vertex i_k through the middle vertex to i_{k+1}."""
-    s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(points, axis=0).T))])
-    cuts = [int(np.argmin(np.abs(s - s[-1] * k / n))) for k in range(n + 1)]
-    out = []
-    for i, j in zip(cuts[:-1], cuts[1:]):
-        out.append(_arc_through(points[i], points[(i + j) // 2], points[j]))
-    return out
-
-
 def real_cs_sector(spaces: int = 5):
-    """Five CS tooth spaces of the default gear set (sketch scene) as arcs, and the tip/root circles' arcs."""
+    """Five spaces of the default gear set's fitted CS outline (sketch scene: one-sided
+    arc–line–arc flanks, transition lines, root and tip arcs), and the circles' arcs."""
     from profilegen.gearset import default_gearset_path, load_gearset
     from profilegen.pipeline import design
 
-    form = design(load_gearset(default_gearset_path()), scene="sketch").form
-    space, z = np.asarray(form.space), form.cs_teeth
-    on_root = np.nonzero(np.abs(np.hypot(*space.T) - form.root_radius_mm) < 1e-9)[0]
-    i0, i1 = int(on_root.min()), int(on_root.max())
-    pitch = 2 * math.pi / z
-    # CS frame: polar angles run from +y toward +x (clockwise), so the spaces follow clockwise
-    left, right = space[: i0 + 1], space[i1:]
-    unit = _flank_arcs(left) + [_arc_about((0, 0), space[i0], space[i1], ccw=False)] + _flank_arcs(right)
-    turn = np.array([[math.cos(pitch), math.sin(pitch)], [-math.sin(pitch), math.cos(pitch)]])  # one pitch clockwise
-    next_start = turn @ space[0]
-    unit.append(_arc_about((0, 0), space[-1], next_start, ccw=False))  # tip land to the next space
-    elements = []
-    for k in range(-(spaces // 2), spaces - spaces // 2):
-        m = np.linalg.matrix_power(turn, k) if k >= 0 else np.linalg.matrix_power(turn.T, -k)
-        elements += [e.transformed(m) for e in unit]
-    span = (spaces // 2 + 1) * pitch
+    result = design(load_gearset(default_gearset_path()), scene="sketch")
+    form, prof = result.form, result.profile
+    n_unit = len(prof.space.elements) + 1  # a space and the tip land after it
+    half = spaces // 2
+    elements = prof.outline.elements[-half * n_unit :] + prof.outline.elements[: (spaces - half) * n_unit - 1]
+    span = (half + 1) * 2 * math.pi / form.cs_teeth
     circles = [Arc((0, 0), r, math.pi / 2 - span, 2 * span) for r in (form.tip_radius_mm, form.root_radius_mm)]
-    return Chain(elements[:-1]), circles, form
+    return Chain(tuple(elements)), circles, form
 
 
 def test_real_cs_sector_prints(tmp_path):
