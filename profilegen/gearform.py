@@ -142,16 +142,6 @@ class CircularSplineForm:
         outer = _arc(self.outer_radius_mm, 0.0, 2 * np.pi, 1e-4)[:-1]
         return shapely.Polygon(outer, holes=[self.outline])
 
-    def outline_for_cad(self, tolerance_mm: float) -> np.ndarray:
-        """The closed outline (first point repeated) with each space simplified to ``tolerance_mm``
-        (Douglas–Peucker on one space, then repeated, so every space is identical)."""
-        n_unit = len(self.outline) // self.cs_teeth
-        unit = self.outline[: n_unit + 1] if len(self.outline) > n_unit else self.outline[:n_unit]
-        unit = shapely.get_coordinates(shapely.simplify(shapely.LineString(unit), tolerance_mm, preserve_topology=False))
-        pitch = 2 * np.pi / self.cs_teeth
-        ring = np.vstack([turn(unit[:-1], k * pitch) for k in range(self.cs_teeth)])
-        return np.vstack([ring, ring[:1]])
-
     def to_dict(self) -> dict:
         return {
             "tip_radius_mm": self.tip_radius_mm,
@@ -343,11 +333,9 @@ def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: in
 
     els = list(flank.elements)
     els[0] = _clip_start_to_circle(els[0], tip_radius_mm)
-    end, d = els[-1].end, els[-1].tangent(at_end=True)
-    B, C = 2 * end @ d, end @ end - root_radius_mm**2
-    s = (-B + np.sqrt(max(B * B - 4 * C, 0.0))) / 2
-    hit = end + s * d
-    if s > 1e-12:
+    end = els[-1].end
+    hit = _tangent_to_circle(end, els[-1].tangent(at_end=True), root_radius_mm)
+    if np.hypot(*(hit - end)) > 1e-12:
         els.append(Line(end, hit))
     right = Chain(tuple(els))
     left_up = right.transformed(_MIRROR)  # mirror keeps the travel direction: tip circle → root

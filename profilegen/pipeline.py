@@ -23,13 +23,11 @@ from .envelope import Envelope, envelope_of
 from .errors import ExportError, GearSetError
 from .gearform import CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import FIT_METHODS, GearSet
-from .contour import Arc, Line, Polyline
+from .contour import Arc, Chain, Line, Polyline
 from .kinematics import HarmonicDriveMotion
 from .teeth import tooth_from_gearset
 
-__all__ = ["Scene", "SCENES", "StageReport", "Design", "design", "write_design", "DXF_TOLERANCE_MM"]
-
-DXF_TOLERANCE_MM = 1e-4  # the DXF polyline keeps the outline to 0.1 µm (Douglas–Peucker)
+__all__ = ["Scene", "SCENES", "StageReport", "CSProfile", "Design", "design", "write_design"]
 
 log = logging.getLogger(__name__)
 
@@ -292,8 +290,6 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CS
     if ridges:
         branches = fit_profile_per_branch(flank, ridges, method=method, space_side="left",
                                           swept=swept if method == "one_sided" else None, swept_tol_mm=tol)
-        from .contour import Chain, Line
-
         # each branch fit ends at the foot of its own last point: at a ridge the two fits
         # meet within the backlash, with the ridge's kink; a short line closes any gap
         els = list(branches.fits[0].chain.elements)
@@ -306,9 +302,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CS
     space, outline = cs_chain(chain, tip_radius_mm=form.tip_radius_mm, root_radius_mm=form.root_radius_mm, cs_teeth=form.cs_teeth)
     n_unit = len(space.elements) + 1
     local = outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]
-    from .contour import Chain as _Chain
-
-    cs_points = _Chain(tuple(local)).sample(1e-7)
+    cs_points = Chain(tuple(local)).sample(1e-7)
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
     return CSProfile(fits, method, branches, space, outline, cmap, positions)
 
@@ -337,32 +331,27 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
         export.write_envelope_csv(staging / "envelope.csv", result.envelope)
         data = result.to_dict()
         prof = result.profile
-        if prof is not None:
-            circles = [Arc(np.zeros(2), r, 0.0, 2 * np.pi) for r in (result.form.tip_radius_mm, result.form.root_radius_mm)]
-            g = result.gearset
-            label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
-                     f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
-                     f"max deviation {prof.flank_fit.max_error_mm * 1e3:.3f} um")
-            r_out = result.form.root_radius_mm
-            note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
-            cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
-            cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
-            cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result), texts=note)
-            cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
-            export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
-            export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
-            if figure:
-                from .report import fit_report_html
-
-                html = fit_report_html(result, prof.fits, chosen=prof.method, clearance=prof.clearance, positions=prof.positions)
-                with export.atomic_write(staging / "fit_report.html", "w") as f:
-                    f.write(html)
-        else:  # no arc fit: the exact outline as a polyline
-            export.write_outline_dxf(staging / "circular_spline.dxf", {"CS": [result.form.outline_for_cad(DXF_TOLERANCE_MM)]})
+        circles = [Arc(np.zeros(2), r, 0.0, 2 * np.pi) for r in (result.form.tip_radius_mm, result.form.root_radius_mm)]
+        g = result.gearset
+        label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
+                 f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
+                 f"max deviation {prof.flank_fit.max_error_mm * 1e3:.3f} um")
+        r_out = result.form.root_radius_mm
+        note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
+        cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
+        cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
+        cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result), texts=note)
+        cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
+        export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
+        export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
         if figure:
+            from .report import fit_report_html
+
+            html = fit_report_html(result, prof.fits, chosen=prof.method, clearance=prof.clearance, positions=prof.positions)
+            with export.atomic_write(staging / "fit_report.html", "w") as f:
+                f.write(html)
             from . import plot
 
-            g = result.gearset
             title = (f"{g.name}: m {g.gear.module_mm:g} mm, z {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}, "
                      f"ω* {g.wave_generator.deflection_coefficient:g}, scene {result.scene.name}")
             plot.envelope_figure(result.envelope, result.tooth, result.motion, title=title, path=staging / "envelope.png")
@@ -412,8 +401,3 @@ def _assembly_layers(result: Design) -> dict:
     return {"CS": [result.profile.outline], "FS": fs + [Polyline(bore)], "WG": [Polyline(bore)]}
 
 
-def _circles(result: Design) -> list[np.ndarray]:
-    from .gearform import _arc
-
-    f = result.form
-    return [_arc(r, 0.0, 2 * np.pi, 1e-4)[:-1] for r in (f.tip_radius_mm, f.root_radius_mm)]
