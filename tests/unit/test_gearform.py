@@ -80,3 +80,20 @@ def test_cs_chain_closes_exactly_from_any_g1_flank(form_default):
     assert np.all(space.kinks_deg()[:2] < 1e-9)  # the flank itself stays G1
     assert len(outline.elements) == 202 * (len(space.elements) + 1)
     assert shapely.Polygon(outline.sample(1e-3)).is_valid
+
+
+def test_clearance_map_equals_brute_force_distance(form_default, default_set):
+    """At every sampled pose the map equals the brute-force signed distance of all CS outline
+    points around the space to the tooth's real surface (shapely, no candidate search)."""
+    from profilegen.gearform import _local_outline
+
+    tooth, motion, env = default_set
+    cmap = clearance_map(form_default, tooth, motion, phi_range=env.phi_range, samples=37)
+    cs = _local_outline(form_default)
+    surface = shapely.LineString(tooth.surface(n_per_mm=400.0))
+    poly = shapely.Polygon(tooth.outline(n_per_mm=400.0))
+    for phi, value in zip(cmap.phi, cmap.clearance_mm):
+        q = motion.pose(np.array([phi])).to_tooth(cs)
+        d = shapely.distance(shapely.points(q), surface)
+        inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
+        assert value == pytest.approx(np.min(np.where(inside, -d, d)), abs=1e-9), np.degrees(phi)
