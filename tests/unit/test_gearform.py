@@ -84,7 +84,9 @@ def test_cs_chain_closes_exactly_from_any_g1_flank(form_default):
 
 def test_clearance_map_equals_brute_force_distance(form_default, default_set):
     """At every sampled pose the map equals the brute-force signed distance of all CS outline
-    points around the space to the tooth's real surface (shapely, no candidate search)."""
+    points around the space to the tooth's real surface (shapely, no candidate search):
+    exactly near contact (< 10 µm, where interference would show), within 1 µm (never
+    below) far out of mesh."""
     from profilegen.gearform import _local_outline
 
     tooth, motion, env = default_set
@@ -96,4 +98,8 @@ def test_clearance_map_equals_brute_force_distance(form_default, default_set):
         q = motion.pose(np.array([phi])).to_tooth(cs)
         d = shapely.distance(shapely.points(q), surface)
         inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
-        assert value == pytest.approx(np.min(np.where(inside, -d, d)), abs=1e-9), np.degrees(phi)
+        truth = np.min(np.where(inside, -d, d))
+        if truth < 0.01:
+            assert value == pytest.approx(truth, abs=1e-12), np.degrees(phi)
+        else:
+            assert truth <= value <= truth + 1e-3, np.degrees(phi)

@@ -1,0 +1,763 @@
+"""Series fits of the rim deformation: samples ω(φ), υ(φ) → a deformation model.
+
+φ is the angle from the wave-generator major axis to a flexspline tooth's *undeformed*
+position (rad); ω is the radial displacement of the neutral line (outward +, mm), υ the
+tangential one (toward increasing φ, mm). A rim solver (ring theory, FEM) gives them at
+discrete φ; the kinematics needs smooth functions with derivatives up to third order.
+
+Two fitters, as in seed 004 ("Deriving Deformation Functions via Curve Fitting") but
+corrected by DESIGN.md trap 3:
+
+* :func:`fit_fourier` — the default. Integer harmonics of the wave count U,
+  ``ω = a_0 + Σ a_k cos(kUφ)``, ``υ = Σ b_k sin(kUφ)``, by linear least squares. Exactly
+  periodic and symmetric (ω even, υ odd about the major axis) by construction. The result,
+  a :class:`DeformationFit`, *is* a deformation model: its ``evaluate`` is that of the
+  :class:`~profilegen.deformation.HarmonicDeformation` built from the coefficients.
+* :func:`fit_sine_series` — seed 004's general form ``f(φ) = Σ a_i sin(b_i φ + c_i)`` by
+  nonlinear least squares, one component at a time; :class:`GeneralSineDeformation`
+  pairs an ω and a υ fit into a deformation model. Non-integer frequencies b_i make f
+  non-periodic: the seed's printed υ drifts by ~0.019 mm over one turn. Every fit reports
+  this periodicity defect f(2π) − f(0) (and that of f′).
+
+Both report per component (:class:`FitStats`): SSE, RMSE, R², adjusted R² (with the
+number of parameters), the largest error and where, and the periodicity defects.
+
+>>> import numpy as np
+>>> phi = np.linspace(0.0, 2 * np.pi, 360, endpoint=False)
+>>> fit = fit_fourier(phi, 0.5 * np.cos(2 * phi), -0.25 * np.sin(2 * phi))
+>>> fit.order, np.round(fit.cos_mm, 12).tolist(), np.round(fit.sin_mm, 12).tolist()
+(1, [0.5], [-0.25])
+>>> abs(fit.upsilon_stats.defect_mm) < 1e-15
+True
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import numbers
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares, minimize_scalar
+
+from .deformation import HarmonicDeformation
+from .errors import ConvergenceError, ProfilegenError
+
+__all__ = [
+    "SeriesError",
+    "FitStats",
+    "DeformationFit",
+    "SeriesFit",
+    "GeneralSineDeformation",
+    "fit_fourier",
+    "fit_sine_series",
+]
+
+log = logging.getLogger(__name__)
+
+TWO_PI = 2.0 * math.pi
+TIERS = ("sketch", "design", "verify")
+# Residuals below this fraction of the component's magnitude are rounding, not signal:
+# the information criterion floors each SSE at n·(_FLOOR_REL·max|f|)² so that exact data
+# (ring theory) does not pick harmonics by comparing logarithms of rounding noise.
+_FLOOR_REL = 1e-13
+
+
+class SeriesError(ProfilegenError, ValueError):
+    """Bad input to a series fit; the message names the parameter, its value and the allowed range."""
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def _readonly(values) -> np.ndarray:
+    array = np.array(values, dtype=float)
+    array.setflags(write=False)
+    return array
+
+
+def _whole(name: str, value, low: int, high: int | None = None) -> int:
+    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
+        raise SeriesError(f"{name} = {value!r}: must be a whole number ≥ {low}")
+    value = int(value)
+    if value < low or (high is not None and value > high):
+        bound = f"in [{low}, {high}]" if high is not None else f"≥ {low}"
+        raise SeriesError(f"{name} = {value}: must be {bound}")
+    return value
+
+
+def _samples(name: str, values, unit: str, n: int | None = None) -> np.ndarray:
+    try:
+        array = np.asarray(values, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise SeriesError(f"{name}: must be an array of numbers ({unit}), got {type(values).__name__}") from exc
+    if array.ndim != 1:
+        raise SeriesError(f"{name}: must be 1-D ({unit}), got shape {array.shape}")
+    if n is not None and array.size != n:
+        raise SeriesError(f"{name}: {array.size} samples, does not match phi ({n} samples)")
+    bad = np.flatnonzero(~np.isfinite(array))
+    if bad.size:
+        raise SeriesError(
+            f"{name}: values must be finite ({unit}); {bad.size} are not, first at index {bad[0]} ({array[bad[0]]})"
+        )
+    return array
+
+
+def _check_order(order) -> int:
+    return _whole("order", order, 0)
+
+
+def _tier(tier) -> str:
+    if tier not in TIERS:
+        raise SeriesError(f"tier = {tier!r}: must be one of {', '.join(TIERS)}")
+    return tier
+
+
+def _json_float(x) -> float | None:
+    x = float(x)
+    return x if math.isfinite(x) else None
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class FitStats:
+    """Goodness of fit of one component (ω or υ), in mm.
+
+    ``rmse_mm`` is the standard error of the fit, √(SSE / (n − p)) (MATLAB's and seed
+    004's "RMSE"; an unbiased estimate of the noise σ); ``rms_error_mm`` is √(SSE / n).
+    R² = 1 − SSE/SST with SST about the sample mean; adjusted R² =
+    1 − (1 − R²)(n − 1)/(n − p). For constant data (SST = 0) R² is 1 if SSE = 0 to
+    rounding, else 0. ``defect_mm`` = f(2π) − f(0) and ``slope_defect`` = f′(2π) − f′(0)
+    (mm/rad): zero to rounding for integer harmonics, not for a general sine series.
+    """
+
+    n_samples: int
+    n_params: int
+    sse_mm2: float
+    rmse_mm: float
+    rms_error_mm: float
+    r2: float
+    adj_r2: float
+    max_error_mm: float
+    max_error_phi_rad: float
+    defect_mm: float
+    slope_defect: float
+
+    def to_dict(self) -> dict:
+        return {
+            "n_samples": self.n_samples,
+            "n_params": self.n_params,
+            "sse_mm2": self.sse_mm2,
+            "rmse_mm": self.rmse_mm,
+            "rms_error_mm": self.rms_error_mm,
+            "r2": self.r2,
+            "adj_r2": self.adj_r2,
+            "max_error_mm": self.max_error_mm,
+            "max_error_phi_rad": self.max_error_phi_rad,
+            "defect_mm": self.defect_mm,
+            "slope_defect": self.slope_defect,
+        }
+
+
+def _stats(phi, y, fitted, n_params: int, evaluate) -> FitStats:
+    n = y.size
+    resid = y - fitted
+    sse = float(resid @ resid)
+    centred = y - y.mean()
+    sst = float(centred @ centred)
+    if sst > 0.0:
+        r2 = 1.0 - sse / sst
+    else:
+        r2 = 1.0 if sse <= n * (_FLOOR_REL * max(1.0, float(np.max(np.abs(y))))) ** 2 else 0.0
+    dof = n - n_params  # > 0: validated before fitting
+    i = int(np.argmax(np.abs(resid)))
+    ends = evaluate(np.array([0.0, TWO_PI]), 1)
+    return FitStats(
+        n_samples=n,
+        n_params=n_params,
+        sse_mm2=sse,
+        rmse_mm=math.sqrt(sse / dof),
+        rms_error_mm=math.sqrt(sse / n),
+        r2=r2,
+        adj_r2=1.0 - (1.0 - r2) * (n - 1) / dof,
+        max_error_mm=float(abs(resid[i])),
+        max_error_phi_rad=float(phi[i]),
+        defect_mm=float(ends[0, 1] - ends[0, 0]),
+        slope_defect=float(ends[1, 1] - ends[1, 0]),
+    )
+
+
+# --------------------------------------------------------------------------- Fourier
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class DeformationFit:
+    """A Fourier fit of ω(φ), υ(φ) — and the deformation model it defines.
+
+    ``evaluate(phi, order)`` is that of ``model`` (a :class:`HarmonicDeformation`):
+    ω = mean_mm + Σ cos_mm[k−1] cos(kUφ), υ = Σ sin_mm[k−1] sin(kUφ), k = 1..order_picked.
+
+    Diagnostics: per-component :class:`FitStats`; the coefficients' standard errors
+    (σ̂²(XᵀX)⁻¹ with σ̂ = rmse_mm); the order-selection table (``orders``, ``aicc``,
+    ``omega_rmse_by_order_mm``, ``upsilon_rmse_by_order_mm``) and the ``criterion`` used;
+    ``time_s``; ``warnings``.
+    """
+
+    model: HarmonicDeformation
+    omega_stats: FitStats
+    upsilon_stats: FitStats
+    mean_se_mm: float
+    cos_se_mm: np.ndarray
+    sin_se_mm: np.ndarray
+    criterion: str
+    orders: np.ndarray
+    aicc: np.ndarray
+    omega_rmse_by_order_mm: np.ndarray
+    upsilon_rmse_by_order_mm: np.ndarray
+    time_s: float
+    warnings: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        for name in ("cos_se_mm", "sin_se_mm", "orders", "aicc", "omega_rmse_by_order_mm", "upsilon_rmse_by_order_mm"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
+
+    # the Deformation protocol
+    @property
+    def tier(self) -> str:
+        return self.model.tier
+
+    @property
+    def waves(self) -> int:
+        return self.model.waves
+
+    @property
+    def symmetric(self) -> bool:
+        """ω even and υ odd in φ (always, for cos/sin harmonics)."""
+        return True
+
+    def evaluate(self, phi, order: int = 3) -> tuple[np.ndarray, np.ndarray]:
+        """ω and υ with derivatives 0..order at φ (rad), each (order + 1, n), mm."""
+        return self.model.evaluate(phi, _check_order(order))
+
+    # the coefficients
+    @property
+    def order(self) -> int:
+        """Number of harmonics fitted (k = 1..order)."""
+        return int(self.model.cos_mm.size)
+
+    @property
+    def mean_mm(self) -> float:
+        return float(self.model.mean_mm)
+
+    @property
+    def cos_mm(self) -> np.ndarray:
+        return self.model.cos_mm
+
+    @property
+    def sin_mm(self) -> np.ndarray:
+        return self.model.sin_mm
+
+    @property
+    def deflection_mm(self) -> float:
+        """ω(0), the radial displacement on the major axis (mm)."""
+        return self.model.deflection_mm
+
+    def to_dict(self) -> dict:
+        return {
+            "kind": "fourier",
+            **self.model.to_dict(),
+            "order": self.order,
+            "symmetric": True,
+            "mean_se_mm": self.mean_se_mm,
+            "cos_se_mm": self.cos_se_mm.tolist(),
+            "sin_se_mm": self.sin_se_mm.tolist(),
+            "omega": self.omega_stats.to_dict(),
+            "upsilon": self.upsilon_stats.to_dict(),
+            "selection": {
+                "criterion": self.criterion,
+                "orders": [int(k) for k in self.orders],
+                "aicc": [_json_float(v) for v in self.aicc],
+                "omega_rmse_mm": [_json_float(v) for v in self.omega_rmse_by_order_mm],
+                "upsilon_rmse_mm": [_json_float(v) for v in self.upsilon_rmse_by_order_mm],
+            },
+            "time_s": self.time_s,
+            "warnings": list(self.warnings),
+        }
+
+
+def _fourier_design(phi, waves: int, order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Design matrices [1, cos kUφ] for ω and [sin kUφ] for υ, k = 1..order."""
+    arg = np.multiply.outer(phi, waves * np.arange(1, order + 1))
+    x_omega = np.empty((phi.size, order + 1))
+    x_omega[:, 0] = 1.0
+    x_omega[:, 1:] = np.cos(arg)
+    return x_omega, np.sin(arg)
+
+
+def _lstsq(x, y):
+    """Least squares with the unscaled covariance diagonal; None if X is rank-deficient."""
+    q, r = np.linalg.qr(x)
+    diag = np.abs(np.diag(r))
+    if diag.size and diag.min() <= diag.max() * x.shape[0] * np.finfo(float).eps * 1e3:
+        return None
+    coef = np.linalg.solve(r, q.T @ y)
+    r_inv = np.linalg.solve(r, np.eye(r.shape[0]))
+    cov_diag = np.sum(r_inv**2, axis=1)  # diag((XᵀX)⁻¹) = row norms² of R⁻¹
+    return coef, x @ coef, cov_diag
+
+
+def _aicc(sse: float, n: int, p: int, floor: float) -> float:
+    """AICc of a Gaussian linear model with p coefficients and its own variance (k = p + 1)."""
+    k = p + 1
+    return n * math.log(max(sse, floor) / n) + 2 * k + 2 * k * (k + 1) / (n - k - 1)
+
+
+def fit_fourier(
+    phi,
+    omega,
+    upsilon,
+    *,
+    waves: int = 2,
+    order: int | None = None,
+    max_order: int = 12,
+    tier: str = "design",
+) -> DeformationFit:
+    """Fit ω = a_0 + Σ a_k cos(kUφ), υ = Σ b_k sin(kUφ) (k = 1..K) to samples.
+
+    Linear least squares (QR), ω and υ separately. ``phi`` (rad) must cover at least one
+    wave period 2π/U (spacing included: n samples spaced h cover n·h); samples need not be
+    uniform or sorted.
+
+    ``order=None`` picks K in 1..max_order by the corrected Akaike information criterion
+    on the combined residuals: AICc(K) = Σ_{ω,υ} [n ln(SSE/n) + 2k + 2k(k+1)/(n−k−1)],
+    k = parameters + 1 (a separate noise variance for ω and υ; ω has K + 1 coefficients,
+    υ has K). The smallest AICc wins. Each SSE is floored at n·(1e-13·max|f|)², so exact
+    data (ring theory) picks the smallest exact order rather than chasing rounding. Orders
+    whose design matrix is rank-deficient (aliasing: too few samples per period) or that
+    leave n − k − 1 ≤ 0 are skipped. The AICc and RMSE of every order tried are kept in the
+    result; a pick equal to ``max_order`` is reported in ``warnings``.
+
+    The fit assumes symmetry (ω even, υ odd about the major axis); asymmetric data shows
+    up as a large RMSE, not as sine terms in ω.
+
+    >>> phi = np.linspace(0.0, np.pi, 90, endpoint=False)   # one wave period is enough
+    >>> fit_fourier(phi, np.cos(2 * phi), -0.5 * np.sin(2 * phi)).order
+    1
+    >>> fit_fourier(phi[:40], np.cos(2 * phi[:40]), np.sin(2 * phi[:40]))
+    Traceback (most recent call last):
+    ...
+    profilegen.series.SeriesError: phi: the samples cover 1.396 rad, less than one wave period 2π/U = 3.142 rad (waves = 2)
+    """
+    start = time.perf_counter()
+    waves = _whole("waves", waves, 1)
+    max_order = _whole("max_order", max_order, 1)
+    if order is not None:
+        order = _whole("order", order, 1)
+    tier = _tier(tier)
+    phi = _samples("phi", phi, "rad")
+    n = phi.size
+    omega = _samples("omega", omega, "mm", n)
+    upsilon = _samples("upsilon", upsilon, "mm", n)
+    if n < 2:
+        raise SeriesError(f"phi: {n} samples; need more samples than parameters (≥ 3 for one harmonic)")
+    period = TWO_PI / waves
+    span = float(phi.max() - phi.min())
+    covered = span * n / (n - 1)
+    if covered < period * (1.0 - 1e-9):
+        raise SeriesError(
+            f"phi: the samples cover {covered:.4g} rad, less than one wave period 2π/U = {period:.4g} rad "
+            f"(waves = {waves})"
+        )
+
+    warnings: list[str] = []
+    floor_w = n * (_FLOOR_REL * max(float(np.max(np.abs(omega))), 1e-300)) ** 2
+    floor_u = n * (_FLOOR_REL * max(float(np.max(np.abs(upsilon))), 1e-300)) ** 2
+
+    if order is not None:
+        if n <= order + 1:
+            raise SeriesError(
+                f"phi: {n} samples, not more than the {order + 1} parameters of ω at order = {order}; "
+                f"need ≥ {order + 2} samples"
+            )
+        candidates = [order]
+        criterion = "given"
+    else:
+        # AICc needs n − k − 1 > 0 for ω: k = K + 2 → K ≤ n − 4
+        top = min(max_order, n - 4)
+        if top < 1:
+            raise SeriesError(
+                f"phi: {n} samples, too few to choose an order (AICc needs ≥ 5 samples for one harmonic); "
+                f"give more samples or an explicit order"
+            )
+        if top < max_order:
+            warnings.append(f"max_order = {max_order} reduced to {top} by the number of samples ({n})")
+        candidates = list(range(1, top + 1))
+        criterion = "aicc"
+
+    x_omega_all, x_upsilon_all = _fourier_design(phi, waves, candidates[-1])
+    orders, aiccs, rmse_w, rmse_u, solutions = [], [], [], [], {}
+    skipped = []
+    for k in candidates:
+        sw = _lstsq(x_omega_all[:, : k + 1], omega)
+        su = _lstsq(x_upsilon_all[:, :k], upsilon)
+        if sw is None or su is None:
+            skipped.append(k)
+            continue
+        sse_w = float(np.sum((omega - sw[1]) ** 2))
+        sse_u = float(np.sum((upsilon - su[1]) ** 2))
+        orders.append(k)
+        aiccs.append(_aicc(sse_w, n, k + 1, floor_w) + _aicc(sse_u, n, k, floor_u) if n - k - 3 > 0 else math.nan)
+        rmse_w.append(math.sqrt(sse_w / (n - k - 1)))
+        rmse_u.append(math.sqrt(sse_u / (n - k)))
+        solutions[k] = (sw, su)
+    if skipped:
+        if order is not None:
+            raise SeriesError(
+                f"order = {order}: the design matrix is rank-deficient for these {n} samples "
+                f"(harmonic {order * waves}/turn aliases); give more samples per wave period or a lower order"
+            )
+        warnings.append(f"orders {skipped} skipped: rank-deficient design (too few samples per wave period)")
+    if not orders:
+        raise SeriesError(f"phi: no order in 1..{candidates[-1]} can be fitted to these {n} samples (rank-deficient)")
+
+    if order is None:
+        best = orders[int(np.nanargmin(aiccs))]
+        if best == orders[-1] and len(orders) > 1:
+            warnings.append(
+                f"order picked = max_order = {best}: AICc still falling; the data hold more harmonics "
+                f"(or are not periodic in 2π/U)"
+            )
+    else:
+        best = order
+    (coef_w, fitted_w, cov_w), (coef_u, fitted_u, cov_u) = solutions[best]
+
+    model = HarmonicDeformation(
+        waves=waves,
+        cos_mm=coef_w[1:],
+        sin_mm=coef_u,
+        mean_mm=float(coef_w[0]),
+        tier=tier,
+        source=f"Fourier fit, {best} harmonic(s) of U = {waves}, {n} samples",
+    )
+    stats_w = _stats(phi, omega, fitted_w, best + 1, lambda p, o: model.evaluate(p, o)[0])
+    stats_u = _stats(phi, upsilon, fitted_u, best, lambda p, o: model.evaluate(p, o)[1])
+    se_w = stats_w.rmse_mm * np.sqrt(cov_w)
+    se_u = stats_u.rmse_mm * np.sqrt(cov_u)
+    elapsed = time.perf_counter() - start
+    log.debug("Fourier fit: order %d (%s), RMSE ω %.3g mm, υ %.3g mm, %.3g s", best, criterion,
+              stats_w.rmse_mm, stats_u.rmse_mm, elapsed)
+    return DeformationFit(
+        model=model,
+        omega_stats=stats_w,
+        upsilon_stats=stats_u,
+        mean_se_mm=float(se_w[0]),
+        cos_se_mm=se_w[1:],
+        sin_se_mm=se_u,
+        criterion=criterion,
+        orders=orders,
+        aicc=aiccs,
+        omega_rmse_by_order_mm=rmse_w,
+        upsilon_rmse_by_order_mm=rmse_u,
+        time_s=elapsed,
+        warnings=tuple(warnings),
+    )
+
+
+# --------------------------------------------------------------------------- general sine series
+
+
+def _sine_eval(amplitude, frequency, phase, phi, order: int) -> np.ndarray:
+    """Σ a b^j sin(bφ + c + jπ/2) for j = 0..order, shape (order + 1, n)."""
+    phi = np.atleast_1d(np.asarray(phi, dtype=float))
+    arg = np.multiply.outer(phi, frequency) + phase  # (n, terms)
+    s, c = np.sin(arg), np.cos(arg)
+    out = np.empty((order + 1, phi.size))
+    for j in range(order + 1):
+        base = (s, c, -s, -c)[j % 4]  # sin(x + jπ/2)
+        out[j] = base @ (amplitude * frequency**j)
+    return out
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class SeriesFit:
+    """A general sine series f(φ) = Σ a_i sin(b_i φ + c_i) fitted to one component.
+
+    Canonical form: a_i ≥ 0, b_i ≥ 0, c_i in (−π, π], terms sorted by decreasing a_i.
+    b_i are in rad⁻¹ and in general not integers: f is then not 2π-periodic
+    (``stats.defect_mm``). Diagnostics: ``stats``; of the ``n_starts`` nonlinear
+    least-squares starts, ``n_success`` converged and ``n_at_best`` reached the best cost
+    (within 1e-6 relative, or 1e-28 mm² absolute); ``cost_by_start`` (½ SSE);
+    ``nfev`` (total residual evaluations); ``time_s``; ``warnings``.
+    """
+
+    amplitude_mm: np.ndarray
+    frequency_per_rad: np.ndarray
+    phase_rad: np.ndarray
+    stats: FitStats
+    n_starts: int
+    n_success: int
+    n_at_best: int
+    nfev: int
+    cost_by_start: np.ndarray
+    time_s: float
+    warnings: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        for name in ("amplitude_mm", "frequency_per_rad", "phase_rad", "cost_by_start"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
+
+    @property
+    def terms(self) -> int:
+        return int(self.amplitude_mm.size)
+
+    def evaluate(self, phi, order: int = 3) -> np.ndarray:
+        """f and its derivatives 0..order at φ (rad), shape (order + 1, n), mm (per radᵏ)."""
+        return _sine_eval(self.amplitude_mm, self.frequency_per_rad, self.phase_rad, phi, _check_order(order))
+
+    def to_dict(self) -> dict:
+        return {
+            "kind": "sine series",
+            "amplitude_mm": self.amplitude_mm.tolist(),
+            "frequency_per_rad": self.frequency_per_rad.tolist(),
+            "phase_rad": self.phase_rad.tolist(),
+            "stats": self.stats.to_dict(),
+            "n_starts": self.n_starts,
+            "n_success": self.n_success,
+            "n_at_best": self.n_at_best,
+            "nfev": self.nfev,
+            "cost_by_start": [_json_float(v) for v in self.cost_by_start],
+            "time_s": self.time_s,
+            "warnings": list(self.warnings),
+        }
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class GeneralSineDeformation:
+    """Deformation model from two general sine series: ω = omega_fit, υ = upsilon_fit.
+
+    Not symmetric in general (``symmetric`` is False) and not periodic unless every
+    frequency is an integer: see ``defect_mm``.
+    """
+
+    omega_fit: SeriesFit
+    upsilon_fit: SeriesFit
+    waves: int
+    tier: str = "verify"
+
+    def __post_init__(self):
+        for name in ("omega_fit", "upsilon_fit"):
+            if not isinstance(getattr(self, name), SeriesFit):
+                raise SeriesError(f"{name}: must be a SeriesFit (from fit_sine_series), got {type(getattr(self, name)).__name__}")
+        object.__setattr__(self, "waves", _whole("waves", self.waves, 1))
+        _tier(self.tier)
+
+    @property
+    def symmetric(self) -> bool:
+        return False
+
+    @property
+    def defect_mm(self) -> tuple[float, float]:
+        """(ω(2π) − ω(0), υ(2π) − υ(0)) in mm."""
+        return self.omega_fit.stats.defect_mm, self.upsilon_fit.stats.defect_mm
+
+    def evaluate(self, phi, order: int = 3) -> tuple[np.ndarray, np.ndarray]:
+        """ω and υ with derivatives 0..order at φ (rad), each (order + 1, n), mm."""
+        return self.omega_fit.evaluate(phi, order), self.upsilon_fit.evaluate(phi, order)
+
+    def to_dict(self) -> dict:
+        return {
+            "tier": self.tier,
+            "source": "general sine series (seed 004 form)",
+            "waves": self.waves,
+            "symmetric": False,
+            "omega": self.omega_fit.to_dict(),
+            "upsilon": self.upsilon_fit.to_dict(),
+        }
+
+
+def _unpack(x, terms):
+    """Parameters x = [α_1, β_1, b_1, α_2, ...]: f = Σ α sin bφ + β cos bφ."""
+    x = x.reshape(terms, 3)
+    return x[:, 0], x[:, 1], x[:, 2]
+
+
+def _linear_amplitudes(phi, y, freqs):
+    """Least-squares α, β for fixed frequencies (f = Σ α sin bφ + β cos bφ)."""
+    arg = np.multiply.outer(phi, freqs)
+    x = np.hstack([np.sin(arg), np.cos(arg)])
+    coef = np.linalg.lstsq(x, y, rcond=None)[0]
+    return coef[: freqs.size], coef[freqs.size :], y - x @ coef
+
+
+def _single_sse(phi, y, b):
+    return float(np.sum(_linear_amplitudes(phi, y, np.array([b]))[2] ** 2))
+
+
+def _spectrum(phi, y, pad: int = 16):
+    """Amplitude spectrum of y resampled on a uniform grid (zero-padded FFT); ω in rad⁻¹."""
+    order = np.argsort(phi)
+    x, v = phi[order], y[order]
+    m = max(x.size, 64)
+    grid = np.linspace(x[0], x[-1], m)
+    h = grid[1] - grid[0]
+    values = np.interp(grid, x, v) * np.hanning(m)
+    amp = np.abs(np.fft.rfft(values, n=pad * m))
+    freq = TWO_PI * np.fft.rfftfreq(pad * m, d=h)
+    return freq, amp, TWO_PI / (m * h)  # resolution ≈ one bin of the unpadded record
+
+
+def _peaks(freq, amp, count):
+    inner = np.flatnonzero((amp[1:-1] >= amp[:-2]) & (amp[1:-1] >= amp[2:])) + 1
+    idx = np.concatenate([[0] if amp[0] >= amp[1] else [], inner]).astype(int)
+    idx = idx[np.argsort(amp[idx])[::-1]][:count]
+    return freq[idx]
+
+
+def _refine(phi, y, b0, width, b_max):
+    lo, hi = max(0.0, b0 - width), min(b_max, b0 + width)
+    if hi <= lo:
+        return b0
+    res = minimize_scalar(lambda b: _single_sse(phi, y, b), bounds=(lo, hi), method="bounded",
+                          options={"xatol": 1e-10 * max(1.0, b0)})
+    return float(res.x) if res.fun <= _single_sse(phi, y, b0) else b0
+
+
+def _greedy_start(phi, y, terms, b_max):
+    """Matching pursuit: take the strongest FFT peak of the residual, refine its frequency, repeat."""
+    freqs = []
+    resid = y
+    for _ in range(terms):
+        freq, amp, res = _spectrum(phi, resid)
+        b = _refine(phi, resid, float(_peaks(freq, amp, 1)[0]), res, b_max)
+        freqs.append(b)
+        resid = _linear_amplitudes(phi, y, np.array(freqs))[2]
+    return np.array(freqs)
+
+
+def _residual_and_jacobian(phi, y, terms):
+    def residual(x):
+        alpha, beta, b = _unpack(x, terms)
+        arg = np.multiply.outer(phi, b)
+        return np.sin(arg) @ alpha + np.cos(arg) @ beta - y
+
+    def jacobian(x):
+        alpha, beta, b = _unpack(x, terms)
+        arg = np.multiply.outer(phi, b)
+        s, c = np.sin(arg), np.cos(arg)
+        jac = np.empty((phi.size, terms, 3))
+        jac[:, :, 0] = s
+        jac[:, :, 1] = c
+        jac[:, :, 2] = phi[:, None] * (alpha * c - beta * s)
+        return jac.reshape(phi.size, 3 * terms)
+
+    return residual, jacobian
+
+
+def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int | None = 0) -> SeriesFit:
+    """Fit seed 004's f(φ) = Σ_{i=1..terms} a_i sin(b_i φ + c_i) to samples (mm).
+
+    Nonlinear least squares (``scipy.optimize.least_squares``, Levenberg–Marquardt,
+    analytic Jacobian) in the form Σ α_i sin b_iφ + β_i cos b_iφ, from ``starts`` starting
+    frequency sets: start 0 by matching pursuit (strongest FFT peak of the residual,
+    frequency refined by a 1-D search, amplitudes by linear least squares, repeated);
+    the others draw ``terms`` of the strongest FFT peaks of the data at random
+    (``seed``) and jitter them by up to one frequency bin, or jitter start 0. The lowest
+    SSE wins. Needs more samples than the 3·terms parameters.
+
+    The result is not periodic in general (DESIGN.md trap 3); see ``stats.defect_mm``.
+    Pair an ω and a υ fit with :class:`GeneralSineDeformation` for the kinematics.
+    """
+    start_time = time.perf_counter()
+    terms = _whole("terms", terms, 1)
+    starts = _whole("starts", starts, 1)
+    if seed is not None and (isinstance(seed, bool) or not isinstance(seed, numbers.Integral)):
+        raise SeriesError(f"seed = {seed!r}: must be a whole number or None")
+    phi = _samples("phi", phi, "rad")
+    n = phi.size
+    values = _samples("values", values, "mm", n)
+    n_params = 3 * terms
+    if n <= n_params:
+        raise SeriesError(
+            f"phi: {n} samples, not more than the {n_params} parameters of {terms} sine terms; "
+            f"need ≥ {n_params + 1} samples (or fewer terms)"
+        )
+    span = float(phi.max() - phi.min())
+    if span <= 0.0:
+        raise SeriesError("phi: all samples at the same angle; need a range of φ (rad)")
+
+    rng = np.random.default_rng(seed)
+    b_max = math.pi * (n - 1) / span  # Nyquist of the mean spacing
+    freq, amp, resolution = _spectrum(phi, values)
+    pool = _peaks(freq, amp, max(2 * terms + 2, 4))
+    greedy = _greedy_start(phi, values, terms, b_max)
+    initial = [greedy]
+    for i in range(1, starts):
+        if i % 2 == 1 and pool.size >= terms:
+            b = rng.choice(pool, size=terms, replace=False)
+        else:
+            b = greedy.copy()
+        b = np.abs(b + rng.uniform(-1.0, 1.0, terms) * resolution * (0.5 if i % 2 else 0.25))
+        initial.append(b)
+
+    residual, jacobian = _residual_and_jacobian(phi, values, terms)
+    best = None
+    costs, n_success, nfev = [], 0, 0
+    for b0 in initial:
+        alpha, beta, _ = _linear_amplitudes(phi, values, b0)
+        x0 = np.column_stack([alpha, beta, b0]).ravel()
+        try:
+            res = least_squares(residual, x0, jac=jacobian, method="lm", x_scale="jac",
+                                ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=200 * n_params)
+        except (ValueError, np.linalg.LinAlgError) as exc:  # degenerate start
+            log.debug("sine-series start failed: %s", exc)
+            costs.append(math.inf)
+            continue
+        nfev += int(res.nfev)
+        n_success += int(res.status > 0)
+        cost = float(res.cost) if np.all(np.isfinite(res.x)) else math.inf
+        costs.append(cost)
+        if best is None or cost < best.cost:
+            best = res
+    if best is None or not math.isfinite(best.cost):
+        raise ConvergenceError(f"fit_sine_series: no start of {starts} gave a finite fit ({terms} terms, {n} samples)")
+
+    alpha, beta, b = _unpack(best.x, terms)
+    amplitude = np.hypot(alpha, beta)
+    phase = np.arctan2(beta, alpha)
+    negative = b < 0  # a sin(−|b|φ + c) = a sin(|b|φ − c + π)
+    b = np.abs(b)
+    phase = np.where(negative, math.pi - phase, phase)
+    phase = -np.remainder(-phase + math.pi, TWO_PI) + math.pi  # wrap to (−π, π]
+    order = np.argsort(-amplitude, kind="stable")
+    amplitude, b, phase = amplitude[order], b[order], phase[order]
+
+    costs_arr = np.array(costs)
+    tol = max(1e-6 * best.cost, 1e-28)
+    n_at_best = int(np.sum(costs_arr <= best.cost + tol))
+    warnings = []
+    if n_at_best < 2 and starts > 1:
+        warnings.append(f"only 1 of {starts} starts reached the best SSE: the minimum may not be global")
+    if np.any(b > b_max):
+        warnings.append(f"a frequency exceeds the sampling Nyquist {b_max:.4g} rad⁻¹: aliased term")
+
+    fitted = _sine_eval(amplitude, b, phase, phi, 0)[0]
+    stats = _stats(phi, values, fitted, n_params, lambda p, o: _sine_eval(amplitude, b, phase, p, o))
+    elapsed = time.perf_counter() - start_time
+    log.debug("sine series: %d terms, RMSE %.3g mm, defect %.3g mm, %d/%d starts at best, %.3g s",
+              terms, stats.rmse_mm, stats.defect_mm, n_at_best, starts, elapsed)
+    return SeriesFit(
+        amplitude_mm=amplitude,
+        frequency_per_rad=b,
+        phase_rad=phase,
+        stats=stats,
+        n_starts=starts,
+        n_success=n_success,
+        n_at_best=n_at_best,
+        nfev=nfev,
+        cost_by_start=costs_arr,
+        time_s=elapsed,
+        warnings=tuple(warnings),
+    )
