@@ -48,9 +48,9 @@ class Scene:
 
 
 SCENES: dict[str, Scene] = {
-    "sketch": Scene("sketch", "ring theory", 1e-4, 48, 121, 91, False, "interactive use and sweeps: analytic rim, coarse envelope", 361),
-    "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False, "the default: 1 nm envelope, classified"),
-    "verify": Scene("verify", "toothed-rim FEM", 1e-7, 192, 481, 721, True, "sign-off: 0.1 nm envelope + brute-force swept-region cross-check"),
+    "sketch": Scene("sketch", "ring theory", 1e-4, 48, 121, 91, False, "interactive use and sweeps: analytic rim, coarse envelope", 181),
+    "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False, "the default: 1 nm envelope, classified", 721),
+    "verify": Scene("verify", "toothed-rim FEM", 1e-7, 192, 481, 721, True, "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001),
 }
 
 
