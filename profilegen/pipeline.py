@@ -282,7 +282,8 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CS
     # composite over the whole flank (which cannot follow the kink) is only for comparison
     lo, hi = np.hypot(*flank[0]), np.hypot(*flank[-1])
     ridges = [r.point for r in env.ridges if r.point[0] > 0 and lo < np.hypot(*r.point) < hi]
-    check = None if ridges else swept
+    # the swept-region check guards the one-sided profile when it is the one used for CAD
+    check = swept if (method == "one_sided" and not ridges) else None
     fits = {m: fit_profile(flank, method=m, space_side="left", swept=check if m == "one_sided" else None, swept_tol_mm=tol)
             for m in FIT_METHODS}
     branches = None
