@@ -62,8 +62,9 @@ def _summary(result, written) -> None:
     if result.profile is not None:
         p = result.profile
         fits = ", ".join(f"{m} {fit.max_error_mm * 1e3:.3f}" for m, fit in p.fits.items())
-        print(f"  arc–line–arc fit, max deviation (µm): {fits}; CAD uses {p.method}"
-              + (f", max backlash {p.flank_fit.max_backlash_mm * 1e3:.3f} µm" if p.flank_fit.max_backlash_mm is not None else ""))
+        branches = "" if p.branches is None else f" per branch ({len(p.branches.fits)} branches, max {p.max_error_mm * 1e3:.3f} µm)"
+        print(f"  arc–line–arc fit, max deviation (µm): {fits}; CAD uses {p.method}{branches}"
+              + (f", max backlash {p.max_backlash_mm * 1e3:.3f} µm" if p.max_backlash_mm is not None else ""))
         print(f"  fitted CS vs FS tooth at {p.positions} positions: min clearance {p.clearance.min_mm * 1e3:.4f} µm")
     for w in result.warnings:
         print(f"  note: {w}")

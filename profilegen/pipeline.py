@@ -20,7 +20,7 @@ import numpy as np
 
 from .deformation import ring_theory
 from .envelope import Envelope, envelope_of
-from .errors import ExportError, GearSetError
+from .errors import ConvergenceError, ExportError, GearSetError
 from .gearform import CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import FIT_METHODS, GearSet
 from .contour import Arc, Chain, Line, Polyline
@@ -28,6 +28,9 @@ from .kinematics import HarmonicDriveMotion
 from .teeth import tooth_from_gearset
 
 __all__ = ["Scene", "SCENES", "StageReport", "CSProfile", "Design", "design", "write_design"]
+
+MIN_BRANCH_POINTS = 12  # flank points a branch needs for its own arc–line–arc fit
+FIT_MAX_ITER = 200  # SLP iterations per start of the minimax / one-sided fits
 
 log = logging.getLogger(__name__)
 
@@ -94,24 +97,40 @@ class CSProfile:
     outline: object
     clearance: object
     positions: int
+    notes: tuple = ()
 
     @property
     def flank_fit(self):
-        return self.fits[self.method]
+        """The whole-flank fit of the CAD method (None if it failed on a flank with ridges)."""
+        return self.fits.get(self.method)
+
+    @property
+    def cad_fits(self) -> tuple:
+        """The fits the CAD flank is made of: one per branch, or the whole-flank fit."""
+        return tuple(self.branches.fits) if self.branches is not None else (self.flank_fit,)
+
+    @property
+    def max_error_mm(self) -> float:
+        return max(f.max_error_mm for f in self.cad_fits)
+
+    @property
+    def max_backlash_mm(self) -> float | None:
+        b = [f.max_backlash_mm for f in self.cad_fits if f.max_backlash_mm is not None]
+        return max(b) if b else None
 
     def to_dict(self) -> dict:
-        f = self.flank_fit
         return {
             "method": self.method,
             "fits": {m: fit.to_dict() for m, fit in self.fits.items()},
             "branches": None if self.branches is None else self.branches.to_dict(),
-            "max_error_mm": f.max_error_mm,
-            "rms_error_mm": f.rms_error_mm,
-            "max_backlash_mm": f.max_backlash_mm,
+            "max_error_mm": self.max_error_mm,
+            "rms_error_mm": float(np.sqrt(np.mean(np.concatenate([np.asarray(f.error_mm) ** 2 for f in self.cad_fits])))),
+            "max_backlash_mm": self.max_backlash_mm,
             "space": self.space.to_dict(),
             "outline_elements": len(self.outline.elements),
             "outline_max_gap_mm": float(self.outline.gaps(closed=True).max()),
             "clearance_check": {"positions": self.positions, **self.clearance.to_dict()},
+            "notes": list(self.notes),
         }
 
 
@@ -165,8 +184,8 @@ class Design:
             "min_clearance_mm": None if self.form.clearance is None else self.form.clearance.min_mm,
             "profile": None if self.profile is None else {
                 "method": self.profile.method,
-                "max_error_mm": self.profile.flank_fit.max_error_mm,
-                "max_backlash_mm": self.profile.flank_fit.max_backlash_mm,
+                "max_error_mm": self.profile.max_error_mm,
+                "max_backlash_mm": self.profile.max_backlash_mm,
                 "min_clearance_mm": self.profile.clearance.min_mm,
                 "clearance_positions": self.profile.positions,
             },
@@ -251,9 +270,9 @@ def design(
     if method not in FIT_METHODS:
         raise GearSetError(f"fit method = {method!r}: must be one of {', '.join(FIT_METHODS)}")
     profile = _fit_profile(env, form, tooth, motion, method=method, positions=scene.fit_check_positions)
-    fit = profile.flank_fit
+    warnings += list(profile.notes)
     stages.append(StageReport("arcfit", f"arc–line–arc, {method}", len(profile.space.elements),
-                              time.perf_counter() - t0, fit.max_error_mm,
+                              time.perf_counter() - t0, profile.max_error_mm,
                               "max normal deviation of the fitted CS flank from the envelope (mm)"))
     if profile.clearance.min_mm < -1e-6:
         warnings.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} µm "
@@ -281,16 +300,35 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CS
     # ridges on the fitted part of the right flank: one composite per branch is used, and one
     # composite over the whole flank (which cannot follow the kink) is only for comparison
     lo, hi = np.hypot(*flank[0]), np.hypot(*flank[-1])
-    ridges = [r.point for r in env.ridges if r.point[0] > 0 and lo < np.hypot(*r.point) < hi]
+    ridges, notes = [], []
+    for r in env.ridges:
+        if r.point[0] <= 0 or not lo < np.hypot(*r.point) < hi:
+            continue
+        k = int(np.argmin(np.hypot(*(flank - np.asarray(r.point)).T)))
+        if MIN_BRANCH_POINTS <= k <= len(flank) - 1 - MIN_BRANCH_POINTS and all(
+            abs(k - j) >= MIN_BRANCH_POINTS for j in (np.argmin(np.hypot(*(flank - np.asarray(q)).T)) for q in ridges)
+        ):
+            ridges.append(r.point)
+        else:
+            notes.append(f"the ridge at ({r.point[0]:.4f}, {r.point[1]:.4f}) mm ({r.kink_deg:.1f}°) leaves fewer than "
+                         f"{MIN_BRANCH_POINTS} flank points on a branch: one composite is fitted across it")
     # the swept-region check guards the one-sided profile when it is the one used for CAD
     check = swept if (method == "one_sided" and not ridges) else None
-    fits = {m: fit_profile(flank, method=m, space_side="left", swept=check if m == "one_sided" else None, swept_tol_mm=tol)
-            for m in FIT_METHODS}
+    fits = {}
+    for m in FIT_METHODS:
+        try:
+            fits[m] = fit_profile(flank, method=m, space_side="left", swept=check if m == "one_sided" else None,
+                                  swept_tol_mm=tol, max_iter=FIT_MAX_ITER)
+        except ConvergenceError as exc:
+            if m == method and not ridges:  # with ridges the CAD profile is the per-branch fit
+                raise
+            notes.append(f"the {m} fit is left out of the report: {exc}")
     branches = None
     chain = fits[method].chain
     if ridges:
         branches = fit_profile_per_branch(flank, ridges, method=method, space_side="left",
-                                          swept=swept if method == "one_sided" else None, swept_tol_mm=tol)
+                                          swept=swept if method == "one_sided" else None, swept_tol_mm=tol,
+                                          max_iter=FIT_MAX_ITER)
         # each branch fit ends at the foot of its own last point: at a ridge the two fits
         # meet within the backlash, with the ridge's kink; a short line closes any gap
         els = list(branches.fits[0].chain.elements)
@@ -305,7 +343,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CS
     local = outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]
     cs_points = Chain(tuple(local)).sample(1e-7)
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
-    return CSProfile(fits, method, branches, space, outline, cmap, positions)
+    return CSProfile(fits, method, branches, space, outline, cmap, positions, tuple(notes))
 
 
 def _with_clearance(form: CircularSplineForm, cmap) -> CircularSplineForm:
@@ -336,7 +374,7 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
         g = result.gearset
         label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
                  f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
-                 f"max deviation {prof.flank_fit.max_error_mm * 1e3:.3f} um")
+                 f"max deviation {prof.max_error_mm * 1e3:.3f} um")
         r_out = result.form.root_radius_mm
         note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
         cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)

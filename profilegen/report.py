@@ -100,8 +100,12 @@ def fit_report_html(design, fits: dict, *, chosen: str, clearance, positions: in
         if not ridges
         else "; ".join(f"({r.point[0]:.4f}, {r.point[1]:.4f}) mm, kink {r.kink_deg:.2f}° between {r.sources[0]} and {r.sources[1]}" for r in ridges)
     )
-    chosen_fit = fits[chosen]
-    params = "".join(f"<tr><td>{html.escape(k)}</td><td>{v:.9g}</td></tr>" for k, v in chosen_fit.params.items())
+    profile = design.profile
+    cad = profile.cad_fits if profile is not None else (fits[chosen],)
+    params = ""
+    for b, fit in enumerate(cad):
+        head = f"branch {b + 1}: " if len(cad) > 1 else ""
+        params += "".join(f"<tr><td>{html.escape(head + k)}</td><td>{v:.9g}</td></tr>" for k, v in fit.params.items())
     verdict = "no interference" if clearance.min_mm >= -1e-6 else f"INTERFERES by {-clearance.min_mm * 1e3:.3f} µm"
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Fit report — {html.escape(g.name)}</title>
@@ -121,7 +125,7 @@ envelope has a chord error of {design.envelope.chord_tol_mm * 1e6:g} nm.</p>
 leaves clearance, i.e. lies toward the CS material). Branch-switch ridges: {html.escape(ridge_text)}.</p>
 <img src="{_error_figure(fits)}" alt="error along the flank">
 <img src="{_profile_figure(design, fits)}" alt="fitted profiles">
-<h2>The profile used: {html.escape(chosen)}</h2>
+<h2>The profile used: {html.escape(chosen)}{" per branch" if len(cad) > 1 else ""}</h2>
 <table><tr><th>parameter</th><th>value</th></tr>{params}</table>
 <p>Checked against the FS tooth family at {positions} positions over one pass (shapely distances to the
 tooth surface): <b>{verdict}</b>; smallest clearance {clearance.min_mm * 1e3:.4f} µm at
