@@ -1,0 +1,420 @@
+"""Linear 2D plane-stress ring FEM on a rigid wave-generator contour (scikit-fem).
+
+The flexspline rim is modelled as a flat ring (no teeth) between r_in = r_m − δ/2 and
+r_out = r_m + δ/2, pressed outward by a rigid contour (:mod:`profilegen.wavegen`) through
+unilateral, frictionless contact between the bore nodes and the contour, along the
+contour's true normal.
+
+Model
+-----
+* Quarter ring 0 ≤ θ ≤ π/2 (θ from the major axis, +y, toward +x; a point is
+  (r sin θ, r cos θ)). This needs the two symmetry planes of a two-wave generator: U = 2
+  only. Other wave counts need a sector 0 ≤ θ ≤ π/U whose second cut is not a coordinate
+  axis, i.e. a rotated (normal-only) Dirichlet condition — not implemented.
+* Symmetry: on the cut at the major axis (θ = 0, x = 0) u_x = 0; on the cut at the minor
+  axis (θ = π/2, y = 0) u_y = 0. This removes the rigid-body modes.
+* Structured isoparametric 9-node quadrilaterals (``MeshQuad2`` + ``ElementQuad2``, every
+  node on its exact radius): ``layers`` (even) radial layers × ``divisions`` circumferential
+  divisions. Plane stress, λ* = 2λμ/(λ + 2μ), ``linear_elasticity``. Forces are per mm of
+  face width (N/mm).
+* Contact: active-set method. Active bore nodes carry the equality u·n = u_k·n − g_k,
+  where g_k is the signed distance of the displaced node (X + u_k) to the contour and n
+  the contour normal at its foot: the gap is re-linearised at the current configuration
+  (the contour's curvature is followed) while the stiffness stays linear (small
+  strain). Lagrange multipliers λ (the normal contact forces): the saddle system
+  [[K, −Bᵀ], [B, 0]] is solved through its Schur complement B K⁻¹ Bᵀ λ = g. K (symmetry
+  dofs removed) is factorised once (``scipy.sparse.linalg.splu``, COLAMD ordering) and
+  condensed onto the bore dofs (the compliance G = P K⁻¹ Pᵀ, 2 columns per bore node), so
+  an active-set iteration costs a small dense solve. Nodes with a tensile multiplier are
+  released, free nodes that penetrate are added; converged when the set no longer changes
+  and every active gap is closed. A set seen before (other than the current one) raises
+  :class:`~profilegen.errors.ConvergenceError` naming the iteration and the nodes.
+* ω, υ are read on the node line at r_m (the neutral line of the flat ring; DESIGN.md trap 7:
+  probes do not work on quadratic meshes): ω = u·e_r, υ = u·e_θ, e_r = (sin θ, cos θ),
+  e_θ = (cos θ, −sin θ) (toward increasing θ). Vertex and mid-edge nodes are both read,
+  2·divisions + 1 samples on 0 ≤ φ ≤ π/2.
+
+The contact (wrap) angle — the angle of the last active bore node from the major axis —
+is ill-conditioned: the free part of the ring sits µm from the cam (DESIGN.md trap 7), so a
+tiny change of load or mesh moves it a lot. It is reported with that warning.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+import scipy.sparse as sp
+from scipy.sparse.linalg import splu
+
+from .. import series
+from ..errors import ConvergenceError, ProfilegenError
+
+__all__ = ["ConvergenceError", "RingError", "RingParameters", "RingResult", "solve_ring"]
+
+log = logging.getLogger(__name__)
+
+WRAP_WARNING = (
+    "the contact (wrap) angle is ill-conditioned: the free part of the ring sits µm from the cam, "
+    "so it moves with mesh and load far more than ω and υ do"
+)
+
+
+class RingError(ProfilegenError, ValueError):
+    """Bad input to the ring model; the message names the field, its value, unit and allowed range."""
+
+
+def _number(name: str, value, unit: str, low: float, high: float = math.inf, *, low_open: bool = True,
+            high_open: bool = True) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError) as exc:
+        raise RingError(f"{name} = {value!r}: must be a number ({unit})") from exc
+    ok = math.isfinite(x) and (x > low if low_open else x >= low) and (x < high if high_open else x <= high)
+    if not ok:
+        lb = "(" if low_open else "["
+        hb = ")" if high_open else "]"
+        raise RingError(f"{name} = {value!r} {unit}: must be in {lb}{low:g}, {high:g}{hb}".rstrip())
+    return x
+
+
+def _whole(name: str, value, low: int, *, even: bool = False) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low or (even and value % 2):
+        kind = "an even whole number" if even else "a whole number"
+        raise RingError(f"{name} = {value!r}: must be {kind} ≥ {low}")
+    return int(value)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class RingParameters:
+    """The inputs of the ring model (mm, MPa). ``from_gearset`` reads them from a GearSet."""
+
+    neutral_radius_mm: float
+    rim_thickness_mm: float
+    youngs_modulus_mpa: float
+    poisson_ratio: float
+    waves: int = 2
+
+    def __post_init__(self):
+        r_m = _number("neutral_radius_mm", self.neutral_radius_mm, "mm", 0.0)
+        delta = _number("rim_thickness_mm", self.rim_thickness_mm, "mm", 0.0, 2.0 * r_m)
+        e = _number("youngs_modulus_mpa", self.youngs_modulus_mpa, "MPa", 0.0)
+        nu = _number("poisson_ratio", self.poisson_ratio, "", -1.0, 0.5)
+        if self.waves != 2:
+            raise RingError(
+                f"waves = {self.waves!r}: the quarter-ring model needs U = 2 (a sector π/U with a rotated "
+                "symmetry cut is not implemented)"
+            )
+        for name, value in (("neutral_radius_mm", r_m), ("rim_thickness_mm", delta),
+                            ("youngs_modulus_mpa", e), ("poisson_ratio", nu)):
+            object.__setattr__(self, name, value)
+
+    @classmethod
+    def from_gearset(cls, gearset) -> RingParameters:
+        gear, mat = gearset.gear, gearset.material
+        return cls(gear.neutral_radius_mm, gear.rim_thickness_mm, mat.youngs_modulus_mpa, mat.poisson_ratio,
+                   waves=gear.waves)
+
+    @property
+    def bore_radius_mm(self) -> float:
+        return self.neutral_radius_mm - 0.5 * self.rim_thickness_mm
+
+    @property
+    def outer_radius_mm(self) -> float:
+        return self.neutral_radius_mm + 0.5 * self.rim_thickness_mm
+
+
+def _readonly(values) -> np.ndarray:
+    array = np.array(values, dtype=float)
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class RingResult:
+    """Solution of the ring on its contour (mm, N per mm of face width, rad).
+
+    ``phi_rad``, ``omega_mm``, ``upsilon_mm``: samples on the node line at r_m, 0 ≤ φ ≤ π/2.
+    ``bore_*``: the same on the bore (r_in). ``contact_*``: the active bore nodes (angle,
+    normal force λ ≥ 0 pushing the ring outward, and the contour normal it acts along —
+    that of the last linearisation, which differs from the final foot's by ≲ 1e-8). ``reaction_*_n``: the
+    sum of the reactions on the symmetry cuts (x on the major-axis cut, y on the
+    minor-axis cut).
+    """
+
+    parameters: RingParameters
+    contour: object
+    phi_rad: np.ndarray
+    omega_mm: np.ndarray
+    upsilon_mm: np.ndarray
+    bore_phi_rad: np.ndarray
+    bore_omega_mm: np.ndarray
+    bore_upsilon_mm: np.ndarray
+    contact_phi_rad: np.ndarray
+    contact_force_n: np.ndarray
+    contact_normal: np.ndarray
+    max_gap_mm: float
+    max_penetration_mm: float
+    reaction_major_cut_n: float
+    reaction_minor_cut_n: float
+    layers: int
+    divisions: int
+    dof: int
+    iterations: int
+    bilateral: bool
+    time_s: float
+    warnings: tuple[str, ...] = ()
+    active_history: tuple[int, ...] = field(default=())
+
+    def __post_init__(self):
+        for name in ("phi_rad", "omega_mm", "upsilon_mm", "bore_phi_rad", "bore_omega_mm", "bore_upsilon_mm",
+                     "contact_phi_rad", "contact_force_n", "contact_normal"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
+
+    @property
+    def active_count(self) -> int:
+        return int(self.contact_phi_rad.size)
+
+    @property
+    def contact_angle_rad(self) -> float:
+        """Angle of the last active bore node from the major axis (ill-conditioned; see warnings)."""
+        return float(self.contact_phi_rad.max()) if self.contact_phi_rad.size else 0.0
+
+    @property
+    def contact_angle_deg(self) -> float:
+        return math.degrees(self.contact_angle_rad)
+
+    @property
+    def deflection_mm(self) -> float:
+        """ω(0) on the neutral line (mm)."""
+        return float(self.omega_mm[0])
+
+    def deformation(self, order: int | None = None):
+        """Integer-harmonic Fourier fit (:func:`profilegen.series.fit_fourier`) of the samples
+        mirrored to one wave period 0 ≤ φ < π: ω even and υ odd about both axes of symmetry
+        (ω(π − φ) = ω(φ), υ(π − φ) = −υ(φ))."""
+        phi, w, u = self.phi_rad, self.omega_mm, self.upsilon_mm
+        inner = slice(1, -1)  # π − 0 = π is φ = 0 of the next period; π − π/2 is π/2 again
+        phi_full = np.concatenate([phi, math.pi - phi[inner][::-1]])
+        w_full = np.concatenate([w, w[inner][::-1]])
+        u_full = np.concatenate([u, -u[inner][::-1]])
+        return series.fit_fourier(phi_full, w_full, u_full, waves=self.parameters.waves, order=order,
+                                  tier="design")
+
+    def to_dict(self) -> dict:
+        contour = self.contour.to_dict() if hasattr(self.contour, "to_dict") else repr(self.contour)
+        return {
+            "tier": "design",
+            "model": "linear plane-stress ring FEM, quarter, unilateral frictionless contact (active set)",
+            "neutral_radius_mm": self.parameters.neutral_radius_mm,
+            "rim_thickness_mm": self.parameters.rim_thickness_mm,
+            "youngs_modulus_mpa": self.parameters.youngs_modulus_mpa,
+            "poisson_ratio": self.parameters.poisson_ratio,
+            "contour": contour,
+            "layers": self.layers,
+            "divisions": self.divisions,
+            "dof": self.dof,
+            "iterations": self.iterations,
+            "bilateral": self.bilateral,
+            "active_count": self.active_count,
+            "active_history": list(self.active_history),
+            "contact_angle_deg": self.contact_angle_deg,
+            "deflection_mm": self.deflection_mm,
+            "max_gap_mm": self.max_gap_mm,
+            "max_penetration_mm": self.max_penetration_mm,
+            "reaction_major_cut_n": self.reaction_major_cut_n,
+            "reaction_minor_cut_n": self.reaction_minor_cut_n,
+            "time_s": self.time_s,
+            "phi_rad": self.phi_rad.tolist(),
+            "omega_mm": self.omega_mm.tolist(),
+            "upsilon_mm": self.upsilon_mm.tolist(),
+            "warnings": list(self.warnings),
+        }
+
+
+def _mesh(params: RingParameters, layers: int, divisions: int):
+    from skfem import MeshQuad, MeshQuad2
+
+    theta = np.linspace(0.0, 0.5 * math.pi, divisions + 1)
+    radii = np.linspace(params.bore_radius_mm, params.outer_radius_mm, layers + 1)
+    linear = MeshQuad.init_tensor(theta, radii)  # (θ, r) → (r sin θ, r cos θ) keeps orientation (det = r)
+    quad = MeshQuad2.from_mesh(linear)
+    th, r = quad.doflocs
+    return replace(quad, doflocs=np.vstack([r * np.sin(th), r * np.cos(th)])), th, r
+
+
+def solve_ring(
+    gearset_or_parameters,
+    *,
+    contour,
+    layers: int = 4,
+    divisions: int = 64,
+    bilateral: bool = False,
+    max_iterations: int = 50,
+    gap_tol_mm: float = 1e-9,
+) -> RingResult:
+    """Press the flat rim onto ``contour`` and return ω, υ on the neutral line.
+
+    ``gearset_or_parameters``: a GearSet or :class:`RingParameters`. ``layers`` (even, so
+    that a node line lies at r_m) × ``divisions`` quadratic elements on the quarter ring.
+    ``bilateral=True`` keeps every bore node on the contour (tension allowed: a prescribed
+    bore shape, as ring theory assumes), otherwise the contact is unilateral.
+    ``gap_tol_mm`` is the allowed penetration / residual gap of active nodes.
+    """
+    start = time.perf_counter()
+    from skfem import Basis, ElementQuad2, ElementVector, asm
+    from skfem.models.elasticity import lame_parameters, linear_elasticity
+
+    params = (gearset_or_parameters if isinstance(gearset_or_parameters, RingParameters)
+              else RingParameters.from_gearset(gearset_or_parameters))
+    layers = _whole("layers", layers, 2, even=True)
+    divisions = _whole("divisions", divisions, 2)
+    max_iterations = _whole("max_iterations", max_iterations, 1)
+    gap_tol_mm = _number("gap_tol_mm", gap_tol_mm, "mm", 0.0)
+    if not (hasattr(contour, "closest") and callable(contour.closest)):
+        raise RingError(f"contour = {contour!r}: must be a wave-generator contour with closest(points)")
+
+    mesh, th, r = _mesh(params, layers, divisions)
+    basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4)
+    ix, iy = basis.split_indices()  # scalar node j ↔ dofs ix[j], iy[j]; positions mesh.doflocs[:, j]
+    lam, mu = lame_parameters(params.youngs_modulus_mpa, params.poisson_ratio)
+    lam_ps = 2.0 * lam * mu / (lam + 2.0 * mu)  # plane stress
+    stiffness = asm(linear_elasticity(lam_ps, mu), basis).tocsr()
+    n_dof = basis.N
+
+    tol_r = 1e-9 * params.outer_radius_mm
+    cut_major = np.flatnonzero(np.abs(th) < 1e-12)  # x = 0
+    cut_minor = np.flatnonzero(np.abs(th - 0.5 * math.pi) < 1e-12)  # y = 0
+    fixed = np.concatenate([ix[cut_major], iy[cut_minor]])
+    free = np.setdiff1d(np.arange(n_dof), fixed)
+    where = -np.ones(n_dof, dtype=int)
+    where[free] = np.arange(free.size)
+    lu = splu(stiffness[free][:, free].tocsc(), permc_spec="COLAMD")
+
+    bore = np.flatnonzero(np.abs(r - params.bore_radius_mm) < tol_r)
+    bore = bore[np.argsort(th[bore])]
+    x_bore = mesh.doflocs[:, bore].T
+    n_b = bore.size
+    # condense onto the bore: G = P K⁻¹ Pᵀ, the compliance between the bore dofs
+    # (x, y of node j at 2j, 2j + 1; zero rows/columns for dofs fixed by symmetry)
+    bore_dofs = np.column_stack([ix[bore], iy[bore]]).ravel()
+    is_free = where[bore_dofs] >= 0
+    select = sp.csr_matrix((np.ones(int(is_free.sum())), (where[bore_dofs[is_free]], np.flatnonzero(is_free))),
+                           shape=(free.size, 2 * n_b))
+    compliance = select.T @ lu.solve(select.toarray())
+    compliance = 0.5 * (compliance + compliance.T)
+    compliance4 = compliance.reshape(n_b, 2, n_b, 2)
+
+    def bore_state(disp):
+        return contour.closest(x_bore + disp)[1:]
+
+    disp = np.zeros((n_b, 2))
+    normal, dist = bore_state(disp)
+    active = np.ones(n_b, bool) if bilateral else dist < -gap_tol_mm
+    visited = {frozenset(np.flatnonzero(active).tolist())}
+    history = [int(active.sum())]
+    forces = np.zeros(n_b)
+    used_normal = normal.copy()  # the normals of the constraint rows last solved
+    iterations = 0
+    converged = False
+    for iterations in range(1, max_iterations + 1):
+        idx = np.flatnonzero(active)
+        m = idx.size
+        n_act = normal[idx]
+        rhs_g = np.einsum("ij,ij->i", disp[idx], n_act) - dist[idx]
+        # Schur complement B K⁻¹ Bᵀ λ = g (λ the normal forces): S_ij = n_i · G_ij · n_j
+        # (einsum, not BLAS: these matrices are small and threaded BLAS only adds overhead)
+        schur = np.einsum("ia,iajb,jb->ij", n_act, compliance4[np.ix_(idx, range(2), idx, range(2))], n_act)
+        try:
+            normal_force = np.linalg.solve(schur, rhs_g) if m else np.zeros(0)
+        except np.linalg.LinAlgError as exc:
+            raise ConvergenceError(
+                f"solve_ring: singular contact system at iteration {iterations} ({m} active nodes)"
+            ) from exc
+        if not np.all(np.isfinite(normal_force)):
+            raise ConvergenceError(f"solve_ring: non-finite contact forces at iteration {iterations} ({m} active nodes)")
+        forces = np.zeros(n_b)
+        forces[idx] = normal_force
+        bore_force = np.zeros((n_b, 2))
+        bore_force[idx] = normal_force[:, None] * n_act
+        used_normal = normal.copy()
+        disp = np.einsum("iajb,jb->ia", compliance4[:, :, idx, :], bore_force[idx])
+        normal, dist = bore_state(disp)
+        if bilateral:
+            if np.max(np.abs(dist)) <= gap_tol_mm:
+                converged = True
+                break
+            continue
+        scale = max(float(np.max(np.abs(forces))), 1e-300)
+        tensile = active & (forces < -1e-9 * scale)
+        penetrating = ~active & (dist < -gap_tol_mm)
+        new = (active & ~tensile) | penetrating
+        if np.array_equal(new, active):
+            if idx.size == 0 or np.max(np.abs(dist[idx])) <= gap_tol_mm:
+                converged = True
+                break
+            continue
+        key = frozenset(np.flatnonzero(new).tolist())
+        if key in visited:
+            changed = np.flatnonzero(new != active)
+            raise ConvergenceError(
+                f"solve_ring: active set cycles at iteration {iterations}: returns to a set seen before "
+                f"({int(new.sum())} nodes); nodes switching: bore nodes {changed.tolist()} at φ = "
+                f"{np.round(np.degrees(th[bore[changed]]), 4).tolist()}°"
+            )
+        visited.add(key)
+        history.append(int(new.sum()))
+        active = new
+    if not converged:
+        raise ConvergenceError(
+            f"solve_ring: no convergence in {max_iterations} iterations ({int(active.sum())} active nodes, "
+            f"largest active gap {np.max(np.abs(dist[active]), initial=0.0):.3g} mm)"
+        )
+
+    u = np.zeros(n_dof)
+    u[free] = lu.solve(select @ bore_force.ravel())
+    reaction = stiffness @ u
+    mid = np.flatnonzero(np.abs(r - params.neutral_radius_mm) < tol_r)
+    mid = mid[np.argsort(th[mid])]
+
+    def polar(nodes):
+        t = th[nodes]
+        ux, uy = u[ix[nodes]], u[iy[nodes]]
+        return t, ux * np.sin(t) + uy * np.cos(t), ux * np.cos(t) - uy * np.sin(t)
+
+    phi, omega, upsilon = polar(mid)
+    bphi, bomega, bups = polar(bore)
+    idx = np.flatnonzero(active)
+    warnings = [WRAP_WARNING]
+    elapsed = time.perf_counter() - start
+    log.debug("ring FEM: %d dof, %d iterations, %d active, ω(0) = %.6g mm, %.3g s", n_dof, iterations, idx.size,
+              omega[0], elapsed)
+    return RingResult(
+        parameters=params,
+        contour=contour,
+        phi_rad=phi,
+        omega_mm=omega,
+        upsilon_mm=upsilon,
+        bore_phi_rad=bphi,
+        bore_omega_mm=bomega,
+        bore_upsilon_mm=bups,
+        contact_phi_rad=th[bore[idx]],
+        contact_force_n=forces[idx],
+        contact_normal=used_normal[idx],
+        max_gap_mm=float(np.max(dist[idx], initial=0.0)),
+        max_penetration_mm=float(max(0.0, -np.min(dist))),
+        reaction_major_cut_n=float(reaction[ix[cut_major]].sum()),
+        reaction_minor_cut_n=float(reaction[iy[cut_minor]].sum()),
+        layers=layers,
+        divisions=divisions,
+        dof=int(n_dof),
+        iterations=iterations,
+        bilateral=bool(bilateral),
+        time_s=elapsed,
+        warnings=tuple(warnings),
+        active_history=tuple(history),
+    )

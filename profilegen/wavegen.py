@@ -1,0 +1,364 @@
+"""Wave-generator contours: the rigid curve the flexspline bore is pressed onto.
+
+Conventions (DESIGN.md): lengths in mm, angles in rad. θ is the polar angle measured from
+the wave-generator major axis; in the CS/WG frame the major axis is +y and θ runs from +y
+toward +x, so a point at radius r is ``(r sin θ, r cos θ)``. Points are ``(n, 2)`` arrays.
+
+Every contour satisfies :class:`Contour`:
+
+* ``radius(theta)`` — the contour's polar radius r(θ) (mm);
+* ``closest(points)`` → ``(foot, normal, distance)``: the foot point on the contour, the
+  outward unit normal there, and the signed distance (positive outside the contour), all
+  vectorised. ``distance == (points − foot) · normal``.
+
+Implemented:
+
+* :class:`EllipticalCam` — seed 004's modelling: the rigid contour is "the offset curve of
+  the cam's elliptical profile by the thickness of the flex bearing". An offset of an
+  ellipse is not an ellipse; it is handled exactly as foot-on-ellipse + offset along the
+  ellipse normal (parallel curves share their normals, so the signed distance to the
+  offset is the distance to the ellipse minus the offset).
+* :class:`CosineCam` — the contour of ring theory, r(θ) = r0 + w0 cos(Uθ).
+* :func:`from_gearset` — the contour that pushes the rim's bore (r_bore = r_m − δ/2) out
+  by w0 on the major axis. The roller generator (``contour = "rollers"``) is not
+  implemented here and raises :class:`WaveGenError`.
+
+>>> cam = EllipticalCam(52.0, 48.0, bearing_thickness_mm=3.0)
+>>> round(float(cam.radius(0.0)[0]), 12), round(float(cam.radius(np.pi / 2)[0]), 12)
+(55.0, 51.0)
+>>> foot, normal, dist = cam.closest([[0.0, 60.0]])
+>>> round(float(dist[0]), 12), normal[0].tolist()
+(5.0, [0.0, 1.0])
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Protocol
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.special import ellipe
+
+from .errors import ConvergenceError, ProfilegenError
+
+__all__ = [
+    "Contour",
+    "CosineCam",
+    "EllipticalCam",
+    "WaveGenError",
+    "ellipse_perimeter",
+    "from_gearset",
+]
+
+_BISECTIONS = 200  # enough to reach adjacent floats on any interval of lengths O(r²)
+
+
+class WaveGenError(ProfilegenError, ValueError):
+    """Bad wave-generator input; the message names the parameter, its value, unit and range."""
+
+
+class Contour(Protocol):
+    """What the rim contact needs from a wave-generator contour."""
+
+    def radius(self, theta) -> np.ndarray:
+        """Polar radius r(θ) (mm) at polar angle θ from the major axis (rad)."""
+        ...
+
+    def closest(self, points) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(foot points (n, 2), outward unit normals (n, 2), signed distance (n,), + outside)."""
+        ...
+
+
+def _positive(name: str, value, unit: str = "mm", *, allow_zero: bool = False) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError) as exc:
+        raise WaveGenError(f"{name} = {value!r}: must be a number ({unit})") from exc
+    ok = math.isfinite(x) and (x >= 0.0 if allow_zero else x > 0.0)
+    if not ok:
+        bound = "≥ 0" if allow_zero else "> 0"
+        raise WaveGenError(f"{name} = {value!r} {unit}: must be finite and {bound}")
+    return x
+
+
+def _points(points) -> np.ndarray:
+    p = np.asarray(points, dtype=float)
+    if p.ndim == 1 and p.size == 2:
+        p = p.reshape(1, 2)
+    if p.ndim != 2 or p.shape[1] != 2:
+        raise WaveGenError(f"points: must be an (n, 2) array (mm), got shape {p.shape}")
+    if not np.all(np.isfinite(p)):
+        raise WaveGenError("points: coordinates must be finite (mm)")
+    return p
+
+
+def ellipse_perimeter(semi_major_mm: float, semi_minor_mm: float) -> float:
+    """Perimeter 4 a E(1 − b²/a²) of an ellipse (mm), complete elliptic integral E."""
+    a, b = max(semi_major_mm, semi_minor_mm), min(semi_major_mm, semi_minor_mm)
+    return float(4.0 * a * ellipe(1.0 - (b / a) ** 2))
+
+
+def _ellipse_foot(pu: np.ndarray, pv: np.ndarray, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
+    """Closest point on u²/a² + v²/b² = 1 (a ≥ b) to points with pu, pv ≥ 0 (first quadrant).
+
+    The foot is f_i = a_i² p_i / (a_i² + s) with s the root of
+    F(s) = Σ (a_i p_i / (a_i² + s))² − 1 on (−b², ∞), where F decreases monotonically and
+    the root gives the global minimum (Eberly, "Distance from a point to an ellipse").
+    With t = s + b² the root is bracketed by [b·pv, √(a²pu² + b²pv²)]; bisection to
+    adjacent floats (robust for points inside, near the evolute, or far away), then one
+    Newton step. pv = 0 is handled in closed form.
+    """
+    c2 = a * a - b * b
+    fu = np.empty_like(pu)
+    fv = np.empty_like(pv)
+    axis = pv <= 0.0
+    # on the major axis: interior points near the centre have their foot off the axis
+    inner = axis & (a * pu < c2)
+    fu[inner] = a * a * pu[inner] / c2
+    fv[inner] = b * np.sqrt(np.maximum(0.0, 1.0 - (fu[inner] / a) ** 2))
+    outer = axis & ~inner
+    fu[outer] = a
+    fv[outer] = 0.0
+    gen = ~axis
+    if np.any(gen):
+        u, v = pu[gen], pv[gen]
+        lo = b * v
+        hi = np.maximum(np.sqrt((a * u) ** 2 + (b * v) ** 2), lo)
+
+        def f(t):
+            return (a * u / (t + c2)) ** 2 + (b * v / t) ** 2 - 1.0
+
+        for _ in range(_BISECTIONS):
+            mid = 0.5 * (lo + hi)
+            if np.all((mid == lo) | (mid == hi)):
+                break
+            pos = f(mid) > 0.0
+            lo = np.where(pos, mid, lo)
+            hi = np.where(pos, hi, mid)
+        t = 0.5 * (lo + hi)
+        fu[gen] = a * a * u / (t + c2)
+        fv[gen] = b * b * v / t
+    return fu, fv
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class EllipticalCam:
+    """Elliptical cam (semi-axes a along the major axis, b along the minor axis, mm) with a
+    flexible bearing of thickness h: the rigid contour is the ellipse's outward offset by h.
+
+    ``radius(θ)`` and ``closest`` refer to the offset contour (the ellipse itself when h = 0).
+    """
+
+    semi_major_mm: float
+    semi_minor_mm: float
+    bearing_thickness_mm: float = 0.0
+
+    def __post_init__(self):
+        a = _positive("semi_major_mm", self.semi_major_mm)
+        b = _positive("semi_minor_mm", self.semi_minor_mm)
+        h = _positive("bearing_thickness_mm", self.bearing_thickness_mm, allow_zero=True)
+        if b > a:
+            raise WaveGenError(
+                f"semi_minor_mm = {b} mm: must be ≤ semi_major_mm = {a} mm (the major axis is the longer one)"
+            )
+        object.__setattr__(self, "semi_major_mm", a)
+        object.__setattr__(self, "semi_minor_mm", b)
+        object.__setattr__(self, "bearing_thickness_mm", h)
+
+    @property
+    def major_radius_mm(self) -> float:
+        """Radius of the contour on the major axis, a + h (mm)."""
+        return self.semi_major_mm + self.bearing_thickness_mm
+
+    @property
+    def minor_radius_mm(self) -> float:
+        """Radius of the contour on the minor axis, b + h (mm)."""
+        return self.semi_minor_mm + self.bearing_thickness_mm
+
+    @property
+    def perimeter_mm(self) -> float:
+        """Perimeter of the contour: ellipse perimeter + 2πh (offset of a convex closed curve)."""
+        return ellipse_perimeter(self.semi_major_mm, self.semi_minor_mm) + 2.0 * math.pi * self.bearing_thickness_mm
+
+    def ellipse_closest(self, points) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Foot, outward unit normal and signed distance to the cam *ellipse* (no offset)."""
+        p = _points(points)
+        a, b = self.semi_major_mm, self.semi_minor_mm
+        pu, pv = p[:, 1], p[:, 0]  # u along the major axis (+y), v along the minor (+x)
+        fu, fv = _ellipse_foot(np.abs(pu), np.abs(pv), a, b)
+        fu = np.copysign(fu, np.where(pu == 0.0, 1.0, pu))
+        fv = np.copysign(fv, np.where(pv == 0.0, 1.0, pv))
+        nu, nv = fu / (a * a), fv / (b * b)
+        norm = np.hypot(nu, nv)
+        nu, nv = nu / norm, nv / norm
+        foot = np.column_stack([fv, fu])
+        normal = np.column_stack([nv, nu])
+        dist = np.einsum("ij,ij->i", p - foot, normal)
+        return foot, normal, dist
+
+    def closest(self, points) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        foot, normal, dist = self.ellipse_closest(points)
+        h = self.bearing_thickness_mm
+        return foot + h * normal, normal, dist - h
+
+    def point(self, tau) -> tuple[np.ndarray, np.ndarray]:
+        """Contour point and outward normal at ellipse parameter τ (u = a cos τ, v = b sin τ)."""
+        tau = np.atleast_1d(np.asarray(tau, dtype=float))
+        a, b, h = self.semi_major_mm, self.semi_minor_mm, self.bearing_thickness_mm
+        nu, nv = b * np.cos(tau), a * np.sin(tau)
+        norm = np.hypot(nu, nv)
+        nu, nv = nu / norm, nv / norm
+        u = a * np.cos(tau) + h * nu
+        v = b * np.sin(tau) + h * nv
+        return np.column_stack([v, u]), np.column_stack([nv, nu])
+
+    def radius(self, theta) -> np.ndarray:
+        theta = np.atleast_1d(np.asarray(theta, dtype=float))
+        # fold to [0, π/2]: the contour is symmetric about both axes
+        folded = np.abs(np.remainder(theta + 0.5 * math.pi, math.pi) - 0.5 * math.pi)
+        lo = np.zeros_like(folded)
+        hi = np.full_like(folded, 0.5 * math.pi)
+        for _ in range(_BISECTIONS):  # polar angle of the offset point grows with τ
+            mid = 0.5 * (lo + hi)
+            if np.all((mid == lo) | (mid == hi)):
+                break
+            q = self.point(mid)[0]
+            ahead = np.arctan2(q[:, 0], q[:, 1]) < folded
+            lo = np.where(ahead, mid, lo)
+            hi = np.where(ahead, hi, mid)
+        q = self.point(0.5 * (lo + hi))[0]
+        return np.hypot(q[:, 0], q[:, 1])
+
+    def to_dict(self) -> dict:
+        return {
+            "kind": "elliptical_cam",
+            "semi_major_mm": self.semi_major_mm,
+            "semi_minor_mm": self.semi_minor_mm,
+            "bearing_thickness_mm": self.bearing_thickness_mm,
+            "major_radius_mm": self.major_radius_mm,
+            "minor_radius_mm": self.minor_radius_mm,
+            "perimeter_mm": self.perimeter_mm,
+        }
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class CosineCam:
+    """Ring theory's contour r(θ) = r0 + w0 cos(Uθ) (mm)."""
+
+    mean_radius_mm: float
+    deflection_mm: float
+    waves: int = 2
+
+    def __post_init__(self):
+        r0 = _positive("mean_radius_mm", self.mean_radius_mm)
+        w0 = _positive("deflection_mm", self.deflection_mm, allow_zero=True)
+        if isinstance(self.waves, bool) or not isinstance(self.waves, (int, np.integer)) or self.waves < 1:
+            raise WaveGenError(f"waves = {self.waves!r}: must be a whole number ≥ 1")
+        if w0 >= r0 / (1.0 + self.waves**2):
+            raise WaveGenError(
+                f"deflection_mm = {w0} mm: must be < mean_radius_mm / (1 + U²) = {r0 / (1 + self.waves ** 2):.6g} mm "
+                "(a convex contour)"
+            )
+        object.__setattr__(self, "mean_radius_mm", r0)
+        object.__setattr__(self, "deflection_mm", w0)
+
+    def _r(self, theta):
+        k, w0 = self.waves, self.deflection_mm
+        c, s = np.cos(k * theta), np.sin(k * theta)
+        return self.mean_radius_mm + w0 * c, -k * w0 * s, -k * k * w0 * c
+
+    def radius(self, theta) -> np.ndarray:
+        theta = np.atleast_1d(np.asarray(theta, dtype=float))
+        return self._r(theta)[0]
+
+    def closest(self, points, *, max_iterations: int = 50) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Newton on the polar angle θ of the foot, g(θ) = (c(θ) − p)·c′(θ) = 0, from the
+        point's own polar angle (steps limited to 0.1 rad). Raises ConvergenceError naming
+        the points that do not converge."""
+        p = _points(points)
+        theta = np.arctan2(p[:, 0], p[:, 1])
+        for _ in range(max_iterations):
+            r, r1, r2 = self._r(theta)
+            er = np.column_stack([np.sin(theta), np.cos(theta)])
+            et = np.column_stack([np.cos(theta), -np.sin(theta)])
+            c = r[:, None] * er
+            c1 = r1[:, None] * er + r[:, None] * et
+            c2 = (r2 - r)[:, None] * er + 2.0 * r1[:, None] * et
+            diff = c - p
+            g = np.einsum("ij,ij->i", diff, c1)
+            dg = np.einsum("ij,ij->i", c1, c1) + np.einsum("ij,ij->i", diff, c2)
+            step = np.clip(g / dg, -0.1, 0.1)
+            theta = theta - step
+            if np.all(np.abs(step) <= 4e-16 * (1.0 + np.abs(theta))):
+                break
+        else:
+            bad = np.flatnonzero(np.abs(step) > 1e-12)
+            if bad.size:
+                raise ConvergenceError(
+                    f"CosineCam.closest: Newton on θ did not converge in {max_iterations} iterations for "
+                    f"{bad.size} points, first {p[bad[0]].tolist()} (step {step[bad[0]]:.3g} rad)"
+                )
+        r, r1, _ = self._r(theta)
+        er = np.column_stack([np.sin(theta), np.cos(theta)])
+        et = np.column_stack([np.cos(theta), -np.sin(theta)])
+        foot = r[:, None] * er
+        normal = r[:, None] * er - r1[:, None] * et
+        normal /= np.linalg.norm(normal, axis=1)[:, None]
+        dist = np.einsum("ij,ij->i", p - foot, normal)
+        return foot, normal, dist
+
+    @property
+    def major_radius_mm(self) -> float:
+        return self.mean_radius_mm + self.deflection_mm
+
+    def to_dict(self) -> dict:
+        return {
+            "kind": "cosine_cam",
+            "mean_radius_mm": self.mean_radius_mm,
+            "deflection_mm": self.deflection_mm,
+            "waves": int(self.waves),
+        }
+
+
+def from_gearset(gearset) -> EllipticalCam | CosineCam:
+    """The contour that pushes the rim's bore (r_bore = r_m − δ/2) out by w0 on the major axis.
+
+    * ``elliptical_cam``: semi-axes chosen so that the offset contour's major radius is
+      r_bore + w0 and its perimeter equals the bore's, 2π r_bore — an *inextensible bore*
+      (the bore is wrapped without stretching). Bearing thickness h from
+      ``wave_generator.bearing_thickness_mm`` (0 if not given); a = r_bore + w0 − h and b
+      solves 4aE(1 − b²/a²) + 2πh = 2π r_bore.
+    * ``cosine_cam``: r0 = r_bore, w0 as given (its perimeter exceeds 2π r_bore by O(w0²)).
+    * ``rollers``: not implemented (raises :class:`WaveGenError`).
+    """
+    gear, wg = gearset.gear, gearset.wave_generator
+    r_bore = gear.neutral_radius_mm - 0.5 * gear.rim_thickness_mm
+    w0 = gearset.deflection_mm
+    if wg.contour == "cosine_cam":
+        return CosineCam(r_bore, w0, waves=gear.waves)
+    if wg.contour != "elliptical_cam":
+        raise WaveGenError(
+            f"wave_generator.contour = {wg.contour!r}: only 'elliptical_cam' and 'cosine_cam' are implemented"
+        )
+    if gear.waves != 2:
+        raise WaveGenError(f"gear.waves = {gear.waves}: an elliptical cam makes exactly 2 waves")
+    h = float(wg.bearing_thickness_mm or 0.0)
+    a = r_bore + w0 - h
+    if not a > 0.0:
+        raise WaveGenError(
+            f"wave_generator.bearing_thickness_mm = {h} mm: must be < r_bore + w0 = {r_bore + w0:.6g} mm"
+        )
+    target = 2.0 * math.pi * (r_bore - h)  # perimeter of the ellipse itself
+
+    def excess(b):
+        return ellipse_perimeter(a, b) - target
+
+    if not (excess(1e-9 * a) < 0.0 < excess(a)):
+        raise WaveGenError(
+            f"deflection_mm = {w0} mm: no ellipse with major radius r_bore + w0 = {r_bore + w0:.6g} mm has the "
+            f"bore's perimeter 2π·{r_bore:.6g} mm"
+        )
+    b = brentq(excess, 1e-9 * a, a, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+    return EllipticalCam(a, b, bearing_thickness_mm=h)
