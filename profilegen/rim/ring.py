@@ -168,6 +168,9 @@ class RingResult:
     time_s: float
     warnings: tuple[str, ...] = ()
     active_history: tuple[int, ...] = field(default=())
+    geometry: str = "linear"
+    tier: str = "linear flat ring FEM"
+    newton_steps_mm: tuple[float, ...] = ()
 
     def __post_init__(self):
         for name in ("phi_rad", "omega_mm", "upsilon_mm", "bore_phi_rad", "bore_omega_mm", "bore_upsilon_mm",
@@ -193,7 +196,7 @@ class RingResult:
         """ω(0) on the neutral line (mm)."""
         return float(self.omega_mm[0])
 
-    def deformation(self, order: int | None = None):
+    def deformation(self, order: int | None = None, *, tier: str = "design"):
         """Integer-harmonic Fourier fit (:func:`profilegen.series.fit_fourier`) of the samples
         mirrored to one wave period 0 ≤ φ < π: ω even and υ odd about both axes of symmetry
         (ω(π − φ) = ω(φ), υ(π − φ) = −υ(φ))."""
@@ -203,13 +206,16 @@ class RingResult:
         w_full = np.concatenate([w, w[inner][::-1]])
         u_full = np.concatenate([u, -u[inner][::-1]])
         return series.fit_fourier(phi_full, w_full, u_full, waves=self.parameters.waves, order=order,
-                                  tier="design")
+                                  tier=tier)
 
     def to_dict(self) -> dict:
         contour = self.contour.to_dict() if hasattr(self.contour, "to_dict") else repr(self.contour)
         return {
-            "tier": "design",
-            "model": "linear plane-stress ring FEM, quarter, unilateral frictionless contact (active set)",
+            "tier": self.tier,
+            "model": (f"{self.geometry} plane-stress FEM ({'St Venant–Kirchhoff, total Lagrangian' if self.geometry == 'nonlinear' else 'small strain'}), "
+                      "quarter, unilateral frictionless contact (active set)"),
+            "geometry": self.geometry,
+            "newton_steps_mm": list(self.newton_steps_mm),
             "neutral_radius_mm": self.parameters.neutral_radius_mm,
             "rim_thickness_mm": self.parameters.rim_thickness_mm,
             "youngs_modulus_mpa": self.parameters.youngs_modulus_mpa,
@@ -247,6 +253,67 @@ def _mesh(params: RingParameters, layers: int, divisions: int):
     return replace(quad, doflocs=np.vstack([r * np.sin(th), r * np.cos(th)])), th, r
 
 
+GEOMETRIES = ("linear", "nonlinear")
+
+
+def _contact_set(compliance4, base, x_now, contour, active, *, bilateral, gap_tol_mm, max_iterations, where):
+    """Contact of the bore nodes (current positions ``x_now``) with ``contour`` for a
+    linear(ised) body whose bore displacement is ``base + G f`` (G = ``compliance4``, f the
+    bore forces, f_j = λ_j n_j).
+
+    With the gap linearised at the current iterate d_k — g_i(d) = g_i(d_k) + n_i·(d − d_k),
+    n_i the contour normal at the foot of x_i + d_k — the unilateral contact of *every*
+    bore node is the linear complementarity problem w = Sλ − q ≥ 0, λ ≥ 0, λ·w = 0 with
+    S_ij = n_i·G_ij·n_j (symmetric positive definite) and q_i = n_i·(d_k − base_i) − g_i(d_k).
+    It is the convex QP min ½λᵀSλ − qᵀλ, λ ≥ 0, solved exactly as the non-negative least
+    squares problem min |Lᵀλ − L⁻¹q| (S = LLᵀ; Lawson–Hanson, finite termination). A
+    primal–dual active-set iteration was tried first: on the default set it cycles (nodes
+    µm-close to the cam near the end of the wrap switch back and forth). The outer loop only
+    re-linearises the gap (normals and distances) until every loaded node is on the contour
+    and no free node penetrates, within ``gap_tol_mm``. ``bilateral``: S λ = q, every node
+    held. Returns (λ per node, active mask λ > 0, normals used, gaps, bore forces (n, 2),
+    iterations, active-set sizes). ``active`` (a previous set) is accepted for the record only.
+    """
+    from scipy.linalg import cholesky, solve_triangular
+    from scipy.optimize import nnls
+
+    n_b = base.shape[0]
+    disp = base.copy()
+    normal, dist = contour.closest(x_now + disp)[1:]
+    history: list[int] = []
+    for iteration in range(1, max_iterations + 1):
+        schur = np.einsum("ia,iajb,jb->ij", normal, compliance4, normal)
+        q = np.einsum("ij,ij->i", disp - base, normal) - dist
+        try:
+            if bilateral:
+                forces = np.linalg.solve(schur, q)
+            else:
+                lower = cholesky(schur, lower=True)
+                forces, _ = nnls(lower.T, solve_triangular(lower, q, lower=True), maxiter=50 * n_b)
+        except (np.linalg.LinAlgError, RuntimeError) as exc:
+            raise ConvergenceError(
+                f"solve_ring: contact problem not solvable at iteration {iteration} ({exc}); the contact "
+                "compliance of the bore nodes is singular or the NNLS solver stopped"
+            ) from exc
+        if not np.all(np.isfinite(forces)):
+            raise ConvergenceError(f"solve_ring: non-finite contact forces at iteration {iteration}")
+        active = np.ones(n_b, bool) if bilateral else forces > 0.0
+        history.append(int(active.sum()))
+        bore_force = forces[:, None] * normal
+        used_normal = normal
+        disp = base + np.einsum("iajb,jb->ia", compliance4, bore_force)
+        normal, dist = contour.closest(x_now + disp)[1:]
+        closed = np.max(np.abs(dist[active]), initial=0.0) <= gap_tol_mm
+        if closed and (bilateral or np.min(dist[~active], initial=0.0) >= -gap_tol_mm):
+            return forces, active, used_normal, dist, bore_force, iteration, history
+    raise ConvergenceError(
+        f"solve_ring: the contact gaps did not close in {max_iterations} re-linearisations "
+        f"({int(active.sum())} loaded nodes, largest gap error {np.max(np.abs(dist[active]), initial=0.0):.3g} mm, "
+        f"deepest penetration of a free node {-np.min(dist[~active], initial=0.0):.3g} mm at φ = "
+        f"{np.degrees(where[np.argmin(np.where(active, np.inf, dist))]):.4f}°)"
+    )
+
+
 def solve_ring(
     gearset_or_parameters,
     *,
@@ -256,6 +323,10 @@ def solve_ring(
     bilateral: bool = False,
     max_iterations: int = 50,
     gap_tol_mm: float = 1e-9,
+    geometry: str = "linear",
+    newton_tol_mm: float = 1e-10,
+    mesh=None,
+    tier: str | None = None,
 ) -> RingResult:
     """Press the flat rim onto ``contour`` and return ω, υ on the neutral line.
 
@@ -264,6 +335,18 @@ def solve_ring(
     ``bilateral=True`` keeps every bore node on the contour (tension allowed: a prescribed
     bore shape, as ring theory assumes), otherwise the contact is unilateral.
     ``gap_tol_mm`` is the allowed penetration / residual gap of active nodes.
+
+    ``geometry="nonlinear"``: after the linear solution, Newton iterations on the total
+    Lagrangian St Venant–Kirchhoff body (:mod:`profilegen.rim.nonlinear`) with the contact
+    constraints in the same saddle system (Lagrange multipliers, sparse LU with COLAMD),
+    re-linearising the gap and updating the active set at every iteration; converged when
+    the Newton correction is below ``newton_tol_mm``, the set is unchanged and every active
+    gap is closed. A set that recurs at a converged Newton state raises ConvergenceError.
+
+    ``mesh``: ``(MeshQuad2, θ, r)`` of another rim (e.g. :func:`profilegen.rim.toothed.
+    toothed_quarter_mesh`) with exact node lines at r_bore and r_m and straight cuts at θ = 0
+    and θ = π/2 (``layers``/``divisions`` then only label the result).
+    ``tier``: the label recorded in ``to_dict()`` (default: from geometry and mesh).
     """
     start = time.perf_counter()
     from skfem import Basis, ElementQuad2, ElementVector, asm
@@ -275,10 +358,24 @@ def solve_ring(
     divisions = _whole("divisions", divisions, 2)
     max_iterations = _whole("max_iterations", max_iterations, 1)
     gap_tol_mm = _number("gap_tol_mm", gap_tol_mm, "mm", 0.0)
+    newton_tol_mm = _number("newton_tol_mm", newton_tol_mm, "mm", 0.0)
+    if geometry not in GEOMETRIES:
+        raise RingError(f"geometry = {geometry!r}: must be one of {', '.join(GEOMETRIES)}")
     if not (hasattr(contour, "closest") and callable(contour.closest)):
         raise RingError(f"contour = {contour!r}: must be a wave-generator contour with closest(points)")
 
-    mesh, th, r = _mesh(params, layers, divisions)
+    if mesh is None:
+        mesh, th, r = _mesh(params, layers, divisions)
+        mesh_kind = "flat"
+    else:
+        try:
+            mesh, th, r = mesh
+        except (TypeError, ValueError) as exc:
+            raise RingError("mesh: must be a (MeshQuad2, θ, r) triple (see rim.toothed)") from exc
+        th, r = np.asarray(th, dtype=float), np.asarray(r, dtype=float)
+        mesh_kind = "toothed"
+    if tier is None:
+        tier = f"{geometry} {mesh_kind} ring FEM"
     basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4)
     ix, iy = basis.split_indices()  # scalar node j ↔ dofs ix[j], iy[j]; positions mesh.doflocs[:, j]
     lam, mu = lame_parameters(params.youngs_modulus_mpa, params.poisson_ratio)
@@ -305,79 +402,50 @@ def solve_ring(
     is_free = where[bore_dofs] >= 0
     select = sp.csr_matrix((np.ones(int(is_free.sum())), (where[bore_dofs[is_free]], np.flatnonzero(is_free))),
                            shape=(free.size, 2 * n_b))
-    compliance = select.T @ lu.solve(select.toarray())
-    compliance = 0.5 * (compliance + compliance.T)
-    compliance4 = compliance.reshape(n_b, 2, n_b, 2)
+    select_dense = select.toarray()
 
-    def bore_state(disp):
-        return contour.closest(x_bore + disp)[1:]
+    def condense(factor):
+        compliance = select.T @ factor.solve(select_dense)
+        return (0.5 * (compliance + compliance.T)).reshape(n_b, 2, n_b, 2)
 
-    disp = np.zeros((n_b, 2))
-    normal, dist = bore_state(disp)
-    active = np.ones(n_b, bool) if bilateral else dist < -gap_tol_mm
-    visited = {frozenset(np.flatnonzero(active).tolist())}
-    history = [int(active.sum())]
-    forces = np.zeros(n_b)
-    used_normal = normal.copy()  # the normals of the constraint rows last solved
-    iterations = 0
-    converged = False
-    for iterations in range(1, max_iterations + 1):
-        idx = np.flatnonzero(active)
-        m = idx.size
-        n_act = normal[idx]
-        rhs_g = np.einsum("ij,ij->i", disp[idx], n_act) - dist[idx]
-        # Schur complement B K⁻¹ Bᵀ λ = g (λ the normal forces): S_ij = n_i · G_ij · n_j
-        # (einsum, not BLAS: these matrices are small and threaded BLAS only adds overhead)
-        schur = np.einsum("ia,iajb,jb->ij", n_act, compliance4[np.ix_(idx, range(2), idx, range(2))], n_act)
-        try:
-            normal_force = np.linalg.solve(schur, rhs_g) if m else np.zeros(0)
-        except np.linalg.LinAlgError as exc:
-            raise ConvergenceError(
-                f"solve_ring: singular contact system at iteration {iterations} ({m} active nodes)"
-            ) from exc
-        if not np.all(np.isfinite(normal_force)):
-            raise ConvergenceError(f"solve_ring: non-finite contact forces at iteration {iterations} ({m} active nodes)")
-        forces = np.zeros(n_b)
-        forces[idx] = normal_force
-        bore_force = np.zeros((n_b, 2))
-        bore_force[idx] = normal_force[:, None] * n_act
-        used_normal = normal.copy()
-        disp = np.einsum("iajb,jb->ia", compliance4[:, :, idx, :], bore_force[idx])
-        normal, dist = bore_state(disp)
-        if bilateral:
-            if np.max(np.abs(dist)) <= gap_tol_mm:
-                converged = True
-                break
-            continue
-        scale = max(float(np.max(np.abs(forces))), 1e-300)
-        tensile = active & (forces < -1e-9 * scale)
-        penetrating = ~active & (dist < -gap_tol_mm)
-        new = (active & ~tensile) | penetrating
-        if np.array_equal(new, active):
-            if idx.size == 0 or np.max(np.abs(dist[idx])) <= gap_tol_mm:
-                converged = True
-                break
-            continue
-        key = frozenset(np.flatnonzero(new).tolist())
-        if key in visited:
-            changed = np.flatnonzero(new != active)
-            raise ConvergenceError(
-                f"solve_ring: active set cycles at iteration {iterations}: returns to a set seen before "
-                f"({int(new.sum())} nodes); nodes switching: bore nodes {changed.tolist()} at φ = "
-                f"{np.round(np.degrees(th[bore[changed]]), 4).tolist()}°"
-            )
-        visited.add(key)
-        history.append(int(new.sum()))
-        active = new
-    if not converged:
-        raise ConvergenceError(
-            f"solve_ring: no convergence in {max_iterations} iterations ({int(active.sum())} active nodes, "
-            f"largest active gap {np.max(np.abs(dist[active]), initial=0.0):.3g} mm)"
-        )
-
+    compliance4 = condense(lu)
+    forces, active, used_normal, dist, bore_force, iterations, history = _contact_set(
+        compliance4, np.zeros((n_b, 2)), x_bore, contour, None, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
+        max_iterations=max_iterations, where=th[bore])
     u = np.zeros(n_dof)
     u[free] = lu.solve(select @ bore_force.ravel())
     reaction = stiffness @ u
+    newton_steps: list[float] = []
+    if geometry == "nonlinear":
+        from .nonlinear import TotalLagrangian
+
+        body = TotalLagrangian(basis, params.youngs_modulus_mpa, params.poisson_ratio)
+        for newton in range(1, max_iterations + 1):
+            f_int = body.force(u)
+            du = lu.solve(-f_int[free])  # the response to the out-of-balance force
+            base = (select.T @ du).reshape(n_b, 2)
+            x_now = x_bore + np.column_stack([u[ix[bore]], u[iy[bore]]])
+            forces, active, used_normal, dist, bore_force, its, hist = _contact_set(
+                compliance4, base, x_now, contour, active, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
+                max_iterations=max_iterations, where=th[bore])
+            iterations += its
+            history += hist
+            du += lu.solve(select @ bore_force.ravel())
+            u[free] += du
+            newton_steps.append(float(np.max(np.abs(du))))
+            if not np.isfinite(newton_steps[-1]):
+                raise ConvergenceError(f"solve_ring (nonlinear): non-finite Newton step at iteration {newton}")
+            if newton_steps[-1] <= newton_tol_mm:
+                break
+        else:
+            raise ConvergenceError(
+                f"solve_ring (nonlinear): no convergence in {max_iterations} Newton iterations (steps "
+                + ", ".join(f"{x:.2e}" for x in newton_steps[-4:]) + " mm)"
+            )
+        contact = np.zeros(n_dof)
+        contact[ix[bore]] = forces * used_normal[:, 0]
+        contact[iy[bore]] = forces * used_normal[:, 1]
+        reaction = body.force(u) - contact
     mid = np.flatnonzero(np.abs(r - params.neutral_radius_mm) < tol_r)
     mid = mid[np.argsort(th[mid])]
 
@@ -417,4 +485,7 @@ def solve_ring(
         time_s=elapsed,
         warnings=tuple(warnings),
         active_history=tuple(history),
+        geometry=geometry,
+        tier=tier,
+        newton_steps_mm=tuple(newton_steps),
     )
