@@ -125,8 +125,12 @@ _WAVE_GENERATOR_KEYS = (
     "contour",
     "roller_count",
     "roller_radius_mm",
+    "roller_angle_deg",
     "bearing_thickness_mm",
 )
+# Four rollers touch the ring-theory bore at ±_ROLLER_ANGLE_DEG_DEFAULT about each end of the
+# major axis unless ``wave_generator.roller_angle_deg`` says otherwise.
+_ROLLER_ANGLE_DEG_DEFAULT = 30.0
 _MATERIAL_KEYS = (
     "youngs_modulus_mpa",
     "poisson_ratio",
@@ -284,13 +288,23 @@ _TOOTH_TYPES = (DctaTooth, InvoluteTooth, PointsTooth)
 
 @dataclass(**_FROZEN)
 class WaveGenerator:
-    """Wave generator: deflection coefficient ω* (w0 = ω*·m) and contour."""
+    """Wave generator: deflection coefficient ω* (w0 = ω*·m) and contour.
+
+    ``roller_angle_deg`` (four rollers only): the polar angle from the major axis at which
+    each roller touches the ring-theory bore r_bore + w0 cos 2θ (see
+    :func:`profilegen.wavegen.from_gearset`); ``None`` for two rollers and for cams.
+    """
 
     deflection_coefficient: float = 1.0
     contour: str = "elliptical_cam"
     roller_count: int | None = None
     roller_radius_mm: float | None = None
+    roller_angle_deg: float | None = None
     bearing_thickness_mm: float | None = None
+
+    @property
+    def roller_angle_rad(self) -> float | None:
+        return None if self.roller_angle_deg is None else math.radians(self.roller_angle_deg)
 
 
 @dataclass(**_FROZEN)
@@ -1224,8 +1238,26 @@ class _Reader:
             radius = self.number(t, p, "roller_radius_mm", unit="mm", rng=rng)
             v["roller_count"], v["roller_radius_mm"] = count, radius
             ok = ok and count is not None and radius is not None
+            angle_rng = _Range(0, 45, lo_open=True, hi_open=True)
+            if count == 2 and "roller_angle_deg" in t:
+                self.problem(
+                    f"{p}.roller_angle_deg: only allowed with roller_count = 4 "
+                    f"(roller_count is 2: both rollers sit on the major axis)"
+                )
+                ok = False
+            elif count == 4 or "roller_angle_deg" in t:  # a bad count is already reported
+                angle = self.number(
+                    t,
+                    p,
+                    "roller_angle_deg",
+                    unit="deg",
+                    rng=angle_rng,
+                    default=_ROLLER_ANGLE_DEG_DEFAULT if count == 4 else None,
+                )
+                ok = ok and angle is not None
+                v["roller_angle_deg"] = angle
         elif contour is not None:
-            for key in ("roller_count", "roller_radius_mm"):
+            for key in ("roller_count", "roller_radius_mm", "roller_angle_deg"):
                 if key in t:
                     self.problem(
                         f'{p}.{key}: only allowed with contour = "rollers" (contour is {_show(contour)})'

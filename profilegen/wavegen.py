@@ -19,9 +19,11 @@ Implemented:
   ellipse normal (parallel curves share their normals, so the signed distance to the
   offset is the distance to the ellipse minus the offset).
 * :class:`CosineCam` — the contour of ring theory, r(θ) = r0 + w0 cos(Uθ).
+* :class:`RollerGenerator` — two or four rigid rollers of radius R; the contour is the
+  union of their circles (centres symmetric about both axes, so the quarter model with
+  symmetry cuts at x = 0 and y = 0 stays valid).
 * :func:`from_gearset` — the contour that pushes the rim's bore (r_bore = r_m − δ/2) out
-  by w0 on the major axis. The roller generator (``contour = "rollers"``) is not
-  implemented here and raises :class:`WaveGenError`.
+  by w0 on the major axis (the rollers: onto the ring-theory bore, see there).
 
 >>> cam = EllipticalCam(52.0, 48.0, bearing_thickness_mm=3.0)
 >>> round(float(cam.radius(0.0)[0]), 12), round(float(cam.radius(np.pi / 2)[0]), 12)
@@ -29,6 +31,12 @@ Implemented:
 >>> foot, normal, dist = cam.closest([[0.0, 60.0]])
 >>> round(float(dist[0]), 12), normal[0].tolist()
 (5.0, [0.0, 1.0])
+>>> rollers = RollerGenerator(10.0, 39.0)  # two rollers, centres (0, ±39) mm
+>>> rollers.radius([0.0, np.pi / 2]).tolist()  # the ray along the minor axis misses both
+[49.0, 0.0]
+>>> foot, normal, dist = rollers.closest([[0.0, 50.0], [0.0, 0.0]])
+>>> dist.tolist(), normal.tolist()
+([1.0, 29.0], [[0.0, 1.0], [0.0, -1.0]])
 """
 
 from __future__ import annotations
@@ -47,6 +55,7 @@ __all__ = [
     "Contour",
     "CosineCam",
     "EllipticalCam",
+    "RollerGenerator",
     "WaveGenError",
     "ellipse_perimeter",
     "from_gearset",
@@ -322,7 +331,189 @@ class CosineCam:
         }
 
 
-def from_gearset(gearset) -> EllipticalCam | CosineCam:
+def _readonly(values) -> np.ndarray:
+    array = np.array(values, dtype=float)
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class RollerGenerator:
+    """Two or four rigid rollers of radius R (mm); the contour is the union of their circles.
+
+    Centres (polar angle from the major axis +y toward +x, distance d from the centre):
+
+    * ``roller_count = 2``: on the major axis, (0, ±d); ``centre_angle_rad`` must be 0;
+    * ``roller_count = 4``: at ±α about each end of the major axis, (±d sin α, ±d cos α),
+      0 < α < π/4.
+
+    The set is symmetric about both axes (a quarter model with symmetry cuts at x = 0 and
+    y = 0 sees it whole). The rollers must not overlap (centre spacing ≥ 2R, touching is
+    allowed): then ``closest`` is exact, also inside a roller.
+
+    * ``closest(points)``: per point, the roller with the smallest signed distance
+      |p − c| − R (ties go to the roller listed first in :attr:`centres`); normal
+      (p − c)/|p − c|, foot c + R·normal. A point exactly at a centre gets the normal
+      c/|c| (radially outward).
+    * ``radius(θ)``: the outermost intersection of the ray from the centre at θ with the
+      rollers. The union is not star-shaped about the centre: a ray that misses every
+      roller (between the rollers) gets **0.0** — never NaN — so that plotting
+      (r sin θ, r cos θ) draws each roller joined to the centre by spokes, and ``r > 0``
+      masks the angles the rollers cover.
+    """
+
+    roller_radius_mm: float
+    centre_distance_mm: float
+    roller_count: int = 2
+    centre_angle_rad: float = 0.0
+
+    def __post_init__(self):
+        radius = _positive("roller_radius_mm", self.roller_radius_mm)
+        dist = _positive("centre_distance_mm", self.centre_distance_mm)
+        count = self.roller_count
+        if isinstance(count, bool) or not isinstance(count, (int, np.integer)) or count not in (2, 4):
+            raise WaveGenError(f"roller_count = {count!r}: must be 2 or 4")
+        try:
+            alpha = float(self.centre_angle_rad)
+        except (TypeError, ValueError) as exc:
+            raise WaveGenError(f"centre_angle_rad = {self.centre_angle_rad!r}: must be a number (rad)") from exc
+        if count == 2 and alpha != 0.0:
+            raise WaveGenError(
+                f"centre_angle_rad = {self.centre_angle_rad!r} rad: must be 0 with roller_count = 2 "
+                "(both rollers sit on the major axis)"
+            )
+        if count == 4 and not (math.isfinite(alpha) and 0.0 < alpha < 0.25 * math.pi):
+            raise WaveGenError(
+                f"centre_angle_rad = {self.centre_angle_rad!r} rad: must be in (0, π/4) = (0, {0.25 * math.pi:.6g}) "
+                "with roller_count = 4"
+            )
+        # nearest pair: across the major axis (2d sin α) for four rollers, 2d for two
+        half_spacing = dist if count == 2 else dist * math.sin(alpha)
+        if radius > half_spacing:
+            raise WaveGenError(
+                f"roller_radius_mm = {self.roller_radius_mm!r} mm: must be ≤ {half_spacing:.6g} mm (half the spacing "
+                f"of the nearest roller centres; the rollers must not overlap)"
+            )
+        object.__setattr__(self, "roller_radius_mm", radius)
+        object.__setattr__(self, "centre_distance_mm", dist)
+        object.__setattr__(self, "roller_count", int(count))
+        object.__setattr__(self, "centre_angle_rad", alpha)
+
+    @property
+    def centres(self) -> np.ndarray:
+        """Roller centres (k, 2) (mm), exactly symmetric about both axes."""
+        d = self.centre_distance_mm
+        if self.roller_count == 2:
+            return _readonly([[0.0, d], [0.0, -d]])
+        s, c = d * math.sin(self.centre_angle_rad), d * math.cos(self.centre_angle_rad)
+        return _readonly([[s, c], [-s, c], [s, -c], [-s, -c]])
+
+    @property
+    def outer_radius_mm(self) -> float:
+        """Largest polar radius of the contour, d + R (mm), reached on the rays through the centres."""
+        return self.centre_distance_mm + self.roller_radius_mm
+
+    def closest(self, points) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        p = _points(points)
+        centres = self.centres
+        diff = p[:, None, :] - centres[None, :, :]  # (n, k, 2)
+        rho = np.hypot(diff[..., 0], diff[..., 1])
+        which = np.argmin(rho, axis=1)  # smallest |p − c| = smallest signed distance (equal radii)
+        rows = np.arange(p.shape[0])
+        d, r = diff[rows, which], rho[rows, which]
+        centre = centres[which]
+        radial = centre / self.centre_distance_mm
+        normal = np.where((r > 0.0)[:, None], d / np.where(r > 0.0, r, 1.0)[:, None], radial)
+        foot = centre + self.roller_radius_mm * normal
+        return foot, normal, r - self.roller_radius_mm
+
+    def radius(self, theta) -> np.ndarray:
+        theta = np.atleast_1d(np.asarray(theta, dtype=float))
+        ray = np.stack([np.sin(theta), np.cos(theta)], axis=-1)  # (..., 2)
+        proj = ray @ self.centres.T  # (..., k): e·c
+        d, radius = self.centre_distance_mm, self.roller_radius_mm
+        # |t e − c|² = R²  ⇔  t = e·c ± √((e·c)² − (d − R)(d + R)); the origin is never inside a roller
+        disc = proj * proj - (d - radius) * (d + radius)
+        hit = disc >= 0.0
+        t = np.where(hit, proj + np.sqrt(np.where(hit, disc, 0.0)), 0.0)
+        return np.max(np.where(hit & (t > 0.0), t, 0.0), axis=-1)
+
+    def to_dict(self) -> dict:
+        return {
+            "kind": "rollers",
+            "roller_count": self.roller_count,
+            "roller_radius_mm": self.roller_radius_mm,
+            "centre_distance_mm": self.centre_distance_mm,
+            "centre_angle_deg": math.degrees(self.centre_angle_rad),
+            "centres_mm": self.centres.tolist(),
+            "outer_radius_mm": self.outer_radius_mm,
+        }
+
+
+def _rollers_from_gearset(gearset, r_bore: float, w0: float) -> RollerGenerator:
+    gear, wg = gearset.gear, gearset.wave_generator
+    if gear.waves != 2:
+        raise WaveGenError(
+            f"gear.waves = {gear.waves}: the roller generator is placed for 2 waves only (rollers about the two "
+            "ends of the major axis)"
+        )
+    radius, count = float(wg.roller_radius_mm), int(wg.roller_count)
+    name = "wave_generator.roller_radius_mm"
+    if count == 2:
+        theta = 0.0
+    else:
+        angle_deg = wg.roller_angle_deg
+        if angle_deg is None or not 0.0 < angle_deg < 45.0:
+            raise WaveGenError(f"wave_generator.roller_angle_deg = {angle_deg!r} deg: must be in (0, 45)")
+        theta = math.radians(angle_deg)
+
+    def curve(t):  # ring theory's bore r_bore + w0 cos 2θ: r, r′, r″
+        return r_bore + w0 * np.cos(2.0 * t), -2.0 * w0 * np.sin(2.0 * t), -4.0 * w0 * np.cos(2.0 * t)
+
+    r, r1, r2 = (float(x) for x in curve(theta))
+    e_r = np.array([math.sin(theta), math.cos(theta)])
+    e_t = np.array([math.cos(theta), -math.sin(theta)])
+    touch = r * e_r
+    normal = (r * e_r - r1 * e_t) / math.hypot(r, r1)
+    if count == 2:
+        touch, normal = np.array([0.0, r]), np.array([0.0, 1.0])  # exact on the axis
+    centre = touch - radius * normal
+    # no overlap: the nearest centres are mirror images across the minor axis (two rollers)
+    # or the major axis (four): c_y ≥ R, resp. c_x ≥ R, i.e. R ≤ touch_i / (1 + n_i)
+    axis = 1 if count == 2 else 0
+    where = (f"on the major axis at r_bore + w0 = {r:.6g} mm" if count == 2
+             else f"at θ = ±{math.degrees(theta):g}° about the major axis")
+    largest = touch[axis] / (1.0 + normal[axis])
+    if not radius <= largest:
+        raise WaveGenError(
+            f"{name} = {radius:g} mm: must be ≤ {largest:.6g} mm for roller_count = {count} (the rollers, touching "
+            f"the deformed bore {where}, would overlap)"
+        )
+    kappa = (r * r + 2.0 * r1 * r1 - r * r2) / (r * r + r1 * r1) ** 1.5
+    if not 1.0 / radius >= kappa:
+        raise WaveGenError(
+            f"{name} = {radius:g} mm: must be ≤ {1.0 / kappa:.6g} mm, the radius of curvature of the deformed "
+            f"bore r_bore + w0 cos 2θ where the rollers touch it (θ = {math.degrees(theta):g}°)"
+        )
+    rollers = RollerGenerator(
+        radius,
+        float(np.hypot(*centre)),
+        roller_count=count,
+        centre_angle_rad=float(math.atan2(centre[0], centre[1])),
+    )
+    # and inside the deformed bore everywhere, not only near the touching point
+    samples = np.linspace(0.0, 0.5 * math.pi, 4097)
+    excess = rollers.radius(samples) - curve(samples)[0]
+    worst = int(np.argmax(excess))
+    if excess[worst] > 1e-9 * r_bore:
+        raise WaveGenError(
+            f"{name} = {radius:g} mm: the rollers do not fit inside the deformed bore r_bore + w0 cos 2θ (they "
+            f"cross it by {excess[worst]:.3g} mm at θ = {math.degrees(samples[worst]):.4g}°)"
+        )
+    return rollers
+
+
+def from_gearset(gearset) -> EllipticalCam | CosineCam | RollerGenerator:
     """The contour that pushes the rim's bore (r_bore = r_m − δ/2) out by w0 on the major axis.
 
     * ``elliptical_cam``: semi-axes chosen so that the offset contour's major radius is
@@ -331,16 +522,30 @@ def from_gearset(gearset) -> EllipticalCam | CosineCam:
       ``wave_generator.bearing_thickness_mm`` (0 if not given); a = r_bore + w0 − h and b
       solves 4aE(1 − b²/a²) + 2πh = 2π r_bore.
     * ``cosine_cam``: r0 = r_bore, w0 as given (its perimeter exceeds 2π r_bore by O(w0²)).
-    * ``rollers``: not implemented (raises :class:`WaveGenError`).
+    * ``rollers`` (U = 2 only), radius R = ``roller_radius_mm``: every roller is inscribed in
+      ring theory's deformed bore r_b(θ) = r_bore + w0 cos 2θ, *tangent* to it at its
+      touching angle: the centre lies at distance R along the curve's inward normal from
+      r_b(θ_r)·e_r. Two rollers touch at θ_r = 0 and π (centre distance r_bore + w0 − R,
+      the bore pushed out by w0 on the major axis); four rollers touch at ±θ_r about each
+      end of the major axis, θ_r = ``roller_angle_deg`` (default 30°), and leave the major
+      axis free. Tangency rather than "the roller's radially outermost point on the curve
+      at θ_r": at θ_r ≠ 0 the curve is inclined to e_θ (r′ = −2w0 sin 2θ_r), so a roller
+      centred on the ray θ_r would cross the curve (≈ r′²R/(2 d r) ≈ 2 µm for the default
+      gear set, R = 10 mm); the tangent roller's centre is at a slightly smaller polar
+      angle (≈ 0.26° there). Raises :class:`WaveGenError` naming
+      ``wave_generator.roller_radius_mm`` if the rollers would overlap or do not fit
+      inside r_b(θ) (curvature at the touching point, then a check on 4097 angles).
     """
     gear, wg = gearset.gear, gearset.wave_generator
     r_bore = gear.neutral_radius_mm - 0.5 * gear.rim_thickness_mm
     w0 = gearset.deflection_mm
     if wg.contour == "cosine_cam":
         return CosineCam(r_bore, w0, waves=gear.waves)
+    if wg.contour == "rollers":
+        return _rollers_from_gearset(gearset, r_bore, w0)
     if wg.contour != "elliptical_cam":
         raise WaveGenError(
-            f"wave_generator.contour = {wg.contour!r}: only 'elliptical_cam' and 'cosine_cam' are implemented"
+            f"wave_generator.contour = {wg.contour!r}: must be one of 'elliptical_cam', 'cosine_cam', 'rollers'"
         )
     if gear.waves != 2:
         raise WaveGenError(f"gear.waves = {gear.waves}: an elliptical cam makes exactly 2 waves")

@@ -420,28 +420,46 @@ def solve_ring(
         from .nonlinear import TotalLagrangian
 
         body = TotalLagrangian(basis, params.youngs_modulus_mpa, params.poisson_ratio)
+        factor, refreshes = lu, 0
         for newton in range(1, max_iterations + 1):
             f_int = body.force(u)
-            du = lu.solve(-f_int[free])  # the response to the out-of-balance force
+            du = factor.solve(-f_int[free])  # the response to the out-of-balance force
             base = (select.T @ du).reshape(n_b, 2)
+            if not np.all(np.isfinite(base)):
+                raise ConvergenceError(f"solve_ring (nonlinear): non-finite Newton step at iteration {newton}")
             x_now = x_bore + np.column_stack([u[ix[bore]], u[iy[bore]]])
             forces, active, used_normal, dist, bore_force, its, hist = _contact_set(
                 compliance4, base, x_now, contour, active, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
                 max_iterations=max_iterations, where=th[bore])
             iterations += its
             history += hist
-            du += lu.solve(select @ bore_force.ravel())
-            u[free] += du
-            newton_steps.append(float(np.max(np.abs(du))))
-            if not np.isfinite(newton_steps[-1]):
+            du += factor.solve(select @ bore_force.ravel())
+            step = float(np.max(np.abs(du)))
+            if not np.isfinite(step):
                 raise ConvergenceError(f"solve_ring (nonlinear): non-finite Newton step at iteration {newton}")
-            if newton_steps[-1] <= newton_tol_mm:
+            if newton_steps and step > 0.5 * newton_steps[-1]:
+                # the linear stiffness contracts too slowly (or not at all: a ring on a few
+                # point supports): refresh the tangent and its bore compliance at the current u,
+                # and redo the step from there
+                refreshes += 1
+                tangent, _ = body(u)
+                try:
+                    factor = splu(tangent[free][:, free].tocsc(), permc_spec="COLAMD")
+                except RuntimeError as exc:  # "Factor is exactly singular"
+                    raise ConvergenceError(f"solve_ring (nonlinear): singular tangent at Newton iteration {newton}") from exc
+                compliance4 = condense(factor)
+                newton_steps.append(float("nan"))  # marks the refresh in the record
+                continue
+            u[free] += du
+            newton_steps.append(step)
+            if step <= newton_tol_mm:
                 break
         else:
             raise ConvergenceError(
-                f"solve_ring (nonlinear): no convergence in {max_iterations} Newton iterations (steps "
-                + ", ".join(f"{x:.2e}" for x in newton_steps[-4:]) + " mm)"
+                f"solve_ring (nonlinear): no convergence in {max_iterations} Newton iterations ({refreshes} tangent "
+                "refreshes; last steps " + ", ".join(f"{x:.2e}" for x in newton_steps[-4:]) + " mm)"
             )
+        newton_steps = [x for x in newton_steps if np.isfinite(x)]
         contact = np.zeros(n_dof)
         contact[ix[bore]] = forces * used_normal[:, 0]
         contact[iy[bore]] = forces * used_normal[:, 1]

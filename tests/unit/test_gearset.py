@@ -594,3 +594,56 @@ def test_fit_method_is_validated_and_defaults_to_one_sided():
     base["circular_spline"]["fit_method"] = "minimx"
     with pytest.raises(GearSetError, match=r"circular_spline\.fit_method.*did you mean \"minimax\""):
         parse_gearset(base)
+
+
+# --------------------------------------------------------------------------- roller angle
+
+ROLLERS4 = {"contour": "rollers", "roller_count": 4, "roller_radius_mm": 10.0}
+
+
+def test_roller_angle_defaults_to_30_deg_for_four_rollers():
+    gs = parse_gearset(with_(base(), "wave_generator", ROLLERS4))
+    assert gs.wave_generator.roller_angle_deg == 30.0
+    assert gs.wave_generator.roller_angle_rad == pytest.approx(math.pi / 6)
+    assert "roller_angle_deg" not in gs.to_dict(include_defaults=False)["wave_generator"]
+    assert parse_gearset(gs.to_dict()).wave_generator.roller_angle_deg == 30.0  # round trip
+    two = gs.with_values({"wave_generator.roller_count": 2})  # the default is not carried over
+    assert two.wave_generator.roller_angle_deg is None and two.wave_generator.roller_angle_rad is None
+
+
+def test_roller_angle_given():
+    gs = parse_gearset(with_(base(), "wave_generator", {**ROLLERS4, "roller_angle_deg": 22.5}))
+    assert gs.wave_generator.roller_angle_deg == 22.5
+    assert gs.to_dict(include_defaults=False)["wave_generator"]["roller_angle_deg"] == 22.5
+    assert gs.with_values({"wave_generator.roller_angle_deg": 40}).wave_generator.roller_angle_deg == 40.0
+
+
+@pytest.mark.parametrize("value, shown", [(0.0, "0.0 deg"), (45.0, "45.0 deg"), (-10.0, "-10.0 deg"), (60, "60.0 deg")])
+def test_roller_angle_range(value, shown):
+    (line,) = problems_of(with_(base(), "wave_generator", {**ROLLERS4, "roller_angle_deg": value}))
+    assert line == f"wave_generator.roller_angle_deg = {shown}: must be in (0, 45)"
+
+
+def test_roller_angle_type():
+    (line,) = problems_of(with_(base(), "wave_generator", {**ROLLERS4, "roller_angle_deg": "30"}))
+    assert line.startswith('wave_generator.roller_angle_deg = "30": must be a number')
+
+
+def test_roller_angle_only_with_four_rollers():
+    wg = {**ROLLERS4, "roller_count": 2, "roller_angle_deg": 30.0}
+    (line,) = problems_of(with_(base(), "wave_generator", wg))
+    assert line.startswith("wave_generator.roller_angle_deg: only allowed with roller_count = 4")
+
+
+def test_roller_angle_forbidden_on_a_cam():
+    (line,) = problems_of(with_(base(), "wave_generator.roller_angle_deg", 30.0))
+    assert line.startswith("wave_generator.roller_angle_deg: only allowed with contour")
+
+
+def test_roller_angle_checked_even_when_the_count_is_bad():
+    problems = problems_of(with_(base(), "wave_generator", {**ROLLERS4, "roller_count": 3, "roller_angle_deg": 50.0}))
+    assert len(problems) == 2
+    assert problems[0].startswith("wave_generator.roller_count = 3")
+    assert problems[1].startswith("wave_generator.roller_angle_deg = 50.0 deg: must be in (0, 45)")
+    (line,) = problems_of(with_(base(), "wave_generator", {**ROLLERS4, "roller_count": 3, "roller_angle_deg": 20.0}))
+    assert line.startswith("wave_generator.roller_count = 3")
