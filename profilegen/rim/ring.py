@@ -15,7 +15,8 @@ Model
   axis (θ = π/2, y = 0) u_y = 0. This removes the rigid-body modes.
 * Structured isoparametric 9-node quadrilaterals (``MeshQuad2`` + ``ElementQuad2``, every
   node on its exact radius): ``layers`` (even) radial layers × ``divisions`` circumferential
-  divisions. Plane stress, λ* = 2λμ/(λ + 2μ), ``linear_elasticity``. Forces are per mm of
+  divisions. Plane stress (the linear stiffness is that of ``linear_elasticity`` with
+  λ* = 2λμ/(λ + 2μ), assembled as the tangent of :mod:`profilegen.rim.nonlinear` at rest). Forces are per mm of
   face width (N/mm).
 * Contact: every bore node against the contour, unilateral and frictionless. The gap of
   a node is linearised at the current configuration, g = g_k + n·(u − u_k) (g_k the signed
@@ -264,18 +265,18 @@ GEOMETRIES = ("linear", "nonlinear")
 class _Factor:
     """Factorisation of a symmetric stiffness matrix for many right-hand sides.
 
-    Reverse Cuthill–McKee makes a ring's matrix banded (bandwidth ~ 2 × nodes across the
-    rim), and LAPACK's banded Cholesky then solves the 2·(bore nodes) right-hand sides of
+    Ordered around the ring (``order``; reverse Cuthill–McKee if not given) a ring's matrix
+    is banded (bandwidth ~ 2 × nodes across the rim), and LAPACK's banded Cholesky then solves the 2·(bore nodes) right-hand sides of
     the condensation ~2.5× faster than SuperLU (measured on the default ring, 4 × 64). A
     matrix that is not positive definite (a tangent past a limit point) falls back to
     SuperLU with COLAMD ordering (DESIGN.md trap 7)."""
 
-    def __init__(self, matrix):
+    def __init__(self, matrix, order=None):
         from scipy.linalg import LinAlgError, cholesky_banded
         from scipy.sparse.csgraph import reverse_cuthill_mckee
 
         matrix = sp.csr_matrix(matrix)
-        self.perm = reverse_cuthill_mckee(matrix, symmetric_mode=True)
+        self.perm = reverse_cuthill_mckee(matrix, symmetric_mode=True) if order is None else np.asarray(order)
         permuted = matrix[self.perm][:, self.perm].tocoo()
         upper = permuted.row <= permuted.col
         rows, cols = permuted.row[upper], permuted.col[upper]
@@ -396,8 +397,9 @@ def solve_ring(
     ``tier``: the label recorded in ``to_dict()`` (default: from geometry and mesh).
     """
     start = time.perf_counter()
-    from skfem import Basis, ElementQuad2, ElementVector, asm
-    from skfem.models.elasticity import lame_parameters, linear_elasticity
+    from skfem import Basis, ElementQuad2, ElementVector
+
+    from .nonlinear import TotalLagrangian
 
     params = (gearset_or_parameters if isinstance(gearset_or_parameters, RingParameters)
               else RingParameters.from_gearset(gearset_or_parameters))
@@ -425,9 +427,11 @@ def solve_ring(
         tier = f"{geometry} {mesh_kind} ring FEM"
     basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4)
     ix, iy = basis.split_indices()  # scalar node j ↔ dofs ix[j], iy[j]; positions mesh.doflocs[:, j]
-    lam, mu = lame_parameters(params.youngs_modulus_mpa, params.poisson_ratio)
-    lam_ps = 2.0 * lam * mu / (lam + 2.0 * mu)  # plane stress
-    stiffness = asm(linear_elasticity(lam_ps, mu), basis).tocsr()
+    # the linear stiffness is the St Venant–Kirchhoff tangent at rest (equal to scikit-fem's
+    # linear_elasticity with the plane-stress λ* = 2λμ/(λ + 2μ) to rounding, tests/unit/
+    # test_rim_nonlinear.py), assembled by batched matrix products: 4 ms against 17 ms
+    body = TotalLagrangian(basis, params.youngs_modulus_mpa, params.poisson_ratio)
+    stiffness = body(np.zeros(basis.N))[0]
     n_dof = basis.N
 
     tol_r = 1e-9 * params.outer_radius_mm
@@ -437,7 +441,12 @@ def solve_ring(
     free = np.setdiff1d(np.arange(n_dof), fixed)
     where = -np.ones(n_dof, dtype=int)
     where[free] = np.arange(free.size)
-    lu = _Factor(stiffness[free][:, free])
+    # band-friendly order: node by node around the ring (θ, then r) — bandwidth 81 against
+    # reverse Cuthill–McKee's 133 on the toothed rim
+    node_of = np.empty(n_dof, dtype=int)
+    node_of[ix], node_of[iy] = np.arange(ix.size), np.arange(iy.size)
+    band_order = np.lexsort((r[node_of[free]], np.round(th[node_of[free]], 12)))
+    lu = _Factor(stiffness[free][:, free], order=band_order)
 
     bore = np.flatnonzero(np.abs(r - params.bore_radius_mm) < tol_r)
     bore = bore[np.argsort(th[bore])]
@@ -449,10 +458,17 @@ def solve_ring(
     is_free = where[bore_dofs] >= 0
     select = sp.csr_matrix((np.ones(int(is_free.sum())), (where[bore_dofs[is_free]], np.flatnonzero(is_free))),
                            shape=(free.size, 2 * n_b))
-    select_dense = select.toarray()
+    rows_free = where[bore_dofs[is_free]]
+    cols_free = np.flatnonzero(is_free)
 
-    def condense(factor):
-        compliance = select.T @ factor.solve(select_dense)
+    def condense(factor, chunk: int = 512):
+        # in column blocks: the full K⁻¹P would be (free dofs × 2 n_b) doubles, 0.7 GB on the toothed rim
+        compliance = np.zeros((2 * n_b, 2 * n_b))
+        for start_col in range(0, cols_free.size, chunk):
+            cols = cols_free[start_col:start_col + chunk]
+            rhs = np.zeros((free.size, cols.size))
+            rhs[rows_free[start_col:start_col + chunk], np.arange(cols.size)] = 1.0
+            compliance[np.ix_(cols_free, cols)] = factor.solve(rhs)[rows_free]
         return (0.5 * (compliance + compliance.T)).reshape(n_b, 2, n_b, 2)
 
     compliance4 = condense(lu)
@@ -464,9 +480,6 @@ def solve_ring(
     reaction = stiffness @ u
     newton_steps: list[float] = []
     if geometry == "nonlinear":
-        from .nonlinear import TotalLagrangian
-
-        body = TotalLagrangian(basis, params.youngs_modulus_mpa, params.poisson_ratio)
         factor, refreshes = lu, 0
         for newton in range(1, max_iterations + 1):
             f_int = body.force(u)
@@ -491,7 +504,7 @@ def solve_ring(
                 refreshes += 1
                 tangent, _ = body(u)
                 try:
-                    factor = _Factor(tangent[free][:, free])
+                    factor = _Factor(tangent[free][:, free], order=band_order)
                 except RuntimeError as exc:  # splu: "Factor is exactly singular"
                     raise ConvergenceError(f"solve_ring (nonlinear): singular tangent at Newton iteration {newton}") from exc
                 compliance4 = condense(factor)

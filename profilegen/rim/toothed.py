@@ -1,0 +1,391 @@
+"""Structured isoparametric mesh of the TOOTHED flexspline rim, quarter model (``verify`` scene).
+
+No mesh generator: a mapped mesh of 9-node quadrilaterals (``MeshQuad2``), one structured
+grid of ``(2 N_s + 1) × (2 N_j + 1)`` nodes over the quarter 0 ≤ θ ≤ π/2 (θ from the
+major axis +y toward +x, a point is (r sin θ, r cos θ), as in :mod:`profilegen.rim.ring`).
+
+Blocks
+------
+* Block 1, the inner half of the rim: polar tensor mesh from the bore r_bore = r_m − δ/2 to
+  the neutral circle r_m (``rim_layers`` layers, uniform in r and in θ). The node lines at
+  r_bore (the contact nodes) and r_m (where ω, υ are read) carry the exact radius.
+* Block 2, from the neutral circle to the toothed surface (``tooth_layers`` layers): per
+  tooth pitch a transfinite (Coons) map in the pitch's polar coordinates (ψ, ρ) about the
+  flexspline centre. Its bottom edge is the r_m arc (uniform in θ, block 1's nodes), its
+  sides the radial mid-space lines, its top edge the surface of one pitch: root land (root
+  circle r_f = r_m + y_f), the short radial step from the root circle up to the root point
+  on the line y = y_f (x²/2r ≈ 4 µm, see :meth:`ToothProfile.outline`), the flank segments,
+  the straight top land and the mirror image. With straight radial sides the Coons map is
+  the ruled blend ``(ψ, ρ) = (1 − η) bottom(ξ) + η top(ξ)``.
+
+Every node — vertex, mid-edge and centre — is the image of its structured-grid position,
+so the quadratic nodes of the surface lie on the exact curves (flank arcs, lines, involute,
+spline, circles): the mesh is isoparametric, not straight-sided.
+
+The top edge of one half pitch (tooth axis → mid-space) is split into columns of
+elements: top land, each flank segment (uniform in arc length inside a segment, nodes on
+every segment join), one column for the radial step, root land (uniform in angle). The
+columns are shared out greedily so that the longest element edge is as short as possible;
+the root land gets at least enough columns that the radial lines under the step lean
+toward the mid-space (otherwise the step's element would invert).
+
+Tooth pattern: a tooth is centred on θ = 0 (the tooth frame's axis). At θ = π/2 there is a
+tooth centre when z1/4 is whole and a space centre when z1 ≡ 2 (mod 4); the quarter holds
+z1/4 pitches with half pitches at the cuts, and is symmetric about both cuts. Odd z1 (no
+symmetry about the minor axis) and U ≠ 2 are rejected.
+
+Default set (z1 = 200, DCTA tooth, ``rim_layers=2, tooth_layers=4, per_pitch=16``):
+50 pitches, N_s = 800 circumferential × 6 radial = 4800 elements, 1601 × 13 = 20813 nodes,
+41626 dof (vector field); 1601 nodes on each of the bore and the neutral line (and on the
+surface). Columns per half pitch (``ToothedRimMesh.columns``): top land 1, tip arc 1,
+line 1, root arc 2, step 1, root land 2. The mesh is built in ~0.03 s; its area is within
+3e-5 of the exact region (the tip arc has one element; per_pitch = 24: 1.5e-6, 48: 1e-8).
+
+Element Jacobians are checked — positive at the points of a Gauss rule (default intorder
+4, that of ``solve_ring``) and at the 9 nodes of every element (a quadratic element can
+fold over along an edge while det J > 0 at all Gauss points) — and a non-positive one
+raises :class:`InvertedElementError` naming the element and where it is. The elements are
+ordered counter-clockwise (det J > 0; ``ring._mesh``'s are clockwise, which scikit-fem's
+|det J| does not mind). The smallest per-element min/max det J of the default set is
+≈ 0.03: the element under the 4 µm root step is a wedge.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from .ring import RingError
+
+__all__ = ["InvertedElementError", "ToothedMeshError", "ToothedRimMesh", "toothed_quarter_mesh"]
+
+log = logging.getLogger(__name__)
+
+
+class ToothedMeshError(RingError):
+    """Bad input to the toothed-rim mesher; the message names the parameter, value, unit and range."""
+
+
+class InvertedElementError(ToothedMeshError):
+    """An element of the mapped mesh has a non-positive Jacobian (the mesh parameters do not
+    fit the tooth); the message names the element, where it is, and what to change."""
+
+
+def _readonly(values, dtype=float) -> np.ndarray:
+    array = np.array(values, dtype=dtype)
+    array.setflags(write=False)
+    return array
+
+
+def _whole(name: str, value, low: int, *, even: bool = False) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low or (even and value % 2):
+        kind = "an even whole number" if even else "a whole number"
+        raise ToothedMeshError(f"{name} = {value!r}: must be {kind} ≥ {low}")
+    return int(value)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ToothedRimMesh:
+    """The mapped mesh of the toothed quarter rim and where its node lines are.
+
+    Unpacks like ``ring._mesh``'s return: ``mesh, th, r = toothed_quarter_mesh(...)``
+    (``tuple(result)`` gives the plain tuple). ``th``, ``r``: undeformed polar coordinates
+    of every dof location (θ from +y toward +x). Node index arrays (into ``th``/``r``/the
+    mesh's dof locations): ``bore_nodes``, ``neutral_nodes``, ``surface_nodes`` sorted by θ;
+    ``major_cut_nodes`` (θ = 0) and ``minor_cut_nodes`` (θ = π/2) sorted by r.
+    ``columns``: (piece, number of element columns) along one half pitch, tooth axis →
+    mid-space. ``min_jacobian``: the smallest det J at the checked points (mm²);
+    ``jacobian_ratio``: the smallest per-element min/max det J (1 for a parallelogram).
+    """
+
+    mesh: object
+    th: np.ndarray
+    r: np.ndarray
+    bore_nodes: np.ndarray
+    neutral_nodes: np.ndarray
+    surface_nodes: np.ndarray
+    major_cut_nodes: np.ndarray
+    minor_cut_nodes: np.ndarray
+    teeth: int
+    per_pitch: int
+    rim_layers: int
+    tooth_layers: int
+    columns: tuple[tuple[str, int], ...]
+    bore_radius_mm: float
+    neutral_radius_mm: float
+    root_radius_mm: float
+    min_jacobian: float
+    jacobian_ratio: float
+    time_s: float
+
+    def __post_init__(self):
+        for name in ("th", "r"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        for name in ("bore_nodes", "neutral_nodes", "surface_nodes", "major_cut_nodes", "minor_cut_nodes"):
+            object.__setattr__(self, name, _readonly(getattr(self, name), dtype=np.int64))
+        object.__setattr__(self, "columns", tuple((str(a), int(b)) for a, b in self.columns))
+
+    def __iter__(self):
+        return iter((self.mesh, self.th, self.r))
+
+    @property
+    def pitches(self) -> float:
+        """Tooth pitches in the quarter, z1/4 (half pitches at the cuts)."""
+        return self.teeth / 4.0
+
+    @property
+    def elements(self) -> int:
+        return int(self.mesh.t.shape[1])
+
+    @property
+    def nodes(self) -> int:
+        return int(self.th.size)
+
+    @property
+    def dof(self) -> int:
+        """Degrees of freedom of a 2D vector field (2 per node)."""
+        return 2 * self.nodes
+
+    def to_dict(self) -> dict:
+        return {
+            "model": "toothed quarter rim, structured isoparametric 9-node quadrilaterals (Coons map per pitch)",
+            "teeth": self.teeth,
+            "pitches": self.pitches,
+            "per_pitch": self.per_pitch,
+            "rim_layers": self.rim_layers,
+            "tooth_layers": self.tooth_layers,
+            "columns": [list(c) for c in self.columns],
+            "elements": self.elements,
+            "nodes": self.nodes,
+            "dof": self.dof,
+            "bore_radius_mm": self.bore_radius_mm,
+            "neutral_radius_mm": self.neutral_radius_mm,
+            "root_radius_mm": self.root_radius_mm,
+            "min_jacobian": self.min_jacobian,
+            "jacobian_ratio": self.jacobian_ratio,
+            "time_s": self.time_s,
+        }
+
+
+def _pieces(tooth):
+    """The top edge of one half pitch, tooth axis → mid-space, as pieces ``(name, count,
+    curve)``; ``curve(u)`` (u ∈ [0, 1] along the piece) returns the tooth-frame polar
+    coordinates (ψ, ρ) about the flexspline centre, ψ from +y toward +x.
+
+    The last piece ends at ψ = ``psi_mid`` (the caller's half-pitch angle) exactly."""
+    r_m = float(tooth.neutral_radius_mm)
+    z1 = int(tooth.teeth)
+    r_f = r_m + float(tooth.dedendum_y_mm)
+    half = math.pi / z1
+    tip = np.asarray(tooth.point(tooth.length_mm), dtype=float)
+    root = np.asarray(tooth.point(0.0), dtype=float)
+    psi_root = math.atan2(root[0], root[1] + r_m)
+    rho_root = math.hypot(root[0], root[1] + r_m)
+
+    def polar(p):
+        return np.arctan2(p[..., 0], p[..., 1] + r_m), np.hypot(p[..., 0], p[..., 1] + r_m)
+
+    def top_land(u):
+        return polar(np.stack([u * tip[0], np.full_like(u, tip[1])], axis=-1))
+
+    def flank(seg):
+        t0, t1 = float(seg.t0), float(seg.t1)
+        return lambda u: polar(tooth.point((1.0 - u) * t1 + u * t0))  # tip → root
+
+    def step(u):
+        return np.full_like(u, psi_root), (1.0 - u) * rho_root + u * r_f
+
+    named = {"LineSegment": "line", "ArcSegment": "arc", "InvoluteSegment": "involute", "SplineSegment": "spline"}
+    pieces = [("top land", float(tip[0]), top_land)]
+    n_seg = len(tooth.segments)
+    for k, seg in reversed(list(enumerate(tooth.segments))):
+        kind = named.get(type(seg).__name__, "flank")
+        if kind == "arc" and n_seg > 1:  # DCTA: root arc, line, tip arc
+            kind = "root arc" if k == 0 else "tip arc" if k == n_seg - 1 else f"arc (segment {k})"
+        pieces.append((kind, float(seg.t1 - seg.t0), flank(seg)))
+    # the root land runs to ψ = psi_mid (the caller's exact half-pitch angle)
+    root_land_length = r_f * (half - psi_root)
+    return pieces, step, (psi_root, r_f, root_land_length), half
+
+
+def _allocate(lengths: list[float], minimum: list[int], total: int) -> list[int]:
+    """Columns per piece: the minima, then one at a time to the piece whose element edges
+    are longest (length / count), until ``total``."""
+    counts = list(minimum)
+    while sum(counts) < total:
+        i = max(range(len(counts)), key=lambda k: lengths[k] / counts[k])
+        counts[i] += 1
+    return counts
+
+
+def toothed_quarter_mesh(
+    tooth,
+    rim_thickness_mm: float,
+    *,
+    rim_layers: int = 2,
+    tooth_layers: int = 4,
+    per_pitch: int = 16,
+    waves: int = 2,
+    check_intorder: int = 4,
+) -> ToothedRimMesh:
+    """Mapped 9-node-quad mesh of the toothed rim quarter 0 ≤ θ ≤ π/2 (see the module doc).
+
+    ``tooth``: a :class:`~profilegen.teeth.ToothProfile` (it carries z1, r_m and the root and
+    tip lines). ``rim_thickness_mm``: δ, the bore is at r_m − δ/2. ``rim_layers`` (≥ 1)
+    element layers from the bore to r_m, ``tooth_layers`` (≥ 1) from r_m to the surface,
+    ``per_pitch`` (even) element columns per tooth pitch. ``waves`` must be 2 (two symmetry
+    cuts). ``check_intorder``: the Gauss rule whose points (with the 9 nodes) the Jacobian is
+    checked at.
+
+    Returns a :class:`ToothedRimMesh`, which unpacks as ``(mesh, th, r)``.
+    """
+    start = time.perf_counter()
+    from skfem import MeshQuad, MeshQuad2
+    from skfem.mapping import MappingIsoparametric
+    from skfem.quadrature import get_quadrature
+
+    for name in ("teeth", "neutral_radius_mm", "dedendum_y_mm", "addendum_y_mm", "segments", "point"):
+        if not hasattr(tooth, name):
+            raise ToothedMeshError(f"tooth = {tooth!r}: must be a ToothProfile (has no {name!r})")
+    if isinstance(waves, bool) or waves != 2:
+        raise ToothedMeshError(
+            f"waves = {waves!r}: the quarter model needs U = 2 (two symmetry cuts at θ = 0 and π/2)")
+    z1 = int(tooth.teeth)
+    if z1 % 2:
+        raise ToothedMeshError(
+            f"tooth.teeth (z1) = {z1}: must be even — an odd tooth count is not symmetric about the "
+            "minor axis (θ = π/2), so the quarter model does not apply")
+    r_m = float(tooth.neutral_radius_mm)
+    try:
+        delta = float(rim_thickness_mm)
+    except (TypeError, ValueError) as exc:
+        raise ToothedMeshError(f"rim_thickness_mm = {rim_thickness_mm!r}: must be a number (mm)") from exc
+    if not (math.isfinite(delta) and 0.0 < delta < 2.0 * r_m):
+        raise ToothedMeshError(f"rim_thickness_mm = {rim_thickness_mm!r} mm: must be in (0, {2.0 * r_m:g})")
+    rim_layers = _whole("rim_layers", rim_layers, 1)
+    tooth_layers = _whole("tooth_layers", tooth_layers, 1)
+    per_pitch = _whole("per_pitch", per_pitch, 2, even=True)
+    check_intorder = _whole("check_intorder", check_intorder, 1)
+
+    r_bore = r_m - 0.5 * delta
+    n_half = per_pitch // 2
+    pieces, step, (psi_root, r_f, root_land_length), half_pitch = _pieces(tooth)
+    # the radial lines under the step must lean toward the mid-space: the step column's
+    # bottom right corner at least half a column left of the root point
+    f_root = psi_root / half_pitch
+    rl_min = max(1, math.floor(n_half * (1.0 - f_root) + 0.5) + 1)
+    minimum = [1] * len(pieces) + [rl_min]
+    need = sum(minimum) + 1  # + the step column
+    if need > n_half:
+        raise ToothedMeshError(
+            f"per_pitch = {per_pitch}: too few columns for this tooth; must be ≥ {2 * need} (top land, "
+            f"{len(pieces) - 1} flank segment(s), the radial root step and {rl_min} root-land column(s) per "
+            "half pitch)")
+    counts = _allocate([p[1] for p in pieces] + [root_land_length], minimum, n_half - 1)
+    names = [p[0] for p in pieces] + ["step", "root land"]
+    counts_all = counts[:-1] + [1, counts[-1]]
+    edges = np.concatenate([[0], np.cumsum(counts_all)]).astype(float)  # column index of piece joins
+
+    n_s = per_pitch * z1 // 4  # circumferential elements in the quarter
+    c = 0.5 * math.pi / n_s  # angle per column at the bottom
+    psi_mid = n_half * c  # = π/z1 up to round-off; the mid-space line of the bottom
+
+    curves = [p[2] for p in pieces] + [step]
+
+    def root_land(u):
+        return (1.0 - u) * psi_root + u * psi_mid, np.full_like(u, r_f)
+
+    curves.append(root_land)
+
+    def top(sigma):
+        """(ψ, ρ) of the surface at column coordinate σ ∈ [−n_half, n_half] of a pitch."""
+        a = np.abs(sigma)
+        idx = np.clip(np.searchsorted(edges, a, side="right") - 1, 0, len(curves) - 1)
+        psi = np.empty_like(a)
+        rho = np.empty_like(a)
+        for k, curve in enumerate(curves):
+            sel = idx == k
+            if sel.any():
+                u = (a[sel] - edges[k]) / (edges[k + 1] - edges[k])
+                psi[sel], rho[sel] = curve(u)
+        return np.where(sigma < 0, -psi, psi), rho
+
+    # structured grid in index space (s, j), counter-clockwise elements
+    n_j = rim_layers + tooth_layers
+    s_idx, j_idx = np.meshgrid(np.arange(n_s + 1), np.arange(n_j + 1), indexing="ij")
+    p = np.vstack([s_idx.ravel(), j_idx.ravel()]).astype(float)
+    node = np.arange((n_s + 1) * (n_j + 1)).reshape(n_s + 1, n_j + 1)
+    t = np.vstack([node[:-1, :-1].ravel(), node[1:, :-1].ravel(), node[1:, 1:].ravel(), node[:-1, 1:].ravel()])
+    quad = MeshQuad2.from_mesh(MeshQuad(p, t))
+    s, j = quad.doflocs  # half-integers, exact
+
+    th = s * c
+    r = np.empty_like(s)
+    inner = j <= rim_layers
+    a = j[inner] / rim_layers
+    r[inner] = (1.0 - a) * r_bore + a * r_m
+    outer = ~inner
+    eta = (j[outer] - rim_layers) / tooth_layers
+    pitch = np.floor((s[outer] + n_half) / per_pitch)
+    sigma = s[outer] - pitch * per_pitch
+    psi_t, rho_t = top(sigma)
+    th[outer] = th[outer] + eta * (psi_t - sigma * c)
+    r[outer] = (1.0 - eta) * r_m + eta * rho_t
+    th[s == 0] = 0.0
+    minor = s == n_s
+    th[minor] = 0.5 * math.pi
+    x = r * np.sin(th)
+    y = r * np.cos(th)
+    x[minor], y[minor] = r[minor], 0.0
+    mesh = replace(quad, doflocs=np.ascontiguousarray(np.vstack([x, y])))
+
+    # Jacobians at the points of the check rule
+    # (a quadratic element can fold over near an edge while det J > 0 at every Gauss point,
+    # so its 9 nodes are checked too)
+    X = np.hstack([get_quadrature(mesh.elem.refdom, check_intorder)[0], mesh.elem().doflocs.T])
+    det = MappingIsoparametric(mesh, mesh.elem()).detDF(X)  # (elements, points)
+    worst = np.min(det, axis=1)
+    if not np.all(worst > 0.0):
+        e = int(np.argmin(worst))
+        centre = mesh.doflocs[:, mesh.t[:, e]].mean(axis=1)
+        col = int(p[0, t[0, e]]) % per_pitch
+        raise InvertedElementError(
+            f"toothed_quarter_mesh: element {e} has det J = {worst[e]:.3g} mm² ≤ 0 (at a Gauss point or node) "
+            f"(centre θ = {math.degrees(math.atan2(centre[0], centre[1])):.5g}°, r = {math.hypot(*centre):.6g} mm, "
+            f"column {col} of the pitch, layer {int(p[1, t[0, e]])}); change per_pitch = {per_pitch} or "
+            f"tooth_layers = {tooth_layers} (columns per half pitch: {dict(zip(names, counts_all))})")
+    ratio = float(np.min(worst / np.max(det, axis=1)))
+
+    def line(sel, key):
+        idx = np.flatnonzero(sel)
+        return idx[np.argsort(key[idx], kind="stable")]
+
+    top_j = float(n_j)
+    result = ToothedRimMesh(
+        mesh=mesh,
+        th=th,
+        r=r,
+        bore_nodes=line(j == 0, th),
+        neutral_nodes=line(j == rim_layers, th),
+        surface_nodes=line(j == top_j, th),
+        major_cut_nodes=line(s == 0, r),
+        minor_cut_nodes=line(minor, r),
+        teeth=z1,
+        per_pitch=per_pitch,
+        rim_layers=rim_layers,
+        tooth_layers=tooth_layers,
+        columns=tuple(zip(names, counts_all)),
+        bore_radius_mm=r_bore,
+        neutral_radius_mm=r_m,
+        root_radius_mm=r_f,
+        min_jacobian=float(np.min(worst)),
+        jacobian_ratio=ratio,
+        time_s=time.perf_counter() - start,
+    )
+    log.debug("toothed rim mesh: %d elements, %d nodes, columns %s, det J ≥ %.3g, ratio %.3g, %.3g s",
+              result.elements, result.nodes, result.columns, result.min_jacobian, ratio, result.time_s)
+    return result
