@@ -1,8 +1,9 @@
 """design(gearset, scene) → Design: every stage, its tier, time and error estimate.
 
-Scenes pick a fidelity tier per stage (DESIGN.md, "Scenes"). Until the FEM rim and
-the deformation fitter land, every scene uses the ring-theory deformation (the
-`sketch` tier) and says so in ``Design.warnings``.
+Scenes pick a fidelity tier per stage (DESIGN.md, "Scenes"): the rim tier (ring theory,
+nonlinear flat-ring FEM, toothed-rim FEM; :mod:`profilegen.rim.stage`) and its Fourier
+fit, the envelope's chord tolerance and grids, the number of FS poses the fitted profile is
+checked against.
 """
 
 from __future__ import annotations
@@ -18,13 +19,13 @@ from typing import Callable
 
 import numpy as np
 
-from .deformation import ring_theory
 from .envelope import Envelope, envelope_of
 from .errors import ConvergenceError, ExportError, GearSetError
 from .gearform import CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import FIT_METHODS, GearSet
 from .contour import Arc, Chain, Line, Polyline
 from .kinematics import HarmonicDriveMotion
+from .rim.stage import RimDeformation, solve_rim
 from .teeth import tooth_from_gearset
 
 __all__ = ["Scene", "SCENES", "StageReport", "CSProfile", "Design", "design", "write_design"]
@@ -53,7 +54,7 @@ class Scene:
 SCENES: dict[str, Scene] = {
     "sketch": Scene("sketch", "ring theory", 1e-4, 48, 121, 91, False, "interactive use and sweeps: analytic rim, coarse envelope", 181),
     "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False, "the default: 1 nm envelope, classified", 721),
-    "verify": Scene("verify", "toothed-rim FEM", 1e-7, 192, 481, 721, True, "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001),
+    "verify": Scene("verify", "toothed-rim FEM (nonlinear)", 1e-7, 192, 481, 721, True, "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001),
 }
 
 
@@ -148,6 +149,7 @@ class Design:
     stages: tuple[StageReport, ...]
     warnings: tuple[str, ...] = field(default_factory=tuple)
     profile: "CSProfile | None" = None
+    rim: RimDeformation | None = None
 
     @property
     def time_s(self) -> float:
@@ -171,6 +173,7 @@ class Design:
             "time_s": self.time_s,
             "tooth": self.tooth.to_dict(),
             "deformation": self.deformation.to_dict(),
+            "rim": None if self.rim is None else {k: v for k, v in self.rim.to_dict().items() if k != "fem"},
             "envelope": {
                 "counts": counts,
                 "ridges": [r.to_dict() for r in env.ridges],
@@ -225,14 +228,24 @@ def design(
 
     step("deformation")
     t0 = time.perf_counter()
-    deformation = ring_theory(gearset.deflection_mm, g.waves)
-    note = ""
-    if scene.rim != "ring theory":
-        note = f"scene {scene.name!r} asks for the {scene.rim} rim, which is not built yet: ring theory used"
-        warnings.append(note)
-        log.info(note)
-    stages.append(StageReport("deformation", "ring theory", 2, time.perf_counter() - t0, None,
-                              "none: ring theory is the model itself (no FEM reference yet)", note))
+    rim = solve_rim(gearset, tier=scene.name)
+    deformation = rim.model
+    warnings += list(rim.warnings)
+    if rim.fem is None:
+        stages.append(StageReport("rim", rim.tier.label(), 0, time.perf_counter() - t0, None, rim.error_measure))
+    else:
+        fem = rim.fem
+        stages.append(StageReport(
+            "rim", rim.tier.label(), rim.dof, time.perf_counter() - t0 - rim.fit_time_s, rim.error_estimate_mm,
+            rim.error_measure,
+            f"FEM solve {rim.fem_time_s:.3f} s ({len(fem.newton_steps_mm)} Newton iterations), the rest is the "
+            f"coarser-mesh solve for the error estimate; contact angle {fem.contact_angle_deg:.1f}° (ill-conditioned)"))
+        fit = rim.model
+        stages.append(StageReport(
+            "deformation fit", f"Fourier, order {fit.order} (criterion {fit.selection.criterion})",
+            2 * fit.order + 1, rim.fit_time_s,
+            max(fit.omega_stats.max_error_mm, fit.upsilon_stats.max_error_mm),
+            "max |fit − FEM sample| of ω and υ (mm)"))
     motion = HarmonicDriveMotion.from_gearset(gearset, deformation)
 
     step("envelope")
@@ -277,7 +290,7 @@ def design(
     if profile.clearance.min_mm < -1e-6:
         warnings.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} µm "
                         f"at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
-    return Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile)
+    return Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim)
 
 
 def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CSProfile:
@@ -383,6 +396,9 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
         cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
         export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
         export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
+        from .report import deformation_fit_dict
+
+        export.write_json(staging / "deformation_fit.json", deformation_fit_dict(result))
         if figure:
             from .report import fit_report_html
 

@@ -271,6 +271,10 @@ class DeformationFit:
         return self.model.tier
 
     @property
+    def source(self) -> str:
+        return self.model.source
+
+    @property
     def waves(self) -> int:
         return self.model.waves
 

@@ -31,14 +31,26 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
     assert res.returncode == 0, res.stderr
     out = tmp_path / "export" / "default"
     assert sorted(p.name for p in out.iterdir()) == [
-        "assembly.dxf", "circular_spline.csv", "circular_spline.dxf", "circular_spline.svg", "design.json",
-        "envelope.csv", "envelope.png", "fit_report.html", "profile_fit.json", "tooth_space.dxf",
+        "assembly.dxf", "circular_spline.csv", "circular_spline.dxf", "circular_spline.svg", "deformation_fit.json",
+        "design.json", "envelope.csv", "envelope.png", "fit_report.html", "profile_fit.json", "tooth_space.dxf",
     ]
     data = json.loads((out / "design.json").read_text())
     assert data["gearset"]["name"] == "default"
-    for stage in ("tooth", "deformation", "envelope", "gearform"):
-        assert data["stages"][stage]["time_s"] >= 0
-    assert "ring theory used" in " ".join(data["warnings"])  # design scene says it ran the sketch tier
+    for stage in ("tooth", "rim", "deformation fit", "envelope", "gearform", "arcfit"):
+        record = data["stages"][stage]
+        assert record["time_s"] >= 0 and record["tier"] and record["error_measure"]
+    # the design scene: nonlinear flat-ring FEM + Fourier fit, each with dof and an error estimate
+    rim, fit = data["stages"]["rim"], data["stages"]["deformation fit"]
+    assert rim["tier"].startswith("nonlinear flat ring FEM") and rim["dof"] > 1000
+    assert 0 < rim["error_estimate"] < 1e-3  # mm
+    assert fit["tier"].startswith("Fourier") and 0 < fit["error_estimate"] < 1e-3
+    assert not any("ring theory used" in w for w in data["warnings"])
+    deformation = json.loads((out / "deformation_fit.json").read_text())
+    assert deformation["fourier"]["order"] >= 1 and len(deformation["samples"]["phi_deg"]) > 100
+    assert deformation["bore_omega_at_major_axis_mm"] == pytest.approx(0.5, abs=1e-6)  # trap 7
+    assert "ill-conditioned" in deformation["contact_angle_warning"]
+    report = (out / "fit_report.html").read_text()
+    assert "Deformation: nonlinear flat ring FEM" in report and "0.553" in report
     # the CSV holds the classified envelope, in mm and rad
     header = (out / "envelope.csv").read_text().splitlines()[0]
     assert header == "x_mm,y_mm,phi_rad,class"

@@ -1,9 +1,34 @@
 """Rim deformation models: the flexspline rim pressed onto the wave-generator contour.
 
-* :mod:`profilegen.rim.ring` — linear 2D plane-stress ring FEM (scikit-fem) with
-  unilateral frictionless contact on a rigid contour (:func:`solve_ring`).
+* :mod:`profilegen.rim.stage` — the pipeline stage :func:`solve_rim` (tiers sketch / design /
+  verify) → :class:`RimDeformation` (FEM samples, Fourier fit, general sine fit, estimate).
+* :mod:`profilegen.rim.ring` — 2D plane-stress quarter-ring FEM (scikit-fem), linear or
+  geometrically nonlinear, unilateral frictionless contact on a rigid contour (:func:`solve_ring`).
+* :mod:`profilegen.rim.nonlinear` — total Lagrangian St Venant–Kirchhoff force and tangent.
+* :mod:`profilegen.rim.toothed` — mapped mesh of the toothed rim (:func:`toothed_quarter_mesh`).
+* :mod:`profilegen.rim.oracle` — the inextensible thin ring on a cam with partial wrap
+  (:func:`inextensible_ring_on_cam`), the analytic limit the FEM converges to.
 """
 
+from .oracle import InadmissibleContactError, OracleResult, inextensible_ring_on_cam
 from .ring import ConvergenceError, RingError, RingParameters, RingResult, solve_ring
+from .stage import RIM_TIERS, RimDeformation, RimTier, solve_rim
+from .toothed import ToothedMeshError, ToothedRimMesh, toothed_quarter_mesh
 
-__all__ = ["ConvergenceError", "RingError", "RingParameters", "RingResult", "solve_ring"]
+__all__ = [
+    "RIM_TIERS",
+    "ConvergenceError",
+    "InadmissibleContactError",
+    "OracleResult",
+    "RimDeformation",
+    "RimTier",
+    "RingError",
+    "RingParameters",
+    "RingResult",
+    "ToothedMeshError",
+    "ToothedRimMesh",
+    "inextensible_ring_on_cam",
+    "solve_rim",
+    "solve_ring",
+    "toothed_quarter_mesh",
+]

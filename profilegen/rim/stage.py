@@ -1,0 +1,195 @@
+"""The rim stage: ``solve_rim(gearset, tier=...) -> RimDeformation`` (ω, υ samples + fits).
+
+Tiers (DESIGN.md "Scenes"; numbers from ``python tests/benchmarks/rim.py``):
+
+========  ===========================================================  ==========================
+tier      rim model                                                    fit
+========  ===========================================================  ==========================
+sketch    ring theory, ω = w0 cos Uφ, υ = −(w0/U) sin Uφ (analytic)    none (it is the model)
+design    flat ring FEM, geometrically nonlinear, unilateral contact   Fourier, order ≤ 32
+verify    toothed-rim FEM, nonlinear, refined                          Fourier + general sine
+========  ===========================================================  ==========================
+
+Every FEM tier reports an error estimate: the largest change of ω or υ on the neutral line
+when the circumferential divisions are halved (flat ring: the mesh-convergence error of the
+coarser mesh; that of the tier's own mesh is smaller, by ~2^p − 1 with p ≈ 2–3 observed) or,
+on the toothed rim, when the element columns per pitch go from 16 to 14 (a mesh that
+cannot be halved: 14 is the fewest the default tooth takes). The FEM
+models need two symmetry planes (U = 2); other wave counts fall back to ring theory with
+a warning. The contour comes from :func:`profilegen.wavegen.from_gearset`.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import series
+from ..deformation import ring_theory
+from .ring import WRAP_WARNING, RingResult, solve_ring
+
+__all__ = ["RIM_TIERS", "RimDeformation", "RimTier", "solve_rim"]
+
+log = logging.getLogger(__name__)
+
+
+@dataclass(frozen=True, slots=True)
+class RimTier:
+    """Model and mesh of one rim tier."""
+
+    name: str
+    model: str  # "ring theory" | "flat" | "toothed"
+    geometry: str = "nonlinear"
+    layers: int = 4
+    divisions: int = 64
+    max_order: int = 32
+    sine_fit: bool = False  # also fit seed 004's general sine series (reported, not used)
+    tooth_layers: int = 2
+    per_pitch: int = 16  # toothed: element columns per tooth pitch (≥ 14 for the default DCTA tooth)
+
+    def label(self) -> str:
+        if self.model == "ring theory":
+            return "ring theory (analytic)"
+        mesh = (f"{self.layers}×{self.divisions}" if self.model == "flat"
+                else f"toothed, {self.per_pitch}/pitch, {self.layers}+{self.tooth_layers} layers")
+        return f"{self.geometry} {self.model} ring FEM ({mesh})"
+
+
+RIM_TIERS: dict[str, RimTier] = {
+    "sketch": RimTier("sketch", "ring theory"),
+    "design": RimTier("design", "flat", layers=4, divisions=64, max_order=32),
+    "verify": RimTier("verify", "toothed", layers=2, divisions=0, max_order=40, sine_fit=True,
+                      tooth_layers=2, per_pitch=16),
+}
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class RimDeformation:
+    """Result of the rim stage.
+
+    ``model``: the deformation model the kinematics uses (a Fourier :class:`~profilegen.
+    series.DeformationFit`, or ring theory). ``fem``: the FEM solution (None for ring
+    theory); ``coarse``: the FEM solution on the halved mesh behind ``error_estimate_mm``.
+    ``sine``: seed 004's general sine series on the same samples (verify tier) or None.
+    ``reference``: ring theory with the same w0, for the report.
+    """
+
+    tier: RimTier
+    model: object
+    fem: RingResult | None
+    coarse: RingResult | None
+    sine: object
+    reference: object
+    fem_time_s: float
+    fit_time_s: float
+    error_estimate_mm: float | None
+    error_measure: str
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def dof(self) -> int:
+        return 0 if self.fem is None else self.fem.dof
+
+    @property
+    def samples(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """FEM samples (φ, ω, υ) mirrored to one wave period 0 ≤ φ < π (empty for ring theory)."""
+        if self.fem is None:
+            return np.zeros(0), np.zeros(0), np.zeros(0)
+        return _period(self.fem)
+
+    def to_dict(self) -> dict:
+        return {
+            "tier": self.tier.name,
+            "model": self.tier.label(),
+            "dof": self.dof,
+            "fem_time_s": self.fem_time_s,
+            "fit_time_s": self.fit_time_s,
+            "error_estimate_mm": self.error_estimate_mm,
+            "error_measure": self.error_measure,
+            "fem": None if self.fem is None else self.fem.to_dict(),
+            "fourier": self.model.to_dict() if hasattr(self.model, "to_dict") else None,
+            "sine": None if self.sine is None else self.sine.to_dict(),
+            "warnings": list(self.warnings),
+        }
+
+
+def _period(res: RingResult):
+    phi, w, u = res.phi_rad, res.omega_mm, res.upsilon_mm
+    inner = slice(1, -1)
+    return (np.concatenate([phi, math.pi - phi[inner][::-1]]), np.concatenate([w, w[inner][::-1]]),
+            np.concatenate([u, -u[inner][::-1]]))
+
+
+def _solve(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult:
+    if tier.model == "flat":
+        divisions = tier.divisions // 2 if coarse else tier.divisions
+        return solve_ring(gearset, contour=contour, layers=tier.layers, divisions=divisions,
+                          geometry=tier.geometry, tier=f"{tier.geometry} flat ring FEM")
+    from ..teeth import tooth_from_gearset
+    from .toothed import toothed_quarter_mesh
+
+    # the toothed mesh needs ≥ 14 columns per pitch for the default tooth (one per flank
+    # segment, top land, root step, root land): the coarse mesh has 2 columns fewer
+    per_pitch = tier.per_pitch - 2 if coarse else tier.per_pitch
+    mesh = toothed_quarter_mesh(tooth_from_gearset(gearset), gearset.gear.rim_thickness_mm,
+                                rim_layers=tier.layers, tooth_layers=tier.tooth_layers, per_pitch=per_pitch)
+    return solve_ring(gearset, contour=contour, mesh=mesh, geometry=tier.geometry,
+                      tier=f"{tier.geometry} toothed ring FEM")
+
+
+def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
+    """ω(φ), υ(φ) of the gear set's rim on its wave generator, fitted for the kinematics."""
+    from ..errors import GearSetError
+    from ..wavegen import from_gearset
+
+    if isinstance(tier, str):
+        if tier not in RIM_TIERS:
+            raise GearSetError(f"rim tier = {tier!r}: must be one of {', '.join(RIM_TIERS)}")
+        tier = RIM_TIERS[tier]
+    w0, waves = gearset.deflection_mm, gearset.gear.waves
+    reference = ring_theory(w0, waves)
+    warnings: list[str] = []
+    if tier.model != "ring theory" and waves != 2:
+        note = (f"the {tier.label()} needs two symmetry planes (gear.waves = 2); gear.waves = {waves}: "
+                "ring theory used")
+        warnings.append(note)
+        log.info(note)
+        tier = RIM_TIERS["sketch"]
+    if tier.model == "ring theory":
+        return RimDeformation(tier, reference, None, None, None, reference, 0.0, 0.0, None,
+                              "none: ring theory is the model itself", tuple(warnings))
+
+    contour = from_gearset(gearset)
+    t0 = time.perf_counter()
+    fem = _solve(gearset, tier, contour, coarse=False)
+    fem_time = time.perf_counter() - t0
+    coarse = _solve(gearset, tier, contour, coarse=True)
+    # the coarse samples are every other node of the fine ones where the meshes nest;
+    # compare through the fine-mesh angles by interpolation otherwise
+    d_w = np.max(np.abs(np.interp(fem.phi_rad, coarse.phi_rad, coarse.omega_mm) - fem.omega_mm))
+    d_u = np.max(np.abs(np.interp(fem.phi_rad, coarse.phi_rad, coarse.upsilon_mm) - fem.upsilon_mm))
+    error = float(max(d_w, d_u))
+    measure = ("max |Δω|, |Δυ| on the neutral line between this mesh and one with half the circumferential "
+               "divisions (mm; an upper estimate of this mesh's discretisation error)" if tier.model == "flat" else
+               f"max |Δω|, |Δυ| on the neutral line between {tier.per_pitch} and {tier.per_pitch - 2} element columns "
+               "per tooth pitch (mm)")
+    t0 = time.perf_counter()
+    phi, w, u = _period(fem)
+    fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
+    sine = None
+    if tier.sine_fit:
+        from ..series import GeneralSineDeformation, fit_sine_series
+
+        sine = GeneralSineDeformation(fit_sine_series(phi, w, terms=3), fit_sine_series(phi, u, terms=3),
+                                      waves=waves, tier=tier.name)
+    fit_time = time.perf_counter() - t0
+    # "order picked = max_order": the wrap edge (a jump of ω'') holds every harmonic; the fit
+    # residual is reported as the fit stage's error instead of as a warning
+    warnings += [w_ for w_ in fem.warnings if w_ != WRAP_WARNING]
+    warnings += [w_ for w_ in fit.warnings if not w_.startswith("order picked")]
+    return RimDeformation(tier, fit, fem, coarse, sine, reference, fem_time, fit_time, error, measure,
+                          tuple(warnings))
