@@ -18,16 +18,18 @@ __all__ = ["deformation_fit_dict", "deformation_section_html", "fit_report_html"
 # Seed 004 reports ω_max = 0.553 mm for w0 = 0.5 mm. What the 2D experiments show
 # (python tests/benchmarks/rim_wmax.py; numbers there and in the README):
 WMAX_FINDING = (
-    "Seed 004 reports ω_max = 0.553 mm for w0 = 0.5 mm. In 2D no modelling choice we tried reaches it: a flat "
-    "or toothed rim on the rigid offset-ellipse contour keeps the major axis in contact, so ω(0) = w0 at the bore "
-    "(+19 nm on the neutral line from the Poisson thickening, the same with geometric nonlinearity); a cam whose "
-    "perimeter does not match the bore's changes ω(0) by µm; a compliant flex bearing can only lower ω(0) (the "
-    "contact force there is compressive). The +53 µm (+10.6 %) — with the minor axis at −0.557 mm and "
-    "|υ|max = 0.293 mm read 'at the cup's open end', i.e. the whole deformation scaled by ≈ 1.1 — matches a 3D "
-    "coning effect: the cup's generators tilt about the diaphragm (the seed says so), the cam pushes along its "
-    "contact line, and a section nearer the open end deflects in proportion to its distance from the diaphragm "
-    "(ω ∝ z: the read section 10.6 % farther out than the contact line, e.g. 7.7 mm on an 80 mm cup). A 2D rim "
-    "model cannot produce it; w0 here is the deflection at the wave generator's contact section."
+    "Seed 004 reports ω_max = 0.553 mm for w0 = 0.5 mm. No 2D modelling choice we tried reaches it "
+    "(python tests/benchmarks/rim_wmax.py): on the rigid offset-ellipse contour — flat or toothed rim, linear or "
+    "nonlinear, with or without a 5 mm flex-bearing offset — on ring theory's cosine cam, on an ellipse whose "
+    "perimeter exceeds the bore's and on two rollers, the bore stays on the contour at the major axis, so ω(0) = w0 "
+    "at the bore and w0 + 3…22 nm on the neutral line (Poisson thickening). A compliant flex bearing can only "
+    "lower ω(0): the contact force there presses the rim onto it. The seed's three numbers — ω(0) = 0.553, "
+    "ω(90°) = −0.557 and |υ|max = 0.293 mm, read 'at the cup's open end' — exceed ring theory by 11 %, 11 % and "
+    "17 %: the whole pattern is scaled up, which a 3D cup does and a 2D ring cannot. Its generators tilt about the "
+    "diaphragm (the seed says so), the cam pushes at its contact line, and a section nearer the open end deflects "
+    "in proportion to its distance from the diaphragm; ω(0) = 0.553 mm puts the read section 10.6 % farther out "
+    "than the contact line (7.7 mm on an 80 mm cup). In profilegen w0 is the deflection at the wave generator's "
+    "contact section, and a flat rim on a rigid cam reproduces it exactly."
 )
 
 
@@ -169,22 +171,31 @@ def _deformation_figures(rim, deformation) -> tuple[str, str]:
         ax.grid(True, lw=0.3, alpha=0.5)
     axes[0].legend(fontsize=7)
     samples_png = figure_png(fig)
-    fig, axes = _figure(7.0, 3.4, ncols=2)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(7.0, 5.6), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(2, 2, sharex=True)
     fw_s, fu_s = rim.model.evaluate(phi_s, order=0)
     tw_s, tu_s = rim.reference.evaluate(phi_s, order=0)
-    for ax, s, f, t, name in ((axes[0], w_s, fw_s, tw_s, "ω"), (axes[1], u_s, fu_s, tu_s, "υ")):
-        ax.plot(np.degrees(phi_s), (f[0] - s) * 1e3, lw=1, label="Fourier − FEM")
-        if rim.sine is not None:
-            sw, su = rim.sine.evaluate(phi_s, order=0)
-            ax.plot(np.degrees(phi_s), ((sw if name == "ω" else su)[0] - s) * 1e3, lw=1, ls="--", label="general sine − FEM")
-        ax.plot(np.degrees(phi_s), (t[0] - s) * 1e3, lw=0.8, color="C3", ls=":", label="ring theory − FEM")
-        ax.axvline(np.degrees(rim.fem.contact_angle_rad), color="0.6", lw=0.6)
-        ax.axvline(180 - np.degrees(rim.fem.contact_angle_rad), color="0.6", lw=0.6)
-        ax.set_xlabel("φ (deg); grey: end of the contact (wrap)")
-        ax.set_ylabel(f"{name} residual (µm)")
-        ax.set_yscale("symlog", linthresh=1e-3)
-        ax.grid(True, lw=0.3, alpha=0.5)
-    axes[0].legend(fontsize=7)
+    sine = rim.sine.evaluate(phi_s, order=0) if rim.sine is not None else None
+    edge = np.degrees(rim.fem.contact_angle_rad)
+    for col, (s, f, t, name) in enumerate(((w_s, fw_s, tw_s, "ω"), (u_s, fu_s, tu_s, "υ"))):
+        top, bottom = axes[0, col], axes[1, col]
+        top.plot(np.degrees(phi_s), (f[0] - s) * 1e6, lw=1, label="Fourier − FEM")
+        if sine is not None:
+            top.plot(np.degrees(phi_s), (sine[col][0] - s) * 1e6, lw=1, ls="--", label="general sine − FEM")
+        top.set_ylabel(f"{name}: fit − FEM (nm)")
+        bottom.plot(np.degrees(phi_s), (t[0] - s) * 1e3, lw=1, color="C3", label="ring theory − FEM")
+        bottom.set_ylabel(f"{name}: ring theory − FEM (µm)")
+        bottom.set_xlabel("φ (deg); grey: end of the contact (wrap)")
+        for ax in (top, bottom):
+            ax.axvline(edge, color="0.6", lw=0.6)
+            ax.axvline(180 - edge, color="0.6", lw=0.6)
+            ax.grid(True, lw=0.3, alpha=0.5)
+    axes[0, 0].legend(fontsize=7)
+    axes[1, 0].legend(fontsize=7)
     return samples_png, figure_png(fig)
 
 

@@ -124,6 +124,22 @@ def _period(res: RingResult):
             np.concatenate([u, -u[inner][::-1]]))
 
 
+def _mesh_change(fine: RingResult, coarse: RingResult) -> tuple[float, float]:
+    """Largest |Δω|, |Δυ| between two meshes' neutral-line samples: at the shared angles
+    where the meshes nest (a halved flat ring: every other node), else through a cubic
+    spline of the coarse samples (linear interpolation would add h²ω″/8 ≈ 0.15 µm at
+    64 divisions — more than the mesh error it is meant to measure)."""
+    from scipy.interpolate import CubicSpline
+
+    common, i_f, i_c = np.intersect1d(np.round(fine.phi_rad, 12), np.round(coarse.phi_rad, 12), return_indices=True)
+    if common.size == coarse.phi_rad.size:
+        return (float(np.max(np.abs(fine.omega_mm[i_f] - coarse.omega_mm[i_c]))),
+                float(np.max(np.abs(fine.upsilon_mm[i_f] - coarse.upsilon_mm[i_c]))))
+    w = CubicSpline(coarse.phi_rad, coarse.omega_mm)(fine.phi_rad)
+    u = CubicSpline(coarse.phi_rad, coarse.upsilon_mm)(fine.phi_rad)
+    return float(np.max(np.abs(w - fine.omega_mm))), float(np.max(np.abs(u - fine.upsilon_mm)))
+
+
 def _solve(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult:
     if tier.model == "flat":
         divisions = tier.divisions // 2 if coarse else tier.divisions
@@ -168,10 +184,7 @@ def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
     fem = _solve(gearset, tier, contour, coarse=False)
     fem_time = time.perf_counter() - t0
     coarse = _solve(gearset, tier, contour, coarse=True)
-    # the coarse samples are every other node of the fine ones where the meshes nest;
-    # compare through the fine-mesh angles by interpolation otherwise
-    d_w = np.max(np.abs(np.interp(fem.phi_rad, coarse.phi_rad, coarse.omega_mm) - fem.omega_mm))
-    d_u = np.max(np.abs(np.interp(fem.phi_rad, coarse.phi_rad, coarse.upsilon_mm) - fem.upsilon_mm))
+    d_w, d_u = _mesh_change(fem, coarse)
     error = float(max(d_w, d_u))
     measure = ("max |Δω|, |Δυ| on the neutral line between this mesh and one with half the circumferential "
                "divisions (mm; an upper estimate of this mesh's discretisation error)" if tier.model == "flat" else
