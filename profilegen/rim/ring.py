@@ -177,10 +177,15 @@ class RingResult:
     geometry: str = "linear"
     tier: str = "linear flat ring FEM"
     newton_steps_mm: tuple[float, ...] = ()
+    node_theta_rad: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    node_radius_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    node_omega_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    node_upsilon_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self):
         for name in ("phi_rad", "omega_mm", "upsilon_mm", "bore_phi_rad", "bore_omega_mm", "bore_upsilon_mm",
-                     "contact_phi_rad", "contact_force_n", "contact_normal"):
+                     "contact_phi_rad", "contact_force_n", "contact_normal", "node_theta_rad", "node_radius_mm",
+                     "node_omega_mm", "node_upsilon_mm"):
             object.__setattr__(self, name, _readonly(getattr(self, name)))
         object.__setattr__(self, "warnings", tuple(self.warnings))
 
@@ -196,6 +201,43 @@ class RingResult:
     @property
     def contact_angle_deg(self) -> float:
         return math.degrees(self.contact_angle_rad)
+
+    def at_radius(self, radius_mm: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(φ, ω, υ) at radius ``radius_mm`` instead of the neutral line, at the neutral-line angles.
+
+        Inside the part of the mesh whose node rows are whole circles (the flat ring from
+        bore to outer surface; the toothed rim from bore to r_m) the finite-element field
+        itself: quadratic in r along each node column, exactly as the 9-node elements
+        interpolate it. Beyond (the pitch circle, in the teeth or above a flat rim):
+        plane sections stay plane and normal (Kirchhoff), ω(r) = ω_m and
+        υ(r) = υ_m + (r − r_m)(υ_m − ω′_m)/r_m, ω′_m from a cubic spline of the neutral
+        samples (DESIGN.md: at the pitch circle υ differs from the neutral line by ~16 µm).
+        """
+        from scipy.interpolate import CubicSpline
+
+        r = _number("radius_mm", radius_mm, "mm", 0.0)
+        phi = self.phi_rad
+        cols = phi.size
+        keys = np.round(self.node_radius_mm, 9)
+        radii, counts = np.unique(keys, return_counts=True)
+        rows = radii[counts >= cols]
+        tol = 1e-9 * max(r, 1.0)
+        if rows.size >= 3 and rows[0] - tol <= r <= rows[-1] + tol:
+            table_w = np.empty((rows.size, cols))
+            table_u = np.empty((rows.size, cols))
+            for k, rk in enumerate(rows):
+                sel = np.flatnonzero(keys == rk)
+                order = np.argsort(self.node_theta_rad[sel])
+                sel = sel[order][np.searchsorted(self.node_theta_rad[sel][order], phi - 1e-12)]
+                table_w[k], table_u[k] = self.node_omega_mm[sel], self.node_upsilon_mm[sel]
+            first = min(2 * int((r - rows[0]) / (rows[2] - rows[0])), rows.size - 3)  # element rows 2k … 2k + 2
+            x = rows[first:first + 3]
+            basis = [np.prod([(r - x[j]) / (x[i] - x[j]) for j in range(3) if j != i]) for i in range(3)]
+            return (phi.copy(), sum(b * table_w[first + i] for i, b in enumerate(basis)),
+                    sum(b * table_u[first + i] for i, b in enumerate(basis)))
+        r_m = self.parameters.neutral_radius_mm
+        slope = CubicSpline(phi, self.omega_mm)(phi, 1)
+        return phi.copy(), self.omega_mm.copy(), self.upsilon_mm + (r - r_m) * (self.upsilon_mm - slope) / r_m
 
     @property
     def deflection_mm(self) -> float:
@@ -534,6 +576,7 @@ def solve_ring(
 
     phi, omega, upsilon = polar(mid)
     bphi, bomega, bups = polar(bore)
+    all_theta, all_omega, all_upsilon = polar(np.arange(ix.size))
     idx = np.flatnonzero(active)
     warnings = [WRAP_WARNING]
     elapsed = time.perf_counter() - start
@@ -566,4 +609,8 @@ def solve_ring(
         geometry=geometry,
         tier=tier,
         newton_steps_mm=tuple(newton_steps),
+        node_theta_rad=all_theta,
+        node_radius_mm=r,
+        node_omega_mm=all_omega,
+        node_upsilon_mm=all_upsilon,
     )

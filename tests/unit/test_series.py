@@ -198,6 +198,17 @@ def test_fourier_aicc_criterion_on_request():
 # --------------------------------------------------------------------------- seed 004
 
 
+def test_seed004_printed_coefficients_give_the_seeds_extremes():
+    """Issue 3: the printed table evaluates to ω ≈ 0.554 mm at φ = 0 (the seed's FEM: 0.553)
+    and |υ| ≈ 0.295 mm near 45° (0.293)."""
+    assert sine_sum(0.0, *SEED_OMEGA) == pytest.approx(0.554, abs=5e-4)
+    phi = np.radians(np.linspace(30.0, 60.0, 3001))
+    u = sine_sum(phi, *SEED_UPSILON)
+    k = int(np.argmax(np.abs(u)))
+    assert abs(u[k]) == pytest.approx(0.295, abs=5e-4)
+    assert math.degrees(phi[k]) == pytest.approx(45.0, abs=1.0)
+
+
 def test_seed004_printed_coefficients_are_not_periodic():
     """DESIGN.md trap 3: the printed υ drifts by ~0.019 mm over one turn."""
     d_upsilon = sine_sum(2 * math.pi, *SEED_UPSILON) - sine_sum(0.0, *SEED_UPSILON)
