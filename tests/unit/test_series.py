@@ -278,6 +278,25 @@ def test_sine_series_recovers_its_own_model(seed):
     assert abs(fit.stats.defect_mm) > 1e-3  # non-integer frequencies: not periodic
 
 
+@pytest.mark.parametrize("seed", [3, 4])
+def test_sine_series_on_noisy_samples(seed):
+    """White noise σ = 1 µm on the 3-term model: the fit's RMSE estimates σ (χ² with n − 9
+    degrees of freedom: within 10 % for n = 720), each frequency to 5 of its Cramér–Rao
+    standard deviations √12·σ/(a_i·2π·√n) (2e-3 rad⁻¹ for the 0.01 mm term), the amplitudes
+    to 5 σ/√(n/2), and the periodicity defect is that of the model to within the noise."""
+    a, b, c = OWN
+    sigma = 1e-3
+    rng = np.random.default_rng(seed)
+    y = sine_sum(PHI, a, b, c) + sigma * rng.standard_normal(N)
+    fit = fit_sine_series(PHI, y, terms=3, starts=10, seed=seed)
+    assert fit.stats.rmse_mm == pytest.approx(sigma, rel=0.1)
+    crlb = math.sqrt(12) * sigma / (a * 2 * math.pi * math.sqrt(N))
+    assert np.all(np.abs(fit.frequency_per_rad - b) < 5 * crlb)
+    np.testing.assert_allclose(fit.amplitude_mm, a, atol=5 * sigma / math.sqrt(N / 2))
+    expected = sine_sum(2 * math.pi, a, b, c) - sine_sum(0.0, a, b, c)
+    assert fit.stats.defect_mm == pytest.approx(expected, abs=5 * sigma)
+
+
 def test_sine_series_on_ring_theory_finds_two_waves_and_no_defect():
     omega, upsilon = ring_samples()
     fw = fit_sine_series(PHI, omega, terms=1, starts=4)
