@@ -70,3 +70,23 @@ def test_other_wave_counts_fall_back_to_ring_theory_with_a_warning(gearset):
 def test_unknown_tier_names_the_parameter(gearset):
     with pytest.raises(GearSetError, match="rim tier"):
         solve_rim(gearset, tier="fast")
+
+
+def test_toothed_tier_with_both_fitters(gearset):
+    """The verify path on a lighter mesh (linear, 16 → 14 columns per pitch for the estimate):
+    toothed FEM, Fourier fit used, general sine fit reported with its periodicity defect."""
+    from profilegen.rim import RimTier
+
+    tier = RimTier("verify", "toothed", geometry="linear", layers=2, divisions=0, max_order=40, sine_fit=True,
+                   tooth_layers=2, per_pitch=16)
+    rim = solve_rim(gearset, tier=tier)
+    assert rim.fem.tier == "linear toothed ring FEM" and rim.dof > 20000
+    # the 14-column mesh is not nested in the 16-column one: compared through a cubic spline
+    assert 1e-9 < rim.error_estimate_mm < 1e-4
+    assert "columns per tooth pitch" in rim.error_measure
+    sine = rim.sine
+    assert sine is not None and not sine.symmetric
+    assert sine.omega_fit.stats.r2 > 0.999999 and sine.upsilon_fit.stats.r2 > 0.999999
+    assert abs(rim.model.omega_stats.defect_mm) < 1e-13  # the Fourier fit is periodic …
+    assert max(abs(d) for d in sine.defect_mm) > 1e-7  # … the general sine series is not
+    json.dumps(rim.to_dict())
