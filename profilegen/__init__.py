@@ -17,8 +17,11 @@ The pipeline, stage by stage:
 >>> gs = pg.load_gearset(pg.default_gearset_path())
 >>> round(gs.gear.neutral_radius_mm, 9), gs.deflection_mm  # r_m = r1 − dedendum − rim/2
 (48.95, 0.5)
+>>> rim = pg.solve_rim(gs, tier="design")  # nonlinear ring FEM on the cam + Fourier fit
+>>> bool(abs(rim.fem.bore_omega_mm[0] - gs.deflection_mm) < 1e-6)  # the major axis stays on the cam
+True
 >>> tooth = pg.tooth_from_gearset(gs)
->>> motion = pg.HarmonicDriveMotion(pg.ring_theory(gs.deflection_mm, 2), 48.95, 2, 202)
+>>> motion = pg.HarmonicDriveMotion(rim.model, 48.95, 2, 202)
 >>> env = pg.envelope_of(tooth, motion, cs_teeth=202, waves=2, chord_tol_mm=1e-5)
 >>> sorted(env.counts())
 ['conjugate', 'interfering', 'tip_path']
@@ -34,6 +37,8 @@ from .gearform import CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import GearSet, default_gearset_path, list_profiles, load_gearset, parse_gearset, resolve_gearset
 from .kinematics import HarmonicDriveMotion, RackMotion
 from .pipeline import SCENES, Design, design, write_design
+from .rim import RimDeformation, solve_rim, solve_ring
+from .series import fit_fourier, fit_sine_series
 from .teeth import ToothProfile, dcta_tooth, involute_tooth, points_tooth, tooth_from_gearset
 
 __all__ = [
@@ -49,6 +54,7 @@ __all__ = [
     "HarmonicDriveMotion",
     "ProfilegenError",
     "RackMotion",
+    "RimDeformation",
     "SCENES",
     "ToothError",
     "ToothProfile",
@@ -58,6 +64,8 @@ __all__ = [
     "default_gearset_path",
     "design",
     "envelope_of",
+    "fit_fourier",
+    "fit_sine_series",
     "involute_tooth",
     "list_profiles",
     "load_gearset",
@@ -65,6 +73,8 @@ __all__ = [
     "points_tooth",
     "resolve_gearset",
     "ring_theory",
+    "solve_rim",
+    "solve_ring",
     "tooth_from_gearset",
     "write_design",
 ]
