@@ -1,0 +1,29 @@
+"""Loaded tooth contact (seed 000 §5): contact points, compliance, complementarity solve.
+
+* :mod:`profilegen.contact.solvers` — the solvers on (S, θ, r, T): :func:`solve_lemke` (the
+  package's solver), :func:`solve_qp_active_set` (cross-check), :func:`solve_naive_lp`
+  (the printed phase-1 LP, a negative example) → :class:`ContactSolution`.
+* :mod:`profilegen.contact.points` — the potential contact points of one engagement zone
+  of a design: FS flank stations against the fitted CS flank (:func:`contact_points`).
+"""
+
+from .points import ContactPointError, ContactPoints, contact_points
+
+from .solvers import (
+    ContactError,
+    ContactSolution,
+    solve_lemke,
+    solve_naive_lp,
+    solve_qp_active_set,
+)
+
+__all__ = [
+    "ContactError",
+    "ContactPointError",
+    "ContactPoints",
+    "contact_points",
+    "ContactSolution",
+    "solve_lemke",
+    "solve_naive_lp",
+    "solve_qp_active_set",
+]

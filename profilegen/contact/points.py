@@ -1,0 +1,192 @@
+"""Potential contact points of the loaded mesh: FS flank stations against the fitted CS flank.
+
+For the wave generator at ψ = 0 (major axis along +y), FS tooth i sits at φ_i = 2πi/z1
+from the major axis. By closure (DESIGN.md trap 1: successive FS teeth generate CS spaces
+2π/z2 apart) tooth i stands in CS space i exactly as the generating tooth stands in space 0
+at φ = φ_i: its CS-frame position is ``turn(pose(φ_i).to_cs(p), 2πi/z2)``. So every tooth is
+placed with the kinematics the CS profile was generated with, and the no-load deformation
+(the rim stage's fit) is in it.
+
+Engagement zone: the teeth around the major axis, −z1/(2U) < i ≤ z1/(2U) (one of the U
+zones; the U zones carry equal shares of the torque by the wave generator's U-fold
+symmetry, a rotation by 2π/U that maps the loads of one zone onto the next — so each
+zone takes T/U). Per tooth, ``stations`` points along the loaded FS flank from the start
+of its working part to the tip corner; for each, the initial separation e_k (mm) is the
+distance from the station to the fitted CS flank (the true arcs and lines of
+``design.profile.space``, sampled at 1 nm chord), measured along the FS flank's outward
+normal n_k (the common normal at contact). A rigid rotation Δφ of the FS relative to
+the CS closes the gap by r_k Δφ, r_k = (p × n)·(−z), the lever arm of the normal about
+the gear centre in the package's angle sense (+y toward +x); the loaded flank is the one
+whose lever arms are positive for the chosen direction of rotation. θ_k = e_k / r_k is the
+angular separation of seed 000.
+
+Only stations whose separation is below ``max_gap_mm`` are kept (farther ones cannot come
+into contact under any torque the teeth can carry; the default 0.05 mm is ~100× the
+elastic approach of the default set at its momentary torque).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ProfilegenError
+from ..kinematics import turn
+
+__all__ = ["ContactPoints", "ContactPointError", "contact_points"]
+
+
+class ContactPointError(ProfilegenError, ValueError):
+    """Bad input to the contact-point search; names the parameter, value, unit and range."""
+
+
+def _readonly(values, dtype=float) -> np.ndarray:
+    array = np.array(values, dtype=dtype)
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ContactPoints:
+    """Potential contact points, one row per (tooth, station), CS frame, mm and rad.
+
+    ``tooth``: FS tooth index i (its CS space is i); ``phi_rad``: φ_i = 2πi/z1;
+    ``t_mm``: arc length of the station on the FS flank (root → tip); ``local_mm``: the
+    station in the FS tooth frame (for the compliance model); ``fs_point_mm``: the
+    station in the CS frame; ``cs_point_mm``: the nearest point of the fitted CS flank;
+    ``normal``: unit common normal, pointing out of the FS tooth (the direction the FS
+    pushes); ``gap_mm``: initial separation e_k ≥ 0; ``lever_mm``: r_k > 0;
+    ``theta_rad``: e_k / r_k. ``side``: +1 (right FS flank loaded) or −1 (left);
+    ``rotation``: +1 if the loaded rotation of the FS is in the package's positive angle
+    sense (+y toward +x), −1 otherwise.
+    """
+
+    tooth: np.ndarray
+    phi_rad: np.ndarray
+    t_mm: np.ndarray
+    local_mm: np.ndarray
+    fs_point_mm: np.ndarray
+    cs_point_mm: np.ndarray
+    normal: np.ndarray
+    gap_mm: np.ndarray
+    lever_mm: np.ndarray
+    side: int
+    rotation: int
+    zones: int
+    stations: int
+    max_gap_mm: float
+
+    def __post_init__(self):
+        for name in ("phi_rad", "t_mm", "local_mm", "fs_point_mm", "cs_point_mm", "normal", "gap_mm", "lever_mm"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        object.__setattr__(self, "tooth", _readonly(self.tooth, int))
+
+    @property
+    def theta_rad(self) -> np.ndarray:
+        return self.gap_mm / self.lever_mm
+
+    @property
+    def count(self) -> int:
+        return int(self.tooth.size)
+
+    @property
+    def teeth(self) -> np.ndarray:
+        """The FS teeth with at least one point, in order."""
+        return np.unique(self.tooth)
+
+    def to_dict(self) -> dict:
+        return {
+            "count": self.count,
+            "teeth": self.teeth.tolist(),
+            "side": self.side,
+            "rotation": self.rotation,
+            "zones": self.zones,
+            "stations_per_tooth": self.stations,
+            "max_gap_mm": self.max_gap_mm,
+            "tooth": self.tooth.tolist(),
+            "phi_deg": np.degrees(self.phi_rad).tolist(),
+            "t_mm": self.t_mm.tolist(),
+            "gap_mm": self.gap_mm.tolist(),
+            "lever_mm": self.lever_mm.tolist(),
+            "fs_point_mm": self.fs_point_mm.tolist(),
+            "normal": self.normal.tolist(),
+        }
+
+
+def _flank_start(tooth, design) -> float:
+    """Arc length where the FS flank can first touch: the lowest station that ever comes
+    within reach of the CS tip circle (below it the FS flank is out of mesh)."""
+    t = np.linspace(0.0, tooth.length_mm, 801)
+    p = tooth.point(t)
+    r = np.hypot(p[:, 0], p[:, 1] + tooth.neutral_radius_mm)
+    # an FS point at tooth-frame radius r reaches at most r + w0 + (r − r_m)(…) ≈ r + w0
+    reach = r + design.gearset.deflection_mm
+    ok = np.flatnonzero(reach >= design.form.tip_radius_mm)
+    return float(t[ok[0]]) if ok.size else 0.0
+
+
+def contact_points(design, *, side: int = 1, stations: int = 9, max_gap_mm: float = 0.05) -> ContactPoints:
+    """The potential contact points of one engagement zone of ``design`` (a
+    :class:`profilegen.pipeline.Design` with a fitted CS profile). See the module docstring."""
+    import shapely
+
+    if side not in (1, -1):
+        raise ContactPointError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
+    if isinstance(stations, bool) or not isinstance(stations, (int, np.integer)) or stations < 2:
+        raise ContactPointError(f"stations = {stations!r}: must be a whole number ≥ 2 (points per tooth)")
+    try:
+        max_gap_mm = float(max_gap_mm)
+    except (TypeError, ValueError) as exc:
+        raise ContactPointError(f"max_gap_mm = {max_gap_mm!r}: must be a number (mm)") from exc
+    if not (math.isfinite(max_gap_mm) and max_gap_mm > 0.0):
+        raise ContactPointError(f"max_gap_mm = {max_gap_mm!r} mm: must be finite and > 0")
+    if design.profile is None:
+        raise ContactPointError("design: has no fitted CS profile (design.profile is None)")
+
+    g = design.gearset.gear
+    z1, z2, waves = g.flexspline_teeth, g.circular_spline_teeth, g.waves
+    tooth, motion = design.tooth, design.motion
+    space = design.profile.space.sample(1e-6)
+    cs_line = shapely.LineString(space)
+    shapely.prepare(cs_line)
+
+    t = np.linspace(_flank_start(tooth, design), tooth.length_mm, stations)
+    local, dp, _ = tooth.evaluate(t, side=side)
+    # outward normal of the flank in the tooth frame: the right flank runs root → tip with
+    # the tooth material on its left (−x side), so the outward normal is the tangent turned clockwise
+    n_local = np.column_stack([dp[:, 1], -dp[:, 0]]) * side
+    n_local /= np.linalg.norm(n_local, axis=1)[:, None]
+
+    half = z1 // (2 * waves)
+    teeth = np.arange(-half + 1, half + 1)
+    phis = 2.0 * math.pi * teeth / z1
+    pose = motion.pose(phis)
+    rows = []
+    for j, i in enumerate(teeth):
+        c, s = math.cos(pose.angle[j]), math.sin(pose.angle[j])
+        placed = np.column_stack([local[:, 0] * c + local[:, 1] * s, local[:, 1] * c - local[:, 0] * s]) + pose.origin[j]
+        normal = np.column_stack([n_local[:, 0] * c + n_local[:, 1] * s, n_local[:, 1] * c - n_local[:, 0] * s])
+        gap = shapely.distance(shapely.points(placed), cs_line)
+        keep = np.flatnonzero(gap <= max_gap_mm)
+        if keep.size == 0:
+            continue
+        foot = np.array([np.asarray(cs_line.interpolate(cs_line.project(shapely.Point(*placed[k]))).coords[0])
+                         for k in keep])
+        angle = 2.0 * math.pi * i / z2
+        rows.append((np.full(keep.size, i), np.full(keep.size, phis[j]), t[keep], local[keep],
+                     turn(placed[keep], angle), turn(foot, angle), turn(normal[keep], angle), gap[keep]))
+    if not rows:
+        raise ContactPointError(
+            f"max_gap_mm = {max_gap_mm} mm: no FS flank station comes that close to the CS flank in the engagement zone"
+        )
+    tooth_i, phi_i, t_k, local_k, fs_k, cs_k, n_k, gap_k = (np.concatenate(c) for c in zip(*rows))
+    # lever arm in the package's angle sense: a rotation dα of the FS moves p by dα (p_y, −p_x)
+    lever = fs_k[:, 1] * n_k[:, 0] - fs_k[:, 0] * n_k[:, 1]
+    rotation = 1 if np.median(lever) > 0 else -1
+    lever = rotation * lever
+    ok = lever > 1e-3 * g.pitch_radius_mm  # a normal through the centre cannot carry torque
+    sel = np.flatnonzero(ok)
+    return ContactPoints(tooth_i[sel], phi_i[sel], t_k[sel], local_k[sel], fs_k[sel], cs_k[sel], n_k[sel],
+                         np.maximum(gap_k[sel], 0.0), lever[sel], side, rotation, waves, stations, max_gap_mm)

@@ -1,0 +1,67 @@
+"""Potential contact points (profilegen.contact.points): geometry checks against the kinematics."""
+
+import math
+
+import numpy as np
+import pytest
+
+import profilegen as pg
+from profilegen.contact.points import ContactPointError, contact_points
+from profilegen.kinematics import turn
+
+
+@pytest.fixture(scope="module")
+def design():
+    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch")
+
+
+def test_points_lie_on_the_placed_fs_flank_and_near_the_cs_flank(design):
+    cp = contact_points(design)
+    g = design.gearset.gear
+    # each FS point is its tooth's flank station placed by the kinematics, in space i
+    pose = design.motion.pose(cp.phi_rad)
+    back = turn(cp.fs_point_mm, -2 * math.pi * cp.tooth / g.circular_spline_teeth)
+    local = pose.to_tooth(back)
+    np.testing.assert_allclose(local, cp.local_mm, atol=1e-9)
+    # the CS foot is at the reported separation, and nowhere does the FS cut the one-sided CS
+    assert np.all(cp.gap_mm >= 0.0) and np.all(cp.gap_mm <= cp.max_gap_mm)
+    np.testing.assert_allclose(np.linalg.norm(cp.cs_point_mm - cp.fs_point_mm, axis=1), cp.gap_mm, atol=1e-9)
+    # unit normals, positive lever arms smaller than the tip radius of the FS
+    np.testing.assert_allclose(np.linalg.norm(cp.normal, axis=1), 1.0, atol=1e-12)
+    assert np.all(cp.lever_mm > 0) and np.all(cp.lever_mm < g.pitch_radius_mm + 1.0)
+    np.testing.assert_allclose(cp.theta_rad, cp.gap_mm / cp.lever_mm)
+
+
+def test_first_contact_is_near_zero_separation(design):
+    """The one-sided CS profile touches the FS tooth family (min clearance ~0 over the pass):
+    at the discrete teeth and stations the smallest separation is well below a µm."""
+    cp = contact_points(design)
+    assert cp.gap_mm.min() < 2e-3
+
+
+def test_left_flank_mirrors_the_right_flank(design):
+    """The motion is mirror-symmetric about the major axis (ω even, υ odd) and so is the CS
+    space: loading the left flanks gives the mirror image, teeth i ↔ −i, rotation reversed."""
+    right = contact_points(design, side=1)
+    left = contact_points(design, side=-1)
+    assert right.rotation == -left.rotation and right.count == left.count
+    r = np.lexsort((right.t_mm, right.tooth))
+    lft = np.lexsort((left.t_mm, -left.tooth))
+    np.testing.assert_array_equal(right.tooth[r], -left.tooth[lft])
+    np.testing.assert_allclose(right.gap_mm[r], left.gap_mm[lft], atol=1e-9)
+    np.testing.assert_allclose(right.lever_mm[r], left.lever_mm[lft], atol=1e-9)
+    mirror = np.array([-1.0, 1.0])
+    np.testing.assert_allclose(right.fs_point_mm[r], left.fs_point_mm[lft] * mirror, atol=1e-9)
+
+
+def test_a_smaller_cutoff_keeps_a_subset(design):
+    wide = contact_points(design, max_gap_mm=0.05)
+    narrow = contact_points(design, max_gap_mm=0.01)
+    assert 0 < narrow.count < wide.count and np.all(narrow.gap_mm <= 0.01)
+
+
+@pytest.mark.parametrize("kw, name", [({"side": 0}, "side"), ({"stations": 1}, "stations"),
+                                      ({"max_gap_mm": -1.0}, "max_gap_mm"), ({"max_gap_mm": 1e-12}, "max_gap_mm")])
+def test_bad_input_names_the_parameter(design, kw, name):
+    with pytest.raises(ContactPointError, match=name):
+        contact_points(design, **kw)
