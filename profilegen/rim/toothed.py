@@ -61,7 +61,8 @@ import numpy as np
 
 from .ring import RingError
 
-__all__ = ["InvertedElementError", "ToothedMeshError", "ToothedRimMesh", "toothed_quarter_mesh"]
+__all__ = ["InvertedElementError", "RingSectorMesh", "ToothedMeshError", "ToothedRimMesh", "fs_pitch_pieces", "pitch_surface",
+           "ring_sector_mesh", "toothed_half_ring_mesh", "toothed_quarter_mesh"]
 
 log = logging.getLogger(__name__)
 
@@ -389,3 +390,307 @@ def toothed_quarter_mesh(
     log.debug("toothed rim mesh: %d elements, %d nodes, columns %s, det J ≥ %.3g, ratio %.3g, %.3g s",
               result.elements, result.nodes, result.columns, result.min_jacobian, ratio, result.time_s)
     return result
+
+
+# --------------------------------------------------------------------------- half ring
+#
+# The quarter model above needs mirror symmetry about both axes. A loaded mesh (tooth
+# forces with tangential components) is only point-symmetric — u(θ + π) = R(π) u(θ) for a
+# two-wave set — so the contact compliance (:mod:`profilegen.contact.compliance`) needs
+# the half ring with a periodic tie of its cuts. The functions below build it; they do not
+# touch ``toothed_quarter_mesh``.
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class RingSectorMesh:
+    """A structured mapped mesh of a ring sector made of whole pitches (9-node quads).
+
+    ``s``, ``j``: structured-grid coordinates of every dof location (half-integers; s
+    along the ring, j across it, j = 0 on the inner boundary). ``th``, ``r``: undeformed
+    polar coordinates (θ from +y toward +x). ``inner_nodes``/``outer_nodes``: the node
+    lines j = 0 and j = n_j sorted by s; ``start_cut_nodes``/``end_cut_nodes``: s = 0 and
+    s = n_s sorted by j. ``pitch_columns``: element columns of each pitch;
+    ``toothed``: which pitches carry teeth (the others are a flat ring up to ``flat_radius_mm``).
+    """
+
+    mesh: object
+    s: np.ndarray
+    j: np.ndarray
+    th: np.ndarray
+    r: np.ndarray
+    inner_nodes: np.ndarray
+    outer_nodes: np.ndarray
+    start_cut_nodes: np.ndarray
+    end_cut_nodes: np.ndarray
+    pitch_columns: np.ndarray
+    toothed: np.ndarray
+    start_rad: float
+    pitch_rad: float
+    layers: int
+    min_jacobian: float
+    jacobian_ratio: float
+    time_s: float
+
+    def __post_init__(self):
+        for name in ("s", "j", "th", "r"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        for name in ("inner_nodes", "outer_nodes", "start_cut_nodes", "end_cut_nodes", "pitch_columns"):
+            object.__setattr__(self, name, _readonly(getattr(self, name), dtype=np.int64))
+        object.__setattr__(self, "toothed", _readonly(self.toothed, dtype=bool))
+
+    def __iter__(self):
+        return iter((self.mesh, self.th, self.r))
+
+    @property
+    def elements(self) -> int:
+        return int(self.mesh.t.shape[1])
+
+    @property
+    def nodes(self) -> int:
+        return int(self.th.size)
+
+    @property
+    def dof(self) -> int:
+        return 2 * self.nodes
+
+    def to_dict(self) -> dict:
+        return {
+            "pitches": int(self.pitch_columns.size),
+            "toothed_pitches": int(self.toothed.sum()),
+            "columns": int(self.pitch_columns.sum()),
+            "layers": self.layers,
+            "elements": self.elements,
+            "nodes": self.nodes,
+            "dof": self.dof,
+            "min_jacobian": self.min_jacobian,
+            "jacobian_ratio": self.jacobian_ratio,
+            "time_s": self.time_s,
+        }
+
+
+def pitch_surface(pieces: list[tuple[str, float, object]], columns: int, minimum: list[int] | None = None):
+    """The surface of one pitch as a function of the column coordinate.
+
+    ``pieces``: (name, length mm, curve) in order along the pitch, ``curve(u)`` (u ∈ [0, 1])
+    → polar (ψ, ρ) relative to the pitch centre. ``columns`` element columns are shared out
+    so that the longest element edge is as short as possible (at least ``minimum`` per
+    piece, default 1). Returns ``(top, counts)``: ``top(a)`` for a ∈ [0, columns] (the
+    column coordinate, nodes at whole and half values) → (ψ, ρ) arrays.
+    """
+    minimum = [1] * len(pieces) if minimum is None else list(minimum)
+    if sum(minimum) > columns:
+        raise ToothedMeshError(
+            f"columns per pitch = {columns}: too few for the {len(pieces)} pieces of the surface "
+            f"({', '.join(p[0] for p in pieces)}); must be ≥ {sum(minimum)}")
+    counts = _allocate([p[1] for p in pieces], minimum, columns)
+    edges = np.concatenate([[0], np.cumsum(counts)]).astype(float)
+    curves = [p[2] for p in pieces]
+
+    def top(a):
+        a = np.asarray(a, dtype=float)
+        idx = np.clip(np.searchsorted(edges, a, side="right") - 1, 0, len(curves) - 1)
+        psi = np.empty_like(a)
+        rho = np.empty_like(a)
+        for k, curve in enumerate(curves):
+            sel = idx == k
+            if sel.any():
+                psi[sel], rho[sel] = curve((a[sel] - edges[k]) / (edges[k + 1] - edges[k]))
+        return psi, rho
+
+    return top, tuple(counts)
+
+
+def fs_pitch_pieces(tooth) -> list[tuple[str, float, object]]:
+    """The surface of one FS pitch, mid-space → tooth → mid-space, as pieces for
+    :func:`pitch_surface` (polar about the flexspline centre, relative to the tooth axis):
+    root land, radial root step, flank segments root → tip, top land, and the mirror image."""
+    half_pieces, step, (psi_root, r_f, root_land_length), half = _pieces(tooth)
+
+    def root_land(u):  # from the mid-space to the root point
+        return (1.0 - u) * half + u * psi_root, np.full_like(u, r_f)
+
+    right = [("root land", root_land_length, root_land),
+             ("step", 1e-3 * root_land_length + abs(step(np.array([0.0]))[1][0] - r_f),
+              lambda u: step(1.0 - u))]
+    for name, length, curve in reversed(half_pieces):  # root → tip, then the top land tip → axis
+        right.append((name, length, (lambda c: (lambda u: c(1.0 - u)))(curve)))
+    # right half: mid-space (ψ = +half) → tooth axis (ψ = 0); the pitch runs ψ = −half → +half
+    left = [(name, length, (lambda c: (lambda u: (lambda p: (-p[0], p[1]))(c(u))))(curve))
+            for name, length, curve in right]
+    right_rev = [(name, length, (lambda c: (lambda u: c(1.0 - u)))(curve)) for name, length, curve in reversed(right)]
+    return left + right_rev
+
+
+def ring_sector_mesh(
+    pitch_rad: float,
+    start_rad: float,
+    tops: list,
+    pitch_columns,
+    *,
+    mapped_radius_mm: float,
+    polar_radius_mm: float,
+    mapped_layers: int,
+    polar_layers: int,
+    mapped_outside: bool,
+    polar_grading: float = 1.0,
+    flat_radius_mm: float | None = None,
+    check_intorder: int = 4,
+) -> RingSectorMesh:
+    """Structured mapped mesh of whole pitches ``start_rad + k·pitch_rad`` (k = 0 … len(tops) − 1).
+
+    Across the ring two blocks: a *polar* block between the circles ``mapped_radius_mm`` and
+    ``polar_radius_mm`` (``polar_layers`` layers, exact circles, geometric spacing
+    ``polar_grading`` from the mapped block outward/inward) and a *mapped* block between the
+    circle ``mapped_radius_mm`` and the surface (``mapped_layers`` layers, the ruled Coons
+    blend of :func:`toothed_quarter_mesh`). ``mapped_outside``: the surface is outside
+    (an external gear, the FS) or inside (an internal gear, the CS). ``tops[k]``: the
+    surface of pitch k as returned by :func:`pitch_surface` (ψ relative to the pitch centre),
+    or None for a flat ring up to ``flat_radius_mm``. ``pitch_columns[k]``: element columns
+    of pitch k (a toothed pitch must use the column count its ``top`` was made for).
+    """
+    start = time.perf_counter()
+    from skfem import MeshQuad, MeshQuad2
+    from skfem.mapping import MappingIsoparametric
+    from skfem.quadrature import get_quadrature
+
+    cols = np.asarray(pitch_columns, dtype=int)
+    if cols.size != len(tops) or np.any(cols < 1):
+        raise ToothedMeshError(f"pitch_columns = {pitch_columns!r}: must be one whole number ≥ 1 per pitch")
+    n_s = int(cols.sum())
+    n_j = int(mapped_layers + polar_layers)
+    edges = np.concatenate([[0], np.cumsum(cols)]).astype(float)
+    s_idx, j_idx = np.meshgrid(np.arange(n_s + 1), np.arange(n_j + 1), indexing="ij")
+    p = np.vstack([s_idx.ravel(), j_idx.ravel()]).astype(float)
+    node = np.arange((n_s + 1) * (n_j + 1)).reshape(n_s + 1, n_j + 1)
+    t = np.vstack([node[:-1, :-1].ravel(), node[1:, :-1].ravel(), node[1:, 1:].ravel(), node[:-1, 1:].ravel()])
+    quad = MeshQuad2.from_mesh(MeshQuad(p, t))
+    s, j = quad.doflocs
+
+    pitch = np.clip(np.searchsorted(edges, s, side="right") - 1, 0, cols.size - 1)
+    a = s - edges[pitch]  # column coordinate inside the pitch
+    frac = a / cols[pitch]
+    centre = start_rad + (pitch + 0.5) * pitch_rad
+    theta_b = start_rad + (pitch + frac) * pitch_rad  # on the circle mapped_radius_mm
+    psi_t = (frac - 0.5) * pitch_rad
+    rho_t = np.full_like(s, np.nan if flat_radius_mm is None else float(flat_radius_mm))
+    for k, top in enumerate(tops):
+        if top is None:
+            continue
+        sel = pitch == k
+        psi_t[sel], rho_t[sel] = top(a[sel])
+    if flat_radius_mm is None and np.any(np.isnan(rho_t)):
+        raise ToothedMeshError("flat_radius_mm: needed when a pitch has no teeth (tops[k] is None)")
+
+    r_c, r_p = float(mapped_radius_mm), float(polar_radius_mm)
+    if mapped_outside:
+        in_polar = j <= polar_layers
+        eta = np.clip((j - polar_layers) / mapped_layers, 0.0, 1.0)
+        x_p = j / polar_layers  # 0 at polar_radius (inner), 1 at the mapped circle
+        g_from_mapped = 1.0 - x_p
+    else:
+        in_polar = j >= mapped_layers
+        eta = np.clip(1.0 - j / mapped_layers, 0.0, 1.0)
+        g_from_mapped = (j - mapped_layers) / polar_layers
+    grade = float(polar_grading)
+    if grade == 1.0:
+        w = g_from_mapped
+    else:
+        w = (grade ** (g_from_mapped * polar_layers) - 1.0) / (grade ** polar_layers - 1.0)
+    th = np.where(in_polar, theta_b, theta_b + eta * (centre + psi_t - theta_b))
+    r = np.where(in_polar, r_c + w * (r_p - r_c), (1.0 - eta) * r_c + eta * rho_t)
+    x = r * np.sin(th)
+    y = r * np.cos(th)
+    mesh = replace(quad, doflocs=np.ascontiguousarray(np.vstack([x, y])))
+
+    X = np.hstack([get_quadrature(mesh.elem.refdom, check_intorder)[0], mesh.elem().doflocs.T])
+    det = MappingIsoparametric(mesh, mesh.elem()).detDF(X)
+    orient = 1.0 if np.median(det) > 0 else -1.0
+    worst = np.min(orient * det, axis=1)
+    if not np.all(worst > 0.0):
+        e = int(np.argmin(worst))
+        centre_e = mesh.doflocs[:, mesh.t[:, e]].mean(axis=1)
+        raise InvertedElementError(
+            f"ring_sector_mesh: element {e} has det J = {worst[e]:.3g} mm² ≤ 0 (centre θ = "
+            f"{math.degrees(math.atan2(centre_e[0], centre_e[1])):.5g}°, r = {math.hypot(*centre_e):.6g} mm, pitch "
+            f"{int(pitch[mesh.t[0, e]])}); change the columns per pitch or the layers")
+    ratio = float(np.min(worst / np.max(orient * det, axis=1)))
+
+    def line(sel, key):
+        idx = np.flatnonzero(sel)
+        return idx[np.argsort(key[idx], kind="stable")]
+
+    return RingSectorMesh(
+        mesh=mesh, s=s, j=j, th=th, r=r,
+        inner_nodes=line(j == 0, s), outer_nodes=line(j == n_j, s),
+        start_cut_nodes=line(s == 0, j), end_cut_nodes=line(s == n_s, j),
+        pitch_columns=cols, toothed=np.array([top is not None for top in tops]),
+        start_rad=float(start_rad), pitch_rad=float(pitch_rad), layers=n_j,
+        min_jacobian=float(np.min(worst)), jacobian_ratio=ratio, time_s=time.perf_counter() - start,
+    )
+
+
+def toothed_half_ring_mesh(
+    tooth,
+    rim_thickness_mm: float,
+    *,
+    toothed_pitches=None,
+    rim_layers: int = 2,
+    tooth_layers: int = 4,
+    per_pitch: int = 16,
+    flat_per_pitch: int = 2,
+    check_intorder: int = 4,
+) -> RingSectorMesh:
+    """Mapped 9-node-quad mesh of the flexspline rim's half ring −π/z1 ≤ θ ≤ π − π/z1.
+
+    The cuts are mid-space lines (they map onto each other under the rotation by π, so the
+    point-symmetric tie u(θ + π) = −u(θ) can join them); tooth k (0 ≤ k < z1/2) is centred
+    at θ = 2πk/z1, as in :func:`toothed_quarter_mesh` (θ from +y toward +x). The inner
+    block (bore r_m − δ/2 → neutral circle r_m, ``rim_layers`` layers) is polar; the outer
+    block (``tooth_layers`` layers) is the per-pitch Coons map up to the tooth surface.
+    ``toothed_pitches``: indices k of the pitches that carry a tooth (default: all);
+    the others are a flat ring up to the root circle r_f with ``flat_per_pitch`` columns
+    (a coarse rim where no tooth is loaded: it omits the teeth's small share of the rim's
+    bending stiffness). ``per_pitch`` columns in a toothed pitch. z1 must be even.
+    """
+    for name in ("teeth", "neutral_radius_mm", "dedendum_y_mm", "addendum_y_mm", "segments", "point"):
+        if not hasattr(tooth, name):
+            raise ToothedMeshError(f"tooth = {tooth!r}: must be a ToothProfile (has no {name!r})")
+    z1 = int(tooth.teeth)
+    if z1 % 2:
+        raise ToothedMeshError(f"tooth.teeth (z1) = {z1}: must be even for the point-symmetric half ring")
+    r_m = float(tooth.neutral_radius_mm)
+    try:
+        delta = float(rim_thickness_mm)
+    except (TypeError, ValueError) as exc:
+        raise ToothedMeshError(f"rim_thickness_mm = {rim_thickness_mm!r}: must be a number (mm)") from exc
+    if not (math.isfinite(delta) and 0.0 < delta < 2.0 * r_m):
+        raise ToothedMeshError(f"rim_thickness_mm = {rim_thickness_mm!r} mm: must be in (0, {2.0 * r_m:g})")
+    rim_layers = _whole("rim_layers", rim_layers, 1)
+    tooth_layers = _whole("tooth_layers", tooth_layers, 1)
+    per_pitch = _whole("per_pitch", per_pitch, 2, even=True)
+    flat_per_pitch = _whole("flat_per_pitch", flat_per_pitch, 1)
+    n_p = z1 // 2
+    if toothed_pitches is None:
+        toothed = np.ones(n_p, bool)
+    else:
+        idx = np.asarray(toothed_pitches, dtype=int).ravel()
+        if idx.size and (idx.min() < 0 or idx.max() >= n_p):
+            raise ToothedMeshError(f"toothed_pitches: must be in [0, {n_p}), got {idx.min()} … {idx.max()}")
+        toothed = np.zeros(n_p, bool)
+        toothed[idx] = True
+    pieces = fs_pitch_pieces(tooth)
+    half_pitch = math.pi / z1
+    psi_root = _pieces(tooth)[2][0]
+    # the root land must reach far enough toward the mid-space (see toothed_quarter_mesh)
+    n_half = per_pitch // 2
+    rl_min = max(1, math.floor(n_half * (1.0 - psi_root / half_pitch) + 0.5) + 1)
+    minimum = [1] * len(pieces)
+    minimum[0] = minimum[-1] = rl_min
+    top, _ = pitch_surface(pieces, per_pitch, minimum)
+    tops = [top if k else None for k in toothed]
+    cols = np.where(toothed, per_pitch, flat_per_pitch)
+    r_f = r_m + float(tooth.dedendum_y_mm)
+    return ring_sector_mesh(
+        2.0 * half_pitch, -half_pitch, tops, cols, mapped_radius_mm=r_m, polar_radius_mm=r_m - 0.5 * delta,
+        mapped_layers=tooth_layers, polar_layers=rim_layers, mapped_outside=True, flat_radius_mm=r_f,
+        check_intorder=check_intorder)

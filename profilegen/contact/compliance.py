@@ -1,0 +1,814 @@
+"""Influence coefficients (compliance matrix) of the loaded tooth contact (seed 000 §5.1–5.2).
+
+``ContactCompliance.build(design, fs_points, fs_normals, fs_tooth_index, cs_points, cs_normals)``
+→ S (mm/N): S_kj = n_k·u_FS,k + n'_k·u_CS,k for a unit contact force at point j, with the
+two bodies loaded equally and oppositely along the common normal n_j (the FS pushed along
+−n_j, the CS along +n_j; n points out of the FS tooth, as :mod:`profilegen.contact.points`
+gives it). S is what seed 000's Eq. (9) calls a_kj + a_k'j' (before its division by r_k).
+
+Model (small displacements about the undeformed bodies; linear, plane stress)
+------------------------------------------------------------------------------
+* **Face width.** Both bodies are 2D plane-stress slices, i.e. per mm of face width: their
+  influence coefficients are mm per (N/mm). A contact force F spread evenly over the face
+  width b is a line load F/b, so S = S_2D / b. The gear set has no face width: the default
+  ``face_width_mm`` is 0.2 × the FS pitch diameter (ESTIMATE, 20 mm for the default set,
+  about the tooth width of a size-40 unit).
+* **Superposition on the undeformed rim.** The FS points come at their no-load positions
+  (wave generator inserted, CS frame). Each is mapped back to the undeformed FS by its
+  tooth index i and its tooth-frame coordinates — p_local = pose(φ_i).to_tooth(turn(p,
+  −2πi/z2)), the inverse of the placement in :mod:`profilegen.contact.points` (ψ = 0:
+  FS tooth i at φ_i = 2πi/z1 from the major axis, standing in CS space i) — and the
+  normal is turned back with the tooth frame. The elastic response to the tooth loads is
+  then computed on the undeformed rim: the rim's pre-stress from the wave generator
+  and the ~0.5 mm change of geometry are left out (seed 000 does the same; the rim
+  stage's geometric nonlinearity moves ω by ~7 µm out of 500, DESIGN.md trap 7, so the
+  error of this linearisation is of the order of 1–2 %).
+* **FS: point-symmetric half ring.** The two engagement zones of a two-wave gear are
+  images of each other under the rotation by π (not mirror images: the tooth forces have
+  tangential components), so the FS is the half ring between two mid-space cuts with
+  the periodic tie u(θ + π) = R(π)u(θ) = −u(θ) (:func:`profilegen.rim.toothed.
+  toothed_half_ring_mesh`, 9-node isoparametric quads). Every load stands for itself
+  and its image in the other zone: S is the compliance of one zone with the other zone
+  loaded alike, so the contact solve of one zone must carry T/2 (each zone takes T/U).
+  Every pitch is toothed by default (``toothed_teeth="all"``, 83 199 dof for the default
+  set). ``toothed_teeth="loaded"`` keeps teeth only on the pitches that carry a point
+  (± ``margin_teeth``) and makes the others a flat ring up to the root circle with
+  ``flat_per_pitch`` columns: half the time, but the diagonal of S moves by up to 13 %
+  (median 10 %, default set, 78 points) — the FS compliance is mostly the rim's, not the
+  tooth's (a point two teeth away sees ~0.96 of a point's own FS compliance), so the
+  remote rim's stiffness matters.
+* **Torque reaction (cup).** The FS rim is driven through its cup wall, whose shear flow
+  is uniform round the circumference: the reaction to the tooth forces' torque is a
+  uniform tangential traction on the bore, and the bore's mean rotation is held at zero
+  (a Lagrange condition, which is exactly that traction). This removes the rigid
+  rotation — the only rigid mode left by the periodic tie — and measures the FS's
+  angular deformation against its own bore; the cup's torsional wind-up is not in S
+  (add r_k r_j / k_cup for a cup of stiffness k_cup).
+* **Wave-generator balls.** Discrete radial supports on the bore at the ball angles
+  θ_b = ``ball_phase_rad`` + 2πb/N (N = ``ball_count``, default 23 — seed 000 §5.2's
+  CSF40-100 — an ESTIMATE for other sizes), only those within ``wrap_half_angle_rad`` of
+  the major axis (where the rim sits on the cam at no load; default: the rim stage's
+  contact angle, or a flat linear ring solve — ill-conditioned, DESIGN.md trap 7). A ball
+  is a point support along e_r, frictionless, on the bore (the bearing's outer ring left
+  out, as in seed 000). The ball set is taken point-symmetric (the other zone's balls
+  are the images of this zone's; exact for even N, a choice of cage position for odd N).
+  Supports are added by a Schur complement of the flexibility of the free rim, so
+  dropping a ball that pulls (seed 000 steps 4–6: :meth:`ContactCompliance.settle_balls`)
+  needs no new factorisation. The no-load ball preload is left out (seed 000's rule: a
+  ball is dropped when the tooth loads alone pull on it).
+* **CS: toothed sector, fixed outside.** The internal teeth are meshed from the fitted CS
+  outline (``design.profile.space``: its arcs and lines, isoparametric) over the spaces
+  that carry a point ± ``margin_teeth``, between the tooth surface and the outer radius
+  ``cs_outer_radius_mm`` (default 1.1 × the CS pitch radius, ESTIMATE), which is fixed,
+  as are the sector's two radial cuts (through CS tooth centres). The coupling between
+  CS teeth through the fixed ring is small (at most 6 % of a tooth's own compliance two
+  teeth away, default set), and the sector reaches two teeth past the last loaded one.
+* **Point loads** enter through the quadratic shape functions of the boundary edge they
+  sit on (consistent nodal forces), and the displacement of a point is read with the
+  same functions, so S is symmetric by construction (Maxwell–Betti). A point load in 2D
+  has a logarithmically singular displacement under it: the diagonal of S_2D depends on
+  the mesh like log(h); for a line load F/b over a real face width this local term is the
+  Hertzian approach, which the 2D model leaves to the mesh (one element ≈ 0.05 mm).
+* **Solve.** Each body is factorised once (banded Cholesky; the FS in a folded order that
+  keeps the periodic ring banded) and all loads — the n contact normals and the candidate
+  balls — go through one blocked multi-right-hand-side forward substitution: the
+  flexibility is WᵀW with W = L⁻¹Y (BLAS 3).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.sparse as sp
+
+from ..errors import ConvergenceError, ProfilegenError
+
+__all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT"]
+
+log = logging.getLogger(__name__)
+
+#: Balls of the wave generator's flexible bearing: 23 in seed 000's CSF40-100 (§5.2).
+DEFAULT_BALL_COUNT = 23
+
+
+class ComplianceError(ProfilegenError, ValueError):
+    """Bad input to the compliance model; the message names the parameter, value, unit and range."""
+
+
+def _readonly(values, dtype=float) -> np.ndarray:
+    array = np.array(values, dtype=dtype)
+    array.setflags(write=False)
+    return array
+
+
+def _points(name: str, value, n: int | None = None) -> np.ndarray:
+    try:
+        a = np.array(value, dtype=float)
+    except (TypeError, ValueError) as exc:
+        raise ComplianceError(f"{name}: must be an (n, 2) array of numbers (mm)") from exc
+    if a.ndim != 2 or a.shape[1] != 2 or a.shape[0] < 1:
+        raise ComplianceError(f"{name}: must have shape (n, 2) with n ≥ 1, got {a.shape}")
+    if n is not None and a.shape[0] != n:
+        raise ComplianceError(f"{name}: has {a.shape[0]} rows, must have one per contact point ({n})")
+    if not np.all(np.isfinite(a)):
+        k = int(np.flatnonzero(~np.all(np.isfinite(a), axis=1))[0])
+        raise ComplianceError(f"{name}: row {k} is not finite ({a[k].tolist()})")
+    return a
+
+
+def _unit(name: str, value, n: int) -> np.ndarray:
+    a = _points(name, value, n)
+    norm = np.linalg.norm(a, axis=1)
+    bad = np.flatnonzero(np.abs(norm - 1.0) > 1e-6)
+    if bad.size:
+        raise ComplianceError(f"{name}: row {int(bad[0])} has length {norm[bad[0]]:.9g}, must be a unit vector (±1e-6)")
+    return a / norm[:, None]
+
+
+def _positive(name: str, value, unit: str) -> float:
+    try:
+        x = float(value)
+    except (TypeError, ValueError) as exc:
+        raise ComplianceError(f"{name} = {value!r}: must be a number ({unit})") from exc
+    if not (math.isfinite(x) and x > 0.0):
+        raise ComplianceError(f"{name} = {value!r} {unit}: must be finite and > 0")
+    return x
+
+
+def _whole(name: str, value, low: int) -> int:
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
+        raise ComplianceError(f"{name} = {value!r}: must be a whole number ≥ {low}")
+    return int(value)
+
+
+# --------------------------------------------------------------------------- linear algebra
+
+
+def _serial_blas():
+    """BLAS single-threaded inside the block (``threadpoolctl``): the factorisation works on
+    dense blocks of ~200 rows, too small for threads to pay, and with another process on the
+    machine OpenBLAS's spinning threads made it ~8× slower (10.8 s against 1.3 s measured)."""
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
+
+
+class _BandedFlex:
+    """Cholesky factor of a symmetric positive definite band matrix (given in the order
+    ``order``) for the flexibility Yᵀ K⁻¹ Y = WᵀW, W = L⁻¹ Y.
+
+    Blocks of ``block`` ≥ bandwidth consecutive rows make the band matrix block
+    tridiagonal; its Cholesky factor is then block bidiagonal, computed and applied with
+    dense BLAS 3 blocks (LAPACK's banded ``pbtrf``/``pbtrs`` are several times slower
+    here, and solve one right-hand side at a time)."""
+
+    def __init__(self, matrix, order, where: str, block: int = 192):
+        from scipy.linalg import LinAlgError, cholesky, solve_triangular
+
+        self.perm = np.asarray(order)
+        permuted = sp.csr_matrix(matrix)[self.perm][:, self.perm].tocoo()
+        lower = permuted.row >= permuted.col
+        rows, cols = permuted.row[lower], permuted.col[lower]
+        self.band = band = int(np.max(rows - cols, initial=0))
+        self.n = n = matrix.shape[0]
+        ab = np.zeros((band + 1, n))
+        ab[rows - cols, cols] = permuted.data[lower]
+        nb = max(block, band)
+        self.starts = list(range(0, n, nb))
+        self.diag: list[np.ndarray] = []  # L_kk
+        self.sub: list[np.ndarray | None] = []  # L_k,k−1
+        previous = None
+
+        def dense(r0, r1, c0, c1):
+            i = np.arange(r0, r1)[:, None]
+            j = np.arange(c0, c1)[None, :]
+            d = i - j
+            ok = (d >= 0) & (d <= band)
+            out = np.where(ok, ab[np.clip(d, 0, band), np.broadcast_to(j, d.shape)], 0.0)
+            return out
+
+        for k, i0 in enumerate(self.starts):
+            i1 = min(n, i0 + nb)
+            a_kk = dense(i0, i1, i0, i1)
+            a_kk = a_kk + np.tril(a_kk, -1).T
+            if k:
+                p0 = self.starts[k - 1]
+                sub = solve_triangular(previous, dense(i0, i1, p0, i0).T, lower=True, check_finite=False).T
+                a_kk = a_kk - sub @ sub.T
+            else:
+                sub = None
+            try:
+                previous = cholesky(a_kk, lower=True, check_finite=False)
+            except LinAlgError as exc:
+                raise ConvergenceError(f"{where}: the stiffness matrix is not positive definite (block at row {i0}); "
+                                       "a rigid-body mode is not removed") from exc
+            self.diag.append(previous)
+            self.sub.append(sub)
+
+    def forward(self, rhs) -> np.ndarray:
+        from scipy.linalg import solve_triangular
+
+        y = np.asarray(rhs, dtype=float)[self.perm]
+        w = np.empty_like(y)
+        for k, i0 in enumerate(self.starts):
+            i1 = i0 + self.diag[k].shape[0]
+            b = y[i0:i1]
+            if k:
+                p0 = self.starts[k - 1]
+                b = b - self.sub[k] @ w[p0:i0]
+            w[i0:i1] = solve_triangular(self.diag[k], b, lower=True, check_finite=False)
+        return w
+
+
+def _edge_projection(xy_nodes: np.ndarray, line: np.ndarray, points: np.ndarray, window=None):
+    """Project ``points`` (m, 2) onto the chain of quadratic edges along the node line
+    ``line`` (node indices sorted along the boundary: vertex, mid, vertex, mid, …).
+
+    Returns (edge node triples (m, 3), shape-function weights (m, 3), distance (m,),
+    foot points (m, 2))."""
+    x = xy_nodes[:, line].T  # (L, 2)
+    n_edges = (line.size - 1) // 2
+    m = points.shape[0]
+    d2 = ((points[:, None, :] - x[None, :, :]) ** 2).sum(-1) if window is None else window(points, x)
+    nearest = np.argmin(d2, axis=1)
+    best = np.full(m, np.inf)
+    best_xi = np.zeros(m)
+    best_e = np.zeros(m, dtype=int)
+    for shift in (-2, -1, 0):
+        e = np.clip((nearest + shift) // 2, 0, n_edges - 1)
+        e = np.where(nearest + shift < 0, 0, e)
+        x0, x1, x2 = x[2 * e], x[2 * e + 1], x[2 * e + 2]
+        xi = np.full(m, 0.5)
+        for _ in range(30):
+            n0, n1, n2 = (1 - xi) * (1 - 2 * xi), 4 * xi * (1 - xi), xi * (2 * xi - 1)
+            d0, d1, d2_ = 4 * xi - 3, 4 - 8 * xi, 4 * xi - 1
+            pos = n0[:, None] * x0 + n1[:, None] * x1 + n2[:, None] * x2
+            der = d0[:, None] * x0 + d1[:, None] * x1 + d2_[:, None] * x2
+            sec = 4 * x0 - 8 * x1 + 4 * x2
+            r = pos - points
+            g = (der * r).sum(1)
+            h = (sec * r).sum(1) + (der * der).sum(1)
+            xi = np.clip(xi - g / np.where(h > 0, h, 1.0), 0.0, 1.0)
+        n0, n1, n2 = (1 - xi) * (1 - 2 * xi), 4 * xi * (1 - xi), xi * (2 * xi - 1)
+        pos = n0[:, None] * x0 + n1[:, None] * x1 + n2[:, None] * x2
+        dist = np.linalg.norm(pos - points, axis=1)
+        better = dist < best
+        best = np.where(better, dist, best)
+        best_xi = np.where(better, xi, best_xi)
+        best_e = np.where(better, e, best_e)
+    xi = best_xi
+    weights = np.column_stack([(1 - xi) * (1 - 2 * xi), 4 * xi * (1 - xi), xi * (2 * xi - 1)])
+    triples = np.column_stack([line[2 * best_e], line[2 * best_e + 1], line[2 * best_e + 2]])
+    foot = (weights[:, :, None] * xy_nodes[:, triples].transpose(1, 2, 0)).sum(1)
+    return triples, weights, best, foot
+
+
+def _load_matrix(n_dof, ix, iy, triples, weights, directions) -> sp.csc_matrix:
+    """Columns: the consistent nodal forces of unit point loads along ``directions``."""
+    m = triples.shape[0]
+    rows = np.concatenate([ix[triples].ravel(), iy[triples].ravel()])
+    cols = np.concatenate([np.repeat(np.arange(m), 3)] * 2)
+    vals = np.concatenate([(weights * directions[:, :1]).ravel(), (weights * directions[:, 1:]).ravel()])
+    return sp.csc_matrix((vals, (rows, cols)), shape=(n_dof, m))
+
+
+def _stiffness(mesh, youngs_modulus_mpa, poisson_ratio):
+    from skfem import Basis, ElementQuad2, ElementVector
+
+    from ..rim.nonlinear import TotalLagrangian
+
+    basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4)
+    ix, iy = basis.split_indices()
+    stiffness = TotalLagrangian(basis, youngs_modulus_mpa, poisson_ratio)(np.zeros(basis.N))[0]
+    return stiffness, ix, iy
+
+
+# --------------------------------------------------------------------------- the two bodies
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _BodyFlex:
+    """Flexibility (per mm of face width, mm²/N) of one body between its load columns."""
+
+    flex: np.ndarray
+    dof: int
+    band: int
+    mesh: dict
+    time_s: float
+    off_surface_mm: np.ndarray
+
+
+def _fs_flex(tooth, gearset, local_points, local_normals, tooth_index, ball_angles, *, margin, toothed_teeth,
+             per_pitch, flat_per_pitch, rim_layers, tooth_layers, tol_mm):
+    """The FS half ring: flexibility between the FS contact loads (−n, FS material) and the
+    candidate balls (+e_r on the bore), with the bore's mean rotation held."""
+    from ..rim.toothed import toothed_half_ring_mesh
+
+    start = time.perf_counter()
+    g = gearset.gear
+    z1 = g.flexspline_teeth
+    half = z1 // 2
+    k_mesh = np.mod(tooth_index, half)  # the image of a tooth in the other zone is the same pitch
+    if toothed_teeth == "all":
+        toothed = None
+    else:
+        near = (k_mesh[:, None] + np.arange(-margin, margin + 1)[None, :]).ravel()
+        toothed = np.unique(np.mod(near, half))
+    ring = toothed_half_ring_mesh(tooth, g.rim_thickness_mm, toothed_pitches=toothed, rim_layers=rim_layers,
+                                  tooth_layers=tooth_layers, per_pitch=per_pitch, flat_per_pitch=flat_per_pitch)
+    # loads in the mesh frame (= the wave-generator frame at ψ = 0: tooth k at 2πk/z1)
+    r_m = g.neutral_radius_mm
+    ang = 2.0 * math.pi * k_mesh / z1
+    c, s = np.cos(ang), np.sin(ang)
+    # tooth frame → mesh: x_R along e_t(θ_k) = (c, −s), y_R along e_r(θ_k) = (s, c); origin r_m e_r
+    px = local_points[:, 0] * c + (local_points[:, 1] + r_m) * s
+    py = -local_points[:, 0] * s + (local_points[:, 1] + r_m) * c
+    nx = local_normals[:, 0] * c + local_normals[:, 1] * s
+    ny = -local_normals[:, 0] * s + local_normals[:, 1] * c
+    flex, dof, band, dist = _half_ring_flex(
+        ring, gearset.material.youngs_modulus_mpa, gearset.material.poisson_ratio,
+        g.neutral_radius_mm - 0.5 * g.rim_thickness_mm, np.column_stack([px, py]), -np.column_stack([nx, ny]),
+        ball_angles, tol_mm=tol_mm, tooth_index=tooth_index)
+    info = {**ring.to_dict(), "reduced_dof": dof, "band": band}
+    return _BodyFlex(flex, dof, band, info, time.perf_counter() - start, dist)
+
+
+def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, directions, ball_angles, *, tol_mm,
+                    tooth_index=None):
+    """Flexibility (mm²/N) of a point-symmetric half ring (``ring``: a RingSectorMesh whose
+    cuts are π apart) between unit point loads on its outer surface (``points`` along
+    ``directions``, mesh frame) and unit outward radial loads on its bore at ``ball_angles``,
+    with the bore's mean rotation held. Returns (flex, dof, band, off-surface distances)."""
+    mesh = ring.mesh
+    stiffness, ix, iy = _stiffness(mesh, youngs_modulus_mpa, poisson_ratio)
+    n_full = stiffness.shape[0]
+    xy = mesh.doflocs
+    triples, weights, dist, _ = _edge_projection(xy, ring.outer_nodes, points)
+    bad = np.flatnonzero(dist > tol_mm)
+    if bad.size:
+        k = int(bad[np.argmax(dist[bad])])
+        which = "" if tooth_index is None else f" (tooth {int(tooth_index[k])})"
+        raise ComplianceError(
+            f"fs_points: point {k}{which} is {dist[k]:.3g} mm off the FS tooth surface once "
+            f"mapped back to its tooth frame (tolerance on_surface_tol_mm = {tol_mm:g} mm); the points, tooth "
+            "indices and the design's motion must belong together")
+    loads_c = _load_matrix(n_full, ix, iy, triples, weights, directions)
+    z_half = -ring.start_rad  # the start cut is at θ = −z_half, the end cut at π − z_half
+    ball_mesh = np.mod(ball_angles + z_half, math.pi) - z_half
+    bxy = r_bore * np.column_stack([np.sin(ball_mesh), np.cos(ball_mesh)])
+    btrip, bw, _, _ = _edge_projection(xy, ring.inner_nodes, bxy)
+    loads_b = _load_matrix(n_full, ix, iy, btrip, bw, np.column_stack([np.sin(ball_mesh), np.cos(ball_mesh)]))
+    loads = sp.hstack([loads_c, loads_b]).tocsr()
+
+    # periodic tie u(θ + π) = −u(θ): the end cut's dofs are the start cut's, negated
+    end, first = ring.end_cut_nodes, ring.start_cut_nodes
+    keep = np.ones(ix.size, bool)
+    keep[end] = False
+    node_red = -np.ones(ix.size, dtype=int)
+    node_red[keep] = np.arange(int(keep.sum()))
+    node_red[end] = node_red[first]
+    sign = np.ones(ix.size)
+    sign[end] = -1.0
+    n_nodes_red = int(keep.sum())
+    rows = np.concatenate([ix, iy])
+    cols = np.concatenate([2 * node_red, 2 * node_red + 1])
+    tie = sp.csr_matrix((np.concatenate([sign, sign]), (rows, cols)), shape=(n_full, 2 * n_nodes_red))
+    k_red = (tie.T @ stiffness @ tie).tocsr()
+    b_red = (tie.T @ loads).toarray()
+
+    # gauge: the bore's mean rotation c·u = 0 (uniform tangential traction as its reaction)
+    bore = ring.inner_nodes
+    c_full = np.zeros(n_full)
+    th = np.arctan2(xy[0, bore], xy[1, bore])
+    for e in range((bore.size - 1) // 2):
+        tri = bore[2 * e:2 * e + 3]
+        length = r_bore * abs(th[2 * e + 2] - th[2 * e])
+        for node, w in zip(tri, (length / 6, 2 * length / 3, length / 6)):
+            t = math.atan2(xy[0, node], xy[1, node])
+            c_full[ix[node]] += w * math.cos(t)
+            c_full[iy[node]] -= w * math.sin(t)
+    rot_full = np.zeros(n_full)
+    rot_full[ix], rot_full[iy] = xy[1], -xy[0]
+    c_red = tie.T @ c_full
+    rot_red = np.zeros(2 * n_nodes_red)
+    rot_red[2 * node_red[keep]] = rot_full[ix[keep]]
+    rot_red[2 * node_red[keep] + 1] = rot_full[iy[keep]]
+    y = b_red - np.outer(c_red, rot_red @ b_red) / (c_red @ rot_red)  # Pᵀ B
+    gauge = 2 * int(node_red[ring.inner_nodes[0]])  # the tangential (x) dof of the bore node on the cut
+    free = np.setdiff1d(np.arange(2 * n_nodes_red), [gauge])
+    # folded order round the tied ring: both directions away from the cut, interleaved
+    s_red = np.empty(n_nodes_red)
+    j_red = np.empty(n_nodes_red)
+    s_red[node_red[keep]] = ring.s[keep]
+    j_red[node_red[keep]] = ring.j[keep]
+    n_s = float(ring.pitch_columns.sum())
+    i2 = np.round(2 * s_red).astype(int)
+    d = np.minimum(i2, int(round(2 * n_s)) - i2)
+    key_node = 2 * d + (i2 > n_s)
+    dof_node = free // 2
+    order = np.lexsort((free % 2, j_red[dof_node], key_node[dof_node]))
+    factor = _BandedFlex(k_red[free][:, free], order, "FS rim")
+    w = factor.forward(y[free])
+    flex = w.T @ w
+    return 0.5 * (flex + flex.T), int(free.size), factor.band, dist
+
+
+def _cs_pieces(space, cs_teeth: int):
+    """The surface of one CS pitch (tooth centre → space → tooth centre) as pieces for
+    :func:`profilegen.rim.toothed.pitch_surface`, polar about the gear centre."""
+    from ..contour import Arc, Line
+
+    half = math.pi / cs_teeth
+
+    def polar(p):
+        return np.arctan2(p[..., 0], p[..., 1]), np.hypot(p[..., 0], p[..., 1])
+
+    start, end = np.asarray(space.start), np.asarray(space.end)
+    psi_s, rho_s = polar(start)
+    psi_e, rho_e = polar(end)
+    pieces = [("tip land", rho_s * abs(psi_s + half),
+               lambda u: ((1 - u) * -half + u * psi_s, np.full_like(u, rho_s)))]
+    for el in space.elements:
+        if isinstance(el, Line):
+            a, b = np.asarray(el.start), np.asarray(el.end)
+            pieces.append(("line", el.length, (lambda a, b: lambda u: polar(a + u[:, None] * (b - a)))(a, b)))
+        elif isinstance(el, Arc):
+            pieces.append(("arc", el.length, (lambda el: lambda u: polar(
+                el.centre + el.radius * np.column_stack([np.cos(el.start_angle + u * el.sweep),
+                                                         np.sin(el.start_angle + u * el.sweep)])))(el)))
+        else:
+            raise ComplianceError(f"design.profile.space: element {el!r} is not a Line or an Arc")
+    pieces.append(("tip land", rho_e * abs(half - psi_e),
+                   lambda u: ((1 - u) * psi_e + u * half, np.full_like(u, rho_e))))
+    return pieces, max(rho_s, rho_e), max(float(np.max(polar(space.sample(1e-4))[1])), rho_s)
+
+
+def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers, back_layers, outer_radius_mm,
+             tol_mm):
+    from ..rim.toothed import pitch_surface, ring_sector_mesh
+
+    start = time.perf_counter()
+    z2 = gearset.gear.circular_spline_teeth
+    pitch = 2.0 * math.pi / z2
+    idx = np.round(np.arctan2(points[:, 0], points[:, 1]) / pitch).astype(int)
+    lo, hi = int(idx.min()) - margin, int(idx.max()) + margin
+    pieces, _, r_root = _cs_pieces(space, z2)
+    top, _ = pitch_surface(pieces, per_pitch)
+    tip = min(float(np.hypot(*space.start)), float(np.hypot(*space.end)))
+    r_back = r_root + 0.5 * (r_root - tip)
+    if not outer_radius_mm > r_back:
+        raise ComplianceError(f"cs_outer_radius_mm = {outer_radius_mm:g} mm: must be > {r_back:.6g} mm (the CS root "
+                              "circle plus half a tooth height)")
+    n_p = hi - lo + 1
+    ring = ring_sector_mesh(pitch, (lo - 0.5) * pitch, [top] * n_p, [per_pitch] * n_p, mapped_radius_mm=r_back,
+                            polar_radius_mm=outer_radius_mm, mapped_layers=tooth_layers, polar_layers=back_layers,
+                            mapped_outside=False, polar_grading=1.6)
+    mesh = ring.mesh
+    stiffness, ix, iy = _stiffness(mesh, gearset_cs_modulus(gearset), gearset.material.poisson_ratio)
+    n_full = stiffness.shape[0]
+    triples, weights, dist, _ = _edge_projection(mesh.doflocs, ring.inner_nodes, points)
+    bad = np.flatnonzero(dist > tol_mm)
+    if bad.size:
+        k = int(bad[np.argmax(dist[bad])])
+        raise ComplianceError(f"cs_points: point {k} is {dist[k]:.3g} mm off the fitted CS surface (tolerance "
+                              f"on_surface_tol_mm = {tol_mm:g} mm)")
+    loads = _load_matrix(n_full, ix, iy, triples, weights, -normals).tocsr()  # the FS pushes the CS along −n_CS
+    fixed_nodes = np.concatenate([ring.outer_nodes, ring.start_cut_nodes, ring.end_cut_nodes])
+    fixed = np.unique(np.concatenate([ix[fixed_nodes], iy[fixed_nodes]]))
+    free = np.setdiff1d(np.arange(n_full), fixed)
+    node_of = np.empty(n_full, dtype=int)
+    node_of[ix], node_of[iy] = np.arange(ix.size), np.arange(iy.size)
+    order = np.lexsort((free % 2, ring.j[node_of[free]], ring.s[node_of[free]]))
+    factor = _BandedFlex(stiffness[free][:, free], order, "CS ring")
+    w = factor.forward(loads[free].toarray())
+    flex = w.T @ w
+    flex = 0.5 * (flex + flex.T)
+    info = {**ring.to_dict(), "spaces": [lo, hi], "outer_radius_mm": outer_radius_mm, "band": factor.band}
+    return _BodyFlex(flex, int(free.size), factor.band, info, time.perf_counter() - start, dist)
+
+
+def gearset_cs_modulus(gearset) -> float:
+    """The CS's Young's modulus: the gear set gives one material (the FS's); the CS is
+    taken of the same steel."""
+    return float(gearset.material.youngs_modulus_mpa)
+
+
+def _wrap_half_angle(design, gearset) -> tuple[float, str]:
+    rim = getattr(design, "rim", None)
+    fem = getattr(rim, "fem", None)
+    if fem is not None and getattr(fem, "contact_phi_rad", np.zeros(0)).size:
+        return float(fem.contact_angle_rad), "the rim stage's no-load contact angle"
+    from .. import wavegen
+    from ..rim.ring import solve_ring
+
+    ring = solve_ring(gearset, contour=wavegen.from_gearset(gearset), layers=4, divisions=64)
+    return float(ring.contact_angle_rad), "a linear flat-ring solve on the gear set's contour (4×64)"
+
+
+# --------------------------------------------------------------------------- the result
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ContactCompliance:
+    """Influence coefficients of one engagement zone (see the module docstring).
+
+    ``matrix_mm_per_n``: S (n × n, mm/N, symmetric positive definite) with the active balls
+    ``ball_active``; ``fs_matrix_mm_per_n`` / ``cs_matrix_mm_per_n``: its two parts.
+    ``ball_angle_rad``: the candidate balls (WG frame, from the major axis; each stands for
+    itself and its image at +π). ``tooth``: the FS tooth (= CS space) index of each point.
+    ``dof``: {"fs", "cs"}; ``time_s``: {"fs", "cs", "total"}.
+    """
+
+    matrix_mm_per_n: np.ndarray
+    fs_matrix_mm_per_n: np.ndarray
+    cs_matrix_mm_per_n: np.ndarray
+    face_width_mm: float
+    tooth: np.ndarray
+    ball_angle_rad: np.ndarray
+    ball_active: np.ndarray
+    wrap_half_angle_rad: float
+    wrap_source: str
+    dof: dict
+    time_s: dict
+    mesh: dict
+    _flex_cc: np.ndarray = field(repr=False)
+    _flex_cb: np.ndarray = field(repr=False)
+    _flex_bb: np.ndarray = field(repr=False)
+    warnings: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        for name in ("matrix_mm_per_n", "fs_matrix_mm_per_n", "cs_matrix_mm_per_n", "ball_angle_rad", "_flex_cc",
+                     "_flex_cb", "_flex_bb"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        object.__setattr__(self, "tooth", _readonly(self.tooth, dtype=np.int64))
+        object.__setattr__(self, "ball_active", _readonly(self.ball_active, dtype=bool))
+
+    # --- construction ---------------------------------------------------------------
+    @classmethod
+    def build(
+        cls,
+        design,
+        fs_points,
+        fs_normals,
+        fs_tooth_index,
+        cs_points,
+        cs_normals=None,
+        *,
+        face_width_mm: float | None = None,
+        ball_count: int = DEFAULT_BALL_COUNT,
+        ball_phase_rad: float = 0.0,
+        wrap_half_angle_rad: float | None = None,
+        margin_teeth: int = 2,
+        toothed_teeth: str = "all",
+        per_pitch: int = 16,
+        flat_per_pitch: int = 2,
+        rim_layers: int = 2,
+        tooth_layers: int = 4,
+        cs_per_pitch: int = 16,
+        cs_tooth_layers: int = 4,
+        cs_back_layers: int = 3,
+        cs_outer_radius_mm: float | None = None,
+        on_surface_tol_mm: float = 0.01,
+        settle_iterations: int = 0,
+        forces_n=None,
+    ) -> "ContactCompliance":
+        """Influence coefficients for the contact points of one engagement zone.
+
+        ``design``: a :class:`profilegen.pipeline.Design` (gear set, FS tooth, motion, fitted
+        CS profile). ``fs_points`` (n, 2): FS points at their no-load positions, CS frame
+        (mm); ``fs_normals`` (n, 2): unit common normals, out of the FS tooth;
+        ``fs_tooth_index`` (n,): FS tooth i of each point (it stands in CS space i, WG at
+        ψ = 0); ``cs_points`` (n, 2): the CS partner points (CS frame); ``cs_normals``:
+        the CS surface's outward normals (default −fs_normals; must be opposite to them
+        within 0.1 rad). ``face_width_mm``: b (default 0.2 × the pitch diameter,
+        ESTIMATE). All balls within the wrap start active; ``forces_n`` with
+        ``settle_iterations`` > 0 runs :meth:`settle_balls` for those contact forces.
+        Other keywords: the mesh (see the module docstring).
+        """
+        start = time.perf_counter()
+        gearset = getattr(design, "gearset", None)
+        if gearset is None or getattr(design, "tooth", None) is None or getattr(design, "motion", None) is None:
+            raise ComplianceError("design: must be a profilegen Design (with gearset, tooth and motion)")
+        profile = getattr(design, "profile", None)
+        if profile is None or getattr(profile, "space", None) is None:
+            raise ComplianceError("design: has no fitted CS profile (design.profile is None)")
+        g = gearset.gear
+        if g.waves != 2:
+            raise ComplianceError(f"gearset.gear.waves = {g.waves}: the point-symmetric half ring needs U = 2")
+        fs_points = _points("fs_points", fs_points)
+        n = fs_points.shape[0]
+        fs_normals = _unit("fs_normals", fs_normals, n)
+        try:
+            idx = np.asarray(fs_tooth_index)
+            ok = idx.shape == (n,) and np.all(np.isfinite(idx.astype(float))) and np.all(idx == np.round(idx))
+        except (TypeError, ValueError):
+            ok = False
+        if not ok:
+            raise ComplianceError(f"fs_tooth_index: must be n = {n} whole numbers (one FS tooth per point), got "
+                                  f"{np.shape(fs_tooth_index)}")
+        tooth_index = np.round(idx).astype(int)
+        cs_points = _points("cs_points", cs_points, n)
+        cs_normals = -fs_normals if cs_normals is None else _unit("cs_normals", cs_normals, n)
+        opposite = np.einsum("ij,ij->i", fs_normals, cs_normals)
+        bad = np.flatnonzero(opposite > -math.cos(0.1))
+        if bad.size:
+            raise ComplianceError(f"cs_normals: row {int(bad[0])} is not opposite to fs_normals (cos = "
+                                  f"{opposite[bad[0]]:.4g}, must be < −cos 0.1 rad)")
+        b = 0.2 * 2.0 * g.pitch_radius_mm if face_width_mm is None else _positive("face_width_mm", face_width_mm, "mm")
+        ball_count = _whole("ball_count", ball_count, 3)
+        try:
+            phase = float(ball_phase_rad)
+        except (TypeError, ValueError) as exc:
+            raise ComplianceError(f"ball_phase_rad = {ball_phase_rad!r}: must be a number (rad)") from exc
+        if not math.isfinite(phase):
+            raise ComplianceError(f"ball_phase_rad = {ball_phase_rad!r}: must be finite (rad)")
+        margin = _whole("margin_teeth", margin_teeth, 0)
+        if toothed_teeth not in ("loaded", "all"):
+            raise ComplianceError(f"toothed_teeth = {toothed_teeth!r}: must be 'loaded' or 'all'")
+        tol = _positive("on_surface_tol_mm", on_surface_tol_mm, "mm")
+        settle_iterations = _whole("settle_iterations", settle_iterations, 0)
+        if cs_outer_radius_mm is None:
+            cs_outer_radius_mm = 1.1 * g.cs_pitch_radius_mm
+        cs_outer_radius_mm = _positive("cs_outer_radius_mm", cs_outer_radius_mm, "mm")
+        warnings: list[str] = []
+        if wrap_half_angle_rad is None:
+            wrap, wrap_source = _wrap_half_angle(design, gearset)
+            warnings.append("the wrap angle that selects the candidate balls is ill-conditioned (DESIGN.md trap 7)")
+        else:
+            wrap = _positive("wrap_half_angle_rad", wrap_half_angle_rad, "rad")
+            if wrap > 0.5 * math.pi:
+                raise ComplianceError(f"wrap_half_angle_rad = {wrap!r} rad: must be in (0, π/2]")
+            wrap_source = "given"
+
+        # FS points back to their tooth frames (inverse of contact.points' placement)
+        from ..kinematics import turn
+
+        z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
+        phi = 2.0 * math.pi * tooth_index / z1
+        pose = design.motion.pose(phi)
+        angle = 2.0 * math.pi * tooth_index / z2
+        local = pose.to_tooth(turn(fs_points, -angle))
+        # normal: undo turn(·, angle), then the tooth frame's rotation (to_tooth without the origin)
+        n_cs = turn(fs_normals, -angle)
+        c0, s0 = np.cos(pose.angle), np.sin(pose.angle)
+        local_n = np.column_stack([n_cs[:, 0] * c0 - n_cs[:, 1] * s0, n_cs[:, 0] * s0 + n_cs[:, 1] * c0])
+
+        # candidate balls: within the wrap of the major axis θ = 0 (their images cover θ = π)
+        k = np.arange(ball_count)
+        theta = np.mod(phase + 2.0 * math.pi * k / ball_count + math.pi, 2.0 * math.pi) - math.pi
+        balls = np.sort(theta[np.abs(theta) <= wrap + 1e-12])
+
+        with _serial_blas():
+            fs = _fs_flex(design.tooth, gearset, local, local_n, tooth_index, balls, margin=margin,
+                          toothed_teeth=toothed_teeth, per_pitch=_whole("per_pitch", per_pitch, 2),
+                          flat_per_pitch=_whole("flat_per_pitch", flat_per_pitch, 1),
+                          rim_layers=_whole("rim_layers", rim_layers, 1),
+                          tooth_layers=_whole("tooth_layers", tooth_layers, 1), tol_mm=tol)
+            cs = _cs_flex(profile.space, gearset, cs_points, cs_normals, margin=margin,
+                          per_pitch=_whole("cs_per_pitch", cs_per_pitch, 2),
+                          tooth_layers=_whole("cs_tooth_layers", cs_tooth_layers, 1),
+                          back_layers=_whole("cs_back_layers", cs_back_layers, 1),
+                          outer_radius_mm=cs_outer_radius_mm, tol_mm=tol)
+        nb = balls.size
+        result = cls._assemble(
+            flex_cc=fs.flex[:n, :n], flex_cb=fs.flex[:n, n:], flex_bb=fs.flex[n:, n:], cs_flex=cs.flex,
+            face_width_mm=b, tooth=tooth_index, ball_angle_rad=balls, ball_active=np.ones(nb, bool),
+            wrap_half_angle_rad=wrap, wrap_source=wrap_source,
+            dof={"fs": fs.dof, "cs": cs.dof}, time_s={"fs": fs.time_s, "cs": cs.time_s},
+            mesh={"fs": fs.mesh, "cs": cs.mesh, "fs_off_surface_max_mm": float(fs.off_surface_mm.max()),
+                  "cs_off_surface_max_mm": float(cs.off_surface_mm.max())},
+            warnings=tuple(warnings), start=start)
+        if settle_iterations and forces_n is not None:
+            result = result.settle_balls(forces_n, max_iterations=settle_iterations)
+        return result
+
+    @classmethod
+    def _assemble(cls, *, flex_cc, flex_cb, flex_bb, cs_flex, face_width_mm, tooth, ball_angle_rad, ball_active,
+                  wrap_half_angle_rad, wrap_source, dof, time_s, mesh, warnings, start=None):
+        act = np.flatnonzero(ball_active)
+        fs2d = flex_cc.copy()
+        if act.size:
+            from scipy.linalg import cho_factor, cho_solve
+
+            fa = cho_factor(flex_bb[np.ix_(act, act)])
+            fs2d = fs2d - flex_cb[:, act] @ cho_solve(fa, flex_cb[:, act].T)
+        fs_s = 0.5 * (fs2d + fs2d.T) / face_width_mm
+        cs_s = cs_flex / face_width_mm
+        total = fs_s + cs_s
+        try:
+            np.linalg.cholesky(total)
+        except np.linalg.LinAlgError as exc:
+            raise ConvergenceError("ContactCompliance: S is not positive definite (two contact points coincide, or "
+                                   "a rigid-body mode is left)") from exc
+        times = dict(time_s)
+        if start is not None:
+            times["total"] = time.perf_counter() - start
+        return cls(total, fs_s, cs_s, face_width_mm, tooth, ball_angle_rad, ball_active, wrap_half_angle_rad,
+                   wrap_source, dict(dof), times, mesh, flex_cc, flex_cb, flex_bb, tuple(warnings))
+
+    # --- balls ------------------------------------------------------------------------
+    @property
+    def count(self) -> int:
+        return int(self.matrix_mm_per_n.shape[0])
+
+    def _forces(self, forces_n) -> np.ndarray:
+        f = np.asarray(forces_n, dtype=float)
+        if f.shape != (self.count,) or not np.all(np.isfinite(f)):
+            raise ComplianceError(f"forces_n: must be {self.count} finite contact forces (N), got shape {f.shape}")
+        return f
+
+    def ball_reactions(self, forces_n) -> np.ndarray:
+        """Radial reaction of every candidate ball on the rim (N, > 0 pushes the rim
+        outward, i.e. the ball is compressed; 0 for a dropped ball) for contact forces
+        ``forces_n`` (N, along the common normals, ≥ 0 compressive) in this zone (the same
+        in the image zone)."""
+        f = self._forces(forces_n)
+        out = np.zeros(self.ball_angle_rad.size)
+        act = np.flatnonzero(self.ball_active)
+        if act.size:
+            out[act] = -np.linalg.solve(self._flex_bb[np.ix_(act, act)], self._flex_cb[:, act].T @ f)
+        return out
+
+    def ball_gaps_mm(self, forces_n) -> np.ndarray:
+        """Outward radial displacement of the bore at every candidate ball (mm; < 0: the rim
+        moves into the ball) under ``forces_n``; 0 at an active ball."""
+        f = self._forces(forces_n) / self.face_width_mm
+        lam = self.ball_reactions(forces_n) / self.face_width_mm
+        return self._flex_cb.T @ f + self._flex_bb @ lam
+
+    def with_balls(self, active) -> "ContactCompliance":
+        """The same points with another set of active balls (no new factorisation)."""
+        act = np.asarray(active, dtype=bool)
+        if act.shape != self.ball_angle_rad.shape:
+            raise ComplianceError(f"active: must be {self.ball_angle_rad.size} booleans (one per candidate ball)")
+        return self._assemble(
+            flex_cc=self._flex_cc, flex_cb=self._flex_cb, flex_bb=self._flex_bb,
+            cs_flex=self.cs_matrix_mm_per_n * self.face_width_mm, face_width_mm=self.face_width_mm, tooth=self.tooth,
+            ball_angle_rad=self.ball_angle_rad, ball_active=act, wrap_half_angle_rad=self.wrap_half_angle_rad,
+            wrap_source=self.wrap_source, dof=self.dof, time_s=self.time_s, mesh=self.mesh, warnings=self.warnings)
+
+    def settle_balls(self, forces_n, *, max_iterations: int = 20, solve=None) -> "ContactCompliance":
+        """Seed 000 steps 4–6 for the balls: drop the balls that pull, take back the dropped
+        balls the rim moves into, until the set no longer changes.
+
+        ``forces_n``: the contact forces (N). ``solve``: optional callable S → forces (the
+        contact solve of step 5, re-run with every new S); without it the forces are held.
+        Raises ConvergenceError if the set still changes after ``max_iterations``."""
+        max_iterations = _whole("max_iterations", max_iterations, 1)
+        current = self
+        f = current._forces(forces_n)
+        seen = {tuple(current.ball_active)}
+        for _ in range(max_iterations):
+            react = current.ball_reactions(f)
+            gaps = current.ball_gaps_mm(f)
+            tol = 1e-12 * max(1.0, float(np.abs(react).max(initial=0.0)))
+            active = current.ball_active.copy()
+            pulling = active & (react < -tol)
+            if pulling.any():
+                # drop the most tensile first: the others' reactions change with it
+                active[np.flatnonzero(pulling)[np.argmin(react[pulling])]] = False
+            else:
+                pressed = ~active & (gaps < -1e-15)
+                if not pressed.any():
+                    return current
+                active[np.flatnonzero(pressed)[np.argmin(gaps[pressed])]] = True
+            if tuple(active) in seen and not pulling.any():
+                raise ConvergenceError("ContactCompliance.settle_balls: the ball set cycles")
+            seen.add(tuple(active))
+            current = current.with_balls(active)
+            if solve is not None:
+                f = current._forces(solve(current.matrix_mm_per_n))
+        raise ConvergenceError(f"ContactCompliance.settle_balls: the ball set still changes after {max_iterations} "
+                               f"iterations ({int(current.ball_active.sum())} of {current.ball_active.size} active)")
+
+    # --- reporting -------------------------------------------------------------------
+    def per_tooth_diagonal(self) -> dict[int, float]:
+        """The mean diagonal S_kk of each tooth (mm/N)."""
+        d = np.diag(self.matrix_mm_per_n)
+        return {int(t): float(d[self.tooth == t].mean()) for t in np.unique(self.tooth)}
+
+    def to_dict(self) -> dict:
+        d = np.diag(self.matrix_mm_per_n)
+        return {
+            "model": "plane-stress FEM: FS point-symmetric toothed half ring on radial ball supports, bore mean "
+                     "rotation held; CS toothed sector fixed outside; S = S_2D / b",
+            "count": self.count,
+            "face_width_mm": self.face_width_mm,
+            "diagonal_mm_per_n": {"min": float(d.min()), "max": float(d.max())},
+            "fs_diagonal_mm_per_n": {"min": float(np.diag(self.fs_matrix_mm_per_n).min()),
+                                     "max": float(np.diag(self.fs_matrix_mm_per_n).max())},
+            "cs_diagonal_mm_per_n": {"min": float(np.diag(self.cs_matrix_mm_per_n).min()),
+                                     "max": float(np.diag(self.cs_matrix_mm_per_n).max())},
+            "ball_angle_deg": np.degrees(self.ball_angle_rad).tolist(),
+            "ball_active": self.ball_active.tolist(),
+            "wrap_half_angle_deg": math.degrees(self.wrap_half_angle_rad),
+            "wrap_source": self.wrap_source,
+            "dof": dict(self.dof),
+            "time_s": dict(self.time_s),
+            "mesh": self.mesh,
+            "warnings": list(self.warnings),
+        }

@@ -1,0 +1,177 @@
+"""Influence coefficients of the loaded tooth contact (profilegen.contact.compliance).
+
+Physics checks: Maxwell–Betti symmetry and positive definiteness; the pinched ring
+(Roark, *Formulas for Stress and Strain*, 7th ed., Table 9.2 case 1: a thin ring under two
+equal and opposite radial forces P, the diameter normal to the load line grows by
+(2/π − 1/2)·P R³/(E I)); exact 1/b and 1/E scaling; no ball pulls after the ball
+iteration; a single CS tooth against a cantilever (Timoshenko) beam.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+import shapely
+
+import profilegen as pg
+from profilegen.contact.compliance import ComplianceError, ContactCompliance, _half_ring_flex
+from profilegen.kinematics import turn
+from profilegen.rim.toothed import ring_sector_mesh
+
+
+@pytest.fixture(scope="module")
+def design():
+    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch")
+
+
+def make_points(design, teeth, stations=5):
+    """Right-flank stations of FS teeth ``teeth`` placed by the kinematics (WG at ψ = 0, tooth
+    i in CS space i), their outward normals, and the nearest points of the fitted CS flank."""
+    g = design.gearset.gear
+    tooth, motion = design.tooth, design.motion
+    t = np.linspace(0.45 * tooth.length_mm, tooth.length_mm * 0.98, stations)
+    local, dp, _ = tooth.evaluate(t)
+    n_local = np.column_stack([dp[:, 1], -dp[:, 0]])
+    line = shapely.LineString(design.profile.space.sample(1e-5))
+    fs, nn, idx, cs = [], [], [], []
+    for i in teeth:
+        pose = motion.pose(np.full(stations, 2 * math.pi * i / g.flexspline_teeth))
+        placed = pose.to_cs(local)
+        c, s = np.cos(pose.angle), np.sin(pose.angle)
+        normal = np.column_stack([n_local[:, 0] * c + n_local[:, 1] * s, n_local[:, 1] * c - n_local[:, 0] * s])
+        foot = np.array([line.interpolate(line.project(shapely.Point(*p))).coords[0] for p in placed])
+        angle = 2 * math.pi * i / g.circular_spline_teeth
+        fs.append(turn(placed, angle))
+        nn.append(turn(normal, angle))
+        cs.append(turn(foot, angle))
+        idx.append(np.full(stations, i))
+    return np.vstack(fs), np.vstack(nn), np.concatenate(idx), np.vstack(cs)
+
+
+@pytest.fixture(scope="module")
+def points(design):
+    return make_points(design, teeth=range(2, 14, 2))
+
+
+@pytest.fixture(scope="module")
+def compliance(design, points):
+    return ContactCompliance.build(design, *points)
+
+
+def test_symmetric_positive_definite_and_finite(compliance):
+    s = compliance.matrix_mm_per_n
+    assert np.all(np.isfinite(s))
+    assert np.max(np.abs(s - s.T)) <= 1e-10 * np.max(np.abs(s))
+    eig = np.linalg.eigvalsh(s)
+    assert eig.min() > 0.0
+    # the order of seed 000's S·r (its S is divided by r ≈ 50 mm and quoted as ~1e-7)
+    d = np.diag(s)
+    assert 2e-6 < d.min() and d.max() < 2e-4
+    # the FS part dominates: the CS is a stiff ring fixed outside
+    assert np.all(np.diag(compliance.cs_matrix_mm_per_n) < np.diag(compliance.fs_matrix_mm_per_n))
+
+
+def test_rigid_rotation_removed_without_any_ball(compliance):
+    """The bore's mean rotation alone holds the point-symmetric ring: S stays finite and
+    positive definite with every ball dropped (and is larger: the balls stiffen the rim)."""
+    free = compliance.with_balls(np.zeros(compliance.ball_angle_rad.size, bool))
+    assert np.linalg.eigvalsh(free.matrix_mm_per_n).min() > 0.0
+    assert np.all(np.diag(free.matrix_mm_per_n) >= np.diag(compliance.matrix_mm_per_n) * (1 - 1e-12))
+
+
+def test_scales_as_one_over_face_width_and_modulus(design, points, compliance):
+    wide = ContactCompliance.build(design, *points, face_width_mm=2 * compliance.face_width_mm)
+    np.testing.assert_allclose(wide.matrix_mm_per_n, compliance.matrix_mm_per_n / 2, rtol=1e-9)
+    gs = design.gearset
+    stiff = dataclasses.replace(design, gearset=gs.with_values(
+        {"material.youngs_modulus_mpa": 2 * gs.material.youngs_modulus_mpa}))
+    hard = ContactCompliance.build(stiff, *points)
+    np.testing.assert_allclose(hard.matrix_mm_per_n, compliance.matrix_mm_per_n / 2, rtol=1e-7)
+
+
+def test_no_ball_pulls_after_settling(compliance):
+    """Seed 000 steps 4–6 with the contact forces held: tensile balls are dropped one at a
+    time until every remaining reaction is compressive and no dropped ball is pressed."""
+    forces = np.full(compliance.count, 100.0)
+    first = compliance.ball_reactions(forces)
+    assert first.min() < 0.0  # some ball pulls with all of them held
+    settled = compliance.settle_balls(forces)
+    react = settled.ball_reactions(forces)
+    assert np.all(react[settled.ball_active] >= 0.0)
+    assert np.all(react[~settled.ball_active] == 0.0)
+    assert np.all(settled.ball_gaps_mm(forces)[~settled.ball_active] >= -1e-15)
+    assert 0 < settled.ball_active.sum() < settled.ball_active.size
+
+
+def test_pinched_flat_ring_against_ring_theory():
+    """The half model with its point-symmetric tie is the whole ring under the load and its
+    image: a radial force P at θ = 0 is the pinched ring. Reciprocity: the radial
+    displacement at θ = 90° under P equals the load point's response to a force there."""
+    r_in, r_out, e, nu = 48.5, 49.4, 209000.0, 0.3
+    pitches, pitch = 100, math.pi / 100
+    ring = ring_sector_mesh(pitch, -0.5 * pitch, [None] * pitches, [4] * pitches, mapped_radius_mm=0.5 * (r_in + r_out),
+                            polar_radius_mm=r_in, mapped_layers=2, polar_layers=2, mapped_outside=True,
+                            flat_radius_mm=r_out)
+    theta = np.array([0.0, 0.5 * math.pi])
+    pts = r_out * np.column_stack([np.sin(theta), np.cos(theta)])
+    inward = -np.column_stack([np.sin(theta), np.cos(theta)])
+    flex, *_ = _half_ring_flex(ring, e, nu, r_in, pts, inward, np.zeros(0), tol_mm=1e-6)
+    assert abs(flex[0, 1] - flex[1, 0]) <= 1e-12 * abs(flex[0, 1])
+    radius, thick = 0.5 * (r_in + r_out), r_out - r_in
+    ei = e * thick**3 / 12.0  # per mm of width
+    growth = (2.0 / math.pi - 0.5) * radius**3 / ei  # diameter normal to the load line, per unit P
+    # an inward unit load at 0° moves the 90° point outward by growth/2: −(inward·u) there
+    assert -flex[1, 0] == pytest.approx(0.5 * growth, rel=0.01)
+
+
+def test_cs_tooth_against_cantilever_beam(design, compliance):
+    """A CS tooth is a short cantilever on a stiff, fixed ring: its compliance under a load
+    near the tip is within a factor of 3 of bending + shear of a uniform beam as long as
+    the load's height above the root circle, as thick as the tooth at mid-height (a
+    cantilever ignores the root's rotation, which makes real teeth softer)."""
+    space = design.profile.space
+    z2 = design.gearset.gear.circular_spline_teeth
+    cs = compliance.cs_matrix_mm_per_n * compliance.face_width_mm  # mm²/N, per mm of face width
+    # the CS point farthest from the root circle (nearest the CS tip) of the first tooth
+    _, _, _, cs_pts = make_points(design, teeth=[2])
+    k = int(np.argmin(np.hypot(*cs_pts.T)))
+    r_root = float(np.max(np.hypot(*space.sample(1e-4).T)))
+    h = r_root - float(np.hypot(*cs_pts[k]))
+    sample = space.sample(1e-5)
+    r_mid = r_root - 0.5 * h
+    ang = np.arctan2(sample[:, 0], sample[:, 1])
+    near = np.abs(np.hypot(*sample.T) - r_mid) < 0.02
+    space_width = r_mid * (ang[near].max() - ang[near].min())
+    thick = r_mid * 2 * math.pi / z2 - space_width
+    e, nu = design.gearset.material.youngs_modulus_mpa, design.gearset.material.poisson_ratio
+    g_mod = e / (2 * (1 + nu))
+    beam = h**3 / (3 * e * thick**3 / 12) + h / (5 / 6 * g_mod * thick)
+    assert 0.33 < cs[k, k] / beam < 3.0
+
+
+@pytest.mark.parametrize("change, name", [
+    ("shape", "fs_normals"), ("nan", "fs_points"), ("off", "fs_points"), ("width", "face_width_mm"),
+    ("index", "fs_tooth_index"), ("cs_off", "cs_points"), ("balls", "ball_count")])
+def test_bad_input_names_the_parameter(design, points, change, name):
+    fs, nn, idx, cs = (np.array(a) for a in points)
+    kw = {}
+    if change == "shape":
+        nn = nn[:-1]
+    elif change == "nan":
+        fs[3, 0] = np.nan
+    elif change == "off":
+        fs[3] += 0.05 * nn[3]
+    elif change == "width":
+        kw["face_width_mm"] = 0.0
+    elif change == "index":
+        idx = idx[:-1]
+    elif change == "cs_off":
+        cs[2] -= 0.05 * nn[2]
+    elif change == "balls":
+        kw["ball_count"] = 1
+    with pytest.raises(ComplianceError, match=name):
+        ContactCompliance.build(design, fs, nn, idx, cs, **kw)
+    assert issubclass(ComplianceError, ValueError)
