@@ -288,3 +288,49 @@ def clearance(phi_rad: Any, clearance_mm: Any, ax: "Axes | None" = None) -> "Axe
     ax.set_ylabel("clearance (µm)")
     ax.ticklabel_format(useOffset=False, style="plain")
     return ax
+
+
+#: Torsional stiffness of a size-40 cup-type gear from the Harmonic Drive LLC CSF/CSG
+#: catalog, table 42 (ratio 1/50): limit torques T1, T2 (N·m) and stiffnesses K1 (0…T1),
+#: K2 (T1…T2) in N·m/rad. Ratios ≥ 80 (ours: 100) are listed stiffer in the same catalog.
+CATALOG_SIZE40_RATIO50 = {"T1_nm": 54.0, "K1_nm_per_rad": 10e4, "T2_nm": 196.0, "K2_nm_per_rad": 14e4}
+
+
+def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | None = None,
+                   catalog: dict | None = None) -> "Figure":
+    """Load sharing along the engagement (force per tooth vs φ, one line per torque) and the
+    torsional curve (torque vs rotation in arcmin, the catalog's bilinear curve for comparison)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10.0, 4.0), layout="constrained")
+    FigureCanvasAgg(fig)
+    ax1, ax2 = fig.subplots(1, 2)
+    for case in result.cases:
+        ax1.plot(np.degrees(case.tooth_phi_rad), case.tooth_force_n, "o-", ms=3, lw=1,
+                 label=f"{case.torque_nm:g} N·m: {case.teeth_in_contact} teeth/zone, max {case.max_tooth_force_n:.0f} N")
+    ax1.set_xlabel("FS tooth position φ from the major axis (deg)")
+    ax1.set_ylabel("normal force per tooth (N)")
+    ax1.legend(fontsize=7)
+    _tidy(ax1)
+    phi0 = float(np.min(result.points.theta_rad))
+    rot = (result.rotations_rad - phi0) * 180 * 60 / math.pi
+    ax2.plot(np.concatenate([[0.0], rot]), np.concatenate([[0.0], result.torques_nm]), "o-", ms=3,
+             label="this model (mesh only, no clearance)")
+    cat = CATALOG_SIZE40_RATIO50 if catalog is None else catalog
+    if cat:
+        t1, t2 = cat["T1_nm"], cat["T2_nm"]
+        a1 = t1 / cat["K1_nm_per_rad"]
+        a2 = a1 + (t2 - t1) / cat["K2_nm_per_rad"]
+        k = 180 * 60 / math.pi
+        ax2.plot([0.0, a1 * k, a2 * k], [0.0, t1, t2], "k--", lw=1,
+                 label="catalog, size 40, ratio 50 (whole gear, K1/K2)")
+    ax2.set_xlabel("elastic rotation of the FS against the CS (arcmin)")
+    ax2.set_ylabel("torque (N·m)")
+    ax2.legend(fontsize=7)
+    _tidy(ax2)
+    if title:
+        fig.suptitle(title, fontsize=9)
+    if path is not None:
+        fig.savefig(path, dpi=130)
+    return fig

@@ -1,0 +1,237 @@
+"""Loaded tooth contact of a design: points + compliance + solver → :class:`ContactResult`.
+
+``analyse_contact(points, compliance, torques_nm)`` solves one engagement zone for each
+torque. The U zones of a U-wave generator carry equal shares (the wave generator's U-fold
+rotational symmetry maps the loads of one zone onto the next), so a zone takes
+T_zone = T / U; forces, teeth in contact and the rotation are those of one zone, the teeth
+in contact of the whole gear are U times as many. The rotation φ of the FS against the CS
+is the same in every zone; the torsional mesh stiffness is T / φ (secant) and dT/dφ
+(tangent, by differences along the torque list).
+
+The compliance comes from :mod:`profilegen.contact.compliance` (FEM influence
+coefficients) or any symmetric positive definite matrix in mm/N for the points, in the
+points' order. The solver is :func:`~profilegen.contact.solvers.solve_lemke` (the
+package's), or the active-set QP for a cross-check.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .solvers import ContactError, ContactSolution, solve_lemke, solve_qp_active_set
+
+__all__ = ["ContactResult", "LoadCase", "analyse_contact", "solve_contact"]
+
+ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi
+
+_SOLVERS = {"lemke": solve_lemke, "active_set": solve_qp_active_set}
+
+
+def _readonly(values, dtype=float) -> np.ndarray:
+    array = np.array(values, dtype=dtype)
+    array.setflags(write=False)
+    return array
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class LoadCase:
+    """One torque: the zone's solution and its per-tooth summary (N, rad, N·m)."""
+
+    torque_nm: float
+    zone_torque_nm: float
+    solution: ContactSolution
+    teeth: np.ndarray  # FS tooth indices of the zone's candidate points, sorted
+    tooth_phi_rad: np.ndarray
+    tooth_force_n: np.ndarray  # normal force per tooth (sum over its points)
+    ball_angle_rad: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    ball_reaction_n: np.ndarray = field(default_factory=lambda: np.zeros(0))  # > 0: ball compressed
+    ball_active: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+
+    def __post_init__(self):
+        for name in ("teeth", "tooth_phi_rad", "tooth_force_n", "ball_angle_rad", "ball_reaction_n"):
+            object.__setattr__(self, name, _readonly(getattr(self, name), int if name == "teeth" else float))
+        object.__setattr__(self, "ball_active", _readonly(self.ball_active, bool))
+
+    @property
+    def rotation_rad(self) -> float:
+        """Rotation φ of the FS against the CS under the torque (rad)."""
+        return float(self.solution.phi_rad)
+
+    @property
+    def rotation_arcmin(self) -> float:
+        return self.rotation_rad * ARCMIN_PER_RAD
+
+    @property
+    def teeth_in_contact(self) -> int:
+        """Teeth carrying load in one zone."""
+        return int(np.count_nonzero(self.tooth_force_n > 0.0))
+
+    @property
+    def max_tooth_force_n(self) -> float:
+        return float(self.tooth_force_n.max())
+
+    def to_dict(self) -> dict:
+        return {
+            "torque_nm": self.torque_nm,
+            "zone_torque_nm": self.zone_torque_nm,
+            "rotation_rad": self.rotation_rad,
+            "rotation_arcmin": self.rotation_arcmin,
+            "teeth_in_contact_per_zone": self.teeth_in_contact,
+            "points_loaded": self.solution.loaded_count,
+            "max_tooth_force_n": self.max_tooth_force_n,
+            "max_point_force_n": self.solution.max_force_n,
+            "all_points_loaded": self.solution.all_points_loaded,
+            "teeth": self.teeth.tolist(),
+            "tooth_phi_deg": np.degrees(self.tooth_phi_rad).tolist(),
+            "tooth_force_n": self.tooth_force_n.tolist(),
+            "ball_angle_deg": np.degrees(self.ball_angle_rad).tolist(),
+            "ball_reaction_n": self.ball_reaction_n.tolist(),
+            "ball_active": self.ball_active.tolist(),
+            "solution": self.solution.to_dict(),
+        }
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ContactResult:
+    """Loaded contact at several torques, and the torsional stiffness curve they make."""
+
+    points: object
+    cases: tuple[LoadCase, ...]
+    zones: int
+    solver: str
+    compliance_info: dict
+    time_s: float
+    warnings: tuple[str, ...] = field(default=())
+    compliance: object = None  # the ContactCompliance (reuse it for further torques)
+
+    @property
+    def torques_nm(self) -> np.ndarray:
+        return np.array([c.torque_nm for c in self.cases])
+
+    @property
+    def rotations_rad(self) -> np.ndarray:
+        return np.array([c.rotation_rad for c in self.cases])
+
+    @property
+    def secant_stiffness_nm_per_rad(self) -> np.ndarray:
+        """T / (φ − φ_0) with φ_0 the rotation at first contact (the smallest θ): the
+        elastic part only, the no-load clearance taken out."""
+        phi0 = float(np.min(self.points.theta_rad))
+        return self.torques_nm / (self.rotations_rad - phi0)
+
+    @property
+    def max_tooth_force_n(self) -> float:
+        return max(c.max_tooth_force_n for c in self.cases)
+
+    def to_dict(self) -> dict:
+        k = self.secant_stiffness_nm_per_rad
+        return {
+            "zones": self.zones,
+            "solver": self.solver,
+            "compliance": self.compliance_info,
+            "first_contact_rotation_rad": float(np.min(self.points.theta_rad)),
+            "torques_nm": self.torques_nm.tolist(),
+            "rotations_arcmin": (self.rotations_rad * ARCMIN_PER_RAD).tolist(),
+            "secant_stiffness_nm_per_rad": k.tolist(),
+            "secant_stiffness_nm_per_arcmin": (k / ARCMIN_PER_RAD).tolist(),
+            "max_tooth_force_n": self.max_tooth_force_n,
+            "time_s": self.time_s,
+            "points": self.points.to_dict(),
+            "cases": [c.to_dict() for c in self.cases],
+            "warnings": list(self.warnings),
+        }
+
+
+def analyse_contact(points, compliance_mm_per_n, torques_nm, *, solver: str = "lemke") -> ContactResult:
+    """Solve one engagement zone of ``points`` (:class:`~profilegen.contact.points.ContactPoints`)
+    with ``compliance_mm_per_n`` (n × n) at each torque in ``torques_nm`` (N·m, total on the gear)."""
+    t0 = time.perf_counter()
+    if solver not in _SOLVERS:
+        raise ContactError(f"solver = {solver!r}: must be one of {', '.join(_SOLVERS)}")
+    torques = np.atleast_1d(np.asarray(torques_nm, dtype=float))
+    if torques.ndim != 1 or torques.size == 0:
+        raise ContactError("torques_nm: must be one torque or a list of torques (N·m)")
+    bad = np.flatnonzero(~(np.isfinite(torques) & (torques > 0.0)))
+    if bad.size:
+        raise ContactError(f"torques_nm = {torques[bad[0]]!r} N·m: every torque must be finite and > 0")
+    s = np.asarray(compliance_mm_per_n, dtype=float)
+    if s.shape != (points.count, points.count):
+        raise ContactError(
+            f"compliance_mm_per_n: shape {s.shape} does not match the {points.count} contact points"
+        )
+    zones = int(points.zones)
+    teeth = points.teeth
+    where = np.searchsorted(teeth, points.tooth)
+    tooth_phi = np.zeros(teeth.size)
+    tooth_phi[where] = points.phi_rad
+    cases, warnings = [], []
+    for torque in torques:
+        zone_nm = torque / zones
+        sol = _SOLVERS[solver](s, points.theta_rad, points.lever_mm, zone_nm * 1e3)
+        per_tooth = np.bincount(where, weights=sol.force_n, minlength=teeth.size)
+        cases.append(LoadCase(float(torque), float(zone_nm), sol, teeth, tooth_phi, per_tooth))
+        if sol.all_points_loaded:
+            warnings.append(f"at {torque:g} N·m every candidate contact point is loaded: the contact zone may "
+                            "extend beyond the points searched (raise max_gap_mm) — the result is not trustworthy")
+        warnings += list(sol.warnings)
+    return ContactResult(points, tuple(cases), zones, solver, {}, time.perf_counter() - t0, tuple(warnings), None)
+
+
+def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 9, max_gap_mm: float = 0.05,
+                  solver: str = "lemke", face_width_mm: float | None = None, settle_iterations: int = 20,
+                  points=None, compliance=None) -> ContactResult:
+    """Loaded contact of ``design`` at each torque (N·m): the potential contact points
+    (:func:`~profilegen.contact.points.contact_points`), the FEM influence coefficients
+    (:class:`~profilegen.contact.compliance.ContactCompliance`, built once), then per torque
+    seed 000's loop — solve the contact, drop the balls that pull and take back those the rim
+    moves into, re-solve — until the ball set no longer changes. ``points`` and
+    ``compliance``: those of an earlier result (``result.points``, ``result.compliance``), so
+    that further torques skip the FEM."""
+    from .compliance import ContactCompliance
+    from .points import contact_points
+
+    t0 = time.perf_counter()
+    if solver not in _SOLVERS:
+        raise ContactError(f"solver = {solver!r}: must be one of {', '.join(_SOLVERS)}")
+    torques = np.atleast_1d(np.asarray(torques_nm, dtype=float))
+    bad = np.flatnonzero(~(np.isfinite(torques) & (torques > 0.0)))
+    if torques.ndim != 1 or torques.size == 0 or bad.size:
+        shown = torques[bad[0]] if bad.size else torques_nm
+        raise ContactError(f"torques_nm = {shown!r} N·m: every torque must be finite and > 0")
+    if (points is None) != (compliance is None):
+        raise ContactError("points, compliance: pass both (from an earlier solve_contact result) or neither")
+    if points is None:
+        points = contact_points(design, side=side, stations=stations, max_gap_mm=max_gap_mm)
+        compliance = ContactCompliance.build(design, points.fs_point_mm, points.normal, points.tooth,
+                                             points.cs_point_mm, face_width_mm=face_width_mm)
+    zones = int(points.zones)
+    solve = _SOLVERS[solver]
+    teeth = points.teeth
+    where = np.searchsorted(teeth, points.tooth)
+    tooth_phi = np.zeros(teeth.size)
+    tooth_phi[where] = points.phi_rad
+    cases, warnings = [], []
+    for torque in torques:
+        torque_nmm = torque / zones * 1e3
+
+        def forces_for(matrix, torque_nmm=torque_nmm):
+            return solve(matrix, points.theta_rad, points.lever_mm, torque_nmm).force_n
+
+        first = solve(compliance.matrix_mm_per_n, points.theta_rad, points.lever_mm, torque_nmm)
+        settled = compliance.settle_balls(first.force_n, max_iterations=settle_iterations, solve=forces_for)
+        sol = (first if np.array_equal(settled.ball_active, compliance.ball_active)
+               else solve(settled.matrix_mm_per_n, points.theta_rad, points.lever_mm, torque_nmm))
+        per_tooth = np.bincount(where, weights=sol.force_n, minlength=teeth.size)
+        cases.append(LoadCase(float(torque), float(torque / zones), sol, teeth, tooth_phi, per_tooth,
+                              settled.ball_angle_rad, settled.ball_reactions(sol.force_n), settled.ball_active))
+        if sol.all_points_loaded:
+            warnings.append(f"at {torque:g} N·m every candidate contact point is loaded: the contact zone may "
+                            "extend beyond the points searched (raise max_gap_mm) — the result is not trustworthy")
+        warnings += list(sol.warnings)
+    info = compliance.to_dict()
+    return ContactResult(points, tuple(cases), zones, solver, info, time.perf_counter() - t0, tuple(warnings),
+                         compliance)

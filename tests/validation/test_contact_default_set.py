@@ -1,0 +1,79 @@
+"""Loaded contact of the default set (profilegen.contact): the real problem, not a toy.
+
+Sources: seed 000 §5.1–5.2 (complementarity formulation, ball supports dropped when they
+pull); DESIGN.md trap 4 (complementary pivoting, the naive LP fails).
+"""
+
+import numpy as np
+import pytest
+
+import profilegen as pg
+from profilegen.contact import ContactError, solve_lemke, solve_naive_lp, solve_qp_active_set
+from profilegen.contact.analysis import analyse_contact, solve_contact
+
+
+@pytest.fixture(scope="module")
+def design():
+    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch")
+
+
+@pytest.fixture(scope="module")
+def rated(design):
+    return solve_contact(design, [30.0, 265.0])
+
+
+def test_both_solvers_agree_on_the_real_problem(rated):
+    pts = rated.points
+    for case in rated.cases:
+        s = rated.compliance.with_balls(case.ball_active).matrix_mm_per_n
+        t = case.zone_torque_nm * 1e3
+        lemke, qp = solve_lemke(s, pts.theta_rad, pts.lever_mm, t), solve_qp_active_set(s, pts.theta_rad, pts.lever_mm, t)
+        assert np.max(np.abs(lemke.force_n - qp.force_n)) <= 1e-8 * lemke.force_n.max()
+        assert lemke.phi_rad == pytest.approx(qp.phi_rad, rel=1e-8)
+        np.testing.assert_array_equal(lemke.force_n, case.solution.force_n)
+
+
+def test_complementarity_equilibrium_and_settled_balls(rated):
+    pts = rated.points
+    for case in rated.cases:
+        sol = case.solution
+        assert np.all(sol.force_n >= 0.0) and np.all(sol.gap_mm >= -1e-12)
+        assert sol.complementarity_residual < 1e-9
+        moment = np.sum(pts.lever_mm * sol.force_n)
+        assert moment == pytest.approx(case.zone_torque_nm * 1e3, rel=1e-9)  # Σ r_k F_k = T / U
+        # seed 000 steps 4–6: no active ball pulls after settling
+        active = case.ball_reaction_n[case.ball_active]
+        assert active.size and np.all(active >= -1e-9 * np.abs(active).max())
+
+
+def test_first_contact_is_at_the_smallest_separation(design, rated):
+    tiny = solve_contact(design, [1e-3], points=rated.points, compliance=rated.compliance)
+    sol = tiny.cases[0].solution
+    assert sol.loaded_count == 1
+    assert np.argmax(sol.force_n) == np.argmin(rated.points.theta_rad)
+
+
+def test_rotation_and_contact_grow_with_torque_on_fixed_supports(rated):
+    """With every ball held (one compliance) the rotation and the number of teeth in
+    contact never decrease as the torque grows (φ = dV/dT of a convex V)."""
+    sweep = analyse_contact(rated.points, rated.compliance.matrix_mm_per_n, [10, 30, 100, 265, 660, 1200])
+    phi = [c.rotation_rad for c in sweep.cases]
+    teeth = [c.teeth_in_contact for c in sweep.cases]
+    assert np.all(np.diff(phi) > 0) and np.all(np.diff(teeth) >= 0) and teeth[-1] > teeth[0]
+
+
+def test_the_naive_lp_is_not_a_contact_solution(rated):
+    """DESIGN.md trap 4 on the real matrix: the printed phase-1 LP returns a feasible point
+    that violates complementarity."""
+    case = rated.cases[-1]
+    s = rated.compliance.with_balls(case.ball_active).matrix_mm_per_n
+    naive = solve_naive_lp(s, rated.points.theta_rad, rated.points.lever_mm, case.zone_torque_nm * 1e3)
+    assert naive.complementarity_residual > 1e-3
+    assert naive.loaded_count < case.solution.loaded_count or naive.phi_rad != pytest.approx(case.solution.phi_rad)
+
+
+def test_bad_input_is_named(design, rated):
+    with pytest.raises(ContactError, match="torques_nm"):
+        solve_contact(design, [0.0], points=rated.points, compliance=rated.compliance)
+    with pytest.raises(ContactError, match="points, compliance"):
+        solve_contact(design, [10.0], points=rated.points)
