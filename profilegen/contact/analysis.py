@@ -215,23 +215,31 @@ def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 9, max_g
     tooth_phi = np.zeros(teeth.size)
     tooth_phi[where] = points.phi_rad
     cases, warnings = [], []
-    for torque in torques:
-        torque_nmm = torque / zones * 1e3
+    from threadpoolctl import threadpool_limits
 
-        def forces_for(matrix, torque_nmm=torque_nmm):
-            return solve(matrix, points.theta_rad, points.lever_mm, torque_nmm).force_n
+    with threadpool_limits(limits=1, user_api="blas"):  # n ≈ 200: threads only add overhead (9 → 1 ms per check)
+        for torque in torques:
+            torque_nmm = torque / zones * 1e3
 
-        first = solve(compliance.matrix_mm_per_n, points.theta_rad, points.lever_mm, torque_nmm)
-        settled = compliance.settle_balls(first.force_n, max_iterations=settle_iterations, solve=forces_for)
-        sol = (first if np.array_equal(settled.ball_active, compliance.ball_active)
-               else solve(settled.matrix_mm_per_n, points.theta_rad, points.lever_mm, torque_nmm))
-        per_tooth = np.bincount(where, weights=sol.force_n, minlength=teeth.size)
-        cases.append(LoadCase(float(torque), float(torque / zones), sol, teeth, tooth_phi, per_tooth,
-                              settled.ball_angle_rad, settled.ball_reactions(sol.force_n), settled.ball_active))
-        if sol.all_points_loaded:
-            warnings.append(f"at {torque:g} N·m every candidate contact point is loaded: the contact zone may "
-                            "extend beyond the points searched (raise max_gap_mm) — the result is not trustworthy")
-        warnings += list(sol.warnings)
+            def forces_for(matrix, torque_nmm=torque_nmm):
+                return solve(matrix, points.theta_rad, points.lever_mm, torque_nmm).force_n
+
+            first = solve(compliance.matrix_mm_per_n, points.theta_rad, points.lever_mm, torque_nmm)
+            settled = compliance.settle_balls(first.force_n, max_iterations=settle_iterations, solve=forces_for)
+            sol = (first if np.array_equal(settled.ball_active, compliance.ball_active)
+                   else solve(settled.matrix_mm_per_n, points.theta_rad, points.lever_mm, torque_nmm))
+            per_tooth = np.bincount(where, weights=sol.force_n, minlength=teeth.size)
+            cases.append(LoadCase(float(torque), float(torque / zones), sol, teeth, tooth_phi, per_tooth,
+                                  settled.ball_angle_rad, settled.ball_reactions(sol.force_n), settled.ball_active))
+            if sol.all_points_loaded:
+                warnings.append(f"at {torque:g} N·m every candidate contact point is loaded: the contact zone may "
+                                "extend beyond the points searched (raise max_gap_mm) — the result is not trustworthy")
+            edge = [int(teeth[k]) for k in (0, teeth.size - 1) if per_tooth[k] > 0.0]
+            if edge:
+                warnings.append(f"at {torque:g} N·m the first/last candidate tooth ({edge}) carries load: the contact "
+                                "reaches the edge of the points searched (raise max_gap_mm, or the rim model lets "
+                                "the ring deflect beyond what the teeth were searched for)")
+            warnings += list(sol.warnings)
     info = compliance.to_dict()
     return ContactResult(points, tuple(cases), zones, solver, info, time.perf_counter() - t0, tuple(warnings),
                          compliance)

@@ -1,0 +1,103 @@
+"""Loaded contact of the default set: time per torque and the torsional curve, in one run.
+
+    python tests/benchmarks/contact.py
+
+Writes export/bench/contact.csv and export/bench/contact.png. Times (medians): the first
+torque — contact points, FEM influence coefficients, solve with seed 000's ball settling —
+and each further torque with the coefficients reused (issue 5 targets: ≤ 3 s and ≤ 50 ms).
+The torsional curve is computed twice: balls free to lift (seed 000; no preload) and every
+ball within the wrap held; the Harmonic Drive catalogue's bilinear curve for a size-40
+cup-type gear (CSF/CSG catalogue, table 42, ratio 1/50) is drawn next to both.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+import profilegen as pg  # noqa: E402
+from profilegen.contact.analysis import ARCMIN_PER_RAD, analyse_contact, solve_contact  # noqa: E402
+from profilegen.plot import CATALOG_SIZE40_RATIO50, contact_figure  # noqa: E402
+
+TORQUES_NM = [5, 10, 20, 30, 54, 100, 150, 196, 265, 400, 660, 1200]
+
+
+def main() -> None:
+    gs = pg.load_gearset(pg.default_gearset_path())
+    design = pg.design(gs, scene="design")
+    firsts = []
+    for _ in range(3):
+        t0 = time.perf_counter()
+        result = solve_contact(design, [gs.torque.rated_nm])
+        firsts.append(time.perf_counter() - t0)
+    points, compliance = result.points, result.compliance
+    further = []
+    for torque in TORQUES_NM:
+        t0 = time.perf_counter()
+        solve_contact(design, [torque], points=points, compliance=compliance)
+        further.append(time.perf_counter() - t0)
+    settled = solve_contact(design, TORQUES_NM, points=points, compliance=compliance)
+    held = analyse_contact(points, compliance.matrix_mm_per_n, TORQUES_NM)
+    print(f"{points.count} contact points on {points.teeth.size} teeth; compliance {compliance.dof}, "
+          f"first torque {statistics.median(firsts):.2f} s (median of 3), further torque "
+          f"{statistics.median(further) * 1e3:.1f} ms (median of {len(further)})")
+    phi0 = float(points.theta_rad.min())
+    rows = []
+    for s, h in zip(settled.cases, held.cases):
+        rows.append({
+            "torque_nm": s.torque_nm,
+            "rotation_arcmin_balls_settled": (s.rotation_rad - phi0) * ARCMIN_PER_RAD,
+            "rotation_arcmin_balls_held": (h.rotation_rad - phi0) * ARCMIN_PER_RAD,
+            "teeth_per_zone_settled": s.teeth_in_contact,
+            "teeth_per_zone_held": h.teeth_in_contact,
+            "max_tooth_force_n_settled": s.max_tooth_force_n,
+            "max_tooth_force_n_held": h.max_tooth_force_n,
+            "active_balls_settled": int(s.ball_active.sum()),
+        })
+        r = rows[-1]
+        print(f"{s.torque_nm:7.0f} N·m  settled: {r['rotation_arcmin_balls_settled']:7.3f}' {s.teeth_in_contact:3d} teeth "
+              f"{s.max_tooth_force_n:7.1f} N ({r['active_balls_settled']} balls)   held: "
+              f"{r['rotation_arcmin_balls_held']:7.3f}' {h.teeth_in_contact:3d} teeth {h.max_tooth_force_n:7.1f} N")
+    cat = CATALOG_SIZE40_RATIO50
+    for label, res in (("settled", settled), ("held", held)):
+        k = res.secant_stiffness_nm_per_rad
+        t1 = int(np.argmin(np.abs(res.torques_nm - cat["T1_nm"])))
+        print(f"secant stiffness, balls {label}: {k[t1]:.3g} N·m/rad at {res.torques_nm[t1]:g} N·m "
+              f"(catalogue K1 {cat['K1_nm_per_rad']:.3g}), {k[-1]:.3g} N·m/rad at {res.torques_nm[-1]:g} N·m")
+    out = ROOT / "export" / "bench"
+    out.mkdir(parents=True, exist_ok=True)
+    with open(out / "contact.csv", "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    fig = contact_figure(settled, title="default set, balls free to lift (seed 000); dotted: every ball held")
+    ax = fig.axes[1]
+    ax.plot(np.concatenate([[0.0], (held.rotations_rad - phi0) * ARCMIN_PER_RAD]),
+            np.concatenate([[0.0], held.torques_nm]), "s:", ms=3, label="this model, every ball held")
+    ax.legend(fontsize=7)
+    fig.savefig(out / "contact.png", dpi=130)
+    print(f"wrote {out / 'contact.csv'} and {out / 'contact.png'}; first contact at φ0 = "
+          f"{phi0 * ARCMIN_PER_RAD:.4f} arcmin; catalogue rotation at {TORQUES_NM[8]} N·m: "
+          f"{_catalog_arcmin(TORQUES_NM[8]):.2f} arcmin")
+
+
+def _catalog_arcmin(torque: float) -> float:
+    c = CATALOG_SIZE40_RATIO50
+    if torque <= c["T1_nm"]:
+        rad = torque / c["K1_nm_per_rad"]
+    else:
+        rad = c["T1_nm"] / c["K1_nm_per_rad"] + (torque - c["T1_nm"]) / c["K2_nm_per_rad"]
+    return rad * 180 * 60 / math.pi
+
+
+if __name__ == "__main__":
+    main()
