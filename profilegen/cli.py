@@ -33,9 +33,10 @@ def _cmd_design(args) -> int:
         return 0
     gearset = _load(args.gearset)
     out = Path(args.out) if args.out else Path("export") / gearset.name
-    stages = ["tooth", "deformation", "envelope", "gearform", "arcfit", "files"]
+    stages = ["tooth", "deformation", "envelope", "gearform", "arcfit", "contact", "files"]
     bar = _progress(len(stages), quiet=args.quiet)
-    result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name))
+    result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name),
+                    contact=args.contact)
     bar("files")
     written = write_design(result, out)
     bar(None)
@@ -66,6 +67,11 @@ def _summary(result, written) -> None:
         print(f"  arc–line–arc fit, max deviation (µm): {fits}; CAD uses {p.method}{branches}"
               + (f", max backlash {p.max_backlash_mm * 1e3:.3f} µm" if p.max_backlash_mm is not None else ""))
         print(f"  fitted CS vs FS tooth at {p.positions} positions: min clearance {p.clearance.min_mm * 1e3:.4f} µm")
+    if result.contact is not None:
+        for case in result.contact.cases:
+            print(f"  contact at {case.torque_nm:g} N·m: {case.teeth_in_contact} teeth per zone "
+                  f"({result.contact.zones} zones), rotation {case.rotation_arcmin:.3f} arcmin, "
+                  f"max tooth force {case.max_tooth_force_n:.0f} N")
     for w in result.warnings:
         print(f"  note: {w}")
     for p in written:
@@ -129,6 +135,8 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
     d.add_argument("--scene", choices=["sketch", "design", "verify", "list"], help="fidelity preset (default: the gear set's); 'list' shows them")
     d.add_argument("--out", help="output folder (default: export/<gear-set name>/)")
+    d.add_argument("--contact", action=argparse.BooleanOptionalAction, default=None,
+                   help="loaded tooth contact at the set's rated/peak/momentary torques (default: only in the verify scene)")
     d.add_argument("--fit", choices=["one_sided", "least_squares", "minimax"],
                    help="arc–line–arc fit of the CS flank for CAD (default: the gear set's circular_spline.fit_method)")
     d.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")

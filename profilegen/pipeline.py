@@ -13,7 +13,7 @@ import os
 import shutil
 import tempfile
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Callable
 
@@ -49,12 +49,13 @@ class Scene:
     brute_force_check: bool  # cross-check the boundary against the brute-force swept region
     description: str
     fit_check_positions: int = 2001  # FS tooth poses the fitted CS profile is checked against
+    contact: bool = False  # loaded tooth contact at the gear set's torques (rated, peak, momentary)
 
 
 SCENES: dict[str, Scene] = {
     "sketch": Scene("sketch", "ring theory", 1e-4, 48, 121, 91, False, "interactive use and sweeps: analytic rim, coarse envelope", 181),
     "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False, "the default: 1 nm envelope, classified", 721),
-    "verify": Scene("verify", "toothed-rim FEM (nonlinear)", 1e-7, 192, 481, 721, True, "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001),
+    "verify": Scene("verify", "toothed-rim FEM (nonlinear)", 1e-7, 192, 481, 721, True, "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001, True),
 }
 
 
@@ -150,6 +151,7 @@ class Design:
     warnings: tuple[str, ...] = field(default_factory=tuple)
     profile: "CSProfile | None" = None
     rim: RimDeformation | None = None
+    contact: object = None  # ContactResult at the gear set's torques (None when the scene skips it)
 
     @property
     def time_s(self) -> float:
@@ -192,6 +194,15 @@ class Design:
                 "min_clearance_mm": self.profile.clearance.min_mm,
                 "clearance_positions": self.profile.positions,
             },
+            "contact": None if self.contact is None else {
+                "torques_nm": self.contact.torques_nm.tolist(),
+                "rotation_arcmin": [c.rotation_arcmin for c in self.contact.cases],
+                "teeth_in_contact_per_zone": [c.teeth_in_contact for c in self.contact.cases],
+                "zones": self.contact.zones,
+                "max_tooth_force_n": [c.max_tooth_force_n for c in self.contact.cases],
+                "secant_stiffness_nm_per_rad": self.contact.secant_stiffness_nm_per_rad.tolist(),
+                "warnings": list(self.contact.warnings),
+            },
             "warnings": list(self.warnings),
         }
 
@@ -202,8 +213,13 @@ def design(
     scene: str | Scene | None = None,
     fit_method: str | None = None,
     progress: Callable[[str], None] | None = None,
+    contact: bool | None = None,
 ) -> Design:
     """Run every stage for one gear set (see the module docstring).
+
+    ``contact``: run the loaded tooth contact at the set's rated, peak and momentary
+    torques (default: the scene's choice — only ``verify``; it adds ~4 s and its torsional
+    stiffness is a mesh-only model, see the README).
 
     ``fit_method`` overrides ``gearset.circular_spline.fit_method`` for the CAD profile.
     """
@@ -290,7 +306,33 @@ def design(
     if profile.clearance.min_mm < -1e-6:
         warnings.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} µm "
                         f"at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
-    return Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim)
+    result = Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim)
+    if not (scene.contact if contact is None else contact):
+        return result
+    if g.waves != 2:
+        note = f"loaded contact skipped: the FS half-ring model needs gear.waves = 2, got {g.waves}"
+        return replace(result, warnings=result.warnings + (note,))
+    step("contact")
+    from .contact import solve_qp_active_set
+    from .contact.analysis import solve_contact
+
+    t0 = time.perf_counter()
+    torques = [gearset.torque.rated_nm, gearset.torque.peak_nm, gearset.torque.momentary_nm]
+    contact = solve_contact(result, torques)
+    rated = contact.cases[0]
+    pts = contact.points
+    # error estimate: the independent active-set QP on the rated case's matrix
+    check = solve_qp_active_set(contact.compliance.with_balls(rated.ball_active).matrix_mm_per_n, pts.theta_rad,
+                                pts.lever_mm, rated.zone_torque_nm * 1e3)
+    diff = float(np.max(np.abs(check.force_n - rated.solution.force_n)) / max(rated.solution.max_force_n, 1e-300))
+    dof = int(sum(contact.compliance.dof.values()))
+    stages.append(StageReport(
+        "contact", f"Lemke, {pts.count} points on {pts.teeth.size} teeth, FEM influence coefficients", dof,
+        time.perf_counter() - t0, diff,
+        "relative max difference of the contact forces from the independent active-set QP at the rated torque",
+        f"rated {rated.torque_nm:g} N·m: {rated.teeth_in_contact} teeth per zone, rotation "
+        f"{rated.rotation_arcmin:.3f} arcmin, max tooth force {rated.max_tooth_force_n:.0f} N"))
+    return replace(result, stages=tuple(stages), warnings=result.warnings + tuple(contact.warnings), contact=contact)
 
 
 def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CSProfile:
@@ -410,6 +452,15 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
             title = (f"{g.name}: m {g.gear.module_mm:g} mm, z {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}, "
                      f"ω* {g.wave_generator.deflection_coefficient:g}, scene {result.scene.name}")
             plot.envelope_figure(result.envelope, result.tooth, result.motion, title=title, path=staging / "envelope.png")
+        if result.contact is not None:
+            export.write_json(staging / "contact.json", {"gearset": g.name, "scene": result.scene.name,
+                                                         **result.contact.to_dict()})
+            if figure:
+                from . import plot as _plot
+
+                _plot.contact_figure(result.contact, path=staging / "contact.png",
+                                     title=f"{g.name}: loaded contact, {result.contact.zones} zones, "
+                                           f"{result.contact.points.count} candidate points per zone")
         data["files"] = sorted(p.name for p in staging.iterdir()) + ["design.json"]
         export.write_json(staging / "design.json", data)
         out.mkdir(parents=True, exist_ok=True)

@@ -156,3 +156,24 @@ def test_readme_python_example_runs(tmp_path, monkeypatch):
     assert blocks, "README has no python example"
     monkeypatch.chdir(tmp_path)
     exec(compile(blocks[0], "README.md", "exec"), {"__name__": "__readme__"})
+
+
+def test_design_with_contact_writes_the_loaded_contact(tmp_path):
+    """`profilegen design --contact`: the loaded contact at the set's rated, peak and
+    momentary torques — contact.json, contact.png, a `contact` stage and headline figures."""
+    out = tmp_path / "c"
+    assert main(["design", "--scene", "sketch", "--contact", "--out", str(out), "-q"]) == 0
+    data = json.loads((out / "design.json").read_text())
+    gs = data["gearset"]["torque"]
+    head = data["contact"]
+    assert head["torques_nm"] == [gs["rated_nm"], gs["peak_nm"], gs["momentary_nm"]]
+    assert np.all(np.diff(head["rotation_arcmin"]) > 0)  # more torque, more wind-up
+    assert head["zones"] == 2 and all(n >= 1 for n in head["teeth_in_contact_per_zone"])
+    stage = data["stages"]["contact"]
+    assert stage["dof"] > 10000 and stage["error_estimate"] < 1e-8  # Lemke vs the active-set QP
+    contact = json.loads((out / "contact.json").read_text())
+    assert len(contact["cases"]) == 3 and contact["points"]["count"] > 10
+    case = contact["cases"][0]
+    moment = np.sum(np.array(contact["points"]["lever_mm"]) * np.array(case["solution"]["force_n"]))
+    assert moment == pytest.approx(case["zone_torque_nm"] * 1e3, rel=1e-9)
+    assert (out / "contact.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

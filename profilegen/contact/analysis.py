@@ -183,14 +183,18 @@ def analyse_contact(points, compliance_mm_per_n, torques_nm, *, solver: str = "l
 
 def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 9, max_gap_mm: float = 0.05,
                   solver: str = "lemke", face_width_mm: float | None = None, settle_iterations: int = 20,
-                  points=None, compliance=None) -> ContactResult:
+                  points=None, compliance=None, race_thickness_mm: float | None = None,
+                  race_interface: str = "sliding") -> ContactResult:
     """Loaded contact of ``design`` at each torque (N·m): the potential contact points
     (:func:`~profilegen.contact.points.contact_points`), the FEM influence coefficients
     (:class:`~profilegen.contact.compliance.ContactCompliance`, built once), then per torque
     seed 000's loop — solve the contact, drop the balls that pull and take back those the rim
     moves into, re-solve — until the ball set no longer changes. ``points`` and
     ``compliance``: those of an earlier result (``result.points``, ``result.compliance``), so
-    that further torques skip the FEM."""
+    that further torques skip the FEM. ``race_thickness_mm``: the wave-generator bearing's
+    outer race under the FS bore and ``race_interface`` its joint to the bore (see
+    :meth:`ContactCompliance.build`; 0 = none; both ignored
+    when ``compliance`` is given)."""
     from .compliance import ContactCompliance
     from .points import contact_points
 
@@ -207,7 +211,8 @@ def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 9, max_g
     if points is None:
         points = contact_points(design, side=side, stations=stations, max_gap_mm=max_gap_mm)
         compliance = ContactCompliance.build(design, points.fs_point_mm, points.normal, points.tooth,
-                                             points.cs_point_mm, face_width_mm=face_width_mm)
+                                             points.cs_point_mm, face_width_mm=face_width_mm,
+                                             race_thickness_mm=race_thickness_mm, race_interface=race_interface)
     zones = int(points.zones)
     solve = _SOLVERS[solver]
     teeth = points.teeth

@@ -49,13 +49,33 @@ Model (small displacements about the undeformed bodies; linear, plane stress)
   CSF40-100 — an ESTIMATE for other sizes), only those within ``wrap_half_angle_rad`` of
   the major axis (where the rim sits on the cam at no load; default: the rim stage's
   contact angle, or a flat linear ring solve — ill-conditioned, DESIGN.md trap 7). A ball
-  is a point support along e_r, frictionless, on the bore (the bearing's outer ring left
-  out, as in seed 000). The ball set is taken point-symmetric (the other zone's balls
+  is a point support along e_r, frictionless, on the inner surface of the bearing's outer
+  race (below), or on the bore with ``race_thickness_mm=0`` (seed 000's model). The ball set is taken point-symmetric (the other zone's balls
   are the images of this zone's; exact for even N, a choice of cage position for odd N).
   Supports are added by a Schur complement of the flexibility of the free rim, so
   dropping a ball that pulls (seed 000 steps 4–6: :meth:`ContactCompliance.settle_balls`)
   needs no new factorisation. The no-load ball preload is left out (seed 000's rule: a
   ball is dropped when the tooth loads alone pull on it).
+* **Outer race.** The wave-generator bearing's outer ring is a flat plane-stress ring of
+  thickness ``race_thickness_mm`` (default 2.5 % of the pitch diameter, 2.5 mm for the
+  default set: ESTIMATE — a size-40 flexible bearing leaves ~2–3 mm of ring outside its
+  ~7–8 mm balls; same E, ν as the FS) from the FS bore inward, with ``race_layers``
+  element layers in the same structured mesh as the rim
+  (:func:`profilegen.rim.toothed.toothed_half_ring_race_mesh`) and the same point-symmetric
+  tie; the balls act on its inner surface, the cup's torque reaction stays on the FS bore.
+  Race and bore are tied in the normal direction (ASSUMED closed: the no-load fit keeps
+  them together; the interface traction is not checked for tension). Tangentially they
+  slide without friction by default (``race_interface="sliding"``: each bore node has a
+  second, tangential dof for the race). Reason (order of magnitude): pinching the 0.9 mm
+  rim into its ellipse (±0.5 mm) takes < 1 N per mm of face width, so the no-load contact
+  pressure is tiny, and µ times the tooth loads' radial share (~1 MPa) is far below the
+  several-MPa interface shear that composite bending of rim + race would need; FS bores of
+  real gears also show fretting. ``"bonded"`` (shared nodes) is the upper bound: it bends
+  as one ring of thickness δ + t, 2–3× stiffer than the two rings sliding. The race makes
+  the mean FS diagonal of S ~10× (sliding) or ~19× (bonded) smaller (default set, 2.5 mm,
+  6 teeth × 5 stations, balls held): with it, the
+  balls' Hertzian compliance, the inner ring and cam, and the cup's wind-up — none
+  modelled — become the larger share of the torsional compliance.
 * **CS: toothed sector, fixed outside.** The internal teeth are meshed from the fitted CS
   outline (``design.profile.space``: its arcs and lines, isoparametric) over the spaces
   that carry a point ± ``margin_teeth``, between the tooth surface and the outer radius
@@ -87,7 +107,7 @@ import scipy.sparse as sp
 
 from ..errors import ConvergenceError, ProfilegenError
 
-__all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT"]
+__all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT", "default_race_thickness_mm"]
 
 log = logging.getLogger(__name__)
 
@@ -276,12 +296,15 @@ def _load_matrix(n_dof, ix, iy, triples, weights, directions) -> sp.csc_matrix:
     return sp.csc_matrix((vals, (rows, cols)), shape=(n_dof, m))
 
 
-def _stiffness(mesh, youngs_modulus_mpa, poisson_ratio):
+def _stiffness(mesh, youngs_modulus_mpa, poisson_ratio, elements=None):
     from skfem import Basis, ElementQuad2, ElementVector
 
     from ..rim.nonlinear import TotalLagrangian
 
-    basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4)
+    if elements is None:
+        basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4)
+    else:
+        basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4, elements=elements)
     ix, iy = basis.split_indices()
     stiffness = TotalLagrangian(basis, youngs_modulus_mpa, poisson_ratio)(np.zeros(basis.N))[0]
     return stiffness, ix, iy
@@ -303,10 +326,12 @@ class _BodyFlex:
 
 
 def _fs_flex(tooth, gearset, local_points, local_normals, tooth_index, ball_angles, *, margin, toothed_teeth,
-             per_pitch, flat_per_pitch, rim_layers, tooth_layers, tol_mm):
+             per_pitch, flat_per_pitch, rim_layers, tooth_layers, tol_mm, race_thickness_mm=0.0, race_layers=2,
+             race_sliding=False):
     """The FS half ring: flexibility between the FS contact loads (−n, FS material) and the
-    candidate balls (+e_r on the bore), with the bore's mean rotation held."""
-    from ..rim.toothed import toothed_half_ring_mesh
+    candidate balls (+e_r on the bore, or on the outer race's inner surface when
+    ``race_thickness_mm`` > 0), with the bore's mean rotation held."""
+    from ..rim.toothed import toothed_half_ring_mesh, toothed_half_ring_race_mesh
 
     start = time.perf_counter()
     g = gearset.gear
@@ -318,8 +343,15 @@ def _fs_flex(tooth, gearset, local_points, local_normals, tooth_index, ball_angl
     else:
         near = (k_mesh[:, None] + np.arange(-margin, margin + 1)[None, :]).ravel()
         toothed = np.unique(np.mod(near, half))
-    ring = toothed_half_ring_mesh(tooth, g.rim_thickness_mm, toothed_pitches=toothed, rim_layers=rim_layers,
-                                  tooth_layers=tooth_layers, per_pitch=per_pitch, flat_per_pitch=flat_per_pitch)
+    r_bore = g.neutral_radius_mm - 0.5 * g.rim_thickness_mm
+    if race_thickness_mm > 0.0:
+        ring, bore_nodes = toothed_half_ring_race_mesh(
+            tooth, g.rim_thickness_mm, race_thickness_mm, race_layers=race_layers, toothed_pitches=toothed,
+            rim_layers=rim_layers, tooth_layers=tooth_layers, per_pitch=per_pitch, flat_per_pitch=flat_per_pitch)
+    else:
+        ring = toothed_half_ring_mesh(tooth, g.rim_thickness_mm, toothed_pitches=toothed, rim_layers=rim_layers,
+                                      tooth_layers=tooth_layers, per_pitch=per_pitch, flat_per_pitch=flat_per_pitch)
+        bore_nodes = None
     # loads in the mesh frame (= the wave-generator frame at ψ = 0: tooth k at 2πk/z1)
     r_m = g.neutral_radius_mm
     ang = 2.0 * math.pi * k_mesh / z1
@@ -331,21 +363,38 @@ def _fs_flex(tooth, gearset, local_points, local_normals, tooth_index, ball_angl
     ny = -local_normals[:, 0] * s + local_normals[:, 1] * c
     flex, dof, band, dist = _half_ring_flex(
         ring, gearset.material.youngs_modulus_mpa, gearset.material.poisson_ratio,
-        g.neutral_radius_mm - 0.5 * g.rim_thickness_mm, np.column_stack([px, py]), -np.column_stack([nx, ny]),
-        ball_angles, tol_mm=tol_mm, tooth_index=tooth_index)
+        r_bore, np.column_stack([px, py]), -np.column_stack([nx, ny]),
+        ball_angles, tol_mm=tol_mm, tooth_index=tooth_index, ball_radius_mm=r_bore - race_thickness_mm,
+        bore_nodes=bore_nodes, sliding_race_layers=race_layers if race_sliding and race_thickness_mm > 0.0 else None)
     info = {**ring.to_dict(), "reduced_dof": dof, "band": band}
+    if race_thickness_mm > 0.0:
+        info.update(race_thickness_mm=race_thickness_mm, race_layers=race_layers,
+                    race_interface="sliding" if race_sliding else "bonded")
     return _BodyFlex(flex, dof, band, info, time.perf_counter() - start, dist)
 
 
 def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, directions, ball_angles, *, tol_mm,
-                    tooth_index=None):
+                    tooth_index=None, ball_radius_mm=None, bore_nodes=None, sliding_race_layers=None):
     """Flexibility (mm²/N) of a point-symmetric half ring (``ring``: a RingSectorMesh whose
     cuts are π apart) between unit point loads on its outer surface (``points`` along
-    ``directions``, mesh frame) and unit outward radial loads on its bore at ``ball_angles``,
-    with the bore's mean rotation held. Returns (flex, dof, band, off-surface distances)."""
+    ``directions``, mesh frame) and unit outward radial loads on its inner surface
+    (``ring.inner_nodes``, radius ``ball_radius_mm``, default ``r_bore``) at ``ball_angles``,
+    with the mean rotation of the bore (``bore_nodes``, radius ``r_bore``; default the inner
+    surface) held. ``sliding_race_layers``: the element rows j < this value are the outer
+    race, joined to the rim on the bore row radially only (each bore node gets a second,
+    tangential dof for the race; the race's free spin is held at one node — its loads are
+    all radial, so that holding carries no force). Returns (flex, dof, band, off-surface
+    distances)."""
+    r_ball = r_bore if ball_radius_mm is None else float(ball_radius_mm)
+    bore = ring.inner_nodes if bore_nodes is None else np.asarray(bore_nodes)
     mesh = ring.mesh
-    stiffness, ix, iy = _stiffness(mesh, youngs_modulus_mpa, poisson_ratio)
-    n_full = stiffness.shape[0]
+    if sliding_race_layers is None:
+        stiffness, ix, iy = _stiffness(mesh, youngs_modulus_mpa, poisson_ratio)
+    else:
+        race_el = np.all(np.asarray(ring.j)[mesh.t] <= sliding_race_layers, axis=0)
+        k_rim, ix, iy = _stiffness(mesh, youngs_modulus_mpa, poisson_ratio, elements=np.flatnonzero(~race_el))
+        k_race = _stiffness(mesh, youngs_modulus_mpa, poisson_ratio, elements=np.flatnonzero(race_el))[0]
+    n_full = ix.size + iy.size
     xy = mesh.doflocs
     triples, weights, dist, _ = _edge_projection(xy, ring.outer_nodes, points)
     bad = np.flatnonzero(dist > tol_mm)
@@ -359,10 +408,12 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
     loads_c = _load_matrix(n_full, ix, iy, triples, weights, directions)
     z_half = -ring.start_rad  # the start cut is at θ = −z_half, the end cut at π − z_half
     ball_mesh = np.mod(ball_angles + z_half, math.pi) - z_half
-    bxy = r_bore * np.column_stack([np.sin(ball_mesh), np.cos(ball_mesh)])
+    bxy = r_ball * np.column_stack([np.sin(ball_mesh), np.cos(ball_mesh)])
     btrip, bw, _, _ = _edge_projection(xy, ring.inner_nodes, bxy)
     loads_b = _load_matrix(n_full, ix, iy, btrip, bw, np.column_stack([np.sin(ball_mesh), np.cos(ball_mesh)]))
     loads = sp.hstack([loads_c, loads_b]).tocsr()
+    if sliding_race_layers is not None:
+        return _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, dist)
 
     # periodic tie u(θ + π) = −u(θ): the end cut's dofs are the start cut's, negated
     end, first = ring.end_cut_nodes, ring.start_cut_nodes
@@ -381,7 +432,6 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
     b_red = (tie.T @ loads).toarray()
 
     # gauge: the bore's mean rotation c·u = 0 (uniform tangential traction as its reaction)
-    bore = ring.inner_nodes
     c_full = np.zeros(n_full)
     th = np.arctan2(xy[0, bore], xy[1, bore])
     for e in range((bore.size - 1) // 2):
@@ -412,6 +462,94 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
     dof_node = free // 2
     order = np.lexsort((free % 2, j_red[dof_node], key_node[dof_node]))
     factor = _BandedFlex(k_red[free][:, free], order, "FS rim")
+    w = factor.forward(y[free])
+    flex = w.T @ w
+    return 0.5 * (flex + flex.T), int(free.size), factor.band, dist
+
+
+def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, dist):
+    """:func:`_half_ring_flex` with the race joined to the bore radially only (frictionless)."""
+    xy = ring.mesh.doflocs
+    n_full = ix.size + iy.size
+    n_b = bore.size
+    th_b = np.arctan2(xy[0, bore], xy[1, bore])
+    er = np.column_stack([np.sin(th_b), np.cos(th_b)])
+    et = np.column_stack([np.cos(th_b), -np.sin(th_b)])
+    n_ext = n_full + n_b
+    # race dofs in terms of the extended set: a bore node's race copy = e_r e_rᵀ u_rim + e_t v
+    is_bore = np.zeros(ix.size, bool)
+    is_bore[bore] = True
+    other = np.flatnonzero(~is_bore)
+    other_dofs = np.concatenate([ix[other], iy[other]])
+    k = np.arange(n_b)
+    rows = [other_dofs]
+    cols = [other_dofs]
+    vals = [np.ones(other_dofs.size)]
+    for a, ia in ((0, ix), (1, iy)):
+        for b_, ib in ((0, ix), (1, iy)):
+            rows.append(ia[bore])
+            cols.append(ib[bore])
+            vals.append(er[:, a] * er[:, b_])
+        rows.append(ia[bore])
+        cols.append(n_full + k)
+        vals.append(et[:, a])
+    t_race = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n_full, n_ext))
+    pad = sp.eye(n_full, n_ext, format="csr")
+    stiffness = (pad.T @ k_rim @ pad + t_race.T @ k_race @ t_race).tocsr()
+    loads = sp.vstack([loads, sp.csr_matrix((n_b, loads.shape[1]))]).tocsr()
+
+    # periodic tie: Cartesian dofs u_end = −u_start; the race's tangential dof v_end = +v_start
+    end, first = ring.end_cut_nodes, ring.start_cut_nodes
+    keep = np.ones(ix.size, bool)
+    keep[end] = False
+    node_red = -np.ones(ix.size, dtype=int)
+    node_red[keep] = np.arange(int(keep.sum()))
+    node_red[end] = node_red[first]
+    sign = np.ones(ix.size)
+    sign[end] = -1.0
+    n_nodes_red = int(keep.sum())
+    # bore sorted by s: bore[0] on the start cut, bore[-1] on the end cut
+    extra_red = 2 * n_nodes_red + np.concatenate([np.arange(n_b - 1), [0]])
+    n_red = 2 * n_nodes_red + n_b - 1
+    rows = np.concatenate([ix, iy, n_full + k])
+    cols = np.concatenate([2 * node_red, 2 * node_red + 1, extra_red])
+    tie = sp.csr_matrix((np.concatenate([sign, sign, np.ones(n_b)]), (rows, cols)), shape=(n_ext, n_red))
+    k_red = (tie.T @ stiffness @ tie).tocsr()
+    b_red = (tie.T @ loads).toarray()
+
+    # gauge: the rim bore's mean rotation c·u = 0, as in _half_ring_flex
+    c_full = np.zeros(n_ext)
+    for e in range((n_b - 1) // 2):
+        tri = bore[2 * e:2 * e + 3]
+        length = r_bore * abs(th_b[2 * e + 2] - th_b[2 * e])
+        for node, w in zip(tri, (length / 6, 2 * length / 3, length / 6)):
+            t = math.atan2(xy[0, node], xy[1, node])
+            c_full[ix[node]] += w * math.cos(t)
+            c_full[iy[node]] -= w * math.sin(t)
+    rot_red = np.zeros(n_red)  # the rigid rotation of rim and race together
+    rot_red[2 * node_red[keep]] = xy[1, keep]
+    rot_red[2 * node_red[keep] + 1] = -xy[0, keep]
+    rot_red[extra_red[:-1]] = np.hypot(xy[0, bore[:-1]], xy[1, bore[:-1]])
+    c_red = tie.T @ c_full
+    y = b_red - np.outer(c_red, rot_red @ b_red) / (c_red @ rot_red)
+    # two gauges: the rim's rotation (a bore node) and the race's spin (a race inner node)
+    gauges = [2 * int(node_red[bore[0]]), 2 * int(node_red[ring.inner_nodes[0]])]
+    free = np.setdiff1d(np.arange(n_red), gauges)
+    s_dof = np.empty(n_red)
+    j_dof = np.empty(n_red)
+    comp = np.zeros(n_red)
+    for c_ in (0, 1):
+        s_dof[2 * node_red[keep] + c_] = ring.s[keep]
+        j_dof[2 * node_red[keep] + c_] = ring.j[keep]
+        comp[2 * node_red[keep] + c_] = c_
+    s_dof[extra_red[:-1]] = ring.s[bore[:-1]]
+    j_dof[extra_red[:-1]] = ring.j[bore[:-1]] - 0.25
+    n_s = float(ring.pitch_columns.sum())
+    i2 = np.round(2 * s_dof).astype(int)
+    d = np.minimum(i2, int(round(2 * n_s)) - i2)
+    key = 2 * d + (i2 > n_s)
+    order = np.lexsort((comp[free], j_dof[free], key[free]))
+    factor = _BandedFlex(k_red[free][:, free], order, "FS rim and sliding race")
     w = factor.forward(y[free])
     flex = w.T @ w
     return 0.5 * (flex + flex.T), int(free.size), factor.band, dist
@@ -491,6 +629,29 @@ def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers
     return _BodyFlex(flex, int(free.size), factor.band, info, time.perf_counter() - start, dist)
 
 
+def default_race_thickness_mm(gear) -> float:
+    """ESTIMATE of the wave-generator bearing's outer-race thickness: 2.5 % of the FS pitch
+    diameter (2.5 mm for the default set). The gear set gives no bearing; a flexible
+    (thin-section) bearing of a size-40 wave generator has a radial section of ~10–13 mm
+    and balls of ~7–8 mm, which leaves ~2–3 mm of ring on either side of the ball row
+    (less under the raceway groove, more at the shoulders)."""
+    return 0.025 * 2.0 * float(gear.pitch_radius_mm)
+
+
+def _race_thickness(value, gear) -> float:
+    if value is None:
+        return default_race_thickness_mm(gear)
+    r_bore = float(gear.neutral_radius_mm) - 0.5 * float(gear.rim_thickness_mm)
+    try:
+        t = float(value)
+    except (TypeError, ValueError) as exc:
+        raise ComplianceError(f"race_thickness_mm = {value!r}: must be a number (mm)") from exc
+    if isinstance(value, bool) or not (math.isfinite(t) and 0.0 <= t < 0.5 * r_bore):
+        raise ComplianceError(f"race_thickness_mm = {value!r} mm: must be finite and in [0, {0.5 * r_bore:.6g}) "
+                              "(0 = no outer race; the bound is half the FS bore radius)")
+    return t
+
+
 def gearset_cs_modulus(gearset) -> float:
     """The CS's Young's modulus: the gear set gives one material (the FS's); the CS is
     taken of the same steel."""
@@ -559,6 +720,9 @@ class ContactCompliance:
         cs_normals=None,
         *,
         face_width_mm: float | None = None,
+        race_thickness_mm: float | None = None,
+        race_layers: int = 2,
+        race_interface: str = "sliding",
         ball_count: int = DEFAULT_BALL_COUNT,
         ball_phase_rad: float = 0.0,
         wrap_half_angle_rad: float | None = None,
@@ -585,7 +749,10 @@ class ContactCompliance:
         ψ = 0); ``cs_points`` (n, 2): the CS partner points (CS frame); ``cs_normals``:
         the CS surface's outward normals (default −fs_normals; must be opposite to them
         within 0.1 rad). ``face_width_mm``: b (default 0.2 × the pitch diameter,
-        ESTIMATE). All balls within the wrap start active; ``forces_n`` with
+        ESTIMATE). ``race_thickness_mm``: the wave-generator bearing's outer race under the
+        FS bore (default :func:`default_race_thickness_mm`, ESTIMATE; 0 = no race, the balls
+        on the bore), meshed with ``race_layers`` layers; ``race_interface``: "sliding" (joined
+        radially only, frictionless; the default) or "bonded" (race and bore share their nodes). All balls within the wrap start active; ``forces_n`` with
         ``settle_iterations`` > 0 runs :meth:`settle_balls` for those contact forces.
         Other keywords: the mesh (see the module docstring).
         """
@@ -627,6 +794,10 @@ class ContactCompliance:
         if not math.isfinite(phase):
             raise ComplianceError(f"ball_phase_rad = {ball_phase_rad!r}: must be finite (rad)")
         margin = _whole("margin_teeth", margin_teeth, 0)
+        race = _race_thickness(race_thickness_mm, g)
+        race_layers = _whole("race_layers", race_layers, 1)
+        if race_interface not in ("bonded", "sliding"):
+            raise ComplianceError(f"race_interface = {race_interface!r}: must be 'bonded' or 'sliding'")
         if toothed_teeth not in ("loaded", "all"):
             raise ComplianceError(f"toothed_teeth = {toothed_teeth!r}: must be 'loaded' or 'all'")
         tol = _positive("on_surface_tol_mm", on_surface_tol_mm, "mm")
@@ -667,7 +838,9 @@ class ContactCompliance:
                           toothed_teeth=toothed_teeth, per_pitch=_whole("per_pitch", per_pitch, 2),
                           flat_per_pitch=_whole("flat_per_pitch", flat_per_pitch, 1),
                           rim_layers=_whole("rim_layers", rim_layers, 1),
-                          tooth_layers=_whole("tooth_layers", tooth_layers, 1), tol_mm=tol)
+                          tooth_layers=_whole("tooth_layers", tooth_layers, 1), tol_mm=tol,
+                          race_thickness_mm=race, race_layers=race_layers,
+                          race_sliding=race_interface == "sliding")
             cs = _cs_flex(profile.space, gearset, cs_points, cs_normals, margin=margin,
                           per_pitch=_whole("cs_per_pitch", cs_per_pitch, 2),
                           tooth_layers=_whole("cs_tooth_layers", cs_tooth_layers, 1),
@@ -794,7 +967,8 @@ class ContactCompliance:
     def to_dict(self) -> dict:
         d = np.diag(self.matrix_mm_per_n)
         return {
-            "model": "plane-stress FEM: FS point-symmetric toothed half ring on radial ball supports, bore mean "
+            "model": "plane-stress FEM: FS point-symmetric toothed half ring on the bearing's outer race (if any) on "
+                     "radial ball supports, bore mean "
                      "rotation held; CS toothed sector fixed outside; S = S_2D / b",
             "count": self.count,
             "face_width_mm": self.face_width_mm,

@@ -62,7 +62,8 @@ import numpy as np
 from .ring import RingError
 
 __all__ = ["InvertedElementError", "RingSectorMesh", "ToothedMeshError", "ToothedRimMesh", "fs_pitch_pieces", "pitch_surface",
-           "ring_sector_mesh", "toothed_half_ring_mesh", "toothed_quarter_mesh"]
+           "ring_sector_mesh", "toothed_half_ring_mesh", "toothed_half_ring_race_mesh",
+           "toothed_quarter_mesh"]
 
 log = logging.getLogger(__name__)
 
@@ -694,3 +695,65 @@ def toothed_half_ring_mesh(
         2.0 * half_pitch, -half_pitch, tops, cols, mapped_radius_mm=r_m, polar_radius_mm=r_m - 0.5 * delta,
         mapped_layers=tooth_layers, polar_layers=rim_layers, mapped_outside=True, flat_radius_mm=r_f,
         check_intorder=check_intorder)
+
+
+def toothed_half_ring_race_mesh(
+    tooth,
+    rim_thickness_mm: float,
+    race_thickness_mm: float,
+    *,
+    race_layers: int = 2,
+    toothed_pitches=None,
+    rim_layers: int = 2,
+    tooth_layers: int = 4,
+    per_pitch: int = 16,
+    flat_per_pitch: int = 2,
+    check_intorder: int = 4,
+) -> tuple[RingSectorMesh, np.ndarray]:
+    """:func:`toothed_half_ring_mesh` with a flat ring (the wave-generator bearing's outer
+    race, thickness ``race_thickness_mm`` > 0, ``race_layers`` layers) added inside the bore,
+    in the same structured mesh: the race and the rim share the bore's node row (a bonded
+    interface). Returns ``(ring, bore_nodes)``: ``ring.inner_nodes`` is the race's inner
+    surface (radius r_m − δ/2 − t), ``bore_nodes`` the FS bore row (j = ``race_layers``,
+    sorted by s). The rim's polar block keeps ``rim_layers`` equal layers, the race
+    ``race_layers`` equal layers (both linear in r, as in :func:`toothed_half_ring_mesh`)."""
+    from skfem.mapping import MappingIsoparametric
+    from skfem.quadrature import get_quadrature
+
+    r_m = float(getattr(tooth, "neutral_radius_mm", float("nan")))
+    try:
+        delta, t_race = float(rim_thickness_mm), float(race_thickness_mm)
+    except (TypeError, ValueError) as exc:
+        raise ToothedMeshError(f"race_thickness_mm = {race_thickness_mm!r}: must be a number (mm)") from exc
+    race_layers = _whole("race_layers", race_layers, 1)
+    rim_layers = _whole("rim_layers", rim_layers, 1)
+    r_bore = r_m - 0.5 * delta
+    if not (math.isfinite(t_race) and 0.0 < t_race < r_bore):
+        raise ToothedMeshError(f"race_thickness_mm = {race_thickness_mm!r} mm: must be in (0, {r_bore:g}) (the FS bore "
+                               "radius)")
+    # one polar block from the race's inner radius to the neutral circle, then re-spaced
+    ring = toothed_half_ring_mesh(tooth, delta + 2.0 * t_race, toothed_pitches=toothed_pitches,
+                                  rim_layers=race_layers + rim_layers, tooth_layers=tooth_layers, per_pitch=per_pitch,
+                                  flat_per_pitch=flat_per_pitch, check_intorder=check_intorder)
+    j = np.asarray(ring.j)
+    r_in = r_bore - t_race
+    in_race = j <= race_layers
+    in_rim = (j > race_layers) & (j <= race_layers + rim_layers)
+    r = np.array(ring.r)
+    r[in_race] = r_in + (j[in_race] / race_layers) * t_race
+    r[in_rim] = r_bore + ((j[in_rim] - race_layers) / rim_layers) * (r_m - r_bore)
+    th = np.asarray(ring.th)
+    mesh = replace(ring.mesh, doflocs=np.ascontiguousarray(np.vstack([r * np.sin(th), r * np.cos(th)])))
+    X = np.hstack([get_quadrature(mesh.elem.refdom, check_intorder)[0], mesh.elem().doflocs.T])
+    det = MappingIsoparametric(mesh, mesh.elem()).detDF(X)
+    orient = 1.0 if np.median(det) > 0 else -1.0
+    worst = np.min(orient * det, axis=1)
+    if not np.all(worst > 0.0):
+        e = int(np.argmin(worst))
+        raise InvertedElementError(f"toothed_half_ring_race_mesh: element {e} has det J = {worst[e]:.3g} mm² ≤ 0; "
+                                   "change the race or rim layers")
+    ratio = float(np.min(worst / np.max(orient * det, axis=1)))
+    bore = np.flatnonzero(j == race_layers)
+    bore = bore[np.argsort(np.asarray(ring.s)[bore], kind="stable")]
+    out = replace(ring, mesh=mesh, r=r, min_jacobian=float(np.min(worst)), jacobian_ratio=ratio)
+    return out, bore

@@ -175,3 +175,92 @@ def test_bad_input_names_the_parameter(design, points, change, name):
     with pytest.raises(ComplianceError, match=name):
         ContactCompliance.build(design, fs, nn, idx, cs, **kw)
     assert issubclass(ComplianceError, ValueError)
+
+
+# --------------------------------------------------------------------------- the outer race
+
+
+@pytest.fixture(scope="module")
+def race_series(design, points):
+    """S with the bearing's outer race 0 (balls on the bore: the old model), 0.5, 1.5, 2.5, 3.5 mm."""
+    return {t: ContactCompliance.build(design, *points, race_thickness_mm=t, race_interface="bonded")
+            for t in (0.0, 0.5, 1.5, 2.5, 3.5)}
+
+
+def test_race_zero_is_the_old_model(design, points, race_series):
+    """race_thickness_mm = 0 is the model without the race, to the last bit (fingerprint of
+    S from the code before the race was added, same points)."""
+    s = race_series[0.0].matrix_mm_per_n
+    assert s.shape == (30, 30)
+    assert float(np.trace(s)) == pytest.approx(0.0024712327746098353, rel=1e-10)
+    assert float(s.sum()) == pytest.approx(0.0645341929031731, rel=1e-10)
+    assert float(s[0, 0]) == pytest.approx(8.527622359947281e-05, rel=1e-10)
+    assert float(s[3, 17]) == pytest.approx(7.413302163672189e-05, rel=1e-10)
+    assert race_series[0.0].mesh["fs"].get("race_thickness_mm") is None
+    sliding = ContactCompliance.build(design, *points, race_thickness_mm=0.0, race_interface="sliding")
+    assert np.array_equal(sliding.matrix_mm_per_n, s)
+
+
+@pytest.mark.parametrize("joint", ["bonded", "sliding"])
+def test_race_symmetric_positive_definite(design, points, race_series, joint):
+    c = (race_series[2.5] if joint == "bonded"
+         else ContactCompliance.build(design, *points, race_thickness_mm=2.5, race_interface="sliding"))
+    s = c.matrix_mm_per_n
+    assert np.all(np.isfinite(s))
+    assert np.max(np.abs(s - s.T)) <= 1e-10 * np.max(np.abs(s))
+    assert np.linalg.eigvalsh(s).min() > 0.0
+    free = c.with_balls(np.zeros(c.ball_angle_rad.size, bool)).matrix_mm_per_n
+    assert np.linalg.eigvalsh(free).min() > 0.0
+    assert c.mesh["fs"]["race_thickness_mm"] == 2.5 and c.mesh["fs"]["race_interface"] == joint
+    # the bonded race is stiffer than the sliding one (composite bending)
+    if joint == "sliding":
+        assert np.all(np.diag(race_series[2.5].matrix_mm_per_n) < np.diag(s))
+
+
+def test_race_stiffens_monotonically(race_series):
+    """A thicker race: every S_kk falls (balls within the wrap held); with every ball dropped
+    (rim + race alone, the same supports) S falls in the Loewner order. With balls held the
+    Loewner order need not hold: the balls move inward with the race's inner surface."""
+    thick = sorted(race_series)
+    for a, b in zip(thick, thick[1:]):
+        sa, sb = race_series[a], race_series[b]
+        assert np.all(np.diag(sb.matrix_mm_per_n) < np.diag(sa.matrix_mm_per_n)), (a, b)
+        fa = sa.with_balls(np.zeros(sa.ball_angle_rad.size, bool)).matrix_mm_per_n
+        fb = sb.with_balls(np.zeros(sb.ball_angle_rad.size, bool)).matrix_mm_per_n
+        assert np.linalg.eigvalsh(fa - fb).min() > -1e-9 * np.abs(fa).max(), (a, b)
+    d0, d25 = (np.diag(race_series[t].matrix_mm_per_n).mean() for t in (0.0, 2.5))
+    assert d25 < 0.2 * d0  # the race is the rim's main stiffness (bending ∝ t³)
+
+
+@pytest.mark.parametrize("joint", ["bonded", "sliding"])
+def test_race_on_flat_ring_against_ring_theory(joint):
+    """A flat rim (0.9 mm) on a flat race (2.5 mm), pinched: bonded, they bend as one
+    3.4 mm ring; sliding (joined radially only), their bending stiffnesses EI/R³ add."""
+    r_race, r_bore, r_out, e, nu = 46.0, 48.5, 49.4, 209000.0, 0.3
+    pitches, pitch = 100, math.pi / 100
+    ring = ring_sector_mesh(pitch, -0.5 * pitch, [None] * pitches, [4] * pitches, mapped_radius_mm=r_bore,
+                            polar_radius_mm=r_race, mapped_layers=2, polar_layers=2, mapped_outside=True,
+                            flat_radius_mm=r_out)
+    bore = np.flatnonzero(ring.j == 2)
+    bore = bore[np.argsort(ring.s[bore])]
+    theta = np.array([0.0, 0.5 * math.pi])
+    pts = r_out * np.column_stack([np.sin(theta), np.cos(theta)])
+    inward = -np.column_stack([np.sin(theta), np.cos(theta)])
+    flex, *_ = _half_ring_flex(ring, e, nu, r_bore, pts, inward, np.zeros(0), tol_mm=1e-6, ball_radius_mm=r_race,
+                               bore_nodes=bore, sliding_race_layers=2 if joint == "sliding" else None)
+    assert abs(flex[0, 1] - flex[1, 0]) <= 1e-10 * abs(flex[0, 1])
+    if joint == "bonded":
+        stiff = e * (r_out - r_race) ** 3 / 12.0 / (0.5 * (r_out + r_race)) ** 3
+    else:
+        stiff = (e * (r_out - r_bore) ** 3 / 12.0 / (0.5 * (r_out + r_bore)) ** 3
+                 + e * (r_bore - r_race) ** 3 / 12.0 / (0.5 * (r_bore + r_race)) ** 3)
+    growth = (2.0 / math.pi - 0.5) / stiff
+    assert -flex[1, 0] == pytest.approx(0.5 * growth, rel=0.02)
+
+
+@pytest.mark.parametrize("kw", [{"race_thickness_mm": -1.0}, {"race_thickness_mm": float("nan")},
+                                {"race_thickness_mm": "thick"}, {"race_thickness_mm": 30.0},
+                                {"race_interface": "glued"}, {"race_layers": 0}])
+def test_bad_race_names_the_parameter(design, points, kw):
+    with pytest.raises(ComplianceError, match=next(iter(kw))):
+        ContactCompliance.build(design, *points, **kw)
