@@ -298,14 +298,15 @@ CATALOG_SIZE40_RATIO50 = {"T1_nm": 54.0, "K1_nm_per_rad": 10e4, "T2_nm": 196.0, 
 
 def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | None = None,
                    catalog: dict | None = None) -> "Figure":
-    """Load sharing along the engagement (force per tooth vs φ, one line per torque) and the
-    torsional curve (torque vs rotation in arcmin, the catalog's bilinear curve for comparison)."""
+    """Load sharing along the engagement (force per tooth vs φ, one line per torque), the
+    torsional curve (torque vs rotation in arcmin, the catalog's bilinear curve for comparison)
+    and the ball reactions after settling."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(10.0, 4.0), layout="constrained")
+    fig = Figure(figsize=(14.0, 4.0), layout="constrained")
     FigureCanvasAgg(fig)
-    ax1, ax2 = fig.subplots(1, 2)
+    ax1, ax2, ax3 = fig.subplots(1, 3)
     for case in result.cases:
         ax1.plot(np.degrees(case.tooth_phi_rad), case.tooth_force_n, "o-", ms=3, lw=1,
                  label=f"{case.torque_nm:g} N·m: {case.teeth_in_contact} teeth/zone, max {case.max_tooth_force_n:.0f} N")
@@ -329,6 +330,17 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
     ax2.set_ylabel("torque (N·m)")
     ax2.legend(fontsize=7)
     _tidy(ax2)
+    width = min(2.0, 10.0 / max(len(result.cases), 1))  # deg: the bars of one ball stay within ±5°
+    for i, case in enumerate(result.cases):
+        if case.ball_angle_rad.size:
+            offset = (i - 0.5 * (len(result.cases) - 1)) * width
+            ax3.bar(np.degrees(case.ball_angle_rad) + offset, case.ball_reaction_n, width=width,
+                    label=f"{case.torque_nm:g} N·m ({int(case.ball_active.sum())} balls loaded)")
+    ax3.axhline(0.0, color="0.5", lw=0.6)
+    ax3.set_xlabel("ball position from the major axis (deg); dropped balls carry 0")
+    ax3.set_ylabel("ball reaction on the rim (N, > 0 compressed)")
+    ax3.legend(fontsize=7)
+    _tidy(ax3)
     if title:
         fig.suptitle(title, fontsize=9)
     if path is not None:

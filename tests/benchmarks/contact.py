@@ -85,6 +85,13 @@ def main() -> None:
             np.concatenate([[0.0], held.torques_nm]), "s:", ms=3, label="this model, every ball held")
     ax.legend(fontsize=7)
     fig.savefig(out / "contact.png", dpi=130)
+    # discretisation: stations per tooth flank (the contact is point-wise along the flank)
+    for stations in (5, 9, 13):
+        res = solve_contact(design, [54.0, 265.0, 660.0], stations=stations)
+        print(f"{stations:2d} stations/tooth: {res.points.count:3d} points, K = "
+              f"{np.array2string(res.secant_stiffness_nm_per_rad / 1e4, precision=1)}·10⁴ N·m/rad, teeth "
+              f"{[c.teeth_in_contact for c in res.cases]}, max tooth force "
+              f"{[round(c.max_tooth_force_n) for c in res.cases]} N at 54 / 265 / 660 N·m")
     print(f"wrote {out / 'contact.csv'} and {out / 'contact.png'}; first contact at φ0 = "
           f"{phi0 * ARCMIN_PER_RAD:.4f} arcmin; catalogue rotation at {TORQUES_NM[8]} N·m: "
           f"{_catalog_arcmin(TORQUES_NM[8]):.2f} arcmin")
