@@ -595,6 +595,9 @@ def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers
     idx = np.round(np.arctan2(points[:, 0], points[:, 1]) / pitch).astype(int)
     lo, hi = int(idx.min()) - margin, int(idx.max()) + margin
     pieces, _, r_root = _cs_pieces(space, z2)
+    # a profile fitted per branch has more pieces per space than the default column count
+    # (verify scene: 17); every piece needs a column of its own
+    per_pitch = max(per_pitch, len(pieces))
     top, _ = pitch_surface(pieces, per_pitch)
     tip = min(float(np.hypot(*space.start)), float(np.hypot(*space.end)))
     r_back = r_root + 0.5 * (r_root - tip)
