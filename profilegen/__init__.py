@@ -37,8 +37,6 @@ from .gearform import CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import GearSet, default_gearset_path, list_profiles, load_gearset, parse_gearset, resolve_gearset
 from .kinematics import HarmonicDriveMotion, RackMotion
 from .pipeline import SCENES, Design, design, write_design
-from .rim import RimDeformation, solve_rim, solve_ring
-from .series import fit_fourier, fit_sine_series
 from .teeth import ToothProfile, dcta_tooth, involute_tooth, points_tooth, tooth_from_gearset
 
 __all__ = [
@@ -80,3 +78,17 @@ __all__ = [
 ]
 
 __version__ = "0.1.0"
+
+# the rim FEM and the series fitters pull in scipy's solvers (~0.3 s): loaded on first use
+_LAZY = {"RimDeformation": "rim", "solve_rim": "rim", "solve_ring": "rim", "fit_fourier": "series",
+         "fit_sine_series": "series"}
+
+
+def __getattr__(name):
+    if name in _LAZY:
+        import importlib
+
+        value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
+        globals()[name] = value
+        return value
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -78,6 +78,7 @@ from scipy.optimize import least_squares, linprog, minimize
 
 from .contour import Arc, Chain, Line
 from .errors import ConvergenceError, ProfilegenError
+from .results import json_ready as _json, readonly as _readonly
 
 __all__ = [
     "METHODS",
@@ -826,27 +827,6 @@ def _feet(prob: _Problem, q) -> tuple[float, float, np.ndarray]:
 # ----------------------------------------------------------------------------- results
 
 
-def _readonly(a) -> np.ndarray:
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a
-
-
-def _json(obj):
-    if isinstance(obj, dict):
-        return {str(k): _json(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_json(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _json(obj.tolist())
-    if isinstance(obj, (np.bool_, bool)):
-        return bool(obj)
-    if isinstance(obj, (np.integer, int)):
-        return int(obj)
-    if isinstance(obj, (np.floating, float)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    return obj
 
 
 def _params_dict(p8: np.ndarray) -> dict:

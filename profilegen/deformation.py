@@ -22,6 +22,7 @@ from typing import Protocol
 import numpy as np
 
 from .errors import GearSetError
+from .results import readonly as _readonly
 
 __all__ = ["Deformation", "HarmonicDeformation", "ring_theory"]
 
@@ -41,11 +42,6 @@ def _check_waves(waves) -> None:
     if isinstance(waves, bool) or not isinstance(waves, (int, np.integer)) or waves < 1:
         raise GearSetError(f"gear.waves = {waves!r}: must be a whole number ≥ 1")
 
-
-def _readonly(values) -> np.ndarray:
-    array = np.array(values, dtype=float)
-    array.setflags(write=False)
-    return array
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -35,6 +35,7 @@ import shapely
 
 from .errors import ConvergenceError, EnvelopeError
 from .kinematics import Motion, turn, unit_radial, unit_tangential
+from .results import readonly as _readonly
 
 __all__ = [
     "CONJUGATE",
@@ -57,11 +58,6 @@ CONJUGATE = "conjugate"  # a meshing root on the swept boundary
 INTERFERING = "interfering"  # a meshing root (or corner path) strictly inside the swept region
 TIP_PATH = "tip_path"  # the tip corner's path where it bounds the swept region
 
-
-def _readonly(a, dtype=float) -> np.ndarray:
-    a = np.array(a, dtype=dtype)
-    a.setflags(write=False)
-    return a
 
 
 # ----------------------------------------------------------------------------- the generating curve

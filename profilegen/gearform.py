@@ -28,14 +28,10 @@ import shapely
 
 from .errors import EnvelopeError
 from .kinematics import turn
+from .results import readonly as _readonly
 
 __all__ = ["CircularSplineForm", "ClearanceMap", "circular_spline_form", "clearance_map", "cs_chain"]
 
-
-def _readonly(a) -> np.ndarray:
-    a = np.array(a, dtype=float)
-    a.setflags(write=False)
-    return a
 
 
 def _polar_angle(p: np.ndarray) -> np.ndarray:

@@ -15,7 +15,7 @@ import tempfile
 import time
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
@@ -25,8 +25,10 @@ from .gearform import CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import FIT_METHODS, GearSet
 from .contour import Arc, Chain, Line, Polyline
 from .kinematics import HarmonicDriveMotion
-from .rim.stage import RimDeformation, solve_rim
 from .teeth import tooth_from_gearset
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .rim.stage import RimDeformation
 
 __all__ = ["Scene", "SCENES", "StageReport", "CSProfile", "Design", "design", "write_design"]
 
@@ -244,6 +246,8 @@ def design(
 
     step("deformation")
     t0 = time.perf_counter()
+    from .rim.stage import solve_rim  # scikit-fem and scipy's solvers load only when a design runs
+
     rim = solve_rim(gearset, tier=scene.name)
     deformation = rim.model
     warnings += list(rim.warnings)

@@ -45,6 +45,7 @@ from scipy.optimize import least_squares, minimize_scalar
 
 from .deformation import HarmonicDeformation
 from .errors import ConvergenceError, ProfilegenError
+from .results import readonly as _readonly
 
 __all__ = [
     "DeformationFit",
@@ -73,11 +74,6 @@ class SeriesError(ProfilegenError, ValueError):
 
 # --------------------------------------------------------------------------- helpers
 
-
-def _readonly(values) -> np.ndarray:
-    array = np.array(values, dtype=float)
-    array.setflags(write=False)
-    return array
 
 
 def _whole(name: str, value, low: int, high: int | None = None) -> int:

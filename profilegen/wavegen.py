@@ -50,6 +50,7 @@ from scipy.optimize import brentq
 from scipy.special import ellipe
 
 from .errors import ConvergenceError, ProfilegenError
+from .results import readonly as _readonly
 
 __all__ = [
     "Contour",
@@ -330,11 +331,6 @@ class CosineCam:
             "waves": int(self.waves),
         }
 
-
-def _readonly(values) -> np.ndarray:
-    array = np.array(values, dtype=float)
-    array.setflags(write=False)
-    return array
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .solvers import ContactError, ContactSolution, solve_lemke, solve_qp_active_set
+from ..results import readonly as _readonly
 
 __all__ = ["ContactResult", "LoadCase", "analyse_contact", "solve_contact"]
 
@@ -30,11 +31,6 @@ ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi
 
 _SOLVERS = {"lemke": solve_lemke, "active_set": solve_qp_active_set}
 
-
-def _readonly(values, dtype=float) -> np.ndarray:
-    array = np.array(values, dtype=dtype)
-    array.setflags(write=False)
-    return array
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -146,10 +142,7 @@ class ContactResult:
         }
 
 
-def analyse_contact(points, compliance_mm_per_n, torques_nm, *, solver: str = "lemke") -> ContactResult:
-    """Solve one engagement zone of ``points`` (:class:`~profilegen.contact.points.ContactPoints`)
-    with ``compliance_mm_per_n`` (n × n) at each torque in ``torques_nm`` (N·m, total on the gear)."""
-    t0 = time.perf_counter()
+def _checked_torques(torques_nm, solver: str) -> np.ndarray:
     if solver not in _SOLVERS:
         raise ContactError(f"solver = {solver!r}: must be one of {', '.join(_SOLVERS)}")
     torques = np.atleast_1d(np.asarray(torques_nm, dtype=float))
@@ -158,27 +151,49 @@ def analyse_contact(points, compliance_mm_per_n, torques_nm, *, solver: str = "l
     bad = np.flatnonzero(~(np.isfinite(torques) & (torques > 0.0)))
     if bad.size:
         raise ContactError(f"torques_nm = {torques[bad[0]]!r} N·m: every torque must be finite and > 0")
+    return torques
+
+
+def _load_case(points, torque: float, sol: ContactSolution, balls=None) -> tuple[LoadCase, list[str]]:
+    """The per-tooth summary of one zone's solution, and what the result must warn about."""
+    teeth = points.teeth
+    slot = np.searchsorted(teeth, points.tooth)
+    tooth_phi = np.zeros(teeth.size)
+    tooth_phi[slot] = points.phi_rad
+    per_tooth = np.bincount(slot, weights=sol.force_n, minlength=teeth.size)
+    extra = () if balls is None else (balls.ball_angle_rad, balls.ball_reactions(sol.force_n), balls.ball_active)
+    case = LoadCase(float(torque), float(torque / points.zones), sol, teeth, tooth_phi, per_tooth, *extra)
+    warnings = []
+    if sol.all_points_loaded:
+        warnings.append(f"at {torque:g} N·m every candidate contact point is loaded: the contact zone may "
+                        "extend beyond the points searched (raise max_gap_mm) — the result is not trustworthy")
+    edge = [int(teeth[k]) for k in (0, teeth.size - 1) if per_tooth[k] > 0.0]
+    if edge:
+        warnings.append(f"at {torque:g} N·m the first/last candidate tooth ({edge}) carries load: the contact "
+                        "reaches the edge of the points searched (raise max_gap_mm, or the rim model lets "
+                        "the ring deflect beyond what the teeth were searched for)")
+    return case, warnings + list(sol.warnings)
+
+
+def analyse_contact(points, compliance_mm_per_n, torques_nm, *, solver: str = "lemke") -> ContactResult:
+    """Solve one engagement zone of ``points`` (:class:`~profilegen.contact.points.ContactPoints`)
+    with ``compliance_mm_per_n`` (n × n, held fixed: no ball settling) at each torque in
+    ``torques_nm`` (N·m, total on the gear)."""
+    t0 = time.perf_counter()
+    torques = _checked_torques(torques_nm, solver)
     s = np.asarray(compliance_mm_per_n, dtype=float)
     if s.shape != (points.count, points.count):
         raise ContactError(
             f"compliance_mm_per_n: shape {s.shape} does not match the {points.count} contact points"
         )
-    zones = int(points.zones)
-    teeth = points.teeth
-    where = np.searchsorted(teeth, points.tooth)
-    tooth_phi = np.zeros(teeth.size)
-    tooth_phi[where] = points.phi_rad
     cases, warnings = [], []
     for torque in torques:
-        zone_nm = torque / zones
-        sol = _SOLVERS[solver](s, points.theta_rad, points.lever_mm, zone_nm * 1e3)
-        per_tooth = np.bincount(where, weights=sol.force_n, minlength=teeth.size)
-        cases.append(LoadCase(float(torque), float(zone_nm), sol, teeth, tooth_phi, per_tooth))
-        if sol.all_points_loaded:
-            warnings.append(f"at {torque:g} N·m every candidate contact point is loaded: the contact zone may "
-                            "extend beyond the points searched (raise max_gap_mm) — the result is not trustworthy")
-        warnings += list(sol.warnings)
-    return ContactResult(points, tuple(cases), zones, solver, {}, time.perf_counter() - t0, tuple(warnings), None)
+        sol = _SOLVERS[solver](s, points.theta_rad, points.lever_mm, torque / points.zones * 1e3)
+        case, notes = _load_case(points, torque, sol)
+        cases.append(case)
+        warnings += notes
+    return ContactResult(points, tuple(cases), int(points.zones), solver, {}, time.perf_counter() - t0,
+                         tuple(warnings), None)
 
 
 def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 9, max_gap_mm: float = 0.05,
@@ -195,17 +210,13 @@ def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 9, max_g
     outer race under the FS bore and ``race_interface`` its joint to the bore (see
     :meth:`ContactCompliance.build`; 0 = none; both ignored
     when ``compliance`` is given)."""
+    from threadpoolctl import threadpool_limits
+
     from .compliance import ContactCompliance
     from .points import contact_points
 
     t0 = time.perf_counter()
-    if solver not in _SOLVERS:
-        raise ContactError(f"solver = {solver!r}: must be one of {', '.join(_SOLVERS)}")
-    torques = np.atleast_1d(np.asarray(torques_nm, dtype=float))
-    bad = np.flatnonzero(~(np.isfinite(torques) & (torques > 0.0)))
-    if torques.ndim != 1 or torques.size == 0 or bad.size:
-        shown = torques[bad[0]] if bad.size else torques_nm
-        raise ContactError(f"torques_nm = {shown!r} N·m: every torque must be finite and > 0")
+    torques = _checked_torques(torques_nm, solver)
     if (points is None) != (compliance is None):
         raise ContactError("points, compliance: pass both (from an earlier solve_contact result) or neither")
     if points is None:
@@ -213,18 +224,11 @@ def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 9, max_g
         compliance = ContactCompliance.build(design, points.fs_point_mm, points.normal, points.tooth,
                                              points.cs_point_mm, face_width_mm=face_width_mm,
                                              race_thickness_mm=race_thickness_mm, race_interface=race_interface)
-    zones = int(points.zones)
     solve = _SOLVERS[solver]
-    teeth = points.teeth
-    where = np.searchsorted(teeth, points.tooth)
-    tooth_phi = np.zeros(teeth.size)
-    tooth_phi[where] = points.phi_rad
     cases, warnings = [], []
-    from threadpoolctl import threadpool_limits
-
     with threadpool_limits(limits=1, user_api="blas"):  # n ≈ 200: threads only add overhead (9 → 1 ms per check)
         for torque in torques:
-            torque_nmm = torque / zones * 1e3
+            torque_nmm = torque / points.zones * 1e3
 
             def forces_for(matrix, torque_nmm=torque_nmm):
                 return solve(matrix, points.theta_rad, points.lever_mm, torque_nmm).force_n
@@ -233,18 +237,8 @@ def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 9, max_g
             settled = compliance.settle_balls(first.force_n, max_iterations=settle_iterations, solve=forces_for)
             sol = (first if np.array_equal(settled.ball_active, compliance.ball_active)
                    else solve(settled.matrix_mm_per_n, points.theta_rad, points.lever_mm, torque_nmm))
-            per_tooth = np.bincount(where, weights=sol.force_n, minlength=teeth.size)
-            cases.append(LoadCase(float(torque), float(torque / zones), sol, teeth, tooth_phi, per_tooth,
-                                  settled.ball_angle_rad, settled.ball_reactions(sol.force_n), settled.ball_active))
-            if sol.all_points_loaded:
-                warnings.append(f"at {torque:g} N·m every candidate contact point is loaded: the contact zone may "
-                                "extend beyond the points searched (raise max_gap_mm) — the result is not trustworthy")
-            edge = [int(teeth[k]) for k in (0, teeth.size - 1) if per_tooth[k] > 0.0]
-            if edge:
-                warnings.append(f"at {torque:g} N·m the first/last candidate tooth ({edge}) carries load: the contact "
-                                "reaches the edge of the points searched (raise max_gap_mm, or the rim model lets "
-                                "the ring deflect beyond what the teeth were searched for)")
-            warnings += list(sol.warnings)
-    info = compliance.to_dict()
-    return ContactResult(points, tuple(cases), zones, solver, info, time.perf_counter() - t0, tuple(warnings),
-                         compliance)
+            case, notes = _load_case(points, torque, sol, settled)
+            cases.append(case)
+            warnings += notes
+    return ContactResult(points, tuple(cases), int(points.zones), solver, compliance.to_dict(),
+                         time.perf_counter() - t0, tuple(warnings), compliance)

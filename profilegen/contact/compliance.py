@@ -106,6 +106,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from ..errors import ConvergenceError, ProfilegenError
+from ..results import readonly as _readonly
 
 __all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT", "default_race_thickness_mm"]
 
@@ -118,11 +119,6 @@ DEFAULT_BALL_COUNT = 23
 class ComplianceError(ProfilegenError, ValueError):
     """Bad input to the compliance model; the message names the parameter, value, unit and range."""
 
-
-def _readonly(values, dtype=float) -> np.ndarray:
-    array = np.array(values, dtype=dtype)
-    array.setflags(write=False)
-    return array
 
 
 def _points(name: str, value, n: int | None = None) -> np.ndarray:
@@ -163,6 +159,21 @@ def _whole(name: str, value, low: int) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
         raise ComplianceError(f"{name} = {value!r}: must be a whole number ≥ {low}")
     return int(value)
+
+
+def _half_ring_tie(ring, n_nodes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The point-symmetric tie u(θ + π) = −u(θ) of a half ring: every node's index among the
+    kept nodes (the end cut's nodes are the start cut's), the sign of its Cartesian dofs
+    there (−1 on the end cut) and the mask of kept nodes."""
+    end, first = ring.end_cut_nodes, ring.start_cut_nodes
+    keep = np.ones(n_nodes, bool)
+    keep[end] = False
+    node_red = -np.ones(n_nodes, dtype=int)
+    node_red[keep] = np.arange(int(keep.sum()))
+    node_red[end] = node_red[first]
+    sign = np.ones(n_nodes)
+    sign[end] = -1.0
+    return node_red, sign, keep
 
 
 # --------------------------------------------------------------------------- linear algebra
@@ -416,14 +427,7 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
         return _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, dist)
 
     # periodic tie u(θ + π) = −u(θ): the end cut's dofs are the start cut's, negated
-    end, first = ring.end_cut_nodes, ring.start_cut_nodes
-    keep = np.ones(ix.size, bool)
-    keep[end] = False
-    node_red = -np.ones(ix.size, dtype=int)
-    node_red[keep] = np.arange(int(keep.sum()))
-    node_red[end] = node_red[first]
-    sign = np.ones(ix.size)
-    sign[end] = -1.0
+    node_red, sign, keep = _half_ring_tie(ring, ix.size)
     n_nodes_red = int(keep.sum())
     rows = np.concatenate([ix, iy])
     cols = np.concatenate([2 * node_red, 2 * node_red + 1])
@@ -499,14 +503,7 @@ def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, di
     loads = sp.vstack([loads, sp.csr_matrix((n_b, loads.shape[1]))]).tocsr()
 
     # periodic tie: Cartesian dofs u_end = −u_start; the race's tangential dof v_end = +v_start
-    end, first = ring.end_cut_nodes, ring.start_cut_nodes
-    keep = np.ones(ix.size, bool)
-    keep[end] = False
-    node_red = -np.ones(ix.size, dtype=int)
-    node_red[keep] = np.arange(int(keep.sum()))
-    node_red[end] = node_red[first]
-    sign = np.ones(ix.size)
-    sign[end] = -1.0
+    node_red, sign, keep = _half_ring_tie(ring, ix.size)
     n_nodes_red = int(keep.sum())
     # bore sorted by s: bore[0] on the start cut, bore[-1] on the end cut
     extra_red = 2 * n_nodes_red + np.concatenate([np.arange(n_b - 1), [0]])

@@ -34,6 +34,7 @@ import numpy as np
 
 from ..errors import ProfilegenError
 from ..kinematics import turn
+from ..results import readonly as _readonly
 
 __all__ = ["ContactPoints", "ContactPointError", "contact_points"]
 
@@ -41,11 +42,6 @@ __all__ = ["ContactPoints", "ContactPointError", "contact_points"]
 class ContactPointError(ProfilegenError, ValueError):
     """Bad input to the contact-point search; names the parameter, value, unit and range."""
 
-
-def _readonly(values, dtype=float) -> np.ndarray:
-    array = np.array(values, dtype=dtype)
-    array.setflags(write=False)
-    return array
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -172,8 +168,8 @@ def contact_points(design, *, side: int = 1, stations: int = 9, max_gap_mm: floa
         keep = np.flatnonzero(gap <= max_gap_mm)
         if keep.size == 0:
             continue
-        foot = np.array([np.asarray(cs_line.interpolate(cs_line.project(shapely.Point(*placed[k]))).coords[0])
-                         for k in keep])
+        near = shapely.points(placed[keep])
+        foot = shapely.get_coordinates(shapely.line_interpolate_point(cs_line, shapely.line_locate_point(cs_line, near)))
         angle = 2.0 * math.pi * i / z2
         rows.append((np.full(keep.size, i), np.full(keep.size, phis[j]), t[keep], local[keep],
                      turn(placed[keep], angle), turn(foot, angle), turn(normal[keep], angle), gap[keep]))

@@ -118,6 +118,7 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..errors import ConvergenceError, ProfilegenError
+from ..results import json_ready as _json, readonly as _readonly
 
 __all__ = [
     "ContactError",
@@ -144,27 +145,6 @@ class ContactError(ProfilegenError, ValueError):
 # ----------------------------------------------------------------------------- result
 
 
-def _readonly(a, dtype=float) -> np.ndarray:
-    a = np.array(a, dtype=dtype)
-    a.setflags(write=False)
-    return a
-
-
-def _json(obj):
-    if isinstance(obj, dict):
-        return {str(k): _json(v) for k, v in obj.items()}
-    if isinstance(obj, (list, tuple)):
-        return [_json(v) for v in obj]
-    if isinstance(obj, np.ndarray):
-        return _json(obj.tolist())
-    if isinstance(obj, (np.bool_, bool)):
-        return bool(obj)
-    if isinstance(obj, (np.integer, int)):
-        return int(obj)
-    if isinstance(obj, (np.floating, float)):
-        v = float(obj)
-        return v if math.isfinite(v) else None
-    return obj
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -70,10 +70,10 @@ import time
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..errors import ConvergenceError, ProfilegenError
 from .ring import WRAP_WARNING, RingError, _number, _whole
+from ..results import readonly as _readonly
 
 __all__ = [
     "InadmissibleContactError",
@@ -92,11 +92,6 @@ class InadmissibleContactError(ProfilegenError, ValueError):
     """The contour admits no single contact zone per half wave with p ≥ 0, F ≥ 0 and no
     penetration (or an inextensible ring cannot be mounted on it); names where and by how much."""
 
-
-def _readonly(values) -> np.ndarray:
-    array = np.array(values, dtype=float)
-    array.setflags(write=False)
-    return array
 
 
 def _cos_series(values: np.ndarray, what: str, reference_mm: float) -> np.ndarray:
@@ -446,6 +441,8 @@ def inextensible_ring_on_cam(
             f"contour = {contour!r}: no wrap angle α in (0, {math.degrees(half):g}]° gives ∫ω dφ = 0 "
             f"(mean mismatch {mismatch:.6g} mm, contact = {contact!r})")
     i = int(change[0])
+    from scipy.optimize import brentq
+
     alpha = brentq(integral, alphas[i], alphas[i - 1], xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
     a, residual = _edge_solution(coef, waves, alpha)
     psi_a = alpha - half

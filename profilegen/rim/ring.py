@@ -58,6 +58,7 @@ from scipy.sparse.linalg import splu
 
 from .. import series
 from ..errors import ConvergenceError, ProfilegenError
+from ..results import readonly as _readonly
 
 __all__ = ["ConvergenceError", "RingError", "RingParameters", "RingResult", "solve_ring"]
 
@@ -87,10 +88,10 @@ def _number(name: str, value, unit: str, low: float, high: float = math.inf, *, 
     return x
 
 
-def _whole(name: str, value, low: int, *, even: bool = False) -> int:
+def _whole(name: str, value, low: int, *, even: bool = False, error: type = RingError) -> int:
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low or (even and value % 2):
         kind = "an even whole number" if even else "a whole number"
-        raise RingError(f"{name} = {value!r}: must be {kind} ≥ {low}")
+        raise error(f"{name} = {value!r}: must be {kind} ≥ {low}")
     return int(value)
 
 
@@ -132,11 +133,6 @@ class RingParameters:
     def outer_radius_mm(self) -> float:
         return self.neutral_radius_mm + 0.5 * self.rim_thickness_mm
 
-
-def _readonly(values) -> np.ndarray:
-    array = np.array(values, dtype=float)
-    array.setflags(write=False)
-    return array
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -346,7 +342,7 @@ class _Factor:
         return out
 
 
-def _contact_set(compliance4, base, x_now, contour, active, *, bilateral, gap_tol_mm, max_iterations, where):
+def _contact_set(compliance4, base, x_now, contour, *, bilateral, gap_tol_mm, max_iterations, where):
     """Contact of the bore nodes (current positions ``x_now``) with ``contour`` for a
     linear(ised) body whose bore displacement is ``base + G f`` (G = ``compliance4``, f the
     bore forces, f_j = λ_j n_j).
@@ -362,7 +358,7 @@ def _contact_set(compliance4, base, x_now, contour, active, *, bilateral, gap_to
     re-linearises the gap (normals and distances) until every loaded node is on the contour
     and no free node penetrates, within ``gap_tol_mm``. ``bilateral``: S λ = q, every node
     held. Returns (λ per node, active mask λ > 0, normals used, gaps, bore forces (n, 2),
-    iterations, active-set sizes). ``active`` (a previous set) is accepted for the record only.
+    iterations, active-set sizes).
     """
     from scipy.linalg import cholesky, solve_triangular
     from scipy.optimize import nnls
@@ -515,7 +511,7 @@ def solve_ring(
 
     compliance4 = condense(lu)
     forces, active, used_normal, dist, bore_force, iterations, history = _contact_set(
-        compliance4, np.zeros((n_b, 2)), x_bore, contour, None, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
+        compliance4, np.zeros((n_b, 2)), x_bore, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
         max_iterations=max_iterations, where=th[bore])
     u = np.zeros(n_dof)
     u[free] = lu.solve(select @ bore_force.ravel())
@@ -531,7 +527,7 @@ def solve_ring(
                 raise ConvergenceError(f"solve_ring (nonlinear): non-finite Newton step at iteration {newton}")
             x_now = x_bore + np.column_stack([u[ix[bore]], u[iy[bore]]])
             forces, active, used_normal, dist, bore_force, its, hist = _contact_set(
-                compliance4, base, x_now, contour, active, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
+                compliance4, base, x_now, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
                 max_iterations=max_iterations, where=th[bore])
             iterations += its
             history += hist

@@ -60,6 +60,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from .ring import RingError
+from .ring import _whole as ring_whole
+from ..results import readonly as _readonly
 
 __all__ = ["InvertedElementError", "RingSectorMesh", "ToothedMeshError", "ToothedRimMesh", "fs_pitch_pieces", "pitch_surface",
            "ring_sector_mesh", "toothed_half_ring_mesh", "toothed_half_ring_race_mesh",
@@ -77,21 +79,35 @@ class InvertedElementError(ToothedMeshError):
     fit the tooth); the message names the element, where it is, and what to change."""
 
 
-def _readonly(values, dtype=float) -> np.ndarray:
-    array = np.array(values, dtype=dtype)
-    array.setflags(write=False)
-    return array
-
 
 def _whole(name: str, value, low: int, *, even: bool = False) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low or (even and value % 2):
-        kind = "an even whole number" if even else "a whole number"
-        raise ToothedMeshError(f"{name} = {value!r}: must be {kind} ≥ {low}")
-    return int(value)
+    return ring_whole(name, value, low, even=even, error=ToothedMeshError)
+
+
+class _MappedMesh:
+    """What both mesh records share: they unpack like ``ring._mesh``'s (mesh, θ, r) and count
+    their elements, nodes and degrees of freedom (2 per node, a 2D vector field)."""
+
+    __slots__ = ()
+
+    def __iter__(self):
+        return iter((self.mesh, self.th, self.r))
+
+    @property
+    def elements(self) -> int:
+        return int(self.mesh.t.shape[1])
+
+    @property
+    def nodes(self) -> int:
+        return int(self.th.size)
+
+    @property
+    def dof(self) -> int:
+        return 2 * self.nodes
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class ToothedRimMesh:
+class ToothedRimMesh(_MappedMesh):
     """The mapped mesh of the toothed quarter rim and where its node lines are.
 
     Unpacks like ``ring._mesh``'s return: ``mesh, th, r = toothed_quarter_mesh(...)``
@@ -131,26 +147,10 @@ class ToothedRimMesh:
             object.__setattr__(self, name, _readonly(getattr(self, name), dtype=np.int64))
         object.__setattr__(self, "columns", tuple((str(a), int(b)) for a, b in self.columns))
 
-    def __iter__(self):
-        return iter((self.mesh, self.th, self.r))
-
     @property
     def pitches(self) -> float:
         """Tooth pitches in the quarter, z1/4 (half pitches at the cuts)."""
         return self.teeth / 4.0
-
-    @property
-    def elements(self) -> int:
-        return int(self.mesh.t.shape[1])
-
-    @property
-    def nodes(self) -> int:
-        return int(self.th.size)
-
-    @property
-    def dof(self) -> int:
-        """Degrees of freedom of a 2D vector field (2 per node)."""
-        return 2 * self.nodes
 
     def to_dict(self) -> dict:
         return {
@@ -403,7 +403,7 @@ def toothed_quarter_mesh(
 
 
 @dataclass(frozen=True, slots=True, eq=False)
-class RingSectorMesh:
+class RingSectorMesh(_MappedMesh):
     """A structured mapped mesh of a ring sector made of whole pitches (9-node quads).
 
     ``s``, ``j``: structured-grid coordinates of every dof location (half-integers; s
@@ -439,20 +439,6 @@ class RingSectorMesh:
             object.__setattr__(self, name, _readonly(getattr(self, name), dtype=np.int64))
         object.__setattr__(self, "toothed", _readonly(self.toothed, dtype=bool))
 
-    def __iter__(self):
-        return iter((self.mesh, self.th, self.r))
-
-    @property
-    def elements(self) -> int:
-        return int(self.mesh.t.shape[1])
-
-    @property
-    def nodes(self) -> int:
-        return int(self.th.size)
-
-    @property
-    def dof(self) -> int:
-        return 2 * self.nodes
 
     def to_dict(self) -> dict:
         return {
