@@ -245,9 +245,9 @@ def design(
     )
 
     step("deformation")
-    t0 = time.perf_counter()
-    from .rim.stage import solve_rim  # scikit-fem and scipy's solvers load only when a design runs
+    from .rim.stage import solve_rim  # scipy's solvers load only when a design runs (not in the stage time)
 
+    t0 = time.perf_counter()
     rim = solve_rim(gearset, tier=scene.name)
     deformation = rim.model
     warnings += list(rim.warnings)
