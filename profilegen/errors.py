@@ -13,6 +13,7 @@ __all__ = [
     "ConvergenceError",
     "EnvelopeError",
     "ExportError",
+    "StressError",
 ]
 
 
@@ -48,3 +49,9 @@ class EnvelopeError(ProfilegenError, RuntimeError):
 
 class ExportError(ProfilegenError, OSError):
     """An output file could not be written; nothing partial is left behind."""
+
+
+class StressError(ProfilegenError, ValueError):
+    """A stress model got inputs it cannot take (a thickness ≤ 0, a boss radius ≥ the cup
+    radius, fatigue asked for without the material's limits, ...); the message names the
+    parameter, its value, unit and allowed range."""
