@@ -195,40 +195,37 @@ class _BandedFlex:
     Blocks of ``block`` ≥ bandwidth consecutive rows make the band matrix block
     tridiagonal; its Cholesky factor is then block bidiagonal, computed and applied with
     dense BLAS 3 blocks (LAPACK's banded ``pbtrf``/``pbtrs`` are several times slower
-    here, and solve one right-hand side at a time)."""
+    here, and solve one right-hand side at a time). The forward substitution starts at the
+    block of the first nonzero row of Y: rows before it stay zero in W (the callers order
+    the dofs so that the loads come last)."""
 
     def __init__(self, matrix, order, where: str, block: int = 192):
         from scipy.linalg import LinAlgError, cholesky, solve_triangular
 
         self.perm = np.asarray(order)
-        permuted = sp.csr_matrix(matrix)[self.perm][:, self.perm].tocoo()
-        lower = permuted.row >= permuted.col
-        rows, cols = permuted.row[lower], permuted.col[lower]
-        self.band = band = int(np.max(rows - cols, initial=0))
+        permuted = sp.csr_matrix(matrix)[self.perm][:, self.perm]
+        coo = permuted.tocoo()
+        self.band = band = int(np.max(np.abs(coo.row - coo.col), initial=0))
         self.n = n = matrix.shape[0]
-        ab = np.zeros((band + 1, n))
-        ab[rows - cols, cols] = permuted.data[lower]
+        lower = sp.tril(permuted, format="csr")
+        lower.sum_duplicates()
         nb = max(block, band)
         self.starts = list(range(0, n, nb))
         self.diag: list[np.ndarray] = []  # L_kk
         self.sub: list[np.ndarray | None] = []  # L_k,k−1
         previous = None
-
-        def dense(r0, r1, c0, c1):
-            i = np.arange(r0, r1)[:, None]
-            j = np.arange(c0, c1)[None, :]
-            d = i - j
-            ok = (d >= 0) & (d <= band)
-            out = np.where(ok, ab[np.clip(d, 0, band), np.broadcast_to(j, d.shape)], 0.0)
-            return out
-
         for k, i0 in enumerate(self.starts):
             i1 = min(n, i0 + nb)
-            a_kk = dense(i0, i1, i0, i1)
+            p0 = self.starts[k - 1] if k else i0
+            # rows i0:i1, columns p0:i1 of the lower triangle, dense (a scatter from the CSR arrays)
+            lo, hi = lower.indptr[i0], lower.indptr[i1]
+            rows = np.zeros((i1 - i0, i1 - p0))
+            rows[np.repeat(np.arange(i1 - i0), np.diff(lower.indptr[i0:i1 + 1])), lower.indices[lo:hi] - p0] = \
+                lower.data[lo:hi]
+            a_kk = rows[:, i0 - p0:]
             a_kk = a_kk + np.tril(a_kk, -1).T
             if k:
-                p0 = self.starts[k - 1]
-                sub = solve_triangular(previous, dense(i0, i1, p0, i0).T, lower=True, check_finite=False).T
+                sub = solve_triangular(previous, rows[:, :i0 - p0].T, lower=True, check_finite=False).T
                 a_kk = a_kk - sub @ sub.T
             else:
                 sub = None
@@ -240,19 +237,63 @@ class _BandedFlex:
             self.diag.append(previous)
             self.sub.append(sub)
 
-    def forward(self, rhs) -> np.ndarray:
+    def _solve_block(self, k: int, b: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
         from scipy.linalg import solve_triangular
 
+        if previous is not None:
+            b = b - self.sub[k] @ previous
+        return solve_triangular(self.diag[k], b, lower=True, check_finite=False)
+
+    def forward(self, rhs) -> np.ndarray:
+        """W = L⁻¹ Y for a dense Y (n, m) in the matrix's own order."""
         y = np.asarray(rhs, dtype=float)[self.perm]
         w = np.empty_like(y)
+        previous = None
         for k, i0 in enumerate(self.starts):
             i1 = i0 + self.diag[k].shape[0]
-            b = y[i0:i1]
-            if k:
-                p0 = self.starts[k - 1]
-                b = b - self.sub[k] @ w[p0:i0]
-            w[i0:i1] = solve_triangular(self.diag[k], b, lower=True, check_finite=False)
+            w[i0:i1] = previous = self._solve_block(k, y[i0:i1], previous)
         return w
+
+    def flexibility(self, loads, gauge=None) -> np.ndarray:
+        """Yᵀ K⁻¹ Y = WᵀW for the sparse load columns Y (n, m), accumulated block by block
+        (W is never stored: ~0.2 GB for the FS) from the block of Y's first nonzero row (the
+        rows before it stay zero in W; the callers order the dofs so that the loads come
+        last). ``gauge`` = (c, rot): the loads are first projected, Pᵀ Y = Y − c (rotᵀ Y) /
+        (cᵀ rot) (a reaction c that holds the mode rot); as L⁻¹ is linear, the projection is
+        applied to the accumulated sums, and only the one dense column L⁻¹c is swept whole."""
+        y = sp.csr_matrix(loads)[self.perm]
+        m = y.shape[1]
+        rows_used = np.flatnonzero(np.diff(y.indptr))
+        first = int(rows_used[0]) if rows_used.size else self.n
+        gram = np.zeros((m, m))
+        if gauge is not None:
+            c, rot = (np.asarray(v, dtype=float) for v in gauge)
+            w_c = self.forward(c[:, None])[:, 0]
+            cross = np.zeros(m)
+        previous = None
+        for k, i0 in enumerate(self.starts):
+            i1 = i0 + self.diag[k].shape[0]
+            if i1 <= first:
+                continue
+            w = self._solve_block(k, y[i0:i1].toarray(), previous)
+            gram += w.T @ w
+            if gauge is not None:
+                cross += w.T @ w_c[i0:i1]
+            previous = w
+        if gauge is not None:
+            alpha = (sp.csr_matrix(loads).T @ rot) / (c @ rot)
+            gram += (w_c @ w_c) * np.outer(alpha, alpha) - np.outer(cross, alpha) - np.outer(alpha, cross)
+        return 0.5 * (gram + gram.T)
+
+
+def _loads_last(order: np.ndarray, loaded_dofs: np.ndarray) -> np.ndarray:
+    """``order`` or its reverse (the same band), whichever puts the first loaded dof later:
+    :meth:`_BandedFlex.flexibility` skips the rows before it."""
+    where = np.empty(order.size, dtype=int)
+    where[order] = np.arange(order.size)
+    first = int(where[loaded_dofs].min())
+    last = int(where[loaded_dofs].max())
+    return order if first >= order.size - 1 - last else order[::-1]
 
 
 def _edge_projection(xy_nodes: np.ndarray, line: np.ndarray, points: np.ndarray, window=None):
@@ -433,7 +474,7 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
     cols = np.concatenate([2 * node_red, 2 * node_red + 1])
     tie = sp.csr_matrix((np.concatenate([sign, sign]), (rows, cols)), shape=(n_full, 2 * n_nodes_red))
     k_red = (tie.T @ stiffness @ tie).tocsr()
-    b_red = (tie.T @ loads).toarray()
+    b_red = (tie.T @ loads).tocsr()
 
     # gauge: the bore's mean rotation c·u = 0 (uniform tangential traction as its reaction)
     c_full = np.zeros(n_full)
@@ -451,7 +492,6 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
     rot_red = np.zeros(2 * n_nodes_red)
     rot_red[2 * node_red[keep]] = rot_full[ix[keep]]
     rot_red[2 * node_red[keep] + 1] = rot_full[iy[keep]]
-    y = b_red - np.outer(c_red, rot_red @ b_red) / (c_red @ rot_red)  # Pᵀ B
     gauge = 2 * int(node_red[ring.inner_nodes[0]])  # the tangential (x) dof of the bore node on the cut
     free = np.setdiff1d(np.arange(2 * n_nodes_red), [gauge])
     # folded order round the tied ring: both directions away from the cut, interleaved
@@ -465,10 +505,11 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
     key_node = 2 * d + (i2 > n_s)
     dof_node = free // 2
     order = np.lexsort((free % 2, j_red[dof_node], key_node[dof_node]))
+    b_free = b_red[free]
+    order = _loads_last(order, np.flatnonzero(np.diff(b_free.indptr)))
     factor = _BandedFlex(k_red[free][:, free], order, "FS rim")
-    w = factor.forward(y[free])
-    flex = w.T @ w
-    return 0.5 * (flex + flex.T), int(free.size), factor.band, dist
+    flex = factor.flexibility(b_free, gauge=(c_red[free], rot_red[free]))
+    return flex, int(free.size), factor.band, dist
 
 
 def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, dist):
@@ -512,7 +553,7 @@ def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, di
     cols = np.concatenate([2 * node_red, 2 * node_red + 1, extra_red])
     tie = sp.csr_matrix((np.concatenate([sign, sign, np.ones(n_b)]), (rows, cols)), shape=(n_ext, n_red))
     k_red = (tie.T @ stiffness @ tie).tocsr()
-    b_red = (tie.T @ loads).toarray()
+    b_red = (tie.T @ loads).tocsr()
 
     # gauge: the rim bore's mean rotation c·u = 0, as in _half_ring_flex
     c_full = np.zeros(n_ext)
@@ -528,7 +569,6 @@ def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, di
     rot_red[2 * node_red[keep] + 1] = -xy[0, keep]
     rot_red[extra_red[:-1]] = np.hypot(xy[0, bore[:-1]], xy[1, bore[:-1]])
     c_red = tie.T @ c_full
-    y = b_red - np.outer(c_red, rot_red @ b_red) / (c_red @ rot_red)
     # two gauges: the rim's rotation (a bore node) and the race's spin (a race inner node)
     gauges = [2 * int(node_red[bore[0]]), 2 * int(node_red[ring.inner_nodes[0]])]
     free = np.setdiff1d(np.arange(n_red), gauges)
@@ -546,10 +586,11 @@ def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, di
     d = np.minimum(i2, int(round(2 * n_s)) - i2)
     key = 2 * d + (i2 > n_s)
     order = np.lexsort((comp[free], j_dof[free], key[free]))
+    b_free = b_red[free]
+    order = _loads_last(order, np.flatnonzero(np.diff(b_free.indptr)))
     factor = _BandedFlex(k_red[free][:, free], order, "FS rim and sliding race")
-    w = factor.forward(y[free])
-    flex = w.T @ w
-    return 0.5 * (flex + flex.T), int(free.size), factor.band, dist
+    flex = factor.flexibility(b_free, gauge=(c_red[free], rot_red[free]))
+    return flex, int(free.size), factor.band, dist
 
 
 def _cs_pieces(space, cs_teeth: int):
@@ -622,9 +663,7 @@ def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers
     node_of[ix], node_of[iy] = np.arange(ix.size), np.arange(iy.size)
     order = np.lexsort((free % 2, ring.j[node_of[free]], ring.s[node_of[free]]))
     factor = _BandedFlex(stiffness[free][:, free], order, "CS ring")
-    w = factor.forward(loads[free].toarray())
-    flex = w.T @ w
-    flex = 0.5 * (flex + flex.T)
+    flex = factor.flexibility(loads[free])
     info = {**ring.to_dict(), "spaces": [lo, hi], "outer_radius_mm": outer_radius_mm, "band": factor.band}
     return _BodyFlex(flex, int(free.size), factor.band, info, time.perf_counter() - start, dist)
 

@@ -20,6 +20,19 @@ the gear centre in the package's angle sense (+y toward +x); the loaded flank is
 whose lever arms are positive for the chosen direction of rotation. θ_k = e_k / r_k is the
 angular separation of seed 000.
 
+The stations sample the separation along the flank, and it is sharply curved there: on the
+default set it rises from its minimum by ~17 µm within 0.11 mm (a relative curvature of
+~2.6 /mm — the flanks meet like two cylinders, not conformally), so a station a few
+hundredths of a millimetre off a tooth's closest point overstates that tooth's separation
+by µm, as much as the separations differ from tooth to tooth. So every local minimum of a
+tooth's separation (a tooth can touch at two places: inside the flank and at the tip
+corner), found on a 401-point scan of the flank and refined by a golden-section search to
+1e-7 mm of arc length, takes the place of the station nearest to it. Without that, the
+largest tooth force changed by 20–40 % between 5 and 17 stations (233 → 147 N at 54 N·m,
+default set); with it, 5, 9 and 17 stations give the same 129.1 N. Spreading each force
+over its station's stretch of flank instead of a point changed it by < 1.5 %: it was the
+gaps, not the point loads.
+
 Only stations whose separation is below ``max_gap_mm`` are kept (farther ones cannot come
 into contact under any torque the teeth can carry; the default 0.05 mm is ~100× the
 elastic approach of the default set at its momentary torque).
@@ -37,6 +50,10 @@ from ..kinematics import turn
 from ..results import readonly as _readonly
 
 __all__ = ["ContactPoints", "ContactPointError", "contact_points"]
+
+
+#: points of the fine scan of each tooth's separation along its working flank
+_SCAN = 401
 
 
 class ContactPointError(ProfilegenError, ValueError):
@@ -149,21 +166,47 @@ def contact_points(design, *, side: int = 1, stations: int = 9, max_gap_mm: floa
     shapely.prepare(cs_line)
 
     t = np.linspace(_flank_start(tooth, design), tooth.length_mm, stations)
-    local, dp, _ = tooth.evaluate(t, side=side)
-    # outward normal of the flank in the tooth frame: the right flank runs root → tip with
-    # the tooth material on its left (−x side), so the outward normal is the tangent turned clockwise
-    n_local = np.column_stack([dp[:, 1], -dp[:, 0]]) * side
-    n_local /= np.linalg.norm(n_local, axis=1)[:, None]
+    local = tooth.evaluate(t, side=side)[0]
+    # outward normal of the flank in the tooth frame (below): the right flank runs root → tip
+    # with the tooth material on its left (−x side), so the outward normal is the tangent turned clockwise
 
     half = z1 // (2 * waves)
     teeth = np.arange(-half + 1, half + 1)
     phis = 2.0 * math.pi * teeth / z1
     pose = motion.pose(phis)
+    cos, sin = np.cos(pose.angle), np.sin(pose.angle)
+
+    def place(p, j):  # tooth-frame points (…, 2) of teeth j (broadcast) → CS space 0's frame
+        c, s = cos[j], sin[j]
+        return np.stack([p[..., 0] * c + p[..., 1] * s, p[..., 1] * c - p[..., 0] * s], -1) + pose.origin[j]
+
+    # every tooth's separation on a fine scan of the flank; each local minimum found to
+    # 1e-7 mm takes the place of the station nearest to it
+    scan = np.linspace(t[0], t[-1], _SCAN)
+    gaps = shapely.distance(shapely.points(place(tooth.evaluate(scan, side=side)[0][None, :, :],
+                                                 np.arange(teeth.size)[:, None])), cs_line)
+    padded = np.pad(gaps, ((0, 0), (1, 1)), constant_values=np.inf)
+    j_min, k_min = np.nonzero((gaps <= padded[:, :-2]) & (gaps < padded[:, 2:]))
+    t_min = _golden_minimum(
+        lambda u: shapely.distance(shapely.points(place(tooth.evaluate(u, side=side)[0], j_min)), cs_line),
+        scan[np.maximum(k_min - 1, 0)], scan[np.minimum(k_min + 1, _SCAN - 1)])
+    all_t = np.broadcast_to(t, (teeth.size, stations)).copy()
+    moved = np.zeros(all_t.shape, bool)
+    for j, tm in zip(j_min, t_min):
+        free = np.flatnonzero(~moved[j])
+        if free.size:
+            k = free[np.argmin(np.abs(t[free] - tm))]
+            all_t[j, k], moved[j, k] = tm, True
+    all_t.sort(axis=1)
     rows = []
     for j, i in enumerate(teeth):
-        c, s = math.cos(pose.angle[j]), math.sin(pose.angle[j])
-        placed = np.column_stack([local[:, 0] * c + local[:, 1] * s, local[:, 1] * c - local[:, 0] * s]) + pose.origin[j]
-        normal = np.column_stack([n_local[:, 0] * c + n_local[:, 1] * s, n_local[:, 1] * c - n_local[:, 0] * s])
+        tj = all_t[j]
+        lj, dpj, _ = tooth.evaluate(tj, side=side)
+        nj = np.column_stack([dpj[:, 1], -dpj[:, 0]]) * side
+        nj /= np.linalg.norm(nj, axis=1)[:, None]
+        c, s = cos[j], sin[j]
+        placed = place(lj, j)
+        normal = np.column_stack([nj[:, 0] * c + nj[:, 1] * s, nj[:, 1] * c - nj[:, 0] * s])
         gap = shapely.distance(shapely.points(placed), cs_line)
         keep = np.flatnonzero(gap <= max_gap_mm)
         if keep.size == 0:
@@ -171,7 +214,7 @@ def contact_points(design, *, side: int = 1, stations: int = 9, max_gap_mm: floa
         near = shapely.points(placed[keep])
         foot = shapely.get_coordinates(shapely.line_interpolate_point(cs_line, shapely.line_locate_point(cs_line, near)))
         angle = 2.0 * math.pi * i / z2
-        rows.append((np.full(keep.size, i), np.full(keep.size, phis[j]), t[keep], local[keep],
+        rows.append((np.full(keep.size, i), np.full(keep.size, phis[j]), tj[keep], lj[keep],
                      turn(placed[keep], angle), turn(foot, angle), turn(normal[keep], angle), gap[keep]))
     if not rows:
         raise ContactPointError(
@@ -186,3 +229,25 @@ def contact_points(design, *, side: int = 1, stations: int = 9, max_gap_mm: floa
     sel = np.flatnonzero(ok)
     return ContactPoints(tooth_i[sel], phi_i[sel], t_k[sel], local_k[sel], fs_k[sel], cs_k[sel], n_k[sel],
                          np.maximum(gap_k[sel], 0.0), lever[sel], side, rotation, waves, stations, max_gap_mm)
+
+
+def _golden_minimum(f, lo: np.ndarray, hi: np.ndarray, tol_mm: float = 1e-7) -> np.ndarray:
+    """Golden-section search for the minimum of ``f`` on each interval [lo_k, hi_k], to
+    ``tol_mm``, vectorised: ``f`` maps an array of arguments to an array of values. The
+    ends are candidates too (a minimum at the end of the working flank)."""
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
+    a, b = lo.copy(), hi.copy()
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = f(c), f(d)
+    width = max(float(np.max(b - a)), tol_mm)
+    for _ in range(int(math.ceil(math.log(tol_mm / width) / math.log(g)))):
+        left = fc < fd  # the minimum is in [a, d]: drop (d, b]
+        a, b = np.where(left, a, c), np.where(left, d, b)
+        x = np.where(left, b - g * (b - a), a + g * (b - a))  # the one new interior point
+        fx = f(x)
+        c, d, fc, fd = (np.where(left, x, d), np.where(left, c, x), np.where(left, fx, fd), np.where(left, fc, fx))
+    mid = 0.5 * (a + b)
+    candidates = np.stack([lo, mid, hi])
+    values = np.stack([f(lo), f(mid), f(hi)])
+    return candidates[np.argmin(values, axis=0), np.arange(mid.size)]
