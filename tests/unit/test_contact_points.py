@@ -56,6 +56,24 @@ def test_every_tooth_keeps_its_true_closest_points(design):
         assert cp.gap_mm[cp.tooth == i].min() <= gaps.min() + 1e-6
 
 
+def test_the_other_zone_is_the_image_under_a_half_turn(design):
+    """One engagement zone stands for both (U = 2): FS tooth i + z1/2 at φ_i + π stands in
+    CS space i + z1/2, and its flank is tooth i's turned by π about the gear centre — the
+    deformation has period π and the CS (z2 even) is invariant under the half turn — so
+    both zones see the same separations and lever arms (the loads, being images too, are
+    carried by the point-symmetric half ring of the compliance model)."""
+    g = design.gearset.gear
+    z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
+    assert g.waves == 2 and z1 % 2 == 0 and z2 % 2 == 0
+    local = design.tooth.evaluate(np.linspace(0.0, design.tooth.length_mm, 41), side=1)[0]
+    for i in (-23, -5, 0, 7, 24):
+        placed = []
+        for k in (i, i + z1 // 2):
+            pose = design.motion.pose(np.full(local.shape[0], 2 * math.pi * k / z1))
+            placed.append(turn(pose.to_cs(local), 2 * math.pi * k / z2))
+        np.testing.assert_allclose(placed[1], turn(placed[0], math.pi), atol=1e-9)
+
+
 def test_left_flank_mirrors_the_right_flank(design):
     """The motion is mirror-symmetric about the major axis (ω even, υ odd) and so is the CS
     space: loading the left flanks gives the mirror image, teeth i ↔ −i, rotation reversed."""
