@@ -136,7 +136,8 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("--scene", choices=["sketch", "design", "verify", "list"], help="fidelity preset (default: the gear set's); 'list' shows them")
     d.add_argument("--out", help="output folder (default: export/<gear-set name>/)")
     d.add_argument("--contact", action=argparse.BooleanOptionalAction, default=None,
-                   help="loaded tooth contact at the set's rated/peak/momentary torques (default: only in the verify scene)")
+                   help="loaded tooth contact at the set's rated/peak/momentary torques (default: on in the design "
+                        "and verify scenes, off in sketch)")
     d.add_argument("--fit", choices=["one_sided", "least_squares", "minimax"],
                    help="arc–line–arc fit of the CS flank for CAD (default: the gear set's circular_spline.fit_method)")
     d.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")

@@ -56,7 +56,7 @@ class Scene:
 
 SCENES: dict[str, Scene] = {
     "sketch": Scene("sketch", "ring theory", 1e-4, 48, 121, 91, False, "interactive use and sweeps: analytic rim, coarse envelope", 181),
-    "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False, "the default: 1 nm envelope, classified", 721),
+    "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False, "the default: 1 nm envelope, classified, loaded contact", 721, True),
     "verify": Scene("verify", "toothed-rim FEM (nonlinear)", 1e-7, 192, 481, 721, True, "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001, True),
 }
 
@@ -202,6 +202,7 @@ class Design:
                 "teeth_in_contact_per_zone": [c.teeth_in_contact for c in self.contact.cases],
                 "zones": self.contact.zones,
                 "max_tooth_force_n": [c.max_tooth_force_n for c in self.contact.cases],
+                "beyond_capacity": [c.beyond_capacity for c in self.contact.cases],
                 "secant_stiffness_nm_per_rad": self.contact.secant_stiffness_nm_per_rad.tolist(),
                 "warnings": list(self.contact.warnings),
             },
@@ -220,8 +221,8 @@ def design(
     """Run every stage for one gear set (see the module docstring).
 
     ``contact``: run the loaded tooth contact at the set's rated, peak and momentary
-    torques (default: the scene's choice — only ``verify``; it adds ~4 s and its torsional
-    stiffness is a mesh-only model, see the README).
+    torques (default: the scene's choice — ``design`` and ``verify``, not ``sketch``; it
+    adds ~3 s, and its torsional stiffness is a mesh-only model, see the README).
 
     ``fit_method`` overrides ``gearset.circular_spline.fit_method`` for the CAD profile.
     """

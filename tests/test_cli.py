@@ -31,12 +31,13 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
     assert res.returncode == 0, res.stderr
     out = tmp_path / "export" / "default"
     assert sorted(p.name for p in out.iterdir()) == [
-        "assembly.dxf", "circular_spline.csv", "circular_spline.dxf", "circular_spline.svg", "deformation_fit.json",
-        "design.json", "envelope.csv", "envelope.png", "fit_report.html", "profile_fit.json", "tooth_space.dxf",
+        "assembly.dxf", "circular_spline.csv", "circular_spline.dxf", "circular_spline.svg", "contact.json",
+        "contact.png", "deformation_fit.json", "design.json", "envelope.csv", "envelope.png", "fit_report.html",
+        "profile_fit.json", "tooth_space.dxf",
     ]
     data = json.loads((out / "design.json").read_text())
     assert data["gearset"]["name"] == "default"
-    for stage in ("tooth", "rim", "deformation fit", "envelope", "gearform", "arcfit"):
+    for stage in ("tooth", "rim", "deformation fit", "envelope", "gearform", "arcfit", "contact"):
         record = data["stages"][stage]
         assert record["time_s"] >= 0 and record["tier"] and record["error_measure"]
     # the design scene: nonlinear flat-ring FEM + Fourier fit, each with dof and an error estimate

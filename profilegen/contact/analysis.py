@@ -70,9 +70,25 @@ class LoadCase:
     def max_tooth_force_n(self) -> float:
         return float(self.tooth_force_n.max())
 
+    @property
+    def beyond_capacity(self) -> str | None:
+        """Why this torque is beyond what the modelled contact can carry, or None.
+
+        "Beyond" means the loaded zone has reached the edge of what was searched, so the
+        answer is not the contact's: every candidate point is loaded, or the first or last
+        candidate tooth of the zone carries load (the teeth beyond them, not in the model,
+        would too). The load case is still returned, flagged, with this reason."""
+        if self.solution.all_points_loaded:
+            return "every candidate contact point is loaded"
+        edge = [int(self.teeth[k]) for k in (0, self.teeth.size - 1) if self.tooth_force_n[k] > 0.0]
+        if edge:
+            return f"the edge tooth {edge} of the searched zone carries load"
+        return None
+
     def to_dict(self) -> dict:
         return {
             "torque_nm": self.torque_nm,
+            "beyond_capacity": self.beyond_capacity,
             "zone_torque_nm": self.zone_torque_nm,
             "rotation_rad": self.rotation_rad,
             "rotation_arcmin": self.rotation_arcmin,
@@ -164,14 +180,11 @@ def _load_case(points, torque: float, sol: ContactSolution, balls=None) -> tuple
     extra = () if balls is None else (balls.ball_angle_rad, balls.ball_reactions(sol.force_n), balls.ball_active)
     case = LoadCase(float(torque), float(torque / points.zones), sol, teeth, tooth_phi, per_tooth, *extra)
     warnings = []
-    if sol.all_points_loaded:
-        warnings.append(f"at {torque:g} N·m every candidate contact point is loaded: the contact zone may "
-                        "extend beyond the points searched (raise max_gap_mm) — the result is not trustworthy")
-    edge = [int(teeth[k]) for k in (0, teeth.size - 1) if per_tooth[k] > 0.0]
-    if edge:
-        warnings.append(f"at {torque:g} N·m the first/last candidate tooth ({edge}) carries load: the contact "
-                        "reaches the edge of the points searched (raise max_gap_mm, or the rim model lets "
-                        "the ring deflect beyond what the teeth were searched for)")
+    if case.beyond_capacity is not None:
+        warnings.append(f"at {torque:g} N·m the torque is beyond what the modelled contact can carry: "
+                        f"{case.beyond_capacity} — the contact zone reaches the edge of the points searched "
+                        "(raise max_gap_mm, or the rim lets the ring deflect beyond what the teeth were "
+                        "searched for); the result is not trustworthy")
     return case, warnings + list(sol.warnings)
 
 

@@ -41,7 +41,7 @@ def _catalogue_secant(torque: float) -> float:
 
 
 def _short(warning: str) -> str:
-    if "first/last candidate tooth" in warning:
+    if "edge tooth" in warning:
         return "edge tooth@" + warning.split(" N·m")[0].removeprefix("at ")
     if "every candidate contact point" in warning:
         return "all points@" + warning.split(" N·m")[0].removeprefix("at ")

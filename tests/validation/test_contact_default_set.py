@@ -77,3 +77,13 @@ def test_bad_input_is_named(design, rated):
         solve_contact(design, [0.0], points=rated.points, compliance=rated.compliance)
     with pytest.raises(ContactError, match="points, compliance"):
         solve_contact(design, [10.0], points=rated.points)
+
+
+def test_a_torque_beyond_the_searched_zone_is_flagged(design, rated):
+    """A torque whose loaded zone reaches the edge of the searched teeth is flagged on the
+    load case and in the warnings (not returned as a plain answer); the rated one is not."""
+    huge = solve_contact(design, [5e4], points=rated.points, compliance=rated.compliance)
+    assert huge.cases[0].beyond_capacity is not None
+    assert any("beyond what the modelled contact can carry" in w for w in huge.warnings)
+    assert huge.cases[0].to_dict()["beyond_capacity"] == huge.cases[0].beyond_capacity
+    assert rated.cases[1].beyond_capacity is None
