@@ -96,7 +96,7 @@ _DCTA_DEFAULTS = {
 }
 
 _TOP_KEYS = ("name", "description", "source", "scene")
-_SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline")
+_SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline", "cup")
 _GEAR_KEYS = (
     "module_mm",
     "flexspline_teeth",
@@ -142,12 +142,14 @@ _MATERIAL_KEYS = (
 _TORQUE_KEYS = ("rated_nm", "peak_nm", "momentary_nm")
 _CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm", "fit_method")
 FIT_METHODS = ("one_sided", "least_squares", "minimax")
+_CUP_KEYS = ("length_mm", "face_width_mm", "bottom_thickness_mm", "boss_radius_mm", "root_fillet_radius_mm")
 _SECTION_KEYS = {
     "gear": _GEAR_KEYS,
     "wave_generator": _WAVE_GENERATOR_KEYS,
     "material": _MATERIAL_KEYS,
     "torque": _TORQUE_KEYS,
     "circular_spline": _CIRCULAR_SPLINE_KEYS,
+    "cup": _CUP_KEYS,
 }
 
 
@@ -355,6 +357,23 @@ class CircularSpline:
     fit_method: str = "one_sided"
 
 
+@dataclass(**_FROZEN)
+class Cup:
+    """The cup flexspline beyond its tooth ring (mm), for the loaded contact and the stress
+    stage: ``length_mm`` l, from the cup bottom to the tooth ring's mid-face (the
+    semi-membrane length of seed 002, k = l / 2r_m); ``face_width_mm`` b, the teeth's face
+    width; ``bottom_thickness_mm`` t of the cup bottom (seed 002's plate, seed 000's
+    diaphragm); ``boss_radius_mm`` r0, where the bottom is clamped to its boss;
+    ``root_fillet_radius_mm`` r1, the fillet where a tooth meets the rim (seed 001). Absent
+    fields are ESTIMATES from the gear (see docs/gearset.md)."""
+
+    length_mm: float
+    face_width_mm: float
+    bottom_thickness_mm: float
+    boss_radius_mm: float
+    root_fillet_radius_mm: float
+
+
 _SECTION_TYPES = {
     "gear": Gear,
     "tooth": _TOOTH_TYPES,
@@ -362,6 +381,7 @@ _SECTION_TYPES = {
     "material": Material,
     "torque": Torque,
     "circular_spline": CircularSpline,
+    "cup": Cup,
 }
 
 
@@ -387,6 +407,7 @@ class GearSet:
     material: Material
     torque: Torque
     circular_spline: CircularSpline
+    cup: Cup
     origin: str = field(default="<dict>", repr=False)
     given: frozenset[str] | None = field(default=None, repr=False)
 
@@ -434,13 +455,14 @@ class GearSet:
         derived from others (neutral radius, module-relative defaults) are
         derived again when the dict is parsed.
         """
-        g, t, w, mat, tq, cs = (
+        g, t, w, mat, tq, cs, cup = (
             self.gear,
             self.tooth,
             self.wave_generator,
             self.material,
             self.torque,
             self.circular_spline,
+            self.cup,
         )
         tooth: dict[str, Any] = {"kind": t.kind}
         if isinstance(t, PointsTooth):
@@ -460,6 +482,7 @@ class GearSet:
             "material": _optional_fields(mat, _MATERIAL_KEYS),
             "torque": _optional_fields(tq, _TORQUE_KEYS),
             "circular_spline": {key: _json_value(getattr(cs, key)) for key in _CIRCULAR_SPLINE_KEYS},
+            "cup": {key: _json_value(getattr(cup, key)) for key in _CUP_KEYS},
         }
         if include_defaults or self.given is None:
             return out
@@ -473,7 +496,7 @@ class GearSet:
                     for k, v in value.items()
                     if f"{key}.{k}" in given or f"{key}.{k}" in keep_always
                 }
-                if section or key != "circular_spline":
+                if section or key not in ("circular_spline", "cup"):
                     explicit[key] = section
             elif key in given or key in keep_always:
                 explicit[key] = value
@@ -880,6 +903,7 @@ class _Reader:
         circular_spline = self.read_circular_spline(
             self.section(data, "circular_spline", required=False), m
         )
+        cup = self.read_cup(self.section(data, "cup", required=False), gear)
         return dict(
             name=name,
             description=description,
@@ -891,6 +915,7 @@ class _Reader:
             material=material,
             torque=torque,
             circular_spline=circular_spline,
+            cup=cup,
         )
 
     def read_gear(self, t: Mapping | None) -> dict[str, Any]:
@@ -1347,3 +1372,31 @@ class _Reader:
         if any(x is None for x in v.values()):
             return None
         return CircularSpline(**v)
+
+    def read_cup(self, t: Mapping | None, gear: Gear | None) -> Cup | None:
+        """The ``[cup]`` section; every field defaults to an ESTIMATE from the gear."""
+        if t is None:
+            t = {}
+        p = "cup"
+        self.unknown_keys(t, p, _CUP_KEYS)
+        if gear is None:  # invalid gear: already reported; the defaults cannot be derived
+            return None
+        d = gear.module_mm * gear.flexspline_teeth  # pitch diameter
+        r_m = gear.neutral_radius_mm
+        r_bore = r_m - 0.5 * gear.rim_thickness_mm
+        v = {
+            "length_mm": self.number(t, p, "length_mm", unit="mm", rng=_Range(0, 10 * d, lo_open=True,
+                                     note="upper bound 10·pitch diameter"), default=0.6 * d),
+            "face_width_mm": self.number(t, p, "face_width_mm", unit="mm", rng=_Range(0, d, lo_open=True,
+                                         note="upper bound the pitch diameter"), default=0.2 * d),
+            "bottom_thickness_mm": self.number(t, p, "bottom_thickness_mm", unit="mm", rng=_Range(
+                0, 0.5 * r_m, lo_open=True, note="upper bound r_m/2"), default=gear.rim_thickness_mm),
+            "boss_radius_mm": self.number(t, p, "boss_radius_mm", unit="mm", rng=_Range(
+                0, r_bore, lo_open=True, hi_open=True, note="the boss lies inside the cup's bore"),
+                default=0.5 * r_m),
+            "root_fillet_radius_mm": self.number(t, p, "root_fillet_radius_mm", unit="mm", rng=_Range(
+                0, 2 * gear.module_mm, lo_open=True, note="upper bound 2·m"), default=0.7 * gear.module_mm),
+        }
+        if any(x is None for x in v.values()):
+            return None
+        return Cup(**v)

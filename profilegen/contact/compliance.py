@@ -10,9 +10,9 @@ Model (small displacements about the undeformed bodies; linear, plane stress)
 ------------------------------------------------------------------------------
 * **Face width.** Both bodies are 2D plane-stress slices, i.e. per mm of face width: their
   influence coefficients are mm per (N/mm). A contact force F spread evenly over the face
-  width b is a line load F/b, so S = S_2D / b. The gear set has no face width: the default
-  ``face_width_mm`` is 0.2 × the FS pitch diameter (ESTIMATE, 20 mm for the default set,
-  about the tooth width of a size-40 unit).
+  width b is a line load F/b, so S = S_2D / b. b is the gear set's ``cup.face_width_mm``
+  (default 0.2 × the FS pitch diameter, ESTIMATE: 20 mm for the default set, about the
+  tooth width of a size-40 unit).
 * **Superposition on the undeformed rim.** The FS points come at their no-load positions
   (wave generator inserted, CS frame). Each is mapped back to the undeformed FS by its
   tooth index i and its tooth-frame coordinates — p_local = pose(φ_i).to_tooth(turn(p,
@@ -787,7 +787,8 @@ class ContactCompliance:
         ``fs_tooth_index`` (n,): FS tooth i of each point (it stands in CS space i, WG at
         ψ = 0); ``cs_points`` (n, 2): the CS partner points (CS frame); ``cs_normals``:
         the CS surface's outward normals (default −fs_normals; must be opposite to them
-        within 0.1 rad). ``face_width_mm``: b (default 0.2 × the pitch diameter,
+        within 0.1 rad). ``face_width_mm``: b (default the gear set's ``cup.face_width_mm``,
+        whose own default is 0.2 × the pitch diameter,
         ESTIMATE). ``race_thickness_mm``: the wave-generator bearing's outer race under the
         FS bore (default :func:`default_race_thickness_mm`, ESTIMATE; 0 = no race, the balls
         on the bore), meshed with ``race_layers`` layers; ``race_interface``: "sliding" (joined
@@ -824,7 +825,7 @@ class ContactCompliance:
         if bad.size:
             raise ComplianceError(f"cs_normals: row {int(bad[0])} is not opposite to fs_normals (cos = "
                                   f"{opposite[bad[0]]:.4g}, must be < −cos 0.1 rad)")
-        b = 0.2 * 2.0 * g.pitch_radius_mm if face_width_mm is None else _positive("face_width_mm", face_width_mm, "mm")
+        b = gearset.cup.face_width_mm if face_width_mm is None else _positive("face_width_mm", face_width_mm, "mm")
         ball_count = _whole("ball_count", ball_count, 3)
         try:
             phase = float(ball_phase_rad)
