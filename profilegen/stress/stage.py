@@ -1,0 +1,278 @@
+"""The stress stage of a design: the three seed models fed by the design's own results.
+
+``solve_stress(design)`` → :class:`StressResult` at the gear set's rated, peak and
+momentary torques:
+
+* **Tooth ring** (seed 001, :mod:`profilegen.stress.tooth_ring`): the deformed neutral line
+  on the major axis from the design's deformation (ρ_a = r_m + ω(0), ρ_b = r_m + ω(π/2)),
+  the root thickness s_f measured on the FS tooth at the height where the root fillet
+  (``cup.root_fillet_radius_mm``) meets the flank, the face width ``cup.face_width_mm``,
+  h = addendum + dedendum, h0 = h/2 (ESTIMATE, seed 001 gives none) and the tangential force
+  on the most loaded tooth from the loaded contact: Σ over its points of F_k·r_k/|p_k| (the
+  tangential part of each normal force at its radius). Without a contact solution (the
+  ``sketch`` scene) the seed-style estimate is used and the result says so.
+* **Cup bottom** (seed 002, :mod:`profilegen.stress.plate`): the edge displacement w(φ)
+  from the design's radial harmonics ω(η) with the cup length ``cup.length_mm``, the
+  consistent Kirchhoff plate between the boss ``cup.boss_radius_mm`` and r_m, thickness
+  ``cup.bottom_thickness_mm``, plus the torque's shear T/(2π r² t).
+* **Diaphragm** (seed 000, :mod:`profilegen.stress.diaphragm`): the shear amplitude at the
+  boss corner from the deflection, its mean from the torque, Goodman.
+
+Safety factors (the package's criteria, stated here once):
+
+* yield, at the momentary torque: σ_y / σ (tooth ring: σ_ass + σ_load at the root; cup
+  bottom: the largest von Mises stress);
+* fatigue, at the rated torque, Goodman n = 1 / (σ_a/σ_-1 + σ_m/σ_u): the tooth root sees
+  σ_ass + σ_load on the major axis in mesh and about −σ_ass on the minor axis (the curvature
+  change reverses), so σ_a = σ_ass + σ_load/2, σ_m = σ_load/2; the cup bottom's bending
+  wave turns with the wave generator (σ_a = the assembly von Mises maximum) on the torque's
+  steady shear (σ_m = √3 τ_load at the boss); the diaphragm: seed 000's shear Goodman
+  (τ_-1 and τ_u = 0.577 σ_u).
+* A check passes when n ≥ ``required_safety`` (default 1.0).
+
+Fatigue needs the material's endurance limits and ultimate strength; ``fatigue=None``
+(default) runs it when they are in the gear set and reports the checks as skipped
+otherwise, ``fatigue=True`` without them raises :class:`~profilegen.errors.StressError`.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import StressError
+from ..results import json_ready
+from .diaphragm import DiaphragmStress, diaphragm_stress
+from .plate import CupBottomStress, cup_bottom_stress, edge_displacement
+from .tooth_ring import ToothRingStress, tangential_force_estimate_n, tooth_ring_stress
+
+__all__ = ["SafetyCheck", "StressResult", "solve_stress"]
+
+#: Teeth in mesh per zone assumed by the force estimate when there is no contact solution
+#: (a quarter of the FS teeth over both zones, the most loaded 1.5 × the mean: seed-style).
+_ENGAGED_FRACTION = 0.25
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class SafetyCheck:
+    """One safety factor: ``value`` = limit / stress (or Goodman's n); None when skipped."""
+
+    name: str
+    criterion: str
+    torque_nm: float
+    value: float | None
+    required: float
+    note: str = ""
+
+    @property
+    def passed(self) -> bool | None:
+        return None if self.value is None else bool(self.value >= self.required)
+
+    def to_dict(self) -> dict:
+        return json_ready({"name": self.name, "criterion": self.criterion, "torque_nm": self.torque_nm,
+                           "value": self.value, "required": self.required, "passed": self.passed,
+                           "note": self.note})
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class StressResult:
+    """Flexspline stresses at the gear set's torques (MPa, N·m) and the safety checks."""
+
+    torques_nm: tuple[float, ...]
+    tangential_force_n: tuple[float, ...]
+    force_source: str  # "contact" or "estimate"
+    tooth_ring: tuple[ToothRingStress, ...]
+    cup_bottom: tuple[CupBottomStress, ...]
+    diaphragm: tuple[DiaphragmStress, ...]
+    checks: tuple[SafetyCheck, ...]
+    root_thickness_mm: float
+    time_s: float
+    warnings: tuple[str, ...] = field(default=())
+
+    @property
+    def passed(self) -> bool:
+        """Every check that ran passed."""
+        return all(c.passed is not False for c in self.checks)
+
+    @property
+    def min_safety(self) -> SafetyCheck | None:
+        ran = [c for c in self.checks if c.value is not None]
+        return min(ran, key=lambda c: c.value / c.required) if ran else None
+
+    def headline(self) -> dict:
+        """The figures design.json carries (MPa at each torque; safety factors)."""
+        return json_ready({
+            "torques_nm": list(self.torques_nm),
+            "tangential_force_n": list(self.tangential_force_n),
+            "force_source": self.force_source,
+            "tooth_ring_total_mpa": [r.total_stress_mpa for r in self.tooth_ring],
+            "tooth_ring_assembly_mpa": self.tooth_ring[0].assembly_stress_mpa,
+            "cup_bottom_von_mises_mpa": [c.max_von_mises_mpa for c in self.cup_bottom],
+            "diaphragm_shear_amplitude_mpa": self.diaphragm[0].shear_amplitude_mpa,
+            "diaphragm_mean_shear_mpa": [d.mean_shear_mpa for d in self.diaphragm],
+            "safety": {c.name: c.value for c in self.checks},
+            "passed": self.passed,
+        })
+
+    def to_dict(self) -> dict:
+        return json_ready({
+            **self.headline(),
+            "root_thickness_mm": self.root_thickness_mm,
+            "checks": [c.to_dict() for c in self.checks],
+            "tooth_ring": [r.to_dict() for r in self.tooth_ring],
+            "cup_bottom": [c.to_dict() for c in self.cup_bottom],
+            "diaphragm": [d.to_dict() for d in self.diaphragm],
+            "time_s": self.time_s,
+            "warnings": list(self.warnings),
+        })
+
+    def plot(self, path=None):
+        from ..plot import stress_figure
+
+        return stress_figure(self, path=path)
+
+
+def tangential_tooth_forces_n(contact) -> tuple[float, ...]:
+    """The largest tangential tooth force of each load case of a ContactResult (N): per
+    tooth Σ F_k r_k / |p_k| (r_k the lever arm of the normal, |p_k| the point's radius)."""
+    pts = contact.points
+    share = pts.lever_mm / np.linalg.norm(pts.fs_point_mm, axis=1)
+    slot = np.searchsorted(pts.teeth, pts.tooth)
+    return tuple(float(np.bincount(slot, weights=c.solution.force_n * share, minlength=pts.teeth.size).max())
+                 for c in contact.cases)
+
+
+def root_thickness_mm(tooth, gearset, fillet_radius_mm: float) -> float:
+    """s_f: the FS tooth's thickness where its root fillet meets the flank, taken at the
+    height r_f + r1 above the root circle r_f = r1_pitch − h_f (tooth frame: origin on the
+    neutral line, y outward): 2|x| of the right flank there."""
+    g = gearset.gear
+    y_cut = g.pitch_radius_mm - _dedendum(tooth, gearset) + fillet_radius_mm - g.neutral_radius_mm
+    t = np.linspace(0.0, tooth.length_mm, 2001)
+    p = tooth.evaluate(t, side=1)[0]
+    above = np.flatnonzero(p[:, 1] >= y_cut)
+    if above.size == 0 or above[0] == 0:
+        return float(2.0 * abs(p[0, 0]))
+    k = above[0]
+    u = (y_cut - p[k - 1, 1]) / (p[k, 1] - p[k - 1, 1])
+    return float(2.0 * abs(p[k - 1, 0] + u * (p[k, 0] - p[k - 1, 0])))
+
+
+def _dedendum(tooth, gearset) -> float:
+    d = getattr(gearset.tooth, "dedendum_mm", None)
+    if d is not None:
+        return float(d)
+    p = tooth.evaluate(np.linspace(0.0, tooth.length_mm, 401), side=1)[0]
+    return float(gearset.gear.pitch_radius_mm - gearset.gear.neutral_radius_mm - p[:, 1].min())
+
+
+def _addendum(tooth, gearset) -> float:
+    a = getattr(gearset.tooth, "addendum_mm", None)
+    if a is not None:
+        return float(a)
+    p = tooth.evaluate(np.linspace(0.0, tooth.length_mm, 401), side=1)[0]
+    return float(p[:, 1].max() + gearset.gear.neutral_radius_mm - gearset.gear.pitch_radius_mm)
+
+
+def _limits(material, fatigue: bool | None) -> tuple[bool, list[str]]:
+    need = {"bending_endurance_limit_mpa": material.bending_endurance_limit_mpa,
+            "shear_endurance_limit_mpa": material.shear_endurance_limit_mpa,
+            "ultimate_strength_mpa": material.ultimate_strength_mpa}
+    missing = [k for k, v in need.items() if v is None]
+    if fatigue and missing:
+        raise StressError(f"material.{missing[0]}: missing, and the fatigue checks need it (give "
+                          f"{', '.join('material.' + m for m in missing)} in MPa, or pass fatigue=False)")
+    if fatigue is None:
+        fatigue = not missing
+    notes = [f"fatigue checks skipped: the gear set gives no {', '.join('material.' + m for m in missing)}"] \
+        if missing and not fatigue else []
+    return bool(fatigue), notes
+
+
+def _goodman(amplitude: float, mean: float, endurance: float, ultimate: float) -> float:
+    return 1.0 / (amplitude / endurance + mean / ultimate)
+
+
+def solve_stress(design, *, fatigue: bool | None = None, required_safety: float = 1.0) -> StressResult:
+    """The stresses of ``design`` (a :class:`profilegen.pipeline.Design`) at its gear set's
+    torques, and the safety checks (see the module docstring)."""
+    t0 = time.perf_counter()
+    gs = design.gearset
+    g, cup, mat = gs.gear, gs.cup, gs.material
+    if not (isinstance(required_safety, (int, float)) and math.isfinite(required_safety) and required_safety > 0):
+        raise StressError(f"required_safety = {required_safety!r}: must be a finite number > 0")
+    fatigue, warnings = _limits(mat, fatigue)
+    torques = tuple(float(t) for t in (gs.torque.rated_nm, gs.torque.peak_nm, gs.torque.momentary_nm) if t is not None)
+
+    # deformation: ω on the axes and its harmonics
+    r_m = g.neutral_radius_mm
+    model = design.deformation
+    omega = model.evaluate(np.array([0.0, 0.5 * math.pi]), order=0)[0][0]
+    rho_a, rho_b = r_m + float(omega[0]), r_m + float(omega[1])
+    radial = {0: float(model.mean_mm), **{int(k * model.waves): float(c) for k, c in
+                                          enumerate(np.asarray(model.cos_mm), start=1)}}
+
+    # tangential force on the most loaded tooth
+    if design.contact is not None and len(design.contact.cases) == len(torques):
+        forces, source = tangential_tooth_forces_n(design.contact), "contact"
+    else:
+        forces = tuple(float(tangential_force_estimate_n(t * 1e3, g.pitch_radius_mm, _ENGAGED_FRACTION * g.flexspline_teeth))
+                       for t in torques)
+        source = "estimate"
+        warnings.append("tooth-ring load stress uses the seed-style force estimate (1.5 × the mean over a quarter of "
+                        "the teeth), not a contact solution: run the design or verify scene for the loaded contact")
+
+    tooth = design.tooth
+    s_f = root_thickness_mm(tooth, gs, cup.root_fillet_radius_mm)
+    h = _addendum(tooth, gs) + _dedendum(tooth, gs)
+    ring = tuple(tooth_ring_stress(
+        neutral_radius_mm=r_m, rim_thickness_mm=g.rim_thickness_mm, deflection_mm=rho_a - r_m,
+        root_thickness_mm=s_f, fillet_radius_mm=cup.root_fillet_radius_mm, pitch_mm=math.pi * g.module_mm,
+        tooth_height_mm=h, equivalent_tooth_height_mm=0.5 * h, face_width_mm=cup.face_width_mm,
+        youngs_modulus_mpa=mat.youngs_modulus_mpa, tangential_force_n=f, minor_semi_axis_mm=rho_b)
+        for f in forces)
+
+    edge = edge_displacement(radial, mean_radius_mm=r_m, length_mm=cup.length_mm)
+    plate_kw = dict(boss_radius_mm=cup.boss_radius_mm, thickness_mm=cup.bottom_thickness_mm,
+                    youngs_modulus_mpa=mat.youngs_modulus_mpa, poisson_ratio=mat.poisson_ratio)
+    assembly = cup_bottom_stress(edge, torque_nmm=0.0, **plate_kw)
+    bottom = tuple(cup_bottom_stress(edge, torque_nmm=t * 1e3, **plate_kw) for t in torques)
+
+    diaphragm = tuple(diaphragm_stress(
+        cup_radius_mm=r_m, boss_radius_mm=cup.boss_radius_mm, diaphragm_thickness_mm=cup.bottom_thickness_mm,
+        cup_length_mm=cup.length_mm, deflection_mm=rho_a - r_m, youngs_modulus_mpa=mat.youngs_modulus_mpa,
+        poisson_ratio=mat.poisson_ratio, torque_nmm=t * 1e3, fatigue=fatigue,
+        shear_endurance_limit_mpa=mat.shear_endurance_limit_mpa, ultimate_strength_mpa=mat.ultimate_strength_mpa)
+        for t in torques)
+
+    checks = []
+    i_mom, i_rated = len(torques) - 1, 0
+    y = mat.yield_strength_mpa
+    for name, stress, what in (("tooth ring yield", ring[i_mom].total_stress_mpa, "σ_ass + σ_load at the tooth root"),
+                               ("cup bottom yield", bottom[i_mom].max_von_mises_mpa, "largest von Mises stress")):
+        checks.append(SafetyCheck(name, f"σ_y / σ ({what})", torques[i_mom], None if y is None else y / stress,
+                                  required_safety, "" if y is not None else "no material.yield_strength_mpa"))
+    if fatigue:
+        r = ring[i_rated]
+        amp, mean = r.assembly_stress_mpa + 0.5 * r.load_stress_mpa, 0.5 * r.load_stress_mpa
+        checks.append(SafetyCheck(
+            "tooth ring fatigue", "Goodman, σ_a = σ_ass + σ_load/2, σ_m = σ_load/2", torques[i_rated],
+            _goodman(amp, mean, mat.bending_endurance_limit_mpa, mat.ultimate_strength_mpa), required_safety))
+        tau_m = float(bottom[i_rated].tau_load_mpa[0])
+        checks.append(SafetyCheck(
+            "cup bottom fatigue", "Goodman, σ_a = assembly von Mises max, σ_m = √3 τ_load at the boss",
+            torques[i_rated], _goodman(assembly.max_von_mises_mpa, math.sqrt(3.0) * tau_m,
+                                       mat.bending_endurance_limit_mpa, mat.ultimate_strength_mpa), required_safety))
+        checks.append(SafetyCheck(
+            "diaphragm fatigue", "Goodman in shear (seed 000), τ_u = 0.577 σ_u", torques[i_rated],
+            diaphragm[i_rated].safety_factor, required_safety))
+    else:
+        for name in ("tooth ring fatigue", "cup bottom fatigue", "diaphragm fatigue"):
+            checks.append(SafetyCheck(name, "Goodman", torques[i_rated], None, required_safety, "skipped: no limits"))
+    for part in (*ring, *bottom, *diaphragm):
+        warnings += [w for w in getattr(part, "warnings", ()) if w not in warnings]
+    return StressResult(torques, tuple(forces), source, ring, bottom, diaphragm, tuple(checks), s_f,
+                        time.perf_counter() - t0, tuple(warnings))
