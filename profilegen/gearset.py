@@ -1395,7 +1395,7 @@ class _Reader:
                 0, r_bore, lo_open=True, hi_open=True, note="the boss lies inside the cup's bore"),
                 default=0.5 * r_m),
             "root_fillet_radius_mm": self.number(t, p, "root_fillet_radius_mm", unit="mm", rng=_Range(
-                0, 2 * gear.module_mm, lo_open=True, note="upper bound 2·m"), default=0.7 * gear.module_mm),
+                0, 2 * gear.module_mm, lo_open=True, note="upper bound 2·m"), default=0.6 * gear.module_mm),
         }
         if any(x is None for x in v.values()):
             return None

@@ -346,3 +346,71 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
     if path is not None:
         fig.savefig(path, dpi=130)
     return fig
+
+
+def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | None = None) -> "Figure":
+    """The flexspline stresses of a :class:`~profilegen.stress.StressResult`: the tooth-root
+    stress (assembly + load) at each torque, the cup bottom's von Mises map at the largest
+    torque over (r, φ), the diaphragm's Goodman diagram at the rated torque, and every safety
+    factor against the required one."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    from .stress.diaphragm import plot_goodman
+
+    fig = Figure(figsize=(13.0, 8.0), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(2, 2)
+    ax = axes[0, 0]
+    x = np.arange(len(result.torques_nm))
+    ass = [r.assembly_stress_mpa for r in result.tooth_ring]
+    load = [r.load_stress_mpa for r in result.tooth_ring]
+    ax.bar(x, ass, color="#1f5fbf", label="assembly σ_ass (K_σ × rim bending)")
+    ax.bar(x, load, bottom=ass, color="#d62728",
+           label=f"load σ_load (tangential force from the {result.force_source})")
+    for xi, a, b, f in zip(x, ass, load, result.tangential_force_n):
+        ax.text(xi, a + b, f"{a + b:.0f} MPa\nF_t {f:.0f} N", ha="center", va="bottom", fontsize=7)
+    ax.set_xticks(x, [f"{t:g} N·m" for t in result.torques_nm])
+    ax.set_ylabel("tooth-root stress on the major axis (MPa)")
+    ax.set_title("tooth ring (seed 001)", fontsize=9)
+    ax.legend(fontsize=7, loc="upper left")
+    ax.set_ylim(0, 1.3 * max(a + b for a, b in zip(ass, load)))
+    ax.grid(True, axis="y", color="0.9", lw=0.5)
+
+    ax = axes[0, 1]
+    bottom = result.cup_bottom[-1]
+    rr, pp = np.meshgrid(bottom.r_mm, bottom.phi_rad, indexing="ij")
+    mesh = ax.pcolormesh(np.degrees(pp), rr, bottom.von_mises_mpa, shading="auto", cmap="viridis")
+    ax.plot(np.degrees(bottom.max_phi_rad), bottom.max_r_mm, "r*", ms=9,
+            label=f"max {bottom.max_von_mises_mpa:.0f} MPa at r = {bottom.max_r_mm:.2f} mm")
+    fig.colorbar(mesh, ax=ax, label="von Mises (MPa)")
+    ax.set_xlabel("φ from the major axis (deg)")
+    ax.set_ylabel("radius r (mm), boss → wall")
+    ax.set_title(f"cup bottom (seed 002, consistent plate) at {result.torques_nm[-1]:g} N·m", fontsize=9)
+    ax.legend(fontsize=7, loc="upper right")
+
+    plot_goodman(result.diaphragm[0], axes[1, 0])
+    axes[1, 0].set_title(f"diaphragm corner (seed 000) at {result.torques_nm[0]:g} N·m", fontsize=9)
+
+    ax = axes[1, 1]
+    names = [c.name for c in result.checks]
+    values = [np.nan if c.value is None else c.value for c in result.checks]
+    colors = ["0.7" if c.value is None else ("#2ca02c" if c.passed else "#d62728") for c in result.checks]
+    y = np.arange(len(names))
+    ax.barh(y, values, color=colors)
+    ax.axvline(result.checks[0].required if result.checks else 1.0, color="k", ls="--", lw=1, label="required")
+    for yi, c in zip(y, result.checks):
+        text = "skipped" if c.value is None else f"{c.value:.2f} at {c.torque_nm:g} N·m"
+        ax.text(0.02 if c.value is None else c.value, yi, " " + text, va="center", fontsize=7)
+    ax.set_yticks(y, names)
+    ax.invert_yaxis()
+    ax.set_xlabel("safety factor")
+    ax.set_xscale("log")
+    ax.legend(fontsize=7, loc="lower right")
+    ax.set_title("safety factors (green: pass, red: fail)", fontsize=9)
+    ax.grid(True, which="both", color="0.9", lw=0.5)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    if path is not None:
+        fig.savefig(path, dpi=120)
+    return fig

@@ -1,5 +1,9 @@
 """Reports a designer signs a profile off with: self-contained HTML, pictures embedded.
 
+``design_report_html(design)`` — the whole design on one page: the profile and its fit
+error, the loaded contact, the flexspline stresses with every safety factor against the
+material's limits (pass/fail), and the seed papers' numbers next to ours.
+
 ``fit_report_html(design, fits, clearance)`` — for every arc–line–arc fit method:
 the error along the flank, max/RMS and where, the one-sided fit's backlash, ridges,
 the fit time, and the fitted profile's clearance against the FS tooth family.
@@ -13,7 +17,7 @@ import io
 
 import numpy as np
 
-__all__ = ["deformation_fit_dict", "deformation_section_html", "fit_report_html", "figure_png"]
+__all__ = ["deformation_fit_dict", "deformation_section_html", "design_report_html", "fit_report_html", "figure_png"]
 
 # Seed 004 reports ω_max = 0.553 mm for w0 = 0.5 mm. What the 2D experiments show
 # (python tests/benchmarks/rim_wmax.py; numbers there and in the README):
@@ -265,4 +269,140 @@ def deformation_section_html(design) -> str:
 <th>max |error| (µm)</th><th>periodicity defect f(2π) − f(0) (µm)</th></tr>{rows}</table>
 <p>Contact (wrap) angle: {fem.contact_angle_deg:.2f}° from the major axis. <b>Warning:</b> {html.escape(wrap)}.</p>
 <p>{html.escape(WMAX_FINDING)}</p>
+"""
+
+
+_STYLE = """<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;line-height:1.4}
+table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #aaa;padding:.2em .5em;text-align:right}
+td:first-child,th:first-child{text-align:left}td.text{text-align:left;max-width:40em}img{max-width:100%}
+.pass{color:#1a7f1a;font-weight:bold}.fail{color:#c00;font-weight:bold}.skip{color:#777}</style>"""
+
+
+def _num(x, fmt=".1f") -> str:
+    return "—" if x is None else format(x, fmt)
+
+
+def _verdict(check) -> str:
+    if check.passed is None:
+        return '<span class="skip">skipped</span>'
+    return '<span class="pass">pass</span>' if check.passed else '<span class="fail">FAIL</span>'
+
+
+def _contact_section(design) -> str:
+    c = design.contact
+    if c is None:
+        return ("<h2>Loaded contact</h2><p>Not run in this scene (run the <code>design</code> or <code>verify</code> "
+                "scene, or <code>--contact</code>); the tooth-ring load stress below uses a force estimate.</p>")
+    from . import plot
+
+    k = c.secant_stiffness_nm_per_rad
+    rows = "".join(
+        f"<tr><td>{case.torque_nm:g}</td><td>{case.teeth_in_contact}</td><td>{case.rotation_arcmin:.3f}</td>"
+        f"<td>{case.max_tooth_force_n:.0f}</td><td>{ki:.3g}</td>"
+        f"<td class=text>{html.escape(case.beyond_capacity or 'within the searched zone')}</td></tr>"
+        for case, ki in zip(c.cases, k))
+    fig = plot.contact_figure(c, title="")
+    return f"""<h2>Loaded contact (seed 000, complementarity)</h2>
+<p>{c.points.count} candidate points on {c.points.teeth.size} teeth per zone, {c.zones} zones; FEM influence
+coefficients (face width {c.compliance_info.get('face_width_mm', float('nan')):.4g} mm), Lemke's complementary
+pivoting. The stiffness is the mesh's only (no ball Hertz, inner ring, cam or cup wind-up).</p>
+<table><tr><th>torque (N·m)</th><th>teeth in contact per zone</th><th>rotation (arcmin)</th>
+<th>max tooth force (N)</th><th>secant stiffness (N·m/rad)</th><th>capacity</th></tr>{rows}</table>
+<img src="{figure_png(fig, dpi=100)}" alt="loaded contact">"""
+
+
+def _stress_section(design) -> str:
+    res = design.stress
+    from . import plot
+
+    checks = "".join(
+        f"<tr><td>{html.escape(c.name)}</td><td class=text>{html.escape(c.criterion)}</td><td>{c.torque_nm:g}</td>"
+        f"<td>{_num(c.value, '.2f')}</td><td>{c.required:g}</td><td>{_verdict(c)}</td></tr>" for c in res.checks)
+    per_torque = "".join(
+        f"<tr><td>{t:g}</td><td>{f:.0f}</td><td>{r.assembly_stress_mpa:.1f}</td><td>{r.load_stress_mpa:.1f}</td>"
+        f"<td>{r.total_stress_mpa:.1f}</td><td>{b.max_von_mises_mpa:.1f}</td><td>{float(b.tau_load_mpa[0]):.1f}</td>"
+        f"<td>{d.shear_amplitude_mpa:.1f}</td><td>{d.mean_shear_mpa:.1f}</td></tr>"
+        for t, f, r, b, d in zip(res.torques_nm, res.tangential_force_n, res.tooth_ring, res.cup_bottom, res.diaphragm))
+    fig = plot.stress_figure(res)
+    g = design.gearset
+    cup = g.cup
+    overall = ('<span class="pass">every check passes</span>' if res.passed
+               else '<span class="fail">a check FAILS</span>')
+    return f"""<h2>Flexspline stresses and safety factors</h2>
+<p>Overall: {overall}. Inputs: rim δ = {g.gear.rim_thickness_mm:g} mm, r_m = {g.gear.neutral_radius_mm:.4g} mm,
+face width {cup.face_width_mm:g} mm, root fillet {cup.root_fillet_radius_mm:g} mm (root thickness s_f =
+{res.root_thickness_mm:.4f} mm, measured on the tooth), cup length {cup.length_mm:g} mm, bottom thickness
+{cup.bottom_thickness_mm:g} mm, boss radius {cup.boss_radius_mm:g} mm; tangential tooth forces from the
+{html.escape(res.force_source)}.</p>
+<table><tr><th>check</th><th>criterion</th><th>torque (N·m)</th><th>safety factor</th><th>required</th><th></th></tr>
+{checks}</table>
+<table><tr><th>torque (N·m)</th><th>F_t max tooth (N)</th><th>tooth ring σ_ass</th><th>σ_load</th><th>σ_total</th>
+<th>cup bottom von Mises max</th><th>τ_load at the boss</th><th>diaphragm τ_a</th><th>diaphragm τ_m</th></tr>
+{per_torque}</table><p>Stresses in MPa.</p>
+<img src="{figure_png(fig, dpi=100)}" alt="stresses">"""
+
+
+def _seed_tables() -> str:
+    from .stress.plate import seed002_comparison
+    from .stress.tooth_ring import seed001_comparison, seed001_trend_checks
+
+    rows1 = "".join(
+        f"<tr><td>{html.escape(str(r.quantity))}</td><td>{_num(r.seed_value, '.4g')}</td>"
+        f"<td>{_num(r.our_value, '.4g')}</td><td class=text>{html.escape(str(r.assumed))}</td>"
+        f"<td class=text>{html.escape(str(r.note))}</td></tr>" for r in seed001_comparison())
+    rows2 = "".join(
+        f"<tr><td>{html.escape(r['quantity'])} ({html.escape(r['where'])}, {r['torque_nm']:g} N·m)</td>"
+        f"<td>{_num(r['seed_mpa'], '.4g')}</td><td>{_num(r['seed002_mpa'], '.4g')}</td>"
+        f"<td>{_num(r['consistent_mpa'], '.4g')}</td><td class=text>{html.escape(r['reason'])}</td></tr>"
+        for r in seed002_comparison())
+    trends = "".join(
+        f"<tr><td class=text>{html.escape(t.claim)}</td><td>{'holds' if t.holds else 'does not hold'}</td>"
+        f"<td class=text>{html.escape(t.evidence)}</td></tr>" for t in seed001_trend_checks())
+    return f"""<h2>The seed papers' numbers and ours</h2>
+<h3>Seed 001 (tooth ring, SHF-25-80)</h3>
+<table><tr><th>quantity</th><th>seed</th><th>ours</th><th>inputs we had to assume</th><th>why they differ</th></tr>
+{rows1}</table>
+<table><tr><th>seed 001's claim</th><th>in its own model</th><th>evidence</th></tr>{trends}</table>
+<h3>Seed 002 (cup bottom, CSG-25, L/D 0.3)</h3>
+<table><tr><th>quantity</th><th>seed (MPa)</th><th>seed002 variant</th><th>consistent plate</th><th>why</th></tr>
+{rows2}</table>
+<p>β constants of seed 002's Table 1 are reproduced by the <code>seed002</code> variant (ln r in mm, ν f″ + f′/r = 0
+at r_m) within 2e-4; a scikit-fem Morley plate solution of the same problem agrees with the consistent model and
+puts the seed variant's clamp stress 19 % high (<code>python tests/benchmarks/stress_plate.py</code>).</p>"""
+
+
+def design_report_html(design) -> str:
+    """The design report: profile, fit error, contact, stresses, safety factors (pass/fail
+    against the gear set's material limits), the seed comparison tables; one HTML page."""
+    g = design.gearset
+    prof = design.profile
+    stages = "".join(
+        f"<tr><td>{html.escape(s.stage)}</td><td class=text>{html.escape(s.tier)}</td><td>{s.time_s * 1e3:.1f}</td>"
+        f"<td>{_num(s.error_estimate, '.3g')}</td><td class=text>{html.escape(s.error_measure)}</td></tr>"
+        for s in design.stages)
+    fit = ""
+    if prof is not None:
+        fit = f"""<h2>Profile</h2>
+<p>CS flank: arc–line–arc, <b>{html.escape(prof.method)}</b> fit, largest deviation from the envelope
+{prof.max_error_mm * 1e3:.3f} µm{'' if prof.max_backlash_mm is None else f', largest backlash {prof.max_backlash_mm * 1e3:.3f} µm'};
+checked against the FS tooth at {prof.positions} positions: smallest clearance {prof.clearance.min_mm * 1e3:.4f} µm.
+CS tip circle r = {design.form.tip_radius_mm:.4f} mm, root circle r = {design.form.root_radius_mm:.4f} mm.
+The full fit-error report is <code>fit_report.html</code>; the CAD files are the DXFs beside this page.</p>
+<img src="{_profile_figure(design, prof.fits)}" alt="fitted profile">
+<img src="{_error_figure(prof.fits)}" alt="fit error along the flank">"""
+    warnings = "".join(f"<li>{html.escape(w)}</li>" for w in design.warnings)
+    stress = "" if design.stress is None else _stress_section(design)
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>Design report — {html.escape(g.name)}</title>{_STYLE}</head><body>
+<h1>Design report — {html.escape(g.name)}</h1>
+<p>{html.escape(g.description)}. m = {g.gear.module_mm:g} mm, z = {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth},
+ω* = {g.wave_generator.deflection_coefficient:g}, torques {g.torque.rated_nm:g} / {g.torque.peak_nm:g} /
+{_num(g.torque.momentary_nm, 'g')} N·m (rated / peak / momentary), scene <b>{html.escape(design.scene.name)}</b>.</p>
+<table><tr><th>stage</th><th>tier</th><th>time (ms)</th><th>error estimate</th><th>error measure</th></tr>{stages}</table>
+{fit}
+{_contact_section(design)}
+{stress}
+{_seed_tables()}
+<h2>Notes</h2><ul>{warnings}</ul>
+</body></html>
 """

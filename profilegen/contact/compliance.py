@@ -623,6 +623,26 @@ def _cs_pieces(space, cs_teeth: int):
     return pieces, max(rho_s, rho_e), max(float(np.max(polar(space.sample(1e-4))[1])), rho_s)
 
 
+#: largest distance of the CS sector mesh's quadratic element edges from the fitted CS surface
+_CS_SAG_MM = 1e-3
+
+
+def _edge_sag_mm(top, columns: int) -> float:
+    """Largest distance between the surface ``top`` (column coordinate → polar (ψ, ρ)) and its
+    quadratic interpolation through each column's nodes (at whole and half values)."""
+    a = np.arange(columns)[:, None] + np.array([0.0, 0.5, 1.0])[None, :]
+    u = np.linspace(0.0, 1.0, 9)
+    basis = np.stack([(1 - u) * (1 - 2 * u), 4 * u * (1 - u), u * (2 * u - 1)])  # (3, 9)
+
+    def xy(psi, rho):
+        return np.stack([rho * np.sin(psi), rho * np.cos(psi)], -1)
+
+    nodes = xy(*top(a.ravel())).reshape(columns, 3, 2)
+    quad = np.einsum("cnk,nu->cuk", nodes, basis)
+    true = xy(*top((np.arange(columns)[:, None] + u[None, :]).ravel())).reshape(columns, u.size, 2)
+    return float(np.max(np.linalg.norm(quad - true, axis=-1)))
+
+
 def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers, back_layers, outer_radius_mm,
              tol_mm):
     from ..rim.toothed import pitch_surface, ring_sector_mesh
@@ -633,10 +653,17 @@ def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers
     idx = np.round(np.arctan2(points[:, 0], points[:, 1]) / pitch).astype(int)
     lo, hi = int(idx.min()) - margin, int(idx.max()) + margin
     pieces, _, r_root = _cs_pieces(space, z2)
-    # a profile fitted per branch has more pieces per space than the default column count
-    # (verify scene: 17); every piece needs a column of its own
+    # every piece needs a column of its own (a profile fitted per branch has 17 pieces per space
+    # in the verify scene), and the quadratic element edges must follow the true arcs: more
+    # columns until their sag is below _CS_SAG_MM (an involute tooth's per-branch profile has
+    # short pieces that took the columns its long arcs needed: 0.16 mm off with 16)
     per_pitch = max(per_pitch, len(pieces))
     top, _ = pitch_surface(pieces, per_pitch)
+    for _ in range(8):
+        if _edge_sag_mm(top, per_pitch) <= _CS_SAG_MM:
+            break
+        per_pitch = int(math.ceil(1.25 * per_pitch))
+        top, _ = pitch_surface(pieces, per_pitch)
     tip = min(float(np.hypot(*space.start)), float(np.hypot(*space.end)))
     r_back = r_root + 0.5 * (r_root - tip)
     if not outer_radius_mm > r_back:

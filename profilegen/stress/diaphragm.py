@@ -47,6 +47,7 @@ import numpy as np
 
 from ..errors import StressError
 from ..results import json_ready, readonly
+from .inputs import finite as _finite, non_negative as _non_negative, positive as _positive
 
 __all__ = [
     "OUTER_EDGES",
@@ -64,28 +65,10 @@ OUTER_EDGES = ("hinged", "rigid_joint")
 # --------------------------------------------------------------------------- validation
 
 
-def _finite(name: str, value, unit: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise StressError(f"{name} must be a finite number in {unit}, got {value!r}") from None
-    if not math.isfinite(v):
-        raise StressError(f"{name} must be finite ({unit}), got {value!r}")
-    return v
 
 
-def _positive(name: str, value, unit: str) -> float:
-    v = _finite(name, value, unit)
-    if v <= 0.0:
-        raise StressError(f"{name} must be in (0, inf) {unit}, got {v!r}")
-    return v
 
 
-def _non_negative(name: str, value, unit: str) -> float:
-    v = _finite(name, value, unit)
-    if v < 0.0:
-        raise StressError(f"{name} must be in [0, inf) {unit}, got {v!r}")
-    return v
 
 
 def _limit(name: str, value, unit: str) -> float:

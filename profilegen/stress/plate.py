@@ -36,6 +36,7 @@ import numpy as np
 
 from ..errors import StressError
 from ..results import json_ready, readonly
+from .inputs import choice as _choice, count as _count, finite as _finite, poisson as _poisson, positive as _positive
 
 __all__ = [
     "SEED002_BETA",
@@ -84,28 +85,10 @@ REFERENCES = ("mean", "seed")
 # --------------------------------------------------------------------------- validation
 
 
-def _finite(name: str, value, unit: str) -> float:
-    try:
-        v = float(value)
-    except (TypeError, ValueError):
-        raise StressError(f"{name} must be a finite number in {unit}, got {value!r}") from None
-    if not math.isfinite(v):
-        raise StressError(f"{name} must be finite ({unit}), got {value!r}")
-    return v
 
 
-def _positive(name: str, value, unit: str) -> float:
-    v = _finite(name, value, unit)
-    if v <= 0.0:
-        raise StressError(f"{name} must be in (0, inf) {unit}, got {v!r}")
-    return v
 
 
-def _poisson(value) -> float:
-    v = _finite("poisson_ratio", value, "(dimensionless)")
-    if not -1.0 < v < 0.5:
-        raise StressError(f"poisson_ratio must be in (-1, 0.5), got {v!r}")
-    return v
 
 
 def _radii(boss_radius_mm, mean_radius_mm) -> tuple[float, float]:
@@ -116,16 +99,8 @@ def _radii(boss_radius_mm, mean_radius_mm) -> tuple[float, float]:
     return r0, r_m
 
 
-def _choice(name: str, value, allowed) -> str:
-    if value not in allowed:
-        raise StressError(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
-    return value
 
 
-def _count(name: str, value, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise StressError(f"{name} must be an integer in [{low}, inf), got {value!r}")
-    return int(value)
 
 
 # --------------------------------------------------------------------------- step 1: w(φ)

@@ -47,6 +47,8 @@ import numpy as np
 
 from ..errors import StressError
 from ..results import json_ready, readonly
+from .inputs import count as _count, finite_array as _finite_array, in_open as _in_open, non_negative as _non_negative
+from .inputs import positive as _positive
 
 __all__ = [
     "SEED001_TABLE",
@@ -111,46 +113,14 @@ SEED001_STRESSES_MPA = {
 # --------------------------------------------------------------------------- validation
 
 
-def _finite_array(name: str, value, unit: str) -> np.ndarray:
-    try:
-        arr = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise StressError(f"{name} must be a finite number in {unit}, got {value!r}") from None
-    bad = ~np.isfinite(arr)
-    if bad.any():
-        raise StressError(f"{name} must be finite ({unit}), got {arr[bad].flat[0]!r}")
-    return arr
 
 
-def _positive(name: str, value, unit: str):
-    """``value`` as float (or array) after checking it is finite and > 0."""
-    arr = _finite_array(name, value, unit)
-    bad = arr <= 0.0
-    if bad.any():
-        raise StressError(f"{name} must be in (0, inf) {unit}, got {arr[bad].flat[0]!r}")
-    return float(arr) if arr.ndim == 0 else arr
 
 
-def _non_negative(name: str, value, unit: str):
-    arr = _finite_array(name, value, unit)
-    bad = arr < 0.0
-    if bad.any():
-        raise StressError(f"{name} must be in [0, inf) {unit}, got {arr[bad].flat[0]!r}")
-    return float(arr) if arr.ndim == 0 else arr
 
 
-def _in_open(name: str, value, low: float, high: float, unit: str):
-    arr = _finite_array(name, value, unit)
-    bad = (arr <= low) | (arr >= high)
-    if bad.any():
-        raise StressError(f"{name} must be in ({low:g}, {high:g}) {unit}, got {arr[bad].flat[0]!r}")
-    return float(arr) if arr.ndim == 0 else arr
 
 
-def _count(name: str, value, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise StressError(f"{name} must be an integer in [{low}, inf), got {value!r}")
-    return int(value)
 
 
 # --------------------------------------------------------------------------- curvature
