@@ -46,6 +46,8 @@ class LoadCase:
     ball_angle_rad: np.ndarray = field(default_factory=lambda: np.zeros(0))
     ball_reaction_n: np.ndarray = field(default_factory=lambda: np.zeros(0))  # > 0: ball compressed
     ball_active: np.ndarray = field(default_factory=lambda: np.zeros(0, bool))
+    reach_mm: float = 0.0  # φ · max r_k: how far the rigid rotation reaches at the longest lever arm
+    max_gap_mm: float = math.inf  # the separation beyond which no point was searched
 
     def __post_init__(self):
         for name in ("teeth", "tooth_phi_rad", "tooth_force_n", "ball_angle_rad", "ball_reaction_n"):
@@ -75,11 +77,16 @@ class LoadCase:
         """Why this torque is beyond what the modelled contact can carry, or None.
 
         "Beyond" means the loaded zone has reached the edge of what was searched, so the
-        answer is not the contact's: every candidate point is loaded, or the first or last
+        answer is not the contact's: every candidate point is loaded, the first or last
         candidate tooth of the zone carries load (the teeth beyond them, not in the model,
-        would too). The load case is still returned, flagged, with this reason."""
+        would too), or the rotation φ reaches the points left out (φ · max r_k ≥ the search's
+        ``max_gap_mm``: a station farther than that could touch). The load case is still
+        returned, flagged, with this reason."""
         if self.solution.all_points_loaded:
             return "every candidate contact point is loaded"
+        if self.reach_mm >= self.max_gap_mm:
+            return (f"the rotation reaches {self.reach_mm * 1e3:.1f} µm at the longest lever arm, past the "
+                    f"{self.max_gap_mm * 1e3:.0f} µm within which points were searched")
         edge = [int(self.teeth[k]) for k in (0, self.teeth.size - 1) if self.tooth_force_n[k] > 0.0]
         if edge:
             return f"the edge tooth {edge} of the searched zone carries load"
@@ -177,8 +184,10 @@ def _load_case(points, torque: float, sol: ContactSolution, balls=None) -> tuple
     tooth_phi = np.zeros(teeth.size)
     tooth_phi[slot] = points.phi_rad
     per_tooth = np.bincount(slot, weights=sol.force_n, minlength=teeth.size)
-    extra = () if balls is None else (balls.ball_angle_rad, balls.ball_reactions(sol.force_n), balls.ball_active)
-    case = LoadCase(float(torque), float(torque / points.zones), sol, teeth, tooth_phi, per_tooth, *extra)
+    extra = ((np.zeros(0), np.zeros(0), np.zeros(0, bool)) if balls is None else
+             (balls.ball_angle_rad, balls.ball_reactions(sol.force_n), balls.ball_active))
+    case = LoadCase(float(torque), float(torque / points.zones), sol, teeth, tooth_phi, per_tooth, *extra,
+                    reach_mm=float(sol.phi_rad * points.lever_mm.max()), max_gap_mm=float(points.max_gap_mm))
     warnings = []
     if case.beyond_capacity is not None:
         warnings.append(f"at {torque:g} N·m the torque is beyond what the modelled contact can carry: "
@@ -209,7 +218,7 @@ def analyse_contact(points, compliance_mm_per_n, torques_nm, *, solver: str = "l
                          tuple(warnings), None)
 
 
-def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 9, max_gap_mm: float = 0.05,
+def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 5, max_gap_mm: float = 0.12,
                   solver: str = "lemke", face_width_mm: float | None = None, settle_iterations: int = 20,
                   points=None, compliance=None, race_thickness_mm: float | None = None,
                   race_interface: str = "sliding") -> ContactResult:

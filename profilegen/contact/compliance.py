@@ -358,7 +358,7 @@ def _stiffness(mesh, youngs_modulus_mpa, poisson_ratio, elements=None):
     else:
         basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4, elements=elements)
     ix, iy = basis.split_indices()
-    stiffness = TotalLagrangian(basis, youngs_modulus_mpa, poisson_ratio)(np.zeros(basis.N))[0]
+    stiffness = TotalLagrangian(basis, youngs_modulus_mpa, poisson_ratio).linear_stiffness()
     return stiffness, ix, iy
 
 

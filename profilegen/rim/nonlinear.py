@@ -62,6 +62,17 @@ class TotalLagrangian:
         f_loc = np.einsum("ikeq,keq,eq->ie", b, stress, self.dx)
         return np.bincount(self.dofs.ravel(), f_loc.ravel(), minlength=self.n)
 
+    def linear_stiffness(self) -> sp.csr_matrix:
+        """The tangent at u = 0 — the linear plane-stress stiffness — without the geometric
+        part (zero stress there) and without the kinematics of a displaced state."""
+        g = self.grad  # (n_loc, 2, 2, ne, nq): component a of N_i, derivative b
+        n_loc, _, _, ne, nq = g.shape
+        b = np.stack([g[:, 0, 0], g[:, 1, 1], g[:, 0, 1] + g[:, 1, 0]], axis=1)  # (n_loc, 3, ne, nq)
+        b_e = b.transpose(2, 0, 1, 3).reshape(ne, n_loc, 3 * nq)
+        db = np.einsum("kl,ileq,eq->ikeq", self.D, b, self.dx).transpose(2, 1, 3, 0).reshape(ne, 3 * nq, n_loc)
+        k = np.matmul(b_e, db)
+        return sp.coo_matrix((k.ravel(), (self.rows, self.cols)), shape=(self.n, self.n)).tocsr()
+
     def __call__(self, u) -> tuple[sp.csr_matrix, np.ndarray]:
         b, stress = self._kinematics(u)
         n_loc, _, ne, nq = b.shape

@@ -218,6 +218,9 @@ def solve_stress(design, *, fatigue: bool | None = None, required_safety: float 
     # tangential force on the most loaded tooth
     if design.contact is not None and len(design.contact.cases) == len(torques):
         forces, source = tangential_tooth_forces_n(design.contact), "contact"
+        warnings += [f"the tooth force at {c.torque_nm:g} N·m comes from a contact solution beyond what the searched "
+                     f"points can carry ({c.beyond_capacity}): its tooth-ring load stress is not trustworthy"
+                     for c in design.contact.cases if c.beyond_capacity is not None]
     else:
         forces = tuple(float(tangential_force_estimate_n(t * 1e3, g.pitch_radius_mm, _ENGAGED_FRACTION * g.flexspline_teeth))
                        for t in torques)

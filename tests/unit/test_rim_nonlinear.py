@@ -39,6 +39,7 @@ def test_tangent_at_rest_is_linear_plane_stress(body):
     k, f = tl(np.zeros(basis.N))
     assert abs(k - k0).max() <= 1e-13 * abs(k0).max()
     assert np.max(np.abs(f)) == 0.0
+    assert abs(tl.linear_stiffness() - k0).max() <= 1e-13 * abs(k0).max()
 
 
 def test_tangent_is_the_derivative_of_the_internal_force(body):

@@ -87,3 +87,17 @@ def test_a_torque_beyond_the_searched_zone_is_flagged(design, rated):
     assert any("beyond what the modelled contact can carry" in w for w in huge.warnings)
     assert huge.cases[0].to_dict()["beyond_capacity"] == huge.cases[0].beyond_capacity
     assert rated.cases[1].beyond_capacity is None
+
+
+def test_a_rotation_past_the_searched_separation_is_flagged(design):
+    """A station farther than max_gap_mm was never searched; once the rotation φ turns the
+    longest lever arm past that separation, such a station could touch: flagged."""
+    from profilegen.contact.points import contact_points
+
+    narrow = contact_points(design, max_gap_mm=0.01)
+    soft = np.eye(narrow.count) * 2e-4  # mm/N: a compliant mesh turns far
+    case = analyse_contact(narrow, soft, [265.0]).cases[0]
+    assert case.reach_mm == pytest.approx(case.rotation_rad * narrow.lever_mm.max())
+    assert case.reach_mm > 0.01 and "past the 10 µm" in case.beyond_capacity
+    stiff = analyse_contact(narrow, soft * 1e-2, [1.0]).cases[0]
+    assert stiff.reach_mm < 0.01 and stiff.beyond_capacity is None
