@@ -55,7 +55,11 @@ Methods of :func:`fit_profile`:
 The least-squares starts run on a subsample spread by arc length (``max_points``); the
 minimax and one-sided iterations and every reported error use all points. On the
 default flank (619 points) a fit takes ~15 ms (least squares), ~0.15 s (minimax or
-one-sided, 3 starts); 20 starts take ~0.75 s; the swept-region check adds ~0.1 s.
+one-sided, 3 starts); 20 starts take ~0.75 s; the swept-region check adds ~0.1 s. The
+least-squares and minimax stages are remembered for the last few fitted point sets
+(keyed by the points' bytes and every option they depend on; :func:`clear_cache`), so
+fitting the same flank by another method (the pipeline fits it by all three) reuses
+them: the result is the same, only the stage time in ``diagnostics["times_s"]`` is ~0.
 
 >>> import numpy as np
 >>> exact = composite([0.0, 0.0, np.pi / 2, -1.0, 0.6, 0.3, 2.0, 0.5])  # R −1 mm, line, R 0.5 mm
@@ -66,9 +70,13 @@ one-sided, 3 starts); 20 starts take ~0.75 s; the swept-region check adds ~0.1 s
 
 from __future__ import annotations
 
+import copy
+import hashlib
 import logging
 import math
+import threading
 import time
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from itertools import pairwise
@@ -1047,6 +1055,132 @@ def _sample_chain_between(chain: Chain, s_from: float, s_to: float, n: int) -> n
     return out
 
 
+# The least-squares and minimax stages of a fit, kept for the next fit of the same data
+# (least recently used dropped first). Keys hash the points' bytes with every option that
+# the stage depends on, so a hit returns exactly what the computation would.
+_STAGE_CACHE: OrderedDict = OrderedDict()
+_STAGE_CACHE_SIZE = 8
+_STAGE_CACHE_LOCK = threading.Lock()
+
+
+def clear_cache() -> None:
+    """Forget the remembered least-squares and minimax stages (e.g. in a new worker process,
+    which would otherwise inherit its parent's, computed perhaps with another BLAS thread
+    count and so rounded differently)."""
+    with _STAGE_CACHE_LOCK:
+        _STAGE_CACHE.clear()
+
+
+def _stage_key(p: np.ndarray, side: str, *options) -> bytes:
+    h = hashlib.blake2b(np.ascontiguousarray(p).tobytes(), digest_size=20)
+    h.update(repr((p.shape, side, options)).encode())
+    return h.digest()
+
+
+def _cached(key: bytes, compute: Callable[[], dict]) -> dict:
+    """``compute()`` or its remembered result; the result is copied (arrays and dicts)."""
+    with _STAGE_CACHE_LOCK:
+        hit = _STAGE_CACHE.get(key)
+        if hit is not None:
+            _STAGE_CACHE.move_to_end(key)
+    if hit is None:
+        t = time.perf_counter()
+        hit = compute()
+        hit["time_s"] = time.perf_counter() - t
+        with _STAGE_CACHE_LOCK:
+            _STAGE_CACHE[key] = hit
+            while len(_STAGE_CACHE) > _STAGE_CACHE_SIZE:
+                _STAGE_CACHE.popitem(last=False)
+        out = dict(hit)
+    else:
+        out = dict(hit)
+        out["time_s"] = 0.0
+        log.debug("arcfit: stage reused from an identical earlier fit")
+    return copy.deepcopy(out)
+
+
+def _least_squares_stage(prob: _Problem, p: np.ndarray, s: np.ndarray, max_points: int) -> dict:
+    """Least squares from the split starts on a subsample, the best polished on all points."""
+    idx = _subsample(s, max_points)
+    lsq_runs = []
+    for split in (*_SPLITS, None):  # three-piece splits, and the turning-angle fit
+        try:
+            guess = _turning_guess(p, s) if split is None else _split_guess(p, s, *split)
+            q, res = _lsq(prob, guess, idx)
+        except (ValueError, FloatingPointError, np.linalg.LinAlgError) as exc:  # a degenerate guess
+            log.debug("arcfit: least-squares start %s failed: %s", split or "turning", exc)
+            continue
+        if np.all(np.isfinite(q)):
+            lsq_runs.append((float(res.cost), q, int(res.nfev)))
+    if not lsq_runs:
+        raise ConvergenceError("arcfit least_squares: every split start failed")
+    lsq_runs.sort(key=lambda r: r[0])
+    q_lsq, res = _lsq(prob, lsq_runs[0][1], None)
+    if res.status == 0 and np.all(np.isfinite(q_lsq)):
+        # the evaluation budget ran out while LM was still creeping at 1e-15 tolerances (seen on
+        # the toothed-rim deformation of the verify scene, optimality 2e-8): carry on from there
+        q_lsq, res = _lsq(prob, q_lsq, None, max_nfev=2000)
+    if res.status <= 0 or not np.all(np.isfinite(q_lsq)):
+        D, _, _ = prob.eval(q_lsq, jac=False)
+        raise ConvergenceError(
+            f"arcfit least_squares: no convergence after {res.nfev} evaluations "
+            f"(rms residual {np.sqrt(np.mean(D**2)):.3e} mm, first-order optimality {res.optimality:.2e})"
+        )
+    diag = {
+        "subsample": len(idx),
+        "lsq_starts": len(_SPLITS) + 1,
+        "lsq_start_costs": [r[0] for r in lsq_runs],
+        "lsq_nfev": int(res.nfev + sum(r[2] for r in lsq_runs)),
+    }
+    return {"q_lsq": q_lsq, "lsq_runs": lsq_runs, "diag": diag}
+
+
+def _minimax_stage(prob: _Problem, q_lsq: np.ndarray, lsq_runs: list, *, starts: int, max_iter: int, seed: int, tie_break: bool) -> dict:
+    """Minimax from the LSQ fit (centred in its error band), the other LSQ optima and
+    perturbations; each start runs the whole SLP + Newton solve on all points."""
+    cands = [_centred(prob, q_lsq)]
+    for _, q, _ in lsq_runs[1:]:
+        if len(cands) < starts and np.max(np.abs((q - q_lsq) / prob.scale)) > 1e-6:
+            cands.append(_centred(prob, q))
+    rng = np.random.default_rng(seed)
+    k = 0
+    while len(cands) < starts:
+        q0 = cands[0] + _PERTURBATIONS[k % len(_PERTURBATIONS)] * rng.standard_normal(6) * prob.scale
+        q0[_I_L] = abs(q0[_I_L])
+        cands.append(q0)
+        k += 1
+    runs = [_solve(prob, q0, one_sided=False, max_iter=max_iter if k == 0 else min(max_iter, 20)) for k, q0 in enumerate(cands)]
+    Fs = np.array([r[1] for r in runs])
+    # the minimax composite need not be unique (a stretch with slack may move freely);
+    # of the starts that reach the best max error, keep the one with the smallest RMS
+    tied = np.nonzero(Fs <= Fs.min() * (1.0 + 1e-9) + prob.noise)[0]
+    rms = [float(np.sqrt(np.mean(prob.eval(runs[i][0], jac=False)[0] ** 2))) for i in tied]
+    best = int(tied[int(np.argmin(rms))])
+    q_best, F_mm, info = runs[best]
+    diag: dict = {"starts_at_best": len(tied), "rms_spread_at_best": float((max(rms) - min(rms)) / max(min(rms), 1e-300))}
+    if tie_break:
+        q_best, ok = _tie_break(prob, q_best, F_mm)
+        diag["tie_break"] = bool(ok)
+        F_mm = _objective(prob.eval(q_best, jac=False)[0], False)
+    diag["starts"] = int(starts)
+    diag["start_max_errors_mm"] = Fs.tolist()
+    ref = max(float(Fs.min()), SPREAD_FLOOR_MM)
+    diag["start_spread"] = float((Fs.max() - Fs.min()) / ref)
+    diag["primary_vs_best"] = float((Fs[0] - Fs.min()) / ref)
+    diag["starts_within_1pct"] = int(np.sum(Fs - Fs.min() <= 0.01 * ref))
+    diag["slp_iterations"] = [int(r[2]["iterations"]) for r in runs]
+    diag["lp_solves"] = int(sum(r[2]["lps"] for r in runs))
+    diag["starts_converged"] = int(sum(bool(r[2]["converged"]) for r in runs))
+    diag["minimax_max_error_mm"] = F_mm
+    imp = _lp_improvement(prob, q_best, False)
+    if not imp <= 1e-6:
+        raise ConvergenceError(
+            f"arcfit minimax: no convergence in {max_iter} SLP iterations (max error {F_mm:.3e} mm, "
+            f"the LP still finds a relative decrease of {imp:.2e}; raise max_iter or starts)"
+        )
+    return {"q_best": q_best, "F_mm": F_mm, "imp": imp, "diag": diag}
+
+
 def fit_profile(
     points,
     *,
@@ -1107,88 +1241,24 @@ def fit_profile(
     diag: dict = {"points": len(p), "space_side": side, "straightness_mm": dev}
     times: dict = {}
 
-    # --- least squares: split starts on a subsample, the best polished on all points
-    t = time.perf_counter()
-    idx = _subsample(s, max_points)
-    diag["subsample"] = len(idx)
-    lsq_runs = []
-    for split in (*_SPLITS, None):  # three-piece splits, and the turning-angle fit
-        try:
-            guess = _turning_guess(p, s) if split is None else _split_guess(p, s, *split)
-            q, res = _lsq(prob, guess, idx)
-        except (ValueError, FloatingPointError, np.linalg.LinAlgError) as exc:  # a degenerate guess
-            log.debug("arcfit: least-squares start %s failed: %s", split or "turning", exc)
-            continue
-        if np.all(np.isfinite(q)):
-            lsq_runs.append((float(res.cost), q, int(res.nfev)))
-    if not lsq_runs:
-        raise ConvergenceError("arcfit least_squares: every split start failed")
-    lsq_runs.sort(key=lambda r: r[0])
-    q_lsq, res = _lsq(prob, lsq_runs[0][1], None)
-    if res.status == 0 and np.all(np.isfinite(q_lsq)):
-        # the evaluation budget ran out while LM was still creeping at 1e-15 tolerances (seen on
-        # the toothed-rim deformation of the verify scene, optimality 2e-8): carry on from there
-        q_lsq, res = _lsq(prob, q_lsq, None, max_nfev=2000)
-    if res.status <= 0 or not np.all(np.isfinite(q_lsq)):
-        D, _, _ = prob.eval(q_lsq, jac=False)
-        raise ConvergenceError(
-            f"arcfit least_squares: no convergence after {res.nfev} evaluations "
-            f"(rms residual {np.sqrt(np.mean(D**2)):.3e} mm, first-order optimality {res.optimality:.2e})"
-        )
-    times["least_squares_s"] = time.perf_counter() - t
-    diag["lsq_starts"] = len(_SPLITS) + 1
-    diag["lsq_start_costs"] = [r[0] for r in lsq_runs]
-    diag["lsq_nfev"] = int(res.nfev + sum(r[2] for r in lsq_runs))
+    # --- least squares (and, for minimax / one-sided, the minimax solve from it): both
+    # depend only on the points, the side and the options, so a second fit of the same
+    # flank (the pipeline fits it by every method) reuses them
+    key = _stage_key(p, side, max_points)
+    stage = _cached(key, lambda: _least_squares_stage(prob, p, s, max_points))
+    q_lsq, lsq_runs = stage["q_lsq"], stage["lsq_runs"]
+    diag.update(stage["diag"])
+    times["least_squares_s"] = stage["time_s"]
     q_best = q_lsq
 
     if method != "least_squares":
-        # --- minimax: from the LSQ fit (centred in its error band), the other LSQ optima
-        # and perturbations; each start runs the whole SLP + Newton solve on all points
-        t = time.perf_counter()
-        cands = [_centred(prob, q_lsq)]
-        for _, q, _ in lsq_runs[1:]:
-            if len(cands) < starts and np.max(np.abs((q - q_lsq) / prob.scale)) > 1e-6:
-                cands.append(_centred(prob, q))
-        rng = np.random.default_rng(seed)
-        k = 0
-        while len(cands) < starts:
-            q0 = cands[0] + _PERTURBATIONS[k % len(_PERTURBATIONS)] * rng.standard_normal(6) * prob.scale
-            q0[_I_L] = abs(q0[_I_L])
-            cands.append(q0)
-            k += 1
-        runs = [_solve(prob, q0, one_sided=False, max_iter=max_iter if k == 0 else min(max_iter, 20)) for k, q0 in enumerate(cands)]
-        Fs = np.array([r[1] for r in runs])
-        # the minimax composite need not be unique (a stretch with slack may move freely);
-        # of the starts that reach the best max error, keep the one with the smallest RMS
-        tied = np.nonzero(Fs <= Fs.min() * (1.0 + 1e-9) + prob.noise)[0]
-        rms = [float(np.sqrt(np.mean(prob.eval(runs[i][0], jac=False)[0] ** 2))) for i in tied]
-        best = int(tied[int(np.argmin(rms))])
-        q_best, F_mm, info = runs[best]
-        diag["starts_at_best"] = len(tied)
-        diag["rms_spread_at_best"] = float((max(rms) - min(rms)) / max(min(rms), 1e-300))
-        if tie_break:
-            q_best, ok = _tie_break(prob, q_best, F_mm)
-            diag["tie_break"] = bool(ok)
-            F_mm = _objective(prob.eval(q_best, jac=False)[0], False)
-        times["minimax_s"] = time.perf_counter() - t
-        diag["starts"] = int(starts)
-        diag["start_max_errors_mm"] = Fs.tolist()
-        ref = max(float(Fs.min()), SPREAD_FLOOR_MM)
-        diag["start_spread"] = float((Fs.max() - Fs.min()) / ref)
-        diag["primary_vs_best"] = float((Fs[0] - Fs.min()) / ref)
-        diag["starts_within_1pct"] = int(np.sum(Fs - Fs.min() <= 0.01 * ref))
-        diag["slp_iterations"] = [int(r[2]["iterations"]) for r in runs]
-        diag["lp_solves"] = int(sum(r[2]["lps"] for r in runs))
-        diag["starts_converged"] = int(sum(bool(r[2]["converged"]) for r in runs))
-        diag["minimax_max_error_mm"] = F_mm
-        imp = _lp_improvement(prob, q_best, False)
-        if not imp <= 1e-6:
-            raise ConvergenceError(
-                f"arcfit minimax: no convergence in {max_iter} SLP iterations (max error {F_mm:.3e} mm, "
-                f"the LP still finds a relative decrease of {imp:.2e}; raise max_iter or starts)"
-            )
+        key = _stage_key(p, side, max_points, starts, max_iter, seed, tie_break)
+        stage = _cached(key, lambda: _minimax_stage(prob, q_lsq, lsq_runs, starts=starts, max_iter=max_iter, seed=seed, tie_break=tie_break))
+        q_best, F_mm = stage["q_best"], stage["F_mm"]
+        diag.update(stage["diag"])
+        times["minimax_s"] = stage["time_s"]
         if method == "minimax":
-            diag["lp_improvement"] = imp
+            diag["lp_improvement"] = stage["imp"]
             D, _, _ = prob.eval(q_best, jac=False)
             active = np.abs(np.abs(D) - F_mm) <= 1e-9 * F_mm
             diag["active_points"] = int(active.sum())

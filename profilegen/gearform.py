@@ -20,6 +20,7 @@ tolerance.
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 
@@ -245,7 +246,7 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
     ``cs_points`` (the CS outline around space 0, mm) defaults to the form's own
     polyline outline; pass a sampled arc-fit outline to check that instead. For each
     φ a KD-tree over the CS points finds the ``candidates`` nearest to the placed
-    tooth surface, and shapely gives their exact distance to that surface (negative
+    tooth surface, and their exact distance to that surface is taken (negative
     inside the tooth). Measured against a brute-force distance of every CS point: exact
     (to rounding) wherever the clearance is below 10 µm, i.e. near contact and for any
     interference; farther out of mesh the candidate search can read up to ~1 µm high.
@@ -256,26 +257,132 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
     shapely.prepare(poly)
     # distances to the real FS surface, not to the polygon's radial sector edges and
     # neutral-line arc, which only close it
-    surface = shapely.LineString(tooth.surface(n_per_mm=400.0))
+    surface = _PolylineDistance(tooth.surface(n_per_mm=400.0))
     surface_pts = tooth.surface(n_per_mm=search_per_mm)  # to find the candidates
     cs = _local_outline(form) if cs_points is None else np.asarray(cs_points, float)
     tree = cKDTree(cs)
+    search = _NearestCS(tree, surface_pts, 4 * candidates)
     phis = np.linspace(*phi_range, samples)
     pose = motion.pose(phis)
     out = np.empty(samples)
     for i in range(samples):
         c, s = np.cos(pose.angle[i]), np.sin(pose.angle[i])
         placed = np.stack([surface_pts[:, 0] * c + surface_pts[:, 1] * s, surface_pts[:, 1] * c - surface_pts[:, 0] * s], -1) + pose.origin[i]
-        dist, idx = tree.query(placed)
-        order = idx[np.argsort(dist)]
+        dist, idx = search.pairs(placed)
+        order = idx[np.argsort(dist, kind="stable")]
         near = np.array(list(dict.fromkeys(order[: 4 * candidates].tolist()))[:candidates])  # nearest first
         near = np.unique(np.clip(near[:, None] + np.arange(-neighbours, neighbours + 1), 0, len(cs) - 1))  # and neighbours
         d = cs[near] - pose.origin[i]
         q = np.stack([d[:, 0] * c - d[:, 1] * s, d[:, 0] * s + d[:, 1] * c], -1)  # (d·e_t, d·e_r)
-        exact = shapely.distance(shapely.points(q), surface)
+        exact = surface.distance(q)
         inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
         out[i] = np.min(np.where(inside, -exact, exact))
     return ClearanceMap(phis, out)
+
+
+class _NearestCS:
+    """For a placed tooth surface: the nearest CS point of each surface point, for the
+    surface points whose nearest CS point is closest — at least ``need`` of them, in the
+    surface's order: exactly the pairs a query of every surface point has within that
+    distance bound, so the first ``need`` pairs by distance are the same.
+
+    Most of the surface is far from the CS; the search skips it. Every 16th surface point
+    (the coarse points) is queried first; the distance bound is the (need/16 + 5)-th
+    smallest coarse distance. The nearest-CS distance is 1-Lipschitz along the surface, so a
+    surface point farther than the bound from the CS is known from its coarse anchor
+    (distance − offset > bound) without a query; the rest are queried with the bound. The
+    coarse query itself is bounded by a guess from the previous pose (the tooth moves a few
+    µm per sample), with the unbounded query when the guess is too small.
+    """
+
+    STRIDE = 16
+
+    def __init__(self, tree, surface_pts: np.ndarray, need: int):
+        self.tree, self.need = tree, need
+        n = len(surface_pts)
+        self.coarse = np.arange(0, n, self.STRIDE)
+        self.k = min(len(self.coarse) - 1, need // self.STRIDE + 4)
+        self.anchor = np.clip(np.rint(np.arange(n) / self.STRIDE).astype(int), 0, len(self.coarse) - 1)
+        # distance of each surface point to its anchor (rigid motions keep it; 1 nm for rounding)
+        self.offset = np.hypot(*(surface_pts - surface_pts[self.coarse[self.anchor]]).T) + 1e-6
+        self.guess = math.inf
+
+    def pairs(self, placed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        tree = self.tree
+        dc = None
+        if math.isfinite(self.guess):
+            dc, _ = tree.query(placed[self.coarse], distance_upper_bound=self.guess)
+            if np.count_nonzero(np.isfinite(dc)) <= self.k:
+                dc = None
+            else:
+                dc = np.where(np.isfinite(dc), dc, self.guess)  # ≥ guess: a lower bound
+        if dc is None:
+            dc, _ = tree.query(placed[self.coarse])
+        bound = float(np.partition(dc, self.k)[self.k])
+        self.guess = 2.0 * bound + 0.02 if math.isfinite(bound) else math.inf
+        lower = dc[self.anchor] - self.offset  # ≤ each surface point's distance to the CS
+        for _ in range(3):
+            if not bound > 0.0:
+                break
+            b = bound * (1.0 + 1e-9)
+            cand = np.nonzero(lower <= b)[0]
+            dist, idx = tree.query(placed[cand], distance_upper_bound=b)
+            ok = np.isfinite(dist)
+            if ok.sum() >= self.need:  # the `need` smallest distances are all within the bound
+                return dist[ok], idx[ok]
+            bound *= 4.0
+        return tree.query(placed)
+
+
+class _PolylineDistance:
+    """Exact distance of points to an open polyline (mm), through a KD-tree over points
+    spread along its segments (at most ``spacing`` apart, each labelled with its segment).
+
+    The foot of a point p lies on a segment j that has a tree point within h/2 of the
+    foot (h: the spacing), so within √(r0² + h²/4) of p, r0 being p's distance to its
+    nearest tree point (≥ the true distance). When the ``k``-th nearest tree point is
+    farther than that, the k nearest carry every segment that can hold the foot and the
+    minimum over their segments is exact; otherwise (rare) all segments are searched.
+    """
+
+    def __init__(self, vertices: np.ndarray, *, k: int = 8):
+        from scipy.spatial import cKDTree
+
+        v = np.asarray(vertices, float)
+        self.a, self.b = v[:-1], v[1:]
+        lengths = np.hypot(*(self.b - self.a).T)
+        positive = lengths[lengths > 0]
+        self.spacing = float(np.median(positive)) if positive.size else 1.0
+        per = np.maximum(np.ceil(lengths / self.spacing).astype(int), 1) + 1  # points per segment, ends included
+        seg = np.repeat(np.arange(len(lengths)), per)
+        f = np.concatenate([np.linspace(0.0, 1.0, n) for n in per])
+        self.h = float(np.max(lengths / (per - 1)))
+        self.label = seg
+        self.k = int(min(k, len(seg)))
+        self.tree = cKDTree(self.a[seg] + f[:, None] * (self.b[seg] - self.a[seg]))
+
+    def distance(self, p: np.ndarray) -> np.ndarray:
+        p = np.asarray(p, float)
+        r, j = self.tree.query(p, k=self.k)
+        r, j = r.reshape(len(p), -1), j.reshape(len(p), -1)
+        out = _segment_distance(p[:, None, :], self.a[self.label[j]], self.b[self.label[j]]).min(axis=1)
+        unsure = ~(r[:, -1] > np.sqrt(r[:, 0] ** 2 + 0.25 * self.h**2))
+        if unsure.any():
+            out[unsure] = _segment_distance(p[unsure, None, :], self.a[None], self.b[None]).min(axis=1)
+        return out
+
+
+def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance of points p to segments [a, b] (broadcast over the leading axes), with
+    GEOS's formula (``Distance::pointToSegment``), so that it rounds as shapely does."""
+    ex, ey = b[..., 0] - a[..., 0], b[..., 1] - a[..., 1]
+    len2 = ex * ex + ey * ey
+    safe = np.where(len2 > 0, len2, 1.0)
+    r = ((p[..., 0] - a[..., 0]) * ex + (p[..., 1] - a[..., 1]) * ey) / safe
+    s = ((a[..., 1] - p[..., 1]) * ex - (a[..., 0] - p[..., 0]) * ey) / safe
+    to_a = np.sqrt((p[..., 0] - a[..., 0]) ** 2 + (p[..., 1] - a[..., 1]) ** 2)
+    to_b = np.sqrt((p[..., 0] - b[..., 0]) ** 2 + (p[..., 1] - b[..., 1]) ** 2)
+    return np.where((len2 == 0) | (r <= 0.0), to_a, np.where(r >= 1.0, to_b, np.abs(s) * np.sqrt(len2)))
 
 
 # ----------------------------------------------------------------------------- true arcs and lines
@@ -349,9 +456,10 @@ def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: in
         return np.array([[c, -s_], [s_, c]])
 
     parts = []
+    start = space.start
     for k in range(cs_teeth):
         sp = space.transformed(rot(k))
-        nxt_start = rot(k + 1) @ space.start
+        nxt_start = rot(k + 1) @ start
         a0, a1 = _math_angle(sp.end), _math_angle(nxt_start)
         sweep = (a1 - a0 + np.pi) % (2 * np.pi) - np.pi  # the short way, clockwise (negative)
         parts += list(sp.elements) + [Arc(np.zeros(2), tip_radius_mm, a0, sweep)]
