@@ -28,8 +28,14 @@ def _cmd_design(args) -> int:
     from .pipeline import SCENES, design, write_design
 
     if args.scene == "list":
+        from .scenes import bundled_scenes_path
+
         for s in SCENES.values():
             print(f"{s.name:8s} rim: {s.rim:22s} envelope chord {s.chord_tol_mm:g} mm — {s.description}")
+        path = bundled_scenes_path()
+        print(f"scenes file: {path}")
+        print(f"to change a preset: cp {path} my_scenes.toml, edit it, then "
+              "profilegen design --scene my_scenes.toml (one table: that scene; several: the gear set's)")
         return 0
     gearset = _load(args.gearset)
     out = Path(args.out) if args.out else Path("export") / gearset.name
@@ -99,6 +105,67 @@ def _progress(total: int, *, quiet: bool):
     return step
 
 
+def _cmd_sweep(args) -> int:
+    from .sweep import dask_executor, load_sweep_spec, run_sweep
+
+    spec = load_sweep_spec(args.spec)
+    table = None
+    if args.out is None:
+        out = Path("export") / "sweeps" / spec.name
+    elif args.out.endswith(".parquet"):  # the table as Parquet there; the folder beside it, same name
+        table, out = Path(args.out), Path(args.out).with_suffix("")
+    else:
+        out = Path(args.out)
+    bar = _sweep_progress(len(spec.points), quiet=args.quiet)
+    try:
+        if args.dask:
+            with dask_executor(args.dask) as executor:
+                result = run_sweep(spec, out, executor=executor, progress=bar, table=table)
+        else:
+            result = run_sweep(spec, out, workers=args.workers, progress=bar, table=table)
+    except KeyboardInterrupt:
+        bar(None, None)
+        print(f"profilegen: sweep {spec.name!r} interrupted; the finished points are in {out / 'journal.csv'} — "
+              "run the same command again to resume", file=sys.stderr)
+        return 130
+    bar(None, None)
+    if not args.quiet:
+        where = f"Dask at {args.dask}" if args.dask else f"{args.workers or os.cpu_count()} local worker(s)"
+        print(f"sweep {spec.name!r}: {len(result.rows)} points ({spec.kind}, scene {spec.scene.name}) on {where}: "
+              f"{result.ok} ok, {result.failed} failed; {result.computed} run, {result.reused} from the journal; "
+              f"{result.time_s:.1f} s")
+        for p in result.files:
+            print(f"  wrote {p}")
+    return 0
+
+
+def _positive_int(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {text!r}") from None
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be an integer >= 1, got {value}")
+    return value
+
+
+def _sweep_progress(total: int, *, quiet: bool):
+    """A tqdm bar over the points on stderr (silent when quiet or not a terminal); call (None, None) to close."""
+    if quiet or not sys.stderr.isatty():
+        return lambda done, total: None
+    from tqdm import tqdm
+
+    bar = tqdm(total=total, desc="sweep", unit="point", file=sys.stderr)
+
+    def step(done, _total):
+        if done is None:
+            bar.close()
+        else:
+            bar.update(done - bar.n)
+
+    return step
+
+
 def _cmd_check(args) -> int:
     from .errors import GearSetError
     from .gearset import load_gearset, resolve_gearset
@@ -133,7 +200,9 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
     d = sub.add_parser("design", help="run the pipeline on a gear set and write export/<name>/")
     d.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
-    d.add_argument("--scene", choices=["sketch", "design", "verify", "list"], help="fidelity preset (default: the gear set's); 'list' shows them")
+    d.add_argument("--scene", metavar="sketch|design|verify|list|FILE.toml",
+                   help="fidelity preset (default: the gear set's), or a scene file (a copy of the bundled "
+                        "scenes.toml); 'list' shows the presets and where their file is")
     d.add_argument("--out", help="output folder (default: export/<gear-set name>/)")
     d.add_argument("--contact", action=argparse.BooleanOptionalAction, default=None,
                    help="loaded tooth contact at the set's rated/peak/momentary torques (default: on in the design "
@@ -147,6 +216,14 @@ def _parser() -> argparse.ArgumentParser:
     c.set_defaults(func=_cmd_check)
     ls = sub.add_parser("profiles", help="list the bundled gear sets")
     ls.set_defaults(func=_cmd_profiles)
+    sw = sub.add_parser("sweep", help="a parameter study: many designs over a grid or a sample (docs/sweep.md)")
+    sw.add_argument("spec", help="a sweep spec TOML file (e.g. profiles/sweeps/deflection.toml)")
+    sw.add_argument("--workers", type=_positive_int, metavar="N", help="local worker processes (default: the CPU count)")
+    sw.add_argument("--dask", metavar="ADDRESS", help="run on the Dask cluster at ADDRESS (tcp://HOST:PORT) instead")
+    sw.add_argument("--out", metavar="DIR", help="output folder (default: export/sweeps/<name>/); a path ending in .parquet also "
+                                  "writes the table there as Parquet (needs pyarrow), the folder beside it")
+    sw.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    sw.set_defaults(func=_cmd_sweep)
     return p
 
 

@@ -20,11 +20,12 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from .envelope import Envelope, envelope_of
-from .errors import ConvergenceError, ExportError, GearSetError
+from .errors import ConvergenceError, ExportError, GearSetError, ProfilegenError
 from .gearform import CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import FIT_METHODS, GearSet
 from .contour import Arc, Chain, Line, Polyline
 from .kinematics import HarmonicDriveMotion
+from .scenes import bundled_scenes_path, read_scenes, resolve_scene
 from .teeth import tooth_from_gearset
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -54,11 +55,8 @@ class Scene:
     contact: bool = False  # loaded tooth contact at the gear set's torques (rated, peak, momentary)
 
 
-SCENES: dict[str, Scene] = {
-    "sketch": Scene("sketch", "ring theory", 1e-4, 48, 121, 91, False, "interactive use and sweeps: analytic rim, coarse envelope", 181),
-    "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False, "the default: 1 nm envelope, classified, loaded contact", 721, True),
-    "verify": Scene("verify", "toothed-rim FEM (nonlinear)", 1e-7, 192, 481, 721, True, "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001, True),
-}
+# The presets are data: profilegen/scenes.toml (a user's copy works as design(scene="path.toml"))
+SCENES: dict[str, Scene] = read_scenes(bundled_scenes_path())
 
 
 @dataclass(frozen=True, slots=True)
@@ -154,6 +152,7 @@ class Design:
     profile: "CSProfile | None" = None
     rim: RimDeformation | None = None
     contact: object = None  # ContactResult at the gear set's torques (None when the scene skips it)
+    stress: object = None  # StressResult at the gear set's torques (None when skipped)
 
     @property
     def time_s(self) -> float:
@@ -206,6 +205,7 @@ class Design:
                 "secant_stiffness_nm_per_rad": self.contact.secant_stiffness_nm_per_rad.tolist(),
                 "warnings": list(self.contact.warnings),
             },
+            "stress": None if self.stress is None else self.stress.headline(),
             "warnings": list(self.warnings),
         }
 
@@ -213,10 +213,11 @@ class Design:
 def design(
     gearset: GearSet,
     *,
-    scene: str | Scene | None = None,
+    scene: str | os.PathLike | Scene | None = None,
     fit_method: str | None = None,
     progress: Callable[[str], None] | None = None,
     contact: bool | None = None,
+    stress: bool = True,
 ) -> Design:
     """Run every stage for one gear set (see the module docstring).
 
@@ -224,14 +225,12 @@ def design(
     torques (default: the scene's choice — ``design`` and ``verify``, not ``sketch``; it
     adds ~3 s, and its torsional stiffness is a mesh-only model, see the README).
 
+    ``stress``: the flexspline stresses and safety checks (:mod:`profilegen.stress`; fed by
+    the contact's tooth forces when the contact ran, by an estimate otherwise).
+
     ``fit_method`` overrides ``gearset.circular_spline.fit_method`` for the CAD profile.
     """
-    if scene is None:
-        scene = gearset.scene
-    if isinstance(scene, str):
-        if scene not in SCENES:
-            raise GearSetError(f"scene = {scene!r}: must be one of {', '.join(SCENES)}")
-        scene = SCENES[scene]
+    scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
     step = progress or (lambda name: None)
     warnings: list[str] = []
     stages: list[StageReport] = []
@@ -312,8 +311,36 @@ def design(
         warnings.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} µm "
                         f"at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
     result = Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim)
-    if not (scene.contact if contact is None else contact):
-        return result
+    if contact:
+        result = _with_contact(result, step)
+    elif contact is None and scene.contact:
+        # the scene's default: a contact model that cannot take this design leaves the profile
+        # and files standing, with the reason in the warnings (asked for explicitly, it raises)
+        try:
+            result = _with_contact(result, step)
+        except ProfilegenError as exc:
+            result = replace(result, warnings=result.warnings + (f"loaded contact failed, skipped: {exc}",))
+    return _with_stress(result, step) if stress else result
+
+
+def _with_stress(result: Design, step) -> Design:
+    step("stress")
+    from .stress import solve_stress
+
+    res = solve_stress(result)
+    worst = res.min_safety
+    head = "" if worst is None else f"; lowest safety factor {worst.value:.2f} ({worst.name})"
+    report = StageReport(
+        "stress", f"tooth ring + cup bottom + diaphragm, forces from {res.force_source}", len(res.checks), res.time_s,
+        max(c.error_estimate_mpa for c in res.cup_bottom),
+        "cup bottom: change of the von Mises maximum from the grid to its refinement (MPa)",
+        f"{'all checks pass' if res.passed else 'a check FAILS'}{head}")
+    return replace(result, stages=result.stages + (report,), warnings=result.warnings + res.warnings, stress=res)
+
+
+def _with_contact(result: Design, step) -> Design:
+    gearset, stages = result.gearset, list(result.stages)
+    g = gearset.gear
     if g.waves != 2:
         note = f"loaded contact skipped: the FS half-ring model needs gear.waves = 2, got {g.waves}"
         return replace(result, warnings=result.warnings + (note,))
@@ -322,7 +349,7 @@ def design(
     from .contact.analysis import solve_contact
 
     t0 = time.perf_counter()
-    torques = [gearset.torque.rated_nm, gearset.torque.peak_nm, gearset.torque.momentary_nm]
+    torques = [t for t in (gearset.torque.rated_nm, gearset.torque.peak_nm, gearset.torque.momentary_nm) if t is not None]
     contact = solve_contact(result, torques)
     rated = contact.cases[0]
     pts = contact.points
@@ -466,6 +493,17 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
                 _plot.contact_figure(result.contact, path=staging / "contact.png",
                                      title=f"{g.name}: loaded contact, {result.contact.zones} zones, "
                                            f"{result.contact.points.count} candidate points per zone")
+        if result.stress is not None:
+            export.write_json(staging / "stress.json", {"gearset": g.name, "scene": result.scene.name,
+                                                        **result.stress.to_dict()})
+            if figure:
+                from . import plot as _plot
+                from .report import design_report_html
+
+                _plot.stress_figure(result.stress, path=staging / "stress.png",
+                                    title=f"{g.name}: flexspline stresses at {', '.join(f'{t:g}' for t in result.stress.torques_nm)} N·m")
+                with export.atomic_write(staging / "report.html", "w") as f:
+                    f.write(design_report_html(result))
         data["files"] = sorted(p.name for p in staging.iterdir()) + ["design.json"]
         export.write_json(staging / "design.json", data)
         out.mkdir(parents=True, exist_ok=True)

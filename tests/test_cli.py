@@ -33,11 +33,11 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
     assert sorted(p.name for p in out.iterdir()) == [
         "assembly.dxf", "circular_spline.csv", "circular_spline.dxf", "circular_spline.svg", "contact.json",
         "contact.png", "deformation_fit.json", "design.json", "envelope.csv", "envelope.png", "fit_report.html",
-        "profile_fit.json", "tooth_space.dxf",
+        "profile_fit.json", "report.html", "stress.json", "stress.png", "tooth_space.dxf",
     ]
     data = json.loads((out / "design.json").read_text())
     assert data["gearset"]["name"] == "default"
-    for stage in ("tooth", "rim", "deformation fit", "envelope", "gearform", "arcfit", "contact"):
+    for stage in ("tooth", "rim", "deformation fit", "envelope", "gearform", "arcfit", "contact", "stress"):
         record = data["stages"][stage]
         assert record["time_s"] >= 0 and record["tier"] and record["error_measure"]
     # the design scene: nonlinear flat-ring FEM + Fourier fit, each with dof and an error estimate
@@ -58,6 +58,13 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
     rows = np.genfromtxt(out / "envelope.csv", delimiter=",", skip_header=1, usecols=(0, 1, 2))
     assert np.all(np.isfinite(rows)) and np.all(np.abs(rows[:, 2]) <= np.pi / 2 + 1e-12)
     assert (out / "envelope.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    # closing the loop: stresses, safety factors against the material, the design report
+    stress = json.loads((out / "stress.json").read_text())
+    assert stress["force_source"] == "contact" and len(stress["checks"]) == 5
+    assert data["stress"]["safety"] == {c["name"]: c["value"] for c in stress["checks"]}
+    page = (out / "report.html").read_text()
+    for part in ("Design report", "Loaded contact", "safety factors", "242.7", "β constants", "Seed 002"):
+        assert part in page
 
 
 def test_design_dxf_is_the_closed_cs_outline_of_true_arcs_in_mm(tmp_path):

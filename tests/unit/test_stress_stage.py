@@ -97,3 +97,25 @@ def test_bad_cup_is_a_named_gearset_error(field, value):
     gs = pg.load_gearset(pg.default_gearset_path())
     with pytest.raises(GearSetError, match=field.replace(".", r"\.")):
         gs.with_values({field: value})
+
+
+def test_a_contact_that_cannot_take_the_design_leaves_a_warning(monkeypatch):
+    """The scene's default contact failing with a named error keeps the profile and says why;
+    asked for explicitly (contact=True), the error reaches the caller."""
+    from dataclasses import replace
+
+    import profilegen.pipeline as pipeline
+    from profilegen.contact.compliance import ComplianceError
+
+    def broken(result, step):
+        raise ComplianceError("cs_points: point 3 is 0.2 mm off the fitted CS surface")
+
+    monkeypatch.setattr(pipeline, "_with_contact", broken)
+    gs = pg.load_gearset(pg.default_gearset_path())
+    scene = replace(pipeline.SCENES["sketch"], contact=True)
+    res = pg.design(gs, scene=scene)
+    assert res.contact is None and res.profile is not None
+    assert any(w.startswith("loaded contact failed, skipped: cs_points") for w in res.warnings)
+    assert res.stress.force_source == "estimate"
+    with pytest.raises(ComplianceError, match="cs_points"):
+        pg.design(gs, scene=scene, contact=True)

@@ -1,0 +1,171 @@
+"""Scenes as data: the fidelity presets read from a TOML file (``profilegen/scenes.toml``).
+
+A scene file has one table per scene; the table's key is the scene's name, its keys are
+the fields of :class:`profilegen.pipeline.Scene` (documented in the bundled file). The
+name picks the rim stage's tier, so it is one of ``sketch``, ``design``, ``verify``.
+A user's copy of the bundled file (or a file with one table) is used with
+``design(gearset, scene="my_scenes.toml")`` or ``profilegen design --scene my_scenes.toml``.
+
+Every problem is a :class:`SceneError` (a :class:`~profilegen.errors.GearSetError`, so a
+``ValueError``) naming the file, the scene and the key, with the allowed values:
+
+>>> scenes = read_scenes(bundled_scenes_path())
+>>> sorted(scenes), scenes["sketch"].chord_tol_mm, scenes["verify"].contact
+(['design', 'sketch', 'verify'], 0.0001, True)
+>>> parse_scenes({"fast": {}}, origin="mine.toml")  # doctest: +ELLIPSIS
+Traceback (most recent call last):
+...
+profilegen.scenes.SceneError: mine.toml: scene 'fast': unknown scene name; the name picks the rim tier and must be one of sketch, design, verify
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import tomllib
+from collections.abc import Mapping
+from importlib import resources
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from .errors import GearSetError
+from .gearset import SCENES as SCENE_NAMES
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .pipeline import Scene
+
+__all__ = ["SCENE_NAMES", "SceneError", "bundled_scenes_path", "parse_scenes", "read_scenes", "resolve_scene"]
+
+
+class SceneError(GearSetError):
+    """A scene file or scene name is wrong; each problem names the file, the scene and the key."""
+
+
+# key → (kind, required, allowed range / None); kinds: "text", "mm", "count", "bool"
+_KEYS: dict[str, tuple[str, bool, tuple[float, float] | None]] = {
+    "rim": ("text", True, None),
+    "chord_tol_mm": ("mm", True, (0.0, 1e-2)),  # (lo, hi]
+    "n_t": ("count", True, (8, 100_000)),
+    "n_phi": ("count", True, (11, 100_000)),
+    "clearance_samples": ("count", True, (3, 100_000)),
+    "brute_force_check": ("bool", True, None),
+    "description": ("text", True, None),
+    "fit_check_positions": ("count", False, (3, 100_000)),
+    "contact": ("bool", False, None),
+}
+
+
+def bundled_scenes_path() -> Path:
+    """Path of the scene file shipped with the package (``profilegen/scenes.toml``)."""
+    return Path(str(resources.files("profilegen").joinpath("scenes.toml")))
+
+
+def read_scenes(path: str | os.PathLike) -> dict[str, Scene]:
+    """Read and validate a scene file; returns {name: Scene} in the file's order."""
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            data = tomllib.load(handle)
+    except FileNotFoundError:
+        raise SceneError(f"{path}: no such scene file") from None
+    except IsADirectoryError:
+        raise SceneError(f"{path}: is a folder, not a scene file") from None
+    except OSError as exc:
+        raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SceneError(f"{path}: malformed TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise SceneError(f"{path}: malformed TOML: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    return parse_scenes(data, origin=str(path))
+
+
+def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:
+    """Validate a mapping {name: {key: value}} and build the scenes; every problem at once."""
+    from .pipeline import Scene  # the pipeline's type; imported here, pipeline imports this module
+
+    if not isinstance(data, Mapping) or not data:
+        raise SceneError(f"{origin}: a scene file needs at least one [name] table (one of {', '.join(SCENE_NAMES)})")
+    problems: list[str] = []
+    scenes: dict[str, Scene] = {}
+    for name, table in data.items():
+        where = f"{origin}: scene {name!r}"
+        if name not in SCENE_NAMES:
+            problems.append(f"{where}: unknown scene name; the name picks the rim tier and must be one of "
+                            f"{', '.join(SCENE_NAMES)}")
+            continue
+        if not isinstance(table, Mapping):
+            problems.append(f"{where}: must be a table ([{name}]), got {_type_name(table)}")
+            continue
+        before = len(problems)
+        for key in table:
+            if key not in _KEYS:
+                problems.append(f"{where}: {key}: unknown key (allowed: {', '.join(_KEYS)})")
+        values = {}
+        for key, (kind, required, rng) in _KEYS.items():
+            if key not in table:
+                if required:
+                    problems.append(f"{where}: {key}: missing ({_describe(kind, rng)})")
+                continue
+            problem = _check(table[key], kind, rng)
+            if problem:
+                problems.append(f"{where}: {key} = {table[key]!r}: {problem}")
+            else:
+                values[key] = float(table[key]) if kind == "mm" else table[key]
+        if len(problems) == before:
+            scenes[name] = Scene(name=name, **values)
+    if problems:
+        raise SceneError(problems)
+    return scenes
+
+
+def resolve_scene(scene: str | os.PathLike | Scene, *, default: str = "design") -> Scene:
+    """A Scene from a bundled name, a Scene, or the path of a scene file.
+
+    A file with one scene gives that scene; a file with several gives the one named
+    ``default`` (the gear set's ``scene``).
+    """
+    from .pipeline import SCENES, Scene
+
+    if isinstance(scene, Scene):
+        return scene
+    if isinstance(scene, str) and scene in SCENES:
+        return SCENES[scene]
+    text = os.fspath(scene) if isinstance(scene, (str, os.PathLike)) else None
+    if text is None or not (isinstance(scene, os.PathLike) or text.endswith(".toml") or os.sep in text
+                            or (os.altsep is not None and os.altsep in text)):
+        raise SceneError(f"scene = {scene!r}: must be one of {', '.join(SCENES)} or a scene TOML file")
+    scenes = read_scenes(text)
+    if len(scenes) == 1:
+        return next(iter(scenes.values()))
+    if default not in scenes:
+        raise SceneError(f"{text}: scene {default!r} (the gear set's scene) is not in the file, which has "
+                         f"{', '.join(scenes)}")
+    return scenes[default]
+
+
+def _check(value, kind: str, rng) -> str:
+    """'' if ``value`` is a valid ``kind`` within ``rng``, else what is wrong."""
+    if kind == "text":
+        return "" if isinstance(value, str) and value.strip() else "must be a non-empty text"
+    if kind == "bool":
+        return "" if isinstance(value, bool) else f"must be true or false, got {_type_name(value)}"
+    if kind == "count":
+        if isinstance(value, bool) or not isinstance(value, int) or not rng[0] <= value <= rng[1]:
+            return f"must be an integer in [{rng[0]}, {rng[1]}]"
+        return ""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not math.isfinite(value):
+        return f"must be a number ({_describe(kind, rng)})"
+    return "" if rng[0] < value <= rng[1] else f"must be in ({rng[0]:g}, {rng[1]:g}] mm"
+
+
+def _describe(kind: str, rng) -> str:
+    if kind == "count":
+        return f"an integer in [{rng[0]}, {rng[1]}]"
+    if kind == "mm":
+        return f"mm, in ({rng[0]:g}, {rng[1]:g}]"
+    return "true or false" if kind == "bool" else "text"
+
+
+def _type_name(value) -> str:
+    return {bool: "a boolean", int: "an integer", float: "a number", str: "a text", list: "an array",
+            dict: "a table"}.get(type(value), type(value).__name__)
