@@ -14,6 +14,7 @@ __all__ = [
     "EnvelopeError",
     "ExportError",
     "StressError",
+    "SweepSpecError",
 ]
 
 
@@ -55,3 +56,9 @@ class StressError(ProfilegenError, ValueError):
     """A stress model got inputs it cannot take (a thickness ≤ 0, a boss radius ≥ the cup
     radius, fatigue asked for without the material's limits, ...); the message names the
     parameter, its value, unit and allowed range."""
+
+
+class SweepSpecError(ProfilegenError, ValueError):
+    """A sweep spec (TOML) is malformed: an unknown or missing key, a value of the wrong
+    type or out of range, a field path the gear set does not have; the message names the
+    file and the key."""

@@ -1,0 +1,852 @@
+"""Parameter studies: gear-set fields swept over a grid or a sample, one design per point.
+
+A *sweep spec* (TOML, ``docs/sweep.md``; example ``profiles/sweeps/deflection.toml``)
+names a base gear set, a scene, and either a ``[grid]`` (field → list of values, the
+full Cartesian product) or a ``[sample]`` (``method = "lhs" | "random"``, ``n``,
+``seed``, field → ``[lo, hi]``). Fields are the dotted paths of
+:meth:`GearSet.with_values` (``"wave_generator.deflection_coefficient"``). Every point is
+the base set with those values, validated like a file and run through
+:func:`profilegen.pipeline.design`; a point that fails (a value out of range, an envelope
+that cannot be classified, a fit that does not converge, ...) is recorded with its error
+and the others go on.
+
+:func:`run_sweep` runs the points on a :class:`concurrent.futures.Executor`: a local
+process pool by default, a Dask cluster through :func:`dask_executor`, or any executor
+given. Each finished point is appended at once, as one complete line, to a CSV journal
+(``journal.csv`` in the output folder) keyed by a stable point id (a hash of the point's
+values, the scene and the base gear set), so that a sweep that was interrupted (Ctrl-C, a
+kill, a lost worker) resumes where it stopped when it is run again: finished points are
+read back, not recomputed. The result table has one row per point, sorted by the point's
+index whatever the order of completion: the swept inputs, the headline outputs
+(:data:`OUTPUTS`; an output a design does not have is an empty cell), per-stage times, and
+``status`` (``ok`` / ``error``), ``error_type``, ``error_message``.
+
+>>> points = grid_points({"gear.rim_thickness_mm": [0.4, 0.5], "tooth.pressure_angle_deg": [8, 10, 12]})
+>>> len(points), points[1]
+(6, {'gear.rim_thickness_mm': 0.4, 'tooth.pressure_angle_deg': 10})
+>>> u = sample_points({"wave_generator.deflection_coefficient": (0.8, 1.2)}, 5, method="lhs", seed=1)
+>>> sorted(int((p["wave_generator.deflection_coefficient"] - 0.8) / 0.4 * 5) for p in u)  # one per stratum
+[0, 1, 2, 3, 4]
+"""
+
+from __future__ import annotations
+
+import contextlib
+import csv
+import hashlib
+import io
+import itertools
+import json
+import logging
+import math
+import os
+import re
+import threading
+import time
+import tomllib
+import zlib
+from collections import Counter
+from collections.abc import Callable, Iterator, Mapping, Sequence
+from concurrent.futures import Executor, as_completed
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .errors import ExportError, GearSetError, ProfilegenError, SweepSpecError
+from .gearset import GearSet
+
+if TYPE_CHECKING:  # pragma: no cover
+    from matplotlib.axes import Axes
+
+    from .pipeline import Design, Scene
+
+__all__ = [
+    "OUTPUTS",
+    "OUTPUT_COLUMNS",
+    "SAMPLE_METHODS",
+    "STATUS_COLUMNS",
+    "SweepError",
+    "SweepResult",
+    "SweepSpec",
+    "dask_executor",
+    "grid_points",
+    "load_sweep_spec",
+    "outputs_of",
+    "parse_sweep_spec",
+    "plot_sweep",
+    "point_id",
+    "run_sweep",
+    "sample_points",
+    "write_table",
+]
+
+log = logging.getLogger(__name__)
+
+SAMPLE_METHODS = ("lhs", "random")
+MAX_POINTS = 100_000
+DEFAULT_PLOT = "profile_max_error_mm"
+_NAME_RE = re.compile(r"[A-Za-z0-9_.-]+")
+_TOP_KEYS = ("name", "description", "gearset", "scene", "plot", "grid", "sample")
+_SAMPLE_KEYS = ("method", "n", "seed")
+
+
+class SweepError(ProfilegenError, RuntimeError):
+    """A sweep could not run or finish as a whole (an executor that failed, a lost Dask
+    cluster, a missing optional package); single points that fail are rows, not this."""
+
+
+# ----------------------------------------------------------------------------- outputs
+
+
+def _stage_time(stage: str) -> Callable[[Design], float | None]:
+    def get(d: Design):
+        return next((s.time_s for s in d.stages if s.stage == stage), None)
+
+    return get
+
+
+def _fit_error(method: str) -> Callable[[Design], float | None]:
+    return lambda d: d.profile.fits[method].max_error_mm
+
+
+def _count(kind: str, what: str) -> Callable[[Design], Any]:
+    return lambda d: d.envelope.counts()[kind][what]
+
+
+def _worst(values) -> float | None:
+    values = [v for v in values if v is not None]
+    return max(values) if values else None
+
+
+def _min_safety(d: Design):
+    safety = d.stress.headline()["safety"]
+    values = [v for v in safety.values() if v is not None]
+    return min(values) if values else None
+
+
+def _min_safety_name(d: Design):
+    safety = {k: v for k, v in d.stress.headline()["safety"].items() if v is not None}
+    return min(safety, key=safety.get) if safety else None
+
+
+_STAGES = ("tooth", "rim", "deformation fit", "envelope", "gearform", "arcfit", "contact", "stress")
+
+#: (column, type, getter): the headline outputs of a design, one column each. A getter
+#: that fails (the design has no such part: no contact in the sketch scene, no stress, a
+#: fit left out) gives an empty cell.
+OUTPUTS: tuple[tuple[str, type, Callable[[Design], Any]], ...] = (
+    ("deflection_mm", float, lambda d: d.gearset.deflection_mm),
+    ("min_clearance_mm", float, lambda d: d.form.clearance.min_mm),
+    ("profile_min_clearance_mm", float, lambda d: d.profile.clearance.min_mm),
+    ("profile_max_error_mm", float, lambda d: d.profile.max_error_mm),
+    ("profile_max_backlash_mm", float, lambda d: d.profile.max_backlash_mm),
+    ("profile_method", str, lambda d: d.profile.method),
+    ("profile_branches", int, lambda d: 1 if d.profile.branches is None else len(d.profile.branches.fits)),
+    ("fit_least_squares_max_error_mm", float, _fit_error("least_squares")),
+    ("fit_minimax_max_error_mm", float, _fit_error("minimax")),
+    ("fit_one_sided_max_error_mm", float, _fit_error("one_sided")),
+    ("conjugate_pieces", int, _count("conjugate", "pieces")),
+    ("interfering_pieces", int, _count("interfering", "pieces")),
+    ("tip_path_pieces", int, _count("tip_path", "pieces")),
+    ("conjugate_length_mm", float, _count("conjugate", "length_mm")),
+    ("ridges", int, lambda d: len(d.envelope.ridges)),
+    ("folds", int, lambda d: len(d.envelope.folds)),
+    ("max_interference_mm", float, lambda d: d.envelope.max_interference_mm),
+    ("cs_tip_radius_mm", float, lambda d: d.form.tip_radius_mm),
+    ("cs_root_radius_mm", float, lambda d: d.form.root_radius_mm),
+    ("contact_rotation_arcmin", float, lambda d: d.contact.cases[0].rotation_arcmin),
+    ("contact_teeth_in_contact", int, lambda d: d.contact.cases[0].teeth_in_contact),
+    ("contact_max_tooth_force_n", float, lambda d: _worst(c.max_tooth_force_n for c in d.contact.cases)),
+    ("contact_stiffness_nm_per_rad", float, lambda d: d.contact.secant_stiffness_nm_per_rad[0]),
+    ("stress_tooth_ring_mpa", float, lambda d: _worst(d.stress.headline()["tooth_ring_total_mpa"])),
+    ("stress_cup_bottom_mpa", float, lambda d: _worst(d.stress.headline()["cup_bottom_von_mises_mpa"])),
+    ("stress_diaphragm_shear_amplitude_mpa", float, lambda d: d.stress.headline()["diaphragm_shear_amplitude_mpa"]),
+    ("stress_min_safety", float, _min_safety),
+    ("stress_min_safety_check", str, _min_safety_name),
+    ("stress_passed", bool, lambda d: d.stress.passed),
+    ("warnings", int, lambda d: len(d.warnings)),
+    *((f"time_{s.replace(' ', '_')}_s", float, _stage_time(s)) for s in _STAGES),
+    ("time_design_s", float, lambda d: None),  # the worker's wall time around design(), filled in by it
+)
+#: the output columns, in table order
+OUTPUT_COLUMNS: tuple[str, ...] = tuple(c for c, _, _ in OUTPUTS)
+STATUS_COLUMNS = ("status", "error_type", "error_message")
+_TYPES = {c: t for c, t, _ in OUTPUTS}
+_OUTPUT_ERRORS = (AttributeError, KeyError, IndexError, TypeError, ValueError, StopIteration)
+
+
+def outputs_of(result: Design) -> dict[str, Any]:
+    """The :data:`OUTPUTS` of one design ({column: value or None})."""
+    out = {}
+    for column, kind, get in OUTPUTS:
+        try:
+            value = get(result)
+        except _OUTPUT_ERRORS:
+            value = None
+        out[column] = _typed(value, kind)
+    return out
+
+
+def _typed(value, kind: type):
+    if value is None:
+        return None
+    if kind is bool:
+        return bool(value)
+    if kind is int:
+        return int(value)
+    if kind is float:
+        v = float(value)
+        return v if math.isfinite(v) else None
+    return str(value)
+
+
+# ----------------------------------------------------------------------------- points
+
+
+def grid_points(grid: Mapping[str, Sequence]) -> list[dict]:
+    """The full grid: every combination of the values, the last field varying fastest."""
+    fields = list(grid)
+    return [dict(zip(fields, combo)) for combo in itertools.product(*(list(grid[f]) for f in fields))]
+
+
+def sample_points(ranges: Mapping[str, Sequence], n: int, *, method: str = "lhs", seed: int = 0) -> list[dict]:
+    """``n`` points in the box ``ranges`` (field → (lo, hi)).
+
+    ``method``: ``"lhs"`` (Latin hypercube, :class:`scipy.stats.qmc.LatinHypercube`: every
+    one of the n equal strata of each field holds one point) or ``"random"`` (uniform).
+    Deterministic for a given ``seed``. A field whose bounds are both integers gets
+    integers, each of lo..hi equally likely.
+    """
+    if method not in SAMPLE_METHODS:
+        raise ValueError(f"method must be one of {', '.join(SAMPLE_METHODS)}, got {method!r}")
+    fields = list(ranges)
+    if method == "lhs":
+        from scipy.stats import qmc
+
+        try:
+            engine = qmc.LatinHypercube(d=len(fields), rng=seed)
+        except TypeError:  # scipy < 1.15 takes `seed`
+            engine = qmc.LatinHypercube(d=len(fields), seed=seed)
+        u = engine.random(n)
+    else:
+        u = np.random.default_rng(seed).random((n, len(fields)))
+    points = []
+    for row in u:
+        point = {}
+        for f, x in zip(fields, row):
+            lo, hi = ranges[f]
+            if _is_int(lo) and _is_int(hi):
+                point[f] = int(min(lo + math.floor(x * (hi - lo + 1)), hi))
+            else:
+                point[f] = float(lo + x * (hi - lo))
+        points.append(point)
+    return points
+
+
+def point_id(values: Mapping[str, Any], scene: Scene, gearset: GearSet) -> str:
+    """A stable id of a point: a hash of its values, the scene's fields and the base set."""
+    return _point_ids([values], scene, gearset)[0]
+
+
+def _point_ids(points: Sequence[Mapping[str, Any]], scene: Scene, gearset: GearSet) -> list[str]:
+    def canonical(obj) -> bytes:
+        return json.dumps(obj, sort_keys=True, separators=(",", ":"), default=str).encode()
+
+    base = hashlib.sha256(canonical({"scene": asdict(scene), "gearset": gearset.to_dict()}) + b"\n")
+    ids = []
+    for values in points:
+        h = base.copy()
+        h.update(canonical(dict(values)))
+        ids.append(h.hexdigest()[:16])
+    return ids
+
+
+def _is_int(v) -> bool:
+    return isinstance(v, (int, np.integer)) and not isinstance(v, bool)
+
+
+# ----------------------------------------------------------------------------- the spec
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class SweepSpec:
+    """A validated sweep: the base gear set, the scene and the points (in index order).
+
+    ``kind``: ``"grid"``, ``"lhs"`` or ``"random"``; ``fields``: the swept field paths;
+    ``points``: one {field: value} per point; ``plot``: the output column plotted
+    against each field; ``origin``: where it was read from.
+    """
+
+    name: str
+    gearset: GearSet
+    scene: Scene
+    kind: str
+    fields: tuple[str, ...]
+    points: tuple[dict, ...]
+    description: str = ""
+    plot: str = DEFAULT_PLOT
+    seed: int | None = None
+    origin: str = "<dict>"
+    ids: tuple[str, ...] = field(init=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "points", tuple(dict(p) for p in self.points))
+        object.__setattr__(self, "ids", tuple(_point_ids(self.points, self.scene, self.gearset)))
+
+    def to_dict(self) -> dict:
+        return {"name": self.name, "description": self.description, "gearset": self.gearset.name,
+                "scene": self.scene.name, "kind": self.kind, "fields": list(self.fields), "points": len(self.points),
+                "seed": self.seed, "plot": self.plot, "origin": self.origin}
+
+
+def load_sweep_spec(path: str | os.PathLike) -> SweepSpec:
+    """Read and validate a sweep spec file (:class:`SweepSpecError` naming the key)."""
+    path = Path(path)
+    try:
+        with path.open("rb") as handle:
+            data = tomllib.load(handle)
+    except FileNotFoundError:
+        raise SweepSpecError(f"{path}: no such sweep spec file") from None
+    except IsADirectoryError:
+        raise SweepSpecError(f"{path}: is a folder, not a sweep spec file") from None
+    except OSError as exc:
+        raise SweepSpecError(f"{path}: cannot read sweep spec ({exc.strerror or exc})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise SweepSpecError(f"{path}: malformed TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise SweepSpecError(f"{path}: malformed TOML: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    return parse_sweep_spec(data, origin=str(path), base_dir=path.parent, default_name=path.stem)
+
+
+def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | os.PathLike | None = None,
+                     default_name: str = "sweep") -> SweepSpec:
+    """Validate a spec mapping (the TOML's tables) and build the :class:`SweepSpec`.
+
+    Relative gear-set and scene file paths are taken from ``base_dir`` (the spec's folder).
+    """
+    from .scenes import resolve_scene
+
+    def fail(key: str, problem: str):
+        raise SweepSpecError(f"{origin}: {key}: {problem}")
+
+    if not isinstance(data, Mapping):
+        fail("<file>", f"a sweep spec must be a table, got {type(data).__name__}")
+    for key in data:
+        if key not in _TOP_KEYS:
+            fail(str(key), f"unknown key (allowed: {', '.join(_TOP_KEYS)})")
+    name = _text(data, "name", default_name, fail)
+    if not _NAME_RE.fullmatch(name):
+        fail("name", f"{name!r} must be letters, digits, '_', '-' or '.' (it names the output folder)")
+    description = _text(data, "description", "", fail)
+    base = Path(base_dir) if base_dir is not None else Path.cwd()
+    gearset = _base_gearset(_text(data, "gearset", "default", fail), base, fail)
+    scene_text = _text(data, "scene", "sketch", fail)
+    scene_arg = scene_text if not _looks_like_path(scene_text) or Path(scene_text).is_absolute() else base / scene_text
+    try:
+        scene = resolve_scene(scene_arg, default=gearset.scene)
+    except GearSetError as exc:
+        fail("scene", str(exc))
+    plot = _text(data, "plot", DEFAULT_PLOT, fail)
+    if plot not in OUTPUT_COLUMNS:
+        fail("plot", f"{plot!r} is not an output column (one of {', '.join(OUTPUT_COLUMNS)})")
+    has_grid, has_sample = "grid" in data, "sample" in data
+    if has_grid == has_sample:
+        fail("grid/sample", "give exactly one of a [grid] table (field = [values]) or a [sample] table "
+                            "(method, n, seed, field = [lo, hi])")
+    seed = None
+    if has_grid:
+        grid = _flat_table(data["grid"], "grid", fail)
+        if not grid:
+            fail("grid", "needs at least one field = [values]")
+        for f, values in grid.items():
+            if not isinstance(values, list) or not values:
+                fail(f"grid.{f}", f"must be a non-empty array of values, got {values!r}")
+            for v in values:
+                if not isinstance(v, (bool, int, float, str)):
+                    fail(f"grid.{f}", f"values must be numbers, texts or booleans, got {v!r}")
+        count = math.prod(len(v) for v in grid.values())
+        if count > MAX_POINTS:
+            fail("grid", f"{count} points: at most {MAX_POINTS}")
+        points, kind = grid_points(grid), "grid"
+        first = {f: v[0] for f, v in grid.items()}
+    else:
+        table = data["sample"]
+        if not isinstance(table, Mapping):
+            fail("sample", f"must be a table, got {type(table).__name__}")
+        kind = table.get("method", "lhs")
+        if kind not in SAMPLE_METHODS:
+            fail("sample.method", f"{kind!r}: must be one of {', '.join(SAMPLE_METHODS)}")
+        n = table.get("n")
+        if not _is_int(n) or not 1 <= n <= MAX_POINTS:
+            fail("sample.n", f"{'missing' if n is None else repr(n)}: must be an integer in [1, {MAX_POINTS}]")
+        seed = table.get("seed", 0)
+        if not _is_int(seed) or seed < 0:
+            fail("sample.seed", f"{seed!r}: must be an integer >= 0")
+        ranges = _flat_table({k: v for k, v in table.items() if k not in _SAMPLE_KEYS}, "sample", fail)
+        if not ranges:
+            fail("sample", "needs at least one field = [lo, hi]")
+        for f, rng in ranges.items():
+            ok = (isinstance(rng, list) and len(rng) == 2 and all(isinstance(v, (int, float)) and not isinstance(v, bool)
+                                                               and math.isfinite(v) for v in rng) and rng[0] < rng[1])
+            if not ok:
+                fail(f"sample.{f}", f"must be [lo, hi] with finite numbers lo < hi, got {rng!r}")
+        points = sample_points(ranges, n, method=kind, seed=seed)
+        first = {f: r[0] for f, r in ranges.items()}
+    for f, v in first.items():
+        _check_field(gearset, f, v, "grid" if has_grid else "sample", fail)
+    return SweepSpec(name=name, gearset=gearset, scene=scene, kind=kind, fields=tuple(first), points=tuple(points),
+                     description=description, plot=plot, seed=seed, origin=origin)
+
+
+def _text(data: Mapping, key: str, default: str, fail) -> str:
+    value = data.get(key, default)
+    if not isinstance(value, str) or (key != "description" and not value.strip()):
+        fail(key, f"must be a text, got {value!r}")
+    return value
+
+
+def _looks_like_path(text: str) -> bool:
+    return text.endswith(".toml") or os.sep in text or (os.altsep is not None and os.altsep in text)
+
+
+def _base_gearset(text: str, base: Path, fail) -> GearSet:
+    from .gearset import load_gearset, resolve_gearset
+
+    try:
+        if _looks_like_path(text) and not Path(text).is_absolute():
+            path = base / text
+            if not path.is_file():
+                fail("gearset", f"{path}: no such gear-set file")
+        else:
+            path = resolve_gearset(text)
+        return load_gearset(path)
+    except GearSetError as exc:
+        fail("gearset", str(exc))
+
+
+def _flat_table(table, prefix: str, fail, _path: str = "") -> dict:
+    """A (possibly nested) TOML table as {dotted path: value}: `a.b = 1` and `"a.b" = 1` alike."""
+    if not isinstance(table, Mapping):
+        fail(prefix, f"must be a table, got {type(table).__name__}")
+    out = {}
+    for key, value in table.items():
+        path = f"{_path}.{key}" if _path else str(key)
+        if isinstance(value, Mapping):
+            out.update(_flat_table(value, prefix, fail, path))
+        else:
+            out[path] = value
+    return out
+
+
+def _check_field(gearset: GearSet, path: str, value, table: str, fail) -> None:
+    """A field path the gear set does not have is a spec error; a bad value is the point's."""
+    try:
+        gearset.with_values({path: value})
+    except GearSetError as exc:
+        parts = path.split(".")
+        prefixes = tuple(".".join(parts[:i]) + ":" for i in range(1, len(parts) + 1))  # a section or the field
+        for line in exc.problems:
+            if line.startswith(prefixes) and ("unknown key" in line or "not a field path" in line
+                                              or "is not a section" in line):
+                fail(f"{table}.{path}", f"not a gear-set field ({line})")
+
+
+# ----------------------------------------------------------------------------- running
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class SweepResult:
+    """The table of a sweep: one row per point, in index order.
+
+    ``rows``: dicts with ``index``, ``point_id``, the swept fields, :data:`OUTPUT_COLUMNS`
+    and :data:`STATUS_COLUMNS` (None for an empty cell); ``computed``: points run by this
+    call, ``reused``: points read back from the journal; ``files``: written files.
+    """
+
+    spec: SweepSpec
+    rows: tuple[dict, ...]
+    computed: int
+    reused: int
+    time_s: float
+    files: tuple[Path, ...] = ()
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        return ("index", "point_id", *self.spec.fields, *OUTPUT_COLUMNS, *STATUS_COLUMNS)
+
+    @property
+    def ok(self) -> int:
+        return sum(r["status"] == "ok" for r in self.rows)
+
+    @property
+    def failed(self) -> int:
+        return len(self.rows) - self.ok
+
+    def column(self, name: str) -> list:
+        """One column, in row order."""
+        if name not in self.columns:
+            raise KeyError(f"{name!r} is not a column (columns: {', '.join(self.columns)})")
+        return [r[name] for r in self.rows]
+
+    def to_dict(self) -> dict:
+        return {"spec": self.spec.to_dict(), "points": len(self.rows), "ok": self.ok, "failed": self.failed,
+                "computed": self.computed, "reused": self.reused, "time_s": self.time_s,
+                "files": [str(p) for p in self.files]}
+
+    def plot(self, output: str | None = None, *, ax: Axes | None = None):
+        """The output (default: the spec's ``plot``) against each swept field; returns the Axes."""
+        return plot_sweep(self, output, ax=ax)
+
+
+def _run_point(index: int, values: dict, gearset: GearSet, scene: Scene, designer) -> dict:
+    """Run one point (in a worker): {column: value} with status; never raises for the point's own errors."""
+    from .pipeline import design
+
+    row: dict[str, Any] = {"index": index}
+    t0 = time.perf_counter()
+    try:
+        gs = gearset.with_values(values)
+        result = (designer or design)(gs, scene=scene)
+        row.update(outputs_of(result))
+        row["time_design_s"] = time.perf_counter() - t0
+        row.update(status="ok", error_type=None, error_message=None)
+    except Exception as exc:  # any failure of the point is its result (brief: it must not stop the sweep)
+        log.info("sweep point %d failed: %s: %s", index, type(exc).__name__, exc)
+        row.update({c: None for c in OUTPUT_COLUMNS})
+        row["time_design_s"] = time.perf_counter() - t0
+        row.update(status="error", error_type=type(exc).__name__, error_message=" ".join(str(exc).split()) or repr(exc))
+    return row
+
+
+_ONE_THREAD = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS")
+
+
+def _init_worker() -> None:
+    """Process-pool workers: one BLAS thread each, as Dask's workers have by default (the
+    pool is the parallelism; and a BLAS's thread count changes its rounding, so both give
+    the same table). The variables cover the libraries loaded later (scipy's own BLAS)."""
+    for name in _ONE_THREAD:
+        os.environ[name] = "1"
+    from threadpoolctl import threadpool_limits
+
+    from .arcfit import clear_cache
+
+    threadpool_limits(1)
+    clear_cache()  # a forked worker starts without its parent's remembered fits
+    # a worker whose sweep was killed (kill -9: no shutdown) would wait for work forever
+    parent = os.getppid()
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="profilegen-sweep-parent-watch", daemon=True).start()
+
+
+@contextlib.contextmanager
+def dask_executor(address: str) -> Iterator[Executor]:
+    """A :class:`concurrent.futures.Executor` on the Dask cluster at ``address``
+    (``tcp://HOST:PORT``): ``distributed.Client(address).get_executor()``; the client is
+    closed on leaving. Its workers need profilegen installed."""
+    try:
+        from distributed import Client
+    except ImportError:
+        raise SweepError("a Dask cluster needs dask[distributed]: pip install 'profilegen[dask]'") from None
+    try:
+        client = Client(address, timeout="10s")
+    except (OSError, TimeoutError, ValueError) as exc:
+        raise SweepError(f"cannot connect to the Dask scheduler at {address}: {exc}") from None
+    try:
+        yield client.get_executor()
+    finally:
+        client.close()
+
+
+def run_sweep(
+    spec: SweepSpec,
+    out_dir: str | os.PathLike,
+    *,
+    executor: Executor | None = None,
+    workers: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    designer: Callable[..., Design] | None = None,
+    table: str | os.PathLike | None = None,
+    figure: bool = True,
+) -> SweepResult:
+    """Run every point of ``spec`` not yet in ``out_dir/journal.csv``; write the table.
+
+    ``executor``: where the points run (not shut down here); default a process pool of
+    ``workers`` processes (default: the CPU count), closed at the end. ``progress(done,
+    total)`` is called with the points already finished and after each point.
+    ``designer(gearset, scene=...)``: the design function (default
+    :func:`profilegen.pipeline.design`; it must pickle for a process pool or Dask).
+    Writes ``results.csv`` (always), ``sweep.png`` (``figure``), and ``table`` if given
+    (CSV, or Parquet when it ends in ``.parquet``: needs pyarrow). Interrupted
+    (KeyboardInterrupt), it cancels what has not started and re-raises; the journal keeps
+    every finished point.
+    """
+    t0 = time.perf_counter()
+    out = Path(out_dir)
+    if table is not None and str(table).endswith(".parquet"):
+        _require_pyarrow(table)
+    if workers is not None and not (_is_int(workers) and workers >= 1):
+        raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
+    journal = _Journal(out / "journal.csv", ("point_id", *spec.fields, *OUTPUT_COLUMNS, *STATUS_COLUMNS))
+    wanted = set(spec.ids)
+    done: dict[str, dict] = {pid: row for pid, row in journal.read().items() if pid in wanted}
+    reused = len(done)
+    total = len(spec.points)
+    todo: dict[str, int] = {}  # point id → first index with it (equal points run once)
+    for i, pid in enumerate(spec.ids):
+        if pid not in done and pid not in todo:
+            todo[pid] = i
+    copies = Counter(spec.ids)  # equal points share an id (and a run)
+    finished = sum(copies[pid] for pid in done)
+    if progress:
+        progress(finished, total)
+    log.info("sweep %s: %d points, %d from the journal, %d to run", spec.name, total, finished, len(todo))
+    own = executor is None and bool(todo)
+    if own:
+        from concurrent.futures import ProcessPoolExecutor
+
+        executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, initializer=_init_worker)
+    futures = {}
+    try:
+        for pid, i in todo.items():
+            futures[executor.submit(_run_point, i, spec.points[i], spec.gearset, spec.scene, designer)] = pid
+        for fut in as_completed(futures):
+            pid = futures[fut]
+            try:
+                row = fut.result()
+            except Exception as exc:  # the executor failed, not the point: stop, the journal keeps the rest
+                raise SweepError(f"sweep {spec.name}: the executor failed on point {todo[pid]} "
+                                 f"({type(exc).__name__}: {exc}); run the sweep again to resume") from exc
+            cells = {"point_id": pid, **{f: spec.points[todo[pid]][f] for f in spec.fields},
+                     **{c: row.get(c) for c in (*OUTPUT_COLUMNS, *STATUS_COLUMNS)}}
+            journal.append(cells)
+            done[pid] = journal.parse(journal.encode_cells(cells))
+            finished += copies[pid]
+            if progress:
+                progress(finished, total)
+    except BaseException:
+        for fut in futures:
+            fut.cancel()
+        if own:
+            executor.shutdown(wait=False, cancel_futures=True)
+        raise
+    if own:
+        executor.shutdown(wait=True)
+    rows = tuple(_table_row(i, pid, spec, done[pid]) for i, pid in enumerate(spec.ids))
+    files = [write_table(rows, _columns(spec), out / "results.csv")]
+    if table is not None:
+        files.append(write_table(rows, _columns(spec), table))
+    result = SweepResult(spec, rows, len(todo), reused, 0.0)
+    if figure:
+        files.append(plot_sweep(result, path=out / "sweep.png"))
+    return SweepResult(spec, rows, len(todo), reused, time.perf_counter() - t0, tuple(files))
+
+
+def _columns(spec: SweepSpec) -> tuple[str, ...]:
+    return ("index", "point_id", *spec.fields, *OUTPUT_COLUMNS, *STATUS_COLUMNS)
+
+
+def _table_row(index: int, pid: str, spec: SweepSpec, cells: Mapping[str, str]) -> dict:
+    """A result row from journal cells (text): inputs from the spec, outputs typed."""
+    row: dict[str, Any] = {"index": index, "point_id": pid, **spec.points[index]}
+    for c in OUTPUT_COLUMNS:
+        row[c] = _parse_cell(cells.get(c, ""), _TYPES[c])
+    for c in STATUS_COLUMNS:
+        row[c] = cells.get(c) or None
+    return row
+
+
+def _cell(value) -> str:
+    """A value as journal/CSV text: '' for None, shortest round-trip repr for floats."""
+    if value is None:
+        return ""
+    if isinstance(value, (bool, np.bool_)):
+        return "true" if value else "false"
+    if isinstance(value, (float, np.floating)):
+        return repr(float(value))
+    return str(value)
+
+
+def _parse_cell(text: str, kind: type):
+    if text == "":
+        return None
+    if kind is bool:
+        return text == "true"
+    return kind(text)
+
+
+# ----------------------------------------------------------------------------- the journal
+
+
+class _Journal:
+    """An append-only CSV of finished points, one complete line each.
+
+    Each line is written by one ``write`` on a file opened for appending and ends with a
+    CRC of its cells, so a line cut short by a kill is recognised (and dropped) when the
+    journal is read back. A journal with another header (another spec, another version's
+    outputs) is rewritten, atomically, with this header and the rows it had.
+    """
+
+    def __init__(self, path: Path, columns: Sequence[str]):
+        self.path = path
+        self.columns = tuple(columns)
+        self.header = self.columns + ("crc",)
+
+    def encode_cells(self, cells: Mapping[str, Any]) -> list[str]:
+        texts = [_cell(cells.get(c)) for c in self.columns]
+        return texts + [f"{zlib.crc32(chr(31).join(texts).encode()):08x}"]
+
+    @staticmethod
+    def _line(texts: Sequence[str]) -> str:
+        buf = io.StringIO()
+        csv.writer(buf, lineterminator="\n").writerow(texts)
+        return buf.getvalue()
+
+    def parse(self, texts: Sequence[str]) -> dict[str, str]:
+        return dict(zip(self.columns, texts))
+
+    def read(self) -> dict[str, dict[str, str]]:
+        """{point id: cells} of the complete lines; repairs a cut last line and an old header."""
+        if not self.path.exists():
+            return {}
+        try:
+            raw = self.path.read_bytes()
+        except OSError as exc:
+            raise ExportError(f"cannot read the sweep journal {self.path}: {exc.strerror or exc}") from exc
+        cut = not raw.endswith(b"\n")
+        text = raw.decode("utf-8", errors="replace")
+        records = list(csv.reader(io.StringIO(text)))
+        if not records:
+            return {}
+        header, body = tuple(records[0]), records[1:]
+        rows: dict[str, dict[str, str]] = {}
+        bad = 0
+        for rec in body:
+            if len(rec) != len(header) or header[-1:] != ("crc",):
+                bad += 1
+                continue
+            texts = rec[:-1]
+            if f"{zlib.crc32(chr(31).join(texts).encode()):08x}" != rec[-1]:
+                bad += 1
+                continue
+            cells = dict(zip(header[:-1], texts))
+            if "point_id" in cells:
+                rows[cells["point_id"]] = cells
+        if bad:
+            log.warning("sweep journal %s: %d incomplete or damaged line(s) dropped", self.path, bad)
+        if header != self.header or bad or cut:
+            self._rewrite(rows)
+        return {pid: {c: cells.get(c, "") for c in self.columns} for pid, cells in rows.items()}
+
+    def _rewrite(self, rows: Mapping[str, Mapping[str, str]]) -> None:
+        from .export import atomic_write
+
+        with atomic_write(self.path) as f:
+            f.write(self._line(self.header))
+            for cells in rows.values():
+                f.write(self._line(self.encode_cells({c: cells.get(c, "") for c in self.columns})))
+
+    def append(self, cells: Mapping[str, Any]) -> None:
+        try:
+            if not self.path.exists():
+                self._rewrite({})
+            data = self._line(self.encode_cells(cells)).encode()
+            fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+            try:
+                written = os.write(fd, data)
+            finally:
+                os.close(fd)
+        except OSError as exc:
+            raise ExportError(f"cannot write the sweep journal {self.path}: {exc.strerror or exc}") from exc
+        if written != len(data):
+            raise ExportError(f"cannot write the sweep journal {self.path}: short write ({written} of {len(data)} bytes)")
+
+
+# ----------------------------------------------------------------------------- files
+
+
+def _require_pyarrow(path) -> None:
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        raise SweepError(f"{path}: writing Parquet needs pyarrow (pip install pyarrow); without it, "
+                         "give an output folder: results.csv is always written there") from None
+
+
+def write_table(rows: Sequence[Mapping], columns: Sequence[str], path: str | os.PathLike) -> Path:
+    """Write rows as CSV, or as Parquet when ``path`` ends in ``.parquet`` (needs pyarrow);
+    atomically. Empty cells are empty in the CSV, nulls in Parquet."""
+    from .export import atomic_write
+
+    path = Path(path)
+    if path.suffix == ".parquet":
+        _require_pyarrow(path)
+        import pyarrow as pa
+        import pyarrow.parquet as pq
+
+        tbl = pa.table({c: [r.get(c) for r in rows] for c in columns})
+        with atomic_write(path, "wb") as f:
+            pq.write_table(tbl, f)
+        return path
+    with atomic_write(path) as f:
+        w = csv.writer(f, lineterminator="\n")
+        w.writerow(columns)
+        for r in rows:
+            w.writerow([_cell(r.get(c)) for c in columns])
+    return path
+
+
+def plot_sweep(result: SweepResult, output: str | None = None, *, ax: Axes | None = None,
+               path: str | os.PathLike | None = None):
+    """``output`` (default the spec's ``plot``) against each swept field, one panel per
+    field; failed points as red crosses on the axis. Returns the Axes of the first panel,
+    or the path written when ``path`` is given (PNG, atomically)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    spec = result.spec
+    output = output or spec.plot
+    if output not in OUTPUT_COLUMNS:
+        raise ValueError(f"output must be an output column ({', '.join(OUTPUT_COLUMNS)}), got {output!r}")
+    fields = spec.fields
+    if ax is None:
+        fig = Figure(figsize=(4.2 * len(fields), 3.4), layout="constrained")
+        FigureCanvasAgg(fig)
+        axes = [fig.add_subplot(1, len(fields), k + 1) for k in range(len(fields))]
+    else:
+        fig, axes = ax.figure, [ax]
+    for a, f in zip(axes, fields):
+        xs = [r[f] for r in result.rows]
+        categorical = not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in xs)
+        if categorical:
+            labels = sorted({str(x) for x in xs})
+            pos = {lab: k for k, lab in enumerate(labels)}
+            xs = [pos[str(x)] for x in xs]
+            a.set_xticks(range(len(labels)), labels)
+        ok = [(x, r[output]) for x, r in zip(xs, result.rows) if r["status"] == "ok" and r[output] is not None]
+        bad = [x for x, r in zip(xs, result.rows) if r["status"] != "ok"]
+        if ok:
+            a.plot(*zip(*ok), "o", color="#1f5fbf", markersize=4, label=f"ok ({len(ok)})")
+        if bad:
+            a.plot(bad, [0.0] * len(bad), "x", color="#d62728", markersize=6, transform=a.get_xaxis_transform(),
+                   clip_on=False, label=f"failed ({len(bad)})")
+        a.set_xlabel(f)
+        a.set_ylabel(output)
+        a.grid(True, linewidth=0.4, alpha=0.5)
+        a.legend(fontsize=7)
+    fig.suptitle(f"sweep {spec.name}: {spec.kind}, {len(result.rows)} points, scene {spec.scene.name}", fontsize=9)
+    if path is None:
+        return axes[0]
+    from .export import atomic_write
+
+    path = Path(path)
+    with atomic_write(path, "wb") as handle:
+        fig.savefig(handle, format="png", dpi=120)
+    return path
