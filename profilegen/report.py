@@ -343,8 +343,11 @@ face width {cup.face_width_mm:g} mm, root fillet {cup.root_fillet_radius_mm:g} m
 
 
 def _seed_tables() -> str:
-    from .stress.plate import seed002_comparison
+    from .stress.plate import SEED002_BETA, seed002_beta, seed002_comparison
     from .stress.tooth_ring import seed001_comparison, seed001_trend_checks
+
+    beta = "".join(f"<tr><td>β{i}</td><td>{b:.4f}</td><td>{ours:.5f}</td><td>{ours - b:+.1e}</td></tr>"
+                   for i, (b, ours) in enumerate(zip(SEED002_BETA, seed002_beta())))
 
     rows1 = "".join(
         f"<tr><td>{html.escape(str(r.quantity))}</td><td>{_num(r.seed_value, '.4g')}</td>"
@@ -366,8 +369,9 @@ def _seed_tables() -> str:
 <h3>Seed 002 (cup bottom, CSG-25, L/D 0.3)</h3>
 <table><tr><th>quantity</th><th>seed (MPa)</th><th>seed002 variant</th><th>consistent plate</th><th>why</th></tr>
 {rows2}</table>
-<p>β constants of seed 002's Table 1 are reproduced by the <code>seed002</code> variant (ln r in mm, ν f″ + f′/r = 0
-at r_m) within 2e-4; a scikit-fem Morley plate solution of the same problem agrees with the consistent model and
+<table><tr><th>Table 1</th><th>seed</th><th><code>seed002</code> variant</th><th>difference</th></tr>{beta}</table>
+<p>The β constants of seed 002's Table 1 come out of the <code>seed002</code> variant only with ln r in mm and
+ν f″ + f′/r = 0 at r_m (the paper's "M_φ = 0"); a scikit-fem Morley plate solution of the same problem agrees with the consistent model and
 puts the seed variant's clamp stress 19 % high (<code>python tests/benchmarks/stress_plate.py</code>).</p>"""
 
 
