@@ -39,7 +39,7 @@ def _cmd_design(args) -> int:
         return 0
     gearset = _load(args.gearset)
     out = Path(args.out) if args.out else Path("export") / gearset.name
-    stages = ["tooth", "deformation", "envelope", "gearform", "arcfit", "contact", "files"]
+    stages = ["tooth", "deformation", "envelope", "gearform", "arcfit", "contact", "stress", "files"]
     bar = _progress(len(stages), quiet=args.quiet)
     result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name),
                     contact=args.contact)
@@ -77,7 +77,16 @@ def _summary(result, written) -> None:
         for case in result.contact.cases:
             print(f"  contact at {case.torque_nm:g} N·m: {case.teeth_in_contact} teeth per zone "
                   f"({result.contact.zones} zones), rotation {case.rotation_arcmin:.3f} arcmin, "
-                  f"max tooth force {case.max_tooth_force_n:.0f} N")
+                  f"max tooth force {case.max_tooth_force_n:.0f} N"
+                  + ("" if case.beyond_capacity is None else f" — BEYOND CAPACITY: {case.beyond_capacity}"))
+    if result.stress is not None:
+        res = result.stress
+        ring = ", ".join(f"{r.total_stress_mpa:.0f}" for r in res.tooth_ring)
+        print(f"  stress at {', '.join(f'{t:g}' for t in res.torques_nm)} N·m: tooth root {ring} MPa, cup bottom "
+              f"von Mises {', '.join(f'{b.max_von_mises_mpa:.0f}' for b in res.cup_bottom)} MPa")
+        for c in res.checks:
+            verdict = "skipped" if c.value is None else f"{c.value:.2f} ({'pass' if c.passed else 'FAIL'})"
+            print(f"    safety, {c.name} at {c.torque_nm:g} N·m: {verdict}")
     for w in result.warnings:
         print(f"  note: {w}")
     for p in written:
@@ -194,6 +203,22 @@ def _cmd_profiles(args) -> int:
     return 0
 
 
+def _cmd_bench(args) -> int:
+    from .bench import format_rows, scene_benchmark, write_scene_benchmark
+
+    gearset = _load(args.gearset)
+    scenes = ("sketch", "design") if args.quick else ("sketch", "design", "verify")
+    say = (lambda text: None) if args.quiet else (lambda text: print(f"  {text}", file=sys.stderr))
+    rows = scene_benchmark(gearset, scenes=scenes, repeats=1 if args.quick else args.repeats, progress=say)
+    out = Path(args.out) if args.out else Path("export") / "bench"
+    written = write_scene_benchmark(rows, out, title=f"{gearset.name}: the whole pipeline per scene")
+    if not args.quiet:
+        print(format_rows(rows))
+        for p in written:
+            print(f"  wrote {p}")
+    return 0
+
+
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="profilegen", description="Conjugate tooth profiles for strain wave gears.")
     p.add_argument("-v", "--verbose", action="store_true", help="log what each stage does")
@@ -224,6 +249,14 @@ def _parser() -> argparse.ArgumentParser:
                                   "writes the table there as Parquet (needs pyarrow), the folder beside it")
     sw.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     sw.set_defaults(func=_cmd_sweep)
+    b = sub.add_parser("bench", help="speed against accuracy of the whole pipeline, one point per scene")
+    b.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
+    b.add_argument("--quick", action="store_true", help="sketch and design only, one run each (the reference is "
+                   "the design scene refined); default: all three scenes, the reference the verify scene refined")
+    b.add_argument("--repeats", type=_positive_int, default=3, metavar="N", help="runs per scene, median time (default 3)")
+    b.add_argument("--out", metavar="DIR", help="output folder (default: export/bench/)")
+    b.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    b.set_defaults(func=_cmd_bench)
     return p
 
 

@@ -185,3 +185,16 @@ def test_design_with_contact_writes_the_loaded_contact(tmp_path):
     moment = np.sum(np.array(contact["points"]["lever_mm"]) * np.array(case["solution"]["force_n"]))
     assert moment == pytest.approx(case["zone_torque_nm"] * 1e3, rel=1e-9)
     assert (out / "contact.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_bench_quick_writes_the_speed_accuracy_chart(tmp_path, capsys):
+    """`profilegen bench --quick`: sketch and design against the refined design scene; the
+    refined envelope is nearer the design scene's than the sketch scene's (ring theory)."""
+    import csv
+
+    assert main(["bench", "--quick", "--out", str(tmp_path), "-q"]) == 0
+    rows = {r["scene"]: r for r in csv.DictReader(open(tmp_path / "pipeline.csv"))}
+    assert set(rows) == {"sketch", "design", "reference"}
+    assert float(rows["design"]["flank_error_mm"]) < 1e-5 < float(rows["sketch"]["flank_error_mm"])
+    assert float(rows["reference"]["flank_error_mm"]) == 0.0
+    assert (tmp_path / "pipeline.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
