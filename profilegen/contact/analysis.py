@@ -82,11 +82,11 @@ class LoadCase:
         would too), or the rotation φ reaches the points left out (φ · max r_k ≥ the search's
         ``max_gap_mm``: a station farther than that could touch). The load case is still
         returned, flagged, with this reason."""
-        if self.solution.all_points_loaded:
-            return "every candidate contact point is loaded"
         if self.reach_mm >= self.max_gap_mm:
             return (f"the rotation reaches {self.reach_mm * 1e3:.1f} µm at the longest lever arm, past the "
                     f"{self.max_gap_mm * 1e3:.0f} µm within which points were searched")
+        if self.solution.all_points_loaded:
+            return "every candidate contact point is loaded"
         edge = [int(self.teeth[k]) for k in (0, self.teeth.size - 1) if self.tooth_force_n[k] > 0.0]
         if edge:
             return f"the edge tooth {edge} of the searched zone carries load"
