@@ -54,10 +54,15 @@ class Line:
 
     def distance(self, points: np.ndarray) -> np.ndarray:
         """Unsigned distance of points (n, 2) to the segment."""
+        return self.nearest(points)[0]
+
+    def nearest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Distance of points (n, 2) to the segment and the segment's nearest points (n, 2)."""
         p = np.atleast_2d(points)
         d = self.end - self.start
         s = np.clip(((p - self.start) @ d) / (d @ d), 0.0, 1.0)
-        return np.hypot(*(p - (self.start + s[:, None] * d)).T)
+        foot = self.start + s[:, None] * d
+        return np.hypot(*(p - foot).T), foot
 
     def reversed(self) -> "Line":
         return Line(self.end, self.start)
@@ -123,6 +128,11 @@ class Arc:
 
     def distance(self, points: np.ndarray) -> np.ndarray:
         """Unsigned distance of points (n, 2) to the arc (its circle where the point faces the arc)."""
+        return self.nearest(points)[0]
+
+    def nearest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Distance of points (n, 2) to the arc and the arc's nearest points (n, 2): on the
+        circle where the point faces the arc, else the nearer end."""
         p = np.atleast_2d(points)
         rel = p - self.centre
         ang = np.arctan2(rel[:, 1], rel[:, 0])
@@ -130,8 +140,11 @@ class Arc:
         frac = np.mod((ang - self.start_angle) * math.copysign(1.0, self.sweep), 2 * math.pi) / abs(self.sweep)
         on = frac <= 1.0
         d_circle = np.abs(np.hypot(*rel.T) - self.radius)
-        d_ends = np.minimum(np.hypot(*(p - self.start).T), np.hypot(*(p - self.end).T))
-        return np.where(on, d_circle, d_ends)
+        d_start, d_end = np.hypot(*(p - self.start).T), np.hypot(*(p - self.end).T)
+        circle_foot = self.centre + self.radius * np.column_stack([np.cos(ang), np.sin(ang)])
+        end_foot = np.where((d_start <= d_end)[:, None], self.start, self.end)
+        return (np.where(on, d_circle, np.minimum(d_start, d_end)),
+                np.where(on[:, None], circle_foot, end_foot))
 
     def reversed(self) -> "Arc":
         return Arc(self.centre, self.radius, self.end_angle, -self.sweep)
@@ -262,6 +275,15 @@ class Chain:
 
     def distance(self, points: np.ndarray) -> np.ndarray:
         return np.min([e.distance(points) for e in self.elements], axis=0)
+
+    def nearest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Distance of points (n, 2) to the chain and its nearest points (n, 2) (exact for
+        lines and arcs)."""
+        found = [e.nearest(points) for e in self.elements]
+        dist = np.stack([d for d, _ in found])
+        best = np.argmin(dist, axis=0)
+        k = np.arange(dist.shape[1])
+        return dist[best, k], np.stack([f for _, f in found])[best, k]
 
     def transformed(self, matrix, offset=(0.0, 0.0)) -> "Chain":
         return Chain(tuple(e.transformed(matrix, offset) for e in self.elements))

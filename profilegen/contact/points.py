@@ -13,7 +13,7 @@ symmetry, a rotation by 2π/U that maps the loads of one zone onto the next — 
 zone takes T/U). Per tooth, ``stations`` points along the loaded FS flank from the start
 of its working part to the tip corner; for each, the initial separation e_k (mm) is the
 distance from the station to the fitted CS flank (the true arcs and lines of
-``design.profile.space``, sampled at 1 nm chord), measured along the FS flank's outward
+``design.profile.space``, exact distances to them), measured along the FS flank's outward
 normal n_k (the common normal at contact). A rigid rotation Δφ of the FS relative to
 the CS closes the gap by r_k Δφ, r_k = (p × n)·(−z), the lever arm of the normal about
 the gear centre in the package's angle sense (+y toward +x); the loaded flank is the one
@@ -146,8 +146,6 @@ def _flank_start(tooth, design) -> float:
 def contact_points(design, *, side: int = 1, stations: int = 5, max_gap_mm: float = 0.12) -> ContactPoints:
     """The potential contact points of one engagement zone of ``design`` (a
     :class:`profilegen.pipeline.Design` with a fitted CS profile). See the module docstring."""
-    import shapely
-
     if side not in (1, -1):
         raise ContactPointError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
     if isinstance(stations, bool) or not isinstance(stations, (int, np.integer)) or stations < 2:
@@ -164,9 +162,7 @@ def contact_points(design, *, side: int = 1, stations: int = 5, max_gap_mm: floa
     g = design.gearset.gear
     z1, z2, waves = g.flexspline_teeth, g.circular_spline_teeth, g.waves
     tooth, motion = design.tooth, design.motion
-    space = design.profile.space.sample(1e-6)
-    cs_line = shapely.LineString(space)
-    shapely.prepare(cs_line)
+    space = design.profile.space  # true arcs and lines: exact distances and feet
 
     t = np.linspace(_flank_start(tooth, design), tooth.length_mm, stations)
     local = tooth.evaluate(t, side=side)[0]
@@ -186,12 +182,12 @@ def contact_points(design, *, side: int = 1, stations: int = 5, max_gap_mm: floa
     # every tooth's separation on a fine scan of the flank; each local minimum found to
     # 1e-7 mm takes the place of the station nearest to it
     scan = np.linspace(t[0], t[-1], _SCAN)
-    gaps = shapely.distance(shapely.points(place(tooth.evaluate(scan, side=side)[0][None, :, :],
-                                                 np.arange(teeth.size)[:, None])), cs_line)
+    gaps = space.distance(place(tooth.evaluate(scan, side=side)[0][None, :, :],
+                                np.arange(teeth.size)[:, None]).reshape(-1, 2)).reshape(teeth.size, _SCAN)
     padded = np.pad(gaps, ((0, 0), (1, 1)), constant_values=np.inf)
     j_min, k_min = np.nonzero((gaps <= padded[:, :-2]) & (gaps < padded[:, 2:]))
     t_min = _golden_minimum(
-        lambda u: shapely.distance(shapely.points(place(tooth.evaluate(u, side=side)[0], j_min)), cs_line),
+        lambda u: space.distance(place(tooth.evaluate(u, side=side)[0], j_min)),
         scan[np.maximum(k_min - 1, 0)], scan[np.minimum(k_min + 1, _SCAN - 1)])
     all_t = np.broadcast_to(t, (teeth.size, stations)).copy()
     moved = np.zeros(all_t.shape, bool)
@@ -210,12 +206,11 @@ def contact_points(design, *, side: int = 1, stations: int = 5, max_gap_mm: floa
         c, s = cos[j], sin[j]
         placed = place(lj, j)
         normal = np.column_stack([nj[:, 0] * c + nj[:, 1] * s, nj[:, 1] * c - nj[:, 0] * s])
-        gap = shapely.distance(shapely.points(placed), cs_line)
+        gap, foot = space.nearest(placed)
         keep = np.flatnonzero(gap <= max_gap_mm)
         if keep.size == 0:
             continue
-        near = shapely.points(placed[keep])
-        foot = shapely.get_coordinates(shapely.line_interpolate_point(cs_line, shapely.line_locate_point(cs_line, near)))
+        foot = foot[keep]
         angle = 2.0 * math.pi * i / z2
         rows.append((np.full(keep.size, i), np.full(keep.size, phis[j]), tj[keep], lj[keep],
                      turn(placed[keep], angle), turn(foot, angle), turn(normal[keep], angle), gap[keep]))

@@ -47,7 +47,7 @@ def test_complementarity_equilibrium_and_settled_balls(rated):
 
 
 def test_first_contact_is_at_the_smallest_separation(design, rated):
-    tiny = solve_contact(design, [1e-3], points=rated.points, compliance=rated.compliance)
+    tiny = solve_contact(design, [1e-6], points=rated.points, compliance=rated.compliance)
     sol = tiny.cases[0].solution
     assert sol.loaded_count == 1
     assert np.argmax(sol.force_n) == np.argmin(rated.points.theta_rad)
