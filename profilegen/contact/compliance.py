@@ -30,8 +30,11 @@ Model (small displacements about the undeformed bodies; linear, plane stress)
   toothed_half_ring_mesh`, 9-node isoparametric quads). Every load stands for itself
   and its image in the other zone: S is the compliance of one zone with the other zone
   loaded alike, so the contact solve of one zone must carry T/2 (each zone takes T/U).
-  Every pitch is toothed by default (``toothed_teeth="all"``, 83 199 dof for the default
-  set). ``toothed_teeth="loaded"`` keeps teeth only on the pitches that carry a point
+  Every pitch is toothed by default (``toothed_teeth="all"``; 14 columns per pitch, 4
+  tooth + 2 rim + 2 race layers: 97 998 dof for the default set). Mesh study (default
+  set, 196 points, 54 / 265 / 660 N·m): 24 columns per pitch on both bodies move the
+  secant stiffness by < 0.1 % and the largest tooth force by 0.2 / 0.1 / 1.8 %; 6 tooth
+  layers by < 0.1 % and 0.5 % at most; 3 rim layers by < 0.02 %. ``toothed_teeth="loaded"`` keeps teeth only on the pitches that carry a point
   (± ``margin_teeth``) and makes the others a flat ring up to the root circle with
   ``flat_per_pitch`` columns: half the time, but the diagonal of S moves by up to 13 %
   (median 10 %, default set, 78 points) — the FS compliance is mostly the rim's, not the
@@ -794,7 +797,7 @@ class ContactCompliance:
         wrap_half_angle_rad: float | None = None,
         margin_teeth: int = 2,
         toothed_teeth: str = "all",
-        per_pitch: int = 16,
+        per_pitch: int = 14,
         flat_per_pitch: int = 2,
         rim_layers: int = 2,
         tooth_layers: int = 4,
