@@ -288,7 +288,11 @@ def _verdict(check) -> str:
     return '<span class="pass">pass</span>' if check.passed else '<span class="fail">FAIL</span>'
 
 
-def _contact_section(design) -> str:
+def _png_uri(png: bytes) -> str:
+    return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
+
+
+def _contact_section(design, png: bytes | None = None) -> str:
     c = design.contact
     if c is None:
         return ("<h2>Loaded contact</h2><p>Not run in this scene (run the <code>design</code> or <code>verify</code> "
@@ -301,17 +305,17 @@ def _contact_section(design) -> str:
         f"<td>{case.max_tooth_force_n:.0f}</td><td>{ki:.3g}</td>"
         f"<td class=text>{html.escape(case.beyond_capacity or 'within the searched zone')}</td></tr>"
         for case, ki in zip(c.cases, k))
-    fig = plot.contact_figure(c, title="")
+    uri = _png_uri(png) if png is not None else figure_png(plot.contact_figure(c, title=""), dpi=100)
     return f"""<h2>Loaded contact (seed 000, complementarity)</h2>
 <p>{c.points.count} candidate points on {c.points.teeth.size} teeth per zone, {c.zones} zones; FEM influence
 coefficients (face width {c.compliance_info.get('face_width_mm', float('nan')):.4g} mm), Lemke's complementary
 pivoting. The stiffness is the mesh's only (no ball Hertz, inner ring, cam or cup wind-up).</p>
 <table><tr><th>torque (N·m)</th><th>teeth in contact per zone</th><th>rotation (arcmin)</th>
 <th>max tooth force (N)</th><th>secant stiffness (N·m/rad)</th><th>capacity</th></tr>{rows}</table>
-<img src="{figure_png(fig, dpi=100)}" alt="loaded contact">"""
+<img src="{uri}" alt="loaded contact">"""
 
 
-def _stress_section(design) -> str:
+def _stress_section(design, png: bytes | None = None) -> str:
     res = design.stress
     from . import plot
 
@@ -323,7 +327,7 @@ def _stress_section(design) -> str:
         f"<td>{r.total_stress_mpa:.1f}</td><td>{b.max_von_mises_mpa:.1f}</td><td>{float(b.tau_load_mpa[0]):.1f}</td>"
         f"<td>{d.shear_amplitude_mpa:.1f}</td><td>{d.mean_shear_mpa:.1f}</td></tr>"
         for t, f, r, b, d in zip(res.torques_nm, res.tangential_force_n, res.tooth_ring, res.cup_bottom, res.diaphragm))
-    fig = plot.stress_figure(res)
+    uri = _png_uri(png) if png is not None else figure_png(plot.stress_figure(res), dpi=100)
     g = design.gearset
     cup = g.cup
     overall = ('<span class="pass">every check passes</span>' if res.passed
@@ -339,7 +343,7 @@ face width {cup.face_width_mm:g} mm, root fillet {cup.root_fillet_radius_mm:g} m
 <table><tr><th>torque (N·m)</th><th>F_t max tooth (N)</th><th>tooth ring σ_ass</th><th>σ_load</th><th>σ_total</th>
 <th>cup bottom von Mises max</th><th>τ_load at the boss</th><th>diaphragm τ_a</th><th>diaphragm τ_m</th></tr>
 {per_torque}</table><p>Stresses in MPa.</p>
-<img src="{figure_png(fig, dpi=100)}" alt="stresses">"""
+<img src="{uri}" alt="stresses">"""
 
 
 def _seed_tables() -> str:
@@ -375,9 +379,11 @@ def _seed_tables() -> str:
 puts the seed variant's clamp stress 19 % high (<code>python tests/benchmarks/stress_plate.py</code>).</p>"""
 
 
-def design_report_html(design) -> str:
+def design_report_html(design, images: dict | None = None) -> str:
     """The design report: profile, fit error, contact, stresses, safety factors (pass/fail
-    against the gear set's material limits), the seed comparison tables; one HTML page."""
+    against the gear set's material limits), the seed comparison tables; one HTML page.
+    ``images``: PNG bytes already drawn (``"contact"``, ``"stress"``), embedded as they are."""
+    images = images or {}
     g = design.gearset
     prof = design.profile
     stages = "".join(
@@ -395,7 +401,7 @@ The full fit-error report is <code>fit_report.html</code>; the CAD files are the
 <img src="{_profile_figure(design, prof.fits)}" alt="fitted profile">
 <img src="{_error_figure(prof.fits)}" alt="fit error along the flank">"""
     warnings = "".join(f"<li>{html.escape(w)}</li>" for w in design.warnings)
-    stress = "" if design.stress is None else _stress_section(design)
+    stress = "" if design.stress is None else _stress_section(design, images.get("stress"))
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Design report — {html.escape(g.name)}</title>{_STYLE}</head><body>
 <h1>Design report — {html.escape(g.name)}</h1>
@@ -404,7 +410,7 @@ The full fit-error report is <code>fit_report.html</code>; the CAD files are the
 {_num(g.torque.momentary_nm, 'g')} N·m (rated / peak / momentary), scene <b>{html.escape(design.scene.name)}</b>.</p>
 <table><tr><th>stage</th><th>tier</th><th>time (ms)</th><th>error estimate</th><th>error measure</th></tr>{stages}</table>
 {fit}
-{_contact_section(design)}
+{_contact_section(design, images.get("contact"))}
 {stress}
 {_seed_tables()}
 <h2>Notes</h2><ul>{warnings}</ul>
