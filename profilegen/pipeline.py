@@ -424,7 +424,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CS
                 raise
             notes.append(f"the {m} fit is left out of the report: {exc}")
     branches = None
-    chain = fits[method].chain
+    chain = fits[method].chain if method in fits else None  # with ridges: the per-branch chain below
     if ridges:
         branches = fit_profile_per_branch(flank, ridges, method=method, space_side="left",
                                           swept=swept if method == "one_sided" else None, swept_tol_mm=tol,

@@ -814,8 +814,8 @@ def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int 
     warnings = []
     if n_at_best < 2 and starts > 1:
         warnings.append(f"only 1 of {starts} starts reached the best SSE: the minimum may not be global")
-    if np.any(b > b_max):
-        warnings.append(f"a frequency exceeds the sampling Nyquist {b_max:.4g} rad⁻¹: aliased term")
+    if np.any(b >= b_max * (1.0 - 1e-6)):  # at Nyquist a sine vanishes at every sample: any amplitude fits
+        warnings.append(f"a frequency reaches the sampling Nyquist {b_max:.4g} rad⁻¹: aliased term")
 
     fitted = _sine_eval(amplitude, b, phase, phi, 0)[0]
     stats = _stats(phi, values, fitted, n_params, lambda p, o: _sine_eval(amplitude, b, phase, p, o))

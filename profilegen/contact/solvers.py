@@ -39,7 +39,7 @@ Raw ``S`` is ~1e-7 mm/N and θ ~1e-3 rad; the solvers work in pure numbers of or
   ``ψ = (φ − θ_min) / τ``, angular gaps ``ĝ = Âm + θ̂ − ψ1 = g / (r τ)``.
 
 Results are converted back: ``F = T m / r``, ``φ = θ_min + τ ψ``, ``g = r τ ĝ``.
-``complementarity_residual`` is ``max_k |F_k g_k| / (T (φ − θ_min + τ))`` — the products
+``complementarity_residual`` is ``max_k |F_k g_k| / (T (|φ − θ_min| + τ))`` — the products
 against the work scale of the torque on the elastic part of the rotation; the
 ``equilibrium_residual`` is ``|Σ r_k F_k − T| / T``.
 
@@ -334,7 +334,8 @@ def _finish(method: str, p: _Scaled, m: np.ndarray, psi: float, iterations: int,
     gap = r * tau * g_hat
     if loaded is None:
         loaded = m > 0.0
-    comp = float(np.max(np.abs(force * gap))) / (T * (phi - p.theta_min + tau))
+    # |φ − θ_min|: a non-physical φ below the first contact (the naive LP's φ = 0) must not make it negative
+    comp = float(np.max(np.abs(force * gap))) / (T * (abs(phi - p.theta_min) + tau))
     equi = abs(float(np.sum(moment)) - T) / T
     warnings = list(warnings)
     all_loaded = bool(np.all(loaded))

@@ -207,12 +207,8 @@ def test_sine_series_periodicity_defect_is_reported():
     assert abs(fourier.omega_stats.defect_mm) < 1e-14 and abs(fourier.upsilon_stats.defect_mm) < 1e-14
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "fit_sine_series on 8 samples, 2 terms: the fit puts a term at the sampling Nyquist frequency "
-    "b = 4 rad⁻¹ whose sine vanishes at every sample (amplitude 340–620 mm on 0.5 mm data, R² = 1 − 1e-8); the "
-    "aliasing warning tests b > b_max strictly, so a frequency a hair below b_max (e.g. 3.99999999) is "
-    "returned as a plain answer"))
 def test_sine_series_phantom_term_at_nyquist_is_flagged():
+    # Found by the stability map (the check was b > b_max strictly; a term at 3.99999999 rad⁻¹ passed); fixed.
     phi, om, _ = samples(8)
     dense = np.linspace(0.0, 2 * np.pi, 4001)
     for seed in range(4):  # the random starts decide on which side of b_max the term lands
@@ -251,13 +247,8 @@ def test_naive_lp_answer_is_flagged_when_first_contact_is_closed():
     assert bad.complementarity_residual > 1e-6
 
 
-@pytest.mark.xfail(strict=True, reason=(
-    "solve_naive_lp with θ_min > τ (first contact opens by more than the elastic rotation scale): the LP "
-    "returns φ = 0, the whole torque on the wrong point and a 14 µm open gap under 333 N, but "
-    "complementarity_residual = max|F g| / (T (φ − θ_min + τ)) has a negative denominator (φ = 0 < θ_min − τ), "
-    "so the residual is −3.98 and the 'not a contact solution' warning is not raised (14 % of the naive-LP "
-    "answers in the stability map)"))
 def test_naive_lp_answer_is_flagged_when_first_contact_is_open():
+    # Found by the stability map (the residual's denominator went negative for φ = 0 < θ_min − τ); fixed.
     S, theta, r, T = random_problem(3, theta_lo=1e-4)
     assert theta.min() > tau_rad(S, r, T)
     good = solve_lemke(S, theta, r, T)
@@ -397,13 +388,8 @@ def test_morley_verdict_flags_an_unresolved_boss(table1_edge):
     assert abs(v["consistent_off"]) < 0.05 or v.get("warnings")
 
 
-@pytest.mark.xfail(strict=True, raises=KeyError, reason=(
-    "pipeline._fit_profile: when the working flank has a ridge and the whole-flank fit of the CAD method "
-    "fails (here ConvergenceError in the one-sided/minimax SLP), the failure is noted as 'left out of the "
-    "report', but `chain = fits[method].chain` is read before the per-branch branch: a bare KeyError "
-    "'one_sided' (pipeline.py, _fit_profile) instead of the per-branch profile or a named error. Found at "
-    "ω* = 1.9, pressure angle 2°, ring theory with the design scene's envelope (chord 1e-6 mm)"))
 def test_profile_fit_failure_on_a_flank_with_ridges_is_named_or_handled(base_set, monkeypatch):
+    # Found by the stability map (a bare KeyError 'one_sided' in pipeline._fit_profile); fixed.
     """The whole-flank one-sided fit is made to fail (as it does on its own at this point) so the
     test does not hang on the SLP's convergence; the per-branch fits run as usual."""
     from dataclasses import replace
