@@ -568,6 +568,24 @@ def parse_gearset(
     return GearSet(**parts, origin=origin, given=frozenset(reader.given))
 
 
+def read_toml(path: Path, error: type[Exception], what: str) -> dict:
+    """The TOML file at ``path`` as a dict; every failure (missing, a folder, unreadable,
+    malformed, not UTF-8) is an ``error`` naming the file and ``what`` it should be."""
+    try:
+        with path.open("rb") as handle:
+            return tomllib.load(handle)
+    except FileNotFoundError:
+        raise error(f"{path}: no such {what}") from None
+    except IsADirectoryError:
+        raise error(f"{path}: is a folder, not a {what}") from None
+    except OSError as exc:
+        raise error(f"{path}: cannot read {what} ({exc.strerror or exc})") from None
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: malformed TOML: {exc}") from None
+    except UnicodeDecodeError as exc:
+        raise error(f"{path}: malformed TOML: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+
+
 def load_gearset(path: str | os.PathLike) -> GearSet:
     """Read and validate a gear-set TOML file.
 
@@ -576,21 +594,7 @@ def load_gearset(path: str | os.PathLike) -> GearSet:
     (one line per field, prefixed with the path).
     """
     path = Path(path)
-    try:
-        with path.open("rb") as handle:
-            data = tomllib.load(handle)
-    except FileNotFoundError:
-        raise GearSetError(f"{path}: no such gear-set file") from None
-    except IsADirectoryError:
-        raise GearSetError(f"{path}: is a folder, not a gear-set file") from None
-    except OSError as exc:
-        raise GearSetError(f"{path}: cannot read gear-set file ({exc.strerror or exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise GearSetError(f"{path}: malformed TOML: {exc}") from None
-    except UnicodeDecodeError as exc:
-        raise GearSetError(
-            f"{path}: malformed TOML: not UTF-8 text ({exc.reason} at byte {exc.start})"
-        ) from None
+    data = read_toml(path, GearSetError, "gear-set file")
     try:
         return parse_gearset(data, origin=str(path), base_dir=path.parent)
     except GearSetError as exc:

@@ -22,7 +22,6 @@ from __future__ import annotations
 
 import math
 import os
-import tomllib
 from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
@@ -62,21 +61,10 @@ def bundled_scenes_path() -> Path:
 
 def read_scenes(path: str | os.PathLike) -> dict[str, Scene]:
     """Read and validate a scene file; returns {name: Scene} in the file's order."""
+    from .gearset import read_toml
+
     path = Path(path)
-    try:
-        with path.open("rb") as handle:
-            data = tomllib.load(handle)
-    except FileNotFoundError:
-        raise SceneError(f"{path}: no such scene file") from None
-    except IsADirectoryError:
-        raise SceneError(f"{path}: is a folder, not a scene file") from None
-    except OSError as exc:
-        raise SceneError(f"{path}: cannot read scene file ({exc.strerror or exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise SceneError(f"{path}: malformed TOML: {exc}") from None
-    except UnicodeDecodeError as exc:
-        raise SceneError(f"{path}: malformed TOML: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
-    return parse_scenes(data, origin=str(path))
+    return parse_scenes(read_toml(path, SceneError, "scene file"), origin=str(path))
 
 
 def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:

@@ -43,7 +43,6 @@ import os
 import re
 import threading
 import time
-import tomllib
 import zlib
 from collections import Counter
 from collections.abc import Callable, Iterator, Mapping, Sequence
@@ -303,20 +302,10 @@ class SweepSpec:
 
 def load_sweep_spec(path: str | os.PathLike) -> SweepSpec:
     """Read and validate a sweep spec file (:class:`SweepSpecError` naming the key)."""
+    from .gearset import read_toml
+
     path = Path(path)
-    try:
-        with path.open("rb") as handle:
-            data = tomllib.load(handle)
-    except FileNotFoundError:
-        raise SweepSpecError(f"{path}: no such sweep spec file") from None
-    except IsADirectoryError:
-        raise SweepSpecError(f"{path}: is a folder, not a sweep spec file") from None
-    except OSError as exc:
-        raise SweepSpecError(f"{path}: cannot read sweep spec ({exc.strerror or exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise SweepSpecError(f"{path}: malformed TOML: {exc}") from None
-    except UnicodeDecodeError as exc:
-        raise SweepSpecError(f"{path}: malformed TOML: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    data = read_toml(path, SweepSpecError, "sweep spec file")
     return parse_sweep_spec(data, origin=str(path), base_dir=path.parent, default_name=path.stem)
 
 
