@@ -41,7 +41,7 @@ def figure_png(fig, dpi: int = 130) -> str:
     """A matplotlib Figure as a base64 PNG data URI."""
     buf = io.BytesIO()
     fig.savefig(buf, format="png", dpi=dpi)
-    return "data:image/png;base64," + base64.b64encode(buf.getvalue()).decode("ascii")
+    return _png_uri(buf.getvalue())
 
 
 def _figure(width=7.0, height=3.2, ncols=1):

@@ -54,6 +54,7 @@ __all__ = [
     "DiaphragmStress",
     "diaphragm_stress",
     "edge_axial_amplitude_mm",
+    "goodman_safety_factor",
     "goodman_shear_safety_factor",
     "mean_shear_stress_mpa",
     "plot_goodman",
@@ -85,10 +86,9 @@ def mean_shear_stress_mpa(torque_nmm: float, radius_mm: float, thickness_mm: flo
     """τ_m = T / (2π r² t) (MPa): the shear of torque T (N·mm) in a thin annulus of radius r
     and thickness t (mm), uniform through the thickness. Linear in T; at r = r0 (the boss) it
     is the diaphragm's largest."""
-    torque = _finite("torque_nmm", torque_nmm, "N·mm")
-    r = _positive("radius_mm", radius_mm, "mm")
-    t = _positive("thickness_mm", thickness_mm, "mm")
-    return torque / (2.0 * math.pi * r * r * t)
+    from .plate import torque_shear_mpa
+
+    return float(torque_shear_mpa(_positive("radius_mm", radius_mm, "mm"), torque_nmm, thickness_mm))
 
 
 def edge_axial_amplitude_mm(cup_radius_mm: float, deflection_mm: float, cup_length_mm: float) -> float:
@@ -101,12 +101,12 @@ def edge_axial_amplitude_mm(cup_radius_mm: float, deflection_mm: float, cup_leng
     return r_c * w0 / (4.0 * length)
 
 
-def goodman_shear_safety_factor(amplitude_mpa: float, mean_mpa: float, endurance_limit_mpa: float,
-                                ultimate_mpa: float) -> float:
-    """Safety factor n of the Goodman line for shear, τ_a/τ_-1 + τ_m/τ_u = 1/n:
-    n = 1 / (|τ_a|/τ_-1 + |τ_m|/τ_u). All in MPa; τ_-1 the fully reversed shear endurance limit,
-    τ_u the ultimate shear strength. The sign of a shear mean does not matter. n = inf when
-    τ_a = τ_m = 0."""
+def goodman_safety_factor(amplitude_mpa: float, mean_mpa: float, endurance_limit_mpa: float,
+                          ultimate_mpa: float) -> float:
+    """Safety factor n of the Goodman line, a/e + m/u = 1/n: n = 1 / (|a|/e + |m|/u). All in
+    MPa; e the fully reversed endurance limit, u the ultimate strength, in shear (τ_-1, τ_u)
+    or in tension (σ_-1, σ_u). The sign of a shear mean does not matter. n = inf when
+    a = m = 0."""
     tau_a = abs(_finite("amplitude_mpa", amplitude_mpa, "MPa"))
     tau_m = abs(_finite("mean_mpa", mean_mpa, "MPa"))
     tau_e = _positive("endurance_limit_mpa", endurance_limit_mpa, "MPa")
@@ -115,6 +115,10 @@ def goodman_shear_safety_factor(amplitude_mpa: float, mean_mpa: float, endurance
         raise StressError(f"endurance_limit_mpa must be in (0, ultimate_mpa = {tau_u!r}] MPa, got {tau_e!r}")
     usage = tau_a / tau_e + tau_m / tau_u
     return math.inf if usage == 0.0 else 1.0 / usage
+
+
+#: seed 000's criterion: the Goodman line in shear
+goodman_shear_safety_factor = goodman_safety_factor
 
 
 def _mode_coefficients(boss_ratio: float, poisson_ratio: float, outer_edge: str) -> np.ndarray:

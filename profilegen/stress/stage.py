@@ -45,7 +45,7 @@ import numpy as np
 
 from ..errors import StressError
 from ..results import json_ready
-from .diaphragm import DiaphragmStress, diaphragm_stress
+from .diaphragm import DiaphragmStress, diaphragm_stress, goodman_safety_factor as _goodman
 from .plate import CupBottomStress, cup_bottom_stress, edge_displacement
 from .tooth_ring import ToothRingStress, tangential_force_estimate_n, tooth_ring_stress
 
@@ -145,12 +145,11 @@ def tangential_tooth_forces_n(contact) -> tuple[float, ...]:
                  for c in contact.cases)
 
 
-def root_thickness_mm(tooth, gearset, fillet_radius_mm: float) -> float:
+def root_thickness_mm(tooth, fillet_radius_mm: float) -> float:
     """s_f: the FS tooth's thickness where its root fillet meets the flank, taken at the
-    height r_f + r1 above the root circle r_f = r1_pitch − h_f (tooth frame: origin on the
-    neutral line, y outward): 2|x| of the right flank there."""
-    g = gearset.gear
-    y_cut = g.pitch_radius_mm - _dedendum(tooth, gearset) + fillet_radius_mm - g.neutral_radius_mm
+    height r1 above the root circle (tooth frame: origin on the neutral line, y outward):
+    2|x| of the right flank there."""
+    y_cut = tooth.dedendum_y_mm + fillet_radius_mm
     t = np.linspace(0.0, tooth.length_mm, 2001)
     p = tooth.evaluate(t, side=1)[0]
     above = np.flatnonzero(p[:, 1] >= y_cut)
@@ -159,22 +158,6 @@ def root_thickness_mm(tooth, gearset, fillet_radius_mm: float) -> float:
     k = above[0]
     u = (y_cut - p[k - 1, 1]) / (p[k, 1] - p[k - 1, 1])
     return float(2.0 * abs(p[k - 1, 0] + u * (p[k, 0] - p[k - 1, 0])))
-
-
-def _dedendum(tooth, gearset) -> float:
-    d = getattr(gearset.tooth, "dedendum_mm", None)
-    if d is not None:
-        return float(d)
-    p = tooth.evaluate(np.linspace(0.0, tooth.length_mm, 401), side=1)[0]
-    return float(gearset.gear.pitch_radius_mm - gearset.gear.neutral_radius_mm - p[:, 1].min())
-
-
-def _addendum(tooth, gearset) -> float:
-    a = getattr(gearset.tooth, "addendum_mm", None)
-    if a is not None:
-        return float(a)
-    p = tooth.evaluate(np.linspace(0.0, tooth.length_mm, 401), side=1)[0]
-    return float(p[:, 1].max() + gearset.gear.neutral_radius_mm - gearset.gear.pitch_radius_mm)
 
 
 def _limits(material, fatigue: bool | None) -> tuple[bool, list[str]]:
@@ -190,10 +173,6 @@ def _limits(material, fatigue: bool | None) -> tuple[bool, list[str]]:
     notes = [f"fatigue checks skipped: the gear set gives no {', '.join('material.' + m for m in missing)}"] \
         if missing and not fatigue else []
     return bool(fatigue), notes
-
-
-def _goodman(amplitude: float, mean: float, endurance: float, ultimate: float) -> float:
-    return 1.0 / (amplitude / endurance + mean / ultimate)
 
 
 def solve_stress(design, *, fatigue: bool | None = None, required_safety: float = 1.0) -> StressResult:
@@ -229,8 +208,8 @@ def solve_stress(design, *, fatigue: bool | None = None, required_safety: float 
                         "the teeth), not a contact solution: run the design or verify scene for the loaded contact")
 
     tooth = design.tooth
-    s_f = root_thickness_mm(tooth, gs, cup.root_fillet_radius_mm)
-    h = _addendum(tooth, gs) + _dedendum(tooth, gs)
+    s_f = root_thickness_mm(tooth, cup.root_fillet_radius_mm)
+    h = tooth.addendum_y_mm - tooth.dedendum_y_mm
     ring = tuple(tooth_ring_stress(
         neutral_radius_mm=r_m, rim_thickness_mm=g.rim_thickness_mm, deflection_mm=rho_a - r_m,
         root_thickness_mm=s_f, fillet_radius_mm=cup.root_fillet_radius_mm, pitch_mm=math.pi * g.module_mm,

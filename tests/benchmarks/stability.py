@@ -700,23 +700,20 @@ def run_contact(quick: bool) -> dict:
 
     shape = (len(sizes), len(kappas))
 
-    def frac(key):
+    def cells(key, reduce):
         z = np.full(shape, np.nan)
         for j, n in enumerate(sizes):
             for i, k in enumerate(kappas):
                 v = [r[key] for r in rows if r["n"] == n and r["kappa"] == k and key in r]
                 if v:
-                    z[j, i] = float(np.mean(v))
+                    z[j, i] = float(reduce(v))
         return z
 
+    def frac(key):
+        return cells(key, np.mean)
+
     def worst(key):
-        z = np.full(shape, np.nan)
-        for j, n in enumerate(sizes):
-            for i, k in enumerate(kappas):
-                v = [r[key] for r in rows if r["n"] == n and r["kappa"] == k and key in r]
-                if v:
-                    z[j, i] = float(np.max(v))
-        return z
+        return cells(key, np.max)
 
     refused = np.array([[all(r["lemke_outcome"] != "ok" for r in rows if r["n"] == n and r["kappa"] == k)
                          for k in kappas] for n in sizes])

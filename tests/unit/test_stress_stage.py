@@ -76,9 +76,9 @@ def test_root_thickness_is_measured_on_the_tooth(sketch):
     """s_f at the fillet's height: between the tooth's thickness on the pitch line (2 × half
     thickness) and the full pitch (a tooth flares toward its root)."""
     gs = sketch.gearset
-    s_f = root_thickness_mm(sketch.tooth, gs, gs.cup.root_fillet_radius_mm)
+    s_f = root_thickness_mm(sketch.tooth, gs.cup.root_fillet_radius_mm)
     assert 2 * gs.tooth.half_thickness_mm < s_f < math.pi * gs.gear.module_mm
-    assert root_thickness_mm(sketch.tooth, gs, 0.05) > s_f  # nearer the root: thicker
+    assert root_thickness_mm(sketch.tooth, 0.05) > s_f  # nearer the root: thicker
 
 
 def test_fatigue_without_limits_is_a_named_error(sketch):
