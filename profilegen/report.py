@@ -12,6 +12,7 @@ the fit time, and the fitted profile's clearance against the FS tooth family.
 from __future__ import annotations
 
 import base64
+import functools
 import html
 import io
 
@@ -346,7 +347,9 @@ face width {cup.face_width_mm:g} mm, root fillet {cup.root_fillet_radius_mm:g} m
 <img src="{uri}" alt="stresses">"""
 
 
+@functools.lru_cache(maxsize=1)
 def _seed_tables() -> str:
+    """The seed papers' tables: the same for every design, so made once per process."""
     from .stress.plate import SEED002_BETA, seed002_beta, seed002_comparison
     from .stress.tooth_ring import seed001_comparison, seed001_trend_checks
 
