@@ -19,7 +19,10 @@ traced curve (sign change of ∂f/∂φ) by bisection. The images, the tip-corne
 paths and the top-land envelope are split at all their mutual crossings, and
 each piece is classified once, at its midpoint, by its depth inside the region
 swept by the tooth and its two neighbours (closure: neighbour families are the
-same family turned by ±2π/z2). Crossings where the boundary switches from one
+same family turned by ±2π/z2). A piece is interfering when that depth exceeds
+the trace's own resolution, its chord tolerance (0.1 nm at least): a coarse
+trace places its crossings only to about its chord, so shorter stretches near a
+grazing crossing end up up to a chord inside the swept region. Crossings where the boundary switches from one
 piece to another are the branch-switch ridges.
 """
 
@@ -801,7 +804,7 @@ def solve_envelope(
     chord_tol_mm: float = 1e-6,
     n_t: int = 96,
     n_phi: int = 241,
-    depth_tol_mm: float = 1e-7,
+    depth_tol_mm: float | None = None,
     swept_grid: int = 361,
     symmetric: bool = False,
 ) -> Envelope:
@@ -812,8 +815,12 @@ def solve_envelope(
     ``left`` to the tip-corner points. With ``symmetric`` (a tooth symmetric about
     its axis in a deformation with ω even and υ odd in φ) the left flank's roots are
     the mirror images (x → −x, φ → −φ) of the right's and are not traced again.
+    ``depth_tol_mm`` (default: ``chord_tol_mm``, at least 1e-7 mm) is the depth inside
+    the swept region beyond which a piece is interfering.
     """
     t0 = time.perf_counter()
+    if depth_tol_mm is None:
+        depth_tol_mm = max(float(chord_tol_mm), 1e-7)
     by_name = {c.name: c for c in curves}
     traced: dict[str, list[RootCurve]] = {}
     folds: list[Fold] = []
@@ -910,6 +917,8 @@ def solve_envelope(
         else:
             cls = TIP_PATH if src.endswith("_tip") else CONJUGATE
         pieces.append(EnvelopePiece(src, cls, _readonly(pts), _readonly(ts), _readonly(ps), float(d)))
+    unresolved = _check_classification(pieces, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle,
+                                       depth_tol_mm=depth_tol_mm, n_grid=swept_grid)
     def tangent(piece: EnvelopePiece, end: int) -> np.ndarray:
         """Exact unit tangent at a piece end: R(Φ)p′(t) for a root, dQ/dφ for a corner path."""
         phi = piece.phi[end : end + 1] if end == 0 else piece.phi[-1:]
@@ -935,8 +944,60 @@ def solve_envelope(
         residual=max(r.residual for r in roots),
         time_s=time.perf_counter() - t0,
         diagnostics={"trace_time_s": t_trace, "crossings": len(crossings), "root_curves": len(roots), "symmetric": symmetric,
-                     "neighbour_angle": neighbour_angle},
+                     "neighbour_angle": neighbour_angle, "depth_tol_mm": depth_tol_mm, "unresolved": unresolved},
     )
+
+
+def _check_classification(pieces, motion, shape, *, phi_range, neighbour_angle, depth_tol_mm: float,
+                          n_grid: int, per_piece: int = 33) -> list[dict]:
+    """Where a missed crossing left a piece wrongly classified: a list of findings.
+
+    A piece is classified at its midpoint on the assumption that its class does not change
+    between crossings. Where two curves cross at a grazing angle the traced polylines may
+    miss the crossing, or the crossing is with a boundary that is not traced at all (the
+    sweep of the FS root land); the piece then holds both classes. Checked at up to
+    ``per_piece`` interior vertices of every piece: a boundary piece (conjugate, tip path)
+    must nowhere in the middle 90 % of its length lie deeper in the swept region than
+    ``max(10·depth_tol, 1e-4 mm)`` (a curve's own end, the flank's root, may dip a µm in);
+    an interfering piece lying deeper than that must not come back to the boundary
+    (depth ≤ ``depth_tol``) in the middle 80 % of its length.
+
+    Each finding: ``source``, ``cls``, ``point_mm`` (x, y), ``radius_mm``, ``depth_mm`` and
+    ``what``. Seen on the default set at ω* ≈ 1.05–1.1: a tip-corner path's stretch near
+    where the neighbouring spaces meet, called boundary while it lies up to 60 µm inside
+    the region the FS root land sweeps. ``gearform`` decides what a finding means: above
+    the CS tip circle it is an error, below it only the tip circle's height is in doubt.
+    """
+    deep = max(10.0 * depth_tol_mm, 1e-4)
+    picks, owner, frac = [], [], []
+    for k, p in enumerate(pieces):
+        n = len(p.points)
+        if n < 3:
+            continue
+        s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p.points, axis=0).T))])
+        idx = np.unique(np.linspace(1, n - 2, min(per_piece, n - 2)).round().astype(int))
+        picks.append(p.points[idx])
+        owner.append(np.full(idx.size, k))
+        frac.append(s[idx] / max(s[-1], 1e-300))
+    if not picks:
+        return []
+    pts, owner, frac = np.vstack(picks), np.concatenate(owner), np.concatenate(frac)
+    depth, _ = swept_depth(pts, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle, n_grid=n_grid)
+    found = []
+    for k in np.unique(owner):
+        p, sel = pieces[k], owner == k
+        d, f, q = depth[sel], frac[sel], pts[sel]
+        if p.cls != INTERFERING:
+            bad = (f > 0.05) & (f < 0.95) & (d > deep)
+            what = f"a {p.cls} stretch of the {p.source} curve lies inside the swept region"
+        else:
+            bad = (f > 0.1) & (f < 0.9) & (d <= depth_tol_mm) if d.max() > deep else np.zeros(len(d), bool)
+            what = f"an interfering stretch of the {p.source} curve comes back to the swept boundary"
+        if bad.any():
+            j = int(np.argmax(np.where(bad, np.abs(d), -np.inf))) if p.cls != INTERFERING else int(np.argmax(bad))
+            found.append({"source": p.source, "cls": p.cls, "point_mm": (float(q[j, 0]), float(q[j, 1])),
+                          "radius_mm": float(np.hypot(*q[j])), "depth_mm": float(d.max() if p.cls == INTERFERING else d[bad].max()), "what": what})
+    return found
 
 
 def _boundary_chain(pieces: list[EnvelopePiece], tol: float = 1e-9) -> list[np.ndarray]:

@@ -179,6 +179,7 @@ def circular_spline_form(
             f"gearform: the tip circle r_a2 = {tip_r:.4f} mm (meeting radius {r_mid:.4f} + "
             f"circular_spline.tip_clearance_mm {tip_clearance_mm}) lies above the space's top {r_top:.4f} mm"
         )
+    warnings += _unresolved(envelope, tip_r, r_mid)
     sides = {}
     for name, ch in (("right", chain), ("left", chain[::-1])):
         k, p_tip = _circle_crossing(ch, tip_r)
@@ -228,6 +229,31 @@ def circular_spline_form(
         warnings=tuple(warnings),
     )
     return form
+
+
+def _unresolved(envelope, tip_r: float, r_mid: float) -> list[str]:
+    """What the envelope's unresolved stretches (``diagnostics["unresolved"]``) mean for the CS.
+
+    Above the tip circle the CS outline itself would be wrong: EnvelopeError. Below it the CS
+    has no material, and only the meeting radius — so the tip circle's height — is in doubt:
+    a warning naming the place.
+    """
+    found = envelope.diagnostics.get("unresolved") or []
+    above = [f for f in found if f["radius_mm"] >= tip_r]
+    if above:
+        f = max(above, key=lambda f: f["depth_mm"])
+        raise EnvelopeError(
+            f"gearform: the swept boundary is not resolved above the CS tip circle r_a2 = {tip_r:.4f} mm: {f['what']} "
+            f"at ({f['point_mm'][0]:.4f}, {f['point_mm'][1]:.4f}) mm, r = {f['radius_mm']:.4f} mm, "
+            f"{1e3 * f['depth_mm']:.3g} µm deep (a grazing crossing the trace missed); a finer chord_tol_mm or a "
+            f"slightly different deflection coefficient avoids it")
+    if not found:
+        return []
+    f = max(found, key=lambda f: f["depth_mm"])
+    return [f"the swept boundary is not resolved below the CS tip circle, near where neighbouring spaces meet "
+            f"(r = {f['radius_mm']:.4f} mm against the meeting radius {r_mid:.4f} mm): {f['what']}, "
+            f"{1e3 * f['depth_mm']:.3g} µm deep — a crossing the trace missed, such as with the FS root land's sweep, "
+            f"which is not traced; the tip circle r_a2 may sit that much too low"]
 
 
 def _local_outline(form: CircularSplineForm, neighbours: int = 1) -> np.ndarray:
