@@ -119,3 +119,17 @@ def test_a_contact_that_cannot_take_the_design_leaves_a_warning(monkeypatch):
     assert res.stress.force_source == "estimate"
     with pytest.raises(ComplianceError, match="cs_points"):
         pg.design(gs, scene=scene, contact=True)
+
+
+def test_three_waves_are_named_not_misread():
+    """The seed models are for an ellipse (U = 2): ρ_b is ω at π/2, which for U = 3 is the
+    mean radius, not a minor axis. Found by the gear-set fuzz as a StressError about
+    minor_semi_axis_mm; now solve_stress names gear.waves, and a design skips the stresses
+    with a warning, as it does the contact."""
+    gs = pg.load_gearset(pg.default_gearset_path()).with_values(
+        {"gear.waves": 3, "gear.circular_spline_teeth": 203})
+    result = pg.design(gs, scene="sketch")
+    assert result.stress is None
+    assert any("stresses skipped" in w and "gear.waves = 2, got 3" in w for w in result.warnings)
+    with pytest.raises(StressError, match=r"gear.waves = 3: .* two waves"):
+        solve_stress(result)
