@@ -234,11 +234,18 @@ def circular_spline_form(
 def _unresolved(envelope, tip_r: float, r_mid: float) -> list[str]:
     """What the envelope's unresolved stretches (``diagnostics["unresolved"]``) mean for the CS.
 
+    A boundary stretch counts where it lies on the swept-boundary chain the outline is built
+    from (a stray one off the chain is already in the "N pieces" warning); an interfering
+    stretch that comes back to the boundary always counts, for the boundary misses it.
     Above the tip circle the CS outline itself would be wrong: EnvelopeError. Below it the CS
     has no material, and only the meeting radius — so the tip circle's height — is in doubt:
     a warning naming the place.
     """
-    found = envelope.diagnostics.get("unresolved") or []
+    chain = envelope.flank["boundary"]
+    found = [f for f in envelope.diagnostics.get("unresolved") or []
+             # a boundary stretch matters where it is in the chain the outline is built from;
+             # an interfering one (a boundary part missing from the chain) always does
+             if f["cls"] == "interfering" or np.min(np.hypot(*(chain - f["point_mm"]).T)) < 1e-9]
     above = [f for f in found if f["radius_mm"] >= tip_r]
     if above:
         f = max(above, key=lambda f: f["depth_mm"])
