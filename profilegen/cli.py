@@ -35,7 +35,8 @@ def _cmd_design(args) -> int:
         path = bundled_scenes_path()
         print(f"scenes file: {path}")
         print(f"to change a preset: cp {path} my_scenes.toml, edit it, then "
-              "profilegen design --scene my_scenes.toml (one table: that scene; several: the gear set's)")
+              "profilegen design --scene my_scenes.toml (one table: that scene; several: the gear set's, "
+              "or my_scenes.toml#NAME)")
         return 0
     gearset = _load(args.gearset)
     out = Path(args.out) if args.out else Path("export") / gearset.name
@@ -225,9 +226,10 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
     d = sub.add_parser("design", help="run the pipeline on a gear set and write export/<name>/")
     d.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
-    d.add_argument("--scene", metavar="sketch|design|verify|list|FILE.toml",
+    d.add_argument("--scene", metavar="sketch|design|verify|list|FILE.toml[#NAME]",
                    help="fidelity preset (default: the gear set's), or a scene file (a copy of the bundled "
-                        "scenes.toml); 'list' shows the presets and where their file is")
+                        "scenes.toml; FILE.toml#NAME picks one of its scenes); 'list' shows the presets and where "
+                        "their file is")
     d.add_argument("--out", help="output folder (default: export/<gear-set name>/)")
     d.add_argument("--contact", action=argparse.BooleanOptionalAction, default=None,
                    help="loaded tooth contact at the set's rated/peak/momentary torques (default: on in the design "

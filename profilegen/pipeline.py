@@ -53,6 +53,12 @@ class Scene:
     description: str
     fit_check_positions: int = 2001  # FS tooth poses the fitted CS profile is checked against
     contact: bool = False  # loaded tooth contact at the gear set's torques (rated, peak, momentary)
+    tier: str = ""  # the rim stage's tier (sketch, design, verify); "" → the scene's name
+
+    @property
+    def rim_tier(self) -> str:
+        """The rim stage's tier: ``tier``, or the name for the bundled presets."""
+        return self.tier or self.name
 
 
 # The presets are data: profilegen/scenes.toml (a user's copy works as design(scene="path.toml"))
@@ -261,7 +267,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress) -
     from .rim.stage import solve_rim  # scipy's solvers load only when a design runs (not in the stage time)
 
     t0 = time.perf_counter()
-    rim = solve_rim(gearset, tier=scene.name)
+    rim = solve_rim(gearset, tier=scene.rim_tier)
     deformation = rim.model
     warnings += list(rim.warnings)
     if rim.fem is None:

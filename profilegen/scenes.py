@@ -1,10 +1,11 @@
 """Scenes as data: the fidelity presets read from a TOML file (``profilegen/scenes.toml``).
 
 A scene file has one table per scene; the table's key is the scene's name, its keys are
-the fields of :class:`profilegen.pipeline.Scene` (documented in the bundled file). The
-name picks the rim stage's tier, so it is one of ``sketch``, ``design``, ``verify``.
-A user's copy of the bundled file (or a file with one table) is used with
-``design(gearset, scene="my_scenes.toml")`` or ``profilegen design --scene my_scenes.toml``.
+the fields of :class:`profilegen.pipeline.Scene` (documented in the bundled file). The rim
+stage's tier is the ``tier`` key (``sketch``, ``design`` or ``verify``), which a scene named
+after a tier may leave out. A user's copy of the bundled file (or a file with one table) is
+used with ``design(gearset, scene="my_scenes.toml")`` or ``profilegen design --scene
+my_scenes.toml``; ``my_scenes.toml#fast`` picks the scene ``fast`` of a file with several.
 
 Every problem is a :class:`SceneError` (a :class:`~profilegen.errors.GearSetError`, so a
 ``ValueError``) naming the file, the scene and the key, with the allowed values:
@@ -12,16 +13,17 @@ Every problem is a :class:`SceneError` (a :class:`~profilegen.errors.GearSetErro
 >>> scenes = read_scenes(bundled_scenes_path())
 >>> sorted(scenes), scenes["sketch"].chord_tol_mm, scenes["verify"].contact
 (['design', 'sketch', 'verify'], 0.0001, True)
->>> parse_scenes({"fast": {}}, origin="mine.toml")  # doctest: +ELLIPSIS
+>>> parse_scenes({"fast": {"tier": "quick"}}, origin="mine.toml")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-profilegen.scenes.SceneError: mine.toml: scene 'fast': unknown scene name; the name picks the rim tier and must be one of sketch, design, verify
+profilegen.scenes.SceneError: ...mine.toml: scene 'fast': tier = 'quick': must be one of sketch, design, verify...
 """
 
 from __future__ import annotations
 
 import math
 import os
+import re
 from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
@@ -51,7 +53,9 @@ _KEYS: dict[str, tuple[str, bool, tuple[float, float] | None]] = {
     "description": ("text", True, None),
     "fit_check_positions": ("count", False, (3, 100_000)),
     "contact": ("bool", False, None),
+    "tier": ("text", False, None),
 }
+_NAME = re.compile(r"[A-Za-z0-9_-]+")
 
 
 def bundled_scenes_path() -> Path:
@@ -77,9 +81,8 @@ def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:
     scenes: dict[str, Scene] = {}
     for name, table in data.items():
         where = f"{origin}: scene {name!r}"
-        if name not in SCENE_NAMES:
-            problems.append(f"{where}: unknown scene name; the name picks the rim tier and must be one of "
-                            f"{', '.join(SCENE_NAMES)}")
+        if not _NAME.fullmatch(str(name)):
+            problems.append(f"{where}: a scene name is letters, digits, '_' and '-'")
             continue
         if not isinstance(table, Mapping):
             problems.append(f"{where}: must be a table ([{name}]), got {_type_name(table)}")
@@ -99,8 +102,17 @@ def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:
                 problems.append(f"{where}: {key} = {table[key]!r}: {problem}")
             else:
                 values[key] = float(table[key]) if kind == "mm" else table[key]
+        tier = values.get("tier", name if name in SCENE_NAMES else None)
+        if "tier" in table and "tier" not in values:
+            pass  # reported above
+        elif tier is None:
+            problems.append(f"{where}: tier: missing (the rim stage's tier, one of {', '.join(SCENE_NAMES)}; only "
+                            f"a scene named after a tier may leave it out)")
+        elif tier not in SCENE_NAMES:
+            problems.append(f"{where}: tier = {tier!r}: must be one of {', '.join(SCENE_NAMES)}")
         if len(problems) == before:
-            scenes[name] = Scene(name=name, **values)
+            values.pop("tier", None)
+            scenes[name] = Scene(name=name, **values, tier="" if tier == name else tier)
     if problems:
         raise SceneError(problems)
     return scenes
@@ -119,10 +131,15 @@ def resolve_scene(scene: str | os.PathLike | Scene, *, default: str = "design") 
     if isinstance(scene, str) and scene in SCENES:
         return SCENES[scene]
     text = os.fspath(scene) if isinstance(scene, (str, os.PathLike)) else None
-    if text is None or not (isinstance(scene, os.PathLike) or text.endswith(".toml") or os.sep in text
+    if text is None or not (isinstance(scene, os.PathLike) or text.partition("#")[0].endswith(".toml") or os.sep in text
                             or (os.altsep is not None and os.altsep in text)):
         raise SceneError(f"scene = {scene!r}: must be one of {', '.join(SCENES)} or a scene TOML file")
+    text, _, wanted = text.partition("#") if "#" in text else (text, "", "")
     scenes = read_scenes(text)
+    if wanted:
+        if wanted not in scenes:
+            raise SceneError(f"{text}: no scene {wanted!r}; the file has {', '.join(scenes)}")
+        return scenes[wanted]
     if len(scenes) == 1:
         return next(iter(scenes.values()))
     if default not in scenes:

@@ -397,7 +397,7 @@ def _text(data: Mapping, key: str, default: str, fail) -> str:
 
 
 def _looks_like_path(text: str) -> bool:
-    return text.endswith(".toml") or os.sep in text or (os.altsep is not None and os.altsep in text)
+    return text.partition("#")[0].endswith(".toml") or os.sep in text or (os.altsep is not None and os.altsep in text)
 
 
 def _base_gearset(text: str, base: Path, fail) -> GearSet:

@@ -71,9 +71,16 @@ def test_a_bad_key_names_the_file_the_scene_and_the_key(table, key, text):
     assert line.startswith(f"mine.toml: scene 'sketch': {key}") and text in line, line
 
 
-def test_scene_names_are_the_rim_tiers_and_tables_are_tables():
-    with pytest.raises(SceneError, match="scene 'fast': unknown scene name.*sketch, design, verify"):
+def test_a_scene_names_its_tier_and_tables_are_tables():
+    with pytest.raises(SceneError, match="scene 'fast': tier: missing .*sketch, design, verify"):
         parse_scenes({"fast": _sketch_table()}, origin="mine.toml")
+    with pytest.raises(SceneError, match="scene 'fast': tier = 'quick': must be one of sketch, design, verify"):
+        parse_scenes({"fast": _sketch_table(tier="quick")}, origin="mine.toml")
+    with pytest.raises(SceneError, match="scene 'my scene': a scene name is letters"):
+        parse_scenes({"my scene": _sketch_table(tier="sketch")}, origin="mine.toml")
+    fast = parse_scenes({"fast": _sketch_table(tier="sketch")})["fast"]
+    assert fast.name == "fast" and fast.rim_tier == "sketch"
+    assert SCENES["design"].rim_tier == "design" and SCENES["design"].tier == ""
     with pytest.raises(SceneError, match="scene 'sketch': must be a table"):
         parse_scenes({"sketch": 3}, origin="mine.toml")
     with pytest.raises(SceneError, match="at least one"):
@@ -141,3 +148,18 @@ def test_scene_file_at_the_command_line(tmp_path, capsys):
     err = capsys.readouterr().err.strip().splitlines()
     assert len(err) == 1 and "scene 'sketch': n_t = 2" in err[0] and str(bad) in err[0]
     assert not (tmp_path / "b").exists()
+
+
+def test_a_named_scene_with_its_own_tier_runs_and_is_picked_from_a_file(tmp_path):
+    """A scene of any name runs the rim tier its ``tier`` key names; ``file.toml#name`` picks
+    one of several."""
+    path = tmp_path / "mine.toml"
+    path.write_text(_toml({"quick": _sketch_table(description="my quick look", tier="sketch"),
+                           "sketch": _sketch_table()}))
+    gs = pg.load_gearset(pg.default_gearset_path())
+    result = pg.design(gs, scene=f"{path}#quick", contact=False, stress=False)
+    assert result.scene.name == "quick" and result.rim.tier.name == "sketch"
+    assert result.to_dict()["scene"]["name"] == "quick"
+    assert resolve_scene(f"{path}#sketch").name == "sketch"
+    with pytest.raises(SceneError, match="no scene 'slow'; the file has quick, sketch"):
+        resolve_scene(f"{path}#slow")
