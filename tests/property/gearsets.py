@@ -1,0 +1,104 @@
+"""Hypothesis strategies over gear-set fields, shared by the fuzz test and its benchmark.
+
+``gear_sets(kind=...)`` draws a gear-set mapping (what ``profilegen.parse_gearset`` takes) over
+every section: the gear (m, z1, z2 = z1 + U, U = 2 or 3, rim, sometimes the neutral radius),
+the tooth (DCTA or involute, each dimension scaled around its default), the wave generator
+(ω*, elliptical cam / cosine cam / rollers with their parameters, bearing thickness), the
+material (E, ν, strengths, sometimes without the endurance limits), the torques, the CS
+clearances and fit method, and the optional cup section. ``spoil=True`` then spoils one
+field (zero, negative, NaN, infinity, huge, a text, a boolean, an unknown key, or the field
+removed), so that the validation is fuzzed with the stages; ``spoil=None`` (the default)
+spoils about one draw in six, ``spoil=False`` none.
+
+The ranges reach beyond what a designer would pick (ω* 0.3–1.9, pressure angles 1–35°,
+rims 1–6 % of the pitch radius): the fuzz is after the edges of every method, where a named
+error is the right answer.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+
+from hypothesis import strategies as st
+
+KINDS = ("dcta", "involute")
+
+BAD_VALUES = (0, 0.0, -1.0, -1e-9, math.nan, math.inf, -math.inf, 1e12, "text", True, [1.0], {})
+
+
+@st.composite
+def gear_sets(draw, kind: str | None = None, spoil: bool | None = None) -> dict:
+    def u(lo: float, hi: float) -> float:
+        return draw(st.floats(lo, hi, allow_nan=False, allow_infinity=False))
+
+    m = draw(st.sampled_from([0.2, 0.25, 0.3, 0.4, 0.5, 0.6, 0.8, 1.0]))
+    waves = draw(st.sampled_from([2, 2, 2, 3]))
+    z1 = draw(st.integers(30, 160)) * 2
+    r1 = m * z1 / 2
+    s = m / 0.5  # the default tooth is drawn for m = 0.5 mm
+    gear = {"module_mm": m, "flexspline_teeth": z1, "circular_spline_teeth": z1 + waves,
+            "waves": waves, "rim_thickness_mm": u(0.01, 0.06) * r1}
+    kind = kind or draw(st.sampled_from(KINDS))
+    if kind == "involute":
+        tooth = {"kind": "involute", "pressure_angle_deg": u(12, 35)}
+        if draw(st.booleans()):
+            tooth |= {"addendum_mm": m * u(0.6, 1.1), "dedendum_mm": m * u(1.0, 1.5)}
+    else:
+        tooth = {"kind": "dcta", "pressure_angle_deg": u(1, 25), "line_above_pitch_mm": 0.05 * s * u(0.2, 3),
+                 "line_below_pitch_mm": 0.2 * s * u(0.3, 1.6), "tip_arc_radius_mm": 0.65 * s * u(0.75, 1.4),
+                 "root_arc_radius_mm": 0.7 * s * u(0.8, 1.4), "addendum_mm": 0.4 * s * u(0.7, 1.3),
+                 "dedendum_mm": 0.6 * s * u(0.7, 1.3)}
+    if draw(st.booleans()) and draw(st.booleans()):
+        tooth["half_thickness_mm"] = math.pi * m / 4 * u(0.9, 1.1)
+    if draw(st.booleans()) and draw(st.booleans()):  # r_m between the rim's middle and its inner part
+        dedendum = tooth.get("dedendum_mm", 1.25 * m if kind == "involute" else 0.6 * s)
+        gear["neutral_radius_mm"] = r1 - dedendum - gear["rim_thickness_mm"] * u(0.3, 0.7)
+    contours = ["elliptical_cam", "elliptical_cam", "cosine_cam"] + (["rollers"] if waves == 2 else [])
+    contour = draw(st.sampled_from(contours))
+    wg = {"deflection_coefficient": u(0.3, 1.9), "contour": contour}
+    if contour == "rollers":
+        count = draw(st.sampled_from([2, 4]))
+        wg |= {"roller_count": count, "roller_radius_mm": r1 * u(0.05, 0.4)}
+        if count == 4 and draw(st.booleans()):
+            wg["roller_angle_deg"] = u(5, 40)
+    elif contour == "elliptical_cam" and draw(st.booleans()):
+        wg["bearing_thickness_mm"] = r1 * u(0.02, 0.15)
+    yield_mpa = u(300, 1500)
+    material = {"youngs_modulus_mpa": u(7e4, 2.3e5), "poisson_ratio": u(0.2, 0.4), "yield_strength_mpa": yield_mpa,
+                "ultimate_strength_mpa": yield_mpa * u(1.05, 1.6)}
+    if draw(st.booleans()):
+        material |= {"bending_endurance_limit_mpa": yield_mpa * u(0.3, 0.6),
+                     "shear_endurance_limit_mpa": yield_mpa * u(0.15, 0.35)}
+    rated = u(2.0, 2000.0)
+    torque = {"rated_nm": rated, "peak_nm": rated * u(1.0, 3.0)}
+    if draw(st.booleans()):
+        torque["momentary_nm"] = torque["peak_nm"] * u(1.0, 2.5)
+    d = {"name": "fuzz", "description": "hypothesis draw", "source": "tests/property/gearsets.py",
+         "gear": gear, "tooth": tooth, "wave_generator": wg, "material": material, "torque": torque}
+    if draw(st.booleans()):
+        d["circular_spline"] = {"root_clearance_mm": m * u(0.05, 0.6), "tip_clearance_mm": m * u(0.05, 0.6),
+                                "fit_method": draw(st.sampled_from(["one_sided", "least_squares", "minimax"]))}
+    if draw(st.booleans()):
+        d["cup"] = {"length_mm": 2 * r1 * u(0.3, 1.0), "face_width_mm": 2 * r1 * u(0.1, 0.3),
+                    "bottom_thickness_mm": gear["rim_thickness_mm"] * u(0.5, 3.0), "boss_radius_mm": r1 * u(0.2, 0.7),
+                    "root_fillet_radius_mm": m * u(0.2, 1.0)}
+    # (hypothesis leans to the first choice: False, so a mixture spoils about one draw in six)
+    if spoil or (spoil is None and draw(st.sampled_from([False, False, False, False, False, True]))):
+        d = _spoiled(draw, d)
+    return d
+
+
+def _spoiled(draw, d: dict) -> dict:
+    """``d`` with one field made wrong: a bad value, an unknown key, or the field removed."""
+    d = copy.deepcopy(d)
+    leaves = [(sec, key) for sec, table in d.items() if isinstance(table, dict) for key in table]
+    sec, key = draw(st.sampled_from(leaves))
+    how = draw(st.sampled_from(["value", "value", "value", "unknown", "remove"]))
+    if how == "value":
+        d[sec][key] = draw(st.sampled_from(BAD_VALUES))
+    elif how == "unknown":
+        d[sec][key + "_typo"] = d[sec][key]
+    else:
+        del d[sec][key]
+    return d
