@@ -918,7 +918,7 @@ def solve_envelope(
             cls = TIP_PATH if src.endswith("_tip") else CONJUGATE
         pieces.append(EnvelopePiece(src, cls, _readonly(pts), _readonly(ts), _readonly(ps), float(d)))
     unresolved = _check_classification(pieces, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle,
-                                       depth_tol_mm=depth_tol_mm, n_grid=swept_grid)
+                                       depth_tol_mm=depth_tol_mm, n_grid=min(swept_grid, 121))
     def tangent(piece: EnvelopePiece, end: int) -> np.ndarray:
         """Exact unit tangent at a piece end: R(Φ)p′(t) for a root, dQ/dφ for a corner path."""
         phi = piece.phi[end : end + 1] if end == 0 else piece.phi[-1:]
@@ -949,7 +949,7 @@ def solve_envelope(
 
 
 def _check_classification(pieces, motion, shape, *, phi_range, neighbour_angle, depth_tol_mm: float,
-                          n_grid: int, per_piece: int = 33) -> list[dict]:
+                          n_grid: int, per_piece: int = 17) -> list[dict]:
     """Where a missed crossing left a piece wrongly classified: a list of findings.
 
     A piece is classified at its midpoint on the assumption that its class does not change

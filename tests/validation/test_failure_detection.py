@@ -162,19 +162,24 @@ def test_missed_crossing_near_the_meeting_radius_is_reported(base_set, chord_tol
 
 
 def test_unresolved_boundary_above_the_tip_circle_is_an_error(base_set):
-    """Where the unresolved stretch lies above the tip circle the CS outline itself would be
-    wrong: gearform raises (an envelope with such a finding put in)."""
+    """Where the unresolved stretch lies on the outline's chain above the tip circle the CS
+    outline itself would be wrong: gearform raises (an envelope with such a finding put in)."""
     from dataclasses import replace
 
     from profilegen.gearform import circular_spline_form
 
-    env = sketch_envelope(base_set)[2]
-    finding = {"source": "right_tip", "cls": TIP_PATH, "point_mm": (0.5, 50.6), "radius_mm": float(np.hypot(0.5, 50.6)),
-               "depth_mm": 3e-3, "what": "a tip_path stretch of the right_tip curve lies inside the swept region"}
-    bad = replace(env, diagnostics={**env.diagnostics, "unresolved": [finding]})
     c = base_set.circular_spline
     kw = dict(cs_teeth=base_set.gear.circular_spline_teeth, tip_clearance_mm=c.tip_clearance_mm,
               root_clearance_mm=c.root_clearance_mm)
+    env = sketch_envelope(base_set)[2]
+    chain = env.flank["boundary"]
+    q = chain[np.argmin(np.abs(np.hypot(*chain.T) - 50.6))]  # a point of the outline's chain, above the tip circle
+    finding = {"source": "right", "cls": CONJUGATE, "point_mm": tuple(q), "radius_mm": float(np.hypot(*q)),
+               "depth_mm": 3e-3, "what": "a conjugate stretch of the right curve lies inside the swept region"}
+    bad = replace(env, diagnostics={**env.diagnostics, "unresolved": [finding]})
+    # the same finding off the chain (a stray piece) does not shape the outline: no error
+    stray = {**finding, "point_mm": (q[0] + 1e-3, q[1])}
+    circular_spline_form(replace(env, diagnostics={**env.diagnostics, "unresolved": [stray]}), **kw)
     circular_spline_form(env, **kw)  # without the finding: fine
     with pytest.raises(EnvelopeError, match=r"not resolved above the CS tip circle .* 3 µm deep"):
         circular_spline_form(bad, **kw)
