@@ -205,18 +205,36 @@ def _cmd_profiles(args) -> int:
 
 
 def _cmd_bench(args) -> int:
+    import time
+
     from .bench import format_rows, scene_benchmark, write_scene_benchmark
 
     gearset = _load(args.gearset)
     scenes = ("sketch", "design") if args.quick else ("sketch", "design", "verify")
     say = (lambda text: None) if args.quiet else (lambda text: print(f"  {text}", file=sys.stderr))
+    t0 = time.perf_counter()
     rows = scene_benchmark(gearset, scenes=scenes, repeats=1 if args.quick else args.repeats, progress=say)
     out = Path(args.out) if args.out else Path("export") / "bench"
     written = write_scene_benchmark(rows, out, title=f"{gearset.name}: the whole pipeline per scene")
+    scene_s = time.perf_counter() - t0
     if not args.quiet:
         print(format_rows(rows))
         for p in written:
             print(f"  wrote {p}")
+    if args.no_stages:
+        return 0
+    from .bench_stages import format_stage_rows, stage_benchmark, write_stage_benchmark
+
+    t0 = time.perf_counter()
+    stage_rows = stage_benchmark(gearset, quick=args.quick, repeats=args.repeats, progress=say)
+    written = write_stage_benchmark(stage_rows, out, title=f"{gearset.name}: speed against accuracy per stage "
+                                                           f"(median times; errors against converged references)")
+    if not args.quiet:
+        print()
+        print(format_stage_rows(stage_rows))
+        for p in written:
+            print(f"  wrote {p}")
+        print(f"scene benchmark {scene_s:.0f} s, stage benchmark {time.perf_counter() - t0:.0f} s")
     return 0
 
 
@@ -251,11 +269,17 @@ def _parser() -> argparse.ArgumentParser:
                                   "writes the table there as Parquet (needs pyarrow), the folder beside it")
     sw.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     sw.set_defaults(func=_cmd_sweep)
-    b = sub.add_parser("bench", help="speed against accuracy of the whole pipeline, one point per scene")
+    b = sub.add_parser("bench", help="speed against accuracy: the whole pipeline per scene, then every stage and tier "
+                                     "against a converged reference")
     b.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
-    b.add_argument("--quick", action="store_true", help="sketch and design only, one run each (the reference is "
-                   "the design scene refined); default: all three scenes, the reference the verify scene refined")
-    b.add_argument("--repeats", type=_positive_int, default=3, metavar="N", help="runs per scene, median time (default 3)")
+    b.add_argument("--quick", action="store_true", help="scenes: sketch and design only, one run each (the reference "
+                   "is the design scene refined); stages: coarser references, no toothed-rim FEM (≈ 1 min instead of "
+                   "≈ 5). Default: all three scenes, the reference the verify scene refined")
+    b.add_argument("--repeats", type=_positive_int, default=3, metavar="N",
+                   help="runs per scene and per stage setting, median time (default 3; a stage setting whose first "
+                        "run is long runs once)")
+    b.add_argument("--no-stages", action="store_true",
+                   help="the scene benchmark only (pipeline.csv/.png), not the per-stage study (stages.csv/.png)")
     b.add_argument("--out", metavar="DIR", help="output folder (default: export/bench/)")
     b.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     b.set_defaults(func=_cmd_bench)

@@ -189,10 +189,12 @@ def test_design_with_contact_writes_the_loaded_contact(tmp_path):
 
 def test_bench_quick_writes_the_speed_accuracy_chart(tmp_path, capsys):
     """`profilegen bench --quick`: sketch and design against the refined design scene; the
-    refined envelope is nearer the design scene's than the sketch scene's (ring theory)."""
+    refined envelope is nearer the design scene's than the sketch scene's (ring theory).
+    (--no-stages: the per-stage study is tested in tests/unit/test_bench_stages.py.)"""
     import csv
 
-    assert main(["bench", "--quick", "--out", str(tmp_path), "-q"]) == 0
+    assert main(["bench", "--quick", "--no-stages", "--out", str(tmp_path), "-q"]) == 0
+    assert not (tmp_path / "stages.csv").exists()
     rows = {r["scene"]: r for r in csv.DictReader(open(tmp_path / "pipeline.csv"))}
     assert set(rows) == {"sketch", "design", "reference"}
     assert float(rows["design"]["flank_error_mm"]) < 1e-5 < float(rows["sketch"]["flank_error_mm"])
