@@ -354,7 +354,7 @@ def run_envelope(quick: bool) -> dict:
         ax.set_xlabel("ω* = w0 / m (deflection coefficient)")
         ax.set_ylabel("DCTA pressure angle (deg)")
     fig.suptitle("Envelope stability map: default set (m 0.5 mm, z 200/202, DCTA), sketch scene (ring theory, "
-                 "chord 1e-4 mm, grid 48 × 121)", fontsize=11)
+                 "chord 1e-4 mm, grid 96 × 241)", fontsize=11)
     save_figure(fig, "envelope")
 
     outcomes = {k: int(np.sum(outcome == k)) for k in sorted(set(outcome.ravel()))}

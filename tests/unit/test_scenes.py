@@ -13,9 +13,9 @@ from profilegen.errors import GearSetError
 from profilegen.pipeline import SCENES, Scene
 from profilegen.scenes import SceneError, bundled_scenes_path, parse_scenes, read_scenes, resolve_scene
 
-# the presets as pipeline.py spelled them before they became data: nothing may change
+# the presets as pipeline.py spelled them before they became data (the sketch grid since: 96 × 241)
 PRESETS = {
-    "sketch": Scene("sketch", "ring theory", 1e-4, 48, 121, 91, False,
+    "sketch": Scene("sketch", "ring theory", 1e-4, 96, 241, 91, False,
                     "interactive use and sweeps: analytic rim, coarse envelope", 181),
     "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False,
                     "the default: 1 nm envelope, classified, loaded contact", 721, True),
@@ -107,8 +107,8 @@ def test_resolve_scene_takes_a_name_a_scene_or_a_file(tmp_path):
     with pytest.raises(SceneError, match="scene = 'draft': must be one of sketch, design, verify or a scene TOML file"):
         resolve_scene("draft")
     copy = tmp_path / "copy.toml"
-    copy.write_text(bundled_scenes_path().read_text().replace("n_phi = 241", "n_phi = 301"))
-    assert resolve_scene(copy, default="design").n_phi == 301  # several scenes: the gear set's
+    copy.write_text(bundled_scenes_path().read_text().replace("clearance_samples = 361", "clearance_samples = 301"))
+    assert resolve_scene(copy, default="design").clearance_samples == 301  # several scenes: the gear set's
     assert resolve_scene(str(copy), default="sketch") == SCENES["sketch"]
     only = tmp_path / "only.toml"
     only.write_text(_toml({"verify": {**_sketch_table(), "n_t": 64}}))

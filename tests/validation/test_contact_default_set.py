@@ -50,7 +50,13 @@ def test_first_contact_is_at_the_smallest_separation(design, rated):
     tiny = solve_contact(design, [1e-6], points=rated.points, compliance=rated.compliance)
     sol = tiny.cases[0].solution
     assert sol.loaded_count == 1
-    assert np.argmax(sol.force_n) == np.argmin(rated.points.theta_rad)
+    # the loaded point is one whose angular separation the tiny rotation closes: the smallest,
+    # or one tied with it (a conjugate profile touches on several teeth at once — on the
+    # default set two teeth are within 5e-13 rad of each other)
+    theta = rated.points.theta_rad
+    assert 0 < sol.phi_rad < 1e-9
+    assert theta[np.argmax(sol.force_n)] <= theta.min() + sol.phi_rad
+    assert np.sum(theta <= theta.min() + sol.phi_rad) <= 3
 
 
 def test_rotation_and_contact_grow_with_torque_on_fixed_supports(rated):

@@ -47,7 +47,7 @@ def base_set():
 
 
 def sketch_envelope(gearset, *, chord_tol_mm=None, n_t=None, n_phi=None):
-    """The sketch scene's envelope (ring theory, chord 1e-4 mm, grid 48 × 121) of a gear set."""
+    """The sketch scene's envelope (ring theory, chord 1e-4 mm, grid 96 × 241) of a gear set."""
     scene = pg.SCENES["sketch"]
     g = gearset.gear
     motion = pg.HarmonicDriveMotion(pg.ring_theory(gearset.deflection_mm, g.waves), g.neutral_radius_mm, g.waves,
@@ -83,8 +83,8 @@ def test_tooth_that_overlaps_its_neighbour_is_a_named_error(base_set):
 
 
 def test_bridged_root_curves_are_refined_or_raise(base_set):
-    """The default set has two folds facing each other across a narrow no-root gap: the sketch grid
-    (48 × 121) joins the two root curves. Without grid doublings that is a ConvergenceError
+    """The default set has two folds facing each other across a narrow no-root gap: a 48 × 121
+    grid (the sketch scene's until it took the design grid) joins the two root curves. Without grid doublings that is a ConvergenceError
     naming the flank, t and φ; with them the trace separates the curves."""
     tooth = pg.tooth_from_gearset(base_set)
     g = base_set.gear
