@@ -117,6 +117,14 @@ def _flag_unresolved(rows: list[dict], uncertainty: float | None, reference: str
             r["note"] = f"{r['note']}; {text}" if r["note"] else text
 
 
+def _close(rows: list[dict], stage: str, label: str, time_s: float, uncertainty: float | None, note: str) -> None:
+    """Append the reference's own row (its error: its uncertainty, NaN if not estimated) and
+    flag the rows it does not resolve."""
+    rows.append(_row(stage, label, time_s, 1, math.nan if uncertainty is None else uncertainty, reference=label,
+                     role="reference", note=note))
+    _flag_unresolved(rows, uncertainty, label)
+
+
 def _defaults(fn, *names):
     """The default values of ``fn``'s keyword parameters ``names`` (labels stay true to the code)."""
     params = inspect.signature(fn).parameters
@@ -374,9 +382,8 @@ def _rim(inp: _Inputs, repeats: int) -> list[dict]:
         rows.append(_row("rim", f"flat ring FEM nonlinear {design.layers}×{divisions}", t, n,
                          _change_mm(res, ref) * um, reference=ref_label, scene="design" if used else "",
                          series="flat nonlinear", note=note))
-    rows.append(_row("rim", ref_label, ref_time, 1, ref_unc * um, reference=ref_label, role="reference",
-                     note="error = its own uncertainty: the change from half the divisions (an upper estimate)"))
-    _flag_unresolved(rows, ref_unc * um, ref_label)
+    _close(rows, "rim", ref_label, ref_time, ref_unc * um,
+           "error = its own uncertainty: the change from half the divisions (an upper estimate)")
     if toothed is not None:
         t_ref, t_label, t_unc = toothed
         verify = RIM_TIERS["verify"]
@@ -388,11 +395,9 @@ def _rim(inp: _Inputs, repeats: int) -> list[dict]:
                               reference=t_label, scene="verify" if used else "", series="toothed",
                               note=(f"the verify scene's rim stage also solves {per_pitch - 2}/pitch for its error "
                                     "estimate") if used else ""))
-        trows.append(_row("rim", t_label, inp.toothed(_TOOTHED_REFERENCE)[1], 1, t_unc * um, reference=t_label,
-                          role="reference", note=f"error = its own uncertainty, from the {verify.per_pitch - 2} → "
-                                                 f"{verify.per_pitch} → {_TOOTHED_REFERENCE} columns changes (the "
-                                                 "last change where they follow no power law 1 ≤ p ≤ 4)"))
-        _flag_unresolved(trows, t_unc * um, t_label)
+        _close(trows, "rim", t_label, inp.toothed(_TOOTHED_REFERENCE)[1], t_unc * um,
+               f"error = its own uncertainty, from the {verify.per_pitch - 2} → {verify.per_pitch} → "
+               f"{_TOOTHED_REFERENCE} columns changes (the last change where they follow no power law 1 ≤ p ≤ 4)")
         rows += trows
     return rows
 
@@ -442,9 +447,7 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
     add("general sine, 3 terms", model, t, n,
         note=f"the verify scene's second fitter (reported, not used), here on the {mesh} samples; "
              f"periodicity defect ω {d_w * um:.3g} µm, υ {d_u * um:.3g} µm over a turn")
-    rows.append(_row("fit", ref_label, ref_time, 1, ref_unc * um, reference=ref_label, role="reference",
-                     note="the rim's converged FEM (error = its own uncertainty)"))
-    _flag_unresolved(rows, ref_unc * um, ref_label)
+    _close(rows, "fit", ref_label, ref_time, ref_unc * um, "the rim's converged FEM (error = its own uncertainty)")
     if not inp.quick:
         t_ref, t_label, t_unc = inp.toothed_reference
         res, _ = inp.toothed(verify.per_pitch)
@@ -498,10 +501,8 @@ def _envelope(inp: _Inputs, repeats: int) -> list[dict]:
         rows.append(_row("envelope", f"brute force {n_phi} poses", t, n, err, reference=ref_label,
                          scene="verify (cross-check)" if n_phi == 4001 else "", series="brute force",
                          note="reference vertices to the union's boundary (its notches)"))
-    unc = ref_env.chord_tol_mm * nm
-    rows.append(_row("envelope", ref_label, ref_t, 1, unc, reference=ref_label, role="reference",
-                     note="error = its own uncertainty: its chord tolerance"))
-    _flag_unresolved(rows, unc, ref_label)
+    _close(rows, "envelope", ref_label, ref_t, ref_env.chord_tol_mm * nm,
+           "error = its own uncertainty: its chord tolerance")
     return rows
 
 
@@ -549,10 +550,8 @@ def _arcfit(inp: _Inputs, repeats: int) -> list[dict]:
                          note="the best arc–line–arc found: the floor of every arc–line–arc fit"))
     except ProfilegenError as exc:
         log.warning("arcfit study: the 40-start minimax fit left out: %s", exc)
-    unc = ref_env.chord_tol_mm * um
-    rows.append(_row("arcfit", ref_label, ref_t, 1, unc, reference=ref_label, role="reference",
-                     note="error = its own uncertainty: the envelope's chord tolerance"))
-    _flag_unresolved(rows, unc, ref_label)
+    _close(rows, "arcfit", ref_label, ref_t, ref_env.chord_tol_mm * um,
+           "error = its own uncertainty: the envelope's chord tolerance")
     return rows
 
 
@@ -630,11 +629,9 @@ def _contact(inp: _Inputs, repeats: int) -> list[dict]:
                                                                   compliance=build(pts, c, k)), repeats, inp.long_s)
             add(f"Lemke, {stations} stations, FEM {cols} col./pitch, {tl} layers", out, t, n, series="FEM")
         unc = rows[-1]["error"]
-    rows.append(_row("contact", ref_label, ref_time, 1, math.nan if unc is None else unc, reference=ref_label,
-                     role="reference",
-                     note=("error = its own uncertainty: its change from the last mesh refinement (an upper estimate)"
-                           if unc is not None else "uncertainty not estimated with --quick")))
-    _flag_unresolved(rows, unc, ref_label)
+    _close(rows, "contact", ref_label, ref_time, unc,
+           "error = its own uncertainty: its change from the last mesh refinement (an upper estimate)"
+           if unc is not None else "uncertainty not estimated with --quick")
     return rows
 
 
@@ -683,9 +680,8 @@ def _stress(inp: _Inputs, repeats: int) -> list[dict]:
         rows.append(_row("stress", f"Morley {nr} div", t, n, err(sol.max_clamp_sigma_r_mpa), reference=ref_label,
                          series="Morley",
                          note=f"{sol.radial_divisions}×{sol.angular_divisions} cells, {sol.dofs} dofs"))
-    rows.append(_row("stress", ref_label, ref_time, 1, unc, reference=ref_label, role="reference",
-                     note="error = its own uncertainty: the Richardson step (an upper estimate)"))
-    _flag_unresolved(rows, unc, ref_label)
+    _close(rows, "stress", ref_label, ref_time, unc,
+           "error = its own uncertainty: the Richardson step (an upper estimate)")
     return rows
 
 
