@@ -244,10 +244,10 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
     d = sub.add_parser("design", help="run the pipeline on a gear set and write export/<name>/")
     d.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
-    d.add_argument("--scene", metavar="sketch|design|verify|list|FILE.toml[#NAME]",
+    d.add_argument("--scene", nargs="?", const="list", metavar="sketch|design|verify|list|FILE.toml[#NAME]",
                    help="fidelity preset (default: the gear set's), or a scene file (a copy of the bundled "
                         "scenes.toml; FILE.toml#NAME picks one of its scenes); 'list' shows the presets and where "
-                        "their file is")
+                        "their file is (so does --scene alone)")
     d.add_argument("--out", help="output folder (default: export/<gear-set name>/)")
     d.add_argument("--contact", action=argparse.BooleanOptionalAction, default=None,
                    help="loaded tooth contact at the set's rated/peak/momentary torques (default: on in the design "

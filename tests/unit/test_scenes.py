@@ -129,8 +129,9 @@ def test_design_runs_a_users_scene_file(tmp_path):
     assert result.form.clearance.min_mm > -10 * 3e-4
 
 
-def test_scene_list_shows_the_file_and_how_to_copy_it(capsys):
-    assert main(["design", "--scene", "list"]) == 0
+@pytest.mark.parametrize("args", [["--scene", "list"], ["--scene"]], ids=["list", "alone"])
+def test_scene_list_shows_the_file_and_how_to_copy_it(capsys, args):
+    assert main(["design", *args]) == 0
     out = capsys.readouterr().out
     assert all(s in out for s in ("sketch", "design", "verify"))
     assert f"scenes file: {bundled_scenes_path()}" in out and "cp " in out and "--scene my_scenes.toml" in out
