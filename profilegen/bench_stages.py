@@ -172,15 +172,6 @@ def _model_change_mm(model, ref, *, whole_turn: bool) -> float:
     return float(max(np.max(np.abs(mw - w)), np.max(np.abs(mu - u))))
 
 
-def _one_period(res) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A ring solution's neutral-line samples mirrored to one wave period 0 ≤ φ < π (the samples
-    the rim stage fits: ω(π − φ) = ω(φ), υ(π − φ) = −υ(φ))."""
-    phi, w, u = res.phi_rad, res.omega_mm, res.upsilon_mm
-    inner = slice(1, -1)
-    return (np.concatenate([phi, math.pi - phi[inner][::-1]]), np.concatenate([w, w[inner][::-1]]),
-            np.concatenate([u, -u[inner][::-1]]))
-
-
 def _mesh_uncertainty(changes: list[float], sizes: list[float]) -> float:
     """Error estimate of the finest of three meshes (sizes = columns per pitch, increasing) from
     the changes coarse→middle and middle→fine, assuming error ∝ size^−p with p observed. If
@@ -404,6 +395,7 @@ def _rim(inp: _Inputs, repeats: int) -> list[dict]:
 
 def _fit(inp: _Inputs, repeats: int) -> list[dict]:
     from .rim import RIM_TIERS
+    from .rim.stage import _period  # the samples the rim stage fits: one wave period, mirrored
     from .series import GeneralSineDeformation, fit_fourier, fit_sine_series
 
     fem = inp.design.rim.fem if inp.design.rim is not None else None
@@ -412,7 +404,7 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
         return []
     ref, ref_label, ref_unc, ref_time = inp.flat_reference
     um, waves = _SCALE["µm"], inp.gearset.gear.waves
-    phi, w, u = _one_period(fem)
+    phi, w, u = _period(fem)
     floor = _change_mm(fem, ref)
     design, verify = RIM_TIERS["design"], RIM_TIERS["verify"]
     mesh = f"flat {design.layers}×{design.divisions}"
@@ -451,9 +443,8 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
     if not inp.quick:
         t_ref, t_label, t_unc = inp.toothed_reference
         res, _ = inp.toothed(verify.per_pitch)
-        p2, w2, u2 = _one_period(res)
+        p2, w2, u2 = _period(res)
         t_floor = _change_mm(res, t_ref)
-        trows_start = len(rows)
         inp.step("fit: the verify tier's fits of the toothed samples")
         fit, t, n = _timed(lambda: fit_fourier(p2, w2, u2, waves=waves, max_order=verify.max_order, tier="verify"),
                            repeats, inp.long_s)
@@ -464,9 +455,8 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
         add("general sine, 3 terms, toothed samples", model, t, n, scene="verify (reported)", reference=t_ref,
             label=t_label, floor_mm=t_floor,
             note=f"periodicity defect ω {d_w * um:.3g} µm, υ {d_u * um:.3g} µm over a turn")
-        rows.append(_row("fit", t_label, inp.toothed(_TOOTHED_REFERENCE)[1], 1, t_unc * um, reference=t_label,
-                         role="reference", note="the toothed rim's finer FEM (error = its own uncertainty)"))
-        _flag_unresolved(rows[trows_start:], t_unc * um, t_label)
+        _close(rows, "fit", t_label, inp.toothed(_TOOTHED_REFERENCE)[1], t_unc * um,
+               "the toothed rim's finer FEM (error = its own uncertainty)")
     return rows
 
 
@@ -637,8 +627,8 @@ def _contact(inp: _Inputs, repeats: int) -> list[dict]:
 
 def _stress(inp: _Inputs, repeats: int) -> list[dict]:
     from .stress import solve_stress
-    from .stress.morley import solve_morley
-    from .stress.plate import cup_bottom_stress, solve_plate
+    from .stress.morley import clamp_sigma_r_mpa, richardson, solve_morley
+    from .stress.plate import cup_bottom_stress
 
     inp.step("stress: the design scene's cup-bottom edge")
     res = solve_stress(inp.design)
@@ -646,18 +636,13 @@ def _stress(inp: _Inputs, repeats: int) -> list[dict]:
     cup, mat = inp.gearset.cup, inp.gearset.material
     plate = dict(boss_radius_mm=cup.boss_radius_mm, thickness_mm=cup.bottom_thickness_mm,
                  youngs_modulus_mpa=mat.youngs_modulus_mpa, poisson_ratio=mat.poisson_ratio)
-    phi = np.linspace(0.0, 0.5 * math.pi, 1801)
-
-    def richardson(coarse, fine):
-        ratio = (coarse.h_mm / fine.h_mm) ** 2  # Morley: O(h²) in the clamp stress
-        return (ratio * fine.max_clamp_sigma_r_mpa - coarse.max_clamp_sigma_r_mpa) / (ratio - 1.0)
 
     pair = (48, 64) if inp.quick else (96, 128)
     inp.step(f"stress reference: Morley plate, {pair[0]} and {pair[1]} radial divisions")
     t0 = time.perf_counter()
     coarse, fine = (solve_morley(edge, radial_divisions=nr, **plate) for nr in pair)
     ref_time = time.perf_counter() - t0
-    sigma_ref = richardson(coarse, fine)
+    sigma_ref = richardson(coarse, fine, "max_clamp_sigma_r_mpa")
     unc = abs(sigma_ref - fine.max_clamp_sigma_r_mpa) / abs(sigma_ref) * 100.0
     ref_label = f"Morley plate, Richardson {pair[0]}/{pair[1]} radial divisions"
 
@@ -668,8 +653,7 @@ def _stress(inp: _Inputs, repeats: int) -> list[dict]:
     for model, scene in (("consistent", "sketch, design, verify"), ("seed002", "")):
         inp.step(f"stress: {model} plate")
         out, t, n = _timed(lambda m=model: cup_bottom_stress(edge, model=m, **plate), repeats, inp.long_s)
-        field, _ = solve_plate(edge, model=model, **plate)
-        sigma = float(np.max(np.abs(field.surface_stress_mpa(cup.boss_radius_mm, phi)["sigma_r"])))
+        sigma = clamp_sigma_r_mpa(out.field, cup.boss_radius_mm)
         note = (f"one plate solution; the whole stress stage (tooth ring, {len(res.cup_bottom) + 1} plate cases, "
                 f"diaphragm) took {res.time_s:.3g} s" if model == "consistent"
                 else "the paper's f(r)·w(φ) (DESIGN trap 5)")

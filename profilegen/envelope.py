@@ -21,9 +21,11 @@ each piece is classified once, at its midpoint, by its depth inside the region
 swept by the tooth and its two neighbours (closure: neighbour families are the
 same family turned by ±2π/z2). A piece is interfering when that depth exceeds
 the trace's own resolution, its chord tolerance (0.1 nm at least): a coarse
-trace places its crossings only to about its chord, so shorter stretches near a
-grazing crossing end up up to a chord inside the swept region. Crossings where the boundary switches from one
-piece to another are the branch-switch ridges.
+trace places its crossings only to about its chord, so a short stretch next to a
+grazing crossing may lie up to a chord inside the swept region. Every piece is
+then checked at some of its vertices too (``diagnostics["unresolved"]``: stretches
+a missed crossing left in both classes). Crossings where the boundary switches
+from one piece to another are the branch-switch ridges.
 """
 
 from __future__ import annotations
@@ -994,9 +996,11 @@ def _check_classification(pieces, motion, shape, *, phi_range, neighbour_angle, 
             bad = (f > 0.1) & (f < 0.9) & (d <= depth_tol_mm) if d.max() > deep else np.zeros(len(d), bool)
             what = f"an interfering stretch of the {p.source} curve comes back to the swept boundary"
         if bad.any():
-            j = int(np.argmax(np.where(bad, np.abs(d), -np.inf))) if p.cls != INTERFERING else int(np.argmax(bad))
+            # where it is worst: the deepest bad vertex, or the first one back on the boundary
+            j = int(np.argmax(bad)) if p.cls == INTERFERING else int(np.argmax(np.where(bad, d, -np.inf)))
+            depth_mm = float(d.max() if p.cls == INTERFERING else d[j])
             found.append({"source": p.source, "cls": p.cls, "point_mm": (float(q[j, 0]), float(q[j, 1])),
-                          "radius_mm": float(np.hypot(*q[j])), "depth_mm": float(d.max() if p.cls == INTERFERING else d[bad].max()), "what": what})
+                          "radius_mm": float(np.hypot(*q[j])), "depth_mm": depth_mm, "what": what})
     return found
 
 

@@ -241,11 +241,13 @@ def _unresolved(envelope, tip_r: float, r_mid: float) -> list[str]:
     has no material, and only the meeting radius — so the tip circle's height — is in doubt:
     a warning naming the place.
     """
+    from .envelope import INTERFERING
+
     chain = envelope.flank["boundary"]
     found = [f for f in envelope.diagnostics.get("unresolved") or []
              # a boundary stretch matters where it is in the chain the outline is built from;
              # an interfering one (a boundary part missing from the chain) always does
-             if f["cls"] == "interfering" or np.min(np.hypot(*(chain - f["point_mm"]).T)) < 1e-9]
+             if f["cls"] == INTERFERING or np.min(np.hypot(*(chain - f["point_mm"]).T)) < 1e-9]
     above = [f for f in found if f["radius_mm"] >= tip_r]
     if above:
         f = max(above, key=lambda f: f["depth_mm"])

@@ -568,6 +568,12 @@ def parse_gearset(
     return GearSet(**parts, origin=origin, given=frozenset(reader.given))
 
 
+def looks_like_path(text: str) -> bool:
+    """Whether a name given for a gear set or scene is a file path (a ``.toml`` name, with an
+    optional ``#NAME`` after it, or a name with a folder separator) rather than a bundled name."""
+    return text.partition("#")[0].endswith(".toml") or os.sep in text or (os.altsep is not None and os.altsep in text)
+
+
 def read_toml(path: Path, error: type[Exception], what: str) -> dict:
     """The TOML file at ``path`` as a dict; every failure (missing, a folder, unreadable,
     malformed, not UTF-8) is an ``error`` naming the file and ``what`` it should be."""

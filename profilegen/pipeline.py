@@ -343,11 +343,13 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress) -
 
 
 def _with_stress(result: Design, step) -> Design:
-    if result.gearset.gear.waves != 2:
-        note = f"stresses skipped: the flexspline stress models need gear.waves = 2, got {result.gearset.gear.waves}"
-        return replace(result, warnings=result.warnings + (note,))
-    step("stress")
     from .stress import solve_stress
+    from .stress.stage import unsupported
+
+    reason = unsupported(result.gearset)
+    if reason:
+        return replace(result, warnings=result.warnings + (f"stresses skipped: {reason}",))
+    step("stress")
 
     res = solve_stress(result)
     worst = res.min_safety

@@ -31,6 +31,7 @@ from typing import TYPE_CHECKING
 
 from .errors import GearSetError
 from .gearset import SCENES as SCENE_NAMES
+from .gearset import looks_like_path
 
 if TYPE_CHECKING:  # pragma: no cover
     from .pipeline import Scene
@@ -131,8 +132,7 @@ def resolve_scene(scene: str | os.PathLike | Scene, *, default: str = "design") 
     if isinstance(scene, str) and scene in SCENES:
         return SCENES[scene]
     text = os.fspath(scene) if isinstance(scene, (str, os.PathLike)) else None
-    if text is None or not (isinstance(scene, os.PathLike) or text.partition("#")[0].endswith(".toml") or os.sep in text
-                            or (os.altsep is not None and os.altsep in text)):
+    if text is None or not (isinstance(scene, os.PathLike) or looks_like_path(text)):
         raise SceneError(f"scene = {scene!r}: must be one of {', '.join(SCENES)} or a scene TOML file")
     text, _, wanted = text.partition("#") if "#" in text else (text, "", "")
     scenes = read_scenes(text)

@@ -54,7 +54,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .errors import ExportError, GearSetError, ProfilegenError, SweepSpecError
-from .gearset import GearSet
+from .gearset import GearSet, looks_like_path
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -332,7 +332,7 @@ def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | o
     base = Path(base_dir) if base_dir is not None else Path.cwd()
     gearset = _base_gearset(_text(data, "gearset", "default", fail), base, fail)
     scene_text = _text(data, "scene", "sketch", fail)
-    scene_arg = scene_text if not _looks_like_path(scene_text) or Path(scene_text).is_absolute() else base / scene_text
+    scene_arg = scene_text if not looks_like_path(scene_text) or Path(scene_text).is_absolute() else base / scene_text
     try:
         scene = resolve_scene(scene_arg, default=gearset.scene)
     except GearSetError as exc:
@@ -396,15 +396,11 @@ def _text(data: Mapping, key: str, default: str, fail) -> str:
     return value
 
 
-def _looks_like_path(text: str) -> bool:
-    return text.partition("#")[0].endswith(".toml") or os.sep in text or (os.altsep is not None and os.altsep in text)
-
-
 def _base_gearset(text: str, base: Path, fail) -> GearSet:
     from .gearset import load_gearset, resolve_gearset
 
     try:
-        if _looks_like_path(text) and not Path(text).is_absolute():
+        if looks_like_path(text) and not Path(text).is_absolute():
             path = base / text
             if not path.is_file():
                 fail("gearset", f"{path}: no such gear-set file")

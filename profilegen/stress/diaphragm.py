@@ -48,6 +48,7 @@ import numpy as np
 from ..errors import StressError
 from ..results import json_ready, readonly
 from .inputs import finite as _finite, non_negative as _non_negative, positive as _positive
+from .plate import _flexural_row, radial_basis
 
 __all__ = [
     "OUTER_EDGES",
@@ -122,29 +123,21 @@ goodman_shear_safety_factor = goodman_safety_factor
 
 
 def _mode_coefficients(boss_ratio: float, poisson_ratio: float, outer_edge: str) -> np.ndarray:
-    """c1..c4 of F(ρ) = c1 ρ² + c2 ρ⁻² + c3 ρ⁴ + c4 (unit edge amplitude, ρ = r/r_c) with
-    F(ρ0) = F_ρ(ρ0) = 0, F(1) = 1 and M_r(1) = 0 (hinged) or F_ρ(1) = 4 (rigid joint)."""
-    x0, nu = boss_ratio, poisson_ratio
-    rows = [
-        [x0**2, x0**-2, x0**4, 1.0],
-        [2 * x0, -2 * x0**-3, 4 * x0**3, 0.0],
-        [1.0, 1.0, 1.0, 1.0],
-    ]
-    if outer_edge == "hinged":  # F'' + ν (F' − 4F) at ρ = 1
-        rows.append([2 + nu * (2 - 4), 6 + nu * (-2 - 4), 12 + nu * (4 - 4), nu * (-4)])
-        rhs = [0.0, 0.0, 1.0, 0.0]
+    """c1..c4 of F(ρ) = c1 ρ² + c2 ρ⁻² + c3 ρ⁴ + c4 (unit edge amplitude, ρ = r/r_c: the
+    plate's n = 2 harmonic, :func:`plate.radial_basis`) with F(ρ0) = F_ρ(ρ0) = 0, F(1) = 1 and
+    M_r(1) = 0 (hinged: the cup bottom's condition) or F_ρ(1) = 4 (rigid joint)."""
+    at_boss, at_edge = radial_basis(2, boss_ratio, 1.0), radial_basis(2, 1.0, 1.0)
+    if outer_edge == "hinged":
+        last, value = _flexural_row(at_edge, 1.0, 2, poisson_ratio, "M_r"), 0.0
     else:
-        rows.append([2.0, -2.0, 4.0, 0.0])
-        rhs = [0.0, 0.0, 1.0, 4.0]
-    return np.linalg.solve(np.array(rows), np.array(rhs))
+        last, value = at_edge[1], 4.0
+    return np.linalg.solve(np.array([at_boss[0], at_boss[1], at_edge[0], last]), np.array([0.0, 0.0, 1.0, value]))
 
 
 def _mode_shape(coef: np.ndarray, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """F, F_ρ, F_ρρ of the unit mode at ρ = x."""
-    c1, c2, c3, c4 = coef
-    return (c1 * x**2 + c2 * x**-2 + c3 * x**4 + c4,
-            2 * c1 * x - 2 * c2 * x**-3 + 4 * c3 * x**3,
-            2 * c1 + 6 * c2 * x**-4 + 12 * c3 * x**2)
+    f, f1, f2 = np.tensordot(coef, radial_basis(2, x, 1.0), axes=(0, 1))
+    return f, f1, f2
 
 
 # --------------------------------------------------------------------------- result

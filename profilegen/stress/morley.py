@@ -293,6 +293,18 @@ def morley_convergence(edge: EdgeDisplacement, *, boss_radius_mm: float, thickne
     return rows
 
 
+def richardson(coarse: MorleyPlate, fine: MorleyPlate, attr: str) -> float:
+    """``attr`` of two Morley solutions extrapolated to h → 0 with Morley's O(h²) rate."""
+    ratio = (coarse.h_mm / fine.h_mm) ** 2
+    return (ratio * getattr(fine, attr) - getattr(coarse, attr)) / (ratio - 1.0)
+
+
+def clamp_sigma_r_mpa(field, boss_radius_mm: float, samples: int = 1801) -> float:
+    """Max |σ_r| (MPa) of an analytic plate field at the clamp r0, over a quarter turn."""
+    phi = np.linspace(0.0, 0.5 * math.pi, samples)
+    return float(np.max(np.abs(field.surface_stress_mpa(boss_radius_mm, phi)["sigma_r"])))
+
+
 #: largest Richardson step (relative to the extrapolated clamp stress) of a trusted verdict
 _VERDICT_TOL = 0.01
 
@@ -320,15 +332,13 @@ def model_verdict(edge: EdgeDisplacement | None = None, *, boss_radius_mm: float
                   poisson_ratio=poisson_ratio)
     meshes = [solve_morley(edge, radial_divisions=nr, **common) for nr in radial_divisions]
     coarse, fine = meshes[-2], meshes[-1]
-    ratio = (coarse.h_mm / fine.h_mm) ** 2
-    sigma = (ratio * fine.max_clamp_sigma_r_mpa - coarse.max_clamp_sigma_r_mpa) / (ratio - 1.0)
-    energy = (ratio * fine.strain_energy_nmm - coarse.strain_energy_nmm) / (ratio - 1.0)
+    sigma = richardson(coarse, fine, "max_clamp_sigma_r_mpa")
+    energy = richardson(coarse, fine, "strain_energy_nmm")
     out = {"morley_clamp_sigma_r_mpa": sigma, "morley_energy_nmm": energy,
            "morley_h_mm": [m.h_mm for m in meshes], "morley_time_s": sum(m.time_s for m in meshes)}
     for model in ("consistent", "seed002"):
         field, _ = solve_plate(edge, model=model, **common)
-        phi = np.linspace(0.0, 0.5 * math.pi, 1801)
-        s = float(np.max(np.abs(field.surface_stress_mpa(boss_radius_mm, phi)["sigma_r"])))
+        s = clamp_sigma_r_mpa(field, boss_radius_mm)
         u = field.strain_energy_nmm()
         out[f"{model}_clamp_sigma_r_mpa"] = s
         out[f"{model}_off"] = s / sigma - 1.0

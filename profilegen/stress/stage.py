@@ -175,6 +175,15 @@ def _limits(material, fatigue: bool | None) -> tuple[bool, list[str]]:
     return bool(fatigue), notes
 
 
+def unsupported(gearset) -> str:
+    """Why the stress models cannot take this gear set ('' if they can): they are for two
+    waves (ρ_a, ρ_b on the axes of an ellipse)."""
+    waves = gearset.gear.waves
+    return "" if waves == 2 else (f"gear.waves = {waves}: the tooth-ring (seed 001), cup-bottom (seed 002) and "
+                                  f"diaphragm (seed 000) models are for two waves (ρ_a, ρ_b on the axes of an "
+                                  f"ellipse): they need gear.waves = 2, got {waves}")
+
+
 def solve_stress(design, *, fatigue: bool | None = None, required_safety: float = 1.0) -> StressResult:
     """The stresses of ``design`` (a :class:`profilegen.pipeline.Design`) at its gear set's
     torques, and the safety checks (see the module docstring)."""
@@ -183,9 +192,9 @@ def solve_stress(design, *, fatigue: bool | None = None, required_safety: float 
     g, cup, mat = gs.gear, gs.cup, gs.material
     if not (isinstance(required_safety, (int, float)) and math.isfinite(required_safety) and required_safety > 0):
         raise StressError(f"required_safety = {required_safety!r}: must be a finite number > 0")
-    if g.waves != 2:
-        raise StressError(f"stress: gear.waves = {g.waves}: the tooth-ring (seed 001), cup-bottom (seed 002) and "
-                          f"diaphragm (seed 000) models are for two waves (ρ_a, ρ_b on the axes of an ellipse)")
+    reason = unsupported(gs)
+    if reason:
+        raise StressError(f"stress: {reason}")
     fatigue, warnings = _limits(mat, fatigue)
     torques = tuple(float(t) for t in (gs.torque.rated_nm, gs.torque.peak_nm, gs.torque.momentary_nm) if t is not None)
 
