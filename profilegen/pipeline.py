@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import logging
 import os
-import shutil
-import tempfile
 import time
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -20,7 +18,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from .envelope import Envelope, envelope_of
-from .errors import ConvergenceError, ExportError, GearSetError, ProfilegenError
+from .errors import ConvergenceError, GearSetError, ProfilegenError
 from .gearform import CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import FIT_METHODS, GearSet
 from .contour import Arc, Chain, Line, Polyline
@@ -463,85 +461,101 @@ def _with_clearance(form: CircularSplineForm, cmap) -> CircularSplineForm:
     return replace(form, clearance=cmap)
 
 
-def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True) -> list[Path]:
-    """Write every output file of a design into out_dir (see the README, "Outputs").
+#: Every file name :func:`write_design` can write (the output folder may hold only these, see
+#: :mod:`profilegen.outfolder`); a new output file must be added here.
+OUTPUT_FILES = frozenset({
+    "envelope.csv", "circular_spline.dxf", "tooth_space.dxf", "assembly.dxf", "circular_spline.svg",
+    "circular_spline.csv", "profile_fit.json", "deformation_fit.json", "fit_report.html", "envelope.png",
+    "contact.json", "contact.png", "stress.json", "stress.png", "report.html", "design.json",
+})
 
-    Everything is first written into a temporary folder next to ``out_dir`` and
-    moved into place only when all files exist: a failed run leaves nothing new.
+
+def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True) -> list[Path]:
+    """Write every output file of a design into out_dir (see the README, "Outputs"); returns their paths.
+
+    The folder changes as a whole (:mod:`profilegen.outfolder`): the files are written into a
+    staging folder beside ``out_dir``, which then takes its place in one atomic exchange. A failed
+    or killed run leaves the complete old set, a finished one exactly the new set — files of an
+    earlier run that this one does not write (``contact.json`` after a ``--no-contact`` run) are
+    gone, and ``design.json["files"]`` lists exactly the folder's files. What an interrupted run
+    left beside the folder is cleaned by the next run; a second run into the same folder waits
+    for the first (a lock file beside it).
+
+    ``out_dir`` must be absent or hold only profilegen's files: a folder with anything else in it
+    (a user's notes, a subfolder, ``--out .`` in a project folder) raises an ExportError naming the
+    folder and one such entry, and nothing is changed. Every failure is an ExportError naming the path.
     """
+    from . import outfolder
+
+    with outfolder.replacing(out_dir, ours=OUTPUT_FILES) as staging:
+        names = _write_files(result, staging, figure=figure)
+    out = Path(out_dir)
+    return [out / name for name in names]
+
+
+def _write_files(result: Design, staging: Path, *, figure: bool) -> list[str]:
+    """Write the design's files into the empty folder ``staging``, design.json last; their names, sorted."""
     from . import cad, export
 
-    out = Path(out_dir)
-    try:
-        out.parent.mkdir(parents=True, exist_ok=True)
-        staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
-    except OSError as exc:
-        raise ExportError(f"cannot write to {out}: {exc.strerror or exc}") from exc
-    try:
-        export.write_envelope_csv(staging / "envelope.csv", result.envelope)
-        data = result.to_dict()
-        prof = result.profile
-        circles = [Arc(np.zeros(2), r, 0.0, 2 * np.pi) for r in (result.form.tip_radius_mm, result.form.root_radius_mm)]
-        g = result.gearset
-        label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
-                 f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
-                 f"max deviation {prof.max_error_mm * 1e3:.3f} um")
-        r_out = result.form.root_radius_mm
-        note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
-        cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
-        cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
-        cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result), texts=note)
-        cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
-        export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
-        export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
-        from .report import deformation_fit_dict
+    export.write_envelope_csv(staging / "envelope.csv", result.envelope)
+    data = result.to_dict()
+    prof = result.profile
+    circles = [Arc(np.zeros(2), r, 0.0, 2 * np.pi) for r in (result.form.tip_radius_mm, result.form.root_radius_mm)]
+    g = result.gearset
+    label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
+             f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
+             f"max deviation {prof.max_error_mm * 1e3:.3f} um")
+    r_out = result.form.root_radius_mm
+    note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
+    cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
+    cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
+    cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result), texts=note)
+    cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
+    export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
+    export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
+    from .report import deformation_fit_dict
 
-        export.write_json(staging / "deformation_fit.json", deformation_fit_dict(result))
+    export.write_json(staging / "deformation_fit.json", deformation_fit_dict(result))
+    if figure:
+        from .report import fit_report_html
+
+        html = fit_report_html(result, prof.fits, chosen=prof.method, clearance=prof.clearance, positions=prof.positions)
+        with export.atomic_write(staging / "fit_report.html", "w") as f:
+            f.write(html)
+        from . import plot
+
+        title = (f"{g.name}: m {g.gear.module_mm:g} mm, z {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}, "
+                 f"ω* {g.wave_generator.deflection_coefficient:g}, scene {result.scene.name}")
+        plot.envelope_figure(result.envelope, result.tooth, result.motion, title=title, path=staging / "envelope.png")
+    if result.contact is not None:
+        export.write_json(staging / "contact.json", {"gearset": g.name, "scene": result.scene.name,
+                                                     **result.contact.to_dict()})
         if figure:
-            from .report import fit_report_html
+            from . import plot as _plot
 
-            html = fit_report_html(result, prof.fits, chosen=prof.method, clearance=prof.clearance, positions=prof.positions)
-            with export.atomic_write(staging / "fit_report.html", "w") as f:
-                f.write(html)
-            from . import plot
+            _plot.contact_figure(result.contact, path=staging / "contact.png",
+                                 title=f"{g.name}: loaded contact, {result.contact.zones} zones, "
+                                       f"{result.contact.points.count} candidate points per zone")
+    if result.stress is not None:
+        export.write_json(staging / "stress.json", {"gearset": g.name, "scene": result.scene.name,
+                                                    **result.stress.to_dict()})
+        if figure:
+            from . import plot as _plot
+            from .report import design_report_html
 
-            title = (f"{g.name}: m {g.gear.module_mm:g} mm, z {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}, "
-                     f"ω* {g.wave_generator.deflection_coefficient:g}, scene {result.scene.name}")
-            plot.envelope_figure(result.envelope, result.tooth, result.motion, title=title, path=staging / "envelope.png")
-        if result.contact is not None:
-            export.write_json(staging / "contact.json", {"gearset": g.name, "scene": result.scene.name,
-                                                         **result.contact.to_dict()})
-            if figure:
-                from . import plot as _plot
-
-                _plot.contact_figure(result.contact, path=staging / "contact.png",
-                                     title=f"{g.name}: loaded contact, {result.contact.zones} zones, "
-                                           f"{result.contact.points.count} candidate points per zone")
-        if result.stress is not None:
-            export.write_json(staging / "stress.json", {"gearset": g.name, "scene": result.scene.name,
-                                                        **result.stress.to_dict()})
-            if figure:
-                from . import plot as _plot
-                from .report import design_report_html
-
-                _plot.stress_figure(result.stress, path=staging / "stress.png",
-                                    title=f"{g.name}: flexspline stresses at {', '.join(f'{t:g}' for t in result.stress.torques_nm)} N·m")
-                drawn = {name: (staging / f"{name}.png").read_bytes() for name in ("contact", "stress")
-                         if (staging / f"{name}.png").exists()}
-                with export.atomic_write(staging / "report.html", "w") as f:
-                    f.write(design_report_html(result, images=drawn))
-        data["files"] = sorted(p.name for p in staging.iterdir()) + ["design.json"]
-        export.write_json(staging / "design.json", data)
-        out.mkdir(parents=True, exist_ok=True)
-        written = []
-        for f in sorted(staging.iterdir()):
-            os.replace(f, out / f.name)
-            written.append(out / f.name)
-        return written
-    except OSError as exc:
-        raise ExportError(f"cannot write to {out}: {exc.strerror or exc}") from exc
-    finally:
-        shutil.rmtree(staging, ignore_errors=True)
+            _plot.stress_figure(result.stress, path=staging / "stress.png",
+                                title=f"{g.name}: flexspline stresses at {', '.join(f'{t:g}' for t in result.stress.torques_nm)} N·m")
+            drawn = {name: (staging / f"{name}.png").read_bytes() for name in ("contact", "stress")
+                     if (staging / f"{name}.png").exists()}
+            with export.atomic_write(staging / "report.html", "w") as f:
+                f.write(design_report_html(result, images=drawn))
+    names = sorted({p.name for p in staging.iterdir()} | {"design.json"})
+    unknown = sorted(set(names) - OUTPUT_FILES)
+    if unknown:  # a new output file must be named in OUTPUT_FILES, or the next run would refuse the folder
+        raise RuntimeError(f"write_design wrote {unknown[0]!r}, which OUTPUT_FILES does not list")
+    data["files"] = names
+    export.write_json(staging / "design.json", data)  # last: a staging folder with design.json is complete
+    return names
 
 
 def _space_guides(result: Design) -> list:
