@@ -201,7 +201,8 @@ def circular_spline_form(
         root = apex[None]
         warnings.append(
             f"the flank extensions meet at r = {np.hypot(*apex):.4f} mm below the root circle "
-            f"{root_r:.4f} mm: pointed root (reduce circular_spline.root_clearance_mm)"
+            f"{root_r:.4f} mm: a narrow space whose root circle is not reached (the CAD outline closes it with "
+            f"an arc tangent to both flanks; a smaller circular_spline.root_clearance_mm reaches the root circle)"
         )
     else:
         root = _arc(root_r, th_l, th_r, chord_tol_mm)
@@ -466,7 +467,9 @@ def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: in
     (from near the tip circle toward the root). Its start is moved exactly onto the tip
     circle; from its end a line continues along its end tangent to the root circle; the
     left flank is the mirror image; the root is an arc of the root circle; neighbouring
-    spaces are joined by arcs of the tip circle. Returns (space, outline): the chain of
+    spaces are joined by arcs of the tip circle. Where the two end tangents meet on the
+    space's axis before the root circle (a narrow space), one arc centred on the axis and
+    tangent to both flank ends closes the space instead, short of the root circle. Returns (space, outline): the chain of
     one space (left tip point → right tip point) and the closed chain of all z2 spaces.
     """
     from .contour import Arc, Chain, Line
@@ -474,15 +477,32 @@ def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: in
     els = list(flank.elements)
     els[0] = _clip_start_to_circle(els[0], tip_radius_mm)
     end = els[-1].end
-    hit = _tangent_to_circle(end, els[-1].tangent(at_end=True), root_radius_mm)
-    if np.hypot(*(hit - end)) > 1e-12:
-        els.append(Line(end, hit))
-    right = Chain(tuple(els))
-    left_up = right.transformed(_MIRROR)  # mirror keeps the travel direction: tip circle → root
-    if _math_angle(hit) >= _math_angle(hit * [-1, 1]):
-        raise EnvelopeError("gearform: the fitted flanks cross before the root circle — reduce circular_spline.root_clearance_mm")
-    a_left, a_right = _math_angle(hit * [-1, 1]), _math_angle(hit)  # math angles, left > right
-    root = Arc(np.zeros(2), root_radius_mm, a_left, a_right - a_left)  # clockwise across the top
+    direction = els[-1].tangent(at_end=True)
+    if end[0] <= 0.0:
+        raise EnvelopeError(f"gearform: the fitted flank ends at x = {end[0]:.6f} mm, on or past the space's axis: "
+                            "the two flanks cross — check the tooth (thickness, tip) and circular_spline.root_clearance_mm")
+    hit = _tangent_to_circle(end, direction, root_radius_mm)
+    if hit[0] > 0.0:  # the end tangent reaches the root circle before the axis: line + root arc
+        if np.hypot(*(hit - end)) > 1e-12:
+            els.append(Line(end, hit))
+        right = Chain(tuple(els))
+        left_up = right.transformed(_MIRROR)  # mirror keeps the travel direction: tip circle → root
+        a_left, a_right = _math_angle(hit * [-1, 1]), _math_angle(hit)  # math angles, left > right
+        root = Arc(np.zeros(2), root_radius_mm, a_left, a_right - a_left)  # clockwise across the top
+    else:
+        # The end tangents of the two flanks meet on the axis inside the root circle (a narrow
+        # space: a thin FS tooth). One arc centred on the axis, tangent to both flank ends,
+        # closes the space G1; its apex stays short of the root circle (the caller reports it).
+        d = direction / np.hypot(*direction)
+        if d[1] <= 0.0:
+            raise EnvelopeError("gearform: the fitted flank turns back toward the tip circle at its end; the space "
+                                "cannot be closed — check the tooth and circular_spline.root_clearance_mm")
+        radius = end[0] / d[1]  # centre (0, c_y) on the flank end's normal
+        centre = np.array([0.0, end[1] + radius * d[0]])
+        right = Chain(tuple(els))
+        left_up = right.transformed(_MIRROR)
+        a_right = _math_angle(end - centre)
+        root = Arc(centre, radius, np.pi - a_right, 2 * a_right - np.pi)  # clockwise across the top
     space = Chain(tuple(left_up.elements) + (root,) + tuple(right.reversed().elements))
     pitch = 2 * np.pi / cs_teeth
     # our CS polar angle runs clockwise; space k+1 is space k turned by −pitch in math angles

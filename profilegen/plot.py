@@ -348,6 +348,24 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
     return fig
 
 
+def _diaphragm_panel(diaphragm: Any, ax) -> None:
+    """The diaphragm's Goodman diagram, or, when the material gives no fatigue limits (they are
+    optional), its operating point (τ_m, τ_a) alone with the reason the diagram is missing."""
+    from .stress.diaphragm import plot_goodman
+
+    if diaphragm.safety_factor is not None:
+        plot_goodman(diaphragm, ax)
+        return
+    tau_m, tau_a = diaphragm.mean_shear_mpa, diaphragm.shear_amplitude_mpa
+    ax.plot([tau_m], [tau_a], "o", color="#d62728", label=f"(τ_m, τ_a) = ({tau_m:.1f}, {tau_a:.1f}) MPa")
+    ax.text(0.5, 0.5, "no Goodman diagram: the gear set gives no\nmaterial.shear_endurance_limit_mpa / "
+            "ultimate_strength_mpa", transform=ax.transAxes, ha="center", va="center", fontsize=8, color="0.35")
+    ax.set(xlabel="mean shear τ_m (MPa)", ylabel="shear amplitude τ_a (MPa)",
+           xlim=(0.0, 2.0 * max(tau_m, 1e-9)), ylim=(0.0, 2.0 * max(tau_a, 1e-9)))
+    ax.grid(True, linewidth=0.3)
+    ax.legend(fontsize=7)
+
+
 def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | None = None) -> "Figure":
     """The flexspline stresses of a :class:`~profilegen.stress.StressResult`: the tooth-root
     stress (assembly + load) at each torque, the cup bottom's von Mises map at the largest
@@ -355,8 +373,6 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
     factor against the required one."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
-
-    from .stress.diaphragm import plot_goodman
 
     fig = Figure(figsize=(13.0, 8.0), layout="constrained")
     FigureCanvasAgg(fig)
@@ -389,7 +405,7 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
     ax.set_title(f"cup bottom (seed 002, consistent plate) at {result.torques_nm[-1]:g} N·m", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
 
-    plot_goodman(result.diaphragm[0], axes[1, 0])
+    _diaphragm_panel(result.diaphragm[0], axes[1, 0])
     axes[1, 0].set_title(f"diaphragm corner (seed 000) at {result.torques_nm[0]:g} N·m", fontsize=9)
 
     ax = axes[1, 1]

@@ -669,10 +669,17 @@ def toothed_half_ring_mesh(
     half_pitch = math.pi / z1
     psi_root = _pieces(tooth)[2][0]
     # the root land must reach far enough toward the mid-space (see toothed_quarter_mesh)
-    n_half = per_pitch // 2
-    rl_min = max(1, math.floor(n_half * (1.0 - psi_root / half_pitch) + 0.5) + 1)
-    minimum = [1] * len(pieces)
-    minimum[0] = minimum[-1] = rl_min
+    def least(columns):
+        rl_min = max(1, math.floor(columns // 2 * (1.0 - psi_root / half_pitch) + 0.5) + 1)
+        return [rl_min] + [1] * (len(pieces) - 2) + [rl_min]
+
+    asked = per_pitch
+    while sum(least(per_pitch)) > per_pitch:  # a tooth of many pieces (steps, a point list) needs more columns
+        per_pitch += 2
+    if per_pitch != asked:
+        log.info("toothed_half_ring_mesh: %d columns per pitch for the %d pieces of the tooth (asked %d)",
+                    per_pitch, len(pieces), asked)
+    minimum = least(per_pitch)
     top, _ = pitch_surface(pieces, per_pitch, minimum)
     tops = [top if k else None for k in toothed]
     cols = np.where(toothed, per_pitch, flat_per_pitch)

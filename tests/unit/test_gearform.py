@@ -10,6 +10,7 @@ import shapely
 
 import profilegen as pg
 from profilegen.contour import Arc, Chain, Line
+from profilegen.errors import EnvelopeError
 from profilegen.gearform import circular_spline_form, clearance_map, cs_chain
 
 
@@ -103,3 +104,33 @@ def test_clearance_map_equals_brute_force_distance(form_default, default_set):
             assert value == pytest.approx(truth, abs=1e-12), np.degrees(phi)
         else:
             assert truth <= value <= truth + 1e-3, np.degrees(phi)
+
+
+def test_cs_chain_closes_a_narrow_space_with_one_tangent_arc(form_default):
+    """A flank whose end tangent meets the space's axis inside the root circle (a thin FS
+    tooth, as in seed 001's SHF-25 set) is closed by one arc centred on the axis: the whole
+    space is G1 (no kink anywhere), closed, mirror-symmetric, and its apex lies on the axis
+    inside the root circle, where the two end tangents' crossing bounds it."""
+    f = form_default
+    r_root = f.root_radius_mm
+    end = np.array([0.07, r_root - 0.10])  # 0.07 mm from the axis, 0.1 mm below the root circle
+    t = np.array([-1.0, 1.0]) / np.sqrt(2.0)  # 45°: the tangent meets the axis at r_root - 0.03
+    start = end - 1.3 * t  # a plain line flank, from inside the tip circle
+    assert np.hypot(*start) < f.tip_radius_mm
+    flank = Chain((Line(start, end),))
+    space, outline = cs_chain(flank, tip_radius_mm=f.tip_radius_mm, root_radius_mm=r_root, cs_teeth=202)
+    assert outline.gaps(closed=True).max() <= 1e-9
+    assert np.all(space.kinks_deg() < 1e-9)  # G1 through both flank ends
+    np.testing.assert_allclose(space.start * [-1, 1], space.end, atol=1e-12)
+    pts = space.sample(1e-5)
+    top = pts[np.argmax(np.hypot(*pts.T))]
+    assert abs(top[0]) < 1e-4
+    crossing = end[1] + end[0] * t[1] / -t[0]  # where the end tangent meets x = 0
+    assert end[1] < np.hypot(*top) < crossing < r_root
+
+
+def test_cs_chain_refuses_a_flank_past_the_axis(form_default):
+    f = form_default
+    flank = Chain((Line(np.array([0.2, f.tip_radius_mm + 0.01]), np.array([-0.01, f.root_radius_mm - 0.05])),))
+    with pytest.raises(EnvelopeError, match="axis"):
+        cs_chain(flank, tip_radius_mm=f.tip_radius_mm, root_radius_mm=f.root_radius_mm, cs_teeth=202)
