@@ -6,11 +6,12 @@ mean grows linearly with the torque, and a Goodman diagram of (τ_m, τ_a) judge
 (its Fig. 21). The seed gives no formulas; checked here: τ_m = T/(2π r0² t) by hand, the
 plate solution against an independent ODE solve (scipy solve_bvp of the n = 2 biharmonic
 equation), the edge amplitude against seed 002's double integral, Goodman by hand.
+The speed of one evaluation (formerly a 0.01 s assertion here) is measured by
+``python tests/benchmarks/stress_speed.py``.
 """
 
 import json
 import math
-import time
 
 import numpy as np
 import pytest
@@ -150,13 +151,6 @@ def test_plot_goodman_and_json(tmp_path):
         res.radius_mm[0] = 0.0
     with pytest.raises(StressError, match="safety_factor"):
         dg.plot_goodman(dg.diaphragm_stress(**sample(fatigue=False)))
-
-
-def test_one_evaluation_is_fast():
-    t0 = time.perf_counter()
-    for _ in range(20):
-        dg.diaphragm_stress(**sample())
-    assert (time.perf_counter() - t0) / 20 < 0.01
 
 
 # --------------------------------------------------------------------------- bad input

@@ -11,7 +11,6 @@ curvatures O(h)).
 
 import json
 import math
-import time
 
 import numpy as np
 import pytest
@@ -275,12 +274,17 @@ def test_stresses_are_linear_in_w0():
     np.testing.assert_allclose(tripled.amplitudes_mm, 3.0 * base.amplitudes_mm, rtol=1e-14)
 
 
-def test_analytic_model_is_fast(ellipse_edge):
-    cup_bottom_stress(ellipse_edge, **PLATE)  # imports
-    t0 = time.perf_counter()
+def test_reported_maximum_is_the_fields_maximum_within_its_error_estimate(ellipse_edge):
+    """The von Mises maximum the design reports (41 × 144 grid + local refinement) against the
+    same field sampled independently on both faces on a 97 × 361 grid: never below it, and
+    above it by no more than the reported error estimate, which is < 0.1 % of the maximum.
+    (The model's speed, the former 0.1 s budget, is ``python tests/benchmarks/stress_speed.py``.)"""
     res = cup_bottom_stress(ellipse_edge, torque_nmm=395e3, **PLATE)
-    assert time.perf_counter() - t0 < 0.1 and res.time_s < 0.1
-    assert res.error_estimate_mpa < 1e-3 * res.max_von_mises_mpa
+    r = np.linspace(R0, RM, 97)[:, None]
+    phi = np.linspace(0.0, 2.0 * math.pi, 361)[None, :]
+    dense = max(float(res.field.surface_stress_mpa(r, phi, face)["von_mises"].max()) for face in (1, -1))
+    assert 0.0 <= res.error_estimate_mpa < 1e-3 * res.max_von_mises_mpa
+    assert dense - 1e-9 * dense <= res.max_von_mises_mpa <= dense + res.error_estimate_mpa + 1e-9 * dense
 
 
 # --------------------------------------------------------------------------- Morley
@@ -290,7 +294,7 @@ def test_morley_converges_to_the_consistent_model_at_rate_two():
     """Morley (non-conforming P2) against the consistent analytic model, edge w = W₂ cos 2φ +
     W₄ cos 4φ: vertex deflection, strain energy, clamp moment M_r(r0, φ) (from the reactions)
     and max clamp stress O(h²) (observed 1.9–2.0), curvatures O(h) in L²; on the 32-division
-    mesh all within 0.5 %, solved in ≤ 2 s."""
+    mesh all within 0.5 % (its solve time is in ``tests/benchmarks/stress_speed.py``)."""
     from profilegen.stress.morley import morley_convergence
 
     edge = edge_displacement({2: 0.35, 4: 0.02}, mean_radius_mm=RM, length_mm=L)
@@ -301,7 +305,6 @@ def test_morley_converges_to_the_consistent_model_at_rate_two():
         assert row["rate_clamp_moment"] > 1.8 and row["rate_clamp_sigma_r_max"] > 1.8
         assert 0.8 < row["rate_curvature_l2"] < 1.3
     assert fine["w_max"] < 5e-3 and abs(fine["energy"]) < 5e-3 and abs(fine["clamp_sigma_r_max"]) < 5e-3
-    assert fine["time_s"] < 2.0
 
 
 def test_morley_decides_for_the_consistent_model():

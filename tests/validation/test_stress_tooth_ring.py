@@ -11,8 +11,6 @@ DESIGN.md trap 6. The formulas are transcribed here once more, independently of 
 
 import json
 import math
-import statistics
-import time
 
 import numpy as np
 import pytest
@@ -261,14 +259,9 @@ def test_assembly_stress_is_largest_on_the_major_axis():
     assert res.assembly_stress_phi_mpa[0] == pytest.approx(res.assembly_stress_mpa, rel=1e-14)
 
 
-def test_result_is_read_only_json_safe_and_fast():
-    kw = base_inputs(minor_semi_axis_mm=None)
-    times = []
-    for _ in range(5):
-        t0 = time.perf_counter()
-        res = tr.tooth_ring_stress(**kw)
-        times.append(time.perf_counter() - t0)
-    assert statistics.median(times) < 0.01
+def test_result_is_read_only_and_json_safe():
+    """(Its speed, the former 0.01 s budget, is ``python tests/benchmarks/stress_speed.py``.)"""
+    res = tr.tooth_ring_stress(**base_inputs(minor_semi_axis_mm=None))
     with pytest.raises(ValueError):
         res.curvature_mm_inv[0] = 1.0
     data = json.loads(json.dumps(res.to_dict()))
