@@ -1,7 +1,8 @@
 """`profilegen ...` — the command line. No logic of its own: it parses, calls, reports.
 
 Exit codes: 0 success, 2 bad input (gear set, file, option) or a failed stage,
-with one line on stderr naming the field; nothing is written on failure.
+with one line on stderr naming the field (nothing is written on failure); 3 from
+``design --strict`` when the design's verdict is FAIL (its files are written).
 """
 
 from __future__ import annotations
@@ -25,7 +26,7 @@ def _load(name_or_path: str | None):
 
 
 def _cmd_design(args) -> int:
-    from .pipeline import SCENES, design, write_design
+    from .pipeline import SCENES, design, planned_stages, write_design
 
     if args.scene == "list":
         from .scenes import bundled_scenes_path
@@ -40,8 +41,8 @@ def _cmd_design(args) -> int:
         return 0
     gearset = _load(args.gearset)
     out = Path(args.out) if args.out else Path("export") / gearset.name
-    stages = ["tooth", "deformation", "envelope", "gearform", "arcfit", "contact", "stress", "files"]
-    bar = _progress(len(stages), quiet=args.quiet)
+    stages = planned_stages(gearset, scene=args.scene, contact=args.contact) + ("files",)
+    bar = _progress(len(stages), quiet=args.quiet, what=f"design {gearset.name}")
     result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name),
                     contact=args.contact)
     bar("files")
@@ -49,7 +50,10 @@ def _cmd_design(args) -> int:
     bar(None)
     if not args.quiet:
         _summary(result, written)
-    return 0
+    verdict = result.verdict
+    if not args.quiet or not verdict.passed:
+        print(verdict.line, file=sys.stdout if verdict.passed else sys.stderr)
+    return 3 if (args.strict and not verdict.passed) else 0
 
 
 def _summary(result, written) -> None:
@@ -94,50 +98,71 @@ def _summary(result, written) -> None:
         print(f"  wrote {p}")
 
 
-def _progress(total: int, *, quiet: bool):
-    """A tqdm bar over the stages on stderr (silent when quiet or not a terminal)."""
-    if quiet or not sys.stderr.isatty():
+def _progress(total: int, *, quiet: bool, what: str = "design"):
+    """Stage progress on stderr: one line per stage as it starts (elapsed time, stage k of
+    total), also when stderr is a pipe or a file, and a tqdm bar under them on a terminal.
+    Silent when quiet. Call with None at the end (closes the bar)."""
+    if quiet:
         return lambda name: None
-    from tqdm import tqdm
+    import time
 
-    bar = tqdm(total=total, desc="design", unit="stage", leave=False, file=sys.stderr)
-    state = {"started": False}
+    t0 = time.perf_counter()
+    bar = None
+    if sys.stderr.isatty():
+        from tqdm import tqdm
+
+        bar = tqdm(total=total, desc=what, unit="stage", leave=False, file=sys.stderr)
+    state = {"k": 0}
 
     def step(name):
-        if state["started"]:
+        if bar is not None and state["k"]:
             bar.update(1)
-        state["started"] = True
         if name is None:
-            bar.close()
-        else:
+            if bar is not None:
+                bar.close()
+            return
+        state["k"] += 1
+        line = f"profilegen: {what} [{state['k']}/{total}] {name} ({time.perf_counter() - t0:.1f} s)"
+        if bar is not None:
             bar.set_postfix_str(name)
+            bar.write(line, file=sys.stderr)
+        else:
+            print(line, file=sys.stderr, flush=True)
 
     return step
 
 
 def _cmd_sweep(args) -> int:
-    from .sweep import dask_executor, load_sweep_spec, run_sweep
+    import signal
 
-    spec = load_sweep_spec(args.spec)
-    table = None
-    if args.out is None:
-        out = Path("export") / "sweeps" / spec.name
-    elif args.out.endswith(".parquet"):  # the table as Parquet there; the folder beside it, same name
-        table, out = Path(args.out), Path(args.out).with_suffix("")
-    else:
-        out = Path(args.out)
-    bar = _sweep_progress(len(spec.points), quiet=args.quiet)
+    from .sweep import dask_executor, interrupt_on_signals, load_sweep_spec, run_sweep
+
+    spec = out = None
+    bar = lambda done, total: None  # noqa: E731
     try:
-        if args.dask:
-            with dask_executor(args.dask) as executor:
-                result = run_sweep(spec, out, executor=executor, progress=bar, table=table)
-        else:
-            result = run_sweep(spec, out, workers=args.workers, progress=bar, table=table)
-    except KeyboardInterrupt:
+        with interrupt_on_signals((signal.SIGTERM,)):  # SIGTERM stops the sweep as cleanly as Ctrl-C
+            spec = load_sweep_spec(args.spec)
+            table = None
+            if args.out is None:
+                out = Path("export") / "sweeps" / spec.name
+            elif args.out.endswith(".parquet"):  # the table as Parquet there; the folder beside it, same name
+                table, out = Path(args.out), Path(args.out).with_suffix("")
+            else:
+                out = Path(args.out)
+            bar = _sweep_progress(len(spec.points), quiet=args.quiet)
+            if args.dask:
+                with dask_executor(args.dask) as executor:
+                    result = run_sweep(spec, out, executor=executor, progress=bar, table=table)
+            else:
+                result = run_sweep(spec, out, workers=args.workers, progress=bar, table=table)
+    except KeyboardInterrupt as exc:  # SIGINT, or SIGTERM as a SignalInterrupt: the workers are already ended
         bar(None, None)
-        print(f"profilegen: sweep {spec.name!r} interrupted; the finished points are in {out / 'journal.csv'} — "
-              "run the same command again to resume", file=sys.stderr)
-        return 130
+        signum = getattr(exc, "signum", signal.SIGINT)
+        what = "sweep" if spec is None else f"sweep {spec.name!r}"
+        resume = "" if out is None else (f"; the finished points are in {out / 'journal.csv'} — "
+                                         "run the same command again to resume")
+        print(f"profilegen: {what} stopped by {signal.Signals(signum).name}{resume}", file=sys.stderr)
+        return 128 + signum
     bar(None, None)
     if not args.quiet:
         where = f"Dask at {args.dask}" if args.dask else f"{args.workers or os.cpu_count()} local worker(s)"
@@ -254,7 +279,11 @@ def _parser() -> argparse.ArgumentParser:
                         "and verify scenes, off in sketch)")
     d.add_argument("--fit", choices=["one_sided", "least_squares", "minimax"],
                    help="arc–line–arc fit of the CS flank for CAD (default: the gear set's circular_spline.fit_method)")
-    d.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    d.add_argument("--strict", action="store_true",
+                   help="exit 3 when any check fails (a safety factor below its requirement, a load case beyond "
+                        "the contact's capacity, a fitted CS that interferes); the files are written either way")
+    d.add_argument("-q", "--quiet", action="store_true", help="print nothing on success (a failed verdict still "
+                   "prints its one line on stderr)")
     d.set_defaults(func=_cmd_design)
     c = sub.add_parser("check", help="validate gear-set files and print every problem")
     c.add_argument("gearsets", nargs="+", help="gear-set TOML files or bundled names")

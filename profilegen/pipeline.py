@@ -29,7 +29,7 @@ from .teeth import tooth_from_gearset
 if TYPE_CHECKING:  # pragma: no cover
     from .rim.stage import RimDeformation
 
-__all__ = ["Scene", "SCENES", "StageReport", "CSProfile", "Design", "design", "write_design"]
+__all__ = ["Scene", "SCENES", "StageReport", "CSProfile", "Design", "Verdict", "design", "write_design"]
 
 MIN_BRANCH_POINTS = 12  # flank points a branch needs for its own arc–line–arc fit
 FIT_MAX_ITER = 200  # SLP iterations per start of the minimax / one-sided fits
@@ -140,6 +140,41 @@ class CSProfile:
         }
 
 
+#: A fitted CS that cuts into the FS tooth by more than this (mm), or the scene's envelope
+#: chord tolerance if larger, interferes: a warning, and a FAIL in the design's verdict. The
+#: one-sided fit touches the envelope to within the chord tolerance.
+INTERFERENCE_TOL_MM = 1e-6
+
+
+def interference_tol_mm(scene) -> float:
+    return max(INTERFERENCE_TOL_MM, scene.chord_tol_mm)
+
+
+@dataclass(frozen=True, slots=True)
+class Verdict:
+    """The design's checks in one line: ``PASS`` or ``FAIL: <what failed>``.
+
+    ``failures``: an interfering fitted CS, every load case beyond the modelled contact's
+    capacity, every safety factor below its required value. ``skipped``: safety checks the
+    gear set has no material limits for (not failures)."""
+
+    failures: tuple[str, ...]
+    skipped: tuple[str, ...] = ()
+
+    @property
+    def passed(self) -> bool:
+        return not self.failures
+
+    @property
+    def line(self) -> str:
+        if self.failures:
+            return "FAIL: " + "; ".join(self.failures)
+        return "PASS" + (f" ({len(self.skipped)} safety checks skipped: no material limits)" if self.skipped else "")
+
+    def to_dict(self) -> dict:
+        return {"passed": self.passed, "line": self.line, "failures": list(self.failures), "skipped": list(self.skipped)}
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class Design:
     """Everything one design run produced (inputs, stage results, reports, warnings)."""
@@ -161,6 +196,25 @@ class Design:
     @property
     def time_s(self) -> float:
         return float(sum(s.time_s for s in self.stages))
+
+    @property
+    def verdict(self) -> "Verdict":
+        """Every pass/fail check of the design in one place (see :class:`Verdict`)."""
+        failures, skipped = [], []
+        if self.profile is not None and self.profile.clearance.min_mm < -interference_tol_mm(self.scene):
+            failures.append(f"interference: the fitted CS ({self.profile.method}) cuts into the FS tooth by "
+                            f"{-self.profile.clearance.min_mm * 1e3:.3g} µm")
+        if self.contact is not None:
+            for case in self.contact.cases:
+                if case.beyond_capacity is not None:
+                    failures.append(f"contact at {case.torque_nm:g} N·m beyond capacity")
+        if self.stress is not None:
+            for c in self.stress.checks:
+                if c.passed is None:
+                    skipped.append(f"{c.name} at {c.torque_nm:g} N·m")
+                elif not c.passed:
+                    failures.append(f"{c.name} safety {c.value:.2f} < {c.required:g} at {c.torque_nm:g} N·m")
+        return Verdict(tuple(failures), tuple(skipped))
 
     def to_dict(self) -> dict:
         env = self.envelope
@@ -210,6 +264,7 @@ class Design:
                 "warnings": list(self.contact.warnings),
             },
             "stress": None if self.stress is None else self.stress.headline(),
+            "verdict": self.verdict.to_dict(),
             "warnings": list(self.warnings),
         }
 
@@ -244,6 +299,20 @@ def design(
     with threadpool_limits(limits=1, user_api="blas"):
         return _design(gearset, scene=scene, fit_method=fit_method, progress=progress, contact=contact,
                        stress=stress)
+
+
+def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None = None,
+                   contact: bool | None = None, stress: bool = True) -> tuple[str, ...]:
+    """The names :func:`design` will pass to its ``progress`` callback, in order, for these
+    arguments (a progress display's total). The contact and stress models need two waves."""
+    scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
+    names = ["tooth", "deformation", "envelope", "gearform", "arcfit"]
+    two_waves = gearset.gear.waves == 2
+    if two_waves and (contact or (contact is None and scene.contact)):
+        names.append("contact")
+    if two_waves and stress:
+        names.append("stress")
+    return tuple(names)
 
 
 def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress) -> Design:
@@ -324,7 +393,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress) -
     stages.append(StageReport("arcfit", f"arc–line–arc, {method}", len(profile.space.elements),
                               time.perf_counter() - t0, profile.max_error_mm,
                               "max normal deviation of the fitted CS flank from the envelope (mm)"))
-    if profile.clearance.min_mm < -1e-6:
+    if profile.clearance.min_mm < -interference_tol_mm(scene):
         warnings.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} µm "
                         f"at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
     result = Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim)
@@ -437,7 +506,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CS
     if ridges:
         branches = fit_profile_per_branch(flank, ridges, method=method, space_side="left",
                                           swept=swept if method == "one_sided" else None, swept_tol_mm=tol,
-                                          max_iter=FIT_MAX_ITER)
+                                          max_iter=FIT_MAX_ITER, whole=False)  # the whole-flank fit is fits[method]
         # each branch fit ends at the foot of its own last point: at a ridge the two fits
         # meet within the backlash, with the ridge's kink; a short line closes any gap
         els = list(branches.fits[0].chain.elements)

@@ -200,3 +200,38 @@ def test_bench_quick_writes_the_speed_accuracy_chart(tmp_path, capsys):
     assert float(rows["design"]["flank_error_mm"]) < 1e-5 < float(rows["sketch"]["flank_error_mm"])
     assert float(rows["reference"]["flank_error_mm"]) == 0.0
     assert (tmp_path / "pipeline.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_progress_is_one_line_per_stage_on_stderr_when_piped(tmp_path):
+    """`design` into a pipe: every stage announces itself on stderr as it starts, in order,
+    numbered against the stages this run will have (sketch: no contact); -q silences it."""
+    res = run_cli("design", "--scene", "sketch", "--out", str(tmp_path / "o"), cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    lines = [ln for ln in res.stderr.splitlines() if ln.startswith("profilegen: design default [")]
+    names = [re.match(r"profilegen: design default \[(\d+)/(\d+)\] (\S+) \(\d+\.\d s\)$", ln).groups() for ln in lines]
+    assert [n[2] for n in names] == ["tooth", "deformation", "envelope", "gearform", "arcfit", "stress", "files"]
+    assert [int(n[0]) for n in names] == list(range(1, 8)) and {n[1] for n in names} == {"7"}
+    assert res.stdout.splitlines()[-1] == "PASS"
+    quiet = run_cli("design", "--scene", "sketch", "--out", str(tmp_path / "q"), "-q", cwd=tmp_path)
+    assert quiet.returncode == 0 and quiet.stderr == "" and quiet.stdout == ""
+
+
+def test_a_failing_design_says_fail_in_one_line_and_strict_exits_3(tmp_path):
+    """Torques four times what the default set's size carries: the cup bottom yields (safety
+    0.52 at 4800 N·m). The last line names every failed check; --strict turns that into exit code 3 (the
+    files are written either way)."""
+    text = DEFAULT.replace("rated_nm = 265.0", "rated_nm = 1060.0").replace("peak_nm = 660.0", "peak_nm = 2640.0") \
+        .replace("momentary_nm = 1200.0", "momentary_nm = 4800.0")
+    assert text != DEFAULT
+    path = tmp_path / "heavy.toml"
+    path.write_text(text)
+    plain = run_cli("design", str(path), "--scene", "sketch", "--out", str(tmp_path / "a"), cwd=tmp_path)
+    assert plain.returncode == 0, plain.stderr
+    last = plain.stderr.splitlines()[-1]
+    assert last.startswith("FAIL: ") and "cup bottom yield safety" in last and "4800 N·m" in last
+    strict = run_cli("design", str(path), "--scene", "sketch", "--out", str(tmp_path / "b"), "--strict", "-q", cwd=tmp_path)
+    assert strict.returncode == 3 and strict.stderr.strip() == last and strict.stdout == ""
+    data = json.loads((tmp_path / "b" / "design.json").read_text())
+    assert data["verdict"]["passed"] is False and data["verdict"]["line"] == last
+    ok = run_cli("design", "--scene", "sketch", "--out", str(tmp_path / "c"), "--strict", "-q", cwd=tmp_path)
+    assert ok.returncode == 0
