@@ -8,22 +8,25 @@ appendix F.6.5), matplotlib's PNG reader. Geometric checks are exact analytic
 facts: the slot's area is 8 + π mm², the gear closes after 12 pitches.
 
 Golden file: ``tests/golden/toy_gear.dxf`` is the toy gear written by
-:func:`write_contours_dxf`; :func:`test_golden_toy_gear` regenerates it in tmp_path
-and compares the two semantically (entity types, layers, coordinates, radii and
-angles to 1e-6 mm / 1e-6°, header units, layer colours, texts), not byte by byte,
-so an ezdxf upgrade that reorders the header does not break it. To regenerate the
-golden file deliberately (after a change of the toy gear or of the writer's
-semantics), run
+:func:`write_contours_dxf`. :func:`test_golden_toy_gear` first checks the golden file
+itself against the toy gear's analytic geometry (``tests/golden/toy_gear_checks.py``:
+closure, tangent turning 2π, G1 joins, enclosed area, root/tip radii, 12-fold and mirror
+symmetry, from ezdxf's entities alone), then writes the toy gear afresh in tmp_path and
+compares the two semantically (entity types, layers, coordinates, radii and angles to
+1e-6 mm / 1e-6°, header units, layer colours, texts), not byte by byte, so an ezdxf
+upgrade that reorders the header does not break it. The tests never write the golden
+file; to regenerate it deliberately (after a change of the toy gear or of the writer's
+semantics) run
 
-    PROFILEGEN_REGEN_GOLDEN=1 python -m pytest tests/unit/test_cad.py -k golden
+    python tests/golden/regen_toy_gear.py --write
 
-and commit the new file together with the change that made it necessary.
+which writes it only if the new file passes the same geometric checks, and commit it
+together with the change that made it necessary.
 """
 
 from __future__ import annotations
 
 import math
-import os
 import re
 import xml.etree.ElementTree as ET
 from pathlib import Path
@@ -44,6 +47,7 @@ from profilegen.cad import (
 from profilegen.contour import Arc, Chain, ContourError, Line
 from profilegen.errors import ExportError
 from profilegen.export import DXF_LAYER_COLORS
+from tests.golden.toy_gear_checks import ToyGearCheckError, analytic_area_mm2, check_toy_gear_dxf
 
 GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "toy_gear.dxf"
 SVG_NS = {"svg": "http://www.w3.org/2000/svg"}
@@ -368,12 +372,11 @@ def _angle_diff_deg(a, b):
 
 
 def test_golden_toy_gear(tmp_path):
-    fresh = tmp_path / "toy_gear.dxf"
-    write_contours_dxf(fresh, toy_gear_layers(), texts=TOY_TEXTS)
-    if os.environ.get("PROFILEGEN_REGEN_GOLDEN") == "1":
-        GOLDEN.parent.mkdir(parents=True, exist_ok=True)
-        GOLDEN.write_bytes(fresh.read_bytes())
     assert GOLDEN.exists(), f"{GOLDEN} is missing; see this module's docstring to regenerate it"
+    measured = check_toy_gear_dxf(GOLDEN)  # the golden file is the analytic toy gear ...
+    assert measured["area_mm2"] == pytest.approx(analytic_area_mm2(), abs=1e-9)
+    fresh = tmp_path / "toy_gear.dxf"  # ... and the writer still produces it
+    write_contours_dxf(fresh, toy_gear_layers(), texts=TOY_TEXTS)
     old, new = _dxf_semantics(GOLDEN), _dxf_semantics(fresh)
     assert (new["insunits"], new["measurement"]) == (old["insunits"], old["measurement"]) == (4, 1)
     assert new["layers"] == old["layers"]
@@ -387,6 +390,71 @@ def test_golden_toy_gear(tmp_path):
         assert np.allclose(g1[:n_xy], g0[:n_xy], atol=1e-6, rtol=0), f"entity {k}: {g0} -> {g1}"
         for a0, a1 in zip(g0[n_xy:], g1[n_xy:]):
             assert _angle_diff_deg(a0, a1) <= 1e-6, f"entity {k}: angle {a0} -> {a1}"
+
+
+def _mutated_golden(tmp_path, change) -> Path:
+    doc = ezdxf.readfile(GOLDEN)
+    change(doc)
+    out = tmp_path / "mutated.dxf"
+    doc.saveas(out)
+    return out
+
+
+def _cs(doc, kind):
+    return [e for e in doc.modelspace().query(kind) if e.dxf.layer == "CS"]
+
+
+def _transform_cs(matrix):
+    def change(doc):
+        for e in doc.modelspace():
+            if e.dxf.layer == "CS":
+                e.transform(matrix)
+    return change
+
+
+def _open_a_gap(doc):
+    line = _cs(doc, "LINE")[0]
+    x, y = tuple(line.dxf.end)[:2]
+    line.dxf.end = (x + 1e-7, y, 0.0)
+
+
+def _grow_an_arc(doc):
+    arc = _cs(doc, "ARC")[3]
+    arc.dxf.radius = arc.dxf.radius * (1.0 + 1e-8)
+
+
+def _set_text(doc):
+    (text,) = doc.modelspace().query("TEXT")
+    text.dxf.text = "toy gear z = 13, r 8/10 mm"
+
+
+@pytest.mark.parametrize("change, words", [
+    (lambda doc: doc.header.__setitem__("$INSUNITS", 6), r"\$INSUNITS = 6"),  # metres
+    (lambda doc: doc.modelspace().delete_entity(_cs(doc, "LINE")[5]), r"layer CS: 83 entities"),
+    (_set_text, r"annotation: z = 13"),
+    (_open_a_gap, r"closure"),
+    (_grow_an_arc, r"closure"),
+    (_transform_cs(ezdxf.math.Matrix44.scale(1.0001, 1.0001, 1.0)), r"area"),  # 0.01 % larger
+    (_transform_cs(ezdxf.math.Matrix44.z_rotate(0.01)), r"not a scallop"),  # turned by 0.57°
+], ids=["units", "missing-entity", "annotation", "gap-1e-7", "arc-radius-1e-8", "scaled", "turned"])
+def test_golden_checks_reject_a_file_that_is_not_the_toy_gear(tmp_path, change, words):
+    """The geometric check can fail: small edits of the golden file, each caught by name."""
+    with pytest.raises(ToyGearCheckError, match=words):
+        check_toy_gear_dxf(_mutated_golden(tmp_path, change))
+
+
+def test_golden_regeneration_script_refuses_a_wrong_gear_and_writes_only_on_request(tmp_path, monkeypatch):
+    from tests.golden import regen_toy_gear
+
+    target = tmp_path / "golden" / "toy_gear.dxf"
+    assert regen_toy_gear.main(["--output", str(target)]) == 0 and not target.exists()  # a dry run writes nothing
+    assert regen_toy_gear.main(["--output", str(target), "--write"]) == 0
+    assert _dxf_semantics(target) == _dxf_semantics(GOLDEN)
+    before = target.read_bytes()
+    turned = Chain([e.transformed(_rot(math.radians(1.0))) for e in toy_gear().elements])  # a gear, but turned by 1°
+    monkeypatch.setattr(regen_toy_gear, "toy_gear_layers", lambda: {**toy_gear_layers(), "CS": [turned]})
+    assert regen_toy_gear.main(["--output", str(target), "--write"]) == 1
+    assert target.read_bytes() == before and sorted(p.name for p in target.parent.iterdir()) == ["toy_gear.dxf"]
 
 
 # ----------------------------------------------------------------------------- SVG
