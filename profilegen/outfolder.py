@@ -54,7 +54,7 @@ try:
 except ImportError:  # pragma: no cover — not POSIX: no lock, the swap still holds
     fcntl = None
 
-__all__ = ["LOCK_WAIT_S", "replacing", "recover", "leftovers", "foreign_entries", "lock_path"]
+__all__ = ["LOCK_WAIT_S", "replacing", "check", "recover", "leftovers", "foreign_entries", "lock_path"]
 
 log = logging.getLogger(__name__)
 
@@ -294,6 +294,12 @@ def _swap_in(staging: Path, out: Path) -> Path | None:
         os.rename(parked, out)
         raise
     return parked
+
+
+def check(out_dir: str | os.PathLike, *, ours: Collection[str]) -> None:
+    """Raise the ExportError :func:`replacing` would raise for ``out_dir`` as it is now (a file,
+    the current folder, entries profilegen did not write) — to ask before a long computation."""
+    _check_target(_real(out_dir), os.fspath(out_dir), ours)
 
 
 def _check_target(out: Path, given: str, ours: Collection[str]) -> None:

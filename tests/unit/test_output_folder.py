@@ -176,6 +176,8 @@ def test_user_files_are_refused_and_nothing_is_changed(old_new):
     out, old, _ = old_new
     (out / "my notes.txt").write_text("keep me")
     before = _fingerprint(out)
+    with pytest.raises(ExportError, match="my notes.txt"):
+        outfolder.check(out, ours=OURS)  # the same answer before a run
     with pytest.raises(ExportError, match="my notes.txt") as info:
         _write_set(out, "new")
     assert str(out) in str(info.value)
