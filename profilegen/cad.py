@@ -219,23 +219,45 @@ def write_contours_dxf(
     with dxf_document([n for n in names if n.lower() not in std_lower], rename={n.lower(): n for n in names}) as doc:
         msp = doc.modelspace()
         # construction geometry first, so CAD programs (which draw in file order) show it underneath
-        for name, layer_items in sorted(items.items(), key=lambda kv: kv[0].lower() != "construction"):
-            attribs = {"layer": name}
-            for item in layer_items:
-                for e in _elements(item):
-                    if isinstance(e, Line):
-                        msp.add_line(_xy(e.start), _xy(e.end), dxfattribs=attribs)
-                    elif isinstance(e, Polyline):
-                        pts = e.points[:-1] if e.closed and len(e.points) > 2 else e.points
-                        msp.add_lwpolyline(pts.tolist(), format="xy", close=e.closed, dxfattribs=attribs)
-                    elif _is_full_circle(e):
-                        msp.add_circle(_xy(e.centre), float(e.radius), dxfattribs=attribs)
-                    else:
-                        centre, radius, start_deg, end_deg = e.to_ccw()
-                        msp.add_arc(_xy(centre), float(radius), float(start_deg), float(end_deg), dxfattribs=attribs)
+        ordered = [(name, e) for name, layer_items in sorted(items.items(), key=lambda kv: kv[0].lower() != "construction")
+                   for item in layer_items for e in _elements(item)]
+        # The entities' text is made here (ezdxf's per-tag export took ~1 ms an entity, most of
+        # a design's file time); the handles are reserved from the document's generator in the
+        # order ezdxf would give them, so the file is byte-identical to adding them with ezdxf.
+        handles = [doc.entitydb.handles.next() for _ in ordered]
+        body = _entities_text(ordered, handles, msp.block_record_handle)
         for layer, xy, height, string in texts:
             msp.add_text(string, height=height, dxfattribs={"layer": layer, "insert": xy})
-        save_dxf(doc, path, extents)
+        save_dxf(doc, path, extents, entities=body)
+
+
+_TAG = "%3d\n%s\n"
+
+
+def _entities_text(ordered: Sequence[tuple[str, Any]], handles: Sequence[str], owner: str) -> str:
+    """DXF R2010 text of LINE / ARC / CIRCLE / LWPOLYLINE entities, exactly as ezdxf writes them
+    (group codes right-aligned in 3 columns, floats as their shortest round-trip repr)."""
+    out: list[str] = []
+    add = out.append
+    for (layer, e), handle in zip(ordered, handles):
+        head = f"  0\n%s\n  5\n{handle}\n330\n{owner}\n100\nAcDbEntity\n  8\n{layer}\n"
+        if isinstance(e, Line):
+            (x0, y0), (x1, y1) = e.start.tolist(), e.end.tolist()
+            add(head % "LINE" + f"100\nAcDbLine\n 10\n{x0!r}\n 20\n{y0!r}\n 30\n0.0\n"
+                                f" 11\n{x1!r}\n 21\n{y1!r}\n 31\n0.0\n")
+        elif isinstance(e, Polyline):
+            pts = e.points[:-1] if e.closed and len(e.points) > 2 else e.points
+            flat = "".join(f" 10\n{x!r}\n 20\n{y!r}\n" for x, y in pts.tolist())
+            add(head % "LWPOLYLINE" + f"100\nAcDbPolyline\n 90\n{len(pts)}\n 70\n{1 if e.closed else 0}\n" + flat)
+        elif _is_full_circle(e):
+            cx, cy = e.centre.tolist()
+            add(head % "CIRCLE" + f"100\nAcDbCircle\n 10\n{cx!r}\n 20\n{cy!r}\n 30\n0.0\n 40\n{float(e.radius)!r}\n")
+        else:
+            centre, radius, start_deg, end_deg = e.to_ccw()
+            cx, cy = centre.tolist()
+            add(head % "ARC" + f"100\nAcDbCircle\n 10\n{cx!r}\n 20\n{cy!r}\n 30\n0.0\n 40\n{float(radius)!r}\n"
+                               f"100\nAcDbArc\n 50\n{float(start_deg)!r}\n 51\n{float(end_deg)!r}\n")
+    return "".join(out)
 
 
 def _xy(p: np.ndarray) -> tuple[float, float]:

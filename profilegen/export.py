@@ -325,8 +325,12 @@ def dxf_document(extra_layers=(), *, rename: Mapping[str, str] | None = None):
             ezdxf.options.write_fixed_meta_data_for_testing = saved
 
 
-def save_dxf(doc, path: str | os.PathLike, extents) -> None:
-    """Set the drawing extents and view from (lo, hi) (or None) and write the file atomically."""
+def save_dxf(doc, path: str | os.PathLike, extents, *, entities: str = "") -> None:
+    """Set the drawing extents and view from (lo, hi) (or None) and write the file atomically.
+
+    ``entities``: DXF text of modelspace entities made outside ezdxf (their handles reserved
+    from ``doc.entitydb.handles`` before any entity added with ezdxf), written first in the
+    ENTITIES section."""
     msp = doc.modelspace()
     if extents is not None:
         lo, hi = extents
@@ -335,8 +339,24 @@ def save_dxf(doc, path: str | os.PathLike, extents) -> None:
         size = hi - lo
         doc.set_modelspace_vport(height=float(max(size[1], size[0] * 0.75, 1e-3) * 1.1),
                                  center=(float(lo[0] + hi[0]) / 2, float(lo[1] + hi[1]) / 2))
+    # ezdxf adds the CLASS entries of the object types in use from a set, so their order
+    # followed the string hash (PYTHONHASHSEED): add them now and sort, the same in every process
+    doc.classes.add_required_classes(doc.dxfversion)
+    doc.classes.classes = type(doc.classes.classes)(sorted(doc.classes.classes.items()))
     with atomic_write(path, "w", encoding=doc.output_encoding) as f:
-        doc.write(f)
+        if not entities:
+            doc.write(f)
+        else:
+            import io
+
+            buffer = io.StringIO()
+            doc.write(buffer)
+            text = buffer.getvalue()
+            marker = "  0\nSECTION\n  2\nENTITIES\n"
+            at = text.index(marker) + len(marker)
+            f.write(text[:at])
+            f.write(entities)
+            f.write(text[at:])
 
 
 def read_dxf_polylines(path: str | os.PathLike) -> dict[str, list[np.ndarray]]:
