@@ -41,6 +41,7 @@ import logging
 import math
 import os
 import re
+import signal
 import threading
 import time
 import zlib
@@ -66,11 +67,13 @@ __all__ = [
     "OUTPUT_COLUMNS",
     "SAMPLE_METHODS",
     "STATUS_COLUMNS",
+    "SignalInterrupt",
     "SweepError",
     "SweepResult",
     "SweepSpec",
     "dask_executor",
     "grid_points",
+    "interrupt_on_signals",
     "load_sweep_spec",
     "outputs_of",
     "parse_sweep_spec",
@@ -87,6 +90,7 @@ SAMPLE_METHODS = ("lhs", "random")
 MAX_POINTS = 100_000
 DEFAULT_PLOT = "profile_max_error_mm"
 _NAME_RE = re.compile(r"[A-Za-z0-9_.-]+")
+MAX_NAME_CHARS = 100
 _TOP_KEYS = ("name", "description", "gearset", "scene", "plot", "grid", "sample")
 _SAMPLE_KEYS = ("method", "n", "seed")
 
@@ -326,8 +330,7 @@ def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | o
         if key not in _TOP_KEYS:
             fail(str(key), f"unknown key (allowed: {', '.join(_TOP_KEYS)})")
     name = _text(data, "name", default_name, fail)
-    if not _NAME_RE.fullmatch(name):
-        fail("name", f"{name!r} must be letters, digits, '_', '-' or '.' (it names the output folder)")
+    _check_name(name, fail)
     description = _text(data, "description", "", fail)
     base = Path(base_dir) if base_dir is not None else Path.cwd()
     gearset = _base_gearset(_text(data, "gearset", "default", fail), base, fail)
@@ -352,9 +355,11 @@ def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | o
         for f, values in grid.items():
             if not isinstance(values, list) or not values:
                 fail(f"grid.{f}", f"must be a non-empty array of values, got {values!r}")
-            for v in values:
+            for i, v in enumerate(values):
                 if not isinstance(v, (bool, int, float, str)):
-                    fail(f"grid.{f}", f"values must be numbers, texts or booleans, got {v!r}")
+                    fail(f"grid.{f}[{i}]", f"values must be numbers, texts or booleans, got {type(v).__name__}")
+                if isinstance(v, float) and not math.isfinite(v):
+                    fail(f"grid.{f}[{i}]", f"{v!r} is not a finite number")
         count = math.prod(len(v) for v in grid.values())
         if count > MAX_POINTS:
             fail("grid", f"{count} points: at most {MAX_POINTS}")
@@ -383,10 +388,25 @@ def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | o
                 fail(f"sample.{f}", f"must be [lo, hi] with finite numbers lo < hi, got {rng!r}")
         points = sample_points(ranges, n, method=kind, seed=seed)
         first = {f: r[0] for f, r in ranges.items()}
-    for f, v in first.items():
-        _check_field(gearset, f, v, "grid" if has_grid else "sample", fail)
+    if has_grid:
+        for f, values in grid.items():
+            _check_grid_values(gearset, f, values, fail)
+    else:
+        for f, v in first.items():
+            _check_field(gearset, f, v, f"sample.{f}", fail)
     return SweepSpec(name=name, gearset=gearset, scene=scene, kind=kind, fields=tuple(first), points=tuple(points),
                      description=description, plot=plot, seed=seed, origin=origin)
+
+
+def _check_name(name: str, fail) -> None:
+    """The name is a folder inside the sweeps folder: it must not leave it or hide in it."""
+    if len(name) > MAX_NAME_CHARS:
+        fail("name", f"at most {MAX_NAME_CHARS} characters (it names the output folder), got {len(name)}")
+    if not _NAME_RE.fullmatch(name):
+        fail("name", "must be letters, digits, '_', '-' or '.' (it names the output folder; no path "
+                     "separators, spaces or control characters)")
+    if not name.strip("."):
+        fail("name", f"{name!r} is not a folder name (it names the output folder)")
 
 
 def _text(data: Mapping, key: str, default: str, fail) -> str:
@@ -425,8 +445,23 @@ def _flat_table(table, prefix: str, fail, _path: str = "") -> dict:
     return out
 
 
-def _check_field(gearset: GearSet, path: str, value, table: str, fail) -> None:
-    """A field path the gear set does not have is a spec error; a bad value is the point's."""
+# a gear-set problem line that says the value has the wrong type (not that it is out of range)
+_TYPE_PROBLEM_RE = re.compile(r": (must be (?:a number|an integer|a string|a table[^,]*), got \w+|must be finite)$")
+
+
+def _check_grid_values(gearset: GearSet, path: str, values: Sequence, fail) -> None:
+    """Each type among a field's grid values is checked once, with the first value of that type."""
+    first_of: dict[type, int] = {}
+    for i, v in enumerate(values):
+        first_of.setdefault(type(v), i)
+    for i in sorted(first_of.values()):
+        _check_field(gearset, path, values[i], f"grid.{path}[{i}]", fail, field_key=f"grid.{path}")
+
+
+def _check_field(gearset: GearSet, path: str, value, key: str, fail, *, field_key: str | None = None) -> None:
+    """A field path the gear set does not have, or a value of the wrong type for the field (a
+    text for a number, a boolean, a float for an integer, nan/inf), is a spec error at ``key``;
+    a value of the right type out of its range is the point's error (a row)."""
     try:
         gearset.with_values({path: value})
     except GearSetError as exc:
@@ -435,7 +470,11 @@ def _check_field(gearset: GearSet, path: str, value, table: str, fail) -> None:
         for line in exc.problems:
             if line.startswith(prefixes) and ("unknown key" in line or "not a field path" in line
                                               or "is not a section" in line):
-                fail(f"{table}.{path}", f"not a gear-set field ({line})")
+                fail(field_key or key, f"not a gear-set field ({line})")
+        for line in exc.problems:
+            m = _TYPE_PROBLEM_RE.search(line)
+            if line.startswith(f"{path} =") and m:
+                fail(key, m.group(1))
 
 
 # ----------------------------------------------------------------------------- running
@@ -511,7 +550,15 @@ _ONE_THREAD = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BL
 def _init_worker() -> None:
     """Process-pool workers: one BLAS thread each, as Dask's workers have by default (the
     pool is the parallelism; and a BLAS's thread count changes its rounding, so both give
-    the same table). The variables cover the libraries loaded later (scipy's own BLAS)."""
+    the same table). The variables cover the libraries loaded later (scipy's own BLAS).
+
+    A worker ignores SIGINT (a Ctrl-C reaches the whole process group: the main process
+    decides, and ends the workers) and dies on SIGTERM (the parent's handler, inherited
+    through fork, is not the worker's); both were blocked while the pool started."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)
     for name in _ONE_THREAD:
         os.environ[name] = "1"
     from threadpoolctl import threadpool_limits
@@ -529,6 +576,85 @@ def _init_worker() -> None:
         os._exit(1)
 
     threading.Thread(target=watch, name="profilegen-sweep-parent-watch", daemon=True).start()
+
+
+_STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+class SignalInterrupt(KeyboardInterrupt):
+    """A signal (SIGTERM by default) arrived in :func:`interrupt_on_signals`: raised in the
+    main thread as SIGINT raises :class:`KeyboardInterrupt`, so the same clean-up runs;
+    ``signum`` is the signal's number (exit status 128 + signum by convention)."""
+
+    def __init__(self, signum: int):
+        super().__init__(signal.Signals(signum).name)
+        self.signum = int(signum)
+
+
+@contextlib.contextmanager
+def interrupt_on_signals(signals: Sequence[int] = (signal.SIGTERM,)) -> Iterator[None]:
+    """Within the block, each of ``signals`` raises :class:`SignalInterrupt` in the main
+    thread instead of its default action (for SIGTERM: dying at once, leaving the pool's
+    workers to notice within a second). Restores the previous handlers on leaving. A
+    signal that is ignored (SIG_IGN) stays ignored; off the main thread this does nothing.
+    For the command line; a program that runs sweeps installs its own handlers."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def raise_interrupt(signum, frame):
+        raise SignalInterrupt(signum)
+
+    previous = {}
+    try:
+        for sig in signals:
+            if signal.getsignal(sig) is not signal.SIG_IGN:
+                previous[sig] = signal.signal(sig, raise_interrupt)
+        yield
+    finally:
+        for sig, handler in previous.items():
+            signal.signal(sig, handler)
+
+
+@contextlib.contextmanager
+def _signals_deferred() -> Iterator[None]:
+    """SIGINT and SIGTERM blocked in this thread: processes forked and threads started here
+    start with them blocked (a pool's workers and its manager thread), and a second Ctrl-C
+    does not cut a clean-up short. A signal that came meanwhile is delivered on leaving."""
+    masked = hasattr(signal, "pthread_sigmask")
+    if masked:
+        old_mask = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS)
+    try:
+        yield
+    finally:
+        if masked:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old_mask)
+
+
+def _stop_pool(executor, *, grace_s: float = 2.0) -> None:
+    """End an own process pool now: cancel the points not started, SIGTERM every worker
+    (``shutdown(cancel_futures=True)`` alone would let the running points finish), SIGKILL
+    the ones still there after ``grace_s``, and wait for the pool's manager thread, so
+    that nothing is left to wait for at exit."""
+    processes = list((getattr(executor, "_processes", None) or {}).values())  # before shutdown clears it
+    manager = getattr(executor, "_executor_manager_thread", None)
+    executor.shutdown(wait=False, cancel_futures=True)
+    for proc in processes:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            proc.terminate()
+    # the manager thread sees the workers die, fails the futures still running and joins the workers
+    if manager is not None:
+        manager.join(grace_s)
+    if manager is None or manager.is_alive():
+        for proc in processes:
+            with contextlib.suppress(OSError, ValueError, AttributeError):
+                if proc.exitcode is None:
+                    proc.kill()
+        if manager is not None:
+            manager.join(grace_s)
+    left = [proc.pid for proc in processes if proc.exitcode is None and proc.is_alive()]
+    if left:
+        log.warning("sweep: worker process(es) %s did not stop", ", ".join(map(str, left)))
 
 
 @contextlib.contextmanager
@@ -570,8 +696,10 @@ def run_sweep(
     :func:`profilegen.pipeline.design`; it must pickle for a process pool or Dask).
     Writes ``results.csv`` (always), ``sweep.png`` (``figure``), and ``table`` if given
     (CSV, or Parquet when it ends in ``.parquet``: needs pyarrow). Interrupted
-    (KeyboardInterrupt), it cancels what has not started and re-raises; the journal keeps
-    every finished point.
+    (KeyboardInterrupt, or :class:`SignalInterrupt` within :func:`interrupt_on_signals`),
+    it cancels what has not started, ends its own pool's workers at once (the points they
+    were running are lost and run again on resuming) and re-raises; the journal keeps every
+    finished point. A given executor's futures are cancelled; it is not shut down.
     """
     t0 = time.perf_counter()
     out = Path(out_dir)
@@ -600,8 +728,9 @@ def run_sweep(
         executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, initializer=_init_worker)
     futures = {}
     try:
-        for pid, i in todo.items():
-            futures[executor.submit(_run_point, i, spec.points[i], spec.gearset, spec.scene, designer)] = pid
+        with _signals_deferred():  # the pool's processes start with SIGINT/SIGTERM blocked (see _init_worker)
+            for pid, i in todo.items():
+                futures[executor.submit(_run_point, i, spec.points[i], spec.gearset, spec.scene, designer)] = pid
         for fut in as_completed(futures):
             pid = futures[fut]
             try:
@@ -616,14 +745,16 @@ def run_sweep(
             finished += copies[pid]
             if progress:
                 progress(finished, total)
-    except BaseException:
-        for fut in futures:
-            fut.cancel()
         if own:
-            executor.shutdown(wait=False, cancel_futures=True)
+            executor.shutdown(wait=True)
+    except BaseException:
+        if own:
+            with _signals_deferred():
+                _stop_pool(executor)
+        else:
+            for fut in futures:
+                fut.cancel()
         raise
-    if own:
-        executor.shutdown(wait=True)
     rows = tuple(_table_row(i, pid, spec, done[pid]) for i, pid in enumerate(spec.ids))
     files = [write_table(rows, _columns(spec), out / "results.csv")]
     if table is not None:

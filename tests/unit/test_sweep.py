@@ -103,6 +103,22 @@ def test_point_id_is_stable_and_depends_on_values_and_scene():
         ({"grid": None, "sample": {"n": 4}}, "sample"),  # no field
         ({"plot": "nonsense_mm"}, "plot"),
         ({"name": "a b/c"}, "name"),
+        ({"name": ".."}, "name"),  # the parent of the sweeps folder: export/ itself
+        ({"name": "."}, "name"),
+        ({"name": "../x"}, "name"),
+        ({"name": "a\\b"}, "name"),
+        ({"name": "a\nb"}, "name"),  # a control character
+        ({"name": "x" * 101}, "name"),  # longer than MAX_NAME_CHARS
+        ({"name": ""}, "name"),
+        ({"grid": {FIELD: [0.8, "x"]}}, f"grid.{FIELD}[1]"),  # a text for a number: the field and the index
+        ({"grid": {FIELD: [0.8, 0.9, math.nan]}}, f"grid.{FIELD}[2]"),
+        ({"grid": {FIELD: [math.inf]}}, f"grid.{FIELD}[0]"),
+        ({"grid": {FIELD: [-math.inf, 0.8]}}, f"grid.{FIELD}[0]"),
+        ({"grid": {FIELD: [0.8, True]}}, f"grid.{FIELD}[1]"),  # a boolean is not a number
+        ({"grid": {FIELD: [0.8, [0.9]]}}, f"grid.{FIELD}[1]"),  # an array in the array
+        ({"grid": {"gear.flexspline_teeth": [200, 180, 190.5]}}, "grid.gear.flexspline_teeth[2]"),  # not an integer
+        ({"grid": {"wave_generator.contour": ["elliptical_cam", 2]}}, "grid.wave_generator.contour[1]"),
+        ({"grid": None, "sample": {"n": 4, "gear.flexspline_teeth": [180.0, 220.0]}}, "sample.gear.flexspline_teeth"),
         ({"scene": "draft"}, "scene"),
         ({"gearset": "no_such_set"}, "gearset"),
     ],
@@ -114,6 +130,27 @@ def test_bad_spec_names_the_key(change, key):
         parse_sweep_spec(data, origin="spec.toml")
     assert isinstance(err.value, ValueError)
     assert str(err.value).startswith(f"spec.toml: {key}:"), str(err.value)
+
+
+def test_values_of_the_right_type_out_of_range_are_points_not_spec_errors():
+    """-1.0 and 0 are numbers (the gear set rejects them per point: rows with status error);
+    an integer for a float field is a number; a name with dots inside is a folder name."""
+    spec = parse_sweep_spec({**SPEC, "name": "a.b..c", "grid": {FIELD: [-1.0, 0, 1]}})
+    assert spec.name == "a.b..c" and spec.points == ({FIELD: -1.0}, {FIELD: 0}, {FIELD: 1})
+    spec = parse_sweep_spec({**SPEC, "grid": {"gear.flexspline_teeth": [200, -3]}})
+    assert len(spec.points) == 2
+
+
+def test_spec_name_cannot_leave_the_sweeps_folder(tmp_path, capsys, monkeypatch):
+    """A spec named '..' at the command line: one line naming the key, exit 2, nothing written."""
+    spec = tmp_path / "up.toml"
+    spec.write_text('name = ".."\ngearset = "default"\n[grid]\n"wave_generator.deflection_coefficient" = [0.9]\n')
+    (tmp_path / "work").mkdir()
+    monkeypatch.chdir(tmp_path / "work")  # the default output folder is export/sweeps/<name>/ under it
+    assert main(["sweep", str(spec)]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and ": name:" in err[0]
+    assert list((tmp_path / "work").iterdir()) == []
 
 
 def test_nested_and_quoted_field_names_are_the_same_field(tmp_path):
