@@ -178,12 +178,16 @@ def _locked(out: Path, wait_s: float) -> Iterator[None]:
         return
     path = lock_path(out)
     deadline = time.monotonic() + wait_s
+    waited = False
     while True:
         fd = os.open(path, os.O_RDWR | os.O_CREAT | getattr(os, "O_CLOEXEC", 0), 0o644)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
             os.close(fd)
+            if not waited:
+                log.warning("'%s' is being written by %s; waiting for it (up to %g s)", out, _holder(path), wait_s)
+                waited = True
             if time.monotonic() >= deadline:
                 raise ExportError(errno.EBUSY, f"cannot write '{out}': {_holder(path)} is writing it (lock file "
                                                f"'{path}', waited {wait_s:g} s); wait for it or give another --out")

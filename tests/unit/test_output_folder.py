@@ -240,7 +240,7 @@ time.sleep(60)
 """
 
 
-def test_a_second_run_waits_for_the_lock_then_names_the_other_run(old_new):
+def test_a_second_run_waits_for_the_lock_then_names_the_other_run(old_new, caplog):
     out, old, new = old_new
     holder = subprocess.Popen([sys.executable, "-c", _HOLD, str(outfolder.lock_path(out))], stdout=subprocess.PIPE,
                               text=True)
@@ -249,6 +249,7 @@ def test_a_second_run_waits_for_the_lock_then_names_the_other_run(old_new):
         with pytest.raises(ExportError, match=f"process {holder.pid}") as info:
             _write_set(out, "new", ("a.txt", "b.txt", "d.txt"), lock_wait_s=0.3)
         assert str(out) in str(info.value) and info.value.errno == errno.EBUSY
+        assert f"process {holder.pid}" in caplog.text and "waiting" in caplog.text  # said when it starts to wait
         assert _fingerprint(out) == old
         holder.send_signal(signal.SIGKILL)  # the kernel releases the lock of a killed process
         holder.wait()
