@@ -202,21 +202,38 @@ def _sweep_progress(total: int, *, quiet: bool):
 
 
 def _cmd_check(args) -> int:
+    """Everything ``design`` checks of the gear set itself before a stage runs: the file, every field,
+    the tooth (:func:`profilegen.teeth.tooth_from_gearset`) and the wave generator
+    (:func:`profilegen.wavegen.from_gearset`, e.g. rollers that do not fit). One line per problem on
+    stderr, each naming the file once; notes (``GearSet.warnings``) on stdout."""
     from .errors import GearSetError
     from .gearset import load_gearset, resolve_gearset
     from .teeth import tooth_from_gearset
+    from .wavegen import from_gearset
 
     status = 0
     for name in args.gearsets:
+        where = name
         try:
-            gs = load_gearset(resolve_gearset(name))
+            path = resolve_gearset(name)
+            where = str(path)
+            gs = load_gearset(path)
             tooth_from_gearset(gs)
-        except GearSetError as exc:
+            from_gearset(gs)
+        except ProfilegenError as exc:
             status = 2
-            for line in exc.problems:
-                print(f"{name}: {line}", file=sys.stderr)
+            lines = exc.problems if isinstance(exc, GearSetError) else [str(exc)]
+            for line in lines:
+                line = " ".join(str(line).split())  # one line each, whatever the message
+                for prefix in (f"{where}: ", f"{name}: "):  # name the file once
+                    if line.startswith(prefix):
+                        line = line[len(prefix):]
+                        break
+                print(f"{where}: {line}", file=sys.stderr)
         else:
-            print(f"{name}: ok ({gs.name}: m {gs.gear.module_mm:g} mm, z {gs.gear.flexspline_teeth}/{gs.gear.circular_spline_teeth})")
+            print(f"{where}: ok ({gs.name}: m {gs.gear.module_mm:g} mm, z {gs.gear.flexspline_teeth}/{gs.gear.circular_spline_teeth})")
+            for note in gs.warnings:
+                print(f"{where}: note: {note}")
     return status
 
 

@@ -11,6 +11,7 @@ __all__ = [
     "GearSetError",
     "ToothError",
     "ConvergenceError",
+    "RimSolverError",
     "EnvelopeError",
     "ExportError",
     "StressError",
@@ -42,6 +43,12 @@ class ToothError(GearSetError):
 
 class ConvergenceError(ProfilegenError, RuntimeError):
     """A solver did not converge; the message names where (φ, t, residual)."""
+
+
+class RimSolverError(ConvergenceError):
+    """The rim FEM could not solve this gear set's rim (a singular or indefinite stiffness, a contact
+    or Newton iteration that does not settle); the message names the gear-set fields likely
+    responsible, with their values, and what the solver said."""
 
 
 class EnvelopeError(ProfilegenError, RuntimeError):

@@ -39,10 +39,12 @@ import copy
 import csv
 import dataclasses
 import difflib
+import json
 import math
 import numbers
 import os
 import re
+import stat
 import sys
 import tomllib
 from collections.abc import Mapping
@@ -82,9 +84,12 @@ TOOTH_KINDS = ("dcta", "involute", "points")
 WAVE_GENERATOR_CONTOURS = ("elliptical_cam", "cosine_cam", "rollers")
 
 _NAME_RE = re.compile(r"[a-z0-9_-]+")
+_CONTROL_RE = re.compile(r"[\x00-\x1f\x7f]")
 _MIN_POINTS = 8
 
-# The seed-004 default double-circular-arc tooth (mm, module-independent).
+# The project's default double-circular-arc tooth for m = 0.5 mm, in mm: the defaults of a
+# DctaTooth built directly (no module to scale with). In a gear-set file the defaults follow
+# the module: _TOOTH_LENGTHS' coefficients (0.05 mm = 0.1·m at m = 0.5 mm, ...).
 _DCTA_DEFAULTS = {
     "pressure_angle_deg": 10.0,
     "line_above_pitch_mm": 0.05,
@@ -119,6 +124,48 @@ _TOOTH_KEYS = {
     ),
     "involute": ("kind", "pressure_angle_deg", "addendum_mm", "dedendum_mm", "half_thickness_mm"),
     "points": ("kind", "points", "points_file", "smoothing_mm"),
+}
+
+
+@dataclass(frozen=True, slots=True)
+class _Length:
+    """A tooth length: its range and default in units of the module m. In a file it is given
+    in mm (``<name>_mm``) or in units of m (``<name>_coefficient``, the value times m)."""
+
+    lo: float
+    hi: float
+    default: float | None  # times m; None: required (no tooth length is)
+    lo_open: bool = True
+    hi_open: bool = False
+    note: str = ""
+
+
+_HALF_PITCH = math.pi / 2.0
+# The addendum and dedendum bounds: up to 3·m (a tooth three modules high is already far past any
+# strain-wave-gear tooth, 1.6–2.2·m in total); at least 0.2·m, because a shorter tooth than that
+# cannot clear the circular spline's default clearances of 0.25·m (and is a sign of a tooth in mm
+# for another module: the default tooth's 0.4 mm on an m = 10 gear is 0.04·m).
+_TOOTH_LENGTHS: dict[str, dict[str, _Length]] = {
+    "dcta": {
+        "line_above_pitch": _Length(0.0, 5.0, 0.1, lo_open=False),
+        "line_below_pitch": _Length(0.0, 5.0, 0.4, lo_open=False),
+        "tip_arc_radius": _Length(0.0, 10.0, 1.3),
+        "root_arc_radius": _Length(0.0, 10.0, 1.4),
+        "addendum": _Length(0.2, 3.0, 0.8, lo_open=False),
+        "dedendum": _Length(0.2, 3.0, 1.2, lo_open=False),
+        "half_thickness": _Length(0.0, _HALF_PITCH, math.pi / 4.0, hi_open=True, note="half a pitch π·m/2"),
+    },
+    "involute": {
+        "addendum": _Length(0.2, 3.0, 1.0, lo_open=False),
+        "dedendum": _Length(0.2, 3.0, 1.25, lo_open=False),
+        "half_thickness": _Length(0.0, _HALF_PITCH, math.pi / 4.0, hi_open=True, note="half a pitch π·m/2"),
+    },
+}
+COEFFICIENT_SUFFIX = "_coefficient"
+# every tooth length may be given in units of the module instead of mm
+_TOOTH_KEYS = {
+    kind: keys + tuple(f"{name}{COEFFICIENT_SUFFIX}" for name in _TOOTH_LENGTHS.get(kind, {}))
+    for kind, keys in _TOOTH_KEYS.items()
 }
 _WAVE_GENERATOR_KEYS = (
     "deflection_coefficient",
@@ -220,6 +267,9 @@ class DctaTooth:
     addendum_mm: float = _DCTA_DEFAULTS["addendum_mm"]
     dedendum_mm: float = _DCTA_DEFAULTS["dedendum_mm"]
     half_thickness_mm: float
+    coefficients: tuple[tuple[str, float], ...] = ()
+    """The lengths the file gave in units of the module, as (``<name>_mm``, coefficient)
+    pairs (``(("addendum_mm", 0.8),)``); the ``*_mm`` fields hold them resolved to mm."""
 
     @property
     def pressure_angle_rad(self) -> float:
@@ -235,6 +285,8 @@ class InvoluteTooth:
     addendum_mm: float
     dedendum_mm: float
     half_thickness_mm: float
+    coefficients: tuple[tuple[str, float], ...] = ()
+    """As :attr:`DctaTooth.coefficients`."""
 
     @property
     def pressure_angle_rad(self) -> float:
@@ -446,6 +498,39 @@ class GearSet:
         """
         return self.gear.flexspline_teeth / self.gear.tooth_difference
 
+    @property
+    def size_torque_nm(self) -> float:
+        """The rated torque a catalogue gear of this size carries, N·m (an ESTIMATE): rated torque
+        ∝ pitch diameter² × face width, T = k·d²·b, the tooth-root bending capacity of a gear
+        whose tooth proportions follow the module. k = 1.57e-3 N·m/mm³ is the geometric mean of
+        the two catalogue sizes in the bundled sets: seed 000's CSF-40 (265 N·m, d = 100 mm,
+        b = 20 mm, the estimated face width) gives 1.33e-3, seed 001's SHF-25 (67 N·m, d = 60 mm,
+        b = 10 mm) 1.86e-3; seed 002's CSG-25 (87 N·m) is predicted as 79 N·m."""
+        d = self.gear.module_mm * self.gear.flexspline_teeth
+        return _TORQUE_PER_D2B * d * d * self.cup.face_width_mm
+
+    @property
+    def warnings(self) -> tuple[str, ...]:
+        """Notes about a set that is valid but unusual (``profilegen check`` prints them): each
+        torque far from what the size carries (:attr:`size_torque_nm`; peak and momentary
+        compared with the catalogue ratios 167/67 and 304/67 of seed 001)."""
+        out = []
+        size = self.size_torque_nm
+        for key, ratio in (("rated_nm", 1.0), ("peak_nm", 167.0 / 67.0), ("momentary_nm", 304.0 / 67.0)):
+            value = getattr(self.torque, key)
+            if value is None:
+                continue
+            expected = ratio * size
+            if value > _TORQUE_FACTOR_HIGH * expected or (key == "rated_nm" and value < expected / _TORQUE_FACTOR_LOW):
+                how = "above" if value > expected else "below"
+                out.append(
+                    f"torque.{key} = {_fmt(value)} N·m is far {how} the ≈ {expected:.3g} N·m a catalogue gear of this "
+                    f"size carries (pitch diameter {_fmt(self.gear.module_mm * self.gear.flexspline_teeth)} mm, face "
+                    f"width {_fmt(self.cup.face_width_mm)} mm; scaling law T ∝ d²·b on seeds 000/001, "
+                    "GearSet.size_torque_nm): do the torques belong to this size?"
+                )
+        return tuple(out)
+
     # ------------------------------------------------------------- conversions
     def to_dict(self, *, include_defaults: bool = True) -> dict[str, Any]:
         """JSON-safe nested dict in the file schema; ``parse_gearset`` of it gives an equal one.
@@ -470,7 +555,13 @@ class GearSet:
             tooth["smoothing_mm"] = float(t.smoothing_mm)
         else:
             for key in _TOOTH_KEYS[t.kind][1:]:
-                tooth[key] = _json_value(getattr(t, key))
+                if not key.endswith(COEFFICIENT_SUFFIX):
+                    tooth[key] = _json_value(getattr(t, key))
+            if not include_defaults:  # a length given in units of the module stays so (it follows m)
+                for key, coefficient in t.coefficients:
+                    coefficient_key = key[: -len("_mm")] + COEFFICIENT_SUFFIX
+                    if f"tooth.{coefficient_key}" in (self.given or ()):
+                        tooth[coefficient_key] = coefficient
         out: dict[str, Any] = {
             "name": self.name,
             "description": self.description,
@@ -531,6 +622,8 @@ class GearSet:
                     break
                 node = child
             else:
+                for other in _twin_keys(parts):  # tooth.addendum_mm replaces tooth.addendum_coefficient
+                    node.pop(other, None)
                 if value is None:
                     node.pop(parts[-1], None)
                 else:
@@ -574,22 +667,122 @@ def looks_like_path(text: str) -> bool:
     return text.partition("#")[0].endswith(".toml") or os.sep in text or (os.altsep is not None and os.altsep in text)
 
 
-def read_toml(path: Path, error: type[Exception], what: str) -> dict:
-    """The TOML file at ``path`` as a dict; every failure (missing, a folder, unreadable,
-    malformed, not UTF-8) is an ``error`` naming the file and ``what`` it should be."""
+MAX_TOML_BYTES = 4 * 1024 * 1024
+"""Largest TOML file (gear set, scene file, sweep spec) read, bytes: the bundled ones are < 5 kB."""
+MAX_POINTS_FILE_BYTES = 16 * 1024 * 1024
+"""Largest ``tooth.points_file`` read, bytes (``MAX_POINTS`` rows of a few columns fit ~20 times over)."""
+MAX_POINTS = 10_000
+"""Most points a ``kind = "points"`` tooth may have (a 1 mm flank at 0.1 µm spacing)."""
+RIM_PER_DEFLECTION_MIN = 0.5
+"""Thinnest rim, as a multiple of the deflection w0 = ω*·m. Catalogue flexsplines have
+δ ≈ 0.6–3·w0 (ratio 30 to 160; the bundled sets 1.8–2.9); the rim stage's nonlinear ring FEM loses
+its positive-definite tangent below δ ≈ 0.3·w0 at z1 = 200 and 0.6–0.8·w0 at z1 = 40–60
+(measured; such sets get a named :class:`~profilegen.errors.RimSolverError` instead)."""
+_TORQUE_PER_D2B = math.sqrt(265.0 / (100.0**2 * 20.0) * 67.0 / (60.0**2 * 10.0))  # N·m/mm³, see size_torque_nm
+_TORQUE_FACTOR_HIGH = 3.0  # a torque over 3× its catalogue value for the size is noted
+_TORQUE_FACTOR_LOW = 10.0  # a rated torque under 1/10 of it too (a set copied to another size)
+MAX_NAME_CHARS = 100
+"""Longest gear-set ``name``: it names the output folder (``export/<name>/``)."""
+MAX_TEXT_CHARS = 2000
+"""Longest ``description`` / ``source`` text."""
+
+
+def read_limited(path: str | os.PathLike, limit: int, error: type[Exception], what: str) -> bytes:
+    """The bytes of the regular file at ``path``, at most ``limit`` of them.
+
+    Anything else is an ``error`` naming the file and ``what`` it should be, never its
+    content: a missing or unreadable file, a folder, a device (``/dev/zero``), a FIFO or
+    socket (opened without blocking, so a FIFO with no writer does not hang), a file over
+    ``limit`` bytes (also one that grows while it is read, or a ``/proc`` file that
+    reports size 0).
+    """
+    path = os.fspath(path)
+    if "\0" in path:
+        raise error(f"{_show(path)}: not a file name (contains a NUL character)")
     try:
-        with path.open("rb") as handle:
-            return tomllib.load(handle)
+        fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_NOCTTY", 0))
     except FileNotFoundError:
         raise error(f"{path}: no such {what}") from None
     except IsADirectoryError:
         raise error(f"{path}: is a folder, not a {what}") from None
     except OSError as exc:
-        raise error(f"{path}: cannot read {what} ({exc.strerror or exc})") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise error(f"{path}: malformed TOML: {exc}") from None
+        raise error(f"{path}: cannot read {what} ({exc.strerror or type(exc).__name__})") from None
+    try:
+        info = os.fstat(fd)
+        if stat.S_ISDIR(info.st_mode):
+            raise error(f"{path}: is a folder, not a {what}")
+        if not stat.S_ISREG(info.st_mode):
+            kind = ("a FIFO" if stat.S_ISFIFO(info.st_mode) else "a socket" if stat.S_ISSOCK(info.st_mode)
+                    else "a device" if stat.S_ISCHR(info.st_mode) or stat.S_ISBLK(info.st_mode) else "not a file")
+            raise error(f"{path}: is {kind}, not a regular file; a {what} must be a regular file")
+        if info.st_size > limit:
+            raise error(f"{path}: {info.st_size} bytes, too large for a {what} (at most {limit} bytes)")
+        chunks, size = [], 0
+        while size <= limit:
+            try:
+                chunk = os.read(fd, min(1 << 20, limit + 1 - size))
+            except BlockingIOError:  # pragma: no cover - a regular file does not block
+                continue
+            except OSError as exc:
+                raise error(f"{path}: cannot read {what} ({exc.strerror or type(exc).__name__})") from None
+            if not chunk:
+                break
+            chunks.append(chunk)
+            size += len(chunk)
+        if size > limit:
+            raise error(f"{path}: more than {limit} bytes, too large for a {what}")
+        return b"".join(chunks)
+    finally:
+        os.close(fd)
+
+
+def _decode_utf8(data: bytes, path, error: type[Exception], what: str) -> str:
+    """``data`` as text; not UTF-8 is an ``error`` naming the line (never the bytes)."""
+    try:
+        return data.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise error(f"{path}: malformed TOML: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+        line = data.count(b"\n", 0, exc.start) + 1
+        raise error(f"{path}: line {line}: not UTF-8 text (a {what} must be UTF-8 text)") from None
+
+
+# tomllib messages that quote the file (a character, a key): keep what they say, not what they quote
+_TOML_QUOTING = (
+    (re.compile(r"^Found invalid character .*", re.S), "invalid character"),
+    (re.compile(r"^Illegal character .*", re.S), "illegal (control) character"),
+    (re.compile(r"^Cannot declare .* twice$", re.S), "a key or table declared twice"),
+    (re.compile(r"^Cannot mutate immutable namespace .*", re.S), "a key redefines an inline table or array"),
+    (re.compile(r"^Cannot redefine namespace .*", re.S), "a table redefined"),
+    (re.compile(r"^Duplicate inline table key .*", re.S), "a duplicate key in an inline table"),
+)
+_TOML_WHERE = re.compile(r"^(.*) \(at (line \d+, column \d+|end of document)\)$", re.S)
+
+
+def _toml_reason(exc: Exception) -> str:
+    """tomllib's message without any text of the file: what is wrong and where."""
+    text = str(exc)
+    match = _TOML_WHERE.match(text)
+    what, where = (match.group(1), match.group(2)) if match else (text, "")
+    for pattern, replacement in _TOML_QUOTING:
+        if pattern.match(what):
+            what = replacement
+            break
+    else:
+        if not re.fullmatch(r"[A-Za-z ,'=\[\]{}\-.\"]{1,80}", what):
+            what = "not valid TOML"
+    return f"{where}: {what}" if where else what
+
+
+def read_toml(path: Path, error: type[Exception], what: str, *, limit: int = MAX_TOML_BYTES) -> dict:
+    """The TOML file at ``path`` as a dict; every failure (missing, a folder, a device or
+    FIFO, over ``limit`` bytes, unreadable, malformed, not UTF-8) is an ``error`` naming
+    the file, the line and ``what`` it should be, never quoting the file."""
+    text = _decode_utf8(read_limited(path, limit, error, what), path, error, what)
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise error(f"{path}: malformed TOML at {_toml_reason(exc)}") from None
+    except RecursionError:
+        raise error(f"{path}: malformed TOML: nested too deeply") from None
 
 
 def load_gearset(path: str | os.PathLike) -> GearSet:
@@ -707,8 +900,9 @@ def _show(value) -> str:
     """A value as it would read in the TOML file (short)."""
     if isinstance(value, (bool, np.bool_)):
         return "true" if value else "false"
-    if isinstance(value, str):
-        return '"' + value.replace('"', '\\"') + '"'
+    if isinstance(value, str):  # escaped (one line, no control characters) and cut to ~40 characters
+        text = json.dumps(value if len(value) <= 40 else value[:37], ensure_ascii=False)
+        return text if len(value) <= 40 else text[:-1] + '..." (' + f"{len(value)} characters)"
     if isinstance(value, numbers.Integral):
         return str(int(value))
     if isinstance(value, numbers.Real):
@@ -717,6 +911,12 @@ def _show(value) -> str:
         return "{...}"
     text = repr(value)
     return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _key(key) -> str:
+    """A key as a message shows it: a plain key as it is, any other quoted, escaped and cut."""
+    text = str(key)
+    return text if re.fullmatch(r"[A-Za-z0-9_-]{1,60}", text) else _show(text)
 
 
 def _type_name(value) -> str:
@@ -758,6 +958,26 @@ def _optional_fields(obj, keys) -> dict[str, Any]:
     return out
 
 
+def _twin_keys(parts: list[str]) -> tuple[str, ...]:
+    """The other spelling of a tooth length (``addendum_mm`` ↔ ``addendum_coefficient``)."""
+    if len(parts) != 2 or parts[0] != "tooth":
+        return ()
+    key = parts[1]
+    if key.endswith(COEFFICIENT_SUFFIX):
+        return (key[: -len(COEFFICIENT_SUFFIX)] + "_mm",)
+    if key.endswith("_mm"):
+        return (key[: -len("_mm")] + COEFFICIENT_SUFFIX,)
+    return ()
+
+
+def _is_float(text: str) -> bool:
+    try:
+        float(text)
+    except ValueError:
+        return False
+    return True
+
+
 def _pitch_crossing(points: np.ndarray) -> float:
     y = points[:, 1]
     for i in range(len(y) - 1):
@@ -788,8 +1008,8 @@ class _Reader:
         for key in table:
             if key in allowed:
                 continue
-            path = f"{prefix}.{key}" if prefix else str(key)
-            hint = difflib.get_close_matches(str(key), list(allowed), n=1)
+            path = f"{prefix}.{_key(key)}" if prefix else _key(key)
+            hint = difflib.get_close_matches(str(key)[:100], list(allowed), n=1)
             line = f"{path}: unknown key{what} (allowed: {', '.join(allowed)})"
             if hint:
                 line += f"; did you mean {hint[0]!r}?"
@@ -865,6 +1085,7 @@ class _Reader:
         default: Any = _REQUIRED,
         choices: tuple[str, ...] | None = None,
         pattern: re.Pattern | None = None,
+        max_chars: int | None = None,
     ):
         path = f"{prefix}.{key}" if prefix else key
         if key not in table:
@@ -879,9 +1100,15 @@ class _Reader:
             self.problem(f"{path} = {_show(value)}: must be a string, got {_type_name(value)}")
             return None
         if choices is not None and value not in choices:
-            hint = difflib.get_close_matches(value, choices, n=1)
+            hint = difflib.get_close_matches(value[:100], choices, n=1)
             line = f"{path} = {_show(value)}: must be one of {', '.join(map(_show, choices))}"
             self.problem(line + (f"; did you mean {_show(hint[0])}?" if hint else ""))
+            return None
+        if max_chars is not None and len(value) > max_chars:
+            self.problem(f"{path} = {_show(value)}: must be at most {max_chars} characters, got {len(value)}")
+            return None
+        if choices is None and pattern is None and _CONTROL_RE.search(value):
+            self.problem(f"{path} = {_show(value)}: must not contain control characters (line breaks, tabs, NUL)")
             return None
         if pattern is not None and not pattern.fullmatch(value):
             self.problem(
@@ -898,9 +1125,9 @@ class _Reader:
     def read(self, data: Mapping) -> dict[str, Any]:
         """Read everything; returns the GearSet keyword arguments (meaningful only without problems)."""
         self.unknown_keys(data, "", _TOP_KEYS + _SECTIONS)
-        name = self.string(data, "", "name", pattern=_NAME_RE)
-        description = self.string(data, "", "description")
-        source = self.string(data, "", "source")
+        name = self.string(data, "", "name", pattern=_NAME_RE, max_chars=MAX_NAME_CHARS)
+        description = self.string(data, "", "description", max_chars=MAX_TEXT_CHARS)
+        source = self.string(data, "", "source", max_chars=MAX_TEXT_CHARS)
         scene = self.string(data, "", "scene", default="design", choices=SCENES)
 
         gear_raw = self.read_gear(self.section(data, "gear"))
@@ -914,6 +1141,17 @@ class _Reader:
             self.section(data, "circular_spline", required=False), m
         )
         cup = self.read_cup(self.section(data, "cup", required=False), gear)
+        rim = gear_raw.get("rim_thickness_mm")
+        if None not in (rim, m, wave_generator):
+            w0 = wave_generator.deflection_coefficient * m
+            if rim < RIM_PER_DEFLECTION_MIN * w0:
+                self.problem(
+                    f"gear.rim_thickness_mm = {_fmt(rim)} mm: must be >= "
+                    f"{_fmt(RIM_PER_DEFLECTION_MIN * w0)} mm ({_fmt(RIM_PER_DEFLECTION_MIN)}·w0, w0 = "
+                    f"wave_generator.deflection_coefficient·gear.module_mm = {_fmt(w0)} mm): a rim this thin for its "
+                    "deflection is outside the ring models' range"
+                )
+                gear = None
         return dict(
             name=name,
             description=description,
@@ -1009,9 +1247,9 @@ class _Reader:
                 continue
             owners = [k for k, keys in _TOOTH_KEYS.items() if key in keys]
             belongs = f"belongs to kind {', '.join(map(_show, owners))}; " if owners else ""
-            hint = difflib.get_close_matches(str(key), list(allowed), n=1)
+            hint = difflib.get_close_matches(str(key)[:100], list(allowed), n=1)
             line = (
-                f"tooth.{key}: unknown key for kind {_show(kind)} "
+                f"tooth.{_key(key)}: unknown key for kind {_show(kind)} "
                 f"({belongs}allowed: {', '.join(allowed)})"
             )
             self.problem(line + (f"; did you mean {hint[0]!r}?" if hint and not owners else ""))
@@ -1028,8 +1266,41 @@ class _Reader:
             lo, factor * m, lo_open=lo_open, hi_open=hi_open, note=f"upper bound {_fmt(factor)}·{what}"
         )
 
+    def tooth_length(self, t: Mapping, kind: str, name: str, m: float | None, coefficients: dict):
+        """A tooth length given as ``<name>_mm`` (mm) or ``<name>_coefficient`` (units of m),
+        or its module-relative default; the value in mm, or None after a problem."""
+        spec = _TOOTH_LENGTHS[kind][name]
+        mm_key, c_key = f"{name}_mm", f"{name}{COEFFICIENT_SUFFIX}"
+        if mm_key in t and c_key in t:
+            self.given.update((f"tooth.{mm_key}", f"tooth.{c_key}"))
+            self.problem(
+                f"tooth.{mm_key}, tooth.{c_key}: give at most one of the two ({name.replace('_', ' ')} in mm, "
+                "or in units of the module m)"
+            )
+            return None
+        if c_key in t:
+            rng = _Range(spec.lo, spec.hi, lo_open=spec.lo_open, hi_open=spec.hi_open,
+                         note=f"in units of the module m{'; ' + spec.note if spec.note else ''}")
+            c = self.number(t, "tooth", c_key, unit="", rng=rng)
+            if c is None or m is None:  # an invalid module is reported already
+                return None
+            coefficients[mm_key] = c
+            return c * m
+        if m is None:  # an invalid module is reported already; the value's type is still checked
+            self.number(t, "tooth", mm_key, unit="mm", rng=_Range(0, lo_open=spec.lo_open or spec.lo > 0),
+                        default=None)
+            return None
+        if name == "half_thickness":
+            rng = _Range(0, math.pi * m / 2.0, lo_open=True, hi_open=True, note="upper bound half a pitch π·m/2")
+        elif spec.lo > 0:
+            rng = _Range(spec.lo * m, spec.hi * m, lo_open=spec.lo_open, hi_open=spec.hi_open,
+                         note=f"{_fmt(spec.lo)}·m to {_fmt(spec.hi)}·m, m = {_fmt(m)} mm")
+        else:
+            rng = _Range(0, spec.hi * m, lo_open=spec.lo_open, hi_open=spec.hi_open,
+                         note=f"upper bound {_fmt(spec.hi)}·m")
+        return self.number(t, "tooth", mm_key, unit="mm", rng=rng, default=spec.default * m)
+
     def read_dcta(self, t: Mapping, m: float | None) -> DctaTooth | None:
-        d = _DCTA_DEFAULTS
         v: dict[str, Any] = {}
         v["pressure_angle_deg"] = self.number(
             t,
@@ -1037,64 +1308,26 @@ class _Reader:
             "pressure_angle_deg",
             unit="deg",
             rng=_Range(0, 45, lo_open=True, hi_open=True),
-            default=d["pressure_angle_deg"],
+            default=_DCTA_DEFAULTS["pressure_angle_deg"],
         )
-        for key in ("line_above_pitch_mm", "line_below_pitch_mm"):
-            v[key] = self.number(
-                t,
-                "tooth",
-                key,
-                unit="mm",
-                rng=self._module_range(m, 0, 5, lo_open=False),
-                default=d[key],
-            )
-        for key in ("tip_arc_radius_mm", "root_arc_radius_mm"):
-            v[key] = self.number(
-                t,
-                "tooth",
-                key,
-                unit="mm",
-                rng=self._module_range(m, 0, 10, lo_open=True),
-                default=d[key],
-            )
-        for key in ("addendum_mm", "dedendum_mm"):
-            v[key] = self.number(
-                t, "tooth", key, unit="mm", rng=self._module_range(m, 0, 3, lo_open=True), default=d[key]
-            )
-        v["half_thickness_mm"] = self.half_thickness(t, m)
+        coefficients: dict[str, float] = {}
+        for name in _TOOTH_LENGTHS["dcta"]:
+            v[f"{name}_mm"] = self.tooth_length(t, "dcta", name, m, coefficients)
         if any(x is None for x in v.values()):
             return None
-        return DctaTooth(**v)
-
-    def half_thickness(self, t: Mapping, m: float | None):
-        default = None if m is None else math.pi * m / 4.0
-        if m is None:
-            rng = _Range(0, lo_open=True)
-        else:
-            rng = _Range(
-                0, math.pi * m / 2.0, lo_open=True, hi_open=True, note="upper bound half a pitch π·m/2"
-            )
-        value = self.number(t, "tooth", "half_thickness_mm", unit="mm", rng=rng, default=default)
-        return value
+        return DctaTooth(**v, coefficients=tuple(coefficients.items()))
 
     def read_involute(self, t: Mapping, m: float | None) -> InvoluteTooth | None:
         v: dict[str, Any] = {}
         v["pressure_angle_deg"] = self.number(
             t, "tooth", "pressure_angle_deg", unit="deg", rng=_Range(5, 35), default=20.0
         )
-        for key, factor in (("addendum_mm", 1.0), ("dedendum_mm", 1.25)):
-            v[key] = self.number(
-                t,
-                "tooth",
-                key,
-                unit="mm",
-                rng=self._module_range(m, 0, 3, lo_open=True),
-                default=None if m is None else factor * m,
-            )
-        v["half_thickness_mm"] = self.half_thickness(t, m)
+        coefficients: dict[str, float] = {}
+        for name in _TOOTH_LENGTHS["involute"]:
+            v[f"{name}_mm"] = self.tooth_length(t, "involute", name, m, coefficients)
         if any(x is None for x in v.values()):
             return None
-        return InvoluteTooth(**v)
+        return InvoluteTooth(**v, coefficients=tuple(coefficients.items()))
 
     def read_points(self, t: Mapping, m: float | None) -> PointsTooth | None:
         smoothing = self.number(
@@ -1116,7 +1349,7 @@ class _Reader:
         else:
             label = "tooth.points_file"
             self.given.add("tooth.points")
-            points_file = self.string(t, "tooth", "points_file")
+            points_file = self.string(t, "tooth", "points_file", max_chars=4096)
             points = None if points_file is None else self.points_csv(points_file)
         if points is None:
             return None
@@ -1130,6 +1363,9 @@ class _Reader:
                 f"tooth.points = {_show(value)}: must be an array of [x_mm, y_mm] pairs, "
                 f"got {_type_name(value)}"
             )
+            return None
+        if len(value) > MAX_POINTS:
+            self.problem(f"tooth.points: at most {MAX_POINTS} [x_mm, y_mm] points are allowed, got {len(value)}")
             return None
         rows = []
         for i, pair in enumerate(value):
@@ -1149,32 +1385,47 @@ class _Reader:
         return np.array(rows, dtype=float).reshape(-1, 2)
 
     def points_csv(self, name: str) -> np.ndarray | None:
+        """The x_mm, y_mm columns of the CSV ``name`` (relative to ``base_dir``), or None after
+        a problem. A problem names the file and the line, never the file's content: a file
+        that is not a point list (any readable text) must not be echoed back."""
+        where = f"tooth.points_file = {_show(name)}"
+        if "\0" in name or len(name) > 4096:
+            self.problem(f"{where}: not a file name (a NUL character or over 4096 characters)")
+            return None
         path = Path(name)
         if not path.is_absolute() and self.base_dir is not None:
             path = self.base_dir / path
-        where = f"tooth.points_file = {_show(name)}"
         try:
-            with path.open(newline="", encoding="utf-8") as handle:
-                lines = [
-                    (n, line)
-                    for n, line in enumerate(handle, 1)
-                    if line.strip() and not line.lstrip().startswith("#")
-                ]
-        except OSError as exc:
-            self.problem(f"{where}: cannot read {path} ({exc.strerror or exc})")
+            data = read_limited(path, MAX_POINTS_FILE_BYTES, GearSetError, "point-list CSV file")
+            text = _decode_utf8(data, path, GearSetError, "point-list CSV file")
+        except GearSetError as exc:
+            self.problem(f"{where}: {exc}")
             return None
-        except UnicodeDecodeError:
-            self.problem(f"{where}: {path} is not UTF-8 text")
-            return None
+        del data
+        lines = [
+            (n, line)
+            for n, line in enumerate(text.splitlines(), 1)
+            if line.strip() and not line.lstrip().startswith("#")
+        ]
+        del text
         if not lines:
             self.problem(f"{where}: {path} is empty (expected a header x_mm,y_mm and rows)")
             return None
-        rows = list(csv.reader(line for _, line in lines))
+        if len(lines) - 1 > MAX_POINTS:
+            self.problem(
+                f"{where}: {path} has {len(lines) - 1} data lines: at most {MAX_POINTS} points are allowed"
+            )
+            return None
+        try:
+            rows = list(csv.reader(line for _, line in lines))
+        except csv.Error as exc:
+            self.problem(f"{where}: {path}: not a CSV file ({exc.__class__.__name__} while parsing)")
+            return None
         header = [h.strip() for h in rows[0]]
         if "x_mm" not in header or "y_mm" not in header:
             self.problem(
-                f"{where}: {path} line {lines[0][0]}: header must name the columns x_mm and y_mm, "
-                f"got {','.join(header)}"
+                f"{where}: {path} line {lines[0][0]}: the first non-comment line must be a header naming "
+                "the columns x_mm and y_mm (not found there)"
             )
             return None
         ix, iy = header.index("x_mm"), header.index("y_mm")
@@ -1182,11 +1433,15 @@ class _Reader:
         for (number, _), row in zip(lines[1:], rows[1:]):
             try:
                 out.append((float(row[ix]), float(row[iy])))
-            except (IndexError, ValueError):
+            except IndexError:
                 self.problem(
-                    f"{where}: {path} line {number}: expected numbers in columns x_mm, y_mm, "
-                    f"got {','.join(row)}"
+                    f"{where}: {path} line {number}: has {len(row)} columns, the header puts x_mm, y_mm "
+                    f"in columns {ix + 1} and {iy + 1}"
                 )
+                return None
+            except ValueError:
+                bad = "x_mm" if not _is_float(row[ix]) else "y_mm"
+                self.problem(f"{where}: {path} line {number}: column {bad} is not a number")
                 return None
         return np.array(out, dtype=float).reshape(-1, 2)
 

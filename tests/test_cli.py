@@ -113,7 +113,7 @@ BAD_INPUT = {
     "unknown key": (DEFAULT.replace("rim_thickness_mm = 0.9", "rim_thicknes_mm = 0.9"), "rim_thicknes_mm"),
     "malformed TOML": (DEFAULT.replace("[gear]", "[gear"), "bad.toml"),
     "missing file": (None, "nowhere.toml"),
-    "self-intersecting tooth": (DEFAULT.replace("addendum_mm = 0.40", "addendum_mm = 1.4"), "tooth."),
+    "self-intersecting tooth": (DEFAULT.replace("addendum_coefficient = 0.8", "addendum_coefficient = 2.8"), "tooth."),
     "tooth difference vs waves": (DEFAULT.replace("circular_spline_teeth = 202", "circular_spline_teeth = 203"), "gear.circular_spline_teeth"),
     "poisson ratio": (DEFAULT.replace("poisson_ratio = 0.295", "poisson_ratio = 0.7"), "material.poisson_ratio"),
     "torque order": (DEFAULT.replace("peak_nm = 660.0", "peak_nm = 100.0"), "torque.peak_nm"),

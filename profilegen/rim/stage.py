@@ -157,6 +157,37 @@ def _solve(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult:
                       tier=f"{tier.geometry} toothed ring FEM")
 
 
+def _solve_named(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult:
+    """:func:`_solve`, a solver failure turned into a :class:`~profilegen.errors.RimSolverError`
+    that names the gear-set fields that decide whether the rim FEM can solve the rim.
+
+    Measured on the flat ring (design tier): the nonlinear ring's tangent stops being positive
+    definite ("k-th leading minor ... not positive definite") when the rim is thin for its
+    deflection — below δ ≈ 0.3·w0 at z1 = 200, 0.6–0.8·w0 at z1 = 40–60 (the validation already
+    refuses δ < 0.5·w0) — so the rim thickness, the deflection coefficient and the module are named,
+    with δ/w0 and w0/r_m."""
+    import numpy as np
+
+    from ..errors import ProfilegenError, RimSolverError
+
+    try:
+        return _solve(gearset, tier, contour, coarse=coarse)
+    except (ProfilegenError, np.linalg.LinAlgError, RuntimeError, FloatingPointError) as exc:
+        if isinstance(exc, ProfilegenError) and not isinstance(exc, RuntimeError):
+            raise  # bad input to the ring model: already a named ValueError
+        g = gearset.gear
+        w0 = gearset.deflection_mm
+        reason = " ".join(str(exc).split()) or type(exc).__name__
+        raise RimSolverError(
+            f"rim stage ({tier.label()}{', coarse mesh' if coarse else ''}) failed: {reason}. Inputs that decide "
+            f"this: gear.rim_thickness_mm = {g.rim_thickness_mm:g} mm (δ/w0 = {g.rim_thickness_mm / w0:.3g}), "
+            f"wave_generator.deflection_coefficient = {gearset.wave_generator.deflection_coefficient:g} with "
+            f"gear.module_mm = {g.module_mm:g} mm (w0 = {w0:g} mm, w0/r_m = {w0 / g.neutral_radius_mm:.3g}), "
+            f"gear.flexspline_teeth = {g.flexspline_teeth}; the ring FEM needs a rim thick for its deflection "
+            "(δ/w0 ≳ 0.3 at z1 = 200, ≳ 0.8 at z1 = 40) — or use the sketch scene (ring theory, no FEM)"
+        ) from exc
+
+
 def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
     """ω(φ), υ(φ) of the gear set's rim on its wave generator, fitted for the kinematics."""
     from ..errors import GearSetError
@@ -181,9 +212,9 @@ def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
 
     contour = from_gearset(gearset)
     t0 = time.perf_counter()
-    fem = _solve(gearset, tier, contour, coarse=False)
+    fem = _solve_named(gearset, tier, contour, coarse=False)
     fem_time = time.perf_counter() - t0
-    coarse = _solve(gearset, tier, contour, coarse=True)
+    coarse = _solve_named(gearset, tier, contour, coarse=True)
     d_w, d_u = _mesh_change(fem, coarse)
     error = float(max(d_w, d_u))
     measure = ("max |Δω|, |Δυ| on the neutral line between this mesh and one with half the circumferential "

@@ -232,10 +232,102 @@ def test_involute_defaults_scale_with_module():
     assert gs.gear.neutral_radius_mm == pytest.approx(0.4 * 100 - 0.5 - 0.45)
 
 
-def test_dcta_default_out_of_range_for_a_small_module_says_default():
-    # m = 0.1: the 0.60 mm default dedendum exceeds 3 m = 0.3 mm
-    problems = problems_of(with_(base(), "gear.module_mm", 0.1))
-    assert any(p.startswith("tooth.dedendum_mm = 0.6 mm (default)") for p in problems)
+def test_dcta_defaults_follow_the_module():
+    # the default tooth is 0.8·m high above the pitch line, 1.2·m below it, ... (0.40, 0.60 mm at m = 0.5)
+    for m in (0.1, 0.5, 2.0):
+        gs = parse_gearset(with_(with_(base(), "gear.module_mm", m), "gear.rim_thickness_mm", 1.8 * m))
+        t = gs.tooth
+        assert (t.addendum_mm, t.dedendum_mm) == pytest.approx((0.8 * m, 1.2 * m))
+        assert (t.line_above_pitch_mm, t.line_below_pitch_mm) == pytest.approx((0.1 * m, 0.4 * m))
+        assert (t.tip_arc_radius_mm, t.root_arc_radius_mm) == pytest.approx((1.3 * m, 1.4 * m))
+        assert t.half_thickness_mm == pytest.approx(math.pi * m / 4)
+    at_half = parse_gearset(base()).tooth  # the seed-004 numbers, exactly
+    assert (at_half.line_above_pitch_mm, at_half.line_below_pitch_mm, at_half.tip_arc_radius_mm,
+            at_half.root_arc_radius_mm, at_half.addendum_mm, at_half.dedendum_mm) == (0.05, 0.2, 0.65, 0.7, 0.4, 0.6)
+
+
+@pytest.mark.parametrize("kind", ["dcta", "involute"])
+def test_tooth_lengths_in_module_units(kind):
+    tooth = {"kind": kind, "addendum_coefficient": 0.9, "dedendum_coefficient": 1.1, "half_thickness_coefficient": 0.7}
+    data = with_(with_(base(), "tooth", tooth), "gear.module_mm", 0.4)
+    gs = parse_gearset(data)
+    assert (gs.tooth.addendum_mm, gs.tooth.dedendum_mm) == pytest.approx((0.36, 0.44))
+    assert gs.tooth.half_thickness_mm == pytest.approx(0.28)
+    # written back in module units, so that a changed module scales the tooth
+    assert gs.to_dict(include_defaults=False)["tooth"] == tooth
+    bigger = gs.with_values({"gear.module_mm": 0.8, "gear.rim_thickness_mm": 1.6})
+    assert (bigger.tooth.addendum_mm, bigger.tooth.dedendum_mm) == pytest.approx((0.72, 0.88))
+    # a value in mm replaces the same length in module units (and back)
+    in_mm = gs.with_values({"tooth.addendum_mm": 0.3})
+    assert in_mm.tooth.addendum_mm == 0.3 and in_mm.tooth.dedendum_mm == pytest.approx(0.44)
+    assert in_mm.with_values({"tooth.addendum_coefficient": 1.0}).tooth.addendum_mm == pytest.approx(0.4)
+
+
+def test_tooth_length_in_both_units_is_an_error():
+    (line,) = problems_of(with_(base(), "tooth", {"kind": "dcta", "addendum_mm": 0.4, "addendum_coefficient": 0.8}))
+    assert line.startswith("tooth.addendum_mm, tooth.addendum_coefficient: give at most one")
+
+
+@pytest.mark.parametrize("key,value", [("addendum_coefficient", 3.5), ("dedendum_coefficient", 0.1),
+                                       ("tip_arc_radius_coefficient", 0.0), ("half_thickness_coefficient", 1.6),
+                                       ("line_above_pitch_coefficient", -0.1), ("addendum_coefficient", math.nan),
+                                       ("root_arc_radius_coefficient", "1.4")])
+def test_tooth_coefficient_ranges(key, value):
+    (line,) = problems_of(with_(base(), f"tooth.{key}", value))
+    assert line.startswith(f"tooth.{key} = ")
+
+
+def test_copy_of_the_default_set_with_another_module_works():
+    # issue 13 item 8: the bundled default set, module changed (and the rim, which is in mm)
+    gs = load_gearset(default_gearset_path())
+    big = gs.with_values({"gear.module_mm": 2.0, "gear.rim_thickness_mm": 3.6})
+    assert big.tooth.addendum_mm == pytest.approx(1.6) and big.tooth.dedendum_mm == pytest.approx(2.4)
+    # its torques (for m = 0.5) are now far below what the size carries: a note names them
+    (note,) = big.warnings
+    assert note.startswith("torque.rated_nm = 265 N·m is far below")
+    assert gs.warnings == ()
+
+
+def test_tooth_from_another_module_is_refused_by_its_size():
+    # the default tooth's absolute mm on an m = 10 gear: 0.04·m high — a tooth in mm for another module
+    data = with_(with_(base(), "gear.module_mm", 10.0), "gear.rim_thickness_mm", 18.0)
+    data["tooth"] = {"kind": "dcta", "addendum_mm": 0.4, "dedendum_mm": 0.6}
+    problems = problems_of(data)
+    assert [p.split(" = ")[0] for p in problems] == ["tooth.addendum_mm", "tooth.dedendum_mm"]
+    assert "0.2·m to 3·m" in problems[0]
+
+
+def test_rim_thin_for_its_deflection_is_refused():
+    # issue 13: m = 10 with the default 0.9 mm rim passed validation and failed inside the rim FEM
+    problems = problems_of(with_(base(), "gear.module_mm", 10.0))
+    assert any(p.startswith("gear.rim_thickness_mm = 0.9 mm: must be >= 5 mm") for p in problems)
+    thin = with_(base(), "gear.rim_thickness_mm", 0.4)
+    assert parse_gearset(thin).gear.rim_thickness_mm == 0.4  # w0 = 0.5 mm
+    (line,) = problems_of(with_(thin, "wave_generator.deflection_coefficient", 2.0))  # w0 = 1 mm
+    assert line.startswith("gear.rim_thickness_mm = 0.4 mm: must be >= 0.5 mm")
+    assert "wave_generator.deflection_coefficient" in line
+    assert parse_gearset(with_(base(), "gear.rim_thickness_mm", 0.25)).gear.rim_thickness_mm == 0.25  # = 0.5·w0
+    (line,) = problems_of(with_(base(), "gear.rim_thickness_mm", 0.24))
+    assert line.startswith("gear.rim_thickness_mm = 0.24 mm: must be >= 0.25 mm (0.5·w0")
+
+
+@pytest.mark.parametrize("torque,field", [({"rated_nm": 2000.0, "peak_nm": 2000.0}, "rated_nm"),
+                                          ({"rated_nm": 10.0, "peak_nm": 20.0}, "rated_nm"),
+                                          ({"rated_nm": 265.0, "peak_nm": 3000.0}, "peak_nm"),
+                                          ({"rated_nm": 265.0, "peak_nm": 660.0, "momentary_nm": 5000.0},
+                                           "momentary_nm")])
+def test_torque_far_from_the_size_is_a_note_not_an_error(torque, field):
+    gs = parse_gearset(with_(base(), "torque", torque))  # valid
+    (note,) = gs.warnings
+    assert note.startswith(f"torque.{field} = ")
+
+
+def test_size_torque_is_calibrated_on_the_catalogue_sets():
+    by_name = {p.stem: load_gearset(p) for p in list_profiles()}
+    # seed 000 CSF-40 265 N·m, seed 001 SHF-25 67 N·m, seed 002 CSG-25 87 N·m: within 20 %
+    for name, rated in (("seed000_csf40", 265.0), ("seed001_shf25", 67.0), ("seed002_short_cup", 87.0)):
+        assert by_name[name].size_torque_nm == pytest.approx(rated, rel=0.2)
+        assert by_name[name].warnings == ()
 
 
 # --------------------------------------------------------------------------- gear rules
@@ -450,7 +542,7 @@ def test_points_file_missing(tmp_path):
     with pytest.raises(GearSetError) as info:
         parse_gearset(data, base_dir=tmp_path)
     (line,) = info.value.problems
-    assert line.startswith('tooth.points_file = "nope.csv": cannot read')
+    assert line.startswith('tooth.points_file = "nope.csv": ') and line.endswith("nope.csv: no such point-list CSV file")
 
 
 @pytest.mark.parametrize("which", ["both", "neither"])
