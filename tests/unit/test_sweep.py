@@ -227,6 +227,36 @@ def test_sweep_resumes_without_recomputing_finished_points(tmp_path):
     assert (out / "journal.csv").read_text().endswith("\n")
 
 
+def _asleep_at_095(gs, *, scene):
+    """A designer whose point ω* = 0.95 does not finish (ten minutes)."""
+    import time
+
+    if gs.wave_generator.deflection_coefficient == 0.95:
+        time.sleep(600)
+    return design(gs, scene=scene)
+
+
+@pytest.mark.skipif(sys.platform != "linux", reason="fork: the workers find the test's designer")
+def test_an_interrupted_sweep_ends_its_own_workers_at_once(tmp_path):
+    """KeyboardInterrupt while a worker is in a point that does not finish: run_sweep ends its
+    pool's workers (not waiting for the point), re-raises, and the journal keeps the point done."""
+    psutil = pytest.importorskip("psutil")
+    spec = parse_sweep_spec({**SPEC, "grid": {FIELD: [0.95, 0.8, 0.9]}})
+
+    def interrupt_after_one(done, total):
+        if done >= 1:
+            raise KeyboardInterrupt
+
+    before = {c.pid for c in psutil.Process().children(recursive=True)}
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(spec, tmp_path / "s", workers=2, designer=_asleep_at_095, progress=interrupt_after_one,
+                  figure=False)
+    left = [c for c in psutil.Process().children(recursive=True) if c.pid not in before and c.status() != "zombie"]
+    assert left == []
+    lines = (tmp_path / "s" / "journal.csv").read_text().splitlines()
+    assert len(lines) == 2 and lines[1].split(",")[1] in ("0.8", "0.9")
+
+
 def test_parquet_without_pyarrow_is_a_clear_error(tmp_path, monkeypatch):
     monkeypatch.setitem(sys.modules, "pyarrow", None)  # import pyarrow → ImportError
     spec = parse_sweep_spec(SPEC)
