@@ -202,14 +202,13 @@ def _sweep_progress(total: int, *, quiet: bool):
 
 
 def _cmd_check(args) -> int:
-    """Everything ``design`` checks of the gear set itself before a stage runs: the file, every field,
-    the tooth (:func:`profilegen.teeth.tooth_from_gearset`) and the wave generator
-    (:func:`profilegen.wavegen.from_gearset`, e.g. rollers that do not fit). One line per problem on
+    """Everything ``design`` checks of the gear set itself before a stage runs: the file, every field
+    and the wave generator (``load_gearset``: rollers that do not fit, ...), and the tooth
+    (:func:`profilegen.teeth.tooth_from_gearset`, as design's first stage). One line per problem on
     stderr, each naming the file once; notes (``GearSet.warnings``) on stdout."""
     from .errors import GearSetError
     from .gearset import load_gearset, resolve_gearset
     from .teeth import tooth_from_gearset
-    from .wavegen import from_gearset
 
     status = 0
     for name in args.gearsets:
@@ -219,7 +218,6 @@ def _cmd_check(args) -> int:
             where = str(path)
             gs = load_gearset(path)
             tooth_from_gearset(gs)
-            from_gearset(gs)
         except ProfilegenError as exc:
             status = 2
             lines = exc.problems if isinstance(exc, GearSetError) else [str(exc)]

@@ -477,6 +477,17 @@ class GearSet:
         reader.read(self.to_dict())
         if reader.problems:
             raise GearSetError(reader.problems)
+        # the wave generator must exist for this rim (rollers that fit, a cam inside the bore):
+        # checked here, by the one function that builds it, so that check, every scene (the sketch
+        # scene never builds it) and a sweep refuse the same sets. Two waves only: the rim stage
+        # builds no contour for other wave counts (ring theory, with a warning).
+        if self.gear.waves == 2:
+            from .wavegen import WaveGenError, WaveGeneratorFitError, from_gearset
+
+            try:
+                from_gearset(self)
+            except WaveGenError as exc:
+                raise WaveGeneratorFitError(" ".join(str(exc).split())) from None
 
     # ----------------------------------------------------------- derived values
     @property

@@ -49,7 +49,7 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.special import ellipe
 
-from .errors import ConvergenceError, ProfilegenError
+from .errors import ConvergenceError, GearSetError, ProfilegenError
 from .results import readonly as _readonly
 
 __all__ = [
@@ -58,6 +58,7 @@ __all__ = [
     "EllipticalCam",
     "RollerGenerator",
     "WaveGenError",
+    "WaveGeneratorFitError",
     "ellipse_perimeter",
     "from_gearset",
 ]
@@ -67,6 +68,12 @@ _BISECTIONS = 200  # enough to reach adjacent floats on any interval of lengths 
 
 class WaveGenError(ProfilegenError, ValueError):
     """Bad wave-generator input; the message names the parameter, its value, unit and range."""
+
+
+class WaveGeneratorFitError(WaveGenError, GearSetError):
+    """A gear set whose wave generator cannot be built for its rim (rollers that overlap or do not
+    fit the deformed bore, a bearing thicker than the bore, ...): raised when the
+    :class:`~profilegen.gearset.GearSet` is validated, so a ``GearSetError`` as well."""
 
 
 class Contour(Protocol):
