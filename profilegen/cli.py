@@ -204,8 +204,10 @@ def _sweep_progress(total: int, *, quiet: bool):
 def _cmd_check(args) -> int:
     """Everything ``design`` checks of the gear set itself before a stage runs: the file, every field
     and the wave generator (``load_gearset``: rollers that do not fit, ...), and the tooth
-    (:func:`profilegen.teeth.tooth_from_gearset`, as design's first stage). One line per problem on
+    (:func:`profilegen.teeth.tooth_from_gearset`, design's first stage, and the envelope stage's
+    :func:`profilegen.envelope.tooth_curves`). One line per problem on
     stderr, each naming the file once; notes (``GearSet.warnings``) on stdout."""
+    from .envelope import tooth_curves
     from .errors import GearSetError
     from .gearset import load_gearset, resolve_gearset
     from .teeth import tooth_from_gearset
@@ -217,7 +219,7 @@ def _cmd_check(args) -> int:
             path = resolve_gearset(name)
             where = str(path)
             gs = load_gearset(path)
-            tooth_from_gearset(gs)
+            tooth_curves(tooth_from_gearset(gs))  # the tooth as the envelope stage takes it (a flank monotone in x)
         except ProfilegenError as exc:
             status = 2
             lines = exc.problems if isinstance(exc, GearSetError) else [str(exc)]
