@@ -39,6 +39,7 @@ Kinds
 
 from __future__ import annotations
 
+import json
 import logging
 import math
 from dataclasses import dataclass, field
@@ -761,29 +762,52 @@ def involute_tooth(*, module_mm: float, teeth: int, neutral_radius_mm: float,
 # --------------------------------------------------------------------------- points
 
 
+#: Most points a point-list tooth takes (the gear set's limit, ``profilegen.gearset.MAX_POINTS``,
+#: is the same): the smoothing fit's time grows faster than the point count (FITPACK adds knots
+#: a batch at a time: 10 000 noisy points with a smoothing far below the noise take ~15 s per
+#: fit, and the fit runs three times), while a flank of a few mm needs a few hundred points.
+MAX_POINTS = 10_000
+
+#: The smoothed flank's arc length may be at most this many times the point polygon's (an
+#: interpolating spline is ~1x as long, a smoothing one shorter): longer, it loops between
+#: the points.
+MAX_LENGTH_PER_POLYGON = 3.0
+
+#: ... and at most this many times the points' extent (x range + y range): a flank that rises
+#: from root to tip with x falling is at most 1x as long; longer, it zig-zags or loops.
+MAX_LENGTH_PER_EXTENT = 4.0
+
+#: Most samples of the arc-length grid (the step grows past 0.2 µm beyond ~40 mm of flank).
+MAX_GRID = 200_001
+
+#: Segments per spatial query when locating a crossing (bounds the pairs held at once).
+_CROSSING_CHUNK = 4096
+
+
 def _first_crossing(pts: np.ndarray) -> tuple[int, int] | None:
-    """Indices (i, j) of the first pair of non-adjacent polyline segments that intersect."""
-    a, b = pts[:-1], pts[1:]
-    n = len(a)
+    """Indices (i, j), i < j - 1, of the first pair of non-adjacent polyline segments that
+    intersect (smallest i, then smallest j), or None.
 
-    def orient(p, q, r):
-        return np.sign((q[..., 0] - p[..., 0]) * (r[..., 1] - p[..., 1])
-                       - (q[..., 1] - p[..., 1]) * (r[..., 0] - p[..., 0]))
+    An R-tree of the segments (``shapely.STRtree``) is queried a chunk of segments at a time,
+    so the cost is about n log n plus the pairs found, not n² (a 20 000-point resampled flank
+    took minutes with the pairwise search this replaces).
+    """
+    import shapely
 
-    for i in range(n - 2):
-        j = np.arange(i + 2, n)
-        p1, q1 = a[i], b[i]
-        p2, q2 = a[j], b[j]
-        o1, o2 = orient(p1, q1, p2), orient(p1, q1, q2)
-        o3, o4 = orient(p2, q2, p1), orient(p2, q2, q1)
-        hit = (o1 * o2 <= 0) & (o3 * o4 <= 0)
-        # collinear pairs that do not overlap are false hits: require bbox overlap
-        lo = np.minimum(p2, q2)
-        hi = np.maximum(p2, q2)
-        box = ((np.minimum(p1, q1) <= hi) & (np.maximum(p1, q1) >= lo)).all(axis=-1)
-        hit &= box
+    n = len(pts) - 1
+    if n < 3:
+        return None
+    segs = shapely.linestrings(np.stack([pts[:-1], pts[1:]], axis=1))
+    tree = shapely.STRtree(segs)
+    for lo in range(0, n, _CROSSING_CHUNK):
+        idx = np.arange(lo, min(lo + _CROSSING_CHUNK, n))
+        q, j = tree.query(segs[idx], predicate="intersects")
+        i = idx[q]
+        hit = j >= i + 2
         if hit.any():
-            return i, int(j[np.argmax(hit)])
+            i, j = i[hit], j[hit]
+            k = np.lexsort((j, i))[0]
+            return int(i[k]), int(j[k])
     return None
 
 
@@ -801,40 +825,70 @@ def _crossing_message(pts: np.ndarray) -> str:
             f"near ({pts[i, 0]:.6g}, {pts[i, 1]:.6g}) mm")
 
 
-def _arc_length_spline(curve: Any, ua: float, ub_: float, step_mm: float
-                       ) -> tuple[SplineSegment, np.ndarray, np.ndarray, np.ndarray]:
-    """Re-interpolate the parametric spline ``curve`` (u in [ua, ub_]) in arc length.
+@dataclass(frozen=True, slots=True, eq=False)
+class _ArcLengthTable:
+    """Arc length s(u) of a parametric spline ``curve`` on [ua, ub]: ``u_nodes`` (each knot
+    span split in 8) and ``s_nodes`` = s there, by 16-point Gauss-Legendre per piece; its
+    cost is set by the knot count, so the length is known before any grid is sized."""
 
-    Returns the quintic :class:`SplineSegment` in s, the equal-s grid, u at the
-    grid (Newton on s(u) - s = 0, s(u) by 16-point Gauss-Legendre on each knot
-    span split in 8) and the curve points there.
+    curve: Any
+    u_nodes: np.ndarray
+    s_nodes: np.ndarray
+
+    @classmethod
+    def of(cls, curve: Any, ua: float, ub: float) -> "_ArcLengthTable":
+        kn = np.unique(np.concatenate([[ua, ub], curve.t[(curve.t > ua) & (curve.t < ub)]]))
+        frac = np.linspace(0.0, 1.0, 9)[:-1]
+        un = np.append((kn[:-1, None] + (kn[1:] - kn[:-1])[:, None] * frac).ravel(), ub)
+        table = cls(curve, un, np.zeros(1))
+        s = np.concatenate([[0.0], np.cumsum(table.piece(un[:-1], un[1:]))])
+        object.__setattr__(table, "s_nodes", s)
+        return table
+
+    @property
+    def length_mm(self) -> float:
+        return float(self.s_nodes[-1])
+
+    def piece(self, a: np.ndarray, b: np.ndarray, chunk: int = 65536) -> np.ndarray:
+        """Arc length from ``a`` to ``b`` (elementwise), evaluated ``chunk`` pieces at a time."""
+        gx, gw = _GAUSS16
+        out = np.empty(len(a))
+        for lo in range(0, len(a), chunk):
+            a0, b0 = a[lo:lo + chunk], b[lo:lo + chunk]
+            nodes = (a0[:, None] + b0[:, None]) / 2 + (b0 - a0)[:, None] / 2 * gx
+            d = self.curve(nodes, 1)
+            out[lo:lo + chunk] = (b0 - a0) / 2 * (np.hypot(d[..., 0], d[..., 1]) @ gw)
+        return out
+
+    def s_of(self, u: np.ndarray) -> np.ndarray:
+        j = np.clip(np.searchsorted(self.u_nodes, u, side="right") - 1, 0, len(self.u_nodes) - 2)
+        return self.s_nodes[j] + self.piece(self.u_nodes[j], u)
+
+
+_GAUSS16 = np.polynomial.legendre.leggauss(16)
+
+
+def _arc_length_spline(table: _ArcLengthTable, step_mm: float
+                       ) -> tuple[SplineSegment, np.ndarray, np.ndarray, np.ndarray]:
+    """Re-interpolate the parametric spline of ``table`` in arc length.
+
+    Returns the quintic :class:`SplineSegment` in s, the equal-s grid (step ``step_mm``,
+    at least 1001 and at most :data:`MAX_GRID` samples), u at the grid (Newton on
+    s(u) - s = 0 from a table of s(u) on the grid's count of equal-u samples) and the curve
+    points there.
     """
     from scipy.interpolate import make_interp_spline
 
-    kn = np.unique(np.concatenate([[ua, ub_], curve.t[(curve.t > ua) & (curve.t < ub_)]]))
-    ub = np.unique(np.concatenate([np.linspace(a, b, 9) for a, b in zip(kn[:-1], kn[1:])]))
-    gx, gw = np.polynomial.legendre.leggauss(16)
-
-    def s_from(a0: np.ndarray, b0: np.ndarray) -> np.ndarray:
-        nodes = (a0[:, None] + b0[:, None]) / 2 + (b0 - a0)[:, None] / 2 * gx
-        d = curve(nodes, 1)
-        return (b0 - a0) / 2 * (np.hypot(d[..., 0], d[..., 1]) @ gw)
-
-    sb = np.concatenate([[0.0], np.cumsum(s_from(ub[:-1], ub[1:]))])
-    length = float(sb[-1])
-
-    def s_of(uu: np.ndarray) -> np.ndarray:
-        j = np.clip(np.searchsorted(ub, uu, side="right") - 1, 0, len(ub) - 2)
-        return sb[j] + s_from(ub[j], uu)
-
-    n_grid = max(1001, int(math.ceil(length / step_mm)) + 1)
+    curve, length = table.curve, table.length_mm
+    ua, ub = float(table.u_nodes[0]), float(table.u_nodes[-1])
+    n_grid = min(MAX_GRID, max(1001, int(math.ceil(length / step_mm)) + 1))
     s_grid = np.linspace(0.0, length, n_grid)
-    u_tab = np.linspace(ua, ub_, 4 * n_grid)
-    uu = np.interp(s_grid, s_of(u_tab), u_tab)
+    u_tab = np.linspace(ua, ub, 2 * n_grid)
+    uu = np.interp(s_grid, table.s_of(u_tab), u_tab)
     for _ in range(3):
         d = curve(uu, 1)
-        uu = np.clip(uu - (s_of(uu) - s_grid) / np.hypot(d[:, 0], d[:, 1]), ua, ub_)
-    uu[0], uu[-1] = ua, ub_
+        uu = np.clip(uu - (table.s_of(uu) - s_grid) / np.hypot(d[:, 0], d[:, 1]), ua, ub)
+    uu[0], uu[-1] = ua, ub
     xy = curve(uu)
     q = make_interp_spline(s_grid, xy, k=5)
     s_chk = np.concatenate([s_grid, (s_grid[:-1] + s_grid[1:]) / 2])
@@ -843,6 +897,40 @@ def _arc_length_spline(curve: Any, ua: float, ub_: float, step_mm: float
     seg = SplineSegment(t0=0.0, t1=length, knots=q.t, coefficients=q.c, degree=5,
                         unit_speed_error=speed_err)
     return seg, s_grid, uu, xy
+
+
+def _check_length(table: _ArcLengthTable, pts: np.ndarray, source: str, sm: float) -> None:
+    """The smoothed flank must not be much longer than its points: a spline that loops or
+    follows a zig-zag would otherwise size the arc-length grid (and the time and memory of
+    everything after it) by its own length, which has no bound."""
+    length = table.length_mm
+    polygon = float(np.sum(np.hypot(*np.diff(pts, axis=0).T)))
+    extent = float(np.ptp(pts[:, 0]) + np.ptp(pts[:, 1]))
+    if not math.isfinite(length) or length > MAX_LENGTH_PER_POLYGON * polygon:
+        raise ToothError(
+            f"{source}: the smoothed flank's arc length ({length:.6g} mm) is "
+            f"{length / polygon:.3g}x the point polygon's ({polygon:.6g} mm; at most "
+            f"{MAX_LENGTH_PER_POLYGON:g}x) -- the spline loops between the points: they cross, "
+            "run out of order, or are very unevenly spaced")
+    if length > MAX_LENGTH_PER_EXTENT * extent:
+        raise ToothError(
+            f"{source}: the smoothed flank's arc length ({length:.6g} mm) is "
+            f"{length / extent:.3g}x the points' extent (x range + y range = {extent:.6g} mm; "
+            f"a flank rising from root to tip is at most 1x, allowed {MAX_LENGTH_PER_EXTENT:g}x) "
+            f"-- the points zig-zag, loop or cross (noise larger than the point spacing needs "
+            f"tooth.smoothing_mm about the noise size; it is {sm:g} mm)")
+
+
+def _fit_parametric(x: np.ndarray, y: np.ndarray, s: float, u: np.ndarray | None = None
+                    ) -> tuple[Any, np.ndarray]:
+    """Quintic parametric smoothing spline (FITPACK ``parcur`` via ``splprep``; the same
+    fit as ``make_splprep``, whose Python knot search took 1.6 s for 1 000 noisy points
+    against 10 ms here): the curve as a BSpline with (n, 2) coefficients and the parameters."""
+    from scipy.interpolate import BSpline, splprep
+
+    (t, c, k), u_out = splprep([x, y], u=u, k=5, s=s, quiet=1)
+    coef = np.ascontiguousarray(np.array(c, dtype=float).T[: len(t) - k - 1])
+    return BSpline.construct_fast(np.asarray(t, dtype=float), coef, k), np.asarray(u_out, dtype=float)
 
 
 def _foot_points(seg: SplineSegment, pts: np.ndarray, s_init: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -859,11 +947,12 @@ def _foot_points(seg: SplineSegment, pts: np.ndarray, s_init: np.ndarray) -> tup
 
 
 def points_tooth(points: Any, *, module_mm: float, teeth: int, neutral_radius_mm: float,
-                 smoothing_mm: float = 5e-4) -> ToothProfile:
-    """Tooth from points of the right flank (tooth frame, root -> tip, >= 8 points).
+                 smoothing_mm: float = 5e-4, source: str = "tooth.points") -> ToothProfile:
+    """Tooth from points of the right flank (tooth frame, root -> tip, 8 to
+    :data:`MAX_POINTS` points).
 
-    Fit: a parametric quintic smoothing B-spline
-    (``scipy.interpolate.make_splprep``) with the bound ``sum |g(u_j) - x_j|^2 <=
+    Fit: a parametric quintic smoothing B-spline (FITPACK ``parcur``, as
+    ``scipy.interpolate.splprep``) with the bound ``sum |g(u_j) - x_j|^2 <=
     n smoothing_mm^2`` -- ``smoothing_mm`` is the RMS distance of the points
     from the curve allowed (about the noise sigma per coordinate); ``0``
     interpolates the points in the order given (chord-length parameter).
@@ -875,49 +964,59 @@ def points_tooth(points: Any, *, module_mm: float, teeth: int, neutral_radius_mm
 
     Arc length: integrated with 16-point Gauss-Legendre per eighth of a knot
     span; the curve is resampled every <= 0.2 µm of arc length (u(s) by
-    Newton) and re-interpolated as a quintic x(s), y(s): ``t`` is arc length
-    up to ``unit_speed_error`` (max | |p'| - 1 |, ~1e-11).
+    Newton; at most :data:`MAX_GRID` samples) and re-interpolated as a quintic
+    x(s), y(s): ``t`` is arc length up to ``unit_speed_error`` (max | |p'| - 1 |,
+    ~1e-11).
+
+    Bounded cost: at most :data:`MAX_POINTS` points, and a smoothed flank longer
+    than :data:`MAX_LENGTH_PER_POLYGON` x the point polygon or
+    :data:`MAX_LENGTH_PER_EXTENT` x the points' extent (x range + y range) is a
+    :class:`ToothError` (the points loop, cross or zig-zag) before any grid is
+    sized by that length.
 
     ``fit_error_mm`` / ``fit_rms_mm``: max / RMS normal distance of the input
     points to the final curve. Exact data (e.g. sampled from CAD) should be
     given with ``smoothing_mm`` below the accuracy wanted, or 0: a smoothing
     curve is *meant* to miss the points by about ``smoothing_mm``.
-    """
-    from scipy.interpolate import BSpline, make_splprep
 
+    ``source`` names where the points came from in error messages
+    (``tooth.points``, or ``tooth.points_file = '...'``).
+    """
     m, z1, r_m = _gear_args(module_mm, teeth, neutral_radius_mm)
     sm = _num(smoothing_mm, "tooth.smoothing_mm", lo=0.0, hi=1.0, lo_open=False)
     try:
         pts = np.array(points, dtype=float)
     except (TypeError, ValueError) as exc:
-        raise ToothError(f"tooth.points must be an (n, 2) array of numbers (mm), got {exc}") from None
-    if pts.ndim != 2 or pts.shape[1] != 2 or pts.shape[0] < 8:
-        raise ToothError(f"tooth.points must be an (n, 2) array with n >= 8, got shape {pts.shape}")
+        raise ToothError(f"{source} must be an (n, 2) array of numbers (mm), got {exc}") from None
+    if pts.ndim != 2 or pts.shape[1] != 2 or not 8 <= pts.shape[0] <= MAX_POINTS:
+        raise ToothError(f"{source} must be an (n, 2) array with 8 <= n <= {MAX_POINTS}, "
+                         f"got shape {pts.shape}")
     if not np.all(np.isfinite(pts)):
-        raise ToothError("tooth.points contains NaN or inf")
+        raise ToothError(f"{source} contains NaN or inf")
     step = np.hypot(*np.diff(pts, axis=0).T)
     if np.any(step <= 0.0):
-        raise ToothError(f"tooth.points has repeated consecutive points (index {int(np.argmin(step))})")
+        raise ToothError(f"{source} has repeated consecutive points (index {int(np.argmin(step))})")
     if not pts[-1, 1] > pts[0, 1]:
         raise ToothError(
-            f"tooth.points must run root -> tip (last y > first y), got y from "
+            f"{source} must run root -> tip (last y > first y), got y from "
             f"{pts[0, 1]:.6g} to {pts[-1, 1]:.6g} mm")
     # A crossing of the raw polyline is fatal when it is interpolated; with smoothing,
     # noise zig-zags (noise > point spacing) are expected, and the smoothed curve is
     # checked instead.
     raw_cross = _crossing_message(pts)
     if raw_cross and sm == 0.0:
-        raise ToothError(f"tooth.points: {raw_cross} (tooth.smoothing_mm = 0: interpolated as given)")
+        raise ToothError(f"{source}: {raw_cross} (tooth.smoothing_mm = 0: interpolated as given)")
 
     npt = len(pts)
     s_budget = npt * sm**2
     step_mm = 2e-4
-    fit, u = make_splprep([pts[:, 0], pts[:, 1]], k=5, s=s_budget)
+    curve, u = _fit_parametric(pts[:, 0], pts[:, 1], s_budget)
     order = np.arange(npt)
     passes = 2 if sm > 0.0 else 0
     for it in range(passes + 1):
-        curve = BSpline.construct_fast(fit.t, np.ascontiguousarray(fit.c), fit.k)  # (n, 2) out
-        seg, s_grid, uu, xy = _arc_length_spline(curve, float(u[0]), float(u[-1]), step_mm)
+        table = _ArcLengthTable.of(curve, float(u[0]), float(u[-1]))
+        _check_length(table, pts, source, sm)
+        seg, s_grid, uu, xy = _arc_length_spline(table, step_mm)
         s_i, dist = _foot_points(seg, pts[order], np.interp(u, uu, s_grid))
         if it == passes:
             break
@@ -926,27 +1025,27 @@ def points_tooth(points: Any, *, module_mm: float, teeth: int, neutral_radius_mm
         order, s_new = order[k], s_i[k]
         floor = 1e-9 * seg.length_mm * np.arange(npt)
         u_new = np.maximum.accumulate(s_new - floor) + floor
-        fit, u = make_splprep([pts[order, 0], pts[order, 1]], u=u_new, k=5, s=s_budget)
+        curve, u = _fit_parametric(pts[order, 0], pts[order, 1], s_budget, u=u_new)
     fit_cross = _crossing_message(xy)
     if fit_cross:
         raise ToothError(
-            f"tooth.points: the smoothed flank crosses itself ({fit_cross}; tooth.smoothing_mm = "
+            f"{source}: the smoothed flank crosses itself ({fit_cross}; tooth.smoothing_mm = "
             f"{sm:g} mm); " + (f"the input {raw_cross}" if raw_cross else "check the point order"))
     fit_max = float(np.max(dist))
     fit_rms = float(np.sqrt(np.mean(dist**2)))
     log.debug("points tooth: L=%.6g mm, %d knots, fit max %.3g rms %.3g, |p'|-1 %.3g",
-              seg.length_mm, len(fit.t), fit_max, fit_rms, seg.unit_speed_error)
+              seg.length_mm, len(curve.t), fit_max, fit_rms, seg.unit_speed_error)
 
     y_p = m * z1 / 2.0 - r_m
     tip, root = xy[-1], xy[0]
     if not root[1] > 0.0:
-        raise ToothError(f"tooth.points: the root point y = {root[1]:.6g} mm is not above the "
+        raise ToothError(f"{source}: the root point y = {root[1]:.6g} mm is not above the "
                          "neutral line (y > 0)")
     tooth = ToothProfile(kind="points", segments=(seg,), module_mm=m, teeth=z1,
                          neutral_radius_mm=r_m, pitch_y_mm=y_p, addendum_y_mm=float(tip[1]),
                          dedendum_y_mm=float(root[1]), fit_error_mm=fit_max, fit_rms_mm=fit_rms,
                          unit_speed_error=seg.unit_speed_error)
-    _check_placement(tooth, cross_fields="tooth.points", overlap_fields="tooth.points")
+    _check_placement(tooth, cross_fields=source, overlap_fields=source)
     from shapely.geometry import Polygon
 
     poly = Polygon(tooth.outline(n_per_mm=500.0))
@@ -954,7 +1053,7 @@ def points_tooth(points: Any, *, module_mm: float, teeth: int, neutral_radius_mm
         from shapely.validation import explain_validity
 
         raise ToothError(
-            f"tooth.points: the tooth outline built on the smoothed flank is not a simple polygon "
+            f"{source}: the tooth outline built on the smoothed flank is not a simple polygon "
             f"({explain_validity(poly)}); the flank must rise from its root point "
             f"({root[0]:.6g}, {root[1]:.6g}) mm to its tip ({tip[0]:.6g}, {tip[1]:.6g}) mm "
             "without dipping below the root circle or crossing the top land")
@@ -1000,6 +1099,8 @@ def tooth_from_gearset(gearset: Any) -> ToothProfile:
         pts = getattr(tooth, "points", None)
         if pts is None:
             raise ToothError("tooth.points is required for tooth.kind = 'points'")
+        points_file = getattr(tooth, "points_file", None)
+        source = "tooth.points" if points_file is None else f"tooth.points_file = {json.dumps(str(points_file))}"
         try:
             pts = np.array(pts, dtype=float)
             m, z1, r_m = _gear_args(**common)
@@ -1007,6 +1108,6 @@ def tooth_from_gearset(gearset: Any) -> ToothProfile:
         except (TypeError, ValueError) as exc:
             if isinstance(exc, GearSetError):
                 raise
-            raise ToothError(f"tooth.points must be an (n, 2) array of numbers (mm): {exc}") from None
-        return fn(pts, **common, **kw)
+            raise ToothError(f"{source} must be an (n, 2) array of numbers (mm): {exc}") from None
+        return fn(pts, **common, **kw, source=source)
     return fn(**common, **kw)

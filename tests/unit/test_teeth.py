@@ -17,6 +17,7 @@ import shapely
 from scipy.optimize import brentq
 from shapely.geometry import LineString, Polygon
 
+from profilegen import teeth as teeth_mod
 from profilegen.errors import GearSetError, ToothError
 from profilegen.teeth import (
     ArcSegment,
@@ -431,6 +432,133 @@ def test_points_bad_input_names_the_field(dcta):
         points_tooth(shifted, **GEAR, smoothing_mm=0.0)
     with pytest.raises(ToothError, match="tooth.smoothing_mm"):
         points_tooth(pts, **GEAR, smoothing_mm=-1e-3)
+
+
+# --------------------------------------------------------------------------- points: bounded cost
+
+
+def _noisy(dcta, n, sigma, seed=0):
+    pts = dcta.point(np.linspace(0.0, dcta.length_mm, n))
+    return pts + np.random.default_rng(seed).normal(0.0, sigma, pts.shape)
+
+
+def test_a_flank_rising_root_to_tip_is_no_longer_than_its_extent(dcta, involute):
+    """The bound behind MAX_LENGTH_PER_EXTENT: a curve along which x falls and y rises is at
+    most as long as x range + y range (|dx| + |dy| >= |ds|); real flanks sit well inside it."""
+    for tooth in (dcta, involute):
+        p = tooth.point(tooth.sample(2000))
+        assert np.all(np.diff(p[:, 1]) > 0) and np.all(np.diff(p[:, 0]) < 0)
+        extent = np.ptp(p[:, 0]) + np.ptp(p[:, 1])
+        assert tooth.length_mm <= extent
+        assert tooth.length_mm * teeth_mod.MAX_LENGTH_PER_EXTENT > 3 * extent
+
+
+@pytest.mark.parametrize("n, sigma, smoothing, against", [
+    (200, 0.05, 5e-4, "point polygon"),  # noise 100x the point spacing, smoothing 100x below it
+    (400, 0.2, 5e-4, "points' extent"),  # the smoothed curve follows a 140 mm zig-zag
+    (400, 0.2, 0.05, "points' extent"),
+])
+def test_points_that_loop_or_zigzag_are_refused_by_their_length(dcta, n, sigma, smoothing, against):
+    """Inputs like these once sized the arc-length grid by a smoothed curve thousands of mm
+    long (23 GB and more); now the length is measured on the knot spans first and refused."""
+    pts = _noisy(dcta, n, sigma)
+    pts[:, 0] = np.clip(pts[:, 0], 1e-3, None)
+    with pytest.raises(ToothError, match=r"tooth\.points: the smoothed flank's arc length") as err:
+        points_tooth(pts, **GEAR, smoothing_mm=smoothing)
+    assert against in str(err.value) and "x the" in str(err.value)
+
+
+def test_points_bound_errors_name_the_points_file(dcta):
+    pts = _noisy(dcta, 200, 0.05) - [0.0, YP]
+    gs = _gearset(kind="points", points=pts, points_file="flank.csv", smoothing_mm=5e-4)
+    with pytest.raises(ToothError, match=r'tooth\.points_file = "flank\.csv": the smoothed flank'):
+        tooth_from_gearset(gs)
+    many = np.repeat(dcta.point(np.linspace(0.0, dcta.length_mm, 30)), 400, axis=0) - [0.0, YP]
+    gs = _gearset(kind="points", points=many, points_file="dense.csv", smoothing_mm=5e-4)
+    with pytest.raises(ToothError, match=rf'tooth\.points_file = "dense\.csv" .*n <= {teeth_mod.MAX_POINTS}'):
+        tooth_from_gearset(gs)
+
+
+def _first_crossing_pairwise(pts):
+    """Reference: every pair of non-adjacent segments, by exact orientation tests."""
+    def orient(p, q, r):
+        return np.sign((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]))
+
+    n = len(pts) - 1
+    for i in range(n):
+        for j in range(i + 2, n):
+            p1, q1, p2, q2 = pts[i], pts[i + 1], pts[j], pts[j + 1]
+            if (orient(p1, q1, p2) * orient(p1, q1, q2) <= 0 and orient(p2, q2, p1) * orient(p2, q2, q1) <= 0
+                    and np.all(np.minimum(p1, q1) <= np.maximum(p2, q2))
+                    and np.all(np.maximum(p1, q1) >= np.minimum(p2, q2))):
+                return i, j
+    return None
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_first_crossing_is_the_pairwise_answer(seed):
+    rng = np.random.default_rng(seed)
+    walk = np.cumsum(rng.normal(0.0, 1.0, (40, 2)) + [0.0, 0.3 * seed], axis=0)
+    assert teeth_mod._first_crossing(walk) == _first_crossing_pairwise(walk)
+
+
+def test_first_crossing_finds_the_first_of_many_in_a_long_polyline():
+    """A 100 000-segment spiral (no crossing) with one late loop: found without n² work."""
+    s = np.linspace(0.0, 1.0, 100_001)
+    pts = np.column_stack([s, 0.1 * np.sin(40 * s)])
+    assert teeth_mod._first_crossing(pts) is None
+    pts[70_000:70_010] = pts[70_000:70_010][::-1]  # ten points reversed: segments cross
+    i, j = teeth_mod._first_crossing(pts)
+    assert 69_990 < i < j < 70_020
+    assert _first_crossing_pairwise(pts[69_990:70_020]) == (i - 69_990, j - 69_990)
+
+
+def test_points_tooth_on_a_large_gear_has_a_bounded_grid():
+    """z1 = 600, m = 2 mm: a 4.5 mm flank at a 0.2 µm step (22 500 samples, under MAX_GRID)
+    recovers the DCTA it was sampled from."""
+    big = dict(module_mm=2.0, teeth=600, neutral_radius_mm=600.0 - 2.4 - 1.8)
+    ref = dcta_tooth(**big, line_above_pitch_mm=0.2, line_below_pitch_mm=0.8, tip_arc_radius_mm=2.6,
+                     root_arc_radius_mm=2.8, addendum_mm=1.6, dedendum_mm=2.4)
+    tooth = points_tooth(ref.point(np.linspace(0.0, ref.length_mm, 60)), **big, smoothing_mm=0.0)
+    seg = tooth.segments[0]
+    assert seg.coefficients.shape[0] <= teeth_mod.MAX_GRID
+    assert tooth.length_mm == pytest.approx(ref.length_mm, rel=1e-4)
+    assert tooth.unit_speed_error < 1e-9
+
+
+_RUNAWAY = """
+import resource, sys
+import numpy as np
+resource.setrlimit(resource.RLIMIT_AS, (1_500_000_000, 1_500_000_000))
+from profilegen.errors import ToothError
+from profilegen.teeth import dcta_tooth, points_tooth
+gear = dict(module_mm=0.5, teeth=200, neutral_radius_mm=48.95)
+ref = dcta_tooth(**gear)
+for n, sigma, smoothing in [(200, 0.05, 5e-4), (400, 0.2, 5e-4), (40, 0.05, 5e-4), (40, 0.1, 2e-3)]:
+    pts = ref.point(np.linspace(0.0, ref.length_mm, n))
+    pts = pts + np.random.default_rng(1).normal(0.0, sigma, pts.shape)
+    pts[:, 0] = np.clip(pts[:, 0], 1e-3, None)
+    try:
+        points_tooth(pts, **gear, smoothing_mm=smoothing)
+        print("ok")
+    except ToothError as exc:
+        print("ToothError", str(exc).split(":")[0])
+"""
+
+
+@pytest.mark.slow
+def test_runaway_point_lists_end_in_named_errors_under_a_memory_cap():
+    """The issue's runaways (a smoothed curve that loops or follows noise) in a process
+    capped at 1.5 GB of address space: each ends in a ToothError naming tooth.points (or
+    builds), none in a MemoryError or a kill."""
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-c", _RUNAWAY], capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-2000:]
+    lines = run.stdout.split("\n")[:-1]
+    assert len(lines) == 4 and all(line in ("ok", "ToothError tooth.points") for line in lines), lines
+    assert lines.count("ToothError tooth.points") >= 3
 
 
 # --------------------------------------------------------------------------- dispatch
