@@ -794,6 +794,8 @@ def read_toml(path: Path, error: type[Exception], what: str, *, limit: int = MAX
         raise error(f"{path}: malformed TOML at {_toml_reason(exc)}") from None
     except RecursionError:
         raise error(f"{path}: malformed TOML: nested too deeply") from None
+    except ValueError:  # e.g. an integer of more than 4300 digits (sys.get_int_max_str_digits)
+        raise error(f"{path}: malformed TOML: a value TOML cannot hold (an integer too long?)") from None
 
 
 def load_gearset(path: str | os.PathLike) -> GearSet:
@@ -849,6 +851,8 @@ def resolve_gearset(name_or_path: str | os.PathLike) -> Path:
     current folder). Raises :class:`GearSetError` naming what was tried.
     """
     text = os.fspath(name_or_path)
+    if "\0" in text or len(text) > 4096:
+        raise GearSetError(f"{_show(text)}: not a file name (a NUL character or over 4096 characters)")
     candidate = Path(text)
     is_path = (
         isinstance(name_or_path, os.PathLike)
@@ -857,7 +861,7 @@ def resolve_gearset(name_or_path: str | os.PathLike) -> Path:
         or candidate.suffix == ".toml"
     )
     if is_path:
-        if candidate.is_file():
+        if candidate.exists():  # a folder, device or FIFO too: load_gearset says what it is
             return candidate
         raise GearSetError(f"{candidate}: no such gear-set file")
     try:
@@ -866,7 +870,7 @@ def resolve_gearset(name_or_path: str | os.PathLike) -> Path:
         folder = None
     if folder is not None and (folder / f"{text}.toml").is_file():
         return folder / f"{text}.toml"
-    if candidate.is_file():
+    if candidate.exists():
         return candidate
     known = ", ".join(p.stem for p in list_profiles()) if folder is not None else "none found"
     raise GearSetError(f"gear set {text!r}: no such profile (known profiles: {known}) and no such file")
@@ -915,7 +919,10 @@ def _show(value) -> str:
         text = json.dumps(value if len(value) <= 40 else value[:37], ensure_ascii=False)
         return text if len(value) <= 40 else text[:-1] + '..." (' + f"{len(value)} characters)"
     if isinstance(value, numbers.Integral):
-        return str(int(value))
+        value = int(value)
+        if abs(value) >= 10**30:
+            return f"{'-' if value < 0 else ''}{str(abs(value))[:12]}... ({len(str(abs(value)))} digits)"
+        return str(value)
     if isinstance(value, numbers.Real):
         return repr(float(value))
     if isinstance(value, Mapping):

@@ -125,7 +125,7 @@ def cases() -> list[Case]:
     # every numeric gear field: out of range, wrong type, nan, inf, huge
     for path, values in {
         "gear.module_mm": [-0.5, 0.0, math.nan, math.inf, 1e300, "0.5", True],
-        "gear.flexspline_teeth": [19, 200.0, 10**12, -200],
+        "gear.flexspline_teeth": [19, 200.0, 10**12, -200, int("9" * 4000)],
         "gear.circular_spline_teeth": [203, 200, 202.0],
         "gear.waves": [1, 5, 2.5],
         "gear.rim_thickness_mm": [0.0, 50.0, math.nan, 0.1],
@@ -149,7 +149,7 @@ def cases() -> list[Case]:
         "cup.root_fillet_radius_mm": [5.0],
     }.items():
         for v in values:
-            field_case(f"{path} = {_value(v)}", path, v)
+            field_case(f"{path} = {_value(v)[:24]}", path, v)
     field_case("both addendum units", "tooth.addendum_mm", 0.4, "tooth.addendum_coefficient")
     field_case("tip arc misses the addendum", "tooth.tip_arc_radius_coefficient", 0.3, "tooth.tip_arc_radius_mm")
     field_case("material yield > ultimate", "material.yield_strength_mpa", 2000.0)
@@ -205,6 +205,9 @@ def cases() -> list[Case]:
         Case("gear set a FIFO", "fifo.toml", {"fifo.toml": "FIFO"}, gearset="fifo.toml"),
         Case("gear set missing", "missing.toml", gearset="missing.toml"),
         Case("no such profile name", "nosuchprofile", gearset="nosuchprofile"),
+        Case("gear set a FIFO, bare name", "fifo: is a FIFO", {"fifo": "FIFO"}, gearset="fifo"),
+        Case("integer of 5000 digits", "set.toml", {"set.toml": DEFAULT_TOML.read_text().replace(
+            "flexspline_teeth = 200", "flexspline_teeth = " + "2" * 5000)}),
     ]
     # point lists
     bad_rows = "x_mm,y_mm\n" + "\n".join(f"{x!r},{y!r}" for x, y in flank()[:5]) + f"\n0.1,{CANARY}\n"

@@ -96,6 +96,23 @@ def test_malformed_files_name_file_and_line_not_content(tmp_path, content, expec
     assert message.startswith(f"{path}: ") and expect in message
 
 
+def test_integers_too_long_for_python_or_the_message(tmp_path):
+    path = tmp_path / "set.toml"
+    path.write_text(DEFAULT.replace("flexspline_teeth = 200", "flexspline_teeth = " + "2" * 5000))
+    assert load_error(path).endswith("malformed TOML: a value TOML cannot hold (an integer too long?)")
+    path.write_text(DEFAULT.replace("flexspline_teeth = 200", "flexspline_teeth = " + "2" * 4000))
+    message = load_error(path)
+    assert "gear.flexspline_teeth = 222222222222... (4000 digits): must be in [20, 2000]" in message
+    assert len(message) < 300
+
+
+def test_cli_names_a_fifo_given_by_bare_name(tmp_path, monkeypatch, capsys):
+    monkeypatch.chdir(tmp_path)
+    os.mkfifo("fifo")
+    assert main(["check", "fifo"]) == 2
+    assert capsys.readouterr().err.strip() == "fifo: is a FIFO, not a regular file; a gear-set file must be a regular file"
+
+
 # --------------------------------------------------------------------------- point lists
 
 
