@@ -827,23 +827,36 @@ def _crossing_message(pts: np.ndarray) -> str:
 
 @dataclass(frozen=True, slots=True, eq=False)
 class _ArcLengthTable:
-    """Arc length s(u) of a parametric spline ``curve`` on [ua, ub]: ``u_nodes`` (each knot
-    span split in 8) and ``s_nodes`` = s there, by 16-point Gauss-Legendre per piece; its
-    cost is set by the knot count, so the length is known before any grid is sized."""
+    """Arc length s(u) of a parametric spline ``curve``: ``s_nodes`` = s at ``u_nodes``, each
+    piece between nodes integrated by ``order``-point Gauss-Legendre.
+
+    :meth:`of` puts 8 pieces in each knot span and 16 points on each, so the length is known
+    at a cost set by the knot count, before any grid is sized; :meth:`refined` adds nodes (the
+    pieces then lie inside one knot span, where |p'(u)| is analytic, and are short: 6 points).
+    """
 
     curve: Any
     u_nodes: np.ndarray
     s_nodes: np.ndarray
+    order: int
 
     @classmethod
     def of(cls, curve: Any, ua: float, ub: float) -> "_ArcLengthTable":
         kn = np.unique(np.concatenate([[ua, ub], curve.t[(curve.t > ua) & (curve.t < ub)]]))
         frac = np.linspace(0.0, 1.0, 9)[:-1]
         un = np.append((kn[:-1, None] + (kn[1:] - kn[:-1])[:, None] * frac).ravel(), ub)
-        table = cls(curve, un, np.zeros(1))
+        return cls._build(curve, un, 16)
+
+    @classmethod
+    def _build(cls, curve: Any, un: np.ndarray, order: int) -> "_ArcLengthTable":
+        table = cls(curve, un, np.zeros(1), order)
         s = np.concatenate([[0.0], np.cumsum(table.piece(un[:-1], un[1:]))])
         object.__setattr__(table, "s_nodes", s)
         return table
+
+    def refined(self, u: np.ndarray, order: int = 6) -> "_ArcLengthTable":
+        """The table with the nodes ``u`` added (inside [ua, ub])."""
+        return self._build(self.curve, np.union1d(self.u_nodes, u), order)
 
     @property
     def length_mm(self) -> float:
@@ -851,7 +864,7 @@ class _ArcLengthTable:
 
     def piece(self, a: np.ndarray, b: np.ndarray, chunk: int = 65536) -> np.ndarray:
         """Arc length from ``a`` to ``b`` (elementwise), evaluated ``chunk`` pieces at a time."""
-        gx, gw = _GAUSS16
+        gx, gw = np.polynomial.legendre.leggauss(self.order)
         out = np.empty(len(a))
         for lo in range(0, len(a), chunk):
             a0, b0 = a[lo:lo + chunk], b[lo:lo + chunk]
@@ -865,29 +878,27 @@ class _ArcLengthTable:
         return self.s_nodes[j] + self.piece(self.u_nodes[j], u)
 
 
-_GAUSS16 = np.polynomial.legendre.leggauss(16)
-
-
 def _arc_length_spline(table: _ArcLengthTable, step_mm: float
                        ) -> tuple[SplineSegment, np.ndarray, np.ndarray, np.ndarray]:
     """Re-interpolate the parametric spline of ``table`` in arc length.
 
     Returns the quintic :class:`SplineSegment` in s, the equal-s grid (step ``step_mm``,
     at least 1001 and at most :data:`MAX_GRID` samples), u at the grid (Newton on
-    s(u) - s = 0 from a table of s(u) on the grid's count of equal-u samples) and the curve
-    points there.
+    s(u) - s = 0 from a table of s(u) refined by the grid's count of equal-u samples) and
+    the curve points there.
     """
     from scipy.interpolate import make_interp_spline
 
     curve, length = table.curve, table.length_mm
     ua, ub = float(table.u_nodes[0]), float(table.u_nodes[-1])
     n_grid = min(MAX_GRID, max(1001, int(math.ceil(length / step_mm)) + 1))
+    fine = table.refined(np.linspace(ua, ub, n_grid))
+    length = fine.length_mm
     s_grid = np.linspace(0.0, length, n_grid)
-    u_tab = np.linspace(ua, ub, 2 * n_grid)
-    uu = np.interp(s_grid, table.s_of(u_tab), u_tab)
-    for _ in range(3):
+    uu = np.interp(s_grid, fine.s_nodes, fine.u_nodes)
+    for _ in range(2):
         d = curve(uu, 1)
-        uu = np.clip(uu - (table.s_of(uu) - s_grid) / np.hypot(d[:, 0], d[:, 1]), ua, ub)
+        uu = np.clip(uu - (fine.s_of(uu) - s_grid) / np.hypot(d[:, 0], d[:, 1]), ua, ub)
     uu[0], uu[-1] = ua, ub
     xy = curve(uu)
     q = make_interp_spline(s_grid, xy, k=5)
