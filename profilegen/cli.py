@@ -26,7 +26,7 @@ def _load(name_or_path: str | None):
 
 
 def _cmd_design(args) -> int:
-    from .pipeline import SCENES, design, planned_stages, write_design
+    from .pipeline import SCENES, check_gearset, design, planned_stages, write_design
 
     if args.scene == "list":
         from .scenes import bundled_scenes_path
@@ -40,6 +40,7 @@ def _cmd_design(args) -> int:
               "or my_scenes.toml#NAME)")
         return 0
     gearset = _load(args.gearset)
+    check_gearset(gearset)  # what check rejects fails here, before the first progress line
     out = Path(args.out) if args.out else Path("export") / gearset.name
     stages = planned_stages(gearset, scene=args.scene, contact=args.contact) + ("files",)
     bar = _progress(len(stages), quiet=args.quiet, what=f"design {gearset.name}")
@@ -207,10 +208,9 @@ def _cmd_check(args) -> int:
     (:func:`profilegen.teeth.tooth_from_gearset`, design's first stage, and the envelope stage's
     :func:`profilegen.envelope.tooth_curves`). One line per problem on
     stderr, each naming the file once; notes (``GearSet.warnings``) on stdout."""
-    from .envelope import tooth_curves
     from .errors import GearSetError
     from .gearset import load_gearset, resolve_gearset
-    from .teeth import tooth_from_gearset
+    from .pipeline import check_gearset
 
     status = 0
     for name in args.gearsets:
@@ -219,7 +219,7 @@ def _cmd_check(args) -> int:
             path = resolve_gearset(name)
             where = str(path)
             gs = load_gearset(path)
-            tooth_curves(tooth_from_gearset(gs))  # the tooth as the envelope stage takes it (a flank monotone in x)
+            check_gearset(gs)
         except ProfilegenError as exc:
             status = 2
             lines = exc.problems if isinstance(exc, GearSetError) else [str(exc)]

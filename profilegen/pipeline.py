@@ -301,6 +301,16 @@ def design(
                        stress=stress)
 
 
+def check_gearset(gearset: GearSet) -> None:
+    """Everything :func:`design` rejects about the gear set itself, before any stage runs: the
+    fields and the wave generator (checked by :class:`GearSet` when it is made) and the tooth,
+    as design's first stage builds it and as the envelope stage takes it (a flank monotone in
+    x). Raises the error design would raise; ``profilegen check`` and ``design`` both call it."""
+    from .envelope import tooth_curves
+
+    tooth_curves(tooth_from_gearset(gearset))
+
+
 def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None = None,
                    contact: bool | None = None, stress: bool = True) -> tuple[str, ...]:
     """The names :func:`design` will pass to its ``progress`` callback, in order, for these
@@ -318,7 +328,7 @@ def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None 
 def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress) -> Design:
     scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
     step = progress or (lambda name: None)
-    warnings: list[str] = []
+    warnings: list[str] = list(gearset.warnings)
     stages: list[StageReport] = []
     g = gearset.gear
 
