@@ -73,10 +73,13 @@ def _sha(path: Path) -> str:
 
 
 def _strip_times(obj):
+    """obj without keys naming a time, and without durations in its texts ("FEM solve 0.687 s")."""
     if isinstance(obj, dict):
         return {k: _strip_times(v) for k, v in obj.items() if "time" not in k}
     if isinstance(obj, list):
         return [_strip_times(v) for v in obj]
+    if isinstance(obj, str):
+        return re.sub(r"\d+(\.\d+)?([eE][-+]?\d+)? ?(s|ms)\b", "# s", obj)
     return obj
 
 
@@ -268,7 +271,8 @@ def main() -> int:
     print()
     for r in [head, *rows]:
         print("  ".join(str(c).ljust(w) for c, w in zip(r, widths)).rstrip())
-    print(f"\n{len(rows)} kills, {bad} violations. Old set → killed command: sketch: default scene → "
+    kills = sum(not str(r[3]).startswith(("ended", "exit codes")) for r in rows)
+    print(f"\n{len(rows)} cases ({kills} killed runs), {bad} violations. Old set → killed command: sketch: default scene → "
           f"{' '.join(SKETCH_LS)}" + ("" if args.quick else f"; design: {' '.join(SKETCH)} → default scene")
           + f". Work folder {work}")
     return 1 if bad else 0
