@@ -235,3 +235,16 @@ def test_a_failing_design_says_fail_in_one_line_and_strict_exits_3(tmp_path):
     assert data["verdict"]["passed"] is False and data["verdict"]["line"] == last
     ok = run_cli("design", "--scene", "sketch", "--out", str(tmp_path / "c"), "--strict", "-q", cwd=tmp_path)
     assert ok.returncode == 0
+
+
+def test_a_folder_holding_user_files_is_refused_before_the_stages(tmp_path):
+    """An output folder with a file profilegen did not write: one line naming the folder and
+    the file, exit 2, before any stage (no progress line), the folder untouched."""
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "notes.txt").write_text("my notes")
+    res = run_cli("design", "--scene", "sketch", "--out", str(out), cwd=tmp_path)
+    assert res.returncode == 2
+    (line,) = res.stderr.splitlines()
+    assert "notes.txt" in line and str(out) in line and "[1/" not in res.stderr
+    assert sorted(p.name for p in out.iterdir()) == ["notes.txt"] and sorted(p.name for p in tmp_path.iterdir()) == ["mine"]
