@@ -1,112 +1,217 @@
-"""The gear-set fuzz at benchmark size: 10 000 hypothesis examples (or more) through the sketch
-pipeline, spread over worker processes, each with its own seed.
+"""The gear-set fuzz at benchmark size: 10 000 hypothesis examples (or more) through every scene
+and into files, spread over worker processes, each chunk with its own seed.
 
     python tests/benchmarks/fuzz.py [--examples 10000] [--workers 2]
+                                    [--design-share 0.03] [--verify-share 0.002]
+    python tests/benchmarks/fuzz.py --replay export/bench/fuzz_failures/0001.json
 
-Every example must end in a result whose outputs are finite (no NaN or infinity in the design's
-JSON, outline, fitted profile, stage times or stresses) or in a named ProfilegenError. Unlike the
-test (``tests/property/test_pipeline_fuzz.py``, 1 000 examples, derandomized), a crash does not
-stop the run: it is recorded with its traceback and the gear set that caused it. Writes
-export/bench/fuzz.json (outcome counts, crashes, the slowest examples, times) and prints a
-summary; exits 1 if any example crashed or returned a non-finite output.
+The gear sets are those of the CI test (``tests/property/test_pipeline_fuzz.py``): DCTA,
+involute and point-list teeth (clean, noisy, crossing, looping), m 0.1–2 mm, z1 60–600, 2–4
+waves, z2 − z1 = U or 2U, one draw in six with a spoiled field. Each example is designed in a
+scene — ``sketch`` mostly, ``design`` with probability ``--design-share``, ``verify`` with
+``--verify-share`` (a verify design takes ~40 s, a design-scene one ~5–15 s, a sketch ~0.5 s) —
+and its files are written with ``write_design`` into a temporary folder (figures too in the
+design and verify scenes). Every worker runs under a 4 GB address-space cap (RLIMIT_AS) and
+every example under a time limit, so a runaway is counted, not an OOM kill of the machine.
+
+Outcomes: ``ok``; a named error (the ProfilegenError subclass); ``CRASH`` (any other exception,
+a MemoryError under the cap included); ``NON-FINITE`` (NaN or infinity in the result or its
+files); ``OVER-TIME`` (past ``--time-limit-s``, scaled ×3 for design and ×6 for verify). A
+failure does not stop the run. Writes export/bench/fuzz.json (counts, times, failures),
+export/bench/fuzz_failures.csv (one row per failing example: outcome, scene, tooth kind, time,
+error, reproducer command) and export/bench/fuzz_failures/NNNN.json (the scene and gear set
+of each, which ``--replay`` runs again in-process with the traceback shown); prints the counts
+table; exits 1 if any example failed.
 """
 
 from __future__ import annotations
 
 import argparse
+import csv
 import json
+import math
 import statistics
 import sys
 import time
 import traceback
 from collections import Counter
 from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+FAILURES = ("CRASH", "NON-FINITE", "OVER-TIME")
+SCENE_TIME_FACTOR = {"sketch": 1.0, "design": 3.0, "verify": 6.0}
 
-def _worker(args: tuple[int, int]) -> dict:
-    """Run ``n`` examples with hypothesis seed ``seed``: outcome counts, crashes, times."""
-    n, seed = args
+
+def _classify(data: dict, scene: str, limit_s: float) -> tuple[str, str]:
+    """(outcome, error text) of one example; runs it under ``time_limit``."""
+    from tests.property.fuzzrun import OverTime, outcome, time_limit
+
+    try:
+        with time_limit(limit_s):
+            return outcome(data, scene, figure=scene != "sketch"), ""
+    except OverTime as exc:
+        return "OVER-TIME", str(exc)
+    except AssertionError:
+        return "NON-FINITE", traceback.format_exc()
+    except Exception:  # noqa: BLE001 — the fuzz records every crash and goes on
+        return "CRASH", traceback.format_exc()
+
+
+def _worker(args: tuple[int, int, float, float, float]) -> dict:
+    """Run ``n`` examples with hypothesis seed ``seed``: outcomes per (scene, kind), failures, times."""
+    n, seed, design_share, verify_share, limit_s = args
+    import logging
+
     from hypothesis import HealthCheck, given, settings
     from hypothesis import seed as hseed
+    from hypothesis import strategies as st
 
-    from tests.property.gearsets import gear_sets
-    from tests.property.test_pipeline_fuzz import outcome
+    from tests.property.fuzzrun import memory_cap
+    from tests.property.gearsets import gear_sets, scenes
 
-    counts: Counter = Counter()
-    crashes: list[dict] = []
-    times: list[tuple[float, str]] = []
+    logging.disable(logging.WARNING)
+    rows: list[tuple[str, str, str, float]] = []  # scene, kind, outcome, seconds
+    failures: list[dict] = []
 
     @hseed(seed)
     @settings(max_examples=n, deadline=None, database=None, derandomize=False,
               suppress_health_check=list(HealthCheck))
-    @given(gear_sets())
-    def run(data):
+    @given(gear_sets(), scenes(design_share, verify_share))
+    def run(data, scene):
+        kind = str(data.get("tooth", {}).get("kind", "?")) if isinstance(data.get("tooth"), dict) else "?"
         t0 = time.perf_counter()
-        try:
-            name = outcome(data)
-        except AssertionError as exc:  # a non-finite output (or an unnamed error message)
-            name = "NON-FINITE"
-            crashes.append({"kind": name, "error": repr(exc), "traceback": traceback.format_exc(), "gearset": data})
-        except Exception as exc:  # noqa: BLE001 — the fuzz records every crash and goes on
-            name = "CRASH"
-            crashes.append({"kind": name, "error": repr(exc), "traceback": traceback.format_exc(), "gearset": data})
-        counts[name] += 1
-        times.append((time.perf_counter() - t0, name))
+        name, error = _classify(data, scene, limit_s * SCENE_TIME_FACTOR[scene])
+        dt = time.perf_counter() - t0
+        rows.append((scene, kind, name, dt))
+        if name in FAILURES:
+            failures.append({"outcome": name, "scene": scene, "kind": kind, "seconds": dt, "error": error,
+                             "seed": seed, "gearset": data})
 
-    run()
-    return {"counts": dict(counts), "crashes": crashes, "times": times}
+    with memory_cap():
+        run()
+    return {"rows": rows, "failures": failures}
+
+
+def _table(rows, key) -> str:
+    """Counts of outcomes (columns) per ``key(row)`` (rows of the table), with totals."""
+    groups = sorted({key(r) for r in rows})
+    names = sorted({r[2] for r in rows}, key=lambda s: (s != "ok", s in FAILURES, s))
+    width = max([len(n) for n in names] + [8])
+    head = f"{'':>9} " + " ".join(f"{n:>{width}}" for n in names) + f" {'total':>7}"
+    lines = [head]
+    for g in groups + ["total"]:
+        sel = [r for r in rows if g == "total" or key(r) == g]
+        c = Counter(r[2] for r in sel)
+        lines.append(f"{g:>9} " + " ".join(f"{c.get(n, 0):>{width}}" for n in names) + f" {len(sel):>7}")
+    return "\n".join(lines)
+
+
+def _replay(path: Path) -> int:
+    from tests.property.fuzzrun import memory_cap, outcome
+
+    case = json.loads(path.read_text())
+    print(f"replaying {path}: scene {case['scene']}, tooth kind {case['kind']} (was {case['outcome']})")
+    with memory_cap():
+        t0 = time.perf_counter()
+        name = outcome(case["gearset"], case["scene"], figure=case["scene"] != "sketch")  # raises on a failure
+    print(f"outcome: {name} in {time.perf_counter() - t0:.1f} s")
+    return 0
 
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--examples", type=int, default=10_000, help="examples in all (default 10 000)")
     ap.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
+    ap.add_argument("--design-share", type=float, default=0.03, help="share of design-scene examples (0.03)")
+    ap.add_argument("--verify-share", type=float, default=0.002, help="share of verify-scene examples (0.002)")
+    ap.add_argument("--time-limit-s", type=float, default=120.0,
+                    help="per sketch example (×3 design, ×6 verify; default 120)")
     ap.add_argument("--seed", type=int, default=20261124, help="base hypothesis seed")
     ap.add_argument("--out", default=str(ROOT / "export" / "bench"), help="output folder")
+    ap.add_argument("--replay", type=Path, help="run one failure file again and show its traceback")
     args = ap.parse_args()
+    if args.replay:
+        return _replay(args.replay)
     if args.examples < 1 or args.workers < 1:
         ap.error("--examples and --workers must be ≥ 1")
-    chunks = 4 * args.workers  # several chunks per worker: a progress line per chunk
+    if not (0 <= args.design_share and 0 <= args.verify_share and args.design_share + args.verify_share <= 1):
+        ap.error("--design-share and --verify-share must be ≥ 0 with a sum ≤ 1")
+    chunks = max(4 * args.workers, math.ceil(args.examples / 100))  # a progress line per ~100 examples
     sizes = [args.examples // chunks + (k < args.examples % chunks) for k in range(chunks)]
-    jobs = [(n, args.seed + k) for k, n in enumerate(sizes) if n]
+    jobs = [(n, args.seed + k, args.design_share, args.verify_share, args.time_limit_s)
+            for k, n in enumerate(sizes) if n]
     t0 = time.perf_counter()
-    counts: Counter = Counter()
-    crashes, times = [], []
-    with ProcessPoolExecutor(args.workers) as pool:
-        for k, part in enumerate(pool.map(_worker, jobs), start=1):
-            counts.update(part["counts"])
-            crashes += part["crashes"]
-            times += part["times"]
-            print(f"[{k}/{len(jobs)}] {sum(counts.values())} examples, {time.perf_counter() - t0:.0f} s: "
-                  f"{dict(counts.most_common())}", flush=True)
+    rows: list[tuple] = []
+    failures: list[dict] = []
+    broken = ""
+    try:
+        with ProcessPoolExecutor(args.workers) as pool:
+            for k, part in enumerate(pool.map(_worker, jobs), start=1):
+                rows += part["rows"]
+                failures += part["failures"]
+                c = Counter(r[2] for r in rows)
+                print(f"[{k}/{len(jobs)}] {len(rows)} examples, {time.perf_counter() - t0:.0f} s: "
+                      f"ok {c.get('ok', 0)}, named {sum(v for n, v in c.items() if n != 'ok' and n not in FAILURES)}, "
+                      f"failed {sum(c.get(n, 0) for n in FAILURES)}", flush=True)
+    except BrokenProcessPool as exc:  # a worker killed from outside (the caps should prevent it)
+        broken = f"a worker process died: {exc}"
+        print(broken, flush=True)
     wall = time.perf_counter() - t0
-    per = [t for t, _ in times]
-    ok = [t for t, name in times if name == "ok"]
+
+    out = Path(args.out)
+    (out / "fuzz_failures").mkdir(parents=True, exist_ok=True)
+    for old in (out / "fuzz_failures").glob("*.json"):
+        old.unlink()
+    with open(out / "fuzz_failures.csv", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["outcome", "scene", "tooth_kind", "seconds", "error", "reproducer"])
+        for k, fail in enumerate(failures, start=1):
+            path = out / "fuzz_failures" / f"{k:04d}.json"
+            path.write_text(json.dumps(fail, indent=1, default=str))
+            last = fail["error"].strip().splitlines()[-1] if fail["error"].strip() else ""
+            w.writerow([fail["outcome"], fail["scene"], fail["kind"], f"{fail['seconds']:.1f}", last[:300],
+                        f"python tests/benchmarks/fuzz.py --replay {path}"])
+
+    per_scene = {}
+    for scene in SCENE_TIME_FACTOR:
+        t = [r[3] for r in rows if r[0] == scene]
+        ok = [r[3] for r in rows if r[0] == scene and r[2] == "ok"]
+        if t:
+            per_scene[scene] = {"examples": len(t), "results": len(ok), "total_s": sum(t),
+                                "median_s": statistics.median(t), "max_s": max(t),
+                                "median_result_s": statistics.median(ok) if ok else None}
     summary = {
         "command": "python tests/benchmarks/fuzz.py " + " ".join(sys.argv[1:]),
-        "examples": sum(counts.values()),
+        "examples": len(rows),
         "workers": args.workers,
         "wall_s": wall,
-        "outcomes": dict(counts.most_common()),
-        "crashes": crashes,
-        "time_per_example_s": {"median": statistics.median(per), "mean": statistics.fmean(per), "max": max(per)},
-        "time_per_result_s": {"median": statistics.median(ok), "max": max(ok)} if ok else None,
+        "design_share": args.design_share,
+        "verify_share": args.verify_share,
+        "outcomes": dict(Counter(r[2] for r in rows).most_common()),
+        "outcomes_by_scene": {s: dict(Counter(r[2] for r in rows if r[0] == s)) for s in SCENE_TIME_FACTOR},
+        "outcomes_by_kind": {k: dict(Counter(r[2] for r in rows if r[1] == k)) for k in sorted({r[1] for r in rows})},
+        "time_per_scene": per_scene,
+        "failures": len(failures),
+        "broken": broken,
     }
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     (out / "fuzz.json").write_text(json.dumps(summary, indent=1, default=str))
-    print(f"{summary['examples']} examples in {wall:.0f} s on {args.workers} workers "
-          f"(median {summary['time_per_example_s']['median'] * 1e3:.0f} ms, mean "
-          f"{summary['time_per_example_s']['mean'] * 1e3:.0f} ms per example)")
-    print("outcomes:", summary["outcomes"])
-    print(f"crashes or non-finite outputs: {len(crashes)}" + "".join(
-        f"\n  {c['kind']}: {c['error'][:200]}" for c in crashes[:10]))
-    print(f"written: {out / 'fuzz.json'}")
-    return 1 if crashes else 0
+    cpu = sum(r[3] for r in rows)
+    print(f"\n{len(rows)} examples in {wall:.0f} s on {args.workers} workers ({cpu:.0f} s of example time)")
+    print("\nby scene:\n" + _table(rows, key=lambda r: r[0]))
+    print("\nby tooth kind:\n" + _table(rows, key=lambda r: r[1]))
+    print("\ntime per example (s):")
+    for scene, st in per_scene.items():
+        print(f"  {scene:>6}: {st['examples']} examples, median {st['median_s']:.2f}, max {st['max_s']:.1f}, "
+              f"total {st['total_s']:.0f}")
+    print(f"\nfailures (crash, non-finite, over time): {len(failures)}" + "".join(
+        f"\n  {f['outcome']} {f['scene']} {f['kind']}: {f['error'].strip().splitlines()[-1][:200] if f['error'].strip() else ''}"
+        for f in failures[:10]))
+    print(f"written: {out / 'fuzz.json'}, {out / 'fuzz_failures.csv'}")
+    return 1 if failures or broken else 0
 
 
 if __name__ == "__main__":
