@@ -148,13 +148,23 @@ def _solve(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult:
     from ..teeth import tooth_from_gearset
     from .toothed import toothed_quarter_mesh
 
-    # the toothed mesh needs ≥ 14 columns per pitch for the default tooth (one per flank
-    # segment, top land, root step, root land): the coarse mesh has 2 columns fewer
-    per_pitch = tier.per_pitch - 2 if coarse else tier.per_pitch
+    # the coarse mesh has 2 columns per pitch fewer (see _toothed_per_pitch)
+    fine = _toothed_per_pitch(gearset, tier)
+    per_pitch = fine - 2 if coarse else fine
     mesh = toothed_quarter_mesh(tooth_from_gearset(gearset), gearset.gear.rim_thickness_mm,
                                 rim_layers=tier.layers, tooth_layers=tier.tooth_layers, per_pitch=per_pitch)
     return solve_ring(gearset, contour=contour, mesh=mesh, geometry=tier.geometry,
                       tier=f"{tier.geometry} toothed ring FEM")
+
+
+def _toothed_per_pitch(gearset, tier: RimTier) -> int:
+    """Columns per pitch of the toothed tier's mesh: the tier's, or more where the tooth needs
+    them — its coarse companion (2 fewer) must still mesh the tooth (one column per flank
+    piece, top land, root step, root land: 14 for the default DCTA tooth, 16 for seed 001's)."""
+    from ..teeth import tooth_from_gearset
+    from .toothed import least_per_pitch
+
+    return max(tier.per_pitch, least_per_pitch(tooth_from_gearset(gearset)) + 2)
 
 
 def _solve_named(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult:
@@ -212,6 +222,10 @@ def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
 
     contour = from_gearset(gearset)
     t0 = time.perf_counter()
+    if tier.model == "toothed" and _toothed_per_pitch(gearset, tier) != tier.per_pitch:
+        warnings.append(f"the toothed rim mesh uses {_toothed_per_pitch(gearset, tier)} columns per pitch instead of "
+                        f"the tier's {tier.per_pitch}: this tooth's pieces need them (its coarse companion needs "
+                        f"{_toothed_per_pitch(gearset, tier) - 2})")
     fem = _solve_named(gearset, tier, contour, coarse=False)
     fem_time = time.perf_counter() - t0
     coarse = _solve_named(gearset, tier, contour, coarse=True)
@@ -219,8 +233,8 @@ def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
     error = float(max(d_w, d_u))
     measure = ("max |Δω|, |Δυ| on the neutral line between this mesh and one with half the circumferential "
                "divisions (mm; an upper estimate of this mesh's discretisation error)" if tier.model == "flat" else
-               f"max |Δω|, |Δυ| on the neutral line between {tier.per_pitch} and {tier.per_pitch - 2} element columns "
-               "per tooth pitch (mm)")
+               f"max |Δω|, |Δυ| on the neutral line between {_toothed_per_pitch(gearset, tier)} and "
+               f"{_toothed_per_pitch(gearset, tier) - 2} element columns per tooth pitch (mm)")
     t0 = time.perf_counter()
     phi, w, u = _period(fem)
     fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)

@@ -276,12 +276,8 @@ def toothed_quarter_mesh(
     r_bore = r_m - 0.5 * delta
     n_half = per_pitch // 2
     pieces, step, (psi_root, r_f, root_land_length), half_pitch = _pieces(tooth)
-    # the radial lines under the step must lean toward the mid-space: the step column's
-    # bottom right corner at least half a column left of the root point
-    f_root = psi_root / half_pitch
-    rl_min = max(1, math.floor(n_half * (1.0 - f_root) + 0.5) + 1)
+    rl_min, need = _quarter_columns(len(pieces), psi_root / half_pitch, n_half)
     minimum = [1] * len(pieces) + [rl_min]
-    need = sum(minimum) + 1  # + the step column
     if need > n_half:
         raise ToothedMeshError(
             f"per_pitch = {per_pitch}: too few columns for this tooth; must be ≥ {2 * need} (top land, "
@@ -453,6 +449,25 @@ class RingSectorMesh(_MappedMesh):
             "jacobian_ratio": self.jacobian_ratio,
             "time_s": self.time_s,
         }
+
+
+def _quarter_columns(n_pieces: int, f_root: float, n_half: int) -> tuple[int, int]:
+    """(root-land columns, columns needed) per half pitch of :func:`toothed_quarter_mesh` with
+    ``n_half`` columns: the radial lines under the step must lean toward the mid-space (the step
+    column's bottom right corner at least half a column left of the root point), one column
+    per flank piece and one for the step."""
+    rl_min = max(1, math.floor(n_half * (1.0 - f_root) + 0.5) + 1)
+    return rl_min, n_pieces + rl_min + 1
+
+
+def least_per_pitch(tooth) -> int:
+    """The fewest (even) columns per pitch :func:`toothed_quarter_mesh` can mesh ``tooth`` with
+    (14 for the default DCTA tooth; more for a tooth of more pieces, e.g. seed 001's)."""
+    pieces, _, (psi_root, _, _), half_pitch = _pieces(tooth)
+    n_half = 1
+    while _quarter_columns(len(pieces), psi_root / half_pitch, n_half)[1] > n_half:
+        n_half += 1
+    return 2 * n_half
 
 
 def pitch_surface(pieces: list[tuple[str, float, object]], columns: int, minimum: list[int] | None = None):

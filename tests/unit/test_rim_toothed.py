@@ -279,3 +279,20 @@ def test_odd_tooth_count_rejected():
 def test_not_a_tooth_rejected():
     with pytest.raises(ToothedMeshError, match="tooth"):
         toothed_quarter_mesh(object(), RIM_MM)
+
+
+@pytest.mark.parametrize("name, least", [("default", 14), ("seed001_shf25", 16)])
+def test_least_per_pitch_is_the_edge_of_what_meshes(name, least):
+    """least_per_pitch: the quarter mesh builds with that many columns per pitch and refuses two
+    fewer, naming per_pitch (seed 001's tooth has more pieces than the default's, and its
+    verify scene failed with the tier's 16/14 columns before the stage asked for this)."""
+    from profilegen.gearset import list_profiles, load_gearset
+    from profilegen.rim.toothed import least_per_pitch, toothed_quarter_mesh
+    from profilegen.teeth import tooth_from_gearset
+
+    gs = load_gearset(next(p for p in list_profiles() if p.stem == name))
+    tooth = tooth_from_gearset(gs)
+    assert least_per_pitch(tooth) == least
+    toothed_quarter_mesh(tooth, gs.gear.rim_thickness_mm, per_pitch=least)
+    with pytest.raises(ToothedMeshError, match="per_pitch"):
+        toothed_quarter_mesh(tooth, gs.gear.rim_thickness_mm, per_pitch=least - 2)
