@@ -68,21 +68,29 @@ def _worker(args: tuple[int, int, float, float, float]) -> dict:
 
     from hypothesis import HealthCheck, given, settings
     from hypothesis import seed as hseed
-    from hypothesis import strategies as st
+
+    import numpy as np
 
     from tests.property.fuzzrun import memory_cap
-    from tests.property.gearsets import gear_sets, scenes
+    from tests.property.gearsets import KINDS, gear_sets
 
     logging.disable(logging.WARNING)
     rows: list[tuple[str, str, str, float]] = []  # scene, kind, outcome, seconds
     failures: list[dict] = []
+    # the scene is not drawn by hypothesis (its integers lean to the low end): a seeded generator
+    # gives the shares asked for
+    rng = np.random.default_rng(seed)
 
     @hseed(seed)
     @settings(max_examples=n, deadline=None, database=None, derandomize=False,
               suppress_health_check=list(HealthCheck))
-    @given(gear_sets(), scenes(design_share, verify_share))
-    def run(data, scene):
-        kind = str(data.get("tooth", {}).get("kind", "?")) if isinstance(data.get("tooth"), dict) else "?"
+    @given(gear_sets())
+    def run(data):
+        r = rng.random()
+        scene = "verify" if r < verify_share else "design" if r < verify_share + design_share else "sketch"
+        tooth = data.get("tooth")
+        kind = tooth.get("kind") if isinstance(tooth, dict) else None
+        kind = kind if kind in KINDS else "spoiled"
         t0 = time.perf_counter()
         name, error = _classify(data, scene, limit_s * SCENE_TIME_FACTOR[scene])
         dt = time.perf_counter() - t0

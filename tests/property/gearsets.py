@@ -16,8 +16,6 @@ evenly or unevenly spaced, then clean, noisy (σ 1e-4·m to 0.05·m), with two p
 (the polyline crosses) or a run of points reversed (it loops), with a smoothing of 0, the
 default, or about the noise.
 
-``scenes(design_share, verify_share)`` draws a scene name: mostly ``sketch``.
-
 The ranges reach beyond what a designer would pick (ω* 0.3–1.9, pressure angles 1–35°,
 rims 1–6 % of the pitch radius, noise far above the smoothing): the fuzz is after the edges of
 every method, where a named error is the right answer.
@@ -145,19 +143,6 @@ def point_teeth(draw, m: float) -> dict:
     elif smoothing is not None:
         tooth["smoothing_mm"] = smoothing
     return tooth
-
-
-def scenes(design_share: float = 0.0, verify_share: float = 0.0):
-    """A scene name: ``verify`` with probability about ``verify_share``, ``design`` about
-    ``design_share``, else ``sketch`` (hypothesis shrinks toward ``sketch``)."""
-    def pick(k: int) -> str:
-        if k >= 10_000 * (1.0 - verify_share):
-            return "verify"
-        if k >= 10_000 * (1.0 - verify_share - design_share):
-            return "design"
-        return "sketch"
-
-    return st.integers(0, 9_999).map(pick)
 
 
 def _spoiled(draw, d: dict) -> dict:
