@@ -142,8 +142,10 @@ class CSProfile:
 
 #: A fitted CS that cuts into the FS tooth by more than this (mm), or the scene's envelope
 #: chord tolerance if larger, interferes: a warning, and a FAIL in the design's verdict. The
-#: one-sided fit touches the envelope to within the chord tolerance.
-INTERFERENCE_TOL_MM = 1e-6
+#: one-sided fit touches the envelope to within the chord tolerance, and the checks that sample
+#: the fitted chain against the FS tooth see ~1 nm of numerical noise (1.39 nm on seed 002 in
+#: the verify scene): 10 nm is ten times that and a hundred times below what wire EDM holds.
+INTERFERENCE_TOL_MM = 1e-5
 
 
 def interference_tol_mm(scene) -> float:
@@ -485,7 +487,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CS
     # a one-sided fit touches the envelope's vertices; between them it can be inside by up to
     # the envelope's own chord error (and twice that was seen: 0.22 nm at chord 0.1 nm on seed
     # 002's verify scene), so the swept-region check allows the interference tolerance of the
-    # verdict, 1 nm, or the chord error where that is larger
+    # verdict, 10 nm, or the chord error where that is larger
     tol = max(INTERFERENCE_TOL_MM, env.chord_tol_mm)
     # ridges on the fitted part of the right flank: one composite per branch is used, and one
     # composite over the whole flank (which cannot follow the kink) is only for comparison
