@@ -7,18 +7,30 @@ material's limits (pass/fail), and the seed papers' numbers next to ours.
 ``fit_report_html(design, fits, clearance)`` — for every arc–line–arc fit method:
 the error along the flank, max/RMS and where, the one-sided fit's backlash, ridges,
 the fit time, and the fitted profile's clearance against the FS tooth family.
+
+``png_jobs(design)`` — every picture of a design's files (``envelope.png``, ``contact.png``,
+``stress.png``) and reports, as (function, arguments) pairs; ``rendering(jobs)`` draws them
+in two forked worker processes while the caller writes its other files, and hands the PNG
+bytes to both reports, so no figure is drawn twice.
 """
 
 from __future__ import annotations
 
 import base64
+import contextlib
 import functools
 import html
-import io
+import logging
+import os
+import signal
+from collections.abc import Callable, Iterator
 
 import numpy as np
 
-__all__ = ["deformation_fit_dict", "deformation_section_html", "design_report_html", "fit_report_html", "figure_png"]
+__all__ = ["deformation_fit_dict", "deformation_section_html", "design_report_html", "fit_report_html", "figure_png",
+           "png_jobs", "rendering"]
+
+log = logging.getLogger(__name__)
 
 # Seed 004 reports ω_max = 0.553 mm for w0 = 0.5 mm. What the 2D experiments show
 # (python tests/benchmarks/rim_wmax.py; numbers there and in the README):
@@ -40,22 +52,24 @@ WMAX_FINDING = (
 
 def figure_png(fig, dpi: int = 130) -> str:
     """A matplotlib Figure as a base64 PNG data URI."""
-    buf = io.BytesIO()
-    fig.savefig(buf, format="png", dpi=dpi)
-    return _png_uri(buf.getvalue())
+    from .plot import png_bytes
+
+    return _png_uri(png_bytes(fig, dpi))
 
 
-def _figure(width=7.0, height=3.2, ncols=1):
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+def _figure(width=7.0, height=3.2, ncols=1, nrows=1, *, left=0.72, right=0.12, bottom=0.5, top=0.12,
+            wgap=0.0, hgap=0.0, **subplot_kw):
+    """A report figure with fixed margins in inches (see :func:`profilegen.plot.fixed_figure`)."""
+    from .plot import fixed_figure
 
-    fig = Figure(figsize=(width, height), layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(1, ncols)
-    return fig, axes
+    return fixed_figure((width, height), nrows, ncols, left=left, right=right, bottom=bottom, top=top,
+                        wgap=wgap, hgap=hgap, **subplot_kw)
 
 
-def _error_figure(fits: dict) -> str:
+def error_png(fits: dict) -> bytes:
+    """The deviation of every fit from the envelope along the flank (µm), as PNG bytes."""
+    from .plot import png_bytes
+
     fig, ax = _figure()
     for name, fit in fits.items():
         ax.plot(fit.arclength_mm, np.asarray(fit.error_mm) * 1e3, label=f"{name} (max {fit.max_error_mm * 1e3:.3f} µm)")
@@ -64,31 +78,48 @@ def _error_figure(fits: dict) -> str:
     ax.set_ylabel("deviation from the envelope (µm)")
     ax.legend(fontsize=8)
     ax.grid(True, lw=0.3, alpha=0.5)
-    return figure_png(fig)
+    return png_bytes(fig, 130)
 
 
-def _profile_figure(design, fits: dict) -> str:
-    fig, axes = _figure(7.0, 4.0, ncols=2)
-    flank = design.form.working_flank["right"]
+def profile_png(boundary, flank, fits: dict) -> bytes:
+    """The swept boundary with every fitted arc–line–arc flank: the whole CS space and the
+    fitted part of the right flank (``flank``: its points, which set the zoom), as PNG bytes."""
+    from .plot import png_bytes
+
+    boundary = np.asarray(boundary, dtype=float)
+    flank = np.asarray(flank, dtype=float)
+    lo, hi = flank.min(0), flank.max(0)
+    pad = 0.05 * np.ptp(flank, 0).max()
+    # equal aspect in both panels: the zoom on the flank (tall) gets what its full height needs,
+    # at least 2 in (its title and legend), the whole space (wide) the rest of the 5.3 in
+    zoom_aspect = (hi[0] - lo[0] + 2 * pad) / max(hi[1] - lo[1] + 2 * pad, 1e-9)
+    zoom_w = float(np.clip(3.2 * zoom_aspect, 2.0, 2.65))
+    fig, axes = _figure(7.0, 4.0, ncols=2, left=0.75, right=0.1, bottom=0.5, top=0.3, wgap=0.85,
+                        width_ratios=[5.3 - zoom_w, zoom_w])
+    samples = {name: fit.chain.sample(1e-5) for name, fit in fits.items()}
     for ax in axes:
-        ax.plot(*design.envelope.flank["boundary"].T, color="0.6", lw=3, label="swept boundary (exact)")
-        for name, fit in fits.items():
-            pts = fit.chain.sample(1e-5)
+        ax.plot(*boundary.T, color="0.6", lw=3, label="swept boundary (exact)")
+        for name, pts in samples.items():
             ax.plot(*pts.T, lw=1, label=f"{name} arc–line–arc")
         ax.set_aspect("equal")
         ax.set_xlabel("x (mm)")
         ax.set_ylabel("y (mm)")
     axes[0].set_title("CS space")
-    lo, hi = flank.min(0), flank.max(0)
-    pad = 0.05 * np.ptp(flank, 0).max()
     axes[1].set_xlim(lo[0] - pad, hi[0] + pad)
     axes[1].set_ylim(lo[1] - pad, hi[1] + pad)
     axes[1].set_title("right flank, fitted part")
     axes[1].legend(fontsize=7)
-    return figure_png(fig)
+    return png_bytes(fig, 130)
 
 
-def _clearance_figure(clearance) -> str:
+def _profile_args(design, fits: dict) -> tuple:
+    return design.envelope.flank["boundary"], design.form.working_flank["right"], fits
+
+
+def clearance_png(clearance) -> bytes:
+    """Clearance between the FS tooth and the fitted CS along φ, its minimum marked, as PNG bytes."""
+    from .plot import png_bytes
+
     fig, ax = _figure()
     ax.plot(np.degrees(clearance.phi), clearance.clearance_mm * 1e3, lw=1)
     ax.axhline(0, color="0.5", lw=0.6)
@@ -99,11 +130,20 @@ def _clearance_figure(clearance) -> str:
     ax.set_ylabel("clearance FS tooth ↔ fitted CS (µm)")
     ax.legend(fontsize=8)
     ax.grid(True, lw=0.3, alpha=0.5)
-    return figure_png(fig)
+    return png_bytes(fig, 130)
 
 
-def fit_report_html(design, fits: dict, *, chosen: str, clearance, positions: int) -> str:
-    """The fit-error report as one self-contained HTML page."""
+def _image(images: dict | None, name: str, draw, *args) -> str:
+    """The data URI of ``images[name]`` (PNG bytes drawn before), or of ``draw(*args)``."""
+    png = (images or {}).get(name)
+    return _png_uri(draw(*args) if png is None else png)
+
+
+def fit_report_html(design, fits: dict, *, chosen: str, clearance, positions: int,
+                    images: dict | None = None) -> str:
+    """The fit-error report as one self-contained HTML page. ``images``: PNG bytes already drawn
+    for this design (:func:`png_jobs` names: ``fit_error``, ``fit_profile``, ``fit_clearance``,
+    ``deformation_samples``, ``deformation_residuals``), embedded as they are; the others are drawn."""
     g = design.gearset
     rows = []
     for name, fit in fits.items():
@@ -145,25 +185,29 @@ envelope has a chord error of {design.envelope.chord_tol_mm * 1e6:g} nm.</p>
 {''.join(rows)}</table>
 <p>Deviation is the signed normal distance from the envelope to the fitted flank (positive: the fit
 leaves clearance, i.e. lies toward the CS material). Branch-switch ridges: {html.escape(ridge_text)}.</p>
-<img src="{_error_figure(fits)}" alt="error along the flank">
-<img src="{_profile_figure(design, fits)}" alt="fitted profiles">
+<img src="{_image(images, "fit_error", error_png, fits)}" alt="error along the flank">
+<img src="{_image(images, "fit_profile", profile_png, *_profile_args(design, fits))}" alt="fitted profiles">
 <h2>The profile used: {html.escape(chosen)}{" per branch" if len(cad) > 1 else ""}</h2>
 <table><tr><th>parameter</th><th>value</th></tr>{params}</table>
 <p>Checked against the FS tooth family at {positions} positions over one pass (shapely distances to the
 tooth surface): <b>{verdict}</b>; smallest clearance {clearance.min_mm * 1e3:.4f} µm at
 φ = {np.degrees(clearance.at_phi):.2f}°.</p>
-<img src="{_clearance_figure(clearance)}" alt="clearance map">
-{deformation_section_html(design)}
+<img src="{_image(images, "fit_clearance", clearance_png, clearance)}" alt="clearance map">
+{deformation_section_html(design, images)}
 </body></html>
 """
 
 
-def _deformation_figures(rim, deformation) -> tuple[str, str]:
+def deformation_samples_png(rim) -> bytes:
+    """The FEM samples of ω and υ along φ with the Fourier fit, the general sine and ring
+    theory, as PNG bytes."""
+    from .plot import png_bytes
+
     phi_s, w_s, u_s = rim.samples
     phi = np.linspace(0.0, np.pi, 721)
     ref_w, ref_u = rim.reference.evaluate(phi, order=0)
     fw, fu = rim.model.evaluate(phi, order=0)
-    fig, axes = _figure(7.0, 3.4, ncols=2)
+    fig, axes = _figure(7.0, 3.4, ncols=2, left=0.75, right=0.1, top=0.1, wgap=0.85)
     for ax, s, f, r, name in ((axes[0], w_s, fw, ref_w, "ω"), (axes[1], u_s, fu, ref_u, "υ")):
         ax.plot(np.degrees(phi_s), s, ".", ms=2.5, color="0.3", label="FEM samples")
         ax.plot(np.degrees(phi), f[0], lw=1, label=f"Fourier, order {rim.model.order}")
@@ -175,13 +219,17 @@ def _deformation_figures(rim, deformation) -> tuple[str, str]:
         ax.set_ylabel(f"{name} (mm)")
         ax.grid(True, lw=0.3, alpha=0.5)
     axes[0].legend(fontsize=7)
-    samples_png = figure_png(fig)
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
+    return png_bytes(fig, 130)
 
-    fig = Figure(figsize=(7.0, 5.6), layout="constrained")
-    FigureCanvasAgg(fig)
-    axes = fig.subplots(2, 2, sharex=True)
+
+def deformation_residuals_png(rim) -> bytes:
+    """Fit − FEM (nm) and ring theory − FEM (µm) for ω and υ at the FEM samples, the ends
+    of the wrap marked, as PNG bytes."""
+    from .plot import png_bytes
+
+    phi_s, w_s, u_s = rim.samples
+    fig, axes = _figure(7.0, 5.6, ncols=2, nrows=2, left=0.82, right=0.1, top=0.1, wgap=0.9, hgap=0.15,
+                        sharex=True)
     fw_s, fu_s = rim.model.evaluate(phi_s, order=0)
     tw_s, tu_s = rim.reference.evaluate(phi_s, order=0)
     sine = rim.sine.evaluate(phi_s, order=0) if rim.sine is not None else None
@@ -201,7 +249,7 @@ def _deformation_figures(rim, deformation) -> tuple[str, str]:
             ax.grid(True, lw=0.3, alpha=0.5)
     axes[0, 0].legend(fontsize=7)
     axes[1, 0].legend(fontsize=7)
-    return samples_png, figure_png(fig)
+    return png_bytes(fig, 130)
 
 
 def _stats_rows(label: str, omega, upsilon) -> str:
@@ -245,8 +293,9 @@ def deformation_fit_dict(design) -> dict:
     return out
 
 
-def deformation_section_html(design) -> str:
-    """The deformation part of the fit report: FEM vs fits vs ring theory, residuals, metrics, wrap."""
+def deformation_section_html(design, images: dict | None = None) -> str:
+    """The deformation part of the fit report: FEM vs fits vs ring theory, residuals, metrics, wrap.
+    ``images``: PNG bytes drawn before (``deformation_samples``, ``deformation_residuals``)."""
     rim = design.rim
     if rim is None or rim.fem is None:
         return (f"<h2>Deformation</h2><p>{html.escape(design.deformation.source)}: the analytic model of the "
@@ -254,7 +303,8 @@ def deformation_section_html(design) -> str:
                 "<code>verify</code> scene for the FEM rim and its fit.</p>"
                 f"<p>{html.escape(WMAX_FINDING)}</p>")
     fem = rim.fem
-    samples_png, residual_png = _deformation_figures(rim, design.deformation)
+    samples_png = _image(images, "deformation_samples", deformation_samples_png, rim)
+    residual_png = _image(images, "deformation_residuals", deformation_residuals_png, rim)
     rows = _stats_rows(f"Fourier (order {rim.model.order})", rim.model.omega_stats, rim.model.upsilon_stats)
     if rim.sine is not None:
         rows += _stats_rows("general sine (seed 004 form)", rim.sine.omega_fit.stats, rim.sine.upsilon_fit.stats)
@@ -385,7 +435,8 @@ puts the seed variant's clamp stress 19 % high (<code>python tests/benchmarks/st
 def design_report_html(design, images: dict | None = None) -> str:
     """The design report: profile, fit error, contact, stresses, safety factors (pass/fail
     against the gear set's material limits), the seed comparison tables; one HTML page.
-    ``images``: PNG bytes already drawn (``"contact"``, ``"stress"``), embedded as they are."""
+    ``images``: PNG bytes already drawn (``"contact"``, ``"stress"``, ``"fit_profile"``,
+    ``"fit_error"``; see :func:`png_jobs`), embedded as they are; the others are drawn."""
     images = images or {}
     g = design.gearset
     prof = design.profile
@@ -401,8 +452,8 @@ def design_report_html(design, images: dict | None = None) -> str:
 checked against the FS tooth at {prof.positions} positions: smallest clearance {prof.clearance.min_mm * 1e3:.4f} µm.
 CS tip circle r = {design.form.tip_radius_mm:.4f} mm, root circle r = {design.form.root_radius_mm:.4f} mm.
 The full fit-error report is <code>fit_report.html</code>; the CAD files are the DXFs beside this page.</p>
-<img src="{_profile_figure(design, prof.fits)}" alt="fitted profile">
-<img src="{_error_figure(prof.fits)}" alt="fit error along the flank">"""
+<img src="{_image(images, "fit_profile", profile_png, *_profile_args(design, prof.fits))}" alt="fitted profile">
+<img src="{_image(images, "fit_error", error_png, prof.fits)}" alt="fit error along the flank">"""
     warnings = "".join(f"<li>{html.escape(w)}</li>" for w in design.warnings)
     stress = "" if design.stress is None else _stress_section(design, images.get("stress"))
     return f"""<!DOCTYPE html>
@@ -419,3 +470,222 @@ The full fit-error report is <code>fit_report.html</code>; the CAD files are the
 <h2>Notes</h2><ul>{warnings}</ul>
 </body></html>
 """
+
+
+# ------------------------------------------------------------------------------------ rendering
+
+def _envelope_png(env, tooth, motion, title: str) -> bytes:
+    from .plot import envelope_png
+
+    return envelope_png(env, tooth, motion, title=title)
+
+
+def _contact_png(contact, title: str) -> bytes:
+    from .plot import contact_figure, png_bytes
+
+    return png_bytes(contact_figure(contact, title=title), 130)
+
+
+def _stress_png(stress, title: str) -> bytes:
+    from .plot import png_bytes, stress_figure
+
+    return png_bytes(stress_figure(stress, title=title), 120)
+
+
+def png_jobs(design) -> dict[str, tuple[Callable[..., bytes], tuple]]:
+    """Every PNG a design's files hold, by name, as ``(function, arguments)``: the function is
+    module level (it pickles), takes the result pieces it draws and returns PNG bytes.
+
+    ``envelope``, ``contact``, ``stress`` are the files ``NAME.png`` (contact and stress when the
+    design has them; ``stress`` is also embedded in ``report.html``, ``contact`` too);
+    ``fit_error``, ``fit_profile``, ``fit_clearance``, ``deformation_samples`` and
+    ``deformation_residuals`` (with a FEM rim) are embedded in ``fit_report.html``, the first
+    two in ``report.html`` as well. The slowest first, for a pool."""
+    g = design.gearset
+    jobs: dict[str, tuple[Callable[..., bytes], tuple]] = {}
+    if design.stress is not None:
+        torques = ", ".join(f"{t:g}" for t in design.stress.torques_nm)
+        jobs["stress"] = (_stress_png, (design.stress, f"{g.name}: flexspline stresses at {torques} N·m"))
+    if design.contact is not None:
+        c = design.contact
+        jobs["contact"] = (_contact_png, (c, f"{g.name}: loaded contact, {c.zones} zones, "
+                                             f"{c.points.count} candidate points per zone"))
+    title = (f"{g.name}: m {g.gear.module_mm:g} mm, z {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}, "
+             f"ω* {g.wave_generator.deflection_coefficient:g}, scene {design.scene.name}")
+    jobs["envelope"] = (_envelope_png, (design.envelope, design.tooth, design.motion, title))
+    prof = design.profile
+    if prof is not None:
+        jobs["fit_profile"] = (profile_png, _profile_args(design, prof.fits))
+        jobs["fit_error"] = (error_png, (prof.fits,))
+        jobs["fit_clearance"] = (clearance_png, (prof.clearance,))
+    rim = getattr(design, "rim", None)
+    if rim is not None and rim.fem is not None:
+        jobs["deformation_residuals"] = (deformation_residuals_png, (rim,))
+        jobs["deformation_samples"] = (deformation_samples_png, (rim,))
+    return jobs
+
+
+#: Environment variable: how many worker processes draw the figures (0: none, draw in the
+#: calling process); unset: see :func:`rendering`.
+WORKERS_ENV = "PROFILEGEN_FIGURE_WORKERS"
+_STOP_SIGNALS = (signal.SIGINT, signal.SIGTERM)
+
+
+def _default_workers() -> int:
+    text = os.environ.get(WORKERS_ENV)
+    if text is not None:
+        try:
+            n = int(text)
+            if 0 <= n <= 64:
+                return n
+        except ValueError:
+            pass
+        log.warning("%s must be an integer in [0, 64], got %.20r; using the default", WORKERS_ENV, text)
+    cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+    if cpus < 2:
+        return 0
+    try:
+        load = os.getloadavg()[0]
+    except (AttributeError, OSError):
+        load = 0.0
+    # Two workers need a CPU beside this process's own: on a busy machine the second one's
+    # matplotlib import (~0.5 s CPU) costs more than it brings; one worker costs nothing extra.
+    return 2 if load < cpus - 0.5 else 1
+
+
+@contextlib.contextmanager
+def _signals_blocked() -> Iterator[None]:
+    """SIGINT and SIGTERM blocked in this thread: processes forked here start with them blocked
+    (the worker unblocks them once its handlers are set), and a clean-up is not cut short."""
+    masked = hasattr(signal, "pthread_sigmask")
+    old = signal.pthread_sigmask(signal.SIG_BLOCK, _STOP_SIGNALS) if masked else None
+    try:
+        yield
+    finally:
+        if masked:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+
+
+def _die_with(parent: int) -> None:
+    """This worker ends when ``parent`` does (a killed run leaves no worker waiting for work):
+    PR_SET_PDEATHSIG on Linux, else a thread that watches the parent id."""
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        if libc.prctl(1, int(signal.SIGKILL), 0, 0, 0) != 0:  # PR_SET_PDEATHSIG = 1
+            raise OSError(ctypes.get_errno(), "prctl")
+    except (OSError, AttributeError):
+        import threading
+        import time
+
+        def watch() -> None:
+            while os.getppid() == parent:
+                time.sleep(0.5)
+            os._exit(1)
+
+        threading.Thread(target=watch, name="profilegen-figure-parent-watch", daemon=True).start()
+    if os.getppid() != parent:  # the parent died before the watch began
+        os._exit(1)
+
+
+def _init_worker(parent: int) -> None:
+    """A figure worker: ignores SIGINT (a Ctrl-C reaches the whole process group; the parent
+    decides and ends the workers), dies on SIGTERM and with its parent, and imports matplotlib
+    while the parent writes its other files."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    if hasattr(signal, "pthread_sigmask"):
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)
+    _die_with(parent)
+    import matplotlib.backends.backend_agg  # noqa: F401
+    import matplotlib.figure  # noqa: F401
+
+
+def _stop(executor, *, grace_s: float = 2.0) -> None:
+    """End the pool now: cancel what has not started, SIGTERM the workers (a running figure is
+    not waited for), SIGKILL those left after ``grace_s``, and wait for its manager thread."""
+    processes = list((getattr(executor, "_processes", None) or {}).values())  # before shutdown clears it
+    manager = getattr(executor, "_executor_manager_thread", None)
+    executor.shutdown(wait=False, cancel_futures=True)
+    for proc in processes:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            proc.terminate()
+    if manager is not None:
+        manager.join(grace_s)
+    for proc in processes:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            if proc.exitcode is None:
+                proc.kill()
+            proc.join(grace_s)
+    if manager is not None:
+        manager.join(grace_s)
+
+
+def _start(jobs: dict, workers: int) -> tuple[object, dict]:
+    """(executor, futures by name), or (None, {}) when no pool starts here."""
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    try:
+        ctx = multiprocessing.get_context("fork")  # a fork shares the results; spawn would re-import all
+    except ValueError:
+        return None, {}
+    executor, futures = None, {}
+    try:
+        with _signals_blocked():
+            executor = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                                           initargs=(os.getpid(),))
+            for name, (func, args) in jobs.items():
+                futures[name] = executor.submit(func, *args)
+    except Exception as exc:  # noqa: BLE001 - no fork, a daemonic process, no resources: draw here
+        log.info("figures drawn in this process: no worker pool (%s: %s)", type(exc).__name__, exc)
+        if executor is not None:
+            with _signals_blocked():
+                _stop(executor)
+        return None, {}
+    return executor, futures
+
+
+@contextlib.contextmanager
+def rendering(jobs: dict[str, tuple[Callable[..., bytes], tuple]], *,
+              workers: int | None = None) -> Iterator[Callable[[], dict[str, bytes]]]:
+    """Draw ``jobs`` (see :func:`png_jobs`) while the block runs; yields ``collect()``, which
+    waits for them and returns the PNG bytes by name.
+
+    ``workers`` ≥ 1 draws them in that many forked processes, which start at once and import
+    matplotlib while the caller writes its other files; they get the result pieces pickled
+    and send PNG bytes back, and write nothing. The default is the environment variable
+    ``PROFILEGEN_FIGURE_WORKERS`` if set, else none on one CPU, two where the 1-minute load
+    average leaves a CPU free beside this process, one otherwise. Where no pool can start
+    (no fork, a daemonic process, no resources), with ``workers`` < 2, and for any figure whose
+    worker failed, ``collect()`` draws in this process — the same bytes either way. Leaving the
+    block by an exception (a Ctrl-C included) ends the workers at once; a run killed outright
+    takes them with it (Linux: PR_SET_PDEATHSIG)."""
+    n = _default_workers() if workers is None else int(workers)
+    executor, futures = _start(jobs, min(n, len(jobs))) if n >= 1 and jobs else (None, {})
+
+    def collect() -> dict[str, bytes]:
+        out = {}
+        for name, (func, args) in jobs.items():
+            fut = futures.get(name)
+            if fut is not None:
+                try:
+                    out[name] = fut.result()
+                    continue
+                except Exception as exc:  # noqa: BLE001 - a dead worker or a failed figure: draw it here
+                    log.warning("figure %s: the worker failed (%s: %s); drawing it in this process",
+                                name, type(exc).__name__, exc)
+            out[name] = func(*args)
+        return out
+
+    try:
+        yield collect
+    except BaseException:
+        if executor is not None:
+            with _signals_blocked():
+                _stop(executor)
+        raise
+    if executor is not None:
+        with _signals_blocked():
+            executor.shutdown(wait=True, cancel_futures=True)

@@ -1,0 +1,146 @@
+"""The design's pictures are drawn once, in worker processes or here, with the same bytes:
+report.png_jobs / report.rendering and write_design's use of them (issue 14, item 2).
+
+No timings here (they are in tests/benchmarks/end_to_end.py): these tests check that a figure
+drawn in a worker is the figure drawn in this process, that both reports embed the files' PNGs
+instead of drawing their own, that a pool that cannot start or a worker that dies falls back
+to drawing here, and that an interrupted block leaves no worker behind.
+"""
+
+from __future__ import annotations
+
+import base64
+import multiprocessing
+import os
+import re
+import time
+
+import pytest
+
+import profilegen as pg
+from profilegen import report
+from profilegen.gearset import default_gearset_path, load_gearset
+
+PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
+
+
+@pytest.fixture(scope="module")
+def sketch():
+    """A sketch design of the default set with the loaded contact and the stresses."""
+    return pg.design(load_gearset(default_gearset_path()), scene="sketch", contact=True)
+
+
+def _embedded(page: str) -> list[bytes]:
+    return [base64.b64decode(m) for m in re.findall(r'src="data:image/png;base64,([^"]*)"', page)]
+
+
+def _png_size(data: bytes) -> tuple[int, int]:
+    return int.from_bytes(data[16:20], "big"), int.from_bytes(data[20:24], "big")
+
+
+def test_png_jobs_name_every_picture_of_the_files(sketch):
+    jobs = report.png_jobs(sketch)
+    assert set(jobs) == {"stress", "contact", "envelope", "fit_profile", "fit_error", "fit_clearance"}
+    # no FEM rim in the sketch scene: no deformation figures; without stress and contact, none of theirs
+    from dataclasses import replace
+
+    bare = report.png_jobs(replace(sketch, contact=None, stress=None))
+    assert set(bare) == {"envelope", "fit_profile", "fit_error", "fit_clearance"}
+
+
+def _slow_png(seconds: float) -> bytes:
+    time.sleep(seconds)
+    return PNG_MAGIC
+
+
+def _die_in_worker(parent: int) -> bytes:
+    if os.getpid() != parent:
+        os._exit(3)  # the worker dies without a word
+    return PNG_MAGIC + b"drawn here"
+
+
+def _pid() -> int:
+    return os.getpid()
+
+
+def test_workers_draw_the_bytes_this_process_draws(sketch):
+    jobs = report.png_jobs(sketch)
+    chosen = {k: jobs[k] for k in ("stress", "fit_error", "envelope")}
+    with report.rendering(chosen, workers=0) as collect:
+        here = collect()
+    with report.rendering(chosen, workers=2) as collect:
+        there = collect()
+    assert set(here) == set(chosen) and here == there
+    for name, data in here.items():
+        assert data[:8] == PNG_MAGIC, name
+    assert _png_size(here["stress"]) == (13 * 120, 8 * 120)  # 13 x 8 in at 120 dpi
+    assert _png_size(here["envelope"]) == (round(7.2 * 150), round(4.3 * 150))
+
+
+def test_workers_are_other_processes():
+    with report.rendering({"a": (_pid, ()), "b": (_pid, ())}, workers=2) as collect:
+        pids = collect()
+    assert os.getpid() not in pids.values()
+    with report.rendering({"a": (_pid, ())}, workers=0) as collect:
+        assert collect() == {"a": os.getpid()}
+
+
+def test_no_pool_draws_here(monkeypatch):
+    def no_fork(method=None):
+        raise ValueError(f"cannot find context for {method!r}")
+
+    monkeypatch.setattr(multiprocessing, "get_context", no_fork)
+    with report.rendering({"a": (_pid, ()), "b": (_pid, ())}, workers=2) as collect:
+        assert collect() == {"a": os.getpid(), "b": os.getpid()}
+
+
+def test_a_dead_worker_is_drawn_here(caplog):
+    jobs = {"dies": (_die_in_worker, (os.getpid(),)), "fine": (_slow_png, (0.0,))}
+    with caplog.at_level("WARNING", logger="profilegen.report"):
+        with report.rendering(jobs, workers=1) as collect:
+            images = collect()
+    assert images["dies"] == PNG_MAGIC + b"drawn here"
+    assert images["fine"] == PNG_MAGIC
+    assert any("figure dies" in r.getMessage() for r in caplog.records)
+
+
+def test_an_interrupted_block_ends_its_workers():
+    before = {p.pid for p in multiprocessing.active_children()}
+    jobs = {"a": (_slow_png, (60.0,)), "b": (_slow_png, (60.0,))}
+    t0 = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        with report.rendering(jobs, workers=2):
+            time.sleep(0.3)  # the workers have started their minute-long figures
+            raise KeyboardInterrupt
+    assert time.perf_counter() - t0 < 30  # not waited for
+    left = {p.pid for p in multiprocessing.active_children()} - before
+    assert not left
+
+
+def test_the_workers_env_variable(monkeypatch, caplog):
+    monkeypatch.setenv(report.WORKERS_ENV, "0")
+    assert report._default_workers() == 0
+    monkeypatch.setenv(report.WORKERS_ENV, "3")
+    assert report._default_workers() == 3
+    monkeypatch.setenv(report.WORKERS_ENV, "many")
+    with caplog.at_level("WARNING", logger="profilegen.report"):
+        assert report._default_workers() in (0, 1, 2)
+    assert any(report.WORKERS_ENV in r.getMessage() for r in caplog.records)
+
+
+@pytest.mark.parametrize("workers", ["0", "2"])
+def test_reports_embed_the_files_pictures(sketch, tmp_path, monkeypatch, workers):
+    """Each picture drawn once: report.html embeds contact.png and stress.png as written, and the
+    fit report's profile and error pictures are the design report's; with and without workers."""
+    monkeypatch.setenv(report.WORKERS_ENV, workers)
+    out = tmp_path / "out"
+    pg.write_design(sketch, out)
+    page = _embedded((out / "report.html").read_text(encoding="utf-8"))
+    fit = _embedded((out / "fit_report.html").read_text(encoding="utf-8"))
+    assert len(fit) == 3  # error, profile, clearance (no FEM rim in the sketch scene)
+    assert len(page) == 4  # profile, error, contact, stress
+    assert page[0] == fit[1] and page[1] == fit[0]
+    assert page[2] == (out / "contact.png").read_bytes()
+    assert page[3] == (out / "stress.png").read_bytes()
+    for name in ("envelope", "contact", "stress"):
+        assert (out / f"{name}.png").read_bytes()[:8] == PNG_MAGIC
