@@ -2,21 +2,22 @@
 and into files, spread over worker processes, each chunk with its own seed.
 
     python tests/benchmarks/fuzz.py [--examples 10000] [--workers 2]
-                                    [--design-share 0.03] [--verify-share 0.002]
+                                    [--design-share 0.03] [--verify-share 0.001] [--write-share 0.25]
     python tests/benchmarks/fuzz.py --replay export/bench/fuzz_failures/0001.json
 
 The gear sets are those of the CI test (``tests/property/test_pipeline_fuzz.py``): DCTA,
 involute and point-list teeth (clean, noisy, crossing, looping), m 0.1–2 mm, z1 60–600, 2–4
 waves, z2 − z1 = U or 2U, one draw in six with a spoiled field. Each example is designed in a
 scene — ``sketch`` mostly, ``design`` with probability ``--design-share``, ``verify`` with
-``--verify-share`` (a verify design takes ~40 s, a design-scene one ~5–15 s, a sketch ~0.5 s) —
-and its files are written with ``write_design`` into a temporary folder (figures too in the
-design and verify scenes). Every worker runs under a 4 GB address-space cap (RLIMIT_AS) and
+``--verify-share`` (a verify design takes ~40 s on the default set and several minutes at
+z1 = 600, a design-scene one ~5–20 s, a sketch ~1 s) — and its files are written with
+``write_design`` into a temporary folder (all design and verify results, with figures;
+``--write-share`` of the sketch ones, without). Every worker runs under a 4 GB address-space cap (RLIMIT_AS) and
 every example under a time limit, so a runaway is counted, not an OOM kill of the machine.
 
 Outcomes: ``ok``; a named error (the ProfilegenError subclass); ``CRASH`` (any other exception,
 a MemoryError under the cap included); ``NON-FINITE`` (NaN or infinity in the result or its
-files); ``OVER-TIME`` (past ``--time-limit-s``, scaled ×3 for design and ×6 for verify). A
+files); ``OVER-TIME`` (past ``--time-limit-s``, scaled ×3 for design and ×5 for verify). A
 failure does not stop the run. Writes export/bench/fuzz.json (counts, times, failures),
 export/bench/fuzz_failures.csv (one row per failing example: outcome, scene, tooth kind, time,
 error, reproducer command) and export/bench/fuzz_failures/NNNN.json (the scene and gear set
@@ -43,16 +44,16 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 FAILURES = ("CRASH", "NON-FINITE", "OVER-TIME")
-SCENE_TIME_FACTOR = {"sketch": 1.0, "design": 3.0, "verify": 6.0}
+SCENE_TIME_FACTOR = {"sketch": 1.0, "design": 3.0, "verify": 5.0}
 
 
-def _classify(data: dict, scene: str, limit_s: float) -> tuple[str, str]:
+def _classify(data: dict, scene: str, limit_s: float, write: bool) -> tuple[str, str]:
     """(outcome, error text) of one example; runs it under ``time_limit``."""
     from tests.property.fuzzrun import OverTime, outcome, time_limit
 
     try:
         with time_limit(limit_s):
-            return outcome(data, scene, figure=scene != "sketch"), ""
+            return outcome(data, scene, figure=scene != "sketch", write=write), ""
     except OverTime as exc:
         return "OVER-TIME", str(exc)
     except AssertionError:
@@ -61,9 +62,9 @@ def _classify(data: dict, scene: str, limit_s: float) -> tuple[str, str]:
         return "CRASH", traceback.format_exc()
 
 
-def _worker(args: tuple[int, int, float, float, float]) -> dict:
+def _worker(args: tuple[int, int, float, float, float, float]) -> dict:
     """Run ``n`` examples with hypothesis seed ``seed``: outcomes per (scene, kind), failures, times."""
-    n, seed, design_share, verify_share, limit_s = args
+    n, seed, design_share, verify_share, limit_s, write_share = args
     import logging
 
     from hypothesis import HealthCheck, given, settings
@@ -92,7 +93,8 @@ def _worker(args: tuple[int, int, float, float, float]) -> dict:
         kind = tooth.get("kind") if isinstance(tooth, dict) else None
         kind = kind if kind in KINDS else "spoiled"
         t0 = time.perf_counter()
-        name, error = _classify(data, scene, limit_s * SCENE_TIME_FACTOR[scene])
+        write = scene != "sketch" or rng.random() < write_share
+        name, error = _classify(data, scene, limit_s * SCENE_TIME_FACTOR[scene], write)
         dt = time.perf_counter() - t0
         rows.append((scene, kind, name, dt))
         if name in FAILURES:
@@ -135,9 +137,11 @@ def main() -> int:
     ap.add_argument("--examples", type=int, default=10_000, help="examples in all (default 10 000)")
     ap.add_argument("--workers", type=int, default=2, help="worker processes (default 2)")
     ap.add_argument("--design-share", type=float, default=0.03, help="share of design-scene examples (0.03)")
-    ap.add_argument("--verify-share", type=float, default=0.002, help="share of verify-scene examples (0.002)")
+    ap.add_argument("--verify-share", type=float, default=0.001, help="share of verify-scene examples (0.001)")
+    ap.add_argument("--write-share", type=float, default=0.25,
+                    help="share of sketch examples whose files are written (0.25; design and verify: all)")
     ap.add_argument("--time-limit-s", type=float, default=120.0,
-                    help="per sketch example (×3 design, ×6 verify; default 120)")
+                    help="per sketch example (×3 design, ×5 verify; default 120)")
     ap.add_argument("--seed", type=int, default=20261124, help="base hypothesis seed")
     ap.add_argument("--out", default=str(ROOT / "export" / "bench"), help="output folder")
     ap.add_argument("--replay", type=Path, help="run one failure file again and show its traceback")
@@ -150,7 +154,7 @@ def main() -> int:
         ap.error("--design-share and --verify-share must be ≥ 0 with a sum ≤ 1")
     chunks = max(4 * args.workers, math.ceil(args.examples / 100))  # a progress line per ~100 examples
     sizes = [args.examples // chunks + (k < args.examples % chunks) for k in range(chunks)]
-    jobs = [(n, args.seed + k, args.design_share, args.verify_share, args.time_limit_s)
+    jobs = [(n, args.seed + k, args.design_share, args.verify_share, args.time_limit_s, args.write_share)
             for k, n in enumerate(sizes) if n]
     t0 = time.perf_counter()
     rows: list[tuple] = []
