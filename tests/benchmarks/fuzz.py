@@ -3,7 +3,7 @@ and into files, spread over worker processes, each chunk with its own seed.
 
     python tests/benchmarks/fuzz.py [--examples 10000] [--workers 2]
                                     [--design-share 0.03] [--verify-share 0.001] [--write-share 0.25]
-    python tests/benchmarks/fuzz.py --replay export/bench/fuzz_failures/0001.json
+    python tests/benchmarks/fuzz.py --replay export/bench/fuzz_failures/20261124-001.json
 
 The gear sets are those of the CI test (``tests/property/test_pipeline_fuzz.py``): DCTA,
 involute and point-list teeth (clean, noisy, crossing, looping), m 0.1–2 mm, z1 60–600, 2–4
@@ -20,8 +20,9 @@ a MemoryError under the cap included); ``NON-FINITE`` (NaN or infinity in the re
 files); ``OVER-TIME`` (past ``--time-limit-s``, scaled ×3 for design and ×5 for verify). A
 failure does not stop the run. Writes export/bench/fuzz.json (counts, times, failures),
 export/bench/fuzz_failures.csv (one row per failing example: outcome, scene, tooth kind, time,
-error, reproducer command) and export/bench/fuzz_failures/NNNN.json (the scene and gear set
-of each, which ``--replay`` runs again in-process with the traceback shown); prints the counts
+error, reproducer command) and export/bench/fuzz_failures/<seed>-<k>.json (the scene and gear
+set of each, written when it fails, which ``--replay`` runs again in-process with the traceback
+shown); prints the counts
 table; exits 1 if any example failed.
 """
 
@@ -62,9 +63,10 @@ def _classify(data: dict, scene: str, limit_s: float, write: bool) -> tuple[str,
         return "CRASH", traceback.format_exc()
 
 
-def _worker(args: tuple[int, int, float, float, float, float]) -> dict:
-    """Run ``n`` examples with hypothesis seed ``seed``: outcomes per (scene, kind), failures, times."""
-    n, seed, design_share, verify_share, limit_s, write_share = args
+def _worker(args: tuple[int, int, float, float, float, float, str]) -> dict:
+    """Run ``n`` examples with hypothesis seed ``seed``: outcomes per (scene, kind), failures, times.
+    Each failure is also written at once to ``fail_dir``/<seed>-<k>.json (a killed run keeps them)."""
+    n, seed, design_share, verify_share, limit_s, write_share, fail_dir = args
     import logging
 
     from hypothesis import HealthCheck, given, settings
@@ -98,8 +100,11 @@ def _worker(args: tuple[int, int, float, float, float, float]) -> dict:
         dt = time.perf_counter() - t0
         rows.append((scene, kind, name, dt))
         if name in FAILURES:
-            failures.append({"outcome": name, "scene": scene, "kind": kind, "seconds": dt, "error": error,
-                             "seed": seed, "gearset": data})
+            fail = {"outcome": name, "scene": scene, "kind": kind, "seconds": dt, "error": error,
+                    "seed": seed, "gearset": data}
+            path = Path(fail_dir) / f"{seed}-{len(failures) + 1:03d}.json"
+            path.write_text(json.dumps(fail, indent=1, default=str))
+            failures.append(fail | {"path": str(path)})
 
     with memory_cap():
         run()
@@ -154,8 +159,13 @@ def main() -> int:
         ap.error("--design-share and --verify-share must be ≥ 0 with a sum ≤ 1")
     chunks = max(4 * args.workers, math.ceil(args.examples / 100))  # a progress line per ~100 examples
     sizes = [args.examples // chunks + (k < args.examples % chunks) for k in range(chunks)]
-    jobs = [(n, args.seed + k, args.design_share, args.verify_share, args.time_limit_s, args.write_share)
-            for k, n in enumerate(sizes) if n]
+    out = Path(args.out)
+    fail_dir = out / "fuzz_failures"
+    fail_dir.mkdir(parents=True, exist_ok=True)
+    for old in fail_dir.glob("*.json"):
+        old.unlink()
+    jobs = [(n, args.seed + k, args.design_share, args.verify_share, args.time_limit_s, args.write_share,
+             str(fail_dir)) for k, n in enumerate(sizes) if n]
     t0 = time.perf_counter()
     rows: list[tuple] = []
     failures: list[dict] = []
@@ -174,16 +184,11 @@ def main() -> int:
         print(broken, flush=True)
     wall = time.perf_counter() - t0
 
-    out = Path(args.out)
-    (out / "fuzz_failures").mkdir(parents=True, exist_ok=True)
-    for old in (out / "fuzz_failures").glob("*.json"):
-        old.unlink()
     with open(out / "fuzz_failures.csv", "w", newline="") as f:
         w = csv.writer(f)
         w.writerow(["outcome", "scene", "tooth_kind", "seconds", "error", "reproducer"])
-        for k, fail in enumerate(failures, start=1):
-            path = out / "fuzz_failures" / f"{k:04d}.json"
-            path.write_text(json.dumps(fail, indent=1, default=str))
+        for fail in failures:
+            path = fail["path"]
             last = fail["error"].strip().splitlines()[-1] if fail["error"].strip() else ""
             w.writerow([fail["outcome"], fail["scene"], fail["kind"], f"{fail['seconds']:.1f}", last[:300],
                         f"python tests/benchmarks/fuzz.py --replay {path}"])
