@@ -455,10 +455,15 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
     ax.barh(y, values, color=colors)
     ax.axvline(result.checks[0].required if result.checks else 1.0, color="k", ls="--", lw=1, label="required")
     for yi, c in zip(y, result.checks):
-        text = "skipped" if c.value is None else f"{c.value:.2f} at {c.torque_nm:g} N·m"
-        ax.text(0.02 if c.value is None else c.value, yi, " " + text, va="center", fontsize=7)
+        if c.value is None:  # at the panel's left edge (x in axes units): a log axis has no 0 to put it at
+            ax.text(0.01, yi, " skipped", va="center", fontsize=7, transform=ax.get_yaxis_transform())
+        else:
+            ax.text(c.value, yi, f" {c.value:.2f} at {c.torque_nm:g} N·m", va="center", fontsize=7)
     ax.set_yticks(y, names)
-    ax.invert_yaxis()
+    if all(c.value is None for c in result.checks):  # no bar sets the range: one row each, the first on top
+        ax.set_ylim(len(names) - 0.5, -0.5)
+    else:
+        ax.invert_yaxis()
     ax.set_xlabel("safety factor")
     ax.set_xscale("log")
     ax.legend(fontsize=7, loc="lower right")

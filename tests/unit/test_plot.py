@@ -143,3 +143,54 @@ def test_clearance_bad_input_names_the_parameter():
         plot.clearance(np.zeros(3), np.zeros(4))
     with pytest.raises(ValueError, match="phi_rad"):
         plot.clearance([0.0, np.nan], [0.0, 0.0])
+
+
+@pytest.fixture(scope="module")
+def sketch_stress():
+    """The stresses of a sketch design of the default set (force estimate, no contact)."""
+    import profilegen as pg
+    from profilegen.gearset import default_gearset_path, load_gearset
+
+    return pg.design(load_gearset(default_gearset_path()), scene="sketch").stress
+
+
+def _inside(fig, artist) -> bool:
+    box = artist.get_window_extent(fig.canvas.get_renderer())
+    return 0 <= box.x0 and box.x1 <= fig.bbox.width and 0 <= box.y0 and box.y1 <= fig.bbox.height
+
+
+def test_stress_figure_every_text_inside_the_figure(sketch_stress):
+    """Fixed margins (no layout engine): titles, axis labels, tick labels and the safety-factor
+    labels all lie inside the figure; each safety-factor label starts at its bar's end."""
+    fig = plot.stress_figure(sketch_stress, title="default: flexspline stresses")
+    fig.canvas.draw()
+    sf = fig.axes[3]
+    for ax in fig.axes:
+        (x0, x1), (y0, y1) = sorted(ax.get_xlim()), sorted(ax.get_ylim())
+        ticks = [t for t in ax.get_xticklabels() if x0 <= t.get_position()[0] <= x1]  # the ones drawn
+        ticks += [t for t in ax.get_yticklabels() if y0 <= t.get_position()[1] <= y1]
+        for t in [ax.title, ax.xaxis.label, ax.yaxis.label, *ticks, *ax.texts]:
+            if t.get_text() and t.get_visible():
+                assert _inside(fig, t), (ax.get_title(), t.get_text())
+    labels = [t for t in sf.texts if "at" in t.get_text()]
+    assert len(labels) == len(sketch_stress.checks)
+    for t, c in zip(labels, sketch_stress.checks):
+        assert t.get_position()[0] == pytest.approx(c.value)
+
+
+def test_stress_figure_all_checks_skipped(sketch_stress):
+    """A material without limits skips every check: the "skipped" labels sit inside the panel
+    (a log axis has no 0 to put them at) and every check keeps its row."""
+    skipped = tuple(dataclasses.replace(c, value=None) for c in sketch_stress.checks)
+    fig = plot.stress_figure(dataclasses.replace(sketch_stress, checks=skipped))
+    fig.canvas.draw()
+    sf = fig.axes[3]
+    texts = [t for t in sf.texts if t.get_text().strip() == "skipped"]
+    assert len(texts) == len(skipped)
+    panel = sf.get_window_extent()
+    r = fig.canvas.get_renderer()
+    for t in texts:
+        box = t.get_window_extent(r)
+        assert panel.x0 <= box.x0 and box.x1 <= panel.x1
+    lo, hi = sorted(sf.get_ylim())
+    assert lo < 0 and hi > len(skipped) - 1 and sf.yaxis_inverted()
