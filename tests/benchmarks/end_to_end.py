@@ -14,6 +14,8 @@ cache; it is given apart from the median of the later calls).
     python tests/benchmarks/end_to_end.py --profile       # + cProfile top 15 of write_design per scene
     python tests/benchmarks/end_to_end.py --save /tmp/e2e-before     # keep one output folder per command
     python tests/benchmarks/end_to_end.py --compare /tmp/e2e-before  # files now vs then, timings removed
+    git archive OLD | tar -x -C /tmp/old && python tests/benchmarks/end_to_end.py --baseline /tmp/old
+                                                        # the same commands from an older tree, alternating
 
 ``--compare`` checks that every file keeps its name, that JSON files agree to 1e-12 (relative)
 once keys naming a time are dropped (and durations inside texts), that CSV, DXF and SVG are
@@ -74,7 +76,9 @@ def _run(args: list[str], out: Path, env: dict) -> tuple[float, float | None, fl
         cmd += ["--out", str(out)]
     r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
-    res = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900, preexec_fn=_cap)
+    # cwd: a folder without a profilegen package (`python -m` puts the cwd first on sys.path)
+    res = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900, preexec_fn=_cap,
+                         cwd=out.parent)
     wall = time.perf_counter() - t0
     r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
@@ -226,6 +230,9 @@ def main() -> int:
     ap.add_argument("--workers", default="",
                     help="comma-separated PROFILEGEN_FIGURE_WORKERS values: each design command once per value "
                          "(0: figures drawn in the main process); default: the library's choice")
+    ap.add_argument("--baseline", type=Path,
+                    help="a source tree of profilegen (e.g. `git archive` of an older commit): every command also "
+                         "runs from it (PYTHONPATH), alternating with this tree, rows marked 'baseline'")
     ap.add_argument("--save", type=Path, help="keep the first output folder of each design command here")
     ap.add_argument("--compare", type=Path, help="compare the first output folders with those kept by --save")
     args = ap.parse_args()
@@ -236,6 +243,9 @@ def main() -> int:
         for v in values or [None]:
             env = _env() if v is None else {**_env(), "PROFILEGEN_FIGURE_WORKERS": v}
             cmds[label if v is None else f"{label} [workers {v}]"] = (cmd, env)
+        if args.baseline:
+            base = {**_env(), "PYTHONPATH": str(args.baseline.resolve())}
+            cmds[f"{label} (baseline)"] = (cmd, base)
     rows = {k: {"wall": [], "stages": [], "cpu": [], "load": None} for k in cmds}
     problems, saved = [], set()
     print(f"# end to end, {time.strftime('%Y-%m-%d %H:%M')}, {os.cpu_count()} CPUs, load at start {_load()}\n", flush=True)
@@ -255,6 +265,15 @@ def main() -> int:
                     print(f"  run {i + 1}/{args.n} {label}: {wall:.2f} s wall, {cpu:.2f} s CPU"
                           + ("" if stages is None else f", stages {stages:.2f} s") + f" (load {_load()})", flush=True)
                     if i == 0 and cmd[0] == "design":
+                        if label.endswith("(baseline)"):  # compared with this tree's first run
+                            print(f"compare {label} -> this tree:")
+                            base = label[:-len(" (baseline)")]
+                            mine = next(k for k in cmds if k.split(" [")[0] == base and not k.endswith("(baseline)"))
+                            p = compare(out, tmp / f"{mine.replace(' ', '_')}-0")
+                            for line in p:
+                                print(f"  DIFFERS {line}")
+                            problems += p
+                            continue
                         key = label.split(" [")[0].replace(" ", "_").replace("-", "")
                         if args.save:
                             dest = args.save / key
@@ -268,7 +287,7 @@ def main() -> int:
                             for line in p:
                                 print(f"  DIFFERS {line}")
                             problems += p
-                    if i > 0 or not (args.save or args.compare):
+                    if i > 0 or not (args.save or args.compare or args.baseline):
                         shutil.rmtree(out, ignore_errors=True)
             print("\n| command | wall (s) | stage sum (s) | wall / stages | CPU (s) | runs | load avg 1/5/15 |")
             print("|---|---:|---:|---:|---:|---:|---|")
@@ -292,7 +311,7 @@ def main() -> int:
                     print(f"\ncProfile of write_design, scene {scene}:\n")
                     print("\n".join(line for line in r["profile"].splitlines() if line.strip()))
     print(f"\nload at end {_load()}")
-    if args.compare:
+    if args.compare or args.baseline:
         print("comparison: " + ("same files, same numbers" if not problems else f"{len(problems)} problems"))
     return 1 if problems else 0
 
