@@ -7,7 +7,9 @@ with its worker processes (user + system), and the load average at the start of 
 runs. ``--workers 0,1,2`` runs each design command once per figure-worker count
 (``PROFILEGEN_FIGURE_WORKERS``). In the same run, in-process: one ``design()`` per scene, then
 ``write_design`` N times into fresh folders (the first call pays matplotlib's import and font
-cache; it is given apart from the median of the later calls).
+cache; it is given apart from the median of the later calls; CPU time includes the figure
+workers). Later calls favour a tree that draws in this process: matplotlib stays imported here,
+while fresh figure workers import it again (unless this process has imported it).
 
     python tests/benchmarks/end_to_end.py                 # sketch, default scene, check; N = 3
     python tests/benchmarks/end_to_end.py -n 5 --verify   # also the verify scene
@@ -99,14 +101,18 @@ def _in_process(n: int, profile: bool, scenes: list[str], tmp: Path) -> dict[str
     out = {}
     for scene in scenes:
         result = design(gs, scene=scene)
-        times = []
+        times, cpus = [], []
         for i in range(n):
             folder = tmp / f"inproc-{scene}-{i}"
+            c0, r0 = time.process_time(), resource.getrusage(resource.RUSAGE_CHILDREN)
             t0 = time.perf_counter()
             write_design(result, folder)
             times.append(time.perf_counter() - t0)
+            r1 = resource.getrusage(resource.RUSAGE_CHILDREN)  # the figure workers, joined by now
+            cpus.append(time.process_time() - c0 + (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime))
             shutil.rmtree(folder)
         row = {"first": times[0], "median": statistics.median(times[1:]) if n > 1 else times[0],
+               "cpu_first": cpus[0], "cpu": statistics.median(cpus[1:]) if n > 1 else cpus[0],
                "stages": result.time_s}
         if profile:
             folder = tmp / f"prof-{scene}"
@@ -233,10 +239,20 @@ def main() -> int:
     ap.add_argument("--baseline", type=Path,
                     help="a source tree of profilegen (e.g. `git archive` of an older commit): every command also "
                          "runs from it (PYTHONPATH), alternating with this tree, rows marked 'baseline'")
+    ap.add_argument("--inproc-tree", type=Path, help=argparse.SUPPRESS)  # the baseline's in-process part
     ap.add_argument("--save", type=Path, help="keep the first output folder of each design command here")
     ap.add_argument("--compare", type=Path, help="compare the first output folders with those kept by --save")
     args = ap.parse_args()
     _cap()
+    if args.inproc_tree:  # a child run: write_design of an older tree, rows only
+        sys.path.insert(0, str(args.inproc_tree.resolve()))
+        with tempfile.TemporaryDirectory(prefix="e2e-") as tmpname:
+            res = _in_process(max(args.n, 2), False, ["sketch", "design"] + (["verify"] if args.verify else []),
+                              Path(tmpname))
+        for scene, r in res.items():
+            print(f"| {scene} (baseline) | {r['stages']:.2f} | {r['first']:.2f} | {r['median']:.2f} "
+                  f"| {r['cpu_first']:.2f} | {r['cpu']:.2f} |")
+        return 0
     cmds = {}
     for label, cmd in _commands(args.verify).items():
         values = [v.strip() for v in args.workers.split(",") if v.strip()] if cmd[0] == "design" else []
@@ -302,10 +318,18 @@ def main() -> int:
             load = _load()
             res = _in_process(max(args.n, 2), args.profile, scenes, tmp)
             print(f"\nin-process `write_design` (load at start {load}):\n")
-            print("| scene | stage sum (s) | write_design first call (s) | write_design median of later calls (s) |")
-            print("|---|---:|---:|---:|")
+            print("| scene | stage sum (s) | write_design first call (s) | median of later calls (s) "
+                  "| CPU first call (s) | CPU later calls (s) |")
+            print("|---|---:|---:|---:|---:|---:|")
             for scene, r in res.items():
-                print(f"| {scene} | {r['stages']:.2f} | {r['first']:.2f} | {r['median']:.2f} |")
+                print(f"| {scene} | {r['stages']:.2f} | {r['first']:.2f} | {r['median']:.2f} "
+                      f"| {r['cpu_first']:.2f} | {r['cpu']:.2f} |")
+            if args.baseline:
+                child = subprocess.run([sys.executable, __file__, "-n", str(args.n), "--inproc-tree", str(args.baseline)]
+                                       + (["--verify"] if args.verify else []), capture_output=True, text=True,
+                                       timeout=1800, cwd=tmp, env=_env())
+                print(child.stdout.rstrip() or f"baseline in-process run failed: {child.stderr[-500:]}")
+            print(f"(load at end of the in-process runs {_load()})")
             for scene, r in res.items():
                 if "profile" in r:
                     print(f"\ncProfile of write_design, scene {scene}:\n")
