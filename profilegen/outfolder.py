@@ -311,6 +311,9 @@ def _check_target(out: Path, given: str, ours: Collection[str]) -> None:
         raise ExportError(f"cannot write '{given}': the output folder must have a name (not the file system's root)")
     if os.path.lexists(out) and not out.is_dir():
         raise ExportError(errno.ENOTDIR, f"cannot write '{given}': it is a file, not a folder")
+    blocker = next((a for a in out.parents if os.path.lexists(a) and not a.is_dir()), None)
+    if blocker is not None:
+        raise ExportError(errno.ENOTDIR, f"cannot write '{given}': '{blocker}' is a file, not a folder")
     try:
         is_cwd = os.path.samefile(out, os.getcwd())
     except OSError:
