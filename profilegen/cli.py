@@ -342,6 +342,9 @@ def main(argv: list[str] | None = None) -> int:
     except ProfilegenError as exc:
         print(f"profilegen: error: {exc}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # Ctrl-C: one line, no traceback; an output folder holds its old or new set
+        print(f"\nprofilegen: {args.command} interrupted", file=sys.stderr)
+        return 130
     except BrokenPipeError:  # output piped into e.g. `head`: not an error of ours
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0

@@ -248,3 +248,24 @@ def test_a_folder_holding_user_files_is_refused_before_the_stages(tmp_path):
     (line,) = res.stderr.splitlines()
     assert "notes.txt" in line and str(out) in line and "[1/" not in res.stderr
     assert sorted(p.name for p in out.iterdir()) == ["notes.txt"] and sorted(p.name for p in tmp_path.iterdir()) == ["mine"]
+
+
+def test_ctrl_c_during_design_is_one_line_exit_130_and_no_traceback(tmp_path):
+    """SIGINT to the whole process group (a terminal's Ctrl-C) while the stages run: exit 130,
+    one line on stderr after the progress lines, no traceback, no output folder."""
+    import signal
+    import time
+
+    env = dict(os.environ, PYTHONPATH=str(ROOT))
+    proc = subprocess.Popen([sys.executable, "-m", "profilegen", "design", "--out", str(tmp_path / "o")], cwd=tmp_path,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
+    deadline = time.monotonic() + 120
+    line = ""
+    while "deformation" not in line and time.monotonic() < deadline:  # the stages have started
+        line = proc.stderr.readline()
+        assert line or proc.poll() is None
+    os.killpg(proc.pid, signal.SIGINT)
+    out, err = proc.communicate(timeout=60)
+    assert proc.returncode == 130
+    assert "Traceback" not in err and err.strip().splitlines()[-1] == "profilegen: design interrupted"
+    assert not (tmp_path / "o").exists()
