@@ -27,6 +27,8 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 
+from .pools import stop_pool
+
 __all__ = ["deformation_fit_dict", "deformation_section_html", "design_report_html", "fit_report_html", "figure_png",
            "png_jobs", "rendering"]
 
@@ -602,26 +604,6 @@ def _init_worker(parent: int) -> None:
     import matplotlib.figure  # noqa: F401
 
 
-def _stop(executor, *, grace_s: float = 2.0) -> None:
-    """End the pool now: cancel what has not started, SIGTERM the workers (a running figure is
-    not waited for), SIGKILL those left after ``grace_s``, and wait for its manager thread."""
-    processes = list((getattr(executor, "_processes", None) or {}).values())  # before shutdown clears it
-    manager = getattr(executor, "_executor_manager_thread", None)
-    executor.shutdown(wait=False, cancel_futures=True)
-    for proc in processes:
-        with contextlib.suppress(OSError, ValueError, AttributeError):
-            proc.terminate()
-    if manager is not None:
-        manager.join(grace_s)
-    for proc in processes:
-        with contextlib.suppress(OSError, ValueError, AttributeError):
-            if proc.exitcode is None:
-                proc.kill()
-            proc.join(grace_s)
-    if manager is not None:
-        manager.join(grace_s)
-
-
 def _start(jobs: dict, workers: int) -> tuple[object, dict]:
     """(executor, futures by name), or (None, {}) when no pool starts here."""
     import multiprocessing
@@ -642,7 +624,7 @@ def _start(jobs: dict, workers: int) -> tuple[object, dict]:
         log.info("figures drawn in this process: no worker pool (%s: %s)", type(exc).__name__, exc)
         if executor is not None:
             with _signals_blocked():
-                _stop(executor)
+                stop_pool(executor, what="figures")
         return None, {}
     return executor, futures
 
@@ -684,7 +666,7 @@ def rendering(jobs: dict[str, tuple[Callable[..., bytes], tuple]], *,
     except BaseException:
         if executor is not None:
             with _signals_blocked():
-                _stop(executor)
+                stop_pool(executor, what="figures")
         raise
     if executor is not None:
         with _signals_blocked():

@@ -56,6 +56,7 @@ import numpy as np
 
 from .errors import ExportError, GearSetError, ProfilegenError, SweepSpecError
 from .gearset import GearSet, looks_like_path
+from .pools import stop_pool
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
@@ -631,32 +632,6 @@ def _signals_deferred() -> Iterator[None]:
             signal.pthread_sigmask(signal.SIG_SETMASK, old_mask)
 
 
-def _stop_pool(executor, *, grace_s: float = 2.0) -> None:
-    """End an own process pool now: cancel the points not started, SIGTERM every worker
-    (``shutdown(cancel_futures=True)`` alone would let the running points finish), SIGKILL
-    the ones still there after ``grace_s``, and wait for the pool's manager thread, so
-    that nothing is left to wait for at exit."""
-    processes = list((getattr(executor, "_processes", None) or {}).values())  # before shutdown clears it
-    manager = getattr(executor, "_executor_manager_thread", None)
-    executor.shutdown(wait=False, cancel_futures=True)
-    for proc in processes:
-        with contextlib.suppress(OSError, ValueError, AttributeError):
-            proc.terminate()
-    # the manager thread sees the workers die, fails the futures still running and joins the workers
-    if manager is not None:
-        manager.join(grace_s)
-    if manager is None or manager.is_alive():
-        for proc in processes:
-            with contextlib.suppress(OSError, ValueError, AttributeError):
-                if proc.exitcode is None:
-                    proc.kill()
-        if manager is not None:
-            manager.join(grace_s)
-    left = [proc.pid for proc in processes if proc.exitcode is None and proc.is_alive()]
-    if left:
-        log.warning("sweep: worker process(es) %s did not stop", ", ".join(map(str, left)))
-
-
 @contextlib.contextmanager
 def dask_executor(address: str) -> Iterator[Executor]:
     """A :class:`concurrent.futures.Executor` on the Dask cluster at ``address``
@@ -750,7 +725,7 @@ def run_sweep(
     except BaseException:
         if own:
             with _signals_deferred():
-                _stop_pool(executor)
+                stop_pool(executor, what="sweep")
         else:
             for fut in futures:
                 fut.cancel()
