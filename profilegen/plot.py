@@ -400,7 +400,8 @@ def _diaphragm_panel(diaphragm: Any, ax) -> None:
         return
     tau_m, tau_a = diaphragm.mean_shear_mpa, diaphragm.shear_amplitude_mpa
     ax.plot([tau_m], [tau_a], "o", color="#d62728", label=f"(τ_m, τ_a) = ({tau_m:.1f}, {tau_a:.1f}) MPa")
-    ax.text(0.5, 0.5, "no Goodman diagram: the gear set gives no\nmaterial.shear_endurance_limit_mpa / "
+    # the point sits at the middle (the limits are twice its coordinates): the note goes below it
+    ax.text(0.5, 0.25, "no Goodman diagram: the gear set gives no\nmaterial.shear_endurance_limit_mpa / "
             "ultimate_strength_mpa", transform=ax.transAxes, ha="center", va="center", fontsize=8, color="0.35")
     ax.set(xlabel="mean shear τ_m (MPa)", ylabel="shear amplitude τ_a (MPa)",
            xlim=(0.0, 2.0 * max(tau_m, 1e-9)), ylim=(0.0, 2.0 * max(tau_a, 1e-9)))
