@@ -33,7 +33,8 @@ def test_bundled_set_runs_and_obeys_its_checks(name, scene, tmp_path, capsys):
     data = json.loads((out / "design.json").read_text())
     assert sorted(data["files"]) == sorted(p.name for p in out.iterdir())
     verdict = data["verdict"]
-    assert printed.out.splitlines()[-1] == verdict["line"] if verdict["passed"] else printed.err.splitlines()[-1]
+    # the verdict is the last line: on stdout when it passes, on stderr when it fails
+    assert (printed.out if verdict["passed"] else printed.err).splitlines()[-1] == verdict["line"]
     # the CAD profile is the one-sided fit: it may touch the FS tooth, never cut into it
     tol = max(1e-6, data["envelope"]["chord_tol_mm"])
     assert data["profile"]["method"] == "one_sided" and data["profile"]["min_clearance_mm"] >= -tol

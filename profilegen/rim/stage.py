@@ -140,7 +140,7 @@ def _mesh_change(fine: RingResult, coarse: RingResult) -> tuple[float, float]:
     return float(np.max(np.abs(w - fine.omega_mm))), float(np.max(np.abs(u - fine.upsilon_mm)))
 
 
-def _solve(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult:
+def _solve(gearset, tier: RimTier, contour, *, coarse: bool, per_pitch: int | None = None) -> RingResult:
     if tier.model == "flat":
         divisions = tier.divisions // 2 if coarse else tier.divisions
         return solve_ring(gearset, contour=contour, layers=tier.layers, divisions=divisions,
@@ -149,7 +149,7 @@ def _solve(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult:
     from .toothed import toothed_quarter_mesh
 
     # the coarse mesh has 2 columns per pitch fewer (see _toothed_per_pitch)
-    fine = _toothed_per_pitch(gearset, tier)
+    fine = per_pitch or _toothed_per_pitch(gearset, tier)
     per_pitch = fine - 2 if coarse else fine
     mesh = toothed_quarter_mesh(tooth_from_gearset(gearset), gearset.gear.rim_thickness_mm,
                                 rim_layers=tier.layers, tooth_layers=tier.tooth_layers, per_pitch=per_pitch)
@@ -167,7 +167,7 @@ def _toothed_per_pitch(gearset, tier: RimTier) -> int:
     return max(tier.per_pitch, least_per_pitch(tooth_from_gearset(gearset)) + 2)
 
 
-def _solve_named(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult:
+def _solve_named(gearset, tier: RimTier, contour, *, coarse: bool, per_pitch: int | None = None) -> RingResult:
     """:func:`_solve`, a solver failure turned into a :class:`~profilegen.errors.RimSolverError`
     that names the gear-set fields that decide whether the rim FEM can solve the rim.
 
@@ -181,7 +181,7 @@ def _solve_named(gearset, tier: RimTier, contour, *, coarse: bool) -> RingResult
     from ..errors import ProfilegenError, RimSolverError
 
     try:
-        return _solve(gearset, tier, contour, coarse=coarse)
+        return _solve(gearset, tier, contour, coarse=coarse, per_pitch=per_pitch)
     except (ProfilegenError, np.linalg.LinAlgError, RuntimeError, FloatingPointError) as exc:
         if isinstance(exc, ProfilegenError) and not isinstance(exc, RuntimeError):
             raise  # bad input to the ring model: already a named ValueError
@@ -222,19 +222,19 @@ def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
 
     contour = from_gearset(gearset)
     t0 = time.perf_counter()
-    if tier.model == "toothed" and _toothed_per_pitch(gearset, tier) != tier.per_pitch:
-        warnings.append(f"the toothed rim mesh uses {_toothed_per_pitch(gearset, tier)} columns per pitch instead of "
-                        f"the tier's {tier.per_pitch}: this tooth's pieces need them (its coarse companion needs "
-                        f"{_toothed_per_pitch(gearset, tier) - 2})")
-    fem = _solve_named(gearset, tier, contour, coarse=False)
+    per_pitch = _toothed_per_pitch(gearset, tier) if tier.model == "toothed" else None  # once: it builds the tooth
+    if per_pitch is not None and per_pitch != tier.per_pitch:
+        warnings.append(f"the toothed rim mesh uses {per_pitch} columns per pitch instead of the tier's "
+                        f"{tier.per_pitch}: this tooth's pieces need them (its coarse companion needs {per_pitch - 2})")
+    fem = _solve_named(gearset, tier, contour, coarse=False, per_pitch=per_pitch)
     fem_time = time.perf_counter() - t0
-    coarse = _solve_named(gearset, tier, contour, coarse=True)
+    coarse = _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch)
     d_w, d_u = _mesh_change(fem, coarse)
     error = float(max(d_w, d_u))
     measure = ("max |Δω|, |Δυ| on the neutral line between this mesh and one with half the circumferential "
                "divisions (mm; an upper estimate of this mesh's discretisation error)" if tier.model == "flat" else
-               f"max |Δω|, |Δυ| on the neutral line between {_toothed_per_pitch(gearset, tier)} and "
-               f"{_toothed_per_pitch(gearset, tier) - 2} element columns per tooth pitch (mm)")
+               f"max |Δω|, |Δυ| on the neutral line between {per_pitch} and {per_pitch - 2} element columns per "
+               "tooth pitch (mm)")
     t0 = time.perf_counter()
     phi, w, u = _period(fem)
     fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)

@@ -48,6 +48,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
+from tests.benchmarks.kill_design import strip_times as _strip_times  # noqa: E402  (one rule for what a timing is)
+
 CAP_BYTES = 4 * 1024**3
 TEXT_SUFFIXES = (".csv", ".dxf", ".svg")
 
@@ -129,17 +131,6 @@ def _in_process(n: int, profile: bool, scenes: list[str], tmp: Path) -> dict[str
 
 
 # ---------------------------------------------------------------------------------------- comparison
-
-def _strip_times(obj):
-    """obj without keys naming a time, and without durations in its texts ("FEM solve 0.687 s")."""
-    if isinstance(obj, dict):
-        return {k: _strip_times(v) for k, v in obj.items() if "time" not in k}
-    if isinstance(obj, list):
-        return [_strip_times(v) for v in obj]
-    if isinstance(obj, str):
-        return re.sub(r"\d+(\.\d+)?([eE][-+]?\d+)? ?(s|ms)\b", "# s", obj)
-    return obj
-
 
 def _json_diff(a, b, where: str = "") -> list[str]:
     """Places where a and b differ (floats by more than 1e-12 relative)."""

@@ -72,12 +72,12 @@ def _sha(path: Path) -> str:
     return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
-def _strip_times(obj):
+def strip_times(obj):
     """obj without keys naming a time, and without durations in its texts ("FEM solve 0.687 s")."""
     if isinstance(obj, dict):
-        return {k: _strip_times(v) for k, v in obj.items() if "time" not in k}
+        return {k: strip_times(v) for k, v in obj.items() if "time" not in k}
     if isinstance(obj, list):
-        return [_strip_times(v) for v in obj]
+        return [strip_times(v) for v in obj]
     if isinstance(obj, str):
         return re.sub(r"\d+(\.\d+)?([eE][-+]?\d+)? ?(s|ms)\b", "# s", obj)
     return obj
@@ -88,7 +88,7 @@ def _normal(path: Path):
     if path.suffix in DETERMINISTIC:
         return _sha(path)
     if path.suffix == ".json":
-        return _strip_times(json.loads(path.read_text(encoding="utf-8")))
+        return strip_times(json.loads(path.read_text(encoding="utf-8")))
     return hashlib.sha256(re.sub(r"\d+(\.\d+)?([eE][-+]?\d+)?", "#", path.read_text(encoding="utf-8")).encode()).hexdigest()
 
 
