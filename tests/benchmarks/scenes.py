@@ -18,6 +18,10 @@ What is compared is what a designer takes away:
 against flank error, log–log, one point per scene; the stage times stacked per scene).
 ``profilegen bench [--quick]`` runs both; ``--quick`` leaves out ``verify`` (the reference
 is then the ``design`` scene refined).
+
+Benchmark code, not product code: it lives in the source checkout (``tests/benchmarks/``, was
+``profilegen/bench.py``) and ``profilegen bench`` loads it from there
+(:func:`profilegen.bench.load_benchmark`), beside the per-stage study (``stages.py``).
 """
 
 from __future__ import annotations
@@ -62,7 +66,7 @@ def scene_benchmark(gearset, *, scenes=("sketch", "design", "verify"), repeats: 
                     progress=None) -> list[dict]:
     """One row per scene (see the module docstring) plus the reference's row (``scene`` =
     "reference"). ``progress(text)`` is called before each run."""
-    from .pipeline import SCENES, design
+    from profilegen.pipeline import SCENES, design
 
     if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
         raise ValueError(f"repeats = {repeats!r}: must be a whole number ≥ 1")

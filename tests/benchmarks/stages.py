@@ -41,14 +41,22 @@ the rim, fit and contact stages are left out (logged). BLAS runs single-threaded
 ``write_stage_benchmark(rows, out_dir)`` writes ``stages.csv`` and ``stages.png`` (one panel
 per stage, log–log time against error, the scene tiers highlighted); ``format_stage_rows``
 is the plain-text table of the command line (``profilegen bench``).
+
+Benchmark code, not product code: it lives in the source checkout (``tests/benchmarks/``, was
+``profilegen/bench_stages.py``) and ``profilegen bench`` loads it from there
+(:func:`profilegen.bench.load_benchmark`). It uses only public names of the package; the two
+small helpers it needs that the package keeps private (the KD-tree polyline distance of
+``profilegen.gearform``, the rim stage's one-period mirroring) are written out here.
 """
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import inspect
 import logging
 import math
+import os
 import statistics
 import time
 from functools import cached_property
@@ -131,12 +139,72 @@ def _defaults(fn, *names):
     return tuple(params[n].default for n in names)
 
 
-def _polyline_distance(points: np.ndarray, line: np.ndarray) -> np.ndarray:
-    """Exact distance (mm) of each point (n, 2) to the polyline ``line`` (m, 2) — gearform's
-    KD-tree polyline distance (shapely takes 7–26 s per fine chain against a 51k-point one)."""
-    from .gearform import _PolylineDistance
+def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance of points p to segments [a, b] (broadcast over the leading axes), with GEOS's
+    formula (``Distance::pointToSegment``), so that it rounds as shapely does."""
+    ex, ey = b[..., 0] - a[..., 0], b[..., 1] - a[..., 1]
+    len2 = ex * ex + ey * ey
+    safe = np.where(len2 > 0, len2, 1.0)
+    r = ((p[..., 0] - a[..., 0]) * ex + (p[..., 1] - a[..., 1]) * ey) / safe
+    s = ((a[..., 1] - p[..., 1]) * ex - (a[..., 0] - p[..., 0]) * ey) / safe
+    to_a = np.sqrt((p[..., 0] - a[..., 0]) ** 2 + (p[..., 1] - a[..., 1]) ** 2)
+    to_b = np.sqrt((p[..., 0] - b[..., 0]) ** 2 + (p[..., 1] - b[..., 1]) ** 2)
+    return np.where((len2 == 0) | (r <= 0.0), to_a, np.where(r >= 1.0, to_b, np.abs(s) * np.sqrt(len2)))
 
-    return _PolylineDistance(np.asarray(line, float)).distance(np.asarray(points, float))
+
+def _polyline_distance(points: np.ndarray, line: np.ndarray, *, k: int = 8) -> np.ndarray:
+    """Exact distance (mm) of each point (n, 2) to the open polyline ``line`` (m, 2), through a
+    KD-tree over points spread along its segments (at most the median segment length h
+    apart, each labelled with its segment); shapely takes 7–26 s per fine chain against a
+    51k-point one. The foot of a point p lies on a segment with a tree point within h/2 of
+    the foot, so within √(r0² + h²/4) of p (r0: p's distance to its nearest tree point); when
+    the ``k``-th nearest tree point is farther than that, the minimum over the k nearest
+    points' segments is exact, else (rare) every segment is searched. The same algorithm as
+    the package's private ``profilegen.gearform._PolylineDistance``, written out here so the
+    benchmark uses no private name."""
+    from scipy.spatial import cKDTree
+
+    v, p = np.asarray(line, float), np.asarray(points, float)
+    a, b = v[:-1], v[1:]
+    lengths = np.hypot(*(b - a).T)
+    positive = lengths[lengths > 0]
+    spacing = float(np.median(positive)) if positive.size else 1.0
+    per = np.maximum(np.ceil(lengths / spacing).astype(int), 1) + 1  # points per segment, ends included
+    label = np.repeat(np.arange(len(lengths)), per)
+    f = np.concatenate([np.linspace(0.0, 1.0, n) for n in per])
+    h = float(np.max(lengths / (per - 1)))
+    k = int(min(k, len(label)))
+    tree = cKDTree(a[label] + f[:, None] * (b[label] - a[label]))
+    r, j = tree.query(p, k=k)
+    r, j = r.reshape(len(p), -1), j.reshape(len(p), -1)
+    out = _segment_distance(p[:, None, :], a[label[j]], b[label[j]]).min(axis=1)
+    unsure = ~(r[:, -1] > np.sqrt(r[:, 0] ** 2 + 0.25 * h**2))
+    if unsure.any():
+        out[unsure] = _segment_distance(p[unsure, None, :], a[None], b[None]).min(axis=1)
+    return out
+
+
+def _one_period(res) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A ring solution's neutral-line samples (φ, ω, υ) on 0 ≤ φ ≤ π/2 mirrored to one wave
+    period 0 ≤ φ < π with ω(π − φ) = ω(φ), υ(π − φ) = −υ(φ): the samples the rim stage fits
+    (what ``RimDeformation.samples`` gives for the design scene's own FEM)."""
+    phi, w, u = res.phi_rad, res.omega_mm, res.upsilon_mm
+    inner = slice(1, -1)
+    return (np.concatenate([phi, math.pi - phi[inner][::-1]]), np.concatenate([w, w[inner][::-1]]),
+            np.concatenate([u, -u[inner][::-1]]))
+
+
+@contextlib.contextmanager
+def _atomic_write(path: Path, mode: str):
+    """Open ``path``'s ``.tmp`` sibling for writing (``"w"``: UTF-8, no newline translation;
+    ``"wb"``); on success it replaces ``path``, so no half-written file is left behind."""
+    tmp = path.with_name(path.name + ".tmp")
+    try:
+        with open(tmp, mode, **({} if "b" in mode else {"newline": "", "encoding": "utf-8"})) as f:
+            yield f
+        os.replace(tmp, path)
+    finally:
+        tmp.unlink(missing_ok=True)
 
 
 def _boundary_distance_mm(a: np.ndarray, b: np.ndarray) -> float:
@@ -208,7 +276,7 @@ class _Inputs:
 
     @cached_property
     def design(self):
-        from .pipeline import design
+        from profilegen.pipeline import design
 
         d = self.designs.get("design")
         if d is None:
@@ -218,8 +286,8 @@ class _Inputs:
 
     @cached_property
     def cam(self):
-        from .rim import solve_ring
-        from .wavegen import from_gearset
+        from profilegen.rim import solve_ring
+        from profilegen.wavegen import from_gearset
 
         cam = from_gearset(self.gearset)
         solve_ring(self.gearset, contour=cam, divisions=8)  # imports and first-call set-up out of the timings
@@ -229,7 +297,7 @@ class _Inputs:
     def flat_reference(self):
         """(reference solution, its label, its uncertainty in mm — the change from half the
         divisions, an upper estimate — and its solve time in s)."""
-        from .rim import solve_ring
+        from profilegen.rim import solve_ring
 
         divisions = 256 if self.quick else 512
         self.step(f"rim reference: flat nonlinear ring FEM 8×{divisions}")
@@ -243,9 +311,9 @@ class _Inputs:
     def toothed(self, per_pitch: int, tooth_layers: int | None = None):
         """(toothed-rim solution, FEM solve time in s) of the verify tier's mesh with
         ``per_pitch`` columns; the verify design's own solutions where given."""
-        from .rim import RIM_TIERS, solve_ring
-        from .rim.toothed import toothed_quarter_mesh
-        from .teeth import tooth_from_gearset
+        from profilegen.rim import RIM_TIERS, solve_ring
+        from profilegen.rim.toothed import toothed_quarter_mesh
+        from profilegen.teeth import tooth_from_gearset
 
         tier = RIM_TIERS["verify"]
         layers = tier.tooth_layers if tooth_layers is None else tooth_layers
@@ -271,7 +339,7 @@ class _Inputs:
         """(reference, label, uncertainty in mm) of the toothed rim: the verify mesh refined to
         ``_TOOTHED_REFERENCE`` columns per pitch, its error extrapolated from the changes
         between the verify tier's two meshes and the reference."""
-        from .rim import RIM_TIERS
+        from profilegen.rim import RIM_TIERS
 
         n = RIM_TIERS["verify"].per_pitch
         sizes = [n - 2, n, _TOOTHED_REFERENCE]
@@ -284,7 +352,7 @@ class _Inputs:
 
     def trace(self, chord_tol_mm: float, n_t: int, n_phi: int):
         """The classified envelope with the design scene's tooth and motion (not remembered)."""
-        from .envelope import envelope_of
+        from profilegen.envelope import envelope_of
 
         g = self.gearset.gear
         return envelope_of(self.design.tooth, self.design.motion, cs_teeth=g.circular_spline_teeth, waves=g.waves,
@@ -306,7 +374,7 @@ class _Inputs:
 
     @cached_property
     def envelope_reference(self):
-        from .pipeline import SCENES
+        from profilegen.pipeline import SCENES
 
         finest = SCENES["verify"]
         self.step("envelope reference: traced, chord 1e-9 mm")
@@ -315,7 +383,7 @@ class _Inputs:
 
     def flank(self, env, chord_tol_mm: float) -> np.ndarray:
         """The right working flank of the CS outline built from ``env`` (as the pipeline does)."""
-        from .gearform import circular_spline_form
+        from profilegen.gearform import circular_spline_form
 
         g, cs = self.gearset.gear, self.gearset.circular_spline
         form = circular_spline_form(env, cs_teeth=g.circular_spline_teeth, tip_clearance_mm=cs.tip_clearance_mm,
@@ -332,7 +400,7 @@ class _Inputs:
 
 
 def _rim(inp: _Inputs, repeats: int) -> list[dict]:
-    from .rim import RIM_TIERS, solve_rim, solve_ring
+    from profilegen.rim import RIM_TIERS, solve_rim, solve_ring
 
     gs, cam = inp.gearset, inp.cam
     ref, ref_label, ref_unc, ref_time = inp.flat_reference
@@ -394,9 +462,8 @@ def _rim(inp: _Inputs, repeats: int) -> list[dict]:
 
 
 def _fit(inp: _Inputs, repeats: int) -> list[dict]:
-    from .rim import RIM_TIERS
-    from .rim.stage import _period  # the samples the rim stage fits: one wave period, mirrored
-    from .series import GeneralSineDeformation, fit_fourier, fit_sine_series
+    from profilegen.rim import RIM_TIERS
+    from profilegen.series import GeneralSineDeformation, fit_fourier, fit_sine_series
 
     fem = inp.design.rim.fem if inp.design.rim is not None else None
     if fem is None:
@@ -404,7 +471,7 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
         return []
     ref, ref_label, ref_unc, ref_time = inp.flat_reference
     um, waves = _SCALE["µm"], inp.gearset.gear.waves
-    phi, w, u = _period(fem)
+    phi, w, u = _one_period(fem)
     floor = _change_mm(fem, ref)
     design, verify = RIM_TIERS["design"], RIM_TIERS["verify"]
     mesh = f"flat {design.layers}×{design.divisions}"
@@ -443,7 +510,7 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
     if not inp.quick:
         t_ref, t_label, t_unc = inp.toothed_reference
         res, _ = inp.toothed(verify.per_pitch)
-        p2, w2, u2 = _period(res)
+        p2, w2, u2 = _one_period(res)
         t_floor = _change_mm(res, t_ref)
         inp.step("fit: the verify tier's fits of the toothed samples")
         fit, t, n = _timed(lambda: fit_fourier(p2, w2, u2, waves=waves, max_order=verify.max_order, tier="verify"),
@@ -461,8 +528,8 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
 
 
 def _envelope(inp: _Inputs, repeats: int) -> list[dict]:
-    from .pipeline import SCENES
-    from .swept import boundary_distance, swept_region
+    from profilegen.pipeline import SCENES
+    from profilegen.swept import boundary_distance, swept_region
 
     ref_env, ref_t, ref_label = inp.envelope_reference
     ref = np.asarray(ref_env.flank["boundary"])
@@ -497,10 +564,10 @@ def _envelope(inp: _Inputs, repeats: int) -> list[dict]:
 
 
 def _arcfit(inp: _Inputs, repeats: int) -> list[dict]:
-    from .arcfit import clear_cache, fit_profile
-    from .errors import ProfilegenError
-    from .gearset import FIT_METHODS
-    from .pipeline import FIT_MAX_ITER, SCENES
+    from profilegen.arcfit import clear_cache, fit_profile
+    from profilegen.errors import ProfilegenError
+    from profilegen.gearset import FIT_METHODS
+    from profilegen.pipeline import FIT_MAX_ITER, SCENES
 
     ref_env, ref_t, env_label = inp.envelope_reference
     inp.step("arcfit: the reference flank")
@@ -546,10 +613,10 @@ def _arcfit(inp: _Inputs, repeats: int) -> list[dict]:
 
 
 def _contact(inp: _Inputs, repeats: int) -> list[dict]:
-    from .contact.analysis import solve_contact
-    from .contact.compliance import ContactCompliance
-    from .contact.solvers import solve_naive_lp
-    from .errors import ProfilegenError
+    from profilegen.contact.analysis import solve_contact
+    from profilegen.contact.compliance import ContactCompliance
+    from profilegen.contact.solvers import solve_naive_lp
+    from profilegen.errors import ProfilegenError
 
     d = inp.design
     torques = inp.torques_nm
@@ -626,9 +693,9 @@ def _contact(inp: _Inputs, repeats: int) -> list[dict]:
 
 
 def _stress(inp: _Inputs, repeats: int) -> list[dict]:
-    from .stress import solve_stress
-    from .stress.morley import clamp_sigma_r_mpa, richardson, solve_morley
-    from .stress.plate import cup_bottom_stress
+    from profilegen.stress import solve_stress
+    from profilegen.stress.morley import clamp_sigma_r_mpa, richardson, solve_morley
+    from profilegen.stress.plate import cup_bottom_stress
 
     inp.step("stress: the design scene's cup-bottom edge")
     res = solve_stress(inp.design)
@@ -725,11 +792,9 @@ def write_stage_benchmark(rows: list[dict], out_dir, *, title: str = "") -> list
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from .export import atomic_write
-
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    with atomic_write(out / "stages.csv", "w") as f:
+    with _atomic_write(out / "stages.csv", "w") as f:
         w = csv.DictWriter(f, fieldnames=list(FIELDS), extrasaction="ignore")
         w.writeheader()
         for r in rows:
@@ -751,7 +816,7 @@ def write_stage_benchmark(rows: list[dict], out_dir, *, title: str = "") -> list
     fig.set_layout_engine("none")
     for ax, text in zip(axes, labels):
         _place_labels(ax, text)
-    with atomic_write(out / "stages.png", "wb") as f:
+    with _atomic_write(out / "stages.png", "wb") as f:
         fig.savefig(f, dpi=110, format="png")
     return [out / "stages.csv", out / "stages.png"]
 
