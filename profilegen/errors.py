@@ -16,6 +16,7 @@ __all__ = [
     "ExportError",
     "StressError",
     "SweepSpecError",
+    "BenchmarkNotFoundError",
 ]
 
 
@@ -69,3 +70,9 @@ class SweepSpecError(ProfilegenError, ValueError):
     """A sweep spec (TOML) is malformed: an unknown or missing key, a value of the wrong
     type or out of range, a field path the gear set does not have; the message names the
     file and the key."""
+
+
+class BenchmarkNotFoundError(ProfilegenError, FileNotFoundError):
+    """``profilegen bench`` outside a source checkout: the benchmarks live in the checkout's
+    ``tests/benchmarks/``, which an installed package does not have; the message names the
+    file looked for."""
