@@ -251,31 +251,33 @@ def _cmd_profiles(args) -> int:
 def _cmd_bench(args) -> int:
     import time
 
-    from .bench import format_rows, scene_benchmark, write_scene_benchmark
+    from .bench import load_benchmark
 
+    # the benchmarks live in the source checkout's tests/benchmarks/ (elsewhere: one line, exit 2)
+    bench_scenes = load_benchmark("scenes")
+    bench_stages = None if args.no_stages else load_benchmark("stages")
     gearset = _load(args.gearset)
     scenes = ("sketch", "design") if args.quick else ("sketch", "design", "verify")
     say = (lambda text: None) if args.quiet else (lambda text: print(f"  {text}", file=sys.stderr))
     t0 = time.perf_counter()
-    rows = scene_benchmark(gearset, scenes=scenes, repeats=1 if args.quick else args.repeats, progress=say)
+    rows = bench_scenes.scene_benchmark(gearset, scenes=scenes, repeats=1 if args.quick else args.repeats,
+                                        progress=say)
     out = Path(args.out) if args.out else Path("export") / "bench"
-    written = write_scene_benchmark(rows, out, title=f"{gearset.name}: the whole pipeline per scene")
+    written = bench_scenes.write_scene_benchmark(rows, out, title=f"{gearset.name}: the whole pipeline per scene")
     scene_s = time.perf_counter() - t0
     if not args.quiet:
-        print(format_rows(rows))
+        print(bench_scenes.format_rows(rows))
         for p in written:
             print(f"  wrote {p}")
-    if args.no_stages:
+    if bench_stages is None:
         return 0
-    from .bench_stages import format_stage_rows, stage_benchmark, write_stage_benchmark
-
     t0 = time.perf_counter()
-    stage_rows = stage_benchmark(gearset, quick=args.quick, repeats=args.repeats, progress=say)
-    written = write_stage_benchmark(stage_rows, out, title=f"{gearset.name}: speed against accuracy per stage "
-                                                           f"(median times; errors against converged references)")
+    stage_rows = bench_stages.stage_benchmark(gearset, quick=args.quick, repeats=args.repeats, progress=say)
+    written = bench_stages.write_stage_benchmark(stage_rows, out, title=f"{gearset.name}: speed against accuracy "
+                                                 f"per stage (median times; errors against converged references)")
     if not args.quiet:
         print()
-        print(format_stage_rows(stage_rows))
+        print(bench_stages.format_stage_rows(stage_rows))
         for p in written:
             print(f"  wrote {p}")
         print(f"scene benchmark {scene_s:.0f} s, stage benchmark {time.perf_counter() - t0:.0f} s")
@@ -318,7 +320,8 @@ def _parser() -> argparse.ArgumentParser:
     sw.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     sw.set_defaults(func=_cmd_sweep)
     b = sub.add_parser("bench", help="speed against accuracy: the whole pipeline per scene, then every stage and tier "
-                                     "against a converged reference")
+                                     "against a converged reference (from a source checkout: the benchmarks are its "
+                                     "tests/benchmarks/)")
     b.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
     b.add_argument("--quick", action="store_true", help="scenes: sketch and design only, one run each (the reference "
                    "is the design scene refined); stages: coarser references, no toothed-rim FEM (≈ 1 min instead of "
