@@ -1,0 +1,270 @@
+"""The design sheet: the first screen of ``report.html`` — the verdict and the numbers to cut.
+
+``sheet_html(design, figure_html="")`` returns an HTML fragment (its own ``<style>`` included)
+that fits one 1366×768 screen: every check with its result and margin, the sizes a machinist
+needs (tip and root diameters, the flank's arc–line–arc with centres, fillet, backlash,
+smallest clearance) and what a designer asks next (stiffness, safety factors), each with its
+unit. ``figure_html`` (see :mod:`profilegen.output.interactive`) is placed beside the numbers.
+
+The number formats are here too, so the report, the notebook view and the command line say the
+same thing: :func:`format_um` (a length in µm with a sane number of digits) and
+:func:`format_clearance` ("touching (< 1 nm)" below resolution, "cuts in by …" when negative).
+
+Shapes: an arc of the CS flank is *convex* when its centre lies in the CS tooth (material) and
+*concave* when its centre lies in the tooth space; the fit's signed radius (``r1_mm`` < 0: the
+arc turns right along the flank from the tip) says the same thing only together with the side
+the space is on, so the sheet states the shape in words.
+"""
+
+from __future__ import annotations
+
+import html
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+__all__ = ["Check", "FlankElement", "checks", "flank_elements", "format_clearance", "format_um", "sheet_html",
+           "SHEET_STYLE", "RESOLUTION_MM"]
+
+#: Below this a length is "below resolution" on the sheet (mm): 1 nm, a thousandth of what wire EDM holds.
+RESOLUTION_MM = 1e-6
+ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi
+
+
+def format_um(length_mm: float | None, *, digits: int = 3) -> str:
+    """A length given in mm, written in µm with ``digits`` significant digits (at most 3 decimals):
+    ``format_um(0.0035071)`` → ``'3.51 µm'``; below 1 nm → ``'< 0.001 µm'``.
+
+    >>> format_um(0.0035071), format_um(0.000187), format_um(2.2e-16), format_um(-0.012345)
+    ('3.51 µm', '0.187 µm', '< 0.001 µm', '−12.3 µm')
+    """
+    if length_mm is None or not math.isfinite(length_mm):
+        return "—"
+    um = float(length_mm) * 1e3
+    if abs(um) < RESOLUTION_MM * 1e3:
+        return "< 0.001 µm"
+    decimals = min(3, max(0, digits - 1 - int(math.floor(math.log10(abs(um))))))
+    return f"{um:.{decimals}f} µm".replace("-", "\u2212")
+
+
+def format_clearance(clearance_mm: float | None, *, tol_mm: float | None = None) -> str:
+    """The smallest clearance between two outlines (mm) in words and µm.
+
+    ``|c|`` below 1 nm → ``'touching (< 1 nm)'``; a positive gap → ``'0.187 µm'``; a negative one
+    → ``'cuts in by 0.012 µm'`` (``tol_mm``: the verdict's tolerance; within it the text says so).
+
+    >>> format_clearance(2.220446049250313e-16), format_clearance(1.87e-4), format_clearance(-3e-6, tol_mm=1e-5)
+    ('touching (< 1 nm)', '0.187 µm', 'touching (−0.003 µm, within the 0.01 µm tolerance)')
+    >>> format_clearance(-2.5e-4)
+    'cuts in by 0.25 µm'
+    """
+    if clearance_mm is None or not math.isfinite(clearance_mm):
+        return "—"
+    c = float(clearance_mm)
+    if abs(c) < RESOLUTION_MM:
+        return "touching (< 1 nm)"
+    if c > 0:
+        return format_um(c)
+    if tol_mm is not None and -c <= tol_mm:
+        return f"touching ({format_um(c)}, within the {tol_mm * 1e3:g} µm tolerance)"
+    return f"cuts in by {format_um(-c)}"
+
+
+@dataclass(frozen=True, slots=True)
+class Check:
+    """One line of the verdict: what was checked, at which load, the value against the
+    requirement, the margin, and ``passed`` (None: skipped)."""
+
+    name: str
+    where: str
+    value: str
+    required: str
+    margin: str
+    passed: bool | None
+
+
+def checks(design) -> list[Check]:
+    """Every pass/fail check of ``design`` — the same ones, with the same outcome, as
+    :attr:`profilegen.pipeline.Design.verdict` — each with its value, requirement and margin."""
+    from ..pipeline import interference_tol_mm
+
+    out = []
+    prof = design.profile
+    if prof is not None:
+        c = prof.clearance.min_mm
+        tol = interference_tol_mm(design.scene)
+        out.append(Check("fitted CS clear of the FS tooth", f"{prof.positions} positions",
+                         format_clearance(c, tol_mm=tol), f"≥ −{tol * 1e3:g} µm", format_um(c + tol),
+                         bool(c >= -tol)))
+    if design.contact is not None:
+        for case in design.contact.cases:
+            inside = case.beyond_capacity is None
+            out.append(Check("contact inside the searched teeth", f"{case.torque_nm:g} N·m",
+                             f"{case.teeth_in_contact} teeth/zone", "inside",
+                             "—" if inside else html.escape(case.beyond_capacity), inside))
+    if design.stress is not None:
+        for c in design.stress.checks:
+            if c.value is None:
+                out.append(Check(c.name, f"{c.torque_nm:g} N·m", "—", f"≥ {c.required:g}",
+                                 "no material limit", None))
+            else:
+                out.append(Check(c.name, f"{c.torque_nm:g} N·m", f"{c.value:.2f}", f"≥ {c.required:g}",
+                                 f"{100.0 * (c.value / c.required - 1.0):+.0f} %".replace("-", "\u2212"),
+                                 bool(c.passed)))
+    return out
+
+
+@dataclass(frozen=True, slots=True)
+class FlankElement:
+    """One element of the fitted CS flank, from the CS tip toward the root: ``kind`` 'arc' or
+    'line'; arcs carry ``radius_mm`` (> 0), ``centre_mm`` and ``shape`` ('convex': centre in the
+    CS tooth; 'concave': centre in the tooth space); lines their ``start_mm``/``end_mm``."""
+
+    label: str
+    kind: str
+    length_mm: float
+    radius_mm: float | None = None
+    centre_mm: tuple[float, float] | None = None
+    shape: str = ""
+    start_mm: tuple[float, float] | None = None
+    end_mm: tuple[float, float] | None = None
+
+
+def flank_elements(fit) -> list[FlankElement]:
+    """The elements of a fitted flank (:class:`profilegen.arcfit.ProfileFit`), tip first, named
+    R1, line, R2 (an element shorter than the fit's minimum is absent from the chain).
+
+    An arc turning toward the space side (its sweep's sign equal to the space side's: + for
+    'left' of the direction of travel) has its centre in the space: concave."""
+    from ..contour import Arc
+
+    side = 1.0 if fit.space_side == "left" else -1.0
+    out, arcs = [], 0
+    for el in fit.chain.elements:
+        if isinstance(el, Arc):
+            arcs += 1
+            concave = math.copysign(1.0, el.sweep) == side
+            out.append(FlankElement(f"R{arcs}", "arc", float(el.length), radius_mm=float(el.radius),
+                                    centre_mm=(float(el.centre[0]), float(el.centre[1])),
+                                    shape="concave" if concave else "convex"))
+        else:
+            out.append(FlankElement("line", "line", float(el.length),
+                                    start_mm=tuple(float(v) for v in el.start),
+                                    end_mm=tuple(float(v) for v in el.end)))
+    if arcs == 1 and out[0].kind == "line":  # the tip arc dropped out: the one arc left is R2
+        out[-1] = replace(out[-1], label="R2")
+    return out
+
+
+def _xy(p) -> str:
+    return f"({p[0]:.4f}, {p[1]:.4f})".replace("-", "\u2212")
+
+
+def _row(label: str, value: str, note: str = "") -> str:
+    return f"<tr><th>{label}</th><td>{value}</td><td class=note>{note}</td></tr>"
+
+
+def _badge(passed: bool | None) -> str:
+    if passed is None:
+        return '<span class="skip">skipped</span>'
+    return '<span class="pass">pass</span>' if passed else '<span class="fail">FAIL</span>'
+
+
+def _geometry_rows(design) -> str:
+    g, form, tooth = design.gearset, design.form, design.tooth
+    rows = [
+        _row("module, teeth", f"{g.gear.module_mm:g} mm, {g.gear.flexspline_teeth} FS / {g.gear.circular_spline_teeth} CS"),
+        _row("CS tip Ø", f"{2 * form.tip_radius_mm:.4f} mm", "inner (tooth tips)"),
+        _row("CS root Ø", f"{2 * form.root_radius_mm:.4f} mm", "outer (tooth roots)"),
+        _row("FS tip Ø", f"{2 * (tooth.neutral_radius_mm + tooth.addendum_y_mm):.4f} mm", "undeformed"),
+        _row("FS root Ø", f"{2 * (tooth.neutral_radius_mm + tooth.dedendum_y_mm):.4f} mm", "undeformed"),
+    ]
+    prof = design.profile
+    if prof is None:
+        rows.append(_row("CS flank", "not fitted", "this scene stops at the envelope"))
+        return "".join(rows)
+    fits = [f for f in prof.cad_fits if f is not None]
+    for b, fit in enumerate(fits):
+        head = f"branch {b + 1} " if len(fits) > 1 else ""
+        for el in flank_elements(fit):
+            if el.kind == "arc":
+                rows.append(_row(f"{head}{el.label}", f"{el.radius_mm:.4f} mm <b>{el.shape}</b>",
+                                 f"centre {_xy(el.centre_mm)}"))
+            else:
+                rows.append(_row(f"{head}line", f"{el.length_mm:.4f} mm long",
+                                 f"{_xy(el.start_mm)} → {_xy(el.end_mm)}"))
+    rows.append(_row("CS root fillet", "none (sharp corner)", "flank meets the root by a straight run"))
+    bl = prof.max_backlash_mm
+    rows.append(_row("backlash (largest)", "—" if bl is None else html.escape(format_um(bl)),
+                     "normal gap the fit leaves to the exact flank" if bl is not None
+                     else f"{html.escape(prof.method)} fit: no one-sided backlash"))
+    rows.append(_row("fit deviation (largest)", html.escape(format_um(prof.max_error_mm)), "from the exact (envelope) flank"))
+    rows.append(_row("smallest clearance", html.escape(format_clearance(prof.clearance.min_mm)),
+                     f"fitted CS ↔ FS tooth at φ = {math.degrees(prof.clearance.at_phi):.2f}°"))
+    return "".join(rows)
+
+
+def _load_rows(design) -> str:
+    rows = []
+    c = design.contact
+    if c is None:
+        rows.append(_row("stiffness", "not computed", "this scene runs no loaded contact"))
+    else:
+        for case, k in zip(c.cases, np.asarray(c.secant_stiffness_nm_per_rad, dtype=float)):
+            rows.append(_row(f"stiffness at {case.torque_nm:g} N·m",
+                             f"{k / 1e3:,.0f} kN·m/rad".replace(",", "\u2009"),
+                             f"{k / ARCMIN_PER_RAD:.0f} N·m/arcmin; rotation {case.rotation_arcmin:.2f} arcmin"))
+    return "".join(rows)
+
+
+#: The sheet's CSS: compact, one screen at 1366×768; classes are prefixed ``ds-``.
+SHEET_STYLE = """<style>
+.ds{font-family:system-ui,sans-serif;font-size:13px;line-height:1.25;color:#111}
+.ds h1{font-size:19px;margin:0 0 2px}.ds .sub{color:#444;margin:0 0 4px}
+.ds .verdict{font-size:17px;font-weight:bold;padding:3px 10px;border-radius:4px;display:inline-block;margin:0 0 3px}
+.ds .verdict.ok{background:#e3f4e3;color:#125c12}.ds .verdict.bad{background:#fbe3e3;color:#a00}
+.ds .grid{display:grid;grid-template-columns:minmax(0,53fr) minmax(0,47fr);gap:0 14px;align-items:start}
+.ds h2 .unit{font-weight:normal;font-size:12px;color:#555}
+.ds h2{font-size:14px;margin:4px 0 2px;border-bottom:1px solid #ccc}
+.ds table{border-collapse:collapse;width:100%}
+.ds td,.ds th{padding:1px 5px;border-bottom:1px solid #e4e4e4;text-align:left;vertical-align:top;white-space:nowrap}
+.ds th{font-weight:normal;color:#333}.ds td.num{text-align:right}.ds td.note{color:#555;white-space:normal}
+.ds thead th{font-weight:bold;color:#111}
+.ds .pass{color:#1a7f1a;font-weight:bold}.ds .fail{color:#c00;font-weight:bold}.ds .skip{color:#777}
+.ds .fig{min-height:300px;position:sticky;top:0}
+</style>"""
+
+
+def sheet_html(design, figure_html: str = "") -> str:
+    """The first screen of the design report (an HTML fragment): name and description, the
+    verdict with every check and its margin, the numbers to cut and the load numbers, each with
+    its unit; ``figure_html`` (the interactive CS space, optional) beside them."""
+    g = design.gearset
+    v = design.verdict
+    check_rows = "".join(
+        f"<tr><th>{html.escape(c.name)}</th><td>{html.escape(c.where)}</td><td class=num>{html.escape(c.value)}</td>"
+        f"<td>{html.escape(c.required)}</td><td class=num>{c.margin}</td><td>{_badge(c.passed)}</td></tr>"
+        for c in checks(design))
+    gear = (f"ratio {g.ratio:g}, deflection ω* = {g.wave_generator.deflection_coefficient:g}, "
+            f"torques {g.torque.rated_nm:g} / {g.torque.peak_nm:g}"
+            + ("" if g.torque.momentary_nm is None else f" / {g.torque.momentary_nm:g}")
+            + f" N·m (rated / peak{'' if g.torque.momentary_nm is None else ' / momentary'}), "
+            f"scene <b>{html.escape(design.scene.name)}</b>")
+    return f"""{SHEET_STYLE}<div class="ds">
+<h1>{html.escape(g.name)} — design sheet</h1>
+<p class="sub">{html.escape(g.description)}</p>
+<div class="grid">
+<div class="numbers">
+<div class="verdict {'ok' if v.passed else 'bad'}">{html.escape(v.line)}</div>
+<p class="sub">{gear}</p>
+<h2>Checks</h2>
+<table><thead><tr><th>check</th><th>at</th><th>value</th><th>required</th><th>margin</th><th></th></tr></thead>
+{check_rows}</table>
+<h2>To cut <span class="unit">(mm; CS frame: origin on the gear axis, y through the middle of the space)</span></h2>
+<table>{_geometry_rows(design)}</table>
+<h2>Stiffness <span class="unit">(mesh only: no bearing, cam or cup wind-up)</span></h2>
+<table>{_load_rows(design)}</table></div>
+<div class="fig">{figure_html}</div>
+</div>
+</div>"""
