@@ -1,4 +1,5 @@
-"""profilegen.bench_stages: the per-stage speed-vs-accuracy study.
+"""tests/benchmarks/stages.py (`profilegen bench`'s per-stage speed-vs-accuracy study; benchmark
+code in the source checkout, was profilegen/bench_stages.py).
 
 The cheap studies (rim, fit, envelope, stress) with the --quick references, once per module;
 the arcfit and contact studies are run by `profilegen bench` (tens of seconds). The checks are
@@ -14,8 +15,8 @@ import math
 import numpy as np
 import pytest
 
-from profilegen.bench_stages import FIELDS, STAGES, format_stage_rows, stage_benchmark, write_stage_benchmark
 from profilegen.gearset import default_gearset_path, load_gearset
+from tests.benchmarks.stages import FIELDS, STAGES, format_stage_rows, stage_benchmark, write_stage_benchmark
 
 CHEAP = ("rim", "fit", "envelope", "stress")
 
@@ -26,11 +27,15 @@ def gearset():
 
 
 @pytest.fixture(scope="module")
-def rows(gearset):
+def design_scene(gearset):
     from profilegen.pipeline import design
 
-    d = design(gearset, scene="design", contact=False, stress=False)
-    return stage_benchmark(gearset, quick=True, repeats=1, stages=CHEAP, designs={"design": d})
+    return design(gearset, scene="design", contact=False, stress=False)
+
+
+@pytest.fixture(scope="module")
+def rows(gearset, design_scene):
+    return stage_benchmark(gearset, quick=True, repeats=1, stages=CHEAP, designs={"design": design_scene})
 
 
 def _by_method(rows, stage):
@@ -121,7 +126,7 @@ def test_csv_png_and_table(rows, tmp_path):
 def test_polyline_distance_matches_shapely():
     import shapely
 
-    from profilegen.bench_stages import _polyline_distance
+    from tests.benchmarks.stages import _polyline_distance
 
     rng = np.random.default_rng(3)
     t = np.linspace(0.0, 1.5 * np.pi, 400)
@@ -129,6 +134,20 @@ def test_polyline_distance_matches_shapely():
     pts = line[rng.integers(0, 400, 200)] * (1.0 + rng.uniform(-1e-3, 1e-3, (200, 1)))
     expected = shapely.distance(shapely.points(pts), shapely.LineString(line))
     assert np.allclose(_polyline_distance(pts, line), expected, rtol=0, atol=1e-13)
+
+
+def test_one_period_is_what_the_rim_stage_fits(design_scene):
+    """The fit study's samples (its own mirroring of a ring solution on 0 ≤ φ ≤ π/2 to one wave
+    period, written out in the benchmark) are exactly those the design scene's rim stage
+    fits, so the study measures the fit the pipeline makes."""
+    from tests.benchmarks.stages import _one_period
+
+    rim = design_scene.rim
+    phi, w, u = _one_period(rim.fem)
+    assert phi[0] == 0.0 and phi[-1] < np.pi and np.all(np.diff(phi) > 0)
+    assert 2 * rim.fem.phi_rad.size - 2 == phi.size
+    for mine, stage in zip((phi, w, u), rim.samples):
+        assert np.array_equal(mine, stage)
 
 
 @pytest.mark.parametrize("kwargs, name", [({"quick": True, "repeats": 0}, "repeats"),
