@@ -202,6 +202,29 @@ def test_bench_quick_writes_the_speed_accuracy_chart(tmp_path, capsys):
     assert (tmp_path / "pipeline.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+def test_bench_outside_a_source_checkout_is_one_line_and_exit_2(tmp_path):
+    """An installed package has no tests/ beside it (a wheel): `profilegen bench` says where the
+    benchmarks live in one line on stderr, exit 2, before any work (nothing written), and the
+    package imported neither matplotlib nor any benchmark code for it."""
+    import shutil
+
+    site = tmp_path / "site"  # the package alone, as a wheel installs it
+    shutil.copytree(ROOT / "profilegen", site / "profilegen", ignore=shutil.ignore_patterns("__pycache__"))
+    code = ("import sys; from profilegen.cli import main; rc = main(sys.argv[1:]); "
+            "print(sorted(m for m in sys.modules if m.split('.')[0] in ('matplotlib', 'tests') "
+            "or m.startswith('profilegen_benchmark'))); sys.exit(rc)")
+    out = tmp_path / "out"
+    res = subprocess.run([sys.executable, "-c", code, "bench", "--quick", "--out", str(out)], cwd=tmp_path,
+                         capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=str(site)), timeout=300)
+    assert res.returncode == 2, res.stderr
+    lines = res.stderr.splitlines()
+    assert len(lines) == 1 and lines[0].startswith("profilegen: error: "), res.stderr
+    assert "source checkout's tests/benchmarks/" in lines[0] and "Traceback" not in res.stderr
+    assert str(site / "tests" / "benchmarks" / "scenes.py") in lines[0]  # the file looked for
+    assert res.stdout.strip() == "[]"  # no matplotlib, no benchmark module
+    assert not out.exists()
+
+
 def test_progress_is_one_line_per_stage_on_stderr_when_piped(tmp_path):
     """`design` into a pipe: every stage announces itself on stderr as it starts, in order,
     numbered against the stages this run will have (sketch: no contact); -q silences it."""
