@@ -57,7 +57,7 @@ def format_clearance(clearance_mm: float | None, *, tol_mm: float | None = None)
     >>> format_clearance(2.220446049250313e-16), format_clearance(1.87e-4), format_clearance(-3e-6, tol_mm=1e-5)
     ('touching (< 1 nm)', '0.187 µm', 'touching (−0.003 µm, within the 0.01 µm tolerance)')
     >>> format_clearance(-2.5e-4)
-    'cuts in by 0.25 µm'
+    'cuts in by 0.250 µm'
     """
     if clearance_mm is None or not math.isfinite(clearance_mm):
         return "—"
