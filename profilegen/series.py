@@ -38,11 +38,13 @@ import math
 import numbers
 import time
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 from scipy.linalg import solve_triangular
 from scipy.optimize import least_squares, minimize_scalar
 
+from . import checks
 from .deformation import HarmonicDeformation
 from .errors import ConvergenceError, ProfilegenError
 from .results import readonly as _readonly
@@ -76,14 +78,7 @@ class SeriesError(ProfilegenError, ValueError):
 
 
 
-def _whole(name: str, value, low: int, high: int | None = None) -> int:
-    if isinstance(value, bool) or not isinstance(value, numbers.Integral):
-        raise SeriesError(f"{name} = {value!r}: must be a whole number ≥ {low}")
-    value = int(value)
-    if value < low or (high is not None and value > high):
-        bound = f"in [{low}, {high}]" if high is not None else f"≥ {low}"
-        raise SeriesError(f"{name} = {value}: must be {bound}")
-    return value
+_whole = partial(checks.whole, error=SeriesError)
 
 
 def _samples(name: str, values, unit: str, n: int | None = None) -> np.ndarray:

@@ -43,12 +43,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import partial
 from typing import Protocol
 
 import numpy as np
 from scipy.optimize import brentq
 from scipy.special import ellipe
 
+from . import checks
 from .errors import ConvergenceError, GearSetError, ProfilegenError
 from .results import readonly as _readonly
 
@@ -88,16 +90,7 @@ class Contour(Protocol):
         ...
 
 
-def _positive(name: str, value, unit: str = "mm", *, allow_zero: bool = False) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError) as exc:
-        raise WaveGenError(f"{name} = {value!r}: must be a number ({unit})") from exc
-    ok = math.isfinite(x) and (x >= 0.0 if allow_zero else x > 0.0)
-    if not ok:
-        bound = "≥ 0" if allow_zero else "> 0"
-        raise WaveGenError(f"{name} = {value!r} {unit}: must be finite and {bound}")
-    return x
+_positive = partial(checks.positive, error=WaveGenError)
 
 
 def _points(points) -> np.ndarray:

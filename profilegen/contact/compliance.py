@@ -104,10 +104,12 @@ import logging
 import math
 import time
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 import scipy.sparse as sp
 
+from .. import checks
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 
@@ -148,20 +150,8 @@ def _unit(name: str, value, n: int) -> np.ndarray:
     return a / norm[:, None]
 
 
-def _positive(name: str, value, unit: str) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError) as exc:
-        raise ComplianceError(f"{name} = {value!r}: must be a number ({unit})") from exc
-    if not (math.isfinite(x) and x > 0.0):
-        raise ComplianceError(f"{name} = {value!r} {unit}: must be finite and > 0")
-    return x
-
-
-def _whole(name: str, value, low: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low:
-        raise ComplianceError(f"{name} = {value!r}: must be a whole number ≥ {low}")
-    return int(value)
+_positive = partial(checks.positive, error=ComplianceError)
+_whole = partial(checks.whole, error=ComplianceError)
 
 
 def _half_ring_tie(ring, n_nodes: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:

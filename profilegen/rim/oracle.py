@@ -68,11 +68,13 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass
+from functools import partial
 
 import numpy as np
 
+from .. import checks
 from ..errors import ConvergenceError, ProfilegenError
-from .ring import WRAP_WARNING, RingError, _number, _whole
+from .ring import WRAP_WARNING, RingError
 from ..results import readonly as _readonly
 
 __all__ = [
@@ -86,6 +88,9 @@ __all__ = [
 CONTACT_MODELS = ("exact_gap", "first_order")
 _SAMPLES = 512  # contour samples per wave period (cosine series of up to 256 harmonics)
 _CHECK = 2001  # grid for the sign checks of p and g
+
+_number = partial(checks.number, error=RingError)
+_whole = partial(checks.whole, error=RingError)
 
 
 class InadmissibleContactError(ProfilegenError, ValueError):

@@ -51,12 +51,13 @@ import logging
 import math
 import time
 from dataclasses import dataclass, field, replace
+from functools import partial
 
 import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .. import series
+from .. import checks, series
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 
@@ -74,25 +75,8 @@ class RingError(ProfilegenError, ValueError):
     """Bad input to the ring model; the message names the field, its value, unit and allowed range."""
 
 
-def _number(name: str, value, unit: str, low: float, high: float = math.inf, *, low_open: bool = True,
-            high_open: bool = True) -> float:
-    try:
-        x = float(value)
-    except (TypeError, ValueError) as exc:
-        raise RingError(f"{name} = {value!r}: must be a number ({unit})") from exc
-    ok = math.isfinite(x) and (x > low if low_open else x >= low) and (x < high if high_open else x <= high)
-    if not ok:
-        lb = "(" if low_open else "["
-        hb = ")" if high_open else "]"
-        raise RingError(f"{name} = {value!r} {unit}: must be in {lb}{low:g}, {high:g}{hb}".rstrip())
-    return x
-
-
-def _whole(name: str, value, low: int, *, even: bool = False, error: type = RingError) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < low or (even and value % 2):
-        kind = "an even whole number" if even else "a whole number"
-        raise error(f"{name} = {value!r}: must be {kind} ≥ {low}")
-    return int(value)
+_number = partial(checks.number, error=RingError)
+_whole = partial(checks.whole, error=RingError)
 
 
 @dataclass(frozen=True, slots=True, eq=False)

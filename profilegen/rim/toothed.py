@@ -56,11 +56,12 @@ import logging
 import math
 import time
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 
+from .. import checks
 from .ring import RingError
-from .ring import _whole as ring_whole
 from ..results import readonly as _readonly
 
 __all__ = ["InvertedElementError", "RingSectorMesh", "ToothedMeshError", "ToothedRimMesh", "fs_pitch_pieces", "pitch_surface",
@@ -80,8 +81,7 @@ class InvertedElementError(ToothedMeshError):
 
 
 
-def _whole(name: str, value, low: int, *, even: bool = False) -> int:
-    return ring_whole(name, value, low, even=even, error=ToothedMeshError)
+_whole = partial(checks.whole, error=ToothedMeshError)
 
 
 class _MappedMesh:
