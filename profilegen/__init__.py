@@ -36,7 +36,8 @@ from .errors import ConvergenceError, EnvelopeError, ExportError, GearSetError, 
 from .gearform import CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import GearSet, default_gearset_path, list_profiles, load_gearset, parse_gearset, resolve_gearset
 from .kinematics import HarmonicDriveMotion, RackMotion
-from .pipeline import SCENES, Design, design, write_design
+from .pipeline import Design, design
+from .scenes import SCENES, Scene
 from .teeth import ToothProfile, dcta_tooth, involute_tooth, points_tooth, tooth_from_gearset
 
 __all__ = [
@@ -54,6 +55,7 @@ __all__ = [
     "RackMotion",
     "RimDeformation",
     "SCENES",
+    "Scene",
     "ToothError",
     "ToothProfile",
     "circular_spline_form",
@@ -79,8 +81,8 @@ __all__ = [
 
 __version__ = "0.1.0"
 
-# the rim FEM and the series fitters pull in scipy's solvers (~0.3 s): loaded on first use
-_LAZY = {"RimDeformation": "rim", "solve_rim": "rim", "solve_ring": "rim", "fit_fourier": "series",
+# the rim FEM and the series fitters pull in scipy's solvers (~0.3 s), the output layer its writers: loaded on first use
+_LAZY = {"write_design": "output.files", "RimDeformation": "rim", "solve_rim": "rim", "solve_ring": "rim", "fit_fourier": "series",
          "fit_sine_series": "series"}
 
 

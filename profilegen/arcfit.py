@@ -931,15 +931,6 @@ class ProfileFit:
             }
         )
 
-    def plot(self, ax=None):
-        """Delegates to ``profilegen.plot.profile_fit`` (imported lazily); returns the Axes."""
-        from . import plot
-
-        draw = getattr(plot, "profile_fit", None)
-        if draw is None:
-            raise NotImplementedError("ProfileFit.plot: profilegen.plot.profile_fit is not available yet")
-        return draw(self, ax=ax)
-
 
 @dataclass(frozen=True, slots=True, eq=False)
 class BranchFits:

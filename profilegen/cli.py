@@ -26,8 +26,10 @@ def _load(name_or_path: str | None):
 
 
 def _cmd_design(args) -> int:
-    from . import outfolder
-    from .pipeline import OUTPUT_FILES, SCENES, check_gearset, design, planned_stages, write_design
+    from .output import folder
+    from .output.files import OUTPUT_FILES, write_design
+    from .pipeline import check_gearset, design, planned_stages
+    from .scenes import SCENES
 
     if args.scene == "list":
         from .scenes import bundled_scenes_path
@@ -43,7 +45,7 @@ def _cmd_design(args) -> int:
     gearset = _load(args.gearset)
     check_gearset(gearset)  # what check rejects fails here, before the first progress line
     out = Path(args.out) if args.out else Path("export") / gearset.name
-    outfolder.check(out, ours=OUTPUT_FILES)  # a folder holding the user's files: refused now, not after the stages
+    folder.check(out, ours=OUTPUT_FILES)  # a folder holding the user's files: refused now, not after the stages
     stages = planned_stages(gearset, scene=args.scene, contact=args.contact) + ("files",)
     bar = _progress(len(stages), quiet=args.quiet, what=f"design {gearset.name}")
     result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name),

@@ -776,11 +776,6 @@ class Envelope:
             **self.diagnostics,
         }
 
-    def plot(self, ax=None, **kwargs):
-        from . import plot
-
-        return plot.envelope(self, ax=ax, **kwargs)
-
 
 def _no_root_intervals(roots: list[RootCurve], length: float) -> list[tuple[float, float]]:
     """Complement in [0, length] of the t-ranges the root curves cover."""

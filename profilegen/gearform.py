@@ -107,11 +107,6 @@ class ClearanceMap:
     def to_dict(self) -> dict:
         return {"min_clearance_mm": self.min_mm, "at_phi_rad": self.at_phi, "samples": int(self.phi.size)}
 
-    def plot(self, ax=None):
-        from . import plot
-
-        return plot.clearance(self.phi, self.clearance_mm, ax=ax)
-
 
 @dataclass(frozen=True, slots=True, eq=False)
 class CircularSplineForm:

@@ -19,7 +19,7 @@ def readonly(values, dtype=float) -> np.ndarray:
 
 def json_ready(obj):
     """``obj`` with numpy scalars and arrays turned into Python ones, non-finite floats into
-    None (for diagnostics; :func:`profilegen.export.write_json` refuses NaN in results)."""
+    None (for diagnostics; :func:`profilegen.output.export.write_json` refuses NaN in results)."""
     if isinstance(obj, dict):
         return {str(k): json_ready(v) for k, v in obj.items()}
     if isinstance(obj, (list, tuple)):

@@ -1,7 +1,7 @@
 """Scenes as data: the fidelity presets read from a TOML file (``profilegen/scenes.toml``).
 
 A scene file has one table per scene; the table's key is the scene's name, its keys are
-the fields of :class:`profilegen.pipeline.Scene` (documented in the bundled file). The rim
+the fields of :class:`Scene` (documented in the bundled file). The rim
 stage's tier is the ``tier`` key (``sketch``, ``design`` or ``verify``), which a scene named
 after a tier may leave out. A user's copy of the bundled file (or a file with one table) is
 used with ``design(gearset, scene="my_scenes.toml")`` or ``profilegen design --scene
@@ -27,16 +27,13 @@ import re
 from collections.abc import Mapping
 from importlib import resources
 from pathlib import Path
-from typing import TYPE_CHECKING
+from dataclasses import dataclass
 
 from .errors import GearSetError
 from .gearset import SCENES as SCENE_NAMES
 from .gearset import looks_like_path
 
-if TYPE_CHECKING:  # pragma: no cover
-    from .pipeline import Scene
-
-__all__ = ["SCENE_NAMES", "SceneError", "bundled_scenes_path", "parse_scenes", "read_scenes", "resolve_scene"]
+__all__ = ["SCENES", "SCENE_NAMES", "Scene", "SceneError", "bundled_scenes_path", "parse_scenes", "read_scenes", "resolve_scene"]
 
 
 class SceneError(GearSetError):
@@ -56,6 +53,28 @@ _KEYS: dict[str, tuple[str, bool, tuple[float, float] | None]] = {
     "contact": ("bool", False, None),
     "tier": ("text", False, None),
 }
+@dataclass(frozen=True, slots=True)
+class Scene:
+    """A fidelity preset: the tier of every stage."""
+
+    name: str
+    rim: str  # deformation tier asked for
+    chord_tol_mm: float  # envelope chord error
+    n_t: int  # tracing grid along the flank
+    n_phi: int  # tracing grid over one pass
+    clearance_samples: int
+    brute_force_check: bool  # cross-check the boundary against the brute-force swept region
+    description: str
+    fit_check_positions: int = 2001  # FS tooth poses the fitted CS profile is checked against
+    contact: bool = False  # loaded tooth contact at the gear set's torques (rated, peak, momentary)
+    tier: str = ""  # the rim stage's tier (sketch, design, verify); "" → the scene's name
+
+    @property
+    def rim_tier(self) -> str:
+        """The rim stage's tier: ``tier``, or the name for the bundled presets."""
+        return self.tier or self.name
+
+
 _NAME = re.compile(r"[A-Za-z0-9_-]+")
 
 
@@ -74,8 +93,6 @@ def read_scenes(path: str | os.PathLike) -> dict[str, Scene]:
 
 def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:
     """Validate a mapping {name: {key: value}} and build the scenes; every problem at once."""
-    from .pipeline import Scene  # the pipeline's type; imported here, pipeline imports this module
-
     if not isinstance(data, Mapping) or not data:
         raise SceneError(f"{origin}: a scene file needs at least one [name] table (one of {', '.join(SCENE_NAMES)})")
     problems: list[str] = []
@@ -125,8 +142,6 @@ def resolve_scene(scene: str | os.PathLike | Scene, *, default: str = "design") 
     A file with one scene gives that scene; a file with several gives the one named
     ``default`` (the gear set's ``scene``).
     """
-    from .pipeline import SCENES, Scene
-
     if isinstance(scene, Scene):
         return scene
     if isinstance(scene, str) and scene in SCENES:
@@ -174,3 +189,7 @@ def _describe(kind: str, rng) -> str:
 def _type_name(value) -> str:
     return {bool: "a boolean", int: "an integer", float: "a number", str: "a text", list: "an array",
             dict: "a table"}.get(type(value), type(value).__name__)
+
+
+# The presets are data: profilegen/scenes.toml (a user's copy works as design(scene="path.toml"))
+SCENES: dict[str, Scene] = read_scenes(bundled_scenes_path())

@@ -837,7 +837,7 @@ class _Journal:
         return {pid: {c: cells.get(c, "") for c in self.columns} for pid, cells in rows.items()}
 
     def _rewrite(self, rows: Mapping[str, Mapping[str, str]]) -> None:
-        from .export import atomic_write
+        from .output.export import atomic_write
 
         with atomic_write(self.path) as f:
             f.write(self._line(self.header))
@@ -874,7 +874,7 @@ def _require_pyarrow(path) -> None:
 def write_table(rows: Sequence[Mapping], columns: Sequence[str], path: str | os.PathLike) -> Path:
     """Write rows as CSV, or as Parquet when ``path`` ends in ``.parquet`` (needs pyarrow);
     atomically. Empty cells are empty in the CSV, nulls in Parquet."""
-    from .export import atomic_write
+    from .output.export import atomic_write
 
     path = Path(path)
     if path.suffix == ".parquet":
@@ -898,46 +898,13 @@ def plot_sweep(result: SweepResult, output: str | None = None, *, ax: Axes | Non
                path: str | os.PathLike | None = None):
     """``output`` (default the spec's ``plot``) against each swept field, one panel per
     field; failed points as red crosses on the axis. Returns the Axes of the first panel,
-    or the path written when ``path`` is given (PNG, atomically)."""
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
+    or the path written when ``path`` is given (PNG, atomically). The figure is drawn by
+    :func:`profilegen.output.plot.sweep_figure`."""
     spec = result.spec
     output = output or spec.plot
     if output not in OUTPUT_COLUMNS:
         raise ValueError(f"output must be an output column ({', '.join(OUTPUT_COLUMNS)}), got {output!r}")
-    fields = spec.fields
-    if ax is None:
-        fig = Figure(figsize=(4.2 * len(fields), 3.4), layout="constrained")
-        FigureCanvasAgg(fig)
-        axes = [fig.add_subplot(1, len(fields), k + 1) for k in range(len(fields))]
-    else:
-        fig, axes = ax.figure, [ax]
-    for a, f in zip(axes, fields):
-        xs = [r[f] for r in result.rows]
-        categorical = not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in xs)
-        if categorical:
-            labels = sorted({str(x) for x in xs})
-            pos = {lab: k for k, lab in enumerate(labels)}
-            xs = [pos[str(x)] for x in xs]
-            a.set_xticks(range(len(labels)), labels)
-        ok = [(x, r[output]) for x, r in zip(xs, result.rows) if r["status"] == "ok" and r[output] is not None]
-        bad = [x for x, r in zip(xs, result.rows) if r["status"] != "ok"]
-        if ok:
-            a.plot(*zip(*ok), "o", color="#1f5fbf", markersize=4, label=f"ok ({len(ok)})")
-        if bad:
-            a.plot(bad, [0.0] * len(bad), "x", color="#d62728", markersize=6, transform=a.get_xaxis_transform(),
-                   clip_on=False, label=f"failed ({len(bad)})")
-        a.set_xlabel(f)
-        a.set_ylabel(output)
-        a.grid(True, linewidth=0.4, alpha=0.5)
-        a.legend(fontsize=7)
-    fig.suptitle(f"sweep {spec.name}: {spec.kind}, {len(result.rows)} points, scene {spec.scene.name}", fontsize=9)
-    if path is None:
-        return axes[0]
-    from .export import atomic_write
+    from .output.plot import sweep_figure
 
-    path = Path(path)
-    with atomic_write(path, "wb") as handle:
-        fig.savefig(handle, format="png", dpi=120)
-    return path
+    title = f"sweep {spec.name}: {spec.kind}, {len(result.rows)} points, scene {spec.scene.name}"
+    return sweep_figure(result.rows, spec.fields, output, title=title, ax=ax, path=path)

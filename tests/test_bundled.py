@@ -11,7 +11,7 @@ import json
 import numpy as np
 import pytest
 
-from profilegen import cad
+from profilegen.output import cad
 from profilegen.cli import main
 from profilegen.gearset import list_profiles, load_gearset
 

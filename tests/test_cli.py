@@ -71,7 +71,7 @@ def test_design_dxf_is_the_closed_cs_outline_of_true_arcs_in_mm(tmp_path):
     """circular_spline.dxf: only LINE and ARC on layer CS, mm units, audit clean, one closed
     chain (gaps ≤ 1e-9 mm after read-back), z2 identical spaces between the tip and root circles,
     and its flank within the reported deviation of the exact envelope."""
-    from profilegen import cad
+    from profilegen.output import cad
 
     assert main(["design", "--scene", "sketch", "--out", str(tmp_path / "o"), "-q"]) == 0
     path = tmp_path / "o" / "circular_spline.dxf"

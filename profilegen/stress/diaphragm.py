@@ -58,7 +58,6 @@ __all__ = [
     "goodman_safety_factor",
     "goodman_shear_safety_factor",
     "mean_shear_stress_mpa",
-    "plot_goodman",
 ]
 
 OUTER_EDGES = ("hinged", "rigid_joint")
@@ -190,9 +189,6 @@ class DiaphragmStress:
         out["max_shear_mpa"] = self.max_shear_mpa
         return json_ready(out)
 
-    def plot(self, ax=None):
-        return plot_goodman(self, ax)
-
 
 def diaphragm_stress(*, cup_radius_mm: float, boss_radius_mm: float, diaphragm_thickness_mm: float,
                      cup_length_mm: float, deflection_mm: float, youngs_modulus_mpa: float, poisson_ratio: float,
@@ -284,32 +280,3 @@ def diaphragm_stress(*, cup_radius_mm: float, boss_radius_mm: float, diaphragm_t
         shear_endurance_limit_mpa=tau_e, shear_ultimate_mpa=tau_u, safety_factor=n, outer_edge=outer_edge,
         inputs=inputs, time_s=time.perf_counter() - t_start, warnings=tuple(warnings),
     )
-
-
-def plot_goodman(result: DiaphragmStress, ax=None):
-    """Goodman diagram for shear (seed 000's Fig. 21): the line τ_a/τ_-1 + τ_m/τ_u = 1, the
-    line scaled by 1/n through the operating point (τ_m, τ_a) and the load line from the
-    origin. ``ax``: a matplotlib Axes, or None for a new figure (Agg canvas, no pyplot).
-    Returns the Axes. Needs a result computed with ``fatigue=True``."""
-    if result.safety_factor is None:
-        raise StressError("result.safety_factor is None: plot_goodman needs a result computed with fatigue=True")
-    if ax is None:
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(4.8, 3.8), layout="constrained")
-        FigureCanvasAgg(fig)
-        ax = fig.add_subplot()
-    tau_e, tau_u = result.shear_endurance_limit_mpa, result.shear_ultimate_mpa
-    tau_m, tau_a, n = result.mean_shear_mpa, result.shear_amplitude_mpa, result.safety_factor
-    ax.plot([0.0, tau_u], [tau_e, 0.0], "k-", label="Goodman: τ_a/τ_-1 + τ_m/τ_u = 1")
-    if math.isfinite(n) and n > 0:
-        ax.plot([0.0, tau_u / n], [tau_e / n, 0.0], "k--", linewidth=0.8, label=f"operating line, n = {n:.2f}")
-        scale = max(1.0, n)
-        ax.plot([0.0, tau_m * scale], [0.0, tau_a * scale], ":", color="0.4", linewidth=0.8, label="load line")
-    ax.plot([tau_m], [tau_a], "o", color="#d62728", label=f"(τ_m, τ_a) = ({tau_m:.1f}, {tau_a:.1f}) MPa")
-    ax.set(xlabel="mean shear τ_m (MPa)", ylabel="shear amplitude τ_a (MPa)", xlim=(0.0, 1.05 * tau_u),
-           ylim=(0.0, 1.1 * tau_e), title="diaphragm corner, Goodman (shear)")
-    ax.grid(True, linewidth=0.3)
-    ax.legend(fontsize=7)
-    return ax

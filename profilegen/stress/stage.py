@@ -129,11 +129,6 @@ class StressResult:
             "warnings": list(self.warnings),
         })
 
-    def plot(self, path=None):
-        from ..plot import stress_figure
-
-        return stress_figure(self, path=path)
-
 
 def tangential_tooth_forces_n(contact) -> tuple[float, ...]:
     """The largest tangential tooth force of each load case of a ContactResult (N): per

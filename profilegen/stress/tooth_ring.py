@@ -70,7 +70,6 @@ __all__ = [
     "load_moment_nmm_per_mm",
     "load_stress_mpa",
     "optimal_fillet_radius_mm",
-    "plot_tooth_ring_study",
     "root_thickness_from_slot_ratio",
     "seed001_case",
     "seed001_comparison",
@@ -691,9 +690,6 @@ class ToothRingStudy:
         out["case"] = self.case.to_dict()
         return json_ready(out)
 
-    def plot(self, axes=None):
-        return plot_tooth_ring_study(self, axes)
-
 
 def _range(name: str, values, unit: str) -> np.ndarray:
     arr = np.atleast_1d(_positive(name, values, unit)).astype(float)
@@ -748,39 +744,6 @@ def tooth_ring_study(case: ToothRingCase, torques_nm, *,
         optimal_thickness_vs_slot=d_vs_nu, optimal_slot_ratio=n_opt, optimal_slot_interior=n_in,
         table_slot_ratios=table, optimal_thickness_table=d_table, time_s=time.perf_counter() - t0,
     )
-
-
-def plot_tooth_ring_study(study: ToothRingStudy, axes=None):
-    """Three panels like seed 001's figures: σ_total against δ/r_m (with the no-load
-    assembly stress dashed and each optimum marked), against r1/m and against ν (at the
-    optimal δ for each ν), one line per torque. ``axes``: three matplotlib Axes, or None for
-    a new figure (Agg canvas, no pyplot). Returns the axes."""
-    if axes is None:
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(11.0, 3.6), layout="constrained")
-        FigureCanvasAgg(fig)
-        axes = fig.subplots(1, 3)
-    ax_d, ax_r, ax_n = axes
-    for k, torque in enumerate(study.torques_nm):
-        label = f"{torque:g} N·m"
-        line, = ax_d.plot(100 * study.thickness_ratios, study.stress_vs_thickness_mpa[k], label=label)
-        ax_d.plot(100 * study.optimal_thickness_ratio[k], study.optimal_thickness_stress_mpa[k], "o",
-                  color=line.get_color(), markersize=4)
-        ax_r.plot(study.fillet_ratios, study.stress_vs_fillet_mpa[k], color=line.get_color(), label=label)
-        ax_n.plot(study.slot_ratios, study.stress_vs_slot_mpa[k], color=line.get_color(), label=label)
-    ax_d.plot(100 * study.thickness_ratios, study.assembly_vs_thickness_mpa[0], "k--", linewidth=0.8,
-              label="assembly only")
-    c = study.case
-    ax_d.set(xlabel="δ/r_m (%)", ylabel="σ_total (MPa)", title=f"r1/m = {c.fillet_ratio:g}, ν = {c.slot_ratio:g}")
-    ax_r.set(xlabel="r1/m", ylabel="σ_total (MPa)",
-             title=f"δ/r_m = {100 * c.thickness_ratio:g} %, ν = {c.slot_ratio:g}")
-    ax_n.set(xlabel="slot width ratio ν", ylabel="σ_total at optimal δ (MPa)", title=f"r1/m = {c.fillet_ratio:g}")
-    for ax in axes:
-        ax.grid(True, linewidth=0.3)
-    ax_d.legend(fontsize=7)
-    return axes
 
 
 # --------------------------------------------------------------------------- seed 001 check

@@ -27,7 +27,7 @@ sys.path.insert(0, str(ROOT))
 import profilegen as pg  # noqa: E402
 from profilegen.contact.analysis import ARCMIN_PER_RAD, analyse_contact, solve_contact  # noqa: E402
 from profilegen.contact.compliance import ContactCompliance  # noqa: E402
-from profilegen.plot import CATALOG_SIZE40_RATIO50, contact_figure  # noqa: E402
+from profilegen.output.plot import CATALOG_SIZE40_RATIO50, contact_figure  # noqa: E402
 
 TORQUES_NM = [5, 10, 20, 30, 54, 100, 150, 196, 265, 400, 660, 1200]
 

@@ -25,7 +25,7 @@ sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
 from profilegen.contact.analysis import analyse_contact, solve_contact  # noqa: E402
-from profilegen.plot import CATALOG_SIZE40_RATIO50  # noqa: E402
+from profilegen.output.plot import CATALOG_SIZE40_RATIO50  # noqa: E402
 
 TORQUES_NM = [54.0, 265.0, 660.0]
 CASES = [(0.0, "bonded"), (1.5, "bonded"), (2.5, "bonded"), (3.5, "bonded"),

@@ -31,7 +31,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from profilegen.contact import solve_lemke, solve_naive_lp, solve_qp_active_set
-from profilegen.export import atomic_write
+from profilegen.output.export import atomic_write
 
 SIZES = (50, 200, 800, 2000)
 SOLVERS = {"lemke": solve_lemke, "qp_active_set": solve_qp_active_set, "naive_lp_highs": solve_naive_lp}

@@ -97,7 +97,8 @@ def _run(args: list[str], out: Path, env: dict) -> tuple[float, float | None, fl
 def _in_process(n: int, profile: bool, scenes: list[str], tmp: Path) -> dict[str, dict]:
     """design() once per scene, then write_design n times; optionally one profiled write."""
     from profilegen.gearset import default_gearset_path, load_gearset
-    from profilegen.pipeline import design, write_design
+    from profilegen.output.files import write_design
+    from profilegen.pipeline import design
 
     gs = load_gearset(default_gearset_path())
     out = {}

@@ -40,7 +40,7 @@ import sys
 import time
 from pathlib import Path
 
-from profilegen import outfolder
+from profilegen.output import folder as outfolder
 
 NAME = "default"
 DEFAULT = []  # the default scene: with contact.json and contact.png

@@ -62,7 +62,7 @@ sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
 from profilegen.errors import ConvergenceError, ProfilegenError  # noqa: E402
-from profilegen.export import atomic_write  # noqa: E402
+from profilegen.output.export import atomic_write  # noqa: E402
 
 OUT = ROOT / "export" / "bench"
 FAMILIES = ("envelope", "fitter", "contact", "rim", "plate")

@@ -22,7 +22,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from profilegen.export import atomic_write  # noqa: E402
+from profilegen.output.export import atomic_write  # noqa: E402
+from profilegen.output.plot import plot_tooth_ring_study  # noqa: E402
 from profilegen.stress import diaphragm as dg  # noqa: E402
 from profilegen.stress import tooth_ring as tr  # noqa: E402
 
@@ -65,7 +66,7 @@ def main() -> None:
         w = csv.DictWriter(f, fieldnames=list(rows[0]), lineterminator="\n")
         w.writeheader()
         w.writerows(rows)
-    axes = tr.plot_tooth_ring_study(study)
+    axes = plot_tooth_ring_study(study)
     fig = axes[0].figure
     fig.suptitle("seed 001 SHF-25 tooth ring: σ_total = σ_ass + σ_load (unstated inputs: see seed001_case)")
     with atomic_write(out / "stress_ring.png", "wb") as f:

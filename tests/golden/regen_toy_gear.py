@@ -4,7 +4,7 @@
     python tests/golden/regen_toy_gear.py --write    # ... and replace tests/golden/toy_gear.dxf
 
 The toy gear is the one of ``tests/unit/test_cad.py`` (``toy_gear_layers``, ``TOY_TEXTS``),
-written by :func:`profilegen.cad.write_contours_dxf`. Before anything is replaced the new
+written by :func:`profilegen.output.cad.write_contours_dxf`. Before anything is replaced the new
 file must pass :func:`tests.golden.toy_gear_checks.check_toy_gear_dxf` (closure, turning,
 G1 joins, area, radii, symmetry against the analytic gear); a file that fails is not
 written, and the exit status is 1. The golden file is replaced atomically (temp file in the
@@ -24,7 +24,7 @@ ROOT = Path(__file__).resolve().parents[2]
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from profilegen.cad import write_contours_dxf  # noqa: E402
+from profilegen.output.cad import write_contours_dxf  # noqa: E402
 from tests.golden.toy_gear_checks import ToyGearCheckError, check_toy_gear_dxf  # noqa: E402
 
 GOLDEN = ROOT / "tests" / "golden" / "toy_gear.dxf"

@@ -1,4 +1,4 @@
-"""Unit tests of profilegen.cad: DXF with true LINE/ARC entities, SVG paths, PNG preview.
+"""Unit tests of profilegen.output.cad: DXF with true LINE/ARC entities, SVG paths, PNG preview.
 
 The contours are built here by hand from :mod:`profilegen.contour` elements — a slot
 (two half circles and two lines) and a 12-tooth toy gear (one pitch of arcs and lines,
@@ -35,7 +35,7 @@ import ezdxf
 import numpy as np
 import pytest
 
-from profilegen.cad import (
+from profilegen.output.cad import (
     audit,
     chain_gaps,
     oriented_chain,
@@ -46,7 +46,7 @@ from profilegen.cad import (
 )
 from profilegen.contour import Arc, Chain, ContourError, Line
 from profilegen.errors import ExportError
-from profilegen.export import DXF_LAYER_COLORS
+from profilegen.output.export import DXF_LAYER_COLORS
 from tests.golden.toy_gear_checks import ToyGearCheckError, analytic_area_mm2, check_toy_gear_dxf
 
 GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "toy_gear.dxf"

@@ -1,4 +1,4 @@
-"""Unit tests of profilegen.export: atomic files, JSON, CSV and DXF.
+"""Unit tests of profilegen.output.export: atomic files, JSON, CSV and DXF.
 
 Files are checked by reading them back with independent readers (json, csv,
 ezdxf) and against the envelope's own pieces, never against the writer's
@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from profilegen.errors import ExportError
-from profilegen.export import (
+from profilegen.output.export import (
     DXF_LAYER_COLORS,
     atomic_write,
     read_dxf_polylines,

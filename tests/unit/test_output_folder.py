@@ -1,4 +1,4 @@
-"""profilegen.outfolder and write_design: the output folder changes as a whole.
+"""profilegen.output.folder and write_design: the output folder changes as a whole.
 
 A run that fails or is killed (SIGKILL, at exact moments in forked children and once in a real
 ``profilegen design --scene sketch``) leaves exactly the complete old set of files, byte for byte;
@@ -24,10 +24,10 @@ from pathlib import Path
 import pytest
 
 import profilegen as pg
-from profilegen import outfolder
+from profilegen.output import folder as outfolder
 from profilegen.errors import ExportError
 from profilegen.gearset import default_gearset_path, load_gearset
-from profilegen.pipeline import OUTPUT_FILES
+from profilegen.output.files import OUTPUT_FILES
 
 OURS = {"a.txt", "b.txt", "c.txt", "d.txt", "design.json"}
 

@@ -1,4 +1,4 @@
-"""Unit tests of profilegen.plot: lazy matplotlib, the envelope figure, clearance."""
+"""Unit tests of profilegen.output.plot: lazy matplotlib, the envelope figure, clearance."""
 
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from profilegen import plot
+from profilegen.output import plot
 from profilegen.errors import ExportError
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -23,7 +23,7 @@ def _classes(env):
 
 
 def test_import_does_not_import_matplotlib():
-    code = "import sys, profilegen.plot, profilegen.export; print(sorted(m for m in sys.modules if m.startswith(('matplotlib', 'ezdxf'))))"
+    code = "import sys, profilegen.output.plot, profilegen.output.export; print(sorted(m for m in sys.modules if m.startswith(('matplotlib', 'ezdxf'))))"
     env = dict(os.environ, PYTHONPATH=os.pathsep.join([str(ROOT), os.environ.get("PYTHONPATH", "")]))
     out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "[]", out.stdout
@@ -119,9 +119,9 @@ def test_envelope_bad_input_names_the_parameter(default_set):
         plot.envelope(env, tooth=tooth, motion=motion, family=0)
 
 
-def test_envelope_plot_method_delegates(default_set):
+def test_envelope_legend_names_every_class(default_set):
     _, _, env = default_set
-    ax = env.plot()
+    ax = plot.envelope(env)
     assert sorted(t.get_text() for t in ax.get_legend().get_texts()) == sorted(_classes(env))
 
 

@@ -18,7 +18,7 @@ import time
 import pytest
 
 import profilegen as pg
-from profilegen import report
+from profilegen.output import report
 from profilegen.gearset import default_gearset_path, load_gearset
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
@@ -96,7 +96,7 @@ def test_no_pool_draws_here(monkeypatch):
 
 def test_a_dead_worker_is_drawn_here(caplog):
     jobs = {"dies": (_die_in_worker, (os.getpid(),)), "fine": (_slow_png, (0.0,))}
-    with caplog.at_level("WARNING", logger="profilegen.report"):
+    with caplog.at_level("WARNING", logger="profilegen.output.report"):
         with report.rendering(jobs, workers=1) as collect:
             images = collect()
     assert images["dies"] == PNG_MAGIC + b"drawn here"
@@ -123,7 +123,7 @@ def test_the_workers_env_variable(monkeypatch, caplog):
     monkeypatch.setenv(report.WORKERS_ENV, "3")
     assert report._default_workers() == 3
     monkeypatch.setenv(report.WORKERS_ENV, "many")
-    with caplog.at_level("WARNING", logger="profilegen.report"):
+    with caplog.at_level("WARNING", logger="profilegen.output.report"):
         assert report._default_workers() in (0, 1, 2)
     assert any(report.WORKERS_ENV in r.getMessage() for r in caplog.records)
 

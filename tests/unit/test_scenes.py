@@ -10,7 +10,7 @@ import pytest
 import profilegen as pg
 from profilegen.cli import main
 from profilegen.errors import GearSetError
-from profilegen.pipeline import SCENES, Scene
+from profilegen.scenes import SCENES, Scene
 from profilegen.scenes import SceneError, bundled_scenes_path, parse_scenes, read_scenes, resolve_scene
 
 # the presets as pipeline.py spelled them before they became data (the sketch grid since: 96 × 241)

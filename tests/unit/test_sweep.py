@@ -14,7 +14,8 @@ import pytest
 
 from profilegen.cli import main
 from profilegen.errors import GearSetError, SweepSpecError
-from profilegen.pipeline import SCENES, design
+from profilegen.pipeline import design
+from profilegen.scenes import SCENES
 from profilegen.sweep import (
     OUTPUT_COLUMNS,
     SweepError,

@@ -1,4 +1,4 @@
-"""Validation of profilegen.cad's DXF against an independent CAD program: LibreCAD.
+"""Validation of profilegen.output.cad's DXF against an independent CAD program: LibreCAD.
 
 Source: LibreCAD 2.2 (Debian package ``librecad``), whose DXF reader is libdxfrw — no
 ezdxf code involved. Its command line prints a DXF to PDF,
@@ -36,7 +36,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from profilegen.cad import chain_gaps, read_dxf_contours, write_contours_dxf
+from profilegen.output.cad import chain_gaps, read_dxf_contours, write_contours_dxf
 from profilegen.contour import Arc, Chain
 
 GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "toy_gear.dxf"

@@ -18,6 +18,7 @@ import pytest
 from scipy.integrate import cumulative_trapezoid, solve_bvp
 
 from profilegen.errors import StressError
+from profilegen.output.plot import plot_goodman
 from profilegen.stress import diaphragm as dg
 
 #: A size-40 cup (seed 000's CSF40-100; its dimensions are a trade secret): ESTIMATES.
@@ -142,7 +143,7 @@ def test_result_safety_factor_uses_0p577_sigma_u_by_hand():
 
 def test_plot_goodman_and_json(tmp_path):
     res = dg.diaphragm_stress(**sample())
-    ax = dg.plot_goodman(res)
+    ax = plot_goodman(res)
     assert len(ax.lines) >= 3
     ax.figure.savefig(tmp_path / "goodman.png")
     data = json.loads(json.dumps(res.to_dict()))
@@ -150,7 +151,7 @@ def test_plot_goodman_and_json(tmp_path):
     with pytest.raises(ValueError):
         res.radius_mm[0] = 0.0
     with pytest.raises(StressError, match="safety_factor"):
-        dg.plot_goodman(dg.diaphragm_stress(**sample(fatigue=False)))
+        plot_goodman(dg.diaphragm_stress(**sample(fatigue=False)))
 
 
 # --------------------------------------------------------------------------- bad input

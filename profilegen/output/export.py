@@ -32,7 +32,7 @@ from typing import IO, Any
 
 import numpy as np
 
-from .errors import ExportError
+from ..errors import ExportError
 
 __all__ = [
     "DXF_LAYER_COLORS",

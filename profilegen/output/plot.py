@@ -20,12 +20,18 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from ..errors import StressError
+
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
+    from ..stress.diaphragm import DiaphragmStress
+    from ..stress.tooth_ring import ToothRingStudy
+
 __all__ = ["CLASS_STYLE", "PAPER_RC", "envelope", "envelope_figure", "envelope_png", "clearance", "tooth_line",
-           "family_outlines", "contact_figure", "stress_figure", "fixed_figure", "png_bytes"]
+           "family_outlines", "contact_figure", "stress_figure", "fixed_figure", "png_bytes",
+           "plot_goodman", "plot_tooth_ring_study", "sweep_figure"]
 
 #: Line style per envelope class, in legend order.
 CLASS_STYLE: dict[str, dict[str, Any]] = {
@@ -393,8 +399,6 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
 def _diaphragm_panel(diaphragm: Any, ax) -> None:
     """The diaphragm's Goodman diagram, or, when the material gives no fatigue limits (they are
     optional), its operating point (τ_m, τ_a) alone with the reason the diagram is missing."""
-    from .stress.diaphragm import plot_goodman
-
     if diaphragm.safety_factor is not None:
         plot_goodman(diaphragm, ax)
         return
@@ -475,3 +479,111 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
     if path is not None:
         _save(png_bytes(fig, 120), path)
     return fig
+
+
+def plot_goodman(result: DiaphragmStress, ax=None):
+    """Goodman diagram for shear (seed 000's Fig. 21): the line τ_a/τ_-1 + τ_m/τ_u = 1, the
+    line scaled by 1/n through the operating point (τ_m, τ_a) and the load line from the
+    origin. ``ax``: a matplotlib Axes, or None for a new figure (Agg canvas, no pyplot).
+    Returns the Axes. Needs a result computed with ``fatigue=True``."""
+    if result.safety_factor is None:
+        raise StressError("result.safety_factor is None: plot_goodman needs a result computed with fatigue=True")
+    if ax is None:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(4.8, 3.8), layout="constrained")
+        FigureCanvasAgg(fig)
+        ax = fig.add_subplot()
+    tau_e, tau_u = result.shear_endurance_limit_mpa, result.shear_ultimate_mpa
+    tau_m, tau_a, n = result.mean_shear_mpa, result.shear_amplitude_mpa, result.safety_factor
+    ax.plot([0.0, tau_u], [tau_e, 0.0], "k-", label="Goodman: τ_a/τ_-1 + τ_m/τ_u = 1")
+    if math.isfinite(n) and n > 0:
+        ax.plot([0.0, tau_u / n], [tau_e / n, 0.0], "k--", linewidth=0.8, label=f"operating line, n = {n:.2f}")
+        scale = max(1.0, n)
+        ax.plot([0.0, tau_m * scale], [0.0, tau_a * scale], ":", color="0.4", linewidth=0.8, label="load line")
+    ax.plot([tau_m], [tau_a], "o", color="#d62728", label=f"(τ_m, τ_a) = ({tau_m:.1f}, {tau_a:.1f}) MPa")
+    ax.set(xlabel="mean shear τ_m (MPa)", ylabel="shear amplitude τ_a (MPa)", xlim=(0.0, 1.05 * tau_u),
+           ylim=(0.0, 1.1 * tau_e), title="diaphragm corner, Goodman (shear)")
+    ax.grid(True, linewidth=0.3)
+    ax.legend(fontsize=7)
+    return ax
+
+
+def plot_tooth_ring_study(study: ToothRingStudy, axes=None):
+    """Three panels like seed 001's figures: σ_total against δ/r_m (with the no-load
+    assembly stress dashed and each optimum marked), against r1/m and against ν (at the
+    optimal δ for each ν), one line per torque. ``axes``: three matplotlib Axes, or None for
+    a new figure (Agg canvas, no pyplot). Returns the axes."""
+    if axes is None:
+        from matplotlib.backends.backend_agg import FigureCanvasAgg
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(11.0, 3.6), layout="constrained")
+        FigureCanvasAgg(fig)
+        axes = fig.subplots(1, 3)
+    ax_d, ax_r, ax_n = axes
+    for k, torque in enumerate(study.torques_nm):
+        label = f"{torque:g} N·m"
+        line, = ax_d.plot(100 * study.thickness_ratios, study.stress_vs_thickness_mpa[k], label=label)
+        ax_d.plot(100 * study.optimal_thickness_ratio[k], study.optimal_thickness_stress_mpa[k], "o",
+                  color=line.get_color(), markersize=4)
+        ax_r.plot(study.fillet_ratios, study.stress_vs_fillet_mpa[k], color=line.get_color(), label=label)
+        ax_n.plot(study.slot_ratios, study.stress_vs_slot_mpa[k], color=line.get_color(), label=label)
+    ax_d.plot(100 * study.thickness_ratios, study.assembly_vs_thickness_mpa[0], "k--", linewidth=0.8,
+              label="assembly only")
+    c = study.case
+    ax_d.set(xlabel="δ/r_m (%)", ylabel="σ_total (MPa)", title=f"r1/m = {c.fillet_ratio:g}, ν = {c.slot_ratio:g}")
+    ax_r.set(xlabel="r1/m", ylabel="σ_total (MPa)",
+             title=f"δ/r_m = {100 * c.thickness_ratio:g} %, ν = {c.slot_ratio:g}")
+    ax_n.set(xlabel="slot width ratio ν", ylabel="σ_total at optimal δ (MPa)", title=f"r1/m = {c.fillet_ratio:g}")
+    for ax in axes:
+        ax.grid(True, linewidth=0.3)
+    ax_d.legend(fontsize=7)
+    return axes
+
+
+def sweep_figure(rows, fields, output: str, *, title: str, ax=None, path=None):
+    """One panel per swept field: ``output`` of the rows whose ``status`` is ok against the
+    field, failed points as red crosses on the axis (the sweep's figure; see
+    :func:`profilegen.sweep.plot_sweep`). Returns the Axes of the first panel, or ``path``
+    when given (PNG, written atomically)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    if ax is None:
+        fig = Figure(figsize=(4.2 * len(fields), 3.4), layout="constrained")
+        FigureCanvasAgg(fig)
+        axes = [fig.add_subplot(1, len(fields), k + 1) for k in range(len(fields))]
+    else:
+        fig, axes = ax.figure, [ax]
+    for a, f in zip(axes, fields):
+        xs = [r[f] for r in rows]
+        categorical = not all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in xs)
+        if categorical:
+            labels = sorted({str(x) for x in xs})
+            pos = {lab: k for k, lab in enumerate(labels)}
+            xs = [pos[str(x)] for x in xs]
+            a.set_xticks(range(len(labels)), labels)
+        ok = [(x, r[output]) for x, r in zip(xs, rows) if r["status"] == "ok" and r[output] is not None]
+        bad = [x for x, r in zip(xs, rows) if r["status"] != "ok"]
+        if ok:
+            a.plot(*zip(*ok), "o", color="#1f5fbf", markersize=4, label=f"ok ({len(ok)})")
+        if bad:
+            a.plot(bad, [0.0] * len(bad), "x", color="#d62728", markersize=6, transform=a.get_xaxis_transform(),
+                   clip_on=False, label=f"failed ({len(bad)})")
+        a.set_xlabel(f)
+        a.set_ylabel(output)
+        a.grid(True, linewidth=0.4, alpha=0.5)
+        a.legend(fontsize=7)
+    fig.suptitle(title, fontsize=9)
+    if path is None:
+        return axes[0]
+    from pathlib import Path
+
+    from .export import atomic_write
+
+    path = Path(path)
+    with atomic_write(path, "wb") as handle:
+        fig.savefig(handle, format="png", dpi=120)
+    return path

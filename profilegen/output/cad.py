@@ -17,7 +17,7 @@ the exact geometry.
 * :func:`render_dxf_png` — a preview rendered from the DXF file itself (ezdxf's drawing
   add-on, matplotlib's Agg canvas), so it shows what the file holds.
 
-Every writer goes through :func:`profilegen.export.atomic_write`: a failure leaves
+Every writer goes through :func:`profilegen.output.export.atomic_write`: a failure leaves
 nothing partial and an ``OSError`` becomes an :class:`~profilegen.errors.ExportError`
 naming the path. ezdxf and matplotlib are imported inside the functions only.
 
@@ -47,7 +47,7 @@ from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
 
-from .contour import Arc, Chain, ContourError, Line, Polyline
+from ..contour import Arc, Chain, ContourError, Line, Polyline
 from .export import DXF_LAYER_COLORS, atomic_write, dxf_document, save_dxf
 
 __all__ = [
@@ -193,7 +193,7 @@ def write_contours_dxf(
 
     ``layers`` maps a layer name to a list of :class:`Chain`, :class:`Line` or
     :class:`Arc`; a chain's elements are written in order. The standard layers of
-    :data:`profilegen.export.DXF_LAYER_COLORS` (CS red, FS blue, WG green,
+    :data:`profilegen.output.export.DXF_LAYER_COLORS` (CS red, FS blue, WG green,
     construction grey, annotation white) are always created, others with colour 7.
     Entities go in layer order, except that the ``construction`` layer comes first
     (CAD programs draw in file order, so construction lines lie underneath).

@@ -47,7 +47,7 @@ import time
 from collections.abc import Callable, Collection, Iterator
 from pathlib import Path
 
-from .errors import ExportError
+from ..errors import ExportError
 
 try:
     import fcntl

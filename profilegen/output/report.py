@@ -27,7 +27,7 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 
-from .pools import stop_pool
+from ..pools import stop_pool
 
 __all__ = ["deformation_fit_dict", "deformation_section_html", "design_report_html", "fit_report_html", "figure_png",
            "png_jobs", "rendering"]
@@ -61,7 +61,7 @@ def figure_png(fig, dpi: int = 130) -> str:
 
 def _figure(width=7.0, height=3.2, ncols=1, nrows=1, *, left=0.72, right=0.12, bottom=0.5, top=0.12,
             wgap=0.0, hgap=0.0, **subplot_kw):
-    """A report figure with fixed margins in inches (see :func:`profilegen.plot.fixed_figure`)."""
+    """A report figure with fixed margins in inches (see :func:`profilegen.output.plot.fixed_figure`)."""
     from .plot import fixed_figure
 
     return fixed_figure((width, height), nrows, ncols, left=left, right=right, bottom=bottom, top=top,
@@ -402,8 +402,8 @@ face width {cup.face_width_mm:g} mm, root fillet {cup.root_fillet_radius_mm:g} m
 @functools.lru_cache(maxsize=1)
 def _seed_tables() -> str:
     """The seed papers' tables: the same for every design, so made once per process."""
-    from .stress.plate import SEED002_BETA, seed002_beta, seed002_comparison
-    from .stress.tooth_ring import seed001_comparison, seed001_trend_checks
+    from ..stress.plate import SEED002_BETA, seed002_beta, seed002_comparison
+    from ..stress.tooth_ring import seed001_comparison, seed001_trend_checks
 
     beta = "".join(f"<tr><td>β{i}</td><td>{b:.4f}</td><td>{ours:.5f}</td><td>{ours - b:+.1e}</td></tr>"
                    for i, (b, ours) in enumerate(zip(SEED002_BETA, seed002_beta())))

@@ -1,0 +1,141 @@
+"""The files of a design: every output file :func:`write_design` writes, in one folder that changes as a whole.
+
+The pipeline computes a :class:`~profilegen.pipeline.Design`; this module turns it into files
+(DXF, SVG, CSV, JSON, PNG, HTML) through the writers of the output layer
+(:mod:`.cad`, :mod:`.export`, :mod:`.plot`, :mod:`.report`) and :mod:`.folder`.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..contour import Arc, Line, Polyline
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..pipeline import Design
+
+__all__ = ["OUTPUT_FILES", "write_design"]
+
+
+#: Every file name :func:`write_design` can write (the output folder may hold only these, see
+#: :mod:`profilegen.output.folder`); a new output file must be added here.
+OUTPUT_FILES = frozenset({
+    "envelope.csv", "circular_spline.dxf", "tooth_space.dxf", "assembly.dxf", "circular_spline.svg",
+    "circular_spline.csv", "profile_fit.json", "deformation_fit.json", "fit_report.html", "envelope.png",
+    "contact.json", "contact.png", "stress.json", "stress.png", "report.html", "design.json",
+})
+
+
+def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True) -> list[Path]:
+    """Write every output file of a design into out_dir (see the README, "Outputs"); returns their paths.
+
+    The folder changes as a whole (:mod:`profilegen.output.folder`): the files are written into a
+    staging folder beside ``out_dir``, which then takes its place in one atomic exchange. A failed
+    or killed run leaves the complete old set, a finished one exactly the new set — files of an
+    earlier run that this one does not write (``contact.json`` after a ``--no-contact`` run) are
+    gone, and ``design.json["files"]`` lists exactly the folder's files. What an interrupted run
+    left beside the folder is cleaned by the next run; a second run into the same folder waits
+    for the first (a lock file beside it).
+
+    ``out_dir`` must be absent or hold only profilegen's files: a folder with anything else in it
+    (a user's notes, a subfolder, ``--out .`` in a project folder) raises an ExportError naming the
+    folder and one such entry, and nothing is changed. Every failure is an ExportError naming the path.
+    """
+    from . import folder
+
+    with folder.replacing(out_dir, ours=OUTPUT_FILES) as staging:
+        names = _write_files(result, staging, figure=figure)
+    out = Path(out_dir)
+    return [out / name for name in names]
+
+
+def _write_files(result: Design, staging: Path, *, figure: bool) -> list[str]:
+    """Write the design's files into the empty folder ``staging``, design.json last; their names, sorted.
+
+    With ``figure`` the pictures are drawn first thing, in worker processes where two CPUs are
+    free (:func:`profilegen.output.report.rendering`), while the CAD, CSV and JSON files are written
+    here; each is drawn once and the reports embed the same PNG bytes as the files."""
+    from . import cad, export, report
+
+    with report.rendering(report.png_jobs(result) if figure else {}) as collect:
+        export.write_envelope_csv(staging / "envelope.csv", result.envelope)
+        data = result.to_dict()
+        prof = result.profile
+        circles = [Arc(np.zeros(2), r, 0.0, 2 * np.pi) for r in (result.form.tip_radius_mm, result.form.root_radius_mm)]
+        g = result.gearset
+        label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
+                 f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
+                 f"max deviation {prof.max_error_mm * 1e3:.3f} um")
+        r_out = result.form.root_radius_mm
+        note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
+        cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
+        cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
+        cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result), texts=note)
+        cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
+        export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
+        export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
+        export.write_json(staging / "deformation_fit.json", report.deformation_fit_dict(result))
+        if result.contact is not None:
+            export.write_json(staging / "contact.json", {"gearset": g.name, "scene": result.scene.name,
+                                                         **result.contact.to_dict()})
+        if result.stress is not None:
+            export.write_json(staging / "stress.json", {"gearset": g.name, "scene": result.scene.name,
+                                                        **result.stress.to_dict()})
+        if figure:
+            images = collect()
+            for name in ("envelope", "contact", "stress"):
+                if name in images:
+                    with export.atomic_write(staging / f"{name}.png", "wb") as f:
+                        f.write(images[name])
+            html = report.fit_report_html(result, prof.fits, chosen=prof.method, clearance=prof.clearance,
+                                          positions=prof.positions, images=images)
+            with export.atomic_write(staging / "fit_report.html", "w") as f:
+                f.write(html)
+            if result.stress is not None:
+                with export.atomic_write(staging / "report.html", "w") as f:
+                    f.write(report.design_report_html(result, images=images))
+    names = sorted({p.name for p in staging.iterdir()} | {"design.json"})
+    unknown = sorted(set(names) - OUTPUT_FILES)
+    if unknown:  # a new output file must be named in OUTPUT_FILES, or the next run would refuse the folder
+        raise RuntimeError(f"write_design wrote {unknown[0]!r}, which OUTPUT_FILES does not list")
+    data["files"] = names
+    export.write_json(staging / "design.json", data)  # last: a staging folder with design.json is complete
+    return names
+
+
+def _space_guides(result: Design) -> list:
+    """Construction for the one-space drawing: tip and root circle arcs over the space, its axis."""
+    f = result.form
+    half = 1.5 * np.pi / f.cs_teeth
+    arcs = [Arc(np.zeros(2), r, np.pi / 2 - half, 2 * half) for r in (f.tip_radius_mm, f.root_radius_mm)]
+    return arcs + [Line((0.0, f.tip_radius_mm - 0.2), (0.0, f.root_radius_mm + 0.2))]
+
+
+def _assembly_layers(result: Design) -> dict:
+    """CS (true arcs), the deformed FS in its assembled position (all z1 teeth, wave generator
+    at ψ = 0, major axis along +y) and the wave-generator contour, i.e. the deformed rim bore."""
+    from ..kinematics import turn
+
+    g = result.gearset.gear
+    tooth, motion = result.tooth, result.motion
+    surface = tooth.surface(n_per_mm=100.0)
+    fs = []
+    for k in range(g.flexspline_teeth):
+        theta = 2 * np.pi * k / g.flexspline_teeth  # carrier angle = φ at ψ = 0
+        pose = motion.pose(np.array([theta]))
+        pts = pose.to_cs(surface)
+        fs.append(Polyline(turn(pts, theta - motion.beta_rate * theta)))
+    phi = np.linspace(0.0, 2 * np.pi, 4 * g.flexspline_teeth + 1)
+    (w,), (u,) = result.deformation.evaluate(phi, order=0)
+    r_bore = g.neutral_radius_mm - g.rim_thickness_mm / 2 + w
+    from ..kinematics import unit_radial, unit_tangential
+
+    bore = r_bore[:, None] * unit_radial(phi) + u[:, None] * unit_tangential(phi)
+    bore[-1] = bore[0]
+    return {"CS": [result.profile.outline], "FS": fs + [Polyline(bore)], "WG": [Polyline(bore)]}
+
+
