@@ -54,7 +54,7 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from .errors import GearSetError
+from ..errors import GearSetError
 
 __all__ = [
     "GearSet",
@@ -482,7 +482,7 @@ class GearSet:
         # scene never builds it) and a sweep refuse the same sets. Two waves only: the rim stage
         # builds no contour for other wave counts (ring theory, with a warning).
         if self.gear.waves == 2:
-            from .wavegen import WaveGenError, WaveGeneratorFitError, from_gearset
+            from ..wavegen import WaveGenError, WaveGeneratorFitError, from_gearset
 
             try:
                 from_gearset(self)
@@ -815,7 +815,7 @@ def load_gearset(path: str | os.PathLike) -> GearSet:
 
 def _profile_dir_candidates() -> list[Path]:
     return [
-        Path(__file__).resolve().parents[1] / "profiles",
+        Path(__file__).resolve().parents[2] / "profiles",
         Path(sys.prefix) / "share" / "profilegen" / "profiles",
     ]
 
