@@ -118,7 +118,8 @@ def write_scene_benchmark(rows: list[dict], out_dir, *, title: str = "") -> list
 
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    stages = sorted({s for r in rows for s in r["stages_s"]}, key=lambda s: min(
+    # by earliest position in any row; ties in first-seen order (a set's order follows string hashing)
+    stages = sorted(dict.fromkeys(s for r in rows for s in r["stages_s"]), key=lambda s: min(
         list(r["stages_s"]).index(s) if s in r["stages_s"] else 99 for r in rows))
     fields = ["scene", "time_s", "repeats", "flank_error_mm", "profile_error_mm", "stiffness_rel",
               "tooth_force_rel", "min_safety_rel"] + [f"stage_{s}_s" for s in stages]
