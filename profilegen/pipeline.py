@@ -193,9 +193,9 @@ class Design:
 
     def _repr_html_(self) -> str:
         """The design sheet and the zoomable CS space, for notebooks (plotly.js embedded, offline)."""
-        from .output.sheet import notebook_html
+        from .output.interactive import notebook_html
 
-        return notebook_html(self)
+        return notebook_html(self, interference_tol_mm=interference_tol_mm(self.scene))
 
     def to_dict(self) -> dict:
         env = self.envelope

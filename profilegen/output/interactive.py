@@ -5,7 +5,8 @@ boundary of the FS tooth), the fitted arc–line–arc space that goes to CAD, t
 the right flank (hidden, one click in the legend), the arc centres, and the FS tooth at the
 pose of the smallest clearance with a light family of poses around the engagement.
 ``figure_html(design)`` is it as an HTML ``<div>`` with plotly.js embedded (no network: the
-script comes from the installed ``plotly`` package), for ``report.html`` and notebooks.
+script comes from the installed ``plotly`` package), for ``report.html``; ``notebook_html(design)``
+is the design sheet with it, for ``Design._repr_html_``.
 
 Why SVG ``scatter`` and not ``scattergl``: WebGL draws in float32, whose spacing at 50 mm is
 ~4 nm, and its vertex maths loses more — a 1 µm window at y ≈ 50 mm shows steps. SVG paths are
@@ -19,7 +20,7 @@ import math
 
 import numpy as np
 
-__all__ = ["flank_figure", "figure_html", "FIGURE_DIV_ID"]
+__all__ = ["flank_figure", "figure_html", "notebook_html", "FIGURE_DIV_ID"]
 
 #: The id of the figure's ``<div>`` in report.html (the browser test looks it up).
 FIGURE_DIV_ID = "cs-space"
@@ -123,10 +124,10 @@ def flank_figure(design, *, height_px: int = 600) -> dict:
     return {"data": data, "layout": layout}
 
 
-def figure_html(design, *, include_plotlyjs: bool = True, height_px: int = 600) -> str:
+def figure_html(design, *, include_plotlyjs: bool = True, height_px: int = 600, div_id: str = FIGURE_DIV_ID) -> str:
     """:func:`flank_figure` as an HTML ``<div id="cs-space">`` with its script; plotly.js is
     embedded (``include_plotlyjs``; ~4.7 MB, works offline) — pass False where the page already
-    holds it."""
+    holds it. ``div_id``: unique on the page (a notebook shows many)."""
     import plotly.io as pio
 
     fig = flank_figure(design, height_px=height_px)
@@ -136,5 +137,16 @@ def figure_html(design, *, include_plotlyjs: bool = True, height_px: int = 600) 
     hint = ('<p style="margin:0 0 0 8px;font-size:12px;color:#555">Drag a box to zoom (down to below 1 µm), '
             'scroll to zoom, double-click to reset; hover for coordinates; click a legend entry to show or hide it.</p>')
     return hint + pio.to_html(fig, config=config, include_plotlyjs=include_plotlyjs, full_html=False,
-                              validate=False, div_id=FIGURE_DIV_ID, default_width="100%",
+                              validate=False, div_id=div_id, default_width="100%",
                               default_height=f"{height_px}px")
+
+
+def notebook_html(design, *, interference_tol_mm: float) -> str:
+    """The sheet with its zoomable figure, for ``Design._repr_html_`` (Jupyter): plotly.js
+    embedded (offline), the figure under a fresh id so several designs can share a notebook."""
+    import uuid
+
+    from .sheet import sheet_html
+
+    return sheet_html(design, figure_html(design, div_id=f"cs-space-{uuid.uuid4().hex[:12]}"),
+                      interference_tol_mm=interference_tol_mm)

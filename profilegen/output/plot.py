@@ -349,10 +349,11 @@ CATALOG_SIZE40_RATIO50 = {"T1_nm": 54.0, "K1_nm_per_rad": 10e4, "T2_nm": 196.0, 
 
 
 def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | None = None,
-                   catalog: dict | None = None) -> "Figure":
+                   catalog: dict | None = None, ratio: float | None = None) -> "Figure":
     """Load sharing along the engagement (force per tooth vs φ, one line per torque), the
     torsional curve (torque vs rotation in arcmin, the catalog's bilinear curve for comparison)
-    and the ball reactions after settling."""
+    and the ball reactions after settling. ``ratio``: the gear set's, named beside the catalog
+    curve's own (ratio 50) so the two are not confused."""
     fig, (ax1, ax2, ax3) = fixed_figure((14.0, 4.0), 1, 3, left=0.62, right=0.45, bottom=0.5,
                                         top=0.32 if title else 0.12, wgap=0.78)
     for case in result.cases:
@@ -373,7 +374,8 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
         a2 = a1 + (t2 - t1) / cat["K2_nm_per_rad"]
         k = 180 * 60 / math.pi
         ax2.plot([0.0, a1 * k, a2 * k], [0.0, t1, t2], "k--", lw=1,
-                 label="catalog, size 40, ratio 50 (whole gear, K1/K2)")
+                 label="catalog, size 40, ratio 50 (whole gear, K1/K2)"
+                       + ("" if ratio is None or ratio == 50 else f"; this set: ratio {ratio:g}"))
     ax2.set_xlabel("elastic rotation of the FS against the CS (arcmin)")
     ax2.set_ylabel("torque (N·m)")
     ax2.legend(fontsize=7)
@@ -441,8 +443,12 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
     bottom = result.cup_bottom[-1]
     rr, pp = np.meshgrid(bottom.r_mm, bottom.phi_rad, indexing="ij")
     mesh = ax.pcolormesh(np.degrees(pp), rr, bottom.von_mises_mpa, shading="auto", cmap="viridis")
-    ax.plot(np.degrees(bottom.max_phi_rad), bottom.max_r_mm, "r*", ms=9,
-            label=f"max {bottom.max_von_mises_mpa:.0f} MPa at r = {bottom.max_r_mm:.2f} mm")
+    # the maximum sits at the boss (the panel's lower edge), often at φ = 0 (its left edge): drawn
+    # unclipped, large and white-edged over the map's yellow
+    ax.plot(np.degrees(bottom.max_phi_rad), bottom.max_r_mm, "*", color="#d62728", ms=16, mec="white", mew=1.2,
+            clip_on=False, zorder=6,
+            label=f"max {bottom.max_von_mises_mpa:.0f} MPa at r = {bottom.max_r_mm:.2f} mm, "
+                  f"φ = {np.degrees(bottom.max_phi_rad):.0f}°")
     fig.colorbar(mesh, ax=ax, label="von Mises (MPa)", fraction=0.05, pad=0.02)
     ax.set_xlabel("φ from the major axis (deg)")
     ax.set_ylabel("radius r (mm), boss → wall")
@@ -458,7 +464,7 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
     colors = ["0.7" if c.value is None else ("#2ca02c" if c.passed else "#d62728") for c in result.checks]
     y = np.arange(len(names))
     ax.barh(y, values, color=colors)
-    ax.axvline(result.checks[0].required if result.checks else 1.0, color="k", ls="--", lw=1, label="required")
+    ax.axvline(result.checks[0].required if result.checks else 1.0, color="k", ls="--", lw=1)
     for yi, c in zip(y, result.checks):
         if c.value is None:  # at the panel's left edge (x in axes units): a log axis has no 0 to put it at
             ax.text(0.01, yi, " skipped", va="center", fontsize=7, transform=ax.get_yaxis_transform())
@@ -469,9 +475,11 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
         ax.set_ylim(len(names) - 0.5, -0.5)
     else:
         ax.invert_yaxis()
-    ax.set_xlabel("safety factor")
+    ax.set_xlabel("safety factor (dashed: required)")
     ax.set_xscale("log")
-    ax.legend(fontsize=7, loc="lower right")
+    shown = [c.value for c in result.checks if c.value is not None]
+    if shown:  # room on the right for the longest bar's label (it ran past the panel's frame)
+        ax.set_xlim(right=max(max(shown), result.checks[0].required) * 3.0)
     ax.set_title("safety factors (green: pass, red: fail)", fontsize=9)
     ax.grid(True, which="both", color="0.9", lw=0.5)
     if title:

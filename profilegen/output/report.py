@@ -28,6 +28,9 @@ from collections.abc import Callable, Iterator
 import numpy as np
 
 from ..pools import stop_pool
+from .interactive import figure_html
+from ..pipeline import interference_tol_mm
+from .sheet import format_clearance, sheet_html
 
 __all__ = ["deformation_fit_dict", "deformation_section_html", "design_report_html", "fit_report_html", "figure_png",
            "png_jobs", "rendering"]
@@ -96,7 +99,7 @@ def profile_png(boundary, flank, fits: dict) -> bytes:
     # at least 2 in (its title and legend), the whole space (wide) the rest of the 5.3 in
     zoom_aspect = (hi[0] - lo[0] + 2 * pad) / max(hi[1] - lo[1] + 2 * pad, 1e-9)
     zoom_w = float(np.clip(3.2 * zoom_aspect, 2.0, 2.65))
-    fig, axes = _figure(7.0, 4.0, ncols=2, left=0.75, right=0.1, bottom=0.5, top=0.3, wgap=0.85,
+    fig, axes = _figure(7.0, 4.3, ncols=2, left=0.75, right=0.1, bottom=0.8, top=0.3, wgap=0.85,
                         width_ratios=[5.3 - zoom_w, zoom_w])
     samples = {name: fit.chain.sample(1e-5) for name, fit in fits.items()}
     for ax in axes:
@@ -110,7 +113,9 @@ def profile_png(boundary, flank, fits: dict) -> bytes:
     axes[1].set_xlim(lo[0] - pad, hi[0] + pad)
     axes[1].set_ylim(lo[1] - pad, hi[1] + pad)
     axes[1].set_title("right flank, fitted part")
-    axes[1].legend(fontsize=7)
+    handles, labels = axes[1].get_legend_handles_labels()  # below both panels: a legend in an axes hides the flank
+    fig.legend(handles, labels, loc="lower center", bbox_to_anchor=(0.5, 0.0), ncols=len(labels), fontsize=7,
+               frameon=False)
     return png_bytes(fig, 130)
 
 
@@ -127,7 +132,7 @@ def clearance_png(clearance) -> bytes:
     ax.axhline(0, color="0.5", lw=0.6)
     k = int(np.argmin(clearance.clearance_mm))
     ax.plot(np.degrees(clearance.phi[k]), clearance.clearance_mm[k] * 1e3, "v", color="C3",
-            label=f"min {clearance.clearance_mm[k] * 1e3:.4f} µm at φ = {np.degrees(clearance.phi[k]):.2f}°")
+            label=f"min {format_clearance(clearance.clearance_mm[k])} at φ = {np.degrees(clearance.phi[k]):.2f}°")
     ax.set_xlabel("φ (deg)")
     ax.set_ylabel("clearance FS tooth ↔ fitted CS (µm)")
     ax.legend(fontsize=8)
@@ -169,7 +174,8 @@ def fit_report_html(design, fits: dict, *, chosen: str, clearance, positions: in
     params = ""
     for b, fit in enumerate(cad):
         head = f"branch {b + 1}: " if len(cad) > 1 else ""
-        params += "".join(f"<tr><td>{html.escape(head + k)}</td><td>{v:.9g}</td></tr>" for k, v in fit.params.items())
+        params += "".join(f"<tr><td>{html.escape(head + k)}</td><td>{v:.9g}{_radius_shape(fit, k)}</td></tr>"
+                          for k, v in fit.params.items())
     verdict = "no interference" if clearance.min_mm >= -1e-6 else f"INTERFERES by {-clearance.min_mm * 1e3:.3f} µm"
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Fit report — {html.escape(g.name)}</title>
@@ -177,7 +183,7 @@ def fit_report_html(design, fits: dict, *, chosen: str, clearance, positions: in
 table{{border-collapse:collapse}}td,th{{border:1px solid #aaa;padding:.2em .5em;text-align:right}}
 td:first-child,th:first-child{{text-align:left}}img{{max-width:100%}}</style></head><body>
 <h1>Arc–line–arc fit of the CS flank — {html.escape(g.name)}</h1>
-<p>{html.escape(g.description)}. m = {g.gear.module_mm:g} mm, z = {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth},
+<p>{html.escape(g.description)}{_gear_numbers(g)},
 ω* = {g.wave_generator.deflection_coefficient:g}, scene <b>{html.escape(design.scene.name)}</b>
 (deformation: {html.escape(design.deformation.source)}). The fitted part of the flank runs from the CS tip
 circle (r = {design.form.tip_radius_mm:.4f} mm) to where the flank leaves the swept boundary; the exact
@@ -192,7 +198,7 @@ leaves clearance, i.e. lies toward the CS material). Branch-switch ridges: {html
 <h2>The profile used: {html.escape(chosen)}{" per branch" if len(cad) > 1 else ""}</h2>
 <table><tr><th>parameter</th><th>value</th></tr>{params}</table>
 <p>Checked against the FS tooth family at {positions} positions over one pass (shapely distances to the
-tooth surface): <b>{verdict}</b>; smallest clearance {clearance.min_mm * 1e3:.4f} µm at
+tooth surface): <b>{verdict}</b>; smallest clearance {html.escape(format_clearance(clearance.min_mm))} at
 φ = {np.degrees(clearance.at_phi):.2f}°.</p>
 <img src="{_image(images, "fit_clearance", clearance_png, clearance)}" alt="clearance map">
 {deformation_section_html(design, images)}
@@ -325,10 +331,25 @@ def deformation_section_html(design, images: dict | None = None) -> str:
 """
 
 
-_STYLE = """<style>body{font-family:sans-serif;max-width:70em;margin:2em auto;line-height:1.4}
+_STYLE = """<style>body{font-family:sans-serif;max-width:1360px;margin:.5em auto;padding:0 8px;line-height:1.4}
 table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #aaa;padding:.2em .5em;text-align:right}
 td:first-child,th:first-child{text-align:left}td.text{text-align:left;max-width:40em}img{max-width:100%}
 .pass{color:#1a7f1a;font-weight:bold}.fail{color:#c00;font-weight:bold}.skip{color:#777}</style>"""
+
+
+def _gear_numbers(g) -> str:
+    """'. m = …, z = …/…' unless the gear set's description already says both (it is printed once)."""
+    m, z = f"m = {g.gear.module_mm:g} mm", f"z = {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}"
+    return "" if m in g.description and z in g.description else f". {m}, {z}"
+
+
+def _radius_shape(fit, key: str) -> str:
+    """' (convex: centre in the CS tooth)' after a fitted radius ``r1_mm``/``r2_mm``: its sign alone
+    (the turn along the flank) does not say which way the flank curves."""
+    if key not in ("r1_mm", "r2_mm") or not np.isfinite(fit.params[key]):
+        return ""
+    concave = (fit.params[key] > 0) == (fit.space_side == "left")
+    return " (concave: centre in the tooth space)" if concave else " (convex: centre in the CS tooth)"
 
 
 def _num(x, fmt=".1f") -> str:
@@ -358,8 +379,8 @@ def _contact_section(design, png: bytes | None = None) -> str:
         f"<td>{case.max_tooth_force_n:.0f}</td><td>{ki:.3g}</td>"
         f"<td class=text>{html.escape(case.beyond_capacity or 'within the searched zone')}</td></tr>"
         for case, ki in zip(c.cases, k))
-    uri = _png_uri(png) if png is not None else figure_png(plot.contact_figure(c, title=""), dpi=100)
-    return f"""<h2>Loaded contact (seed 000, complementarity)</h2>
+    uri = _png_uri(png) if png is not None else figure_png(plot.contact_figure(c, title="", ratio=design.gearset.ratio), dpi=100)
+    return f"""<h2>Loaded contact</h2>
 <p>{c.points.count} candidate points on {c.points.teeth.size} teeth per zone, {c.zones} zones; FEM influence
 coefficients (face width {c.compliance_info.get('face_width_mm', float('nan')):.4g} mm), Lemke's complementary
 pivoting. The stiffness is the mesh's only (no ball Hertz, inner ring, cam or cup wind-up).</p>
@@ -420,7 +441,7 @@ def _seed_tables() -> str:
     trends = "".join(
         f"<tr><td class=text>{html.escape(t.claim)}</td><td>{'holds' if t.holds else 'does not hold'}</td>"
         f"<td class=text>{html.escape(t.evidence)}</td></tr>" for t in seed001_trend_checks())
-    return f"""<h2>The seed papers' numbers and ours</h2>
+    return f"""<h2>Published examples and ours</h2>
 <h3>Seed 001 (tooth ring, SHF-25-80)</h3>
 <table><tr><th>quantity</th><th>seed</th><th>ours</th><th>inputs we had to assume</th><th>why they differ</th></tr>
 {rows1}</table>
@@ -448,10 +469,10 @@ def design_report_html(design, images: dict | None = None) -> str:
         for s in design.stages)
     fit = ""
     if prof is not None:
-        fit = f"""<h2>Profile</h2>
+        fit = f"""<h2>Flank fit</h2>
 <p>CS flank: arc–line–arc, <b>{html.escape(prof.method)}</b> fit, largest deviation from the envelope
 {prof.max_error_mm * 1e3:.3f} µm{'' if prof.max_backlash_mm is None else f', largest backlash {prof.max_backlash_mm * 1e3:.3f} µm'};
-checked against the FS tooth at {prof.positions} positions: smallest clearance {prof.clearance.min_mm * 1e3:.4f} µm.
+checked against the FS tooth at {prof.positions} positions: smallest clearance {html.escape(format_clearance(prof.clearance.min_mm))}.
 CS tip circle r = {design.form.tip_radius_mm:.4f} mm, root circle r = {design.form.root_radius_mm:.4f} mm.
 The full fit-error report is <code>fit_report.html</code>; the CAD files are the DXFs beside this page.</p>
 <img src="{_image(images, "fit_profile", profile_png, *_profile_args(design, prof.fits))}" alt="fitted profile">
@@ -460,10 +481,9 @@ The full fit-error report is <code>fit_report.html</code>; the CAD files are the
     stress = "" if design.stress is None else _stress_section(design, images.get("stress"))
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Design report — {html.escape(g.name)}</title>{_STYLE}</head><body>
-<h1>Design report — {html.escape(g.name)}</h1>
-<p>{html.escape(g.description)}. m = {g.gear.module_mm:g} mm, z = {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth},
-ω* = {g.wave_generator.deflection_coefficient:g}, torques {g.torque.rated_nm:g} / {g.torque.peak_nm:g} /
-{_num(g.torque.momentary_nm, 'g')} N·m (rated / peak / momentary), scene <b>{html.escape(design.scene.name)}</b>.</p>
+{sheet_html(design, figure_html(design), interference_tol_mm=interference_tol_mm(design.scene))}
+<h2 style="margin-top:1.5em">How it was computed</h2>
+<p>Scene <b>{html.escape(design.scene.name)}</b>: each stage, the model it used, its time and its own error estimate.</p>
 <table><tr><th>stage</th><th>tier</th><th>time (ms)</th><th>error estimate</th><th>error measure</th></tr>{stages}</table>
 {fit}
 {_contact_section(design, images.get("contact"))}
@@ -482,10 +502,10 @@ def _envelope_png(env, tooth, motion, title: str) -> bytes:
     return envelope_png(env, tooth, motion, title=title)
 
 
-def _contact_png(contact, title: str) -> bytes:
+def _contact_png(contact, title: str, ratio: float | None = None) -> bytes:
     from .plot import contact_figure, png_bytes
 
-    return png_bytes(contact_figure(contact, title=title), 130)
+    return png_bytes(contact_figure(contact, title=title, ratio=ratio), 130)
 
 
 def _stress_png(stress, title: str) -> bytes:
@@ -511,7 +531,7 @@ def png_jobs(design) -> dict[str, tuple[Callable[..., bytes], tuple]]:
     if design.contact is not None:
         c = design.contact
         jobs["contact"] = (_contact_png, (c, f"{g.name}: loaded contact, {c.zones} zones, "
-                                             f"{c.points.count} candidate points per zone"))
+                                             f"{c.points.count} candidate points per zone", g.ratio))
     title = (f"{g.name}: m {g.gear.module_mm:g} mm, z {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}, "
              f"ω* {g.wave_generator.deflection_coefficient:g}, scene {design.scene.name}")
     jobs["envelope"] = (_envelope_png, (design.envelope, design.tooth, design.motion, title))

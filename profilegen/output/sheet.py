@@ -84,16 +84,16 @@ class Check:
     passed: bool | None
 
 
-def checks(design) -> list[Check]:
+def checks(design, interference_tol_mm: float) -> list[Check]:
     """Every pass/fail check of ``design`` — the same ones, with the same outcome, as
-    :attr:`profilegen.pipeline.Design.verdict` — each with its value, requirement and margin."""
-    from ..pipeline import interference_tol_mm
-
+    :attr:`profilegen.pipeline.Design.verdict` — each with its value, requirement and margin.
+    ``interference_tol_mm``: the verdict's (:func:`profilegen.pipeline.interference_tol_mm`;
+    passed in, so this module does not import the pipeline that shows it in notebooks)."""
     out = []
     prof = design.profile
     if prof is not None:
         c = prof.clearance.min_mm
-        tol = interference_tol_mm(design.scene)
+        tol = float(interference_tol_mm)
         out.append(Check("fitted CS clear of the FS tooth", f"{prof.positions} positions",
                          format_clearance(c, tol_mm=tol), f"≥ −{tol * 1e3:g} µm", format_um(c + tol),
                          bool(c >= -tol)))
@@ -227,8 +227,8 @@ SHEET_STYLE = """<style>
 .ds .grid{display:grid;grid-template-columns:minmax(0,53fr) minmax(0,47fr);gap:0 14px;align-items:start}
 .ds h2 .unit{font-weight:normal;font-size:12px;color:#555}
 .ds h2{font-size:14px;margin:4px 0 2px;border-bottom:1px solid #ccc}
-.ds table{border-collapse:collapse;width:100%}
-.ds td,.ds th{padding:1px 5px;border-bottom:1px solid #e4e4e4;text-align:left;vertical-align:top;white-space:nowrap}
+.ds table{border-collapse:collapse;width:100%;margin:0}
+.ds td,.ds th{padding:1px 5px;border:0;border-bottom:1px solid #e4e4e4;text-align:left;vertical-align:top;white-space:nowrap}
 .ds th{font-weight:normal;color:#333}.ds td.num{text-align:right}.ds td.note{color:#555;white-space:normal}
 .ds thead th{font-weight:bold;color:#111}
 .ds .pass{color:#1a7f1a;font-weight:bold}.ds .fail{color:#c00;font-weight:bold}.ds .skip{color:#777}
@@ -236,16 +236,17 @@ SHEET_STYLE = """<style>
 </style>"""
 
 
-def sheet_html(design, figure_html: str = "") -> str:
+def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> str:
     """The first screen of the design report (an HTML fragment): name and description, the
     verdict with every check and its margin, the numbers to cut and the load numbers, each with
-    its unit; ``figure_html`` (the interactive CS space, optional) beside them."""
+    its unit; ``figure_html`` (the interactive CS space, optional) beside them.
+    ``interference_tol_mm``: see :func:`checks`."""
     g = design.gearset
     v = design.verdict
     check_rows = "".join(
         f"<tr><th>{html.escape(c.name)}</th><td>{html.escape(c.where)}</td><td class=num>{html.escape(c.value)}</td>"
         f"<td>{html.escape(c.required)}</td><td class=num>{c.margin}</td><td>{_badge(c.passed)}</td></tr>"
-        for c in checks(design))
+        for c in checks(design, interference_tol_mm))
     gear = (f"ratio {g.ratio:g}, deflection ω* = {g.wave_generator.deflection_coefficient:g}, "
             f"torques {g.torque.rated_nm:g} / {g.torque.peak_nm:g}"
             + ("" if g.torque.momentary_nm is None else f" / {g.torque.momentary_nm:g}")
@@ -268,3 +269,4 @@ def sheet_html(design, figure_html: str = "") -> str:
 <div class="fig">{figure_html}</div>
 </div>
 </div>"""
+

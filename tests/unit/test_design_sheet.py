@@ -61,7 +61,9 @@ def test_flank_shape_follows_where_the_centre_lies(sketch):
 
 
 def test_checks_match_the_verdict(sketch):
-    rows = sheet.checks(sketch)
+    from profilegen.pipeline import interference_tol_mm
+
+    rows = sheet.checks(sketch, interference_tol_mm(sketch.scene))
     assert rows, "a sketch has at least the interference check"
     failed = [c for c in rows if c.passed is False]
     assert (not failed) == sketch.verdict.passed
@@ -69,7 +71,7 @@ def test_checks_match_the_verdict(sketch):
 
 
 def test_sheet_text(sketch):
-    html = sheet.sheet_html(sketch)
+    html = sheet.sheet_html(sketch, interference_tol_mm=1e-5)
     text = re.sub(r"<[^>]+>", " ", html)
     assert sketch.verdict.line in text
     assert text.count(sketch.gearset.description) == 1

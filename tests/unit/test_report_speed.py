@@ -31,7 +31,8 @@ def sketch():
 
 
 def _embedded(page: str) -> list[bytes]:
-    return [base64.b64decode(m) for m in re.findall(r'src="data:image/png;base64,([^"]*)"', page)]
+    # <img> tags only: the embedded plotly.js holds a data-URI PNG of its own
+    return [base64.b64decode(m) for m in re.findall(r'<img src="data:image/png;base64,([^"]*)"', page)]
 
 
 def _png_size(data: bytes) -> tuple[int, int]:

@@ -41,6 +41,11 @@ def _missing() -> str | None:
         import selenium  # noqa: F401
     except ImportError:
         return "selenium is not installed (pip install -e '.[test]')"
+    import resource
+
+    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    if soft != resource.RLIM_INFINITY and soft < 64 << 30:
+        return f"chromium reserves more address space than this process's RLIMIT_AS ({soft >> 20} MiB) allows"
     return None
 
 
@@ -111,7 +116,7 @@ def test_report_renders_offline_without_errors(browser, report, tmp_path):
     assert not severe, severe
     requests = [json.loads(e["message"])["message"] for e in browser.get_log("performance")]
     urls = {m["params"]["request"]["url"] for m in requests if m.get("method") == "Network.requestWillBeSent"}
-    remote = sorted(u for u in urls if not u.startswith(("file:", "data:", "blob:", "about:")))
+    remote = sorted(u for u in urls if u.startswith(("http:", "https:", "ws:", "wss:", "ftp:")))
     assert not remote, remote
 
     # the first screen: the verdict and the numbers to cut are visible without scrolling
@@ -155,8 +160,9 @@ def test_zoom_to_one_micron_keeps_the_detail(browser, report):
     """)
     assert out["type"] == "scatter"
     # the range the browser holds is the 1 µm window, to 1e-9 mm (float32 would be ~4e-6 mm off at 50 mm)
-    assert out["xr"][1] - out["xr"][0] == pytest.approx(1e-3, abs=1e-9)
-    assert out["yr"][1] - out["yr"][0] == pytest.approx(1e-3, rel=0.7)  # equal axes: y follows x's scale
+    # (equal axes: plotly widens the longer side of the plot area's window to keep the scale)
+    spans = sorted((out["xr"][1] - out["xr"][0], out["yr"][1] - out["yr"][0]))
+    assert spans[0] == pytest.approx(1e-3, abs=1e-9) and spans[1] < 2.5e-3, out
     assert out["inside"] >= 3, out  # the data has sub-µm vertex spacing
     assert out["drawn"] >= 3, out  # and the SVG line is drawn through the window
     px = out["px"]
