@@ -47,8 +47,6 @@ from functools import partial
 from typing import Protocol
 
 import numpy as np
-from scipy.optimize import brentq
-from scipy.special import ellipe
 
 from . import checks
 from .errors import ConvergenceError, GearSetError, ProfilegenError
@@ -107,7 +105,84 @@ def _points(points) -> np.ndarray:
 def ellipse_perimeter(semi_major_mm: float, semi_minor_mm: float) -> float:
     """Perimeter 4 a E(1 − b²/a²) of an ellipse (mm), complete elliptic integral E."""
     a, b = max(semi_major_mm, semi_minor_mm), min(semi_major_mm, semi_minor_mm)
-    return float(4.0 * a * ellipe(1.0 - (b / a) ** 2))
+    return float(4.0 * a * _ellipe(1.0 - (b / a) ** 2))
+
+
+# scipy.special.ellipe and scipy.optimize.brentq, written out: importing scipy's modules took
+# ~1 s (their docstrings are parsed on import), longer than `profilegen check` as a whole, which
+# builds the wave generator of every set it reads. The same operations in the same order as
+# scipy's C code (cephes ellpe, scipy's brentq.c), so the results are the same to the last bit
+# (tests/unit/test_wavegen.py compares them with scipy's).
+_ELLPE_P = (1.53552577301013293365E-4, 2.50888492163602060990E-3, 8.68786816565889628429E-3,
+            1.07350949056076193403E-2, 7.77395492516787092951E-3, 7.58395289413514708519E-3,
+            1.15688436810574127319E-2, 2.18317996015557253103E-2, 5.68051945617860553470E-2,
+            4.43147180560990850618E-1, 1.00000000000000000299E0)
+_ELLPE_Q = (3.27954898576485872656E-5, 1.00962792679356715133E-3, 6.50609489976927491433E-3,
+            1.68862163993311317300E-2, 2.61769742454493659583E-2, 3.34833904888224918614E-2,
+            4.27180926518931511717E-2, 5.85936634471101055642E-2, 9.37499997197644278445E-2,
+            2.49999999999888314361E-1)
+
+
+def _polevl(x: float, coef: tuple[float, ...]) -> float:
+    ans = coef[0]
+    for c in coef[1:]:
+        ans = ans * x + c
+    return ans
+
+
+def _ellipe(m: float) -> float:
+    """Complete elliptic integral of the second kind E(m), parameter m = k² (scipy.special.ellipe)."""
+    x = 1.0 - float(m)
+    if not x > 0.0:
+        return 1.0 if x == 0.0 else math.nan
+    if x > 1.0:
+        return _ellipe(1.0 - 1.0 / x) * math.sqrt(x)  # m < 0, as cephes
+    return _polevl(x, _ELLPE_P) - math.log(x) * (x * _polevl(x, _ELLPE_Q))
+
+
+def _brentq(f, xa: float, xb: float, *, xtol: float, rtol: float, maxiter: int) -> float:
+    """A root of f in [xa, xb] by Brent's method, f(xa) and f(xb) of opposite signs (scipy.optimize.brentq)."""
+    xpre, xcur = float(xa), float(xb)
+    xblk = fblk = spre = scur = 0.0
+    fpre, fcur = f(xpre), f(xcur)
+    if fpre == 0.0:
+        return xpre
+    if fcur == 0.0:
+        return xcur
+    if math.copysign(1.0, fpre) == math.copysign(1.0, fcur):
+        raise ValueError("f(a) and f(b) must have different signs")
+    for _ in range(maxiter):
+        if fpre != 0.0 and fcur != 0.0 and math.copysign(1.0, fpre) != math.copysign(1.0, fcur):
+            xblk, fblk = xpre, fpre
+            spre = scur = xcur - xpre
+        if abs(fblk) < abs(fcur):
+            xpre, xcur, xblk = xcur, xblk, xcur
+            fpre, fcur, fblk = fcur, fblk, fcur
+        delta = (xtol + rtol * abs(xcur)) / 2
+        sbis = (xblk - xcur) / 2
+        if fcur == 0.0 or abs(sbis) < delta:
+            return xcur
+        if abs(spre) > delta and abs(fcur) < abs(fpre):
+            if xpre == xblk:  # interpolate
+                stry = -fcur * (xcur - xpre) / (fcur - fpre)
+            else:  # extrapolate
+                dpre = (fpre - fcur) / (xpre - xcur)
+                dblk = (fblk - fcur) / (xblk - xcur)
+                stry = -fcur * (fblk * dblk - fpre * dpre) / (dblk * dpre * (fblk - fpre))
+            if 2 * abs(stry) < min(abs(spre), 3 * abs(sbis) - delta):  # good short step
+                spre, scur = scur, stry
+            else:  # bisect
+                spre = scur = sbis
+        else:  # bisect
+            spre = scur = sbis
+        xpre, fpre = xcur, fcur
+        if abs(scur) > delta:
+            xcur += scur
+        else:
+            xcur += delta if sbis > 0 else -delta
+        fcur = f(xcur)
+    raise ConvergenceError(f"wave generator: Brent's method did not converge in {maxiter} iterations "
+                           f"(last x = {xcur!r} mm)")
 
 
 def _ellipse_foot(pu: np.ndarray, pv: np.ndarray, a: float, b: float) -> tuple[np.ndarray, np.ndarray]:
@@ -561,5 +636,5 @@ def from_gearset(gearset) -> EllipticalCam | CosineCam | RollerGenerator:
             f"deflection_mm = {w0} mm: no ellipse with major radius r_bore + w0 = {r_bore + w0:.6g} mm has the "
             f"bore's perimeter 2π·{r_bore:.6g} mm"
         )
-    b = brentq(excess, 1e-9 * a, a, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
+    b = _brentq(excess, 1e-9 * a, a, xtol=1e-15, rtol=4 * np.finfo(float).eps, maxiter=200)
     return EllipticalCam(a, b, bearing_thickness_mm=h)
