@@ -1,43 +1,16 @@
-"""The gear set: the one input of the pipeline, read from a TOML file in ``profiles/``.
+"""Reading and checking gear-set files: the TOML and point-list CSV readers (size-limited,
+never echoing a file's content) and the field-by-field validation of a gear-set mapping.
 
-A :class:`GearSet` is a frozen, validated description of one strain wave gear:
-the gear data (module, teeth, waves, rim), the flexspline tooth, the wave
-generator, the material, the torques and the circular-spline clearances. The
-schema (every field: meaning, unit, default, allowed range) is documented in
-``docs/gearset.md``; this module is its single implementation.
-
-Conventions
------------
-* Lengths in mm, moduli and stresses in MPa, torques in N·m (as in the files;
-  ``Torque.*_nmm`` give N·mm for the solvers), angles in degrees in the file
-  (``*_deg``) with ``*_rad`` properties for use inside the package.
-* r1 = m·z1/2 is the flexspline (FS) pitch radius, r2 = m·z2/2 the circular
-  spline (CS) pitch radius, r_m the radius of the undeformed neutral line of the
-  FS rim, U the number of waves, w0 = ω*·m the radial deflection of the neutral
-  line on the major axis.
-* Tooth points (``kind = "points"``) are given in the *pitch frame* of one FS
-  tooth: origin at the pitch point on the tooth axis (y = 0 on the pitch circle
-  r1), y radially outward along the tooth axis, x tangential toward the right
-  flank. The kinematics frame (origin on the neutral line) is this frame moved
-  by ``gear.neutral_to_pitch_mm`` = r1 − r_m along y.
-
-Validation collects every problem before raising one
-:class:`~profilegen.errors.GearSetError`; each problem is one line naming the
-field path, the value, the unit and the allowed range, e.g.
-``gear.module_mm = -0.5 mm: must be in (0, 10]``.
-
->>> gs = load_gearset(default_gearset_path())
->>> gs.gear.pitch_radius_mm, round(gs.gear.neutral_radius_mm, 6), gs.deflection_mm
-(50.0, 48.95, 0.5)
->>> gs.with_values({"wave_generator.deflection_coefficient": 0.8}).deflection_mm
-0.4
+:class:`_Reader` checks every field of a mapping in the file schema
+(:mod:`profilegen.gearset.sections`), collects one problem line per bad field (field path,
+value, unit, allowed range) and builds the sections; :func:`~profilegen.gearset.types.parse_gearset`
+turns them into a :class:`~profilegen.gearset.types.GearSet`. :func:`read_limited` and
+:func:`read_toml` are shared with the scene and sweep files.
 """
 
 from __future__ import annotations
 
-import copy
 import csv
-import dataclasses
 import difflib
 import json
 import math
@@ -45,637 +18,47 @@ import numbers
 import os
 import re
 import stat
-import sys
 import tomllib
 from collections.abc import Mapping
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any
 
 import numpy as np
 
 from ..errors import GearSetError
+from .sections import (
+    _CIRCULAR_SPLINE_KEYS,
+    _CUP_KEYS,
+    _DCTA_DEFAULTS,
+    _GEAR_KEYS,
+    _MATERIAL_KEYS,
+    _ROLLER_ANGLE_DEG_DEFAULT,
+    _SECTIONS,
+    _TOOTH_KEYS,
+    _TOOTH_LENGTHS,
+    _TOP_KEYS,
+    _TORQUE_KEYS,
+    _WAVE_GENERATOR_KEYS,
+    COEFFICIENT_SUFFIX,
+    FIT_METHODS,
+    SCENES,
+    TOOTH_KINDS,
+    WAVE_GENERATOR_CONTOURS,
+    CircularSpline,
+    Cup,
+    DctaTooth,
+    Gear,
+    InvoluteTooth,
+    Material,
+    PointsTooth,
+    Torque,
+    WaveGenerator,
+)
 
-__all__ = [
-    "GearSet",
-    "Gear",
-    "DctaTooth",
-    "InvoluteTooth",
-    "PointsTooth",
-    "Tooth",
-    "WaveGenerator",
-    "Material",
-    "Torque",
-    "CircularSpline",
-    "FIT_METHODS",
-    "SCENES",
-    "TOOTH_KINDS",
-    "WAVE_GENERATOR_CONTOURS",
-    "load_gearset",
-    "parse_gearset",
-    "default_gearset_path",
-    "profiles_dir",
-    "list_profiles",
-    "resolve_gearset",
-]
-
-SCENES = ("sketch", "design", "verify")
-TOOTH_KINDS = ("dcta", "involute", "points")
-WAVE_GENERATOR_CONTOURS = ("elliptical_cam", "cosine_cam", "rollers")
 
 _NAME_RE = re.compile(r"[a-z0-9_-]+")
 _CONTROL_RE = re.compile(r"[\x00-\x1f\x7f]")
 _MIN_POINTS = 8
-
-# The project's default double-circular-arc tooth for m = 0.5 mm, in mm: the defaults of a
-# DctaTooth built directly (no module to scale with). In a gear-set file the defaults follow
-# the module: _TOOTH_LENGTHS' coefficients (0.05 mm = 0.1·m at m = 0.5 mm, ...).
-_DCTA_DEFAULTS = {
-    "pressure_angle_deg": 10.0,
-    "line_above_pitch_mm": 0.05,
-    "line_below_pitch_mm": 0.20,
-    "tip_arc_radius_mm": 0.65,
-    "root_arc_radius_mm": 0.70,
-    "addendum_mm": 0.40,
-    "dedendum_mm": 0.60,
-}
-
-_TOP_KEYS = ("name", "description", "source", "scene")
-_SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline", "cup")
-_GEAR_KEYS = (
-    "module_mm",
-    "flexspline_teeth",
-    "circular_spline_teeth",
-    "waves",
-    "rim_thickness_mm",
-    "neutral_radius_mm",
-)
-_TOOTH_KEYS = {
-    "dcta": (
-        "kind",
-        "pressure_angle_deg",
-        "line_above_pitch_mm",
-        "line_below_pitch_mm",
-        "tip_arc_radius_mm",
-        "root_arc_radius_mm",
-        "addendum_mm",
-        "dedendum_mm",
-        "half_thickness_mm",
-    ),
-    "involute": ("kind", "pressure_angle_deg", "addendum_mm", "dedendum_mm", "half_thickness_mm"),
-    "points": ("kind", "points", "points_file", "smoothing_mm"),
-}
-
-
-@dataclass(frozen=True, slots=True)
-class _Length:
-    """A tooth length: its range and default in units of the module m. In a file it is given
-    in mm (``<name>_mm``) or in units of m (``<name>_coefficient``, the value times m)."""
-
-    lo: float
-    hi: float
-    default: float | None  # times m; None: required (no tooth length is)
-    lo_open: bool = True
-    hi_open: bool = False
-    note: str = ""
-
-
-_HALF_PITCH = math.pi / 2.0
-# The addendum and dedendum bounds: up to 3·m (a tooth three modules high is already far past any
-# strain-wave-gear tooth, 1.6–2.2·m in total); at least 0.2·m, because a shorter tooth than that
-# cannot clear the circular spline's default clearances of 0.25·m (and is a sign of a tooth in mm
-# for another module: the default tooth's 0.4 mm on an m = 10 gear is 0.04·m).
-_TOOTH_LENGTHS: dict[str, dict[str, _Length]] = {
-    "dcta": {
-        "line_above_pitch": _Length(0.0, 5.0, 0.1, lo_open=False),
-        "line_below_pitch": _Length(0.0, 5.0, 0.4, lo_open=False),
-        "tip_arc_radius": _Length(0.0, 10.0, 1.3),
-        "root_arc_radius": _Length(0.0, 10.0, 1.4),
-        "addendum": _Length(0.2, 3.0, 0.8, lo_open=False),
-        "dedendum": _Length(0.2, 3.0, 1.2, lo_open=False),
-        "half_thickness": _Length(0.0, _HALF_PITCH, math.pi / 4.0, hi_open=True, note="half a pitch π·m/2"),
-    },
-    "involute": {
-        "addendum": _Length(0.2, 3.0, 1.0, lo_open=False),
-        "dedendum": _Length(0.2, 3.0, 1.25, lo_open=False),
-        "half_thickness": _Length(0.0, _HALF_PITCH, math.pi / 4.0, hi_open=True, note="half a pitch π·m/2"),
-    },
-}
-COEFFICIENT_SUFFIX = "_coefficient"
-# every tooth length may be given in units of the module instead of mm
-_TOOTH_KEYS = {
-    kind: keys + tuple(f"{name}{COEFFICIENT_SUFFIX}" for name in _TOOTH_LENGTHS.get(kind, {}))
-    for kind, keys in _TOOTH_KEYS.items()
-}
-_WAVE_GENERATOR_KEYS = (
-    "deflection_coefficient",
-    "contour",
-    "roller_count",
-    "roller_radius_mm",
-    "roller_angle_deg",
-    "bearing_thickness_mm",
-)
-# Four rollers touch the ring-theory bore at ±_ROLLER_ANGLE_DEG_DEFAULT about each end of the
-# major axis unless ``wave_generator.roller_angle_deg`` says otherwise.
-_ROLLER_ANGLE_DEG_DEFAULT = 30.0
-_MATERIAL_KEYS = (
-    "youngs_modulus_mpa",
-    "poisson_ratio",
-    "yield_strength_mpa",
-    "ultimate_strength_mpa",
-    "bending_endurance_limit_mpa",
-    "shear_endurance_limit_mpa",
-)
-_TORQUE_KEYS = ("rated_nm", "peak_nm", "momentary_nm")
-_CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm", "fit_method")
-FIT_METHODS = ("one_sided", "least_squares", "minimax")
-_CUP_KEYS = ("length_mm", "face_width_mm", "bottom_thickness_mm", "boss_radius_mm", "root_fillet_radius_mm")
-_SECTION_KEYS = {
-    "gear": _GEAR_KEYS,
-    "wave_generator": _WAVE_GENERATOR_KEYS,
-    "material": _MATERIAL_KEYS,
-    "torque": _TORQUE_KEYS,
-    "circular_spline": _CIRCULAR_SPLINE_KEYS,
-    "cup": _CUP_KEYS,
-}
-
-
-# --------------------------------------------------------------------------- types
-
-_FROZEN = dict(frozen=True, slots=True, eq=False, kw_only=True)
-
-
-@dataclass(**_FROZEN)
-class Gear:
-    """Gear data of the set: module, teeth, waves and the flexspline rim."""
-
-    module_mm: float
-    flexspline_teeth: int
-    circular_spline_teeth: int
-    waves: int = 2
-    rim_thickness_mm: float
-    neutral_radius_mm: float
-    """Radius r_m of the undeformed rim neutral line (resolved: given or derived)."""
-
-    @property
-    def pitch_radius_mm(self) -> float:
-        """FS pitch radius r1 = m·z1/2 (mm)."""
-        return self.module_mm * self.flexspline_teeth / 2.0
-
-    @property
-    def cs_pitch_radius_mm(self) -> float:
-        """CS pitch radius r2 = m·z2/2 (mm)."""
-        return self.module_mm * self.circular_spline_teeth / 2.0
-
-    @property
-    def circular_pitch_mm(self) -> float:
-        """Circular pitch p = π·m (mm)."""
-        return math.pi * self.module_mm
-
-    @property
-    def tooth_difference(self) -> int:
-        """z2 − z1 (a positive multiple of the waves)."""
-        return self.circular_spline_teeth - self.flexspline_teeth
-
-    @property
-    def neutral_to_pitch_mm(self) -> float:
-        """r1 − r_m: y of the pitch point in the kinematics (neutral-line) tooth frame (mm)."""
-        return self.pitch_radius_mm - self.neutral_radius_mm
-
-
-@dataclass(**_FROZEN)
-class DctaTooth:
-    """Double-circular-arc tooth with a common tangent (DCTA), pitch frame.
-
-    Right flank from root to tip: a concave root arc (radius ``root_arc_radius_mm``)
-    from the root line (``dedendum_mm`` below the pitch line) to the point B, the
-    common tangent B → A (a straight line through the pitch point
-    ``(half_thickness_mm, 0)``, inclined by ``pressure_angle_deg`` to the tooth
-    axis; A and B lie ``line_above_pitch_mm`` / ``line_below_pitch_mm`` from the
-    pitch point *along the line*), then a convex tip arc (``tip_arc_radius_mm``)
-    up to the tip line (``addendum_mm`` above the pitch line); G1 at A and B.
-    Whether the arcs reach the tip and root lines is checked when the profile
-    is built (``profilegen.teeth``, :class:`~profilegen.errors.ToothError`).
-    """
-
-    kind: ClassVar[str] = "dcta"
-    pressure_angle_deg: float = _DCTA_DEFAULTS["pressure_angle_deg"]
-    line_above_pitch_mm: float = _DCTA_DEFAULTS["line_above_pitch_mm"]
-    line_below_pitch_mm: float = _DCTA_DEFAULTS["line_below_pitch_mm"]
-    tip_arc_radius_mm: float = _DCTA_DEFAULTS["tip_arc_radius_mm"]
-    root_arc_radius_mm: float = _DCTA_DEFAULTS["root_arc_radius_mm"]
-    addendum_mm: float = _DCTA_DEFAULTS["addendum_mm"]
-    dedendum_mm: float = _DCTA_DEFAULTS["dedendum_mm"]
-    half_thickness_mm: float
-    coefficients: tuple[tuple[str, float], ...] = ()
-    """The lengths the file gave in units of the module, as (``<name>_mm``, coefficient)
-    pairs (``(("addendum_mm", 0.8),)``); the ``*_mm`` fields hold them resolved to mm."""
-
-    @property
-    def pressure_angle_rad(self) -> float:
-        return math.radians(self.pressure_angle_deg)
-
-
-@dataclass(**_FROZEN)
-class InvoluteTooth:
-    """Standard involute tooth (pitch frame): pressure angle, addendum, dedendum, thickness."""
-
-    kind: ClassVar[str] = "involute"
-    pressure_angle_deg: float = 20.0
-    addendum_mm: float
-    dedendum_mm: float
-    half_thickness_mm: float
-    coefficients: tuple[tuple[str, float], ...] = ()
-    """As :attr:`DctaTooth.coefficients`."""
-
-    @property
-    def pressure_angle_rad(self) -> float:
-        return math.radians(self.pressure_angle_deg)
-
-
-@dataclass(**_FROZEN)
-class PointsTooth:
-    """A tooth given by points of its right flank (pitch frame, root to tip, mm).
-
-    ``points`` is a read-only ``(n, 2)`` array; ``points_file`` names the CSV it
-    was read from (informational only: :meth:`GearSet.to_dict` writes the points
-    inline).
-    """
-
-    kind: ClassVar[str] = "points"
-    points: np.ndarray
-    smoothing_mm: float = 0.0005
-    points_file: str | None = None
-
-    def __post_init__(self):
-        points = np.array(self.points, dtype=float)
-        points.setflags(write=False)
-        object.__setattr__(self, "points", points)
-
-    def __reduce__(self):
-        # through the constructor, so that an unpickled copy is read-only again
-        return (_points_tooth, (self.points, self.smoothing_mm, self.points_file))
-
-    @property
-    def addendum_mm(self) -> float:
-        """Height of the highest point above the pitch circle (mm)."""
-        return float(self.points[:, 1].max())
-
-    @property
-    def dedendum_mm(self) -> float:
-        """Depth of the lowest point below the pitch circle (mm)."""
-        return float(-self.points[:, 1].min())
-
-    @property
-    def half_thickness_mm(self) -> float:
-        """x where the flank first crosses the pitch circle (y = 0), linear interpolation (mm)."""
-        return _pitch_crossing(self.points)
-
-
-def _points_tooth(points, smoothing_mm, points_file) -> PointsTooth:
-    return PointsTooth(points=points, smoothing_mm=smoothing_mm, points_file=points_file)
-
-
-Tooth = DctaTooth | InvoluteTooth | PointsTooth
-_TOOTH_TYPES = (DctaTooth, InvoluteTooth, PointsTooth)
-
-
-@dataclass(**_FROZEN)
-class WaveGenerator:
-    """Wave generator: deflection coefficient ω* (w0 = ω*·m) and contour.
-
-    ``roller_angle_deg`` (four rollers only): the polar angle from the major axis at which
-    each roller touches the ring-theory bore r_bore + w0 cos 2θ (see
-    :func:`profilegen.wavegen.from_gearset`); ``None`` for two rollers and for cams.
-    """
-
-    deflection_coefficient: float = 1.0
-    contour: str = "elliptical_cam"
-    roller_count: int | None = None
-    roller_radius_mm: float | None = None
-    roller_angle_deg: float | None = None
-    bearing_thickness_mm: float | None = None
-
-    @property
-    def roller_angle_rad(self) -> float | None:
-        return None if self.roller_angle_deg is None else math.radians(self.roller_angle_deg)
-
-
-@dataclass(**_FROZEN)
-class Material:
-    """Flexspline material (linear elastic) and optional strength limits (MPa)."""
-
-    youngs_modulus_mpa: float
-    poisson_ratio: float
-    yield_strength_mpa: float | None = None
-    ultimate_strength_mpa: float | None = None
-    bending_endurance_limit_mpa: float | None = None
-    shear_endurance_limit_mpa: float | None = None
-
-    @property
-    def shear_modulus_mpa(self) -> float:
-        """G = E / (2 (1 + ν)) (MPa)."""
-        return self.youngs_modulus_mpa / (2.0 * (1.0 + self.poisson_ratio))
-
-
-@dataclass(**_FROZEN)
-class Torque:
-    """Output torques (N·m, as in the files); ``*_nmm`` give N·mm."""
-
-    rated_nm: float
-    peak_nm: float
-    momentary_nm: float | None = None
-
-    @property
-    def rated_nmm(self) -> float:
-        return self.rated_nm * 1e3
-
-    @property
-    def peak_nmm(self) -> float:
-        return self.peak_nm * 1e3
-
-    @property
-    def momentary_nmm(self) -> float | None:
-        return None if self.momentary_nm is None else self.momentary_nm * 1e3
-
-
-@dataclass(**_FROZEN)
-class CircularSpline:
-    """Radial clearances of the CS against the FS tooth (mm, resolved) and how its flank is
-    fitted with an arc–line–arc (``one_sided``: never inside the swept region)."""
-
-    root_clearance_mm: float
-    tip_clearance_mm: float
-    fit_method: str = "one_sided"
-
-
-@dataclass(**_FROZEN)
-class Cup:
-    """The cup flexspline beyond its tooth ring (mm), for the loaded contact and the stress
-    stage: ``length_mm`` l, from the cup bottom to the tooth ring's mid-face (the
-    semi-membrane length of seed 002, k = l / 2r_m); ``face_width_mm`` b, the teeth's face
-    width; ``bottom_thickness_mm`` t of the cup bottom (seed 002's plate, seed 000's
-    diaphragm); ``boss_radius_mm`` r0, where the bottom is clamped to its boss;
-    ``root_fillet_radius_mm`` r1, the fillet where a tooth meets the rim (seed 001). Absent
-    fields are ESTIMATES from the gear (see docs/gearset.md)."""
-
-    length_mm: float
-    face_width_mm: float
-    bottom_thickness_mm: float
-    boss_radius_mm: float
-    root_fillet_radius_mm: float
-
-
-_SECTION_TYPES = {
-    "gear": Gear,
-    "tooth": _TOOTH_TYPES,
-    "wave_generator": WaveGenerator,
-    "material": Material,
-    "torque": Torque,
-    "circular_spline": CircularSpline,
-    "cup": Cup,
-}
-
-
-@dataclass(**_FROZEN)
-class GearSet:
-    """One validated strain wave gear set (see ``docs/gearset.md``).
-
-    Build it with :func:`load_gearset` / :func:`parse_gearset`; constructing it
-    directly (or through :func:`dataclasses.replace` / :meth:`replace`) validates
-    it as well. ``origin`` says where it was read from; ``given`` holds the field
-    paths that were explicit in the input (``None``: all of them), so that
-    :meth:`with_values` re-derives the defaults that depend on a changed value
-    (e.g. the involute addendum = m, the neutral radius).
-    """
-
-    name: str
-    description: str
-    source: str
-    scene: str = "design"
-    gear: Gear
-    tooth: Tooth
-    wave_generator: WaveGenerator
-    material: Material
-    torque: Torque
-    circular_spline: CircularSpline
-    cup: Cup
-    origin: str = field(default="<dict>", repr=False)
-    given: frozenset[str] | None = field(default=None, repr=False)
-
-    def __post_init__(self):
-        if self.given is not None:
-            object.__setattr__(self, "given", frozenset(self.given))
-        wrong = [
-            f"{name}: must be a {_type_label(kind)}, got {type(getattr(self, name)).__name__}"
-            for name, kind in _SECTION_TYPES.items()
-            if not isinstance(getattr(self, name), kind)
-        ]
-        if wrong:
-            raise GearSetError(wrong)
-        reader = _Reader(base_dir=None)
-        reader.read(self.to_dict())
-        if reader.problems:
-            raise GearSetError(reader.problems)
-        # the wave generator must exist for this rim (rollers that fit, a cam inside the bore):
-        # checked here, by the one function that builds it, so that check, every scene (the sketch
-        # scene never builds it) and a sweep refuse the same sets. Two waves only: the rim stage
-        # builds no contour for other wave counts (ring theory, with a warning).
-        if self.gear.waves == 2:
-            from ..wavegen import WaveGenError, WaveGeneratorFitError, from_gearset
-
-            try:
-                from_gearset(self)
-            except WaveGenError as exc:
-                raise WaveGeneratorFitError(" ".join(str(exc).split())) from None
-
-    # ----------------------------------------------------------- derived values
-    @property
-    def deflection_mm(self) -> float:
-        """Radial deflection of the neutral line on the major axis, w0 = ω*·m (mm)."""
-        return self.wave_generator.deflection_coefficient * self.gear.module_mm
-
-    @property
-    def tooth_difference(self) -> int:
-        """z2 − z1."""
-        return self.gear.tooth_difference
-
-    @property
-    def ratio(self) -> float:
-        """Reduction ratio z1/(z2 − z1), wave generator in, FS out, CS fixed.
-
-        The FS turns opposite to the wave generator; the ratio is given as a
-        positive number.
-        """
-        return self.gear.flexspline_teeth / self.gear.tooth_difference
-
-    @property
-    def size_torque_nm(self) -> float:
-        """The rated torque a catalogue gear of this size carries, N·m (an ESTIMATE): rated torque
-        ∝ pitch diameter² × face width, T = k·d²·b, the tooth-root bending capacity of a gear
-        whose tooth proportions follow the module. k = 1.57e-3 N·m/mm³ is the geometric mean of
-        the two catalogue sizes in the bundled sets: seed 000's CSF-40 (265 N·m, d = 100 mm,
-        b = 20 mm, the estimated face width) gives 1.33e-3, seed 001's SHF-25 (67 N·m, d = 60 mm,
-        b = 10 mm) 1.86e-3; seed 002's CSG-25 (87 N·m) is predicted as 79 N·m."""
-        d = self.gear.module_mm * self.gear.flexspline_teeth
-        return _TORQUE_PER_D2B * d * d * self.cup.face_width_mm
-
-    @property
-    def warnings(self) -> tuple[str, ...]:
-        """Notes about a set that is valid but unusual (``profilegen check`` prints them): each
-        torque far from what the size carries (:attr:`size_torque_nm`; peak and momentary
-        compared with the catalogue ratios 167/67 and 304/67 of seed 001)."""
-        out = []
-        size = self.size_torque_nm
-        for key, ratio in (("rated_nm", 1.0), ("peak_nm", 167.0 / 67.0), ("momentary_nm", 304.0 / 67.0)):
-            value = getattr(self.torque, key)
-            if value is None:
-                continue
-            expected = ratio * size
-            if value > _TORQUE_FACTOR_HIGH * expected or (key == "rated_nm" and value < expected / _TORQUE_FACTOR_LOW):
-                how = "above" if value > expected else "below"
-                out.append(
-                    f"torque.{key} = {_fmt(value)} N·m is far {how} the ≈ {expected:.3g} N·m a catalogue gear of this "
-                    f"size carries (pitch diameter {_fmt(self.gear.module_mm * self.gear.flexspline_teeth)} mm, face "
-                    f"width {_fmt(self.cup.face_width_mm)} mm; scaling law T ∝ d²·b on seeds 000/001, "
-                    "GearSet.size_torque_nm): do the torques belong to this size?"
-                )
-        return tuple(out)
-
-    # ------------------------------------------------------------- conversions
-    def to_dict(self, *, include_defaults: bool = True) -> dict[str, Any]:
-        """JSON-safe nested dict in the file schema; ``parse_gearset`` of it gives an equal one.
-
-        With ``include_defaults=False`` only the fields that were explicit in
-        the input are written (tooth points always inline), so that values
-        derived from others (neutral radius, module-relative defaults) are
-        derived again when the dict is parsed.
-        """
-        g, t, w, mat, tq, cs, cup = (
-            self.gear,
-            self.tooth,
-            self.wave_generator,
-            self.material,
-            self.torque,
-            self.circular_spline,
-            self.cup,
-        )
-        tooth: dict[str, Any] = {"kind": t.kind}
-        if isinstance(t, PointsTooth):
-            tooth["points"] = np.asarray(t.points, dtype=float).tolist()
-            tooth["smoothing_mm"] = float(t.smoothing_mm)
-        else:
-            for key in _TOOTH_KEYS[t.kind][1:]:
-                if not key.endswith(COEFFICIENT_SUFFIX):
-                    tooth[key] = _json_value(getattr(t, key))
-            if not include_defaults:  # a length given in units of the module stays so (it follows m)
-                for key, coefficient in t.coefficients:
-                    coefficient_key = key[: -len("_mm")] + COEFFICIENT_SUFFIX
-                    if f"tooth.{coefficient_key}" in (self.given or ()):
-                        tooth[coefficient_key] = coefficient
-        out: dict[str, Any] = {
-            "name": self.name,
-            "description": self.description,
-            "source": self.source,
-            "scene": self.scene,
-            "gear": {key: _json_value(getattr(g, key)) for key in _GEAR_KEYS},
-            "tooth": tooth,
-            "wave_generator": _optional_fields(w, _WAVE_GENERATOR_KEYS),
-            "material": _optional_fields(mat, _MATERIAL_KEYS),
-            "torque": _optional_fields(tq, _TORQUE_KEYS),
-            "circular_spline": {key: _json_value(getattr(cs, key)) for key in _CIRCULAR_SPLINE_KEYS},
-            "cup": {key: _json_value(getattr(cup, key)) for key in _CUP_KEYS},
-        }
-        if include_defaults or self.given is None:
-            return out
-        given = self.given
-        keep_always = {"name", "description", "source", "tooth.kind", "tooth.points"}
-        explicit: dict[str, Any] = {}
-        for key, value in out.items():
-            if isinstance(value, dict):
-                section = {
-                    k: v
-                    for k, v in value.items()
-                    if f"{key}.{k}" in given or f"{key}.{k}" in keep_always
-                }
-                if section or key not in ("circular_spline", "cup"):
-                    explicit[key] = section
-            elif key in given or key in keep_always:
-                explicit[key] = value
-        return explicit
-
-    def with_values(self, changes: Mapping[str, Any]) -> GearSet:
-        """A new validated gear set with some fields changed (for sweeps).
-
-        ``changes`` maps dotted field paths to values, e.g.
-        ``{"wave_generator.deflection_coefficient": 0.8, "gear.module_mm": 0.4}``;
-        a value ``None`` removes the field so that its default applies again.
-        Defaults that depend on a changed value are derived again.
-        """
-        if not isinstance(changes, Mapping):
-            raise GearSetError(
-                f"with_values: changes must be a mapping of field paths, got {type(changes).__name__}"
-            )
-        data = copy.deepcopy(self.to_dict(include_defaults=False))
-        problems = []
-        for path, value in changes.items():
-            parts = str(path).split(".")
-            if not all(parts):
-                problems.append(
-                    f"{path}: not a field path (expected 'section.field' or a top-level key)"
-                )
-                continue
-            node = data
-            for depth, part in enumerate(parts[:-1]):
-                child = node.setdefault(part, {})
-                if not isinstance(child, dict):
-                    problems.append(f"{path}: {'.'.join(parts[: depth + 1])} is not a section")
-                    break
-                node = child
-            else:
-                for other in _twin_keys(parts):  # tooth.addendum_mm replaces tooth.addendum_coefficient
-                    node.pop(other, None)
-                if value is None:
-                    node.pop(parts[-1], None)
-                else:
-                    node[parts[-1]] = _json_value(value) if isinstance(value, np.ndarray) else value
-        if problems:
-            raise GearSetError(problems)
-        return parse_gearset(data, origin=self.origin)
-
-    def replace(self, **changes: Any) -> GearSet:
-        """:func:`dataclasses.replace` with validation; the result treats every field as explicit."""
-        changes.setdefault("given", None)
-        return dataclasses.replace(self, **changes)
-
-
-# --------------------------------------------------------------------------- loading
-
-
-def parse_gearset(
-    mapping: Mapping[str, Any], *, origin: str = "<dict>", base_dir: str | os.PathLike | None = None
-) -> GearSet:
-    """Validate a mapping in the file schema and build a :class:`GearSet`.
-
-    ``base_dir`` is the folder that a relative ``tooth.points_file`` is resolved
-    against (the current directory when ``None``). Raises :class:`GearSetError`
-    listing every problem.
-    """
-    if not isinstance(mapping, Mapping):
-        raise GearSetError(
-            f"{origin}: a gear set must be a table (mapping), got {type(mapping).__name__}"
-        )
-    reader = _Reader(base_dir=None if base_dir is None else Path(base_dir))
-    parts = reader.read(mapping)
-    if reader.problems:
-        raise GearSetError(reader.problems)
-    return GearSet(**parts, origin=origin, given=frozenset(reader.given))
-
-
-def looks_like_path(text: str) -> bool:
-    """Whether a name given for a gear set or scene is a file path (a ``.toml`` name, with an
-    optional ``#NAME`` after it, or a name with a folder separator) rather than a bundled name."""
-    return text.partition("#")[0].endswith(".toml") or os.sep in text or (os.altsep is not None and os.altsep in text)
 
 
 MAX_TOML_BYTES = 4 * 1024 * 1024
@@ -689,9 +72,8 @@ RIM_PER_DEFLECTION_MIN = 0.5
 δ ≈ 0.6–3·w0 (ratio 30 to 160; the bundled sets 1.8–2.9); the rim stage's nonlinear ring FEM loses
 its positive-definite tangent below δ ≈ 0.3·w0 at z1 = 200 and 0.6–0.8·w0 at z1 = 40–60
 (measured; such sets get a named :class:`~profilegen.errors.RimSolverError` instead)."""
-_TORQUE_PER_D2B = math.sqrt(265.0 / (100.0**2 * 20.0) * 67.0 / (60.0**2 * 10.0))  # N·m/mm³, see size_torque_nm
-_TORQUE_FACTOR_HIGH = 3.0  # a torque over 3× its catalogue value for the size is noted
-_TORQUE_FACTOR_LOW = 10.0  # a rated torque under 1/10 of it too (a set copied to another size)
+
+
 MAX_NAME_CHARS = 100
 """Longest gear-set ``name``: it names the output folder (``export/<name>/``)."""
 MAX_TEXT_CHARS = 2000
@@ -798,84 +180,6 @@ def read_toml(path: Path, error: type[Exception], what: str, *, limit: int = MAX
         raise error(f"{path}: malformed TOML: a value TOML cannot hold (an integer too long?)") from None
 
 
-def load_gearset(path: str | os.PathLike) -> GearSet:
-    """Read and validate a gear-set TOML file.
-
-    Every error is a :class:`GearSetError` naming the file: a missing file, a
-    malformed file (with TOML's line/column message) and each invalid field
-    (one line per field, prefixed with the path).
-    """
-    path = Path(path)
-    data = read_toml(path, GearSetError, "gear-set file")
-    try:
-        return parse_gearset(data, origin=str(path), base_dir=path.parent)
-    except GearSetError as exc:
-        raise type(exc)([f"{path}: {line}" for line in exc.problems]) from None
-
-
-def _profile_dir_candidates() -> list[Path]:
-    return [
-        Path(__file__).resolve().parents[2] / "profiles",
-        Path(sys.prefix) / "share" / "profilegen" / "profiles",
-    ]
-
-
-def profiles_dir() -> Path:
-    """The folder of the shipped profiles: ``<repo>/profiles`` if present, else the installed copy."""
-    candidates = _profile_dir_candidates()
-    for folder in candidates:
-        if (folder / "default.toml").is_file():
-            return folder
-    raise GearSetError(
-        "profiles folder not found (looked for default.toml in "
-        + ", ".join(str(c) for c in candidates)
-        + ")"
-    )
-
-
-def default_gearset_path() -> Path:
-    """Path of ``profiles/default.toml`` (repo checkout first, then ``sys.prefix/share/profilegen``)."""
-    return profiles_dir() / "default.toml"
-
-
-def list_profiles() -> list[Path]:
-    """The shipped gear-set files, sorted by name."""
-    return sorted(profiles_dir().glob("*.toml"))
-
-
-def resolve_gearset(name_or_path: str | os.PathLike) -> Path:
-    """Path of a gear set given as a file path or as a bare profile name (``"default"``).
-
-    A value with a folder separator or a ``.toml`` suffix is a path; a bare name
-    is looked up in :func:`profiles_dir` (then, failing that, as a file in the
-    current folder). Raises :class:`GearSetError` naming what was tried.
-    """
-    text = os.fspath(name_or_path)
-    if "\0" in text or len(text) > 4096:
-        raise GearSetError(f"{_show(text)}: not a file name (a NUL character or over 4096 characters)")
-    candidate = Path(text)
-    is_path = (
-        isinstance(name_or_path, os.PathLike)
-        or os.sep in text
-        or (os.altsep is not None and os.altsep in text)
-        or candidate.suffix == ".toml"
-    )
-    if is_path:
-        if candidate.exists():  # a folder, device or FIFO too: load_gearset says what it is
-            return candidate
-        raise GearSetError(f"{candidate}: no such gear-set file")
-    try:
-        folder = profiles_dir()
-    except GearSetError:
-        folder = None
-    if folder is not None and (folder / f"{text}.toml").is_file():
-        return folder / f"{text}.toml"
-    if candidate.exists():
-        return candidate
-    known = ", ".join(p.stem for p in list_profiles()) if folder is not None else "none found"
-    raise GearSetError(f"gear set {text!r}: no such profile (known profiles: {known}) and no such file")
-
-
 # --------------------------------------------------------------------------- validation
 
 _REQUIRED = object()
@@ -953,61 +257,12 @@ def _type_name(value) -> str:
     return type(value).__name__
 
 
-def _type_label(kind) -> str:
-    if isinstance(kind, tuple):
-        return " or ".join(k.__name__ for k in kind)
-    return kind.__name__
-
-
-def _json_value(value):
-    if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, np.generic):
-        return value.item()
-    return value
-
-
-def _optional_fields(obj, keys) -> dict[str, Any]:
-    out = {}
-    for key in keys:
-        value = getattr(obj, key)
-        if value is not None:
-            out[key] = _json_value(value)
-    return out
-
-
-def _twin_keys(parts: list[str]) -> tuple[str, ...]:
-    """The other spelling of a tooth length (``addendum_mm`` ↔ ``addendum_coefficient``)."""
-    if len(parts) != 2 or parts[0] != "tooth":
-        return ()
-    key = parts[1]
-    if key.endswith(COEFFICIENT_SUFFIX):
-        return (key[: -len(COEFFICIENT_SUFFIX)] + "_mm",)
-    if key.endswith("_mm"):
-        return (key[: -len("_mm")] + COEFFICIENT_SUFFIX,)
-    return ()
-
-
 def _is_float(text: str) -> bool:
     try:
         float(text)
     except ValueError:
         return False
     return True
-
-
-def _pitch_crossing(points: np.ndarray) -> float:
-    y = points[:, 1]
-    for i in range(len(y) - 1):
-        y0, y1 = y[i], y[i + 1]
-        if y0 == 0.0:
-            return float(points[i, 0])
-        if (y0 < 0.0) != (y1 < 0.0):
-            s = y0 / (y0 - y1)
-            return float(points[i, 0] + s * (points[i + 1, 0] - points[i, 0]))
-    if y[-1] == 0.0:
-        return float(points[-1, 0])
-    raise GearSetError("tooth.points: the flank does not cross the pitch circle (y = 0)")
 
 
 class _Reader:
