@@ -81,7 +81,9 @@ def browser(tmp_path_factory):
     opts.set_capability("goog:loggingPrefs", {"browser": "ALL", "performance": "ALL"})
     driver = webdriver.Chrome(service=Service(executable_path=CHROMEDRIVER), options=opts)
     try:
-        driver.set_window_size(*SCREEN)
+        # the viewport (not the window, which includes the browser's own bars) is the screen
+        driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                               {"width": SCREEN[0], "height": SCREEN[1], "deviceScaleFactor": 1, "mobile": False})
         yield driver
     finally:
         driver.quit()
@@ -124,10 +126,14 @@ def test_report_renders_offline_without_errors(browser, report, tmp_path):
         "const r = e => e.getBoundingClientRect();"
         "const v = document.querySelector('.ds .verdict');"
         "const rows = [...document.querySelectorAll('.ds table tr')].filter(tr => /CS tip Ø|CS root Ø|smallest clearance/.test(tr.textContent));"
+        "const last = [...document.querySelectorAll('.ds .numbers tr')].pop();"
         "return {verdict: r(v).bottom, rows: rows.map(tr => r(tr).bottom), h: window.innerHeight, w: window.innerWidth,"
+        "        last: r(last).bottom,"
         "        wide: document.documentElement.scrollWidth};")
     assert first["verdict"] < first["h"]
+    assert (first["w"], first["h"]) == SCREEN
     assert len(first["rows"]) == 3 and max(first["rows"]) < first["h"], first
+    assert first["last"] < first["h"], first  # every number of the sheet, stiffness included
     assert first["wide"] <= first["w"], "the first screen scrolls sideways"
 
 
