@@ -62,6 +62,8 @@ def _cmd_design(args) -> int:
 
 
 def _summary(result, written) -> None:
+    from .output.sheet import format_clearance  # '2.22e-10 nm' was printed for a touching outline
+
     env = result.envelope
     c = env.counts()
     print(f"gear set {result.gearset.name!r}, scene {result.scene.name!r}")
@@ -75,14 +77,14 @@ def _summary(result, written) -> None:
     )
     f = result.form
     print(f"  CS: tip circle r = {f.tip_radius_mm:.4f} mm, root circle r = {f.root_radius_mm:.4f} mm, "
-          f"min clearance {f.clearance.min_mm * 1e6:.3g} nm (chord tolerance {result.scene.chord_tol_mm * 1e6:g} nm)")
+          f"min clearance {format_clearance(f.clearance.min_mm)} (chord tolerance {result.scene.chord_tol_mm * 1e6:g} nm)")
     if result.profile is not None:
         p = result.profile
         fits = ", ".join(f"{m} {fit.max_error_mm * 1e3:.3f}" for m, fit in p.fits.items())
         branches = "" if p.branches is None else f" per branch ({len(p.branches.fits)} branches, max {p.max_error_mm * 1e3:.3f} µm)"
         print(f"  arc–line–arc fit, max deviation (µm): {fits}; CAD uses {p.method}{branches}"
               + (f", max backlash {p.max_backlash_mm * 1e3:.3f} µm" if p.max_backlash_mm is not None else ""))
-        print(f"  fitted CS vs FS tooth at {p.positions} positions: min clearance {p.clearance.min_mm * 1e3:.4f} µm")
+        print(f"  fitted CS vs FS tooth at {p.positions} positions: min clearance {format_clearance(p.clearance.min_mm)}")
     if result.contact is not None:
         for case in result.contact.cases:
             print(f"  contact at {case.torque_nm:g} N·m: {case.teeth_in_contact} teeth per zone "

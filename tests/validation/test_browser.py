@@ -11,7 +11,7 @@ The screenshot of the first screen is saved to tmp_path; with
 ``design`` scene (contact and stresses, ~20 s) and saves the screenshot there — that is how
 ``docs/design_sheet.png`` is made:
 
-    PROFILEGEN_DESIGN_SHEET_PNG=docs/design_sheet.png python -m pytest -p no:xdist tests/validation/test_browser.py
+    PROFILEGEN_DESIGN_SHEET_PNG=docs/design_sheet.png python -m pytest -n 0 tests/validation/test_browser.py
 
 Skipped, with the reason, where chromium, chromedriver or selenium is missing (.ci/run installs
 chromium and chromium-driver with apt-get).
