@@ -5,8 +5,12 @@
   (the printed phase-1 LP, a negative example) → :class:`ContactSolution`.
 * :mod:`profilegen.contact.points` — the potential contact points of one engagement zone
   of a design: FS flank stations against the fitted CS flank (:func:`contact_points`).
+* :mod:`profilegen.contact.inputs` — :class:`ContactInput`, what the contact reads of a
+  design (gear set, FS tooth, motion, fitted CS space, CS tip radius, the rim's no-load
+  contact angle): ``ContactInput.from_design(design)``.
 """
 
+from .inputs import ContactInput
 from .points import ContactPointError, ContactPoints, contact_points
 
 from .solvers import (
@@ -19,6 +23,7 @@ from .solvers import (
 
 __all__ = [
     "ContactError",
+    "ContactInput",
     "ContactPointError",
     "ContactPoints",
     "contact_points",

@@ -1,5 +1,9 @@
 """Loaded tooth contact of a design: points + compliance + solver → :class:`ContactResult`.
 
+``solve_contact(inputs, torques_nm)`` takes a :class:`~profilegen.contact.inputs.ContactInput`
+(what the contact reads of a design: ``ContactInput.from_design(design)``; a Design is
+accepted and read the same way) and builds the points and the compliance itself.
+
 ``analyse_contact(points, compliance, torques_nm)`` solves one engagement zone for each
 torque. The U zones of a U-wave generator carry equal shares (the wave generator's U-fold
 rotational symmetry maps the loads of one zone onto the next), so a zone takes
@@ -22,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .inputs import ContactInput
 from .solvers import ContactError, ContactSolution, solve_lemke, solve_qp_active_set
 from ..results import readonly as _readonly
 
@@ -218,11 +223,13 @@ def analyse_contact(points, compliance_mm_per_n, torques_nm, *, solver: str = "l
                          tuple(warnings), None)
 
 
-def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 5, max_gap_mm: float = 0.12,
+def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: int = 5, max_gap_mm: float = 0.12,
                   solver: str = "lemke", face_width_mm: float | None = None, settle_iterations: int = 20,
                   points=None, compliance=None, race_thickness_mm: float | None = None,
                   race_interface: str = "sliding") -> ContactResult:
-    """Loaded contact of ``design`` at each torque (N·m): the potential contact points
+    """Loaded contact of a design at each torque (N·m), from its ``inputs`` (a
+    :class:`~profilegen.contact.inputs.ContactInput`, or a Design, read by
+    :meth:`ContactInput.from_design <profilegen.contact.inputs.ContactInput.from_design>`): the potential contact points
     (:func:`~profilegen.contact.points.contact_points`), the FEM influence coefficients
     (:class:`~profilegen.contact.compliance.ContactCompliance`, built once), then per torque
     seed 000's loop — solve the contact, drop the balls that pull and take back those the rim
@@ -238,12 +245,13 @@ def solve_contact(design, torques_nm, *, side: int = 1, stations: int = 5, max_g
     from .points import contact_points
 
     t0 = time.perf_counter()
+    inputs = ContactInput.from_design(inputs, name="inputs")  # a ContactInput passes as it is
     torques = _checked_torques(torques_nm, solver)
     if (points is None) != (compliance is None):
         raise ContactError("points, compliance: pass both (from an earlier solve_contact result) or neither")
     if points is None:
-        points = contact_points(design, side=side, stations=stations, max_gap_mm=max_gap_mm)
-        compliance = ContactCompliance.build(design, points.fs_point_mm, points.normal, points.tooth,
+        points = contact_points(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm)
+        compliance = ContactCompliance.build(inputs, points.fs_point_mm, points.normal, points.tooth,
                                              points.cs_point_mm, face_width_mm=face_width_mm,
                                              race_thickness_mm=race_thickness_mm, race_interface=race_interface)
     solve = _SOLVERS[solver]

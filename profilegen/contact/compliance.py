@@ -1,6 +1,6 @@
 """Influence coefficients (compliance matrix) of the loaded tooth contact (seed 000 §5.1–5.2).
 
-``ContactCompliance.build(design, fs_points, fs_normals, fs_tooth_index, cs_points, cs_normals)``
+``ContactCompliance.build(inputs, fs_points, fs_normals, fs_tooth_index, cs_points, cs_normals)``
 → S (mm/N): S_kj = n_k·u_FS,k + n'_k·u_CS,k for a unit contact force at point j, with the
 two bodies loaded equally and oppositely along the common normal n_j (the FS pushed along
 −n_j, the CS along +n_j; n points out of the FS tooth, as :mod:`profilegen.contact.points`
@@ -80,7 +80,7 @@ Model (small displacements about the undeformed bodies; linear, plane stress)
   balls' Hertzian compliance, the inner ring and cam, and the cup's wind-up — none
   modelled — become the larger share of the torsional compliance.
 * **CS: toothed sector, fixed outside.** The internal teeth are meshed from the fitted CS
-  outline (``design.profile.space``: its arcs and lines, isoparametric) over the spaces
+  outline (``inputs.cs_space``: its arcs and lines, isoparametric) over the spaces
   that carry a point ± ``margin_teeth``, between the tooth surface and the outer radius
   ``cs_outer_radius_mm`` (default 1.1 × the CS pitch radius, ESTIMATE), which is fixed,
   as are the sector's two radial cuts (through CS tooth centres). The coupling between
@@ -112,6 +112,7 @@ import scipy.sparse as sp
 from .. import checks
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
+from .inputs import ContactInput
 
 __all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT", "default_race_thickness_mm"]
 
@@ -449,7 +450,7 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
         raise ComplianceError(
             f"fs_points: point {k}{which} is {dist[k]:.3g} mm off the FS tooth surface once "
             f"mapped back to its tooth frame (tolerance on_surface_tol_mm = {tol_mm:g} mm); the points, tooth "
-            "indices and the design's motion must belong together")
+            "indices and inputs.motion must belong together")
     loads_c = _load_matrix(n_full, ix, iy, triples, weights, directions)
     z_half = -ring.start_rad  # the start cut is at θ = −z_half, the end cut at π − z_half
     ball_mesh = np.mod(ball_angles + z_half, math.pi) - z_half
@@ -610,7 +611,7 @@ def _cs_pieces(space, cs_teeth: int):
                 el.centre + el.radius * np.column_stack([np.cos(el.start_angle + u * el.sweep),
                                                          np.sin(el.start_angle + u * el.sweep)])))(el)))
         else:
-            raise ComplianceError(f"design.profile.space: element {el!r} is not a Line or an Arc")
+            raise ComplianceError(f"cs_space: element {el!r} is not a Line or an Arc")
     pieces.append(("tip land", rho_e * abs(half - psi_e),
                    lambda u: ((1 - u) * psi_e + u * half, np.full_like(u, rho_e))))
     return pieces, max(rho_s, rho_e), max(float(np.max(polar(space.sample(1e-4))[1])), rho_s)
@@ -717,11 +718,11 @@ def gearset_cs_modulus(gearset) -> float:
     return float(gearset.material.youngs_modulus_mpa)
 
 
-def _wrap_half_angle(design, gearset) -> tuple[float, str]:
-    rim = getattr(design, "rim", None)
-    fem = getattr(rim, "fem", None)
-    if fem is not None and getattr(fem, "contact_phi_rad", np.zeros(0)).size:
-        return float(fem.contact_angle_rad), "the rim stage's no-load contact angle"
+def _wrap_half_angle(rim_contact_angle_rad: float | None, gearset) -> tuple[float, str]:
+    """The half angle that selects the candidate balls, and where it comes from: the rim
+    stage's no-load contact angle when known, else a linear flat-ring solve."""
+    if rim_contact_angle_rad is not None:
+        return float(rim_contact_angle_rad), "the rim stage's no-load contact angle"
     from .. import wavegen
     from ..rim.ring import solve_ring
 
@@ -771,7 +772,7 @@ class ContactCompliance:
     @classmethod
     def build(
         cls,
-        design,
+        inputs: ContactInput,
         fs_points,
         fs_normals,
         fs_tooth_index,
@@ -801,10 +802,10 @@ class ContactCompliance:
     ) -> "ContactCompliance":
         """Influence coefficients for the contact points of one engagement zone.
 
-        ``design``: a :class:`profilegen.pipeline.Design` (gear set, FS tooth, motion, fitted
-        CS profile). ``fs_points`` (n, 2): FS points at their no-load positions, CS frame
-        (mm); ``fs_normals`` (n, 2): unit common normals, out of the FS tooth;
-        ``fs_tooth_index`` (n,): FS tooth i of each point (it stands in CS space i, WG at
+        ``inputs``: a :class:`~profilegen.contact.inputs.ContactInput` (gear set, FS tooth,
+        motion, fitted CS space, the rim's no-load contact angle; ``ContactInput.from_design``).
+        ``fs_points`` (n, 2): FS points at their no-load positions, CS frame (mm);
+        ``fs_normals`` (n, 2): unit common normals, out of the FS tooth; ``fs_tooth_index`` (n,): FS tooth i of each point (it stands in CS space i, WG at
         ψ = 0); ``cs_points`` (n, 2): the CS partner points (CS frame); ``cs_normals``:
         the CS surface's outward normals (default −fs_normals; must be opposite to them
         within 0.1 rad). ``face_width_mm``: b (default the gear set's ``cup.face_width_mm``,
@@ -817,12 +818,8 @@ class ContactCompliance:
         Other keywords: the mesh (see the module docstring).
         """
         start = time.perf_counter()
-        gearset = getattr(design, "gearset", None)
-        if gearset is None or getattr(design, "tooth", None) is None or getattr(design, "motion", None) is None:
-            raise ComplianceError("design: must be a profilegen Design (with gearset, tooth and motion)")
-        profile = getattr(design, "profile", None)
-        if profile is None or getattr(profile, "space", None) is None:
-            raise ComplianceError("design: has no fitted CS profile (design.profile is None)")
+        inputs = ContactInput.of(inputs, error=ComplianceError)
+        gearset = inputs.gearset
         g = gearset.gear
         if g.waves != 2:
             raise ComplianceError(f"gearset.gear.waves = {g.waves}: the point-symmetric half ring needs U = 2")
@@ -867,7 +864,7 @@ class ContactCompliance:
         cs_outer_radius_mm = _positive("cs_outer_radius_mm", cs_outer_radius_mm, "mm")
         warnings: list[str] = []
         if wrap_half_angle_rad is None:
-            wrap, wrap_source = _wrap_half_angle(design, gearset)
+            wrap, wrap_source = _wrap_half_angle(inputs.rim_contact_angle_rad, gearset)
             warnings.append("the wrap angle that selects the candidate balls is ill-conditioned (DESIGN.md trap 7)")
         else:
             wrap = _positive("wrap_half_angle_rad", wrap_half_angle_rad, "rad")
@@ -880,7 +877,7 @@ class ContactCompliance:
 
         z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
         phi = 2.0 * math.pi * tooth_index / z1
-        pose = design.motion.pose(phi)
+        pose = inputs.motion.pose(phi)
         angle = 2.0 * math.pi * tooth_index / z2
         local = pose.to_tooth(turn(fs_points, -angle))
         # normal: undo turn(·, angle), then the tooth frame's rotation (to_tooth without the origin)
@@ -894,14 +891,14 @@ class ContactCompliance:
         balls = np.sort(theta[np.abs(theta) <= wrap + 1e-12])
 
         with _serial_blas():
-            fs = _fs_flex(design.tooth, gearset, local, local_n, tooth_index, balls, margin=margin,
+            fs = _fs_flex(inputs.tooth, gearset, local, local_n, tooth_index, balls, margin=margin,
                           toothed_teeth=toothed_teeth, per_pitch=_whole("per_pitch", per_pitch, 2),
                           flat_per_pitch=_whole("flat_per_pitch", flat_per_pitch, 1),
                           rim_layers=_whole("rim_layers", rim_layers, 1),
                           tooth_layers=_whole("tooth_layers", tooth_layers, 1), tol_mm=tol,
                           race_thickness_mm=race, race_layers=race_layers,
                           race_sliding=race_interface == "sliding")
-            cs = _cs_flex(profile.space, gearset, cs_points, cs_normals, margin=margin,
+            cs = _cs_flex(inputs.cs_space, gearset, cs_points, cs_normals, margin=margin,
                           per_pitch=_whole("cs_per_pitch", cs_per_pitch, 2),
                           tooth_layers=_whole("cs_tooth_layers", cs_tooth_layers, 1),
                           back_layers=_whole("cs_back_layers", cs_back_layers, 1),

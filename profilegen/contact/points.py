@@ -13,7 +13,7 @@ symmetry, a rotation by 2π/U that maps the loads of one zone onto the next — 
 zone takes T/U). Per tooth, ``stations`` points along the loaded FS flank from the start
 of its working part to the tip corner; for each, the initial separation e_k (mm) is the
 distance from the station to the fitted CS flank (the true arcs and lines of
-``design.profile.space``, exact distances to them), measured along the FS flank's outward
+``inputs.cs_space``, exact distances to them), measured along the FS flank's outward
 normal n_k (the common normal at contact). A rigid rotation Δφ of the FS relative to
 the CS closes the gap by r_k Δφ, r_k = (p × n)·(−z), the lever arm of the normal about
 the gear centre in the package's angle sense (+y toward +x); the loaded flank is the one
@@ -51,6 +51,7 @@ import numpy as np
 from ..errors import ProfilegenError
 from ..kinematics import turn
 from ..results import readonly as _readonly
+from .inputs import ContactInput
 
 __all__ = ["ContactPoints", "ContactPointError", "contact_points"]
 
@@ -131,21 +132,24 @@ class ContactPoints:
         }
 
 
-def _flank_start(tooth, design) -> float:
+def _flank_start(tooth, inputs: ContactInput) -> float:
     """Arc length where the FS flank can first touch: the lowest station that ever comes
     within reach of the CS tip circle (below it the FS flank is out of mesh)."""
     t = np.linspace(0.0, tooth.length_mm, 801)
     p = tooth.point(t)
     r = np.hypot(p[:, 0], p[:, 1] + tooth.neutral_radius_mm)
     # an FS point at tooth-frame radius r reaches at most r + w0 + (r − r_m)(…) ≈ r + w0
-    reach = r + design.gearset.deflection_mm
-    ok = np.flatnonzero(reach >= design.form.tip_radius_mm)
+    reach = r + inputs.gearset.deflection_mm
+    ok = np.flatnonzero(reach >= inputs.cs_tip_radius_mm)
     return float(t[ok[0]]) if ok.size else 0.0
 
 
-def contact_points(design, *, side: int = 1, stations: int = 5, max_gap_mm: float = 0.12) -> ContactPoints:
-    """The potential contact points of one engagement zone of ``design`` (a
-    :class:`profilegen.pipeline.Design` with a fitted CS profile). See the module docstring."""
+def contact_points(inputs: ContactInput, *, side: int = 1, stations: int = 5,
+                   max_gap_mm: float = 0.12) -> ContactPoints:
+    """The potential contact points of one engagement zone of a design, from its
+    :class:`~profilegen.contact.inputs.ContactInput` (``ContactInput.from_design(design)``).
+    See the module docstring."""
+    inputs = ContactInput.of(inputs, error=ContactPointError)
     if side not in (1, -1):
         raise ContactPointError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
     if isinstance(stations, bool) or not isinstance(stations, (int, np.integer)) or stations < 2:
@@ -156,16 +160,13 @@ def contact_points(design, *, side: int = 1, stations: int = 5, max_gap_mm: floa
         raise ContactPointError(f"max_gap_mm = {max_gap_mm!r}: must be a number (mm)") from exc
     if not (math.isfinite(max_gap_mm) and max_gap_mm > 0.0):
         raise ContactPointError(f"max_gap_mm = {max_gap_mm!r} mm: must be finite and > 0")
-    if design.profile is None:
-        raise ContactPointError("design: has no fitted CS profile (design.profile is None)")
 
-    g = design.gearset.gear
+    g = inputs.gearset.gear
     z1, z2, waves = g.flexspline_teeth, g.circular_spline_teeth, g.waves
-    tooth, motion = design.tooth, design.motion
-    space = design.profile.space  # true arcs and lines: exact distances and feet
+    tooth, motion = inputs.tooth, inputs.motion
+    space = inputs.cs_space  # true arcs and lines: exact distances and feet
 
-    t = np.linspace(_flank_start(tooth, design), tooth.length_mm, stations)
-    local = tooth.evaluate(t, side=side)[0]
+    t = np.linspace(_flank_start(tooth, inputs), tooth.length_mm, stations)
     # outward normal of the flank in the tooth frame (below): the right flank runs root → tip
     # with the tooth material on its left (−x side), so the outward normal is the tangent turned clockwise
 

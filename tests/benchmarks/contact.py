@@ -26,6 +26,7 @@ sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
 from profilegen.contact.analysis import ARCMIN_PER_RAD, analyse_contact, solve_contact  # noqa: E402
+from profilegen.contact import ContactInput  # noqa: E402
 from profilegen.contact.compliance import ContactCompliance  # noqa: E402
 from profilegen.output.plot import CATALOG_SIZE40_RATIO50, contact_figure  # noqa: E402
 
@@ -98,7 +99,8 @@ def main() -> None:
     pts = solve_contact(design, [54.0]).points
     for label, kw in (("default mesh", {}), ("24 columns per pitch", {"per_pitch": 24, "cs_per_pitch": 24}),
                       ("6 tooth layers", {"tooth_layers": 6, "cs_tooth_layers": 6}), ("3 rim layers", {"rim_layers": 3})):
-        comp = ContactCompliance.build(design, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm, **kw)
+        comp = ContactCompliance.build(ContactInput.from_design(design), pts.fs_point_mm, pts.normal, pts.tooth,
+                                       pts.cs_point_mm, **kw)
         res = solve_contact(design, [54.0, 265.0, 660.0], points=pts, compliance=comp)
         print(f"{label:22s} dof {comp.dof}: K = {np.array2string(res.secant_stiffness_nm_per_rad / 1e4, precision=2)}·10⁴ "
               f"N·m/rad, max tooth force {[round(c.max_tooth_force_n, 1) for c in res.cases]} N at 54 / 265 / 660 N·m")

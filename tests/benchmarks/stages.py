@@ -613,6 +613,7 @@ def _arcfit(inp: _Inputs, repeats: int) -> list[dict]:
 
 
 def _contact(inp: _Inputs, repeats: int) -> list[dict]:
+    from profilegen.contact import ContactInput
     from profilegen.contact.analysis import solve_contact
     from profilegen.contact.compliance import ContactCompliance
     from profilegen.contact.solvers import solve_naive_lp
@@ -625,7 +626,8 @@ def _contact(inp: _Inputs, repeats: int) -> list[dict]:
     default_fem = f"FEM {fs_cols}/{cs_cols} col./pitch, {layers} layers"
 
     def build(points, cols, tooth_layers):
-        return ContactCompliance.build(d, points.fs_point_mm, points.normal, points.tooth, points.cs_point_mm,
+        return ContactCompliance.build(ContactInput.from_design(d), points.fs_point_mm, points.normal, points.tooth,
+                                       points.cs_point_mm,
                                        per_pitch=cols, cs_per_pitch=cols, tooth_layers=tooth_layers,
                                        cs_tooth_layers=tooth_layers)
 

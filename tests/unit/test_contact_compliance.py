@@ -17,25 +17,27 @@ import pytest
 import shapely
 
 import profilegen as pg
+from profilegen.contact import ContactInput
 from profilegen.contact.compliance import ComplianceError, ContactCompliance, _half_ring_flex
 from profilegen.kinematics import turn
 from profilegen.rim.toothed import ring_sector_mesh
 
 
 @pytest.fixture(scope="module")
-def design():
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch")
+def inputs():
+    """What the contact reads of the default set's sketch design (built as the pipeline does)."""
+    return ContactInput.from_design(pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch"))
 
 
-def make_points(design, teeth, stations=5):
+def make_points(inputs, teeth, stations=5):
     """Right-flank stations of FS teeth ``teeth`` placed by the kinematics (WG at ψ = 0, tooth
     i in CS space i), their outward normals, and the nearest points of the fitted CS flank."""
-    g = design.gearset.gear
-    tooth, motion = design.tooth, design.motion
+    g = inputs.gearset.gear
+    tooth, motion = inputs.tooth, inputs.motion
     t = np.linspace(0.45 * tooth.length_mm, tooth.length_mm * 0.98, stations)
     local, dp, _ = tooth.evaluate(t)
     n_local = np.column_stack([dp[:, 1], -dp[:, 0]])
-    line = shapely.LineString(design.profile.space.sample(1e-5))
+    line = shapely.LineString(inputs.cs_space.sample(1e-5))
     fs, nn, idx, cs = [], [], [], []
     for i in teeth:
         pose = motion.pose(np.full(stations, 2 * math.pi * i / g.flexspline_teeth))
@@ -52,13 +54,13 @@ def make_points(design, teeth, stations=5):
 
 
 @pytest.fixture(scope="module")
-def points(design):
-    return make_points(design, teeth=range(2, 14, 2))
+def points(inputs):
+    return make_points(inputs, teeth=range(2, 14, 2))
 
 
 @pytest.fixture(scope="module")
-def compliance(design, points):
-    return ContactCompliance.build(design, *points)
+def compliance(inputs, points):
+    return ContactCompliance.build(inputs, *points)
 
 
 def test_symmetric_positive_definite_and_finite(compliance):
@@ -82,11 +84,11 @@ def test_rigid_rotation_removed_without_any_ball(compliance):
     assert np.all(np.diag(free.matrix_mm_per_n) >= np.diag(compliance.matrix_mm_per_n) * (1 - 1e-12))
 
 
-def test_scales_as_one_over_face_width_and_modulus(design, points, compliance):
-    wide = ContactCompliance.build(design, *points, face_width_mm=2 * compliance.face_width_mm)
+def test_scales_as_one_over_face_width_and_modulus(inputs, points, compliance):
+    wide = ContactCompliance.build(inputs, *points, face_width_mm=2 * compliance.face_width_mm)
     np.testing.assert_allclose(wide.matrix_mm_per_n, compliance.matrix_mm_per_n / 2, rtol=1e-9)
-    gs = design.gearset
-    stiff = dataclasses.replace(design, gearset=gs.with_values(
+    gs = inputs.gearset
+    stiff = dataclasses.replace(inputs, gearset=gs.with_values(
         {"material.youngs_modulus_mpa": 2 * gs.material.youngs_modulus_mpa}))
     hard = ContactCompliance.build(stiff, *points)
     np.testing.assert_allclose(hard.matrix_mm_per_n, compliance.matrix_mm_per_n / 2, rtol=1e-7)
@@ -127,16 +129,16 @@ def test_pinched_flat_ring_against_ring_theory():
     assert -flex[1, 0] == pytest.approx(0.5 * growth, rel=0.01)
 
 
-def test_cs_tooth_against_cantilever_beam(design, compliance):
+def test_cs_tooth_against_cantilever_beam(inputs, compliance):
     """A CS tooth is a short cantilever on a stiff, fixed ring: its compliance under a load
     near the tip is within a factor of 3 of bending + shear of a uniform beam as long as
     the load's height above the root circle, as thick as the tooth at mid-height (a
     cantilever ignores the root's rotation, which makes real teeth softer)."""
-    space = design.profile.space
-    z2 = design.gearset.gear.circular_spline_teeth
+    space = inputs.cs_space
+    z2 = inputs.gearset.gear.circular_spline_teeth
     cs = compliance.cs_matrix_mm_per_n * compliance.face_width_mm  # mm²/N, per mm of face width
     # the CS point farthest from the root circle (nearest the CS tip) of the first tooth
-    _, _, _, cs_pts = make_points(design, teeth=[2])
+    _, _, _, cs_pts = make_points(inputs, teeth=[2])
     k = int(np.argmin(np.hypot(*cs_pts.T)))
     r_root = float(np.max(np.hypot(*space.sample(1e-4).T)))
     h = r_root - float(np.hypot(*cs_pts[k]))
@@ -146,7 +148,7 @@ def test_cs_tooth_against_cantilever_beam(design, compliance):
     near = np.abs(np.hypot(*sample.T) - r_mid) < 0.02
     space_width = r_mid * (ang[near].max() - ang[near].min())
     thick = r_mid * 2 * math.pi / z2 - space_width
-    e, nu = design.gearset.material.youngs_modulus_mpa, design.gearset.material.poisson_ratio
+    e, nu = inputs.gearset.material.youngs_modulus_mpa, inputs.gearset.material.poisson_ratio
     g_mod = e / (2 * (1 + nu))
     beam = h**3 / (3 * e * thick**3 / 12) + h / (5 / 6 * g_mod * thick)
     assert 0.33 < cs[k, k] / beam < 3.0
@@ -155,7 +157,7 @@ def test_cs_tooth_against_cantilever_beam(design, compliance):
 @pytest.mark.parametrize("change, name", [
     ("shape", "fs_normals"), ("nan", "fs_points"), ("off", "fs_points"), ("width", "face_width_mm"),
     ("index", "fs_tooth_index"), ("cs_off", "cs_points"), ("balls", "ball_count")])
-def test_bad_input_names_the_parameter(design, points, change, name):
+def test_bad_input_names_the_parameter(inputs, points, change, name):
     fs, nn, idx, cs = (np.array(a) for a in points)
     kw = {}
     if change == "shape":
@@ -173,7 +175,7 @@ def test_bad_input_names_the_parameter(design, points, change, name):
     elif change == "balls":
         kw["ball_count"] = 1
     with pytest.raises(ComplianceError, match=name):
-        ContactCompliance.build(design, fs, nn, idx, cs, **kw)
+        ContactCompliance.build(inputs, fs, nn, idx, cs, **kw)
     assert issubclass(ComplianceError, ValueError)
 
 
@@ -181,19 +183,19 @@ def test_bad_input_names_the_parameter(design, points, change, name):
 
 
 @pytest.fixture(scope="module")
-def race_series(design, points):
+def race_series(inputs, points):
     """S with the bearing's outer race 0 (balls on the bore: the old model), 0.5, 1.5, 2.5, 3.5 mm."""
-    return {t: ContactCompliance.build(design, *points, race_thickness_mm=t, race_interface="bonded")
+    return {t: ContactCompliance.build(inputs, *points, race_thickness_mm=t, race_interface="bonded")
             for t in (0.0, 0.5, 1.5, 2.5, 3.5)}
 
 
-def test_race_zero_is_the_old_model(design, points, race_series):
+def test_race_zero_is_the_old_model(inputs, points, race_series):
     """race_thickness_mm = 0 is the model without the race: the balls on the bore, and no
     difference between a sliding and a bonded race of zero thickness."""
     s = race_series[0.0].matrix_mm_per_n
     assert s.shape == (30, 30)
     assert race_series[0.0].mesh["fs"].get("race_thickness_mm") is None
-    sliding = ContactCompliance.build(design, *points, race_thickness_mm=0.0, race_interface="sliding")
+    sliding = ContactCompliance.build(inputs, *points, race_thickness_mm=0.0, race_interface="sliding")
     assert np.array_equal(sliding.matrix_mm_per_n, s)
 
 
@@ -229,9 +231,9 @@ def test_banded_flexibility_matches_a_sparse_lu(gauged):
 
 
 @pytest.mark.parametrize("joint", ["bonded", "sliding"])
-def test_race_symmetric_positive_definite(design, points, race_series, joint):
+def test_race_symmetric_positive_definite(inputs, points, race_series, joint):
     c = (race_series[2.5] if joint == "bonded"
-         else ContactCompliance.build(design, *points, race_thickness_mm=2.5, race_interface="sliding"))
+         else ContactCompliance.build(inputs, *points, race_thickness_mm=2.5, race_interface="sliding"))
     s = c.matrix_mm_per_n
     assert np.all(np.isfinite(s))
     assert np.max(np.abs(s - s.T)) <= 1e-10 * np.max(np.abs(s))
@@ -288,17 +290,17 @@ def test_race_on_flat_ring_against_ring_theory(joint):
 @pytest.mark.parametrize("kw", [{"race_thickness_mm": -1.0}, {"race_thickness_mm": float("nan")},
                                 {"race_thickness_mm": "thick"}, {"race_thickness_mm": 30.0},
                                 {"race_interface": "glued"}, {"race_layers": 0}])
-def test_bad_race_names_the_parameter(design, points, kw):
+def test_bad_race_names_the_parameter(inputs, points, kw):
     with pytest.raises(ComplianceError, match=next(iter(kw))):
-        ContactCompliance.build(design, *points, **kw)
+        ContactCompliance.build(inputs, *points, **kw)
 
 
-def test_cs_columns_grow_to_the_pieces_of_the_profile(design, points, compliance):
+def test_cs_columns_grow_to_the_pieces_of_the_profile(inputs, points, compliance):
     """A CS profile fitted per branch has more pieces per space than the default column
     count (the verify scene: 17 > 16); the sector mesh takes one column per piece at least
     instead of failing. Forced here by asking for 2 columns: the matrix stays SPD and close
     to the default mesh's (same FS, coarser CS: the CS part is ~5 % of S)."""
-    coarse = ContactCompliance.build(design, *points, cs_per_pitch=2)
+    coarse = ContactCompliance.build(inputs, *points, cs_per_pitch=2)
     s = coarse.matrix_mm_per_n
     np.linalg.cholesky(s)
     d0, d1 = np.diag(compliance.matrix_mm_per_n), np.diag(s)

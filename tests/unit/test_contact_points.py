@@ -6,20 +6,22 @@ import numpy as np
 import pytest
 
 import profilegen as pg
+from profilegen.contact import ContactInput
 from profilegen.contact.points import ContactPointError, contact_points
 from profilegen.kinematics import turn
 
 
 @pytest.fixture(scope="module")
-def design():
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch")
+def inputs():
+    """What the contact reads of the default set's sketch design (built as the pipeline does)."""
+    return ContactInput.from_design(pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch"))
 
 
-def test_points_lie_on_the_placed_fs_flank_and_near_the_cs_flank(design):
-    cp = contact_points(design)
-    g = design.gearset.gear
+def test_points_lie_on_the_placed_fs_flank_and_near_the_cs_flank(inputs):
+    cp = contact_points(inputs)
+    g = inputs.gearset.gear
     # each FS point is its tooth's flank station placed by the kinematics, in space i
-    pose = design.motion.pose(cp.phi_rad)
+    pose = inputs.motion.pose(cp.phi_rad)
     back = turn(cp.fs_point_mm, -2 * math.pi * cp.tooth / g.circular_spline_teeth)
     local = pose.to_tooth(back)
     np.testing.assert_allclose(local, cp.local_mm, atol=1e-9)
@@ -32,22 +34,22 @@ def test_points_lie_on_the_placed_fs_flank_and_near_the_cs_flank(design):
     np.testing.assert_allclose(cp.theta_rad, cp.gap_mm / cp.lever_mm)
 
 
-def test_first_contact_is_near_zero_separation(design):
+def test_first_contact_is_near_zero_separation(inputs):
     """The one-sided CS profile touches the FS tooth family (min clearance ~0 over the pass):
     at the discrete teeth and stations the smallest separation is well below a µm."""
-    cp = contact_points(design)
+    cp = contact_points(inputs)
     assert cp.gap_mm.min() < 2e-3
 
 
-def test_every_tooth_keeps_its_true_closest_points(design):
+def test_every_tooth_keeps_its_true_closest_points(inputs):
     """Each tooth's smallest separation over its working flank, from a 4001-station scan,
     is among its points to 1 nm: the coarse stations are moved to the true minima (a
     station 0.05 mm off the minimum overstates it by µm, as much as the teeth differ)."""
     import shapely
 
-    cp = contact_points(design, stations=5)
-    tooth, motion, g = design.tooth, design.motion, design.gearset.gear
-    cs_line = shapely.LineString(design.profile.space.sample(1e-6))
+    cp = contact_points(inputs, stations=5)
+    tooth, motion, g = inputs.tooth, inputs.motion, inputs.gearset.gear
+    cs_line = shapely.LineString(inputs.cs_space.sample(1e-6))
     t = np.linspace(cp.t_mm.min(), tooth.length_mm, 4001)
     local = tooth.evaluate(t, side=1)[0]
     for i in cp.teeth:
@@ -56,29 +58,29 @@ def test_every_tooth_keeps_its_true_closest_points(design):
         assert cp.gap_mm[cp.tooth == i].min() <= gaps.min() + 1e-6
 
 
-def test_the_other_zone_is_the_image_under_a_half_turn(design):
+def test_the_other_zone_is_the_image_under_a_half_turn(inputs):
     """One engagement zone stands for both (U = 2): FS tooth i + z1/2 at φ_i + π stands in
     CS space i + z1/2, and its flank is tooth i's turned by π about the gear centre — the
     deformation has period π and the CS (z2 even) is invariant under the half turn — so
     both zones see the same separations and lever arms (the loads, being images too, are
     carried by the point-symmetric half ring of the compliance model)."""
-    g = design.gearset.gear
+    g = inputs.gearset.gear
     z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
     assert g.waves == 2 and z1 % 2 == 0 and z2 % 2 == 0
-    local = design.tooth.evaluate(np.linspace(0.0, design.tooth.length_mm, 41), side=1)[0]
+    local = inputs.tooth.evaluate(np.linspace(0.0, inputs.tooth.length_mm, 41), side=1)[0]
     for i in (-23, -5, 0, 7, 24):
         placed = []
         for k in (i, i + z1 // 2):
-            pose = design.motion.pose(np.full(local.shape[0], 2 * math.pi * k / z1))
+            pose = inputs.motion.pose(np.full(local.shape[0], 2 * math.pi * k / z1))
             placed.append(turn(pose.to_cs(local), 2 * math.pi * k / z2))
         np.testing.assert_allclose(placed[1], turn(placed[0], math.pi), atol=1e-9)
 
 
-def test_left_flank_mirrors_the_right_flank(design):
+def test_left_flank_mirrors_the_right_flank(inputs):
     """The motion is mirror-symmetric about the major axis (ω even, υ odd) and so is the CS
     space: loading the left flanks gives the mirror image, teeth i ↔ −i, rotation reversed."""
-    right = contact_points(design, side=1)
-    left = contact_points(design, side=-1)
+    right = contact_points(inputs, side=1)
+    left = contact_points(inputs, side=-1)
     assert right.rotation == -left.rotation and right.count == left.count
     r = np.lexsort((right.t_mm, right.tooth))
     lft = np.lexsort((left.t_mm, -left.tooth))
@@ -89,14 +91,14 @@ def test_left_flank_mirrors_the_right_flank(design):
     np.testing.assert_allclose(right.fs_point_mm[r], left.fs_point_mm[lft] * mirror, atol=1e-9)
 
 
-def test_a_smaller_cutoff_keeps_a_subset(design):
-    wide = contact_points(design, max_gap_mm=0.05)
-    narrow = contact_points(design, max_gap_mm=0.01)
+def test_a_smaller_cutoff_keeps_a_subset(inputs):
+    wide = contact_points(inputs, max_gap_mm=0.05)
+    narrow = contact_points(inputs, max_gap_mm=0.01)
     assert 0 < narrow.count < wide.count and np.all(narrow.gap_mm <= 0.01)
 
 
 @pytest.mark.parametrize("kw, name", [({"side": 0}, "side"), ({"stations": 1}, "stations"),
                                       ({"max_gap_mm": -1.0}, "max_gap_mm"), ({"max_gap_mm": 1e-12}, "max_gap_mm")])
-def test_bad_input_names_the_parameter(design, kw, name):
+def test_bad_input_names_the_parameter(inputs, kw, name):
     with pytest.raises(ContactPointError, match=name):
-        contact_points(design, **kw)
+        contact_points(inputs, **kw)

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import profilegen as pg
-from profilegen.contact import ContactError, solve_lemke, solve_naive_lp, solve_qp_active_set
+from profilegen.contact import ContactError, ContactInput, solve_lemke, solve_naive_lp, solve_qp_active_set
 from profilegen.contact.analysis import analyse_contact, solve_contact
 
 
@@ -18,8 +18,13 @@ def design():
 
 
 @pytest.fixture(scope="module")
-def rated(design):
-    return solve_contact(design, [30.0, 265.0])
+def inputs(design):
+    return ContactInput.from_design(design)
+
+
+@pytest.fixture(scope="module")
+def rated(inputs):
+    return solve_contact(inputs, [30.0, 265.0])
 
 
 def test_both_solvers_agree_on_the_real_problem(rated):
@@ -46,8 +51,8 @@ def test_complementarity_equilibrium_and_settled_balls(rated):
         assert active.size and np.all(active >= -1e-9 * np.abs(active).max())
 
 
-def test_first_contact_is_at_the_smallest_separation(design, rated):
-    tiny = solve_contact(design, [1e-6], points=rated.points, compliance=rated.compliance)
+def test_first_contact_is_at_the_smallest_separation(inputs, rated):
+    tiny = solve_contact(inputs, [1e-6], points=rated.points, compliance=rated.compliance)
     sol = tiny.cases[0].solution
     assert sol.loaded_count == 1
     # the loaded point is one whose angular separation the tiny rotation closes: the smallest,
@@ -78,29 +83,29 @@ def test_the_naive_lp_is_not_a_contact_solution(rated):
     assert naive.loaded_count < case.solution.loaded_count or naive.phi_rad != pytest.approx(case.solution.phi_rad)
 
 
-def test_bad_input_is_named(design, rated):
+def test_bad_input_is_named(inputs, rated):
     with pytest.raises(ContactError, match="torques_nm"):
-        solve_contact(design, [0.0], points=rated.points, compliance=rated.compliance)
+        solve_contact(inputs, [0.0], points=rated.points, compliance=rated.compliance)
     with pytest.raises(ContactError, match="points, compliance"):
-        solve_contact(design, [10.0], points=rated.points)
+        solve_contact(inputs, [10.0], points=rated.points)
 
 
-def test_a_torque_beyond_the_searched_zone_is_flagged(design, rated):
+def test_a_torque_beyond_the_searched_zone_is_flagged(inputs, rated):
     """A torque whose loaded zone reaches the edge of the searched teeth is flagged on the
     load case and in the warnings (not returned as a plain answer); the rated one is not."""
-    huge = solve_contact(design, [5e4], points=rated.points, compliance=rated.compliance)
+    huge = solve_contact(inputs, [5e4], points=rated.points, compliance=rated.compliance)
     assert huge.cases[0].beyond_capacity is not None
     assert any("beyond what the modelled contact can carry" in w for w in huge.warnings)
     assert huge.cases[0].to_dict()["beyond_capacity"] == huge.cases[0].beyond_capacity
     assert rated.cases[1].beyond_capacity is None
 
 
-def test_a_rotation_past_the_searched_separation_is_flagged(design):
+def test_a_rotation_past_the_searched_separation_is_flagged(inputs):
     """A station farther than max_gap_mm was never searched; once the rotation φ turns the
     longest lever arm past that separation, such a station could touch: flagged."""
     from profilegen.contact.points import contact_points
 
-    narrow = contact_points(design, max_gap_mm=0.01)
+    narrow = contact_points(inputs, max_gap_mm=0.01)
     soft = np.eye(narrow.count) * 2e-4  # mm/N: a compliant mesh turns far
     case = analyse_contact(narrow, soft, [265.0]).cases[0]
     assert case.reach_mm == pytest.approx(case.rotation_rad * narrow.lever_mm.max())
