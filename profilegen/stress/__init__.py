@@ -8,9 +8,9 @@
 * :mod:`~profilegen.stress.diaphragm` — seed 000: the diaphragm corner's shear and its
   Goodman check;
 * :mod:`~profilegen.stress.stage` — :func:`solve_stress` feeds all three with a design's own
-  deformation and contact forces and makes the safety checks.
+  deformation and contact forces (a :class:`StressInput`) and makes the safety checks.
 """
 
-from .stage import SafetyCheck, StressResult, solve_stress
+from .stage import SafetyCheck, StressInput, StressResult, solve_stress
 
-__all__ = ["SafetyCheck", "StressResult", "solve_stress"]
+__all__ = ["SafetyCheck", "StressInput", "StressResult", "solve_stress"]

@@ -1,7 +1,9 @@
 """The stress stage of a design: the three seed models fed by the design's own results.
 
-``solve_stress(design)`` → :class:`StressResult` at the gear set's rated, peak and
-momentary torques:
+``solve_stress(inputs)`` → :class:`StressResult` at the gear set's rated, peak and
+momentary torques, from a :class:`StressInput` — what the stage reads of a design: the gear
+set, the FS tooth, the deformation model and the loaded contact when it ran
+(``StressInput.from_design(design)``; a Design is accepted and read the same way):
 
 * **Tooth ring** (seed 001, :mod:`profilegen.stress.tooth_ring`): the deformed neutral line
   on the major axis from the design's deformation (ρ_a = r_m + ω(0), ρ_b = r_m + ω(π/2)),
@@ -43,17 +45,68 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..deformation import HarmonicDeformation
 from ..errors import StressError
+from ..gearset import GearSet
 from ..results import json_ready
+from ..series import DeformationFit
+from ..teeth import ToothProfile
 from .diaphragm import DiaphragmStress, diaphragm_stress, goodman_safety_factor as _goodman
 from .plate import CupBottomStress, cup_bottom_stress, edge_displacement
 from .tooth_ring import ToothRingStress, tangential_force_estimate_n, tooth_ring_stress
 
-__all__ = ["SafetyCheck", "StressResult", "solve_stress"]
+__all__ = ["SafetyCheck", "StressInput", "StressResult", "solve_stress"]
 
 #: Teeth in mesh per zone assumed by the force estimate when there is no contact solution
 #: (a quarter of the FS teeth over both zones, the most loaded 1.5 × the mean: seed-style).
 _ENGAGED_FRACTION = 0.25
+
+
+def _typed(name: str, value, kind, what: str) -> None:
+    if not isinstance(value, kind):
+        raise StressError(f"{name}: must be {what}, got {type(value).__name__}")
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class StressInput:
+    """What the stress stage reads of a design.
+
+    ``gearset``: the :class:`~profilegen.gearset.GearSet` (gear, cup, material, torques);
+    ``tooth``: the FS tooth (:class:`~profilegen.teeth.ToothProfile`; its root thickness and
+    height); ``deformation``: the rim's deformation model (a Fourier
+    :class:`~profilegen.series.DeformationFit` or ring theory's
+    :class:`~profilegen.deformation.HarmonicDeformation`; ω on the axes and the radial
+    harmonics); ``contact``: the :class:`~profilegen.contact.analysis.ContactResult` at the
+    gear set's torques, or None (the tooth force is then estimated).
+    """
+
+    gearset: GearSet
+    tooth: ToothProfile
+    deformation: DeformationFit | HarmonicDeformation
+    contact: object = None  # ContactResult | None
+
+    def __post_init__(self):
+        _typed("gearset", self.gearset, GearSet, "a GearSet")
+        _typed("tooth", self.tooth, ToothProfile, "a ToothProfile (the FS tooth)")
+        _typed("deformation", self.deformation, (DeformationFit, HarmonicDeformation),
+               "a DeformationFit or a HarmonicDeformation")
+        if self.contact is not None:
+            from ..contact.analysis import ContactResult
+
+            _typed("contact", self.contact, ContactResult, "a ContactResult or None")
+
+    @classmethod
+    def from_design(cls, design, *, name: str = "design") -> "StressInput":
+        """The stress inputs of a :class:`profilegen.pipeline.Design`; a StressInput is returned
+        as it is. ``name``: the argument the error names."""
+        if isinstance(design, cls):
+            return design
+        try:
+            gearset, tooth, deformation, contact = design.gearset, design.tooth, design.deformation, design.contact
+        except AttributeError:
+            raise StressError(f"{name}: must be a StressInput or a profilegen Design, got "
+                              f"{type(design).__name__}") from None
+        return cls(gearset, tooth, deformation, contact)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -179,11 +232,13 @@ def unsupported(gearset) -> str:
                                   f"ellipse): they need gear.waves = 2, got {waves}")
 
 
-def solve_stress(design, *, fatigue: bool | None = None, required_safety: float = 1.0) -> StressResult:
-    """The stresses of ``design`` (a :class:`profilegen.pipeline.Design`) at its gear set's
-    torques, and the safety checks (see the module docstring)."""
+def solve_stress(inputs: StressInput, *, fatigue: bool | None = None, required_safety: float = 1.0) -> StressResult:
+    """The stresses of a design at its gear set's torques, and the safety checks (see the
+    module docstring). ``inputs``: a :class:`StressInput`, or a Design (read by
+    :meth:`StressInput.from_design`)."""
     t0 = time.perf_counter()
-    gs = design.gearset
+    inputs = StressInput.from_design(inputs, name="inputs")  # a StressInput passes as it is
+    gs = inputs.gearset
     g, cup, mat = gs.gear, gs.cup, gs.material
     if not (isinstance(required_safety, (int, float)) and math.isfinite(required_safety) and required_safety > 0):
         raise StressError(f"required_safety = {required_safety!r}: must be a finite number > 0")
@@ -195,18 +250,19 @@ def solve_stress(design, *, fatigue: bool | None = None, required_safety: float 
 
     # deformation: ω on the axes and its harmonics
     r_m = g.neutral_radius_mm
-    model = design.deformation
+    model = inputs.deformation
     omega = model.evaluate(np.array([0.0, 0.5 * math.pi]), order=0)[0][0]
     rho_a, rho_b = r_m + float(omega[0]), r_m + float(omega[1])
     radial = {0: float(model.mean_mm), **{int(k * model.waves): float(c) for k, c in
                                           enumerate(np.asarray(model.cos_mm), start=1)}}
 
     # tangential force on the most loaded tooth
-    if design.contact is not None and len(design.contact.cases) == len(torques):
-        forces, source = tangential_tooth_forces_n(design.contact), "contact"
+    contact = inputs.contact
+    if contact is not None and len(contact.cases) == len(torques):
+        forces, source = tangential_tooth_forces_n(contact), "contact"
         warnings += [f"the tooth force at {c.torque_nm:g} N·m comes from a contact solution beyond what the searched "
                      f"points can carry ({c.beyond_capacity}): its tooth-ring load stress is not trustworthy"
-                     for c in design.contact.cases if c.beyond_capacity is not None]
+                     for c in contact.cases if c.beyond_capacity is not None]
     else:
         forces = tuple(float(tangential_force_estimate_n(t * 1e3, g.pitch_radius_mm, _ENGAGED_FRACTION * g.flexspline_teeth))
                        for t in torques)
@@ -214,7 +270,7 @@ def solve_stress(design, *, fatigue: bool | None = None, required_safety: float 
         warnings.append("tooth-ring load stress uses the seed-style force estimate (1.5 × the mean over a quarter of "
                         "the teeth), not a contact solution: run the design or verify scene for the loaded contact")
 
-    tooth = design.tooth
+    tooth = inputs.tooth
     s_f = root_thickness_mm(tooth, cup.root_fillet_radius_mm)
     h = tooth.addendum_y_mm - tooth.dedendum_y_mm
     ring = tuple(tooth_ring_stress(

@@ -8,7 +8,7 @@ import pytest
 
 import profilegen as pg
 from profilegen.errors import GearSetError, StressError
-from profilegen.stress import solve_stress
+from profilegen.stress import StressInput, solve_stress
 from profilegen.stress.stage import root_thickness_mm, tangential_tooth_forces_n
 
 
@@ -85,8 +85,8 @@ def test_fatigue_without_limits_is_a_named_error(sketch):
     gs = sketch.gearset.with_values({"material.shear_endurance_limit_mpa": None})
     bare = pg.design(gs, scene="sketch", stress=False)
     with pytest.raises(StressError, match="material.shear_endurance_limit_mpa"):
-        solve_stress(bare, fatigue=True)
-    res = solve_stress(bare)  # default: the fatigue checks are skipped and say so
+        solve_stress(StressInput.from_design(bare), fatigue=True)
+    res = solve_stress(StressInput.from_design(bare))  # default: the fatigue checks are skipped and say so
     assert any("fatigue checks skipped" in w for w in res.warnings)
     assert all(c.value is None for c in res.checks if "fatigue" in c.name)
 
@@ -132,4 +132,4 @@ def test_three_waves_are_named_not_misread():
     assert result.stress is None
     assert any("stresses skipped" in w and "gear.waves = 2, got 3" in w for w in result.warnings)
     with pytest.raises(StressError, match=r"gear.waves = 3: .* two waves"):
-        solve_stress(result)
+        solve_stress(StressInput.from_design(result))
