@@ -84,6 +84,7 @@ from itertools import pairwise
 import numpy as np
 from scipy.optimize import least_squares, linprog, minimize
 
+from . import checks
 from .contour import Arc, Chain, Line
 from .errors import ConvergenceError, ProfilegenError
 from .results import json_ready as _json, readonly as _readonly
@@ -99,7 +100,7 @@ __all__ = [
     "fit_profile",
     "fit_profile_per_branch",
     "signed_distance",
-    "swept_region",
+    "swept_depth_function",
 ]
 
 log = logging.getLogger(__name__)
@@ -961,18 +962,22 @@ class BranchFits:
 # ----------------------------------------------------------------------------- the fit
 
 
-def swept_region(design) -> Callable[[np.ndarray], np.ndarray]:
-    """The swept-region membership of a ``pipeline.Design`` as ``depth(points) -> (n,)``
-    (mm, > 0 inside the region the FS tooth and its neighbours sweep; exact sign,
-    first-order size near the boundary) — the ``swept`` argument of :func:`fit_profile`."""
+def swept_depth_function(tooth, motion, *, cs_teeth: int, phi_range: tuple[float, float]
+                         ) -> Callable[[np.ndarray], np.ndarray]:
+    """The swept-region membership of the FS ``tooth`` (a :class:`~profilegen.teeth.ToothProfile`)
+    in ``motion`` over ``phi_range`` (rad, the envelope's pass), with its neighbours
+    2π/``cs_teeth`` away, as ``depth(points) -> (n,)`` (mm, > 0 inside the region the tooth and
+    its neighbours sweep; exact sign, first-order size near the boundary) — the ``swept``
+    argument of :func:`fit_profile`. (:func:`profilegen.swept.swept_region` is another thing:
+    the brute-force polygon of that region.)"""
     from .envelope import swept_depth, tooth_curves
 
-    _, _, shape = tooth_curves(design.tooth)
-    pitch = 2.0 * np.pi / design.gearset.gear.circular_spline_teeth
-    phi_range = design.envelope.phi_range
+    cs_teeth = checks.whole("cs_teeth", cs_teeth, 1, error=FitError)
+    _, _, shape = tooth_curves(tooth)
+    pitch = 2.0 * np.pi / cs_teeth
 
     def depth(points):
-        return swept_depth(np.asarray(points, float), design.motion, shape, phi_range=phi_range, neighbour_angle=pitch)[0]
+        return swept_depth(np.asarray(points, float), motion, shape, phi_range=phi_range, neighbour_angle=pitch)[0]
 
     return depth
 
@@ -1191,7 +1196,7 @@ def fit_profile(
     ``method``: "least_squares", "minimax" or "one_sided" (module docstring).
     ``space_side``: "left", "right" (of the points' direction of travel) or "auto".
     ``swept``: ``depth(points) -> (n,)``, > 0 inside the swept region (e.g.
-    :func:`swept_region`); a one-sided fit is checked against it (``swept_tol_mm``).
+    :func:`swept_depth_function`); a one-sided fit is checked against it (``swept_tol_mm``).
     ``starts``: minimax solves (the centred least-squares fit, other least-squares
     optima, then perturbations; use ≥ 20 for the multi-start certificate).
     ``max_points``: data subsample (by arc length) for the least-squares starts.

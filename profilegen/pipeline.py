@@ -401,7 +401,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress) -
 
 
 def _with_stress(result: Design, step) -> Design:
-    from .stress import solve_stress
+    from .stress import StressInput, solve_stress
     from .stress.stage import unsupported
 
     reason = unsupported(result.gearset)
@@ -409,7 +409,7 @@ def _with_stress(result: Design, step) -> Design:
         return replace(result, warnings=result.warnings + (f"stresses skipped: {reason}",))
     step("stress")
 
-    res = solve_stress(result)
+    res = solve_stress(StressInput.from_design(result))
     worst = res.min_safety
     head = "" if worst is None else f"; lowest safety factor {worst.value:.2f} ({worst.name})"
     report = StageReport(
@@ -427,12 +427,12 @@ def _with_contact(result: Design, step) -> Design:
         note = f"loaded contact skipped: the FS half-ring model needs gear.waves = 2, got {g.waves}"
         return replace(result, warnings=result.warnings + (note,))
     step("contact")
-    from .contact import solve_qp_active_set
+    from .contact import ContactInput, solve_qp_active_set
     from .contact.analysis import solve_contact
 
     t0 = time.perf_counter()
     torques = [t for t in (gearset.torque.rated_nm, gearset.torque.peak_nm, gearset.torque.momentary_nm) if t is not None]
-    contact = solve_contact(result, torques)
+    contact = solve_contact(ContactInput.from_design(result), torques)
     rated = contact.cases[0]
     pts = contact.points
     # error estimate: the independent active-set QP on the rated case's matrix
@@ -452,16 +452,11 @@ def _with_contact(result: Design, step) -> Design:
 def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CSProfile:
     """Fit the right working flank by every method, build the CS outline from the chosen one,
     and check it against the FS tooth family at ``positions`` poses."""
-    from .arcfit import fit_profile, fit_profile_per_branch
-    from .envelope import swept_depth, tooth_curves
+    from .arcfit import fit_profile, fit_profile_per_branch, swept_depth_function
     from .gearform import cs_chain
 
     flank = form.working_flank["right"]
-    _, _, shape = tooth_curves(tooth)
-    pitch = 2 * np.pi / form.cs_teeth
-
-    def swept(points):
-        return swept_depth(points, motion, shape, phi_range=env.phi_range, neighbour_angle=pitch)[0]
+    swept = swept_depth_function(tooth, motion, cs_teeth=form.cs_teeth, phi_range=env.phi_range)
 
     # a one-sided fit touches the envelope's vertices; between them it can be inside by up to
     # the envelope's own chord error (and twice that was seen: 0.22 nm at chord 0.1 nm on seed

@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 import profilegen as pg
-from profilegen.arcfit import fit_profile, swept_region
+from profilegen.arcfit import fit_profile, swept_depth_function
 from profilegen.envelope import swept_depth, tooth_curves
 
 
@@ -46,7 +46,9 @@ def fits(design, flank):
     return {
         "least_squares": fit_profile(flank, method="least_squares"),
         "minimax": fit_profile(flank, method="minimax", starts=20),
-        "one_sided": fit_profile(flank, method="one_sided", swept=swept_region(design)),
+        "one_sided": fit_profile(flank, method="one_sided", swept=swept_depth_function(
+            design.tooth, design.motion, cs_teeth=design.gearset.gear.circular_spline_teeth,
+            phi_range=design.envelope.phi_range)),
     }
 
 
