@@ -25,6 +25,8 @@ def json_ready(obj):
     if isinstance(obj, (list, tuple)):
         return [json_ready(v) for v in obj]
     if isinstance(obj, np.ndarray):
+        if obj.dtype.kind in "iub" or (obj.dtype.kind == "f" and obj.dtype.itemsize <= 8 and np.isfinite(obj).all()):
+            return obj.tolist()  # already Python ints, bools or finite floats: the same lists, not walked again
         return json_ready(obj.tolist())
     if isinstance(obj, (np.bool_, bool)):
         return bool(obj)
