@@ -30,7 +30,7 @@ from pathlib import Path
 from dataclasses import dataclass
 
 from .errors import GearSetError
-from .gearset import SCENES as SCENE_NAMES
+from .gearset import SCENE_NAMES
 from .gearset import looks_like_path
 
 __all__ = ["SCENES", "SCENE_NAMES", "Scene", "SceneError", "bundled_scenes_path", "parse_scenes", "read_scenes", "resolve_scene"]

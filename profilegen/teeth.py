@@ -762,8 +762,8 @@ def involute_tooth(*, module_mm: float, teeth: int, neutral_radius_mm: float,
 # --------------------------------------------------------------------------- points
 
 
-#: Most points a point-list tooth takes (the gear set's limit, ``profilegen.gearset.MAX_POINTS``,
-#: is the same): the smoothing fit's time grows faster than the point count (FITPACK adds knots
+#: Most points a point-list tooth takes (the gear set reader's limit too: ``tooth.points`` and
+#: ``tooth.points_file``): the smoothing fit's time grows faster than the point count (FITPACK adds knots
 #: a batch at a time: 10 000 noisy points with a smoothing far below the noise take ~15 s per
 #: fit, and the fit runs three times), while a flank of a few mm needs a few hundred points.
 MAX_POINTS = 10_000

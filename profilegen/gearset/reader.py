@@ -26,6 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import GearSetError
+from ..teeth import MAX_POINTS  # most points a kind = "points" tooth may have: one limit, the tooth builder's
 from .sections import (
     _CIRCULAR_SPLINE_KEYS,
     _CUP_KEYS,
@@ -41,7 +42,7 @@ from .sections import (
     _WAVE_GENERATOR_KEYS,
     COEFFICIENT_SUFFIX,
     FIT_METHODS,
-    SCENES,
+    SCENE_NAMES,
     TOOTH_KINDS,
     WAVE_GENERATOR_CONTOURS,
     CircularSpline,
@@ -65,8 +66,6 @@ MAX_TOML_BYTES = 4 * 1024 * 1024
 """Largest TOML file (gear set, scene file, sweep spec) read, bytes: the bundled ones are < 5 kB."""
 MAX_POINTS_FILE_BYTES = 16 * 1024 * 1024
 """Largest ``tooth.points_file`` read, bytes (``MAX_POINTS`` rows of a few columns fit ~20 times over)."""
-MAX_POINTS = 10_000
-"""Most points a ``kind = "points"`` tooth may have (a 1 mm flank at 0.1 µm spacing)."""
 RIM_PER_DEFLECTION_MIN = 0.5
 """Thinnest rim, as a multiple of the deflection w0 = ω*·m. Catalogue flexsplines have
 δ ≈ 0.6–3·w0 (ratio 30 to 160; the bundled sets 1.8–2.9); the rim stage's nonlinear ring FEM loses
@@ -401,7 +400,7 @@ class _Reader:
         name = self.string(data, "", "name", pattern=_NAME_RE, max_chars=MAX_NAME_CHARS)
         description = self.string(data, "", "description", max_chars=MAX_TEXT_CHARS)
         source = self.string(data, "", "source", max_chars=MAX_TEXT_CHARS)
-        scene = self.string(data, "", "scene", default="design", choices=SCENES)
+        scene = self.string(data, "", "scene", default="design", choices=SCENE_NAMES)
 
         gear_raw = self.read_gear(self.section(data, "gear"))
         m = gear_raw.get("module_mm")

@@ -3,7 +3,7 @@
 The sections of a gear set — :class:`Gear`, the tooth (:class:`DctaTooth`,
 :class:`InvoluteTooth`, :class:`PointsTooth`), :class:`WaveGenerator`, :class:`Material`,
 :class:`Torque`, :class:`CircularSpline`, :class:`Cup` — as frozen values, and the keys and
-allowed words of each section (``SCENES``, ``TOOTH_KINDS``, ``FIT_METHODS``, ...). The reader
+allowed words of each section (``SCENE_NAMES``, ``TOOTH_KINDS``, ``FIT_METHODS``, ...). The reader
 (:mod:`profilegen.gearset.reader`) builds the sections once every field is checked;
 :class:`~profilegen.gearset.types.GearSet` holds them. Conventions: see :mod:`profilegen.gearset`.
 """
@@ -19,7 +19,7 @@ import numpy as np
 from ..errors import GearSetError
 
 
-SCENES = ("sketch", "design", "verify")
+SCENE_NAMES = ("sketch", "design", "verify")
 TOOTH_KINDS = ("dcta", "involute", "points")
 WAVE_GENERATOR_CONTOURS = ("elliptical_cam", "cosine_cam", "rollers")
 

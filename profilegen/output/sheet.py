@@ -24,12 +24,13 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..contact.analysis import ARCMIN_PER_RAD
+
 __all__ = ["Check", "FlankElement", "checks", "flank_elements", "format_clearance", "format_um", "sheet_html",
            "SHEET_STYLE", "RESOLUTION_MM"]
 
 #: Below this a length is "below resolution" on the sheet (mm): 1 nm, a thousandth of what wire EDM holds.
 RESOLUTION_MM = 1e-6
-ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi
 
 
 def format_um(length_mm: float | None, *, digits: int = 3) -> str:
