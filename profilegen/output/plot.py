@@ -387,9 +387,9 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
             ax3.bar(np.degrees(case.ball_angle_rad) + offset, case.ball_reaction_n, width=width,
                     label=f"{case.torque_nm:g} N·m ({int(case.ball_active.sum())} balls loaded)")
     ax3.axhline(0.0, color="0.5", lw=0.6)
-    ax3.set_xlabel("ball position from the major axis (deg); dropped balls carry 0")
-    ax3.set_ylabel("ball reaction on the rim (N, > 0 compressed)")
-    ax3.legend(fontsize=7)
+    ax3.set_xlabel("ball position from the major axis (deg)")
+    ax3.set_ylabel("ball reaction on the rim (N)")
+    ax3.legend(fontsize=7, title="> 0 compressed; dropped balls carry 0", title_fontsize=7)
     _tidy(ax3)
     if title:
         fig.suptitle(title, fontsize=9, y=1 - 0.06 / 4.0, va="top")
