@@ -61,7 +61,8 @@ def _write_files(result: Design, staging: Path, *, figure: bool) -> list[str]:
     here; each is drawn once and the reports embed the same PNG bytes as the files."""
     from . import cad, export, report
 
-    with report.rendering(report.png_jobs(result) if figure else {}) as collect:
+    pieces = report.html_jobs(result) if figure else {}  # last: while the workers draw, collect() makes them here
+    with report.rendering({**report.png_jobs(result), **pieces} if figure else {}, steal=tuple(pieces)) as collect:
         export.write_envelope_csv(staging / "envelope.csv", result.envelope)
         data = result.to_dict()
         prof = result.profile

@@ -459,7 +459,8 @@ def design_report_html(design, images: dict | None = None) -> str:
     """The design report: profile, fit error, contact, stresses, safety factors (pass/fail
     against the gear set's material limits), the seed comparison tables; one HTML page.
     ``images``: PNG bytes already drawn (``"contact"``, ``"stress"``, ``"fit_profile"``,
-    ``"fit_error"``; see :func:`png_jobs`), embedded as they are; the others are drawn."""
+    ``"fit_error"``; see :func:`png_jobs`), embedded as they are; the others are drawn. It may
+    also hold the HTML pieces of :func:`html_jobs` made already (``"seed_tables"``, ``"cs_figure"``)."""
     images = images or {}
     g = design.gearset
     prof = design.profile
@@ -481,14 +482,14 @@ The full fit-error report is <code>fit_report.html</code>; the CAD files are the
     stress = "" if design.stress is None else _stress_section(design, images.get("stress"))
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>Design report — {html.escape(g.name)}</title>{_STYLE}</head><body>
-{sheet_html(design, figure_html(design), interference_tol_mm=interference_tol_mm(design.scene))}
+{sheet_html(design, images.get("cs_figure") or figure_html(design), interference_tol_mm=interference_tol_mm(design.scene))}
 <h2 style="margin-top:1.5em">How it was computed</h2>
 <p>Scene <b>{html.escape(design.scene.name)}</b>: each stage, the model it used, its time and its own error estimate.</p>
 <table><tr><th>stage</th><th>tier</th><th>time (ms)</th><th>error estimate</th><th>error measure</th></tr>{stages}</table>
 {fit}
 {_contact_section(design, images.get("contact"))}
 {stress}
-{_seed_tables()}
+{images.get("seed_tables") or _seed_tables()}
 <h2>Notes</h2><ul>{warnings}</ul>
 </body></html>
 """
@@ -545,6 +546,21 @@ def png_jobs(design) -> dict[str, tuple[Callable[..., bytes], tuple]]:
         jobs["deformation_residuals"] = (deformation_residuals_png, (rim,))
         jobs["deformation_samples"] = (deformation_samples_png, (rim,))
     return jobs
+
+
+def html_jobs(design) -> dict[str, tuple[Callable[..., str], tuple]]:
+    """The pieces of ``report.html`` that take time, as jobs for :func:`rendering` beside the PNGs:
+    the seed papers' tables (the same for every design, ~0.4 s of stress models) and the zoomable
+    CS figure (plotly's first page ~0.3 s). Drawn in the figure workers they leave the parent's
+    path; :func:`design_report_html` takes them from its ``images``. None without the stresses
+    (no report.html then)."""
+    if design.stress is None:
+        return {}
+    from dataclasses import replace
+
+    # the figure reads the envelope, tooth, motion and fitted profile: the rest is not pickled to the worker
+    slim = replace(design, form=None, rim=None, contact=None, stress=None)
+    return {"seed_tables": (_seed_tables, ()), "cs_figure": (figure_html, (slim,))}
 
 
 #: Environment variable: how many worker processes draw the figures (0: none, draw in the
@@ -651,7 +667,7 @@ def _start(jobs: dict, workers: int) -> tuple[object, dict]:
 
 @contextlib.contextmanager
 def rendering(jobs: dict[str, tuple[Callable[..., bytes], tuple]], *,
-              workers: int | None = None) -> Iterator[Callable[[], dict[str, bytes]]]:
+              workers: int | None = None, steal: tuple[str, ...] = ()) -> Iterator[Callable[[], dict[str, bytes]]]:
     """Draw ``jobs`` (see :func:`png_jobs`) while the block runs; yields ``collect()``, which
     waits for them and returns the PNG bytes by name.
 
@@ -663,13 +679,22 @@ def rendering(jobs: dict[str, tuple[Callable[..., bytes], tuple]], *,
     (no fork, a daemonic process, no resources), with ``workers`` < 2, and for any figure whose
     worker failed, ``collect()`` draws in this process — the same bytes either way. Leaving the
     block by an exception (a Ctrl-C included) ends the workers at once; a run killed outright
-    takes them with it (Linux: PR_SET_PDEATHSIG)."""
+    takes them with it (Linux: PR_SET_PDEATHSIG). ``steal``: names of jobs that need no
+    matplotlib (:func:`html_jobs`): ``collect()`` first takes back those no worker has started and
+    makes them here, while the workers draw — the caller would otherwise only wait."""
     n = _default_workers() if workers is None else int(workers)
     executor, futures = _start(jobs, min(n, len(jobs))) if n >= 1 and jobs else (None, {})
 
     def collect() -> dict[str, bytes]:
         out = {}
+        for name in steal:
+            fut = futures.get(name)
+            if name in jobs and fut is not None and fut.cancel():  # not started by a worker: made here
+                func, args = jobs[name]
+                out[name] = func(*args)
         for name, (func, args) in jobs.items():
+            if name in out:
+                continue
             fut = futures.get(name)
             if fut is not None:
                 try:
@@ -679,7 +704,7 @@ def rendering(jobs: dict[str, tuple[Callable[..., bytes], tuple]], *,
                     log.warning("figure %s: the worker failed (%s: %s); drawing it in this process",
                                 name, type(exc).__name__, exc)
             out[name] = func(*args)
-        return out
+        return {name: out[name] for name in jobs}
 
     try:
         yield collect

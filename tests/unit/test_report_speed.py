@@ -145,3 +145,37 @@ def test_reports_embed_the_files_pictures(sketch, tmp_path, monkeypatch, workers
     assert page[3] == (out / "stress.png").read_bytes()
     for name in ("envelope", "contact", "stress"):
         assert (out / f"{name}.png").read_bytes()[:8] == PNG_MAGIC
+
+
+def test_html_pieces_made_anywhere_give_the_same_report(sketch):
+    """report.html's slow pieces (html_jobs) made in the workers, taken back by the caller, or
+    made inside design_report_html: the same page."""
+    pieces = report.html_jobs(sketch)
+    assert set(pieces) == {"seed_tables", "cs_figure"}
+    images = {k: f(*a) for k, (f, a) in report.png_jobs(sketch).items()}
+    plain = report.design_report_html(sketch, images=images)
+    with report.rendering(pieces, workers=2) as collect:
+        made = collect()
+    assert report.design_report_html(sketch, images={**images, **made}) == plain
+    from dataclasses import replace
+
+    assert report.html_jobs(replace(sketch, stress=None)) == {}  # no report.html without the stresses
+
+
+def _slow_pid(seconds: float) -> int:
+    time.sleep(seconds)
+    return os.getpid()
+
+
+def test_collect_takes_back_the_pieces_no_worker_started():
+    """steal: a job still waiting for a worker when collect() is called is made in this process
+    (the caller would only wait); one a worker has begun is left to it; the order is the jobs'."""
+    jobs = {"busy": (_slow_pid, (1.0,)), "waiting": (_pid, ()), "also": (_pid, ())}
+    with report.rendering(jobs, workers=1, steal=("waiting", "also")) as collect:
+        time.sleep(0.3)  # the one worker runs "busy"; the others wait behind it (or sit in its queue)
+        out = collect()
+    assert list(out) == list(jobs)
+    assert out["busy"] != os.getpid()
+    assert os.getpid() in (out["waiting"], out["also"])  # at most one is already queued to the worker
+    with report.rendering({"a": (_pid, ())}, workers=0, steal=("a",)) as collect:
+        assert collect() == {"a": os.getpid()}
