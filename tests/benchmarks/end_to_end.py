@@ -14,6 +14,7 @@ while fresh figure workers import it again (unless this process has imported it)
     python tests/benchmarks/end_to_end.py                 # sketch, default scene, check; N = 3
     python tests/benchmarks/end_to_end.py -n 5 --verify   # also the verify scene
     python tests/benchmarks/end_to_end.py --profile       # + cProfile top 15 of write_design per scene
+    python tests/benchmarks/end_to_end.py --cli-profile   # + cProfile top 20 of each command, as run
     python tests/benchmarks/end_to_end.py --save /tmp/e2e-before     # keep one output folder per command
     python tests/benchmarks/end_to_end.py --compare /tmp/e2e-before  # files now vs then, timings removed
     git archive OLD | tar -x -C /tmp/old && python tests/benchmarks/end_to_end.py --baseline /tmp/old
@@ -92,6 +93,23 @@ def _run(args: list[str], out: Path, env: dict) -> tuple[float, float | None, fl
     if args[0] == "design":
         stages = float(json.loads((out / "design.json").read_text(encoding="utf-8"))["time_s"])
     return wall, stages, cpu
+
+
+def _cli_profile(args: list[str], out: Path, env: dict, top: int = 20) -> str:
+    """cProfile of one run of the command (this process only: the figure workers are not in it),
+    its top entries by cumulative and by own time."""
+    prof = out.parent / f"{out.name}.prof"
+    cmd = [sys.executable, "-m", "cProfile", "-o", str(prof), "-m", "profilegen", *args]
+    if args[0] == "design":
+        cmd += ["--out", str(out)]
+    res = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=900, preexec_fn=_cap, cwd=out.parent)
+    if res.returncode not in (0, 3):
+        return f"failed ({res.returncode}): {res.stderr[-300:]}"
+    buf = io.StringIO()
+    stats = pstats.Stats(str(prof), stream=buf)
+    stats.sort_stats("cumulative").print_stats(top)
+    stats.sort_stats("tottime").print_stats(top)
+    return "\n".join(line for line in buf.getvalue().splitlines() if line.strip())
 
 
 def _in_process(n: int, profile: bool, scenes: list[str], tmp: Path) -> dict[str, dict]:
@@ -223,6 +241,9 @@ def main() -> int:
     ap.add_argument("-n", type=int, default=3, help="runs per command (median)")
     ap.add_argument("--verify", action="store_true", help="also `design --scene verify` (about a minute a run)")
     ap.add_argument("--profile", action="store_true", help="cProfile top 15 (cumulative) of write_design per scene")
+    ap.add_argument("--cli-profile", action="store_true",
+                    help="also one run of each command (this tree) under cProfile: top 20 by cumulative and own time "
+                         "(the main process; the figure workers draw outside it)")
     ap.add_argument("--no-cli", action="store_true", help="skip the subprocess runs")
     ap.add_argument("--no-inproc", action="store_true", help="skip the in-process write_design timing")
     ap.add_argument("--workers", default="",
@@ -305,6 +326,10 @@ def main() -> int:
                 ratio = "—" if st is None else f"{wall / st:.2f}"
                 print(f"| `profilegen {label}` | {wall:.2f} | {'—' if st is None else f'{st:.2f}'} | {ratio} "
                       f"| {statistics.median(r['cpu']):.2f} | {len(r['wall'])} | {r['load']} |")
+        if args.cli_profile:
+            for label, cmd in _commands(args.verify).items():
+                print(f"\ncProfile of `profilegen {' '.join(cmd)}` (one run, main process):\n")
+                print(_cli_profile(cmd, tmp / f"prof-{label.replace(' ', '_')}", _env()))
         if not args.no_inproc:
             scenes = ["sketch", "design"] + (["verify"] if args.verify else [])
             load = _load()
