@@ -378,7 +378,7 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
                        + ("" if ratio is None or ratio == 50 else f"; this set: ratio {ratio:g}"))
     ax2.set_xlabel("elastic rotation of the FS against the CS (arcmin)")
     ax2.set_ylabel("torque (N·m)")
-    ax2.legend(fontsize=7)
+    ax2.legend(fontsize=7, loc="lower right")  # the curves rise from the origin: the lower right stays clear
     _tidy(ax2)
     width = min(2.0, 10.0 / max(len(result.cases), 1))  # deg: the bars of one ball stay within ±5°
     for i, case in enumerate(result.cases):
