@@ -466,8 +466,10 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
     ax.barh(y, values, color=colors)
     ax.axvline(result.checks[0].required if result.checks else 1.0, color="k", ls="--", lw=1)
     for yi, c in zip(y, result.checks):
-        if c.value is None:  # at the panel's left edge (x in axes units): a log axis has no 0 to put it at
-            ax.text(0.01, yi, " skipped", va="center", fontsize=7, transform=ax.get_yaxis_transform())
+        if c.value is None:  # mid-panel (x in axes units: a log axis has no 0), clear of the required line
+            ax.text(0.5, yi, "skipped: the gear set gives no limit for this material", va="center", ha="center",
+                    fontsize=7, color="0.35", transform=ax.get_yaxis_transform(),
+                    bbox={"facecolor": "white", "edgecolor": "none", "pad": 1.0})
         else:
             ax.text(c.value, yi, f" {c.value:.2f} at {c.torque_nm:g} N·m", va="center", fontsize=7)
     ax.set_yticks(y, names)
