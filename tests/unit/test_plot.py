@@ -185,12 +185,14 @@ def test_stress_figure_all_checks_skipped(sketch_stress):
     fig = plot.stress_figure(dataclasses.replace(sketch_stress, checks=skipped))
     fig.canvas.draw()
     sf = fig.axes[3]
-    texts = [t for t in sf.texts if t.get_text().strip() == "skipped"]
+    texts = [t for t in sf.texts if t.get_text().startswith("skipped")]
     assert len(texts) == len(skipped)
     panel = sf.get_window_extent()
     r = fig.canvas.get_renderer()
+    required_px = sf.transData.transform((skipped[0].required, 0.0))[0]
     for t in texts:
         box = t.get_window_extent(r)
         assert panel.x0 <= box.x0 and box.x1 <= panel.x1
+        assert not box.x0 <= required_px <= box.x1  # clear of the dashed required-safety line
     lo, hi = sorted(sf.get_ylim())
     assert lo < 0 and hi > len(skipped) - 1 and sf.yaxis_inverted()
