@@ -95,7 +95,13 @@ Model (small displacements about the undeformed bodies; linear, plane stress)
 * **Solve.** Each body is factorised once (banded Cholesky; the FS in a folded order that
   keeps the periodic ring banded) and all loads — the n contact normals and the candidate
   balls — go through one blocked multi-right-hand-side forward substitution: the
-  flexibility is WᵀW with W = L⁻¹Y (BLAS 3).
+  flexibility is WᵀW with W = L⁻¹Y (BLAS 3). Only the band × band corner of a
+  sub-diagonal block of L is nonzero, so the factorisation and the substitution work on
+  that corner; a column of W starts at its load's first row, so each block solves only for
+  the loads that have started, and WᵀW is summed by ``syrk``. The result is the same
+  matrix up to rounding: the FS flexibility of a thin rim is ill-conditioned, and any two
+  correct orders of the sums differ at ~1e-9 relative (the contact forces of the default
+  set by < 1e-9).
 """
 
 from __future__ import annotations
@@ -189,28 +195,42 @@ class _BandedFlex:
     Blocks of ``block`` ≥ bandwidth consecutive rows make the band matrix block
     tridiagonal; its Cholesky factor is then block bidiagonal, computed and applied with
     dense BLAS 3 blocks (LAPACK's banded ``pbtrf``/``pbtrs`` are several times slower
-    here, and solve one right-hand side at a time). The forward substitution starts at the
-    block of the first nonzero row of Y: rows before it stay zero in W (the callers order
-    the dofs so that the loads come last)."""
+    here, and solve one right-hand side at a time). Only the band × band corner of a
+    sub-diagonal block couples (the first ``band`` rows of a block to the last ``band``
+    columns of the one before), and so is only that corner of L's sub-diagonal block: the
+    factorisation and the substitution work on the corner alone. The default block is
+    √2 × the band (at least 64 rows), which minimises the substitution's flops (the
+    corner product 2b²m per block against the triangular solve's block·m per row). The
+    forward substitution starts at the block of the first nonzero row of Y: rows before
+    it stay zero in W (the callers order the dofs so that the loads come last)."""
 
-    def __init__(self, matrix, order, where: str, block: int = 192):
+    def __init__(self, matrix, order, where: str, block: int | None = None):
         from scipy.linalg import LinAlgError, cholesky, solve_triangular
+        from scipy.linalg.blas import dsyrk
 
         self.perm = np.asarray(order)
-        permuted = sp.csr_matrix(matrix)[self.perm][:, self.perm]
-        coo = permuted.tocoo()
-        self.band = band = int(np.max(np.abs(coo.row - coo.col), initial=0))
         self.n = n = matrix.shape[0]
-        lower = sp.tril(permuted, format="csr")
+        # the lower triangle in the order ``order``: the entries' indices renamed (no fancy indexing)
+        coo = sp.coo_matrix(matrix)
+        where_in = np.empty(n, dtype=np.int64)
+        where_in[self.perm] = np.arange(n)
+        r, col = where_in[coo.row], where_in[coo.col]
+        self.band = band = int(np.max(np.abs(r - col), initial=0))
+        if not np.all(np.isfinite(coo.data)):
+            raise ConvergenceError(f"{where}: the stiffness matrix has entries that are not finite")
+        low = r >= col
+        lower = sp.csr_matrix((coo.data[low], (r[low], col[low])), shape=(n, n))
         lower.sum_duplicates()
-        nb = max(block, band)
+        nb = max(64 if block is None else int(block), int(math.ceil(math.sqrt(2.0) * band)) if block is None else 0,
+                 band, 1)
+        self.corner = c = max(band, 1)  # rows of a block that couple to the block before
         self.starts = list(range(0, n, nb))
         self.diag: list[np.ndarray] = []  # L_kk
-        self.sub: list[np.ndarray | None] = []  # L_k,k−1
+        self.sub: list[np.ndarray | None] = []  # the corner of L_k,k−1: rows i0:i0+c, columns i0−c:i0
         previous = None
         for k, i0 in enumerate(self.starts):
             i1 = min(n, i0 + nb)
-            p0 = self.starts[k - 1] if k else i0
+            p0 = i0 - c if k else i0
             # rows i0:i1, columns p0:i1 of the lower triangle, dense (a scatter from the CSR arrays)
             lo, hi = lower.indptr[i0], lower.indptr[i1]
             rows = np.zeros((i1 - i0, i1 - p0))
@@ -219,8 +239,11 @@ class _BandedFlex:
             a_kk = rows[:, i0 - p0:]
             a_kk = a_kk + np.tril(a_kk, -1).T
             if k:
-                sub = solve_triangular(previous, rows[:, :i0 - p0].T, lower=True, check_finite=False).T
-                a_kk = a_kk - sub @ sub.T
+                ch = min(c, i1 - i0)
+                # L_k,k−1 = A_k,k−1 L_k−1⁻ᵀ: A's corner against the trailing c × c triangle of L_k−1
+                sub = solve_triangular(previous[-c:, -c:], rows[:ch, :c].T, lower=True, check_finite=False).T
+                # a_kk[:ch, :ch] −= sub subᵀ (syrk, the lower triangle: cholesky reads no other)
+                a_kk[:ch, :ch] = dsyrk(-1.0, sub, beta=1.0, c=a_kk[:ch, :ch], lower=1)
             else:
                 sub = None
             try:
@@ -228,14 +251,20 @@ class _BandedFlex:
             except LinAlgError as exc:
                 raise ConvergenceError(f"{where}: the stiffness matrix is not positive definite (block at row {i0}); "
                                        "a rigid-body mode is not removed") from exc
+            if not np.all(np.isfinite(np.diagonal(previous))):
+                raise ConvergenceError(f"{where}: the stiffness matrix is not positive definite (block at row {i0}); "
+                                       "a rigid-body mode is not removed")
             self.diag.append(previous)
             self.sub.append(sub)
 
     def _solve_block(self, k: int, b: np.ndarray, previous: np.ndarray | None) -> np.ndarray:
+        """W_k = L_kk⁻¹ (Y_k − L_k,k−1 W_k−1); ``previous`` (W_k−1) may have fewer columns than
+        ``b`` (the columns it lacks are zero there)."""
         from scipy.linalg import solve_triangular
 
-        if previous is not None:
-            b = b - self.sub[k] @ previous
+        if previous is not None and previous.shape[1]:
+            sub = self.sub[k]
+            b[:sub.shape[0], :previous.shape[1]] -= sub @ previous[-self.corner:]
         return solve_triangular(self.diag[k], b, lower=True, check_finite=False)
 
     def forward(self, rhs) -> np.ndarray:
@@ -245,21 +274,32 @@ class _BandedFlex:
         previous = None
         for k, i0 in enumerate(self.starts):
             i1 = i0 + self.diag[k].shape[0]
-            w[i0:i1] = previous = self._solve_block(k, y[i0:i1], previous)
+            w[i0:i1] = previous = self._solve_block(k, y[i0:i1].copy(), previous)
         return w
 
     def flexibility(self, loads, gauge=None) -> np.ndarray:
         """Yᵀ K⁻¹ Y = WᵀW for the sparse load columns Y (n, m), accumulated block by block
-        (W is never stored: ~0.2 GB for the FS) from the block of Y's first nonzero row (the
-        rows before it stay zero in W; the callers order the dofs so that the loads come
-        last). ``gauge`` = (c, rot): the loads are first projected, Pᵀ Y = Y − c (rotᵀ Y) /
-        (cᵀ rot) (a reaction c that holds the mode rot); as L⁻¹ is linear, the projection is
-        applied to the accumulated sums, and only the one dense column L⁻¹c is swept whole."""
+        (W is never stored: ~0.2 GB for the FS; the sum is a symmetric rank-k update, BLAS
+        ``syrk``, of its upper triangle). A column of W is zero above the first nonzero row
+        of its load (L⁻¹ is lower triangular), so the columns are taken in the order of their
+        first loaded row and a block works only on the columns that have started: the
+        callers order the dofs so that the loads come last, and along the loaded stretch the
+        columns enter one by one. ``gauge`` = (c, rot): the loads are first projected, Pᵀ Y =
+        Y − c (rotᵀ Y) / (cᵀ rot) (a reaction c that holds the mode rot); as L⁻¹ is linear,
+        the projection is applied to the accumulated sums, and only the one dense column L⁻¹c
+        is swept whole."""
+        from scipy.linalg.blas import dsyrk
+
         y = sp.csr_matrix(loads)[self.perm]
         m = y.shape[1]
-        rows_used = np.flatnonzero(np.diff(y.indptr))
-        first = int(rows_used[0]) if rows_used.size else self.n
-        gram = np.zeros((m, m))
+        coo = y.tocoo()
+        starts = np.full(m, self.n)
+        np.minimum.at(starts, coo.col, coo.row)
+        columns = np.argsort(starts, kind="stable")  # by first loaded row
+        starts = starts[columns]
+        y = y[:, columns].tocsr()
+        y.sum_duplicates()
+        gram = np.zeros((m, m), order="F")  # upper triangle, columns in the order ``columns``
         if gauge is not None:
             c, rot = (np.asarray(v, dtype=float) for v in gauge)
             w_c = self.forward(c[:, None])[:, 0]
@@ -267,17 +307,28 @@ class _BandedFlex:
         previous = None
         for k, i0 in enumerate(self.starts):
             i1 = i0 + self.diag[k].shape[0]
-            if i1 <= first:
+            a = int(np.searchsorted(starts, i1))  # columns started above row i1
+            if a == 0:
                 continue
-            w = self._solve_block(k, y[i0:i1].toarray(), previous)
-            gram += w.T @ w
+            # Y's rows i0:i1, dense (their entries all lie in the first a columns)
+            block = np.zeros((i1 - i0, a))
+            lo, hi = y.indptr[i0], y.indptr[i1]
+            if hi > lo:
+                block[np.repeat(np.arange(i1 - i0), np.diff(y.indptr[i0:i1 + 1])), y.indices[lo:hi]] = y.data[lo:hi]
+            w = self._solve_block(k, block, previous)
+            gram[:a, :a] = dsyrk(1.0, w.T, beta=1.0, c=gram[:a, :a], trans=0, lower=0)
             if gauge is not None:
-                cross += w.T @ w_c[i0:i1]
+                cross[:a] += w.T @ w_c[i0:i1]
             previous = w
+        gram = np.triu(gram) + np.triu(gram, 1).T
+        out = np.empty((m, m))
+        out[np.ix_(columns, columns)] = gram
         if gauge is not None:
+            cross_out = np.empty(m)
+            cross_out[columns] = cross
             alpha = (sp.csr_matrix(loads).T @ rot) / (c @ rot)
-            gram += (w_c @ w_c) * np.outer(alpha, alpha) - np.outer(cross, alpha) - np.outer(alpha, cross)
-        return 0.5 * (gram + gram.T)
+            out += (w_c @ w_c) * np.outer(alpha, alpha) - np.outer(cross_out, alpha) - np.outer(alpha, cross_out)
+        return 0.5 * (out + out.T)
 
 
 def _loads_last(order: np.ndarray, loaded_dofs: np.ndarray) -> np.ndarray:

@@ -230,6 +230,108 @@ def test_banded_flexibility_matches_a_sparse_lu(gauged):
     np.testing.assert_allclose(flex, reference, rtol=1e-10, atol=1e-12 * np.abs(reference).max())
 
 
+@pytest.mark.parametrize("gauged", [False, True])
+def test_banded_flexibility_matches_a_dense_inverse(gauged):
+    """The blocked band Cholesky with its default block (corner-only coupling blocks, the
+    columns taken in the order their loads start, a column that is never loaded) against
+    the plain dense Yᵀ K⁻¹ Y (numpy solve), to 1e-9 of the largest entry: a strip stiffness
+    whose band is no divisor of n, loads scattered over the last 70 % of the rows in a
+    shuffled column order."""
+    import scipy.sparse as sp
+
+    from profilegen.contact.compliance import _BandedFlex
+
+    rng = np.random.default_rng(11)
+    nx, ny = 150, 7
+    lap = lambda n: sp.diags([-np.ones(n - 1), 2 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1])
+    k = (sp.kron(lap(nx), sp.eye(ny)) + sp.kron(sp.eye(nx), lap(ny)) + 1e-3 * sp.eye(nx * ny)).tocsr()
+    n = k.shape[0]
+    m = 25
+    loaded = rng.choice(np.arange(int(0.3 * n), n), size=2 * (m - 1), replace=False)
+    cols = np.concatenate([np.arange(m - 1)] * 2)  # the last column stays empty
+    y = sp.csr_matrix((rng.normal(size=loaded.size), (loaded, cols)), shape=(n, m))
+    factor = _BandedFlex(k, np.arange(n), "test strip")
+    assert factor.band == ny and n % len(factor.starts) != 0
+    assert factor.diag[0].shape[0] > factor.band  # the default block is wider than the band
+    dense = k.toarray()
+    py = y.toarray()
+    if gauged:
+        c, rot = rng.normal(size=n), rng.normal(size=n)
+        flex = factor.flexibility(y, gauge=(c, rot))
+        py = py - np.outer(c, rot @ py) / (c @ rot)
+    else:
+        flex = factor.flexibility(y)
+    reference = py.T @ np.linalg.solve(dense, py)
+    assert np.max(np.abs(flex - reference)) <= 1e-9 * np.max(np.abs(reference))
+    assert np.array_equal(flex, flex.T)
+    assert np.all(flex[-1] == 0.0) and np.all(flex[:, -1] == 0.0)
+    np.testing.assert_allclose(factor.forward(py) [:, :3].T @ factor.forward(py)[:, :3],
+                               py[:, :3].T @ np.linalg.solve(dense, py[:, :3]), rtol=1e-9,
+                               atol=1e-12 * np.abs(reference).max())
+
+
+@pytest.mark.parametrize("case", ["rigid mode", "indefinite", "not finite"])
+def test_banded_flexibility_refuses_a_singular_matrix(case):
+    """A stiffness with a free dof (an exactly zero pivot), a negative one or a NaN entry
+    is refused with a ConvergenceError that names the body, never a silent result."""
+    import scipy.sparse as sp
+
+    from profilegen.contact.compliance import _BandedFlex
+    from profilegen.errors import ConvergenceError
+
+    n = 300
+    k = sp.diags([-np.ones(n - 1), 2.5 * np.ones(n), -np.ones(n - 1)], [-1, 0, 1]).tolil()
+    if case == "rigid mode":  # dof 200 carries no stiffness at all
+        k[200, :] = 0.0
+        k[:, 200] = 0.0
+    elif case == "indefinite":
+        k[250, 250] = -1.0
+    else:
+        k[120, 121] = k[121, 120] = np.nan
+    with pytest.raises(ConvergenceError, match="test body"):
+        _BandedFlex(k.tocsr(), np.arange(n), "test body")
+
+
+def test_half_ring_flexibility_matches_a_dense_solve(monkeypatch):
+    """The FE path of the FS (point-symmetric tie, bore gauge, ball supports on the inner
+    surface) with the band Cholesky against the same path with a plain dense solve put in
+    its place: the same flexibility to 1e-9 of its largest entry, for a small flat ring."""
+    import profilegen.contact.compliance as cc
+
+    # a thick ring (t / R ≈ 0.2): a thin one's flexibility is so ill-conditioned that any two
+    # correct solvers differ at ~1e-8 (the FS's 0.9 mm rim on R ≈ 49 mm: 4e-8 here)
+    r_in, r_out, e, nu = 40.0, 49.4, 209000.0, 0.3
+    pitches, pitch = 12, math.pi / 12
+    ring = ring_sector_mesh(pitch, -0.5 * pitch, [None] * pitches, [4] * pitches, mapped_radius_mm=0.5 * (r_in + r_out),
+                            polar_radius_mm=r_in, mapped_layers=2, polar_layers=2, mapped_outside=True,
+                            flat_radius_mm=r_out)
+    theta = np.radians([0.0, 20.0, 50.0, 90.0, 150.0])
+    pts = r_out * np.column_stack([np.sin(theta), np.cos(theta)])
+    tilt = theta + 0.3
+    directions = -np.column_stack([np.sin(tilt), np.cos(tilt)])
+    balls = np.radians([-30.0, 0.0, 30.0])
+    fast, dof, band, _ = _half_ring_flex(ring, e, nu, r_in, pts, directions, balls, tol_mm=1e-6)
+
+    class Dense:
+        def __init__(self, matrix, order, where, block=None):
+            self.k = matrix.toarray()
+            self.band = 0
+
+        def flexibility(self, loads, gauge=None):
+            y = loads.toarray()
+            if gauge is not None:
+                c, rot = gauge
+                y = y - np.outer(c, rot @ y) / (c @ rot)
+            return y.T @ np.linalg.solve(self.k, y)
+
+    monkeypatch.setattr(cc, "_BandedFlex", Dense)
+    slow, dof_slow, _, _ = _half_ring_flex(ring, e, nu, r_in, pts, directions, balls, tol_mm=1e-6)
+    assert dof == dof_slow and band > 0 and fast.shape == (8, 8)
+    assert np.max(np.abs(fast - slow)) <= 1e-9 * np.max(np.abs(slow))
+    assert np.array_equal(fast, fast.T)
+    assert np.linalg.eigvalsh(fast).min() > 0.0
+
+
 @pytest.mark.parametrize("joint", ["bonded", "sliding"])
 def test_race_symmetric_positive_definite(inputs, points, race_series, joint):
     c = (race_series[2.5] if joint == "bonded"
