@@ -236,8 +236,7 @@ class _BandedFlex:
             rows = np.zeros((i1 - i0, i1 - p0))
             rows[np.repeat(np.arange(i1 - i0), np.diff(lower.indptr[i0:i1 + 1])), lower.indices[lo:hi] - p0] = \
                 lower.data[lo:hi]
-            a_kk = rows[:, i0 - p0:]
-            a_kk = a_kk + np.tril(a_kk, -1).T
+            a_kk = rows[:, i0 - p0:]  # its lower triangle: all that LAPACK's potrf (lower) and syrk read
             if k:
                 ch = min(c, i1 - i0)
                 # L_k,k−1 = A_k,k−1 L_k−1⁻ᵀ: A's corner against the trailing c × c triangle of L_k−1
