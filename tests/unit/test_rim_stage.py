@@ -90,3 +90,51 @@ def test_toothed_tier_with_both_fitters(gearset):
     assert abs(rim.model.omega_stats.defect_mm) < 1e-13  # the Fourier fit is periodic …
     assert max(abs(d) for d in sine.defect_mm) > 1e-7  # … the general sine series is not
     json.dumps(rim.to_dict())
+
+
+def _ring_pair(gearset, geometry, within, caplog):
+    """The flat ring (4 × 64) with the contact condensed onto every bore node and onto those
+    with θ ≤ ``within`` only; returns both results and the log."""
+    import logging
+
+    from profilegen.rim import solve_ring
+    from profilegen.wavegen import from_gearset
+
+    cam = from_gearset(gearset)
+    whole = solve_ring(gearset, contour=cam, layers=4, divisions=64, geometry=geometry)
+    with caplog.at_level(logging.INFO, logger="profilegen.rim.ring"):
+        wrap = solve_ring(gearset, contour=cam, layers=4, divisions=64, geometry=geometry,
+                          condense_within_rad=within)
+    return whole, wrap, caplog.text
+
+
+@pytest.mark.parametrize("geometry", ["linear", "nonlinear"])
+def test_condensing_near_the_wrap_gives_the_whole_bores_answer(gearset, geometry, caplog):
+    """The verify tier condenses the rim onto the bore nodes within the wrap + a margin: the
+    same ω, υ (to the contact's own 1e-9 mm gap tolerance) and the same contact nodes."""
+    whole, _, _ = _ring_pair(gearset, geometry, None, caplog)
+    _, wrap, text = _ring_pair(gearset, geometry, whole.contact_angle_rad + math.radians(10.0), caplog)
+    assert "widened" not in text
+    assert np.max(np.abs(wrap.omega_mm - whole.omega_mm)) < 1e-9
+    assert np.max(np.abs(wrap.upsilon_mm - whole.upsilon_mm)) < 1e-9
+    assert np.array_equal(wrap.contact_phi_rad, whole.contact_phi_rad)
+    assert wrap.max_penetration_mm <= 1e-9  # every bore node, the dropped ones included
+
+
+@pytest.mark.parametrize("geometry", ["linear", "nonlinear"])
+def test_a_kept_set_narrower_than_the_wrap_is_widened(gearset, geometry, caplog):
+    """Kept nodes only up to 10° (the wrap is ~40–60°): the contact reaches the dropped nodes,
+    solve_ring says so, widens the kept set and returns the whole bore's answer."""
+    whole, wrap, text = _ring_pair(gearset, geometry, math.radians(10.0), caplog)
+    assert whole.contact_angle_deg > 20.0
+    assert "widened" in text
+    assert np.max(np.abs(wrap.omega_mm - whole.omega_mm)) < 1e-9
+    assert np.array_equal(wrap.contact_phi_rad, whole.contact_phi_rad)
+
+
+def test_bad_condense_angle_is_named(gearset):
+    from profilegen.rim import RingError, solve_ring
+    from profilegen.wavegen import from_gearset
+
+    with pytest.raises(RingError, match="condense_within_rad"):
+        solve_ring(gearset, contour=from_gearset(gearset), layers=2, divisions=16, condense_within_rad=-0.1)
