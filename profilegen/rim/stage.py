@@ -150,12 +150,19 @@ def _mesh_change(fine: RingResult, coarse: RingResult) -> tuple[float, float]:
 WRAP_MARGIN_RAD = math.radians(10.0)  # kept bore nodes beyond the expected wrap (the toothed tier's condensation)
 
 
-def _expected_wrap(gearset, tier: RimTier, contour) -> float:
+def _expected_wrap(gearset, tier: RimTier, contour) -> float | None:
     """The wrap (contact angle from the major axis, rad) of a cheap first pass: the flat ring
     of 2 × 32 elements with the tier's geometry — within ~2° of the toothed rim's on the
     default set (59.1° against 56.7°). Only where the toothed rim's contact is condensed
-    (solve_ring checks, and widens the set if the contact needs more)."""
-    return solve_ring(gearset, contour=contour, layers=2, divisions=32, geometry=tier.geometry).contact_angle_rad
+    (solve_ring checks, and widens the set if the contact needs more). None (condense onto
+    every bore node) if that pass does not solve."""
+    try:
+        return solve_ring(gearset, contour=contour, layers=2, divisions=32,
+                          geometry=tier.geometry).contact_angle_rad
+    except (RuntimeError, np.linalg.LinAlgError, FloatingPointError) as exc:
+        log.info("rim stage: the flat-ring pass for the wrap failed (%s): the toothed rim condensed onto every "
+                 "bore node", type(exc).__name__)
+        return None
 
 
 def _solve(gearset, tier: RimTier, contour, *, coarse: bool, per_pitch: int | None = None,
