@@ -278,8 +278,11 @@ def test_ctrl_c_during_design_is_one_line_exit_130_and_no_traceback(tmp_path):
     import time
 
     env = dict(os.environ, PYTHONPATH=str(ROOT))
+    # SIGINT as a terminal gives it: a test run started in the background (`cmd &` in a script)
+    # ignores SIGINT, its children inherit that, and Python keeps an inherited SIG_IGN
     proc = subprocess.Popen([sys.executable, "-m", "profilegen", "design", "--out", str(tmp_path / "o")], cwd=tmp_path,
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, start_new_session=True)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=env, start_new_session=True,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     deadline = time.monotonic() + 120
     line = ""
     while "deformation" not in line and time.monotonic() < deadline:  # the stages have started

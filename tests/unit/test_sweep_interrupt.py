@@ -121,7 +121,10 @@ def _interrupt(tmp_path: Path, spec: Path, out: Path, sig: int, *, group: bool, 
     env = {**os.environ, "SLOW_MARK": str(mark)}
     proc = subprocess.Popen([sys.executable, "-c", WRAPPER, "sweep", str(spec), "--out", str(out), "--workers", "2"],
                             cwd=tmp_path, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
-                            start_new_session=True)  # its own process group (pgid = pid), as a shell job has
+                            start_new_session=True,  # its own process group (pgid = pid), as a shell job has
+                            # SIGINT as a terminal gives it: a test run started in the background (`cmd &` in
+                            # a script) ignores SIGINT, children inherit that, and Python keeps an inherited SIG_IGN
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         _wait_for(lambda: mark.exists() and len(_journal_rows(out / "journal.csv")) > before,
                   proc, "slow point running" + (" and a new finished point" if new_point else ""))
