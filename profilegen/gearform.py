@@ -31,7 +31,7 @@ from .errors import EnvelopeError
 from .kinematics import turn
 from .results import readonly as _readonly
 
-__all__ = ["CircularSplineForm", "ClearanceMap", "circular_spline_form", "clearance_map", "cs_chain"]
+__all__ = ["CircularSplineForm", "ClearanceMap", "PolylineDistance", "circular_spline_form", "clearance_map", "cs_chain"]
 
 
 
@@ -288,7 +288,7 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
     shapely.prepare(poly)
     # distances to the real FS surface, not to the polygon's radial sector edges and
     # neutral-line arc, which only close it
-    surface = _PolylineDistance(tooth.surface(n_per_mm=400.0))
+    surface = PolylineDistance(tooth.surface(n_per_mm=400.0))
     surface_pts = tooth.surface(n_per_mm=search_per_mm)  # to find the candidates
     cs = _local_outline(form) if cs_points is None else np.asarray(cs_points, float)
     tree = cKDTree(cs)
@@ -365,7 +365,7 @@ class _NearestCS:
         return tree.query(placed)
 
 
-class _PolylineDistance:
+class PolylineDistance:
     """Exact distance of points to an open polyline (mm), through a KD-tree over points
     spread along its segments (at most ``spacing`` apart, each labelled with its segment).
 

@@ -39,7 +39,7 @@ from .. import series
 from ..deformation import ring_theory
 from .ring import WRAP_WARNING, RingResult, solve_ring
 
-__all__ = ["RIM_TIERS", "RimDeformation", "RimTier", "solve_rim"]
+__all__ = ["RIM_TIERS", "RimDeformation", "RimTier", "one_period", "solve_rim"]
 
 log = logging.getLogger(__name__)
 
@@ -106,7 +106,7 @@ class RimDeformation:
         """FEM samples (φ, ω, υ) mirrored to one wave period 0 ≤ φ < π (empty for ring theory)."""
         if self.fem is None:
             return np.zeros(0), np.zeros(0), np.zeros(0)
-        return _period(self.fem)
+        return one_period(self.fem)
 
     def to_dict(self) -> dict:
         return {
@@ -124,7 +124,9 @@ class RimDeformation:
         }
 
 
-def _period(res: RingResult):
+def one_period(res: RingResult) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A ring solution's neutral-line samples (φ, ω, υ) on 0 ≤ φ ≤ π/2 mirrored to one wave
+    period 0 ≤ φ < π with ω(π − φ) = ω(φ), υ(π − φ) = −υ(φ): the samples the rim stage fits."""
     phi, w, u = res.phi_rad, res.omega_mm, res.upsilon_mm
     inner = slice(1, -1)
     return (np.concatenate([phi, math.pi - phi[inner][::-1]]), np.concatenate([w, w[inner][::-1]]),
@@ -270,7 +272,7 @@ def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
                f"max |Δω|, |Δυ| on the neutral line between {per_pitch} and {per_pitch - 2} element columns per "
                "tooth pitch (mm)")
     t0 = time.perf_counter()
-    phi, w, u = _period(fem)
+    phi, w, u = one_period(fem)
     fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
     sine = None
     if tier.sine_fit:

@@ -51,12 +51,10 @@ small helpers it needs that the package keeps private (the KD-tree polyline dist
 
 from __future__ import annotations
 
-import contextlib
 import csv
 import inspect
 import logging
 import math
-import os
 import statistics
 import time
 from functools import cached_property
@@ -139,77 +137,11 @@ def _defaults(fn, *names):
     return tuple(params[n].default for n in names)
 
 
-def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distance of points p to segments [a, b] (broadcast over the leading axes), with GEOS's
-    formula (``Distance::pointToSegment``), so that it rounds as shapely does."""
-    ex, ey = b[..., 0] - a[..., 0], b[..., 1] - a[..., 1]
-    len2 = ex * ex + ey * ey
-    safe = np.where(len2 > 0, len2, 1.0)
-    r = ((p[..., 0] - a[..., 0]) * ex + (p[..., 1] - a[..., 1]) * ey) / safe
-    s = ((a[..., 1] - p[..., 1]) * ex - (a[..., 0] - p[..., 0]) * ey) / safe
-    to_a = np.sqrt((p[..., 0] - a[..., 0]) ** 2 + (p[..., 1] - a[..., 1]) ** 2)
-    to_b = np.sqrt((p[..., 0] - b[..., 0]) ** 2 + (p[..., 1] - b[..., 1]) ** 2)
-    return np.where((len2 == 0) | (r <= 0.0), to_a, np.where(r >= 1.0, to_b, np.abs(s) * np.sqrt(len2)))
-
-
-def _polyline_distance(points: np.ndarray, line: np.ndarray, *, k: int = 8) -> np.ndarray:
-    """Exact distance (mm) of each point (n, 2) to the open polyline ``line`` (m, 2), through a
-    KD-tree over points spread along its segments (at most the median segment length h
-    apart, each labelled with its segment); shapely takes 7–26 s per fine chain against a
-    51k-point one. The foot of a point p lies on a segment with a tree point within h/2 of
-    the foot, so within √(r0² + h²/4) of p (r0: p's distance to its nearest tree point); when
-    the ``k``-th nearest tree point is farther than that, the minimum over the k nearest
-    points' segments is exact, else (rare) every segment is searched. The same algorithm as
-    the package's private ``profilegen.gearform._PolylineDistance``, written out here so the
-    benchmark uses no private name."""
-    from scipy.spatial import cKDTree
-
-    v, p = np.asarray(line, float), np.asarray(points, float)
-    a, b = v[:-1], v[1:]
-    lengths = np.hypot(*(b - a).T)
-    positive = lengths[lengths > 0]
-    spacing = float(np.median(positive)) if positive.size else 1.0
-    per = np.maximum(np.ceil(lengths / spacing).astype(int), 1) + 1  # points per segment, ends included
-    label = np.repeat(np.arange(len(lengths)), per)
-    f = np.concatenate([np.linspace(0.0, 1.0, n) for n in per])
-    h = float(np.max(lengths / (per - 1)))
-    k = int(min(k, len(label)))
-    tree = cKDTree(a[label] + f[:, None] * (b[label] - a[label]))
-    r, j = tree.query(p, k=k)
-    r, j = r.reshape(len(p), -1), j.reshape(len(p), -1)
-    out = _segment_distance(p[:, None, :], a[label[j]], b[label[j]]).min(axis=1)
-    unsure = ~(r[:, -1] > np.sqrt(r[:, 0] ** 2 + 0.25 * h**2))
-    if unsure.any():
-        out[unsure] = _segment_distance(p[unsure, None, :], a[None], b[None]).min(axis=1)
-    return out
-
-
-def _one_period(res) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """A ring solution's neutral-line samples (φ, ω, υ) on 0 ≤ φ ≤ π/2 mirrored to one wave
-    period 0 ≤ φ < π with ω(π − φ) = ω(φ), υ(π − φ) = −υ(φ): the samples the rim stage fits
-    (what ``RimDeformation.samples`` gives for the design scene's own FEM)."""
-    phi, w, u = res.phi_rad, res.omega_mm, res.upsilon_mm
-    inner = slice(1, -1)
-    return (np.concatenate([phi, math.pi - phi[inner][::-1]]), np.concatenate([w, w[inner][::-1]]),
-            np.concatenate([u, -u[inner][::-1]]))
-
-
-@contextlib.contextmanager
-def _atomic_write(path: Path, mode: str):
-    """Open ``path``'s ``.tmp`` sibling for writing (``"w"``: UTF-8, no newline translation;
-    ``"wb"``); on success it replaces ``path``, so no half-written file is left behind."""
-    tmp = path.with_name(path.name + ".tmp")
-    try:
-        with open(tmp, mode, **({} if "b" in mode else {"newline": "", "encoding": "utf-8"})) as f:
-            yield f
-        os.replace(tmp, path)
-    finally:
-        tmp.unlink(missing_ok=True)
-
-
 def _boundary_distance_mm(a: np.ndarray, b: np.ndarray) -> float:
     """Symmetric distance (mm) between two boundary polylines: vertices of each to the other."""
-    return float(max(_polyline_distance(a, b).max(), _polyline_distance(b, a).max()))
+    from profilegen.gearform import PolylineDistance
+
+    return float(max(PolylineDistance(b).distance(a).max(), PolylineDistance(a).distance(b).max()))
 
 
 def _change_mm(res, ref) -> float:
@@ -463,6 +395,7 @@ def _rim(inp: _Inputs, repeats: int) -> list[dict]:
 
 def _fit(inp: _Inputs, repeats: int) -> list[dict]:
     from profilegen.rim import RIM_TIERS
+    from profilegen.rim.stage import one_period
     from profilegen.series import GeneralSineDeformation, fit_fourier, fit_sine_series
 
     fem = inp.design.rim.fem if inp.design.rim is not None else None
@@ -471,7 +404,7 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
         return []
     ref, ref_label, ref_unc, ref_time = inp.flat_reference
     um, waves = _SCALE["µm"], inp.gearset.gear.waves
-    phi, w, u = _one_period(fem)
+    phi, w, u = one_period(fem)
     floor = _change_mm(fem, ref)
     design, verify = RIM_TIERS["design"], RIM_TIERS["verify"]
     mesh = f"flat {design.layers}×{design.divisions}"
@@ -510,7 +443,7 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
     if not inp.quick:
         t_ref, t_label, t_unc = inp.toothed_reference
         res, _ = inp.toothed(verify.per_pitch)
-        p2, w2, u2 = _one_period(res)
+        p2, w2, u2 = one_period(res)
         t_floor = _change_mm(res, t_ref)
         inp.step("fit: the verify tier's fits of the toothed samples")
         fit, t, n = _timed(lambda: fit_fourier(p2, w2, u2, waves=waves, max_order=verify.max_order, tier="verify"),
@@ -794,9 +727,11 @@ def write_stage_benchmark(rows: list[dict], out_dir, *, title: str = "") -> list
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
+    from profilegen.output.export import atomic_write
+
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
-    with _atomic_write(out / "stages.csv", "w") as f:
+    with atomic_write(out / "stages.csv", "w") as f:
         w = csv.DictWriter(f, fieldnames=list(FIELDS), extrasaction="ignore")
         w.writeheader()
         for r in rows:
@@ -818,7 +753,7 @@ def write_stage_benchmark(rows: list[dict], out_dir, *, title: str = "") -> list
     fig.set_layout_engine("none")
     for ax, text in zip(axes, labels):
         _place_labels(ax, text)
-    with _atomic_write(out / "stages.png", "wb") as f:
+    with atomic_write(out / "stages.png", "wb") as f:
         fig.savefig(f, dpi=110, format="png")
     return [out / "stages.csv", out / "stages.png"]
 

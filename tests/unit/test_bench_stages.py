@@ -126,26 +126,32 @@ def test_csv_png_and_table(rows, tmp_path):
 def test_polyline_distance_matches_shapely():
     import shapely
 
-    from tests.benchmarks.stages import _polyline_distance
+    from profilegen.gearform import PolylineDistance
 
     rng = np.random.default_rng(3)
     t = np.linspace(0.0, 1.5 * np.pi, 400)
     line = np.column_stack([np.cos(t), np.sin(t)])
     pts = line[rng.integers(0, 400, 200)] * (1.0 + rng.uniform(-1e-3, 1e-3, (200, 1)))
     expected = shapely.distance(shapely.points(pts), shapely.LineString(line))
-    assert np.allclose(_polyline_distance(pts, line), expected, rtol=0, atol=1e-13)
+    assert np.allclose(PolylineDistance(line).distance(pts), expected, rtol=0, atol=1e-13)
 
 
-def test_one_period_is_what_the_rim_stage_fits(design_scene):
-    """The fit study's samples (its own mirroring of a ring solution on 0 ≤ φ ≤ π/2 to one wave
-    period, written out in the benchmark) are exactly those the design scene's rim stage
-    fits, so the study measures the fit the pipeline makes."""
-    from tests.benchmarks.stages import _one_period
+def test_one_period_is_the_half_period_mirrored(design_scene):
+    """The rim stage's samples (the fit study uses the same function): the FEM's 0 ≤ φ ≤ π/2
+    solution mirrored to one wave period 0 ≤ φ < π, ω even and υ odd about φ = π/2 (the
+    symmetry of an elliptical-cam load), the FEM's own samples unchanged on the first half."""
+    from profilegen.rim.stage import one_period
 
     rim = design_scene.rim
-    phi, w, u = _one_period(rim.fem)
+    phi, w, u = one_period(rim.fem)
     assert phi[0] == 0.0 and phi[-1] < np.pi and np.all(np.diff(phi) > 0)
     assert 2 * rim.fem.phi_rad.size - 2 == phi.size
+    n = rim.fem.phi_rad.size
+    assert np.array_equal(phi[:n], rim.fem.phi_rad) and np.array_equal(w[:n], rim.fem.omega_mm)
+    mirror = np.arange(n, phi.size)  # φ' = π − φ for the interior samples, in reverse
+    partner = 2 * (n - 1) - mirror
+    np.testing.assert_allclose(phi[mirror], np.pi - phi[partner], rtol=0, atol=1e-15)
+    assert np.array_equal(w[mirror], w[partner]) and np.array_equal(u[mirror], -u[partner])
     for mine, stage in zip((phi, w, u), rim.samples):
         assert np.array_equal(mine, stage)
 
