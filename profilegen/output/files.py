@@ -27,6 +27,7 @@ OUTPUT_FILES = frozenset({
     "envelope.csv", "circular_spline.dxf", "tooth_space.dxf", "assembly.dxf", "circular_spline.svg",
     "circular_spline.csv", "profile_fit.json", "deformation_fit.json", "fit_report.html", "envelope.png",
     "contact.json", "contact.png", "stress.json", "stress.png", "report.html", "design.json",
+    "flexspline_tooth.dxf", "flexspline.dxf",
 })
 
 
@@ -59,7 +60,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool) -> list[str]:
     With ``figure`` the pictures are drawn first thing, in worker processes where two CPUs are
     free (:func:`profilegen.output.report.rendering`), while the CAD, CSV and JSON files are written
     here; each is drawn once and the reports embed the same PNG bytes as the files."""
-    from . import cad, export, report
+    from . import cad, export, flexspline, report
 
     pieces = report.html_jobs(result) if figure else {}  # last: while the workers draw, collect() makes them here
     with report.rendering({**report.png_jobs(result), **pieces} if figure else {}, steal=tuple(pieces)) as collect:
@@ -75,7 +76,8 @@ def _write_files(result: Design, staging: Path, *, figure: bool) -> list[str]:
         note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
         cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
         cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
-        cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result), texts=note)
+        fs_tooth = flexspline.write_flexspline_dxfs(staging, result)  # flexspline_tooth.dxf, flexspline.dxf
+        cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result, fs_tooth), texts=note)
         cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
         export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
         export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
@@ -116,20 +118,14 @@ def _space_guides(result: Design) -> list:
     return arcs + [Line((0.0, f.tip_radius_mm - 0.2), (0.0, f.root_radius_mm + 0.2))]
 
 
-def _assembly_layers(result: Design) -> dict:
-    """CS (true arcs), the deformed FS in its assembled position (all z1 teeth, wave generator
-    at ψ = 0, major axis along +y) and the wave-generator contour, i.e. the deformed rim bore."""
-    from ..kinematics import turn
+def _assembly_layers(result: Design, fs_tooth) -> dict:
+    """CS (true arcs), the deformed FS in its assembled position (all z1 teeth as lines and arcs, each
+    tooth chain ``fs_tooth`` posed rigidly, wave generator at ψ = 0, major axis along +y) and the
+    wave-generator contour, i.e. the deformed rim bore."""
+    from .flexspline import posed_teeth
 
     g = result.gearset.gear
-    tooth, motion = result.tooth, result.motion
-    surface = tooth.surface(n_per_mm=100.0)
-    fs = []
-    for k in range(g.flexspline_teeth):
-        theta = 2 * np.pi * k / g.flexspline_teeth  # carrier angle = φ at ψ = 0
-        pose = motion.pose(np.array([theta]))
-        pts = pose.to_cs(surface)
-        fs.append(Polyline(turn(pts, theta - motion.beta_rate * theta)))
+    fs = posed_teeth(fs_tooth, result.motion, g.flexspline_teeth, g.neutral_radius_mm)
     phi = np.linspace(0.0, 2 * np.pi, 4 * g.flexspline_teeth + 1)
     (w,), (u,) = result.deformation.evaluate(phi, order=0)
     r_bore = g.neutral_radius_mm - g.rim_thickness_mm / 2 + w
