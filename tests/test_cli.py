@@ -33,7 +33,8 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
     assert sorted(p.name for p in out.iterdir()) == [
         "assembly.dxf", "circular_spline.csv", "circular_spline.dxf", "circular_spline.svg", "contact.json",
         "contact.png", "deformation_fit.json", "design.json", "envelope.csv", "envelope.png", "fit_report.html",
-        "profile_fit.json", "report.html", "stress.json", "stress.png", "tooth_space.dxf",
+        "flexspline.dxf", "flexspline_tooth.dxf", "profile_fit.json", "report.html", "stress.json", "stress.png",
+        "tooth_space.dxf",
     ]
     data = json.loads((out / "design.json").read_text())
     assert data["gearset"]["name"] == "default"
