@@ -240,8 +240,8 @@ def _mirror_reversed(elements: list[Line | Arc]) -> list[Line | Arc]:
 def flexspline_tooth_chain(tooth: ToothProfile, gear: Any, *, tol_mm: float = 1e-4) -> tuple[Chain, float]:
     """One flexspline tooth with its root, undeformed, as lines and arcs, and its deviation (mm).
 
-    From the middle of the root space at polar angle −π/z1 (right of the axis) to the middle
-    of the next one at +π/z1, counter-clockwise about the gear centre (the origin), tooth axis
+    From the middle of the root space right of the axis (x > 0, math angle π/2 − π/z1) to the
+    middle of the next one (π/2 + π/z1), counter-clockwise about the gear centre (the origin), tooth axis
     along +y, mm (see the module docstring for the pieces). ``gear`` is the gear set's gear
     section (or the gear set): its ``flexspline_teeth``, ``neutral_radius_mm`` and ``module_mm``
     must be the tooth's. The float is the largest distance between the chain's flank elements
