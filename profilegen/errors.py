@@ -17,6 +17,7 @@ __all__ = [
     "StressError",
     "SweepSpecError",
     "BenchmarkNotFoundError",
+    "FilletError",
 ]
 
 
@@ -76,3 +77,10 @@ class BenchmarkNotFoundError(ProfilegenError, FileNotFoundError):
     """``profilegen bench`` outside a source checkout: the benchmarks live in the checkout's
     ``tests/benchmarks/``, which an installed package does not have; the message names the
     file looked for."""
+
+
+class FilletError(ProfilegenError, ValueError):
+    """The CS corners cannot be rounded as wire EDM cuts them: the wire (radius + spark gap) is
+    too thick for the root of the tooth space, or the root fillet it leaves would cut into the
+    mesh (enter the FS tooth family's swept region); the message names the gear-set field, the
+    radius asked and the largest that fits."""

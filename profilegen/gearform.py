@@ -31,7 +31,8 @@ from .errors import EnvelopeError
 from .kinematics import turn
 from .results import readonly as _readonly
 
-__all__ = ["CircularSplineForm", "ClearanceMap", "PolylineDistance", "circular_spline_form", "clearance_map", "cs_chain"]
+__all__ = ["CircularSplineForm", "ClearanceMap", "PolylineDistance", "circular_spline_form", "clearance_map", "cs_chain",
+           "cs_outline"]
 
 
 
@@ -499,6 +500,14 @@ def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: in
         a_right = _math_angle(end - centre)
         root = Arc(centre, radius, np.pi - a_right, 2 * a_right - np.pi)  # clockwise across the top
     space = Chain(tuple(left_up.elements) + (root,) + tuple(right.reversed().elements))
+    return space, cs_outline(space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
+
+
+def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
+    """The closed CS inner outline: ``space`` (a contour.Chain from the tip circle to the tip
+    circle, space 0) repeated every 2π/z2, neighbours joined by arcs of the tip circle."""
+    from .contour import Arc, Chain
+
     pitch = 2 * np.pi / cs_teeth
     # our CS polar angle runs clockwise; space k+1 is space k turned by −pitch in math angles
     def rot(k):
@@ -513,4 +522,4 @@ def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: in
         a0, a1 = _math_angle(sp.end), _math_angle(nxt_start)
         sweep = (a1 - a0 + np.pi) % (2 * np.pi) - np.pi  # the short way, clockwise (negative)
         parts += list(sp.elements) + [Arc(np.zeros(2), tip_radius_mm, a0, sweep)]
-    return space, Chain(tuple(parts))
+    return Chain(tuple(parts))

@@ -77,6 +77,7 @@ class CSProfile:
     clearance: object
     positions: int
     notes: tuple = ()
+    corners: object = None  # the rounded corners (profilegen.rootfillet.CSChain), None for a bare cs_chain
 
     @property
     def flank_fit(self):
@@ -109,6 +110,7 @@ class CSProfile:
             "outline_elements": len(self.outline.elements),
             "outline_max_gap_mm": float(self.outline.gaps(closed=True).max()),
             "clearance_check": {"positions": self.positions, **self.clearance.to_dict()},
+            "corners": None if self.corners is None else self.corners.to_dict(),
             "notes": list(self.notes),
         }
 
@@ -379,7 +381,8 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress) -
     method = fit_method or gearset.circular_spline.fit_method
     if method not in FIT_METHODS:
         raise GearSetError(f"fit method = {method!r}: must be one of {', '.join(FIT_METHODS)}")
-    profile = _fit_profile(env, form, tooth, motion, method=method, positions=scene.fit_check_positions)
+    profile = _fit_profile(env, form, tooth, motion, method=method, positions=scene.fit_check_positions,
+                           cs=gearset.circular_spline)
     warnings += list(profile.notes)
     stages.append(StageReport("arcfit", f"arc–line–arc, {method}", len(profile.space.elements),
                               time.perf_counter() - t0, profile.max_error_mm,
@@ -449,11 +452,12 @@ def _with_contact(result: Design, step) -> Design:
     return replace(result, stages=tuple(stages), warnings=result.warnings + tuple(contact.warnings), contact=contact)
 
 
-def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CSProfile:
-    """Fit the right working flank by every method, build the CS outline from the chosen one,
-    and check it against the FS tooth family at ``positions`` poses."""
+def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=None) -> CSProfile:
+    """Fit the right working flank by every method, build the CS outline from the chosen one
+    (its corners rounded for wire EDM as ``cs``, the gear set's ``circular_spline``, says;
+    sharp without it), and check it against the FS tooth family at ``positions`` poses."""
     from .arcfit import fit_profile, fit_profile_per_branch, swept_depth_function
-    from .gearform import cs_chain
+    from .rootfillet import filleted_cs_chain
 
     flank = form.working_flank["right"]
     swept = swept_depth_function(tooth, motion, cs_teeth=form.cs_teeth, phi_range=env.phi_range)
@@ -504,12 +508,16 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int) -> CS
                 els.append(Line(els[-1].end, nxt[0].start))
             els += list(nxt)
         chain = Chain(tuple(els))
-    space, outline = cs_chain(chain, tip_radius_mm=form.tip_radius_mm, root_radius_mm=form.root_radius_mm, cs_teeth=form.cs_teeth)
+    corners = filleted_cs_chain(chain, tip_radius_mm=form.tip_radius_mm, root_radius_mm=form.root_radius_mm,
+                                cs_teeth=form.cs_teeth, corners="sharp" if cs is None else cs.corners,
+                                radius_mm=None if cs is None else cs.corner_radius_mm, swept=swept, swept_tol_mm=tol)
+    space, outline = corners.space, corners.outline
+    notes += list(corners.warnings)
     n_unit = len(space.elements) + 1
     local = outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]
     cs_points = Chain(tuple(local)).sample(1e-7)
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
-    return CSProfile(fits, method, branches, space, outline, cmap, positions, tuple(notes))
+    return CSProfile(fits, method, branches, space, outline, cmap, positions, tuple(notes), corners)
 
 
 def _with_clearance(form: CircularSplineForm, cmap) -> CircularSplineForm:

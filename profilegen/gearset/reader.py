@@ -41,6 +41,7 @@ from .sections import (
     _TORQUE_KEYS,
     _WAVE_GENERATOR_KEYS,
     COEFFICIENT_SUFFIX,
+    CORNER_STYLES,
     FIT_METHODS,
     SCENE_NAMES,
     TOOTH_KINDS,
@@ -906,6 +907,12 @@ class _Reader:
             )
             if m is None and key not in t:
                 v[key] = None  # derived from the module, which is invalid: already reported
+        # wire EDM (profilegen.rootfillet): the CS corners are rounded with wire radius + spark gap
+        v["wire_radius_mm"] = self.number(t, p, "wire_radius_mm", unit="mm", rng=_Range(
+            0, 0.25, lo_open=True, note="EDM wires are 0.02–0.33 mm in diameter"), default=0.125)
+        v["spark_gap_mm"] = self.number(t, p, "spark_gap_mm", unit="mm", rng=_Range(
+            0, 0.1, note="the spark gap per side, a few µm to some 50 µm"), default=0.02)
+        v["corners"] = self.string(t, p, "corners", default="fillet", choices=CORNER_STYLES)
         if any(x is None for x in v.values()):
             return None
         return CircularSpline(**v)

@@ -124,7 +124,9 @@ _MATERIAL_KEYS = (
     "shear_endurance_limit_mpa",
 )
 _TORQUE_KEYS = ("rated_nm", "peak_nm", "momentary_nm")
-_CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm", "fit_method")
+_CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm", "fit_method", "wire_radius_mm", "spark_gap_mm",
+                         "corners")
+CORNER_STYLES = ("fillet", "sharp")
 FIT_METHODS = ("one_sided", "least_squares", "minimax")
 _CUP_KEYS = ("length_mm", "face_width_mm", "bottom_thickness_mm", "boss_radius_mm", "root_fillet_radius_mm")
 _SECTION_KEYS = {
@@ -344,6 +346,16 @@ class CircularSpline:
     root_clearance_mm: float
     tip_clearance_mm: float
     fit_method: str = "one_sided"
+    #: wire EDM: the corners of the CS chain are rounded with wire radius + spark gap (mm)
+    #: (``corners = "fillet"``; ``"sharp"`` keeps the sharp chain), see profilegen.rootfillet
+    wire_radius_mm: float = 0.125
+    spark_gap_mm: float = 0.02
+    corners: str = "fillet"
+
+    @property
+    def corner_radius_mm(self) -> float:
+        """The smallest inside-corner radius wire EDM cuts: wire radius + spark gap (mm)."""
+        return self.wire_radius_mm + self.spark_gap_mm
 
 
 @dataclass(**_FROZEN)
