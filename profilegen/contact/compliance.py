@@ -423,10 +423,13 @@ class _BodyFlex:
 
 def _fs_flex(tooth, gearset, local_points, local_normals, tooth_index, ball_angles, *, margin, toothed_teeth,
              per_pitch, flat_per_pitch, rim_layers, tooth_layers, tol_mm, race_thickness_mm=0.0, race_layers=2,
-             race_sliding=False):
+             race_sliding=False, substructure=True):
     """The FS half ring: flexibility between the FS contact loads (−n, FS material) and the
     candidate balls (+e_r on the bore, or on the outer race's inner surface when
-    ``race_thickness_mm`` > 0), with the bore's mean rotation held."""
+    ``race_thickness_mm`` > 0), with the bore's mean rotation held. ``substructure``: one
+    pitch of each kind (toothed, flat) meshed and condensed onto its cuts
+    (:func:`_half_ring_flex_substructured`), else the whole half ring assembled and
+    factorised (:func:`_half_ring_flex`, the reference: the same model and mesh)."""
     from ..rim.toothed import toothed_half_ring_mesh, toothed_half_ring_race_mesh
 
     start = time.perf_counter()
@@ -440,6 +443,12 @@ def _fs_flex(tooth, gearset, local_points, local_normals, tooth_index, ball_angl
         near = (k_mesh[:, None] + np.arange(-margin, margin + 1)[None, :]).ravel()
         toothed = np.unique(np.mod(near, half))
     r_bore = g.neutral_radius_mm - 0.5 * g.rim_thickness_mm
+    if substructure:
+        return _fs_flex_substructured(tooth, gearset, local_points, local_normals, tooth_index, k_mesh, toothed,
+                                      ball_angles, per_pitch=per_pitch, flat_per_pitch=flat_per_pitch,
+                                      rim_layers=rim_layers, tooth_layers=tooth_layers, tol_mm=tol_mm,
+                                      race_thickness_mm=race_thickness_mm, race_layers=race_layers,
+                                      race_sliding=race_sliding, start=start)
     if race_thickness_mm > 0.0:
         ring, bore_nodes = toothed_half_ring_race_mesh(
             tooth, g.rim_thickness_mm, race_thickness_mm, race_layers=race_layers, toothed_pitches=toothed,
@@ -463,6 +472,55 @@ def _fs_flex(tooth, gearset, local_points, local_normals, tooth_index, ball_angl
         ball_angles, tol_mm=tol_mm, tooth_index=tooth_index, ball_radius_mm=r_bore - race_thickness_mm,
         bore_nodes=bore_nodes, sliding_race_layers=race_layers if race_sliding and race_thickness_mm > 0.0 else None)
     info = {**ring.to_dict(), "reduced_dof": dof, "band": band}
+    if race_thickness_mm > 0.0:
+        info.update(race_thickness_mm=race_thickness_mm, race_layers=race_layers,
+                    race_interface="sliding" if race_sliding else "bonded")
+    return _BodyFlex(flex, dof, band, info, time.perf_counter() - start, dist)
+
+
+def _fs_flex_substructured(tooth, gearset, local_points, local_normals, tooth_index, k_mesh, toothed, ball_angles, *,
+                           per_pitch, flat_per_pitch, rim_layers, tooth_layers, tol_mm, race_thickness_mm, race_layers,
+                           race_sliding, start):
+    """:func:`_fs_flex` by substructures: one pitch of each kind meshed (pitch 0's place)."""
+    from ..rim.toothed import toothed_half_ring_mesh, toothed_half_ring_race_mesh
+
+    g = gearset.gear
+    z1 = g.flexspline_teeth
+    half = z1 // 2
+    pitch_kind = np.zeros(half, dtype=int) if toothed is None else np.where(np.isin(np.arange(half), toothed), 0, 1)
+    kinds = [0] if toothed is None else sorted(set(pitch_kind.tolist()))
+    pitch_kind = np.searchsorted(kinds, pitch_kind)  # kinds present, numbered from 0
+    t0 = time.perf_counter()
+    rings, bores = [], []
+    for kind in kinds:
+        kw = dict(toothed_pitches=[0] if kind == 0 else [], rim_layers=rim_layers, tooth_layers=tooth_layers,
+                  per_pitch=per_pitch, flat_per_pitch=flat_per_pitch, pitches=1)
+        if race_thickness_mm > 0.0:
+            ring, bore = toothed_half_ring_race_mesh(tooth, g.rim_thickness_mm, race_thickness_mm,
+                                                     race_layers=race_layers, **kw)
+        else:
+            ring, bore = toothed_half_ring_mesh(tooth, g.rim_thickness_mm, **kw), None
+        rings.append(ring)
+        bores.append(ring.inner_nodes if bore is None else bore)
+    mesh_time = time.perf_counter() - t0
+    r_bore = g.neutral_radius_mm - 0.5 * g.rim_thickness_mm
+    # loads in the frame of their pitch k (turned by 2πk/z1): the tooth frame, origin r_m e_y
+    pitch_rad = rings[0].pitch_rad
+    ang = k_mesh * pitch_rad
+    c, s = np.cos(ang), np.sin(ang)
+    r_m = g.neutral_radius_mm
+    px = local_points[:, 0] * c + (local_points[:, 1] + r_m) * s
+    py = -local_points[:, 0] * s + (local_points[:, 1] + r_m) * c
+    nx = local_normals[:, 0] * c + local_normals[:, 1] * s
+    ny = -local_normals[:, 0] * s + local_normals[:, 1] * c
+    flex, dof, band, dist = _half_ring_flex_substructured(
+        rings, pitch_kind, gearset.material.youngs_modulus_mpa, gearset.material.poisson_ratio, r_bore,
+        np.column_stack([px, py]), -np.column_stack([nx, ny]), k_mesh, ball_angles, tol_mm=tol_mm,
+        tooth_index=tooth_index, ball_radius_mm=r_bore - race_thickness_mm,
+        bores=bores if race_thickness_mm > 0.0 else None,
+        sliding_race_layers=race_layers if race_sliding and race_thickness_mm > 0.0 else None)
+    info = {**_ring_info(rings, pitch_kind, mesh_time), "reduced_dof": dof, "band": band,
+            "substructure": "one pitch per kind condensed onto its cuts; band: the cuts' system"}
     if race_thickness_mm > 0.0:
         info.update(race_thickness_mm=race_thickness_mm, race_layers=race_layers,
                     race_interface="sliding" if race_sliding else "bonded")
@@ -556,16 +614,17 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
     return flex, int(free.size), factor.band, dist
 
 
-def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, dist):
-    """:func:`_half_ring_flex` with the race joined to the bore radially only (frictionless)."""
-    xy = ring.mesh.doflocs
+def _sliding_stiffness(xy, k_rim, k_race, ix, iy, bore):
+    """Rim (``k_rim``) and race (``k_race``, the same mesh's race elements) joined on the bore
+    nodes ``bore`` radially only: the stiffness on the mesh's dofs (``ix``, ``iy``) and one
+    tangential race dof per bore node after them (in the order of ``bore``); a bore node's
+    race copy is e_r e_rᵀ u_rim + e_t v. Returns (stiffness, the bore nodes' angles θ)."""
     n_full = ix.size + iy.size
     n_b = bore.size
     th_b = np.arctan2(xy[0, bore], xy[1, bore])
     er = np.column_stack([np.sin(th_b), np.cos(th_b)])
     et = np.column_stack([np.cos(th_b), -np.sin(th_b)])
     n_ext = n_full + n_b
-    # race dofs in terms of the extended set: a bore node's race copy = e_r e_rᵀ u_rim + e_t v
     is_bore = np.zeros(ix.size, bool)
     is_bore[bore] = True
     other = np.flatnonzero(~is_bore)
@@ -584,7 +643,17 @@ def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, di
         vals.append(et[:, a])
     t_race = sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows), np.concatenate(cols))), shape=(n_full, n_ext))
     pad = sp.eye(n_full, n_ext, format="csr")
-    stiffness = (pad.T @ k_rim @ pad + t_race.T @ k_race @ t_race).tocsr()
+    return (pad.T @ k_rim @ pad + t_race.T @ k_race @ t_race).tocsr(), th_b
+
+
+def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, dist):
+    """:func:`_half_ring_flex` with the race joined to the bore radially only (frictionless)."""
+    xy = ring.mesh.doflocs
+    n_full = ix.size + iy.size
+    n_b = bore.size
+    stiffness, th_b = _sliding_stiffness(xy, k_rim, k_race, ix, iy, bore)
+    n_ext = n_full + n_b
+    k = np.arange(n_b)
     loads = sp.vstack([loads, sp.csr_matrix((n_b, loads.shape[1]))]).tocsr()
 
     # periodic tie: Cartesian dofs u_end = −u_start; the race's tangential dof v_end = +v_start
@@ -635,6 +704,312 @@ def _sliding_half_ring_flex(ring, k_rim, k_race, ix, iy, loads, r_bore, bore, di
     factor = _BandedFlex(k_red[free][:, free], order, "FS rim and sliding race")
     flex = factor.flexibility(b_free, gauge=(c_red[free], rot_red[free]))
     return flex, int(free.size), factor.band, dist
+
+
+# --------------------------------------------------------------------------- substructures
+
+
+def _cut_rotation(n_cut: int, pairs: int, angle: float) -> np.ndarray:
+    """R (n_cut × n_cut): a cut's dofs in the frame of the next pitch (turned by ``angle``)
+    → in this pitch's frame, u_k = R u_k+1. The first ``pairs`` (x, y) pairs turn
+    (θ from +y toward +x: Q(α) = [[cos α, sin α], [−sin α, cos α]] turns a vector by α); the
+    other dofs are scalars (tangential race dofs) and stay."""
+    c, s = math.cos(angle), math.sin(angle)
+    r = np.eye(n_cut)
+    i = 2 * np.arange(pairs)
+    r[i, i], r[i, i + 1], r[i + 1, i], r[i + 1, i + 1] = c, s, -s, c
+    return r
+
+
+class _Pitch:
+    """One pitch of a ring of identical pitches, condensed onto its two cuts (static
+    condensation; exact, not an approximation).
+
+    ``stiffness``: the pitch's own stiffness (n × n, in the frame of the pitch); ``left`` /
+    ``right``: its dofs on the two cuts, node by node in the same order, the first ``pairs``
+    (x, y) pairs then scalars; ``key`` (s, j, component) of every dof orders the interior
+    into a band; ``fixed``: dofs held at zero. Pitch k of the ring is this pitch turned by
+    k × ``pitch_rad``, with its dofs in its own turned frame and its right cut's in the next
+    pitch's frame (``_cut_rotation``): then every pitch has the same condensed stiffness
+    ``schur`` (2 n_cut square, the cuts' dofs [left, right]) — that of the interior
+    K_BB − K_BI K_II⁻¹ K_IB, with K_II factorised once (:class:`_BandedFlex`, W = L⁻¹ Y).
+
+    A load f on the pitch (its own frame) becomes the cut load g = Tᵀ(f_B − K_BI K_II⁻¹ f_I)
+    and the interior term f_Iᵀ K_II⁻¹ f'_I between loads on the same pitch:
+    fᵀ K⁻¹ f' = f_Iᵀ K_II⁻¹ f'_I + gᵀ K_cut⁻¹ g' (K_cut: the condensed pitches assembled)."""
+
+    def __init__(self, stiffness, left, right, pairs: int, key, pitch_rad: float, where: str, fixed=()):
+        n = stiffness.shape[0]
+        self.left, self.right = np.asarray(left), np.asarray(right)
+        self.n_cut = self.left.size
+        self.boundary = np.concatenate([self.left, self.right])
+        inner = np.ones(n, bool)
+        inner[self.boundary] = False
+        inner[np.asarray(fixed, dtype=int)] = False
+        self.interior = np.flatnonzero(inner)
+        k = sp.csr_matrix(stiffness)
+        k_i = k[self.interior]
+        s_, j_, comp = (np.asarray(v)[self.interior] for v in key)
+        self.factor = _BandedFlex(k_i[:, self.interior], np.lexsort((comp, j_, s_)), where)
+        self.w_b = self.factor.forward(k_i[:, self.boundary].toarray())
+        schur = k[self.boundary][:, self.boundary].toarray() - self.w_b.T @ self.w_b
+        r = _cut_rotation(self.n_cut, pairs, pitch_rad)
+        self.t = np.eye(2 * self.n_cut)
+        self.t[self.n_cut:, self.n_cut:] = r
+        self.schur = self.t.T @ schur @ self.t
+        self.schur = 0.5 * (self.schur + self.schur.T)
+
+    def condense(self, loads):
+        """(g (2 n_cut × m), raw Tᵀ f_B (2 n_cut × m), W_I = L⁻¹ f_I) for the load columns ``loads``."""
+        f = sp.csr_matrix(loads)
+        f_b = f[self.boundary].toarray()
+        w = self.factor.forward(f[self.interior].toarray())
+        return self.t.T @ (f_b - self.w_b.T @ w), self.t.T @ f_b, w
+
+
+def _chain_flex(kinds, pitch_kind, loads, load_pitch, *, cyclic: bool, fixed_cut=(), gauge=None, where: str):
+    """Flexibility Yᵀ K⁻¹ Y of a ring (or sector) of condensed pitches (:class:`_Pitch`).
+
+    ``kinds``: the distinct pitches; ``pitch_kind[k]``: the kind of pitch k (cuts: k on the
+    left, k + 1 on the right). ``cyclic``: the right cut of the last pitch is cut 0 (in
+    its frame, the periodic tie made the identity by the frames), else cuts 0 and N are
+    held. ``fixed_cut``: dofs of cut 0 held (the gauge). ``loads[t]``: the load columns
+    (sparse, kind t's dofs, each in its own pitch's frame) and ``load_pitch[t]`` their pitch
+    and column in the result. ``gauge`` = ([c_t per kind: the pitch's reaction c], [rot_t]):
+    the columns are projected as in :meth:`_BandedFlex.flexibility` (Pᵀ Y = Y − c (rotᵀ Y) /
+    (cᵀ rot) over the free dofs, c and rot every pitch's together). Returns (flex, band of
+    the cut system)."""
+    n_p = len(pitch_kind)
+    pitch_kind = np.asarray(pitch_kind)
+    n_c = kinds[0].n_cut
+    n_cuts = n_p if cyclic else n_p + 1
+    left_cut = np.arange(n_p)
+    right_cut = (left_cut + 1) % n_cuts
+    m = sum(int(col.size) for _, col in load_pitch)
+    # the condensed stiffness of the cuts, assembled
+    idx = np.concatenate([left_cut[:, None] * n_c + np.arange(n_c)[None, :],
+                          right_cut[:, None] * n_c + np.arange(n_c)[None, :]], axis=1)  # (n_p, 2 n_c)
+    vals = np.stack([kinds[t].schur for t in pitch_kind])
+    rows = np.broadcast_to(idx[:, :, None], vals.shape).ravel()
+    cols = np.broadcast_to(idx[:, None, :], vals.shape).ravel()
+    n_dof = n_cuts * n_c
+    k_cut = sp.csr_matrix((vals.ravel(), (rows, cols)), shape=(n_dof, n_dof))
+    held = np.zeros(n_dof, bool)
+    if cyclic:
+        held[np.asarray(fixed_cut, dtype=int)] = True
+    else:
+        held[:n_c] = held[-n_c:] = True
+    free = np.flatnonzero(~held)
+    n_ext = m + (gauge is not None)
+    g_rows, g_cols, g_vals = [], [], []
+    raw = np.zeros((n_dof, n_ext))
+    local = np.zeros((n_ext, n_ext))
+    if gauge is not None:
+        c_kinds, rot_kinds = gauge
+        rot_y = np.zeros(m)  # rotᵀ Y over the free dofs: the interiors' here, the cuts' below
+    for t, kind in enumerate(kinds):
+        pitch, column = load_pitch[t]
+        pitch = np.asarray(pitch, dtype=int)
+        column = np.asarray(column, dtype=int)
+        on = np.flatnonzero(pitch_kind == t)
+        blocks = [loads[t]] if gauge is None else [loads[t], sp.csr_matrix(np.asarray(c_kinds[t])[:, None])]
+        g, f_raw, w = kind.condense(sp.hstack(blocks).tocsr())
+        mt = column.size
+        # loads: their pitch's two cuts
+        g_rows.append(idx[pitch].T.ravel() if mt else np.zeros(0, int))
+        g_cols.append(np.broadcast_to(column, (2 * n_c, mt)).ravel())
+        g_vals.append(g[:, :mt].ravel())
+        raw[idx[pitch].T, np.broadcast_to(column, (2 * n_c, mt))] += f_raw[:, :mt]
+        same = pitch[:, None] == pitch[None, :]
+        local[np.ix_(column, column)] += np.where(same, w[:, :mt].T @ w[:, :mt], 0.0)
+        if gauge is not None and on.size:
+            # c: on every pitch of this kind
+            g_rows.append(idx[on].ravel())
+            g_cols.append(np.full(on.size * 2 * n_c, m))
+            g_vals.append(np.tile(g[:, mt], on.size))
+            np.add.at(raw[:, m], idx[on].ravel(), np.tile(f_raw[:, mt], on.size))
+            w_c = w[:, mt]
+            local[column, m] += w[:, :mt].T @ w_c
+            local[m, column] = local[column, m]
+            local[m, m] += on.size * float(w_c @ w_c)
+            rot = np.asarray(rot_kinds[t])
+            rot_y[column] = (loads[t][kind.interior].T @ rot[kind.interior]) if mt else 0.0
+    g_all = sp.csr_matrix((np.concatenate(g_vals), (np.concatenate(g_rows), np.concatenate(g_cols))),
+                          shape=(n_dof, n_ext))
+    position = np.empty(n_cuts, dtype=int)  # the cuts folded round the ring, or in their order
+    if cyclic:
+        d = np.minimum(np.arange(n_cuts), n_cuts - np.arange(n_cuts))
+        position = 2 * d + (np.arange(n_cuts) > n_cuts - np.arange(n_cuts))
+    else:
+        position = np.arange(n_cuts)
+    dof_cut = free // n_c
+    order = np.lexsort((free % n_c, position[dof_cut]))
+    factor = _BandedFlex(k_cut[free][:, free], order, where)
+    gram = factor.flexibility(g_all[free]) + local
+    if gauge is None:
+        return 0.5 * (gram + gram.T), factor.band
+    rot_cut = np.tile(np.asarray(rot_kinds[0])[kinds[0].left], n_cuts)  # every cut in its own frame
+    rot_y += raw[free, :m].T @ rot_cut[free]
+    c_rot = float(raw[free, m] @ rot_cut[free]) + sum(
+        float(np.asarray(c_kinds[t])[kinds[t].interior] @ np.asarray(rot_kinds[t])[kinds[t].interior])
+        * int(np.sum(pitch_kind == t)) for t in range(len(kinds)))
+    alpha = rot_y / c_rot
+    out, cross, cc = gram[:m, :m], gram[:m, m], gram[m, m]
+    out = out + cc * np.outer(alpha, alpha) - np.outer(cross, alpha) - np.outer(alpha, cross)
+    return 0.5 * (out + out.T), factor.band
+
+
+def _pitch_projection(points, guess, pitch_kind, pitch_rad: float, lines):
+    """Project ``points`` (m, 2) onto a node line of a ring of turned pitches: each point onto
+    its ``guess`` pitch and the two beside it (not past the ring's ends), the nearest kept.
+    ``lines[t]`` = (node coordinates (2, n), node line) of pitch kind t in pitch 0's frame.
+    Returns (pitch, triples, weights, distance, angle of the pitch's frame)."""
+    n_p = len(pitch_kind)
+    pitch_kind = np.asarray(pitch_kind)
+    m = points.shape[0]
+    shifts = np.array([0, -1, 1])  # the guess first: it wins a tie
+    k = np.clip(np.asarray(guess, dtype=int)[None, :] + shifts[:, None], 0, n_p - 1).ravel()  # (3 m,)
+    local = _turn_back(np.tile(points, (3, 1)), k * pitch_rad)
+    dist = np.full(k.size, np.inf)
+    tri = np.zeros((k.size, 3), dtype=int)
+    w = np.zeros((k.size, 3))
+    for t, (xy, line) in enumerate(lines):  # all candidates on a line of one kind in one call
+        sel = np.flatnonzero(pitch_kind[k] == t)
+        if sel.size:
+            tri[sel], w[sel], dist[sel], _ = _edge_projection(xy, line, local[sel])
+    pick = np.argmin(dist.reshape(3, m), axis=0) * m + np.arange(m)
+    return k[pick], tri[pick], w[pick], dist[pick], k[pick] * pitch_rad
+
+
+def _turn_back(vectors, angle):
+    """``vectors`` (m, 2) expressed in the frames turned by ``angle`` (m,) (θ from +y toward +x):
+    a vector at θ comes out at θ − angle."""
+    c, s = np.cos(angle), np.sin(angle)
+    return np.column_stack([c * vectors[:, 0] - s * vectors[:, 1], s * vectors[:, 0] + c * vectors[:, 1]])
+
+
+def _dof_key(ring, ix, iy, n_extra=0, extra_nodes=None):
+    """(s, j, component) of every dof of a pitch (race dofs of the bore nodes just inside them)."""
+    n = ix.size + iy.size + n_extra
+    s_, j_, comp = np.zeros(n), np.zeros(n), np.zeros(n)
+    for c_, ic in ((0, ix), (1, iy)):
+        s_[ic], j_[ic], comp[ic] = ring.s, ring.j, c_
+    if n_extra:
+        s_[ix.size + iy.size:] = ring.s[extra_nodes]
+        j_[ix.size + iy.size:] = ring.j[extra_nodes] - 0.25
+    return s_, j_, comp
+
+
+def _ring_info(rings, pitch_kind, time_s: float) -> dict:
+    """:meth:`RingSectorMesh.to_dict` of the whole ring of pitches, from one mesh per pitch kind."""
+    pitch_kind = np.asarray(pitch_kind)
+    count = [int(np.sum(pitch_kind == t)) for t in range(len(rings))]
+    cols = sum(c * int(r.pitch_columns.sum()) for c, r in zip(count, rings))
+    layers = rings[0].layers
+    nodes = (2 * cols + 1) * (2 * layers + 1)
+    return {"pitches": int(pitch_kind.size),
+            "toothed_pitches": sum(c * int(r.toothed.sum()) for c, r in zip(count, rings)),
+            "columns": cols, "layers": layers, "elements": sum(c * r.elements for c, r in zip(count, rings)),
+            "nodes": nodes, "dof": 2 * nodes,
+            "min_jacobian": min(r.min_jacobian for c, r in zip(count, rings) if c),
+            "jacobian_ratio": min(r.jacobian_ratio for c, r in zip(count, rings) if c), "time_s": time_s}
+
+
+def _half_ring_pitch(ring, youngs_modulus_mpa, poisson_ratio, r_bore, bore, sliding_race_layers, where):
+    """One pitch of the FS half ring (a one-pitch mesh, pitch 0) as a :class:`_Pitch`, with
+    its share of the bore's mean-rotation reaction c and of the rigid rotation rot, its
+    (ix, iy), its dof count and the positions of the gauge dofs in its left cut."""
+    mesh = ring.mesh
+    xy = mesh.doflocs
+    if sliding_race_layers is None:
+        stiffness, ix, iy = _stiffness(mesh, youngs_modulus_mpa, poisson_ratio)
+        n_extra = 0
+    else:
+        race_el = np.all(np.asarray(ring.j)[mesh.t] <= sliding_race_layers, axis=0)
+        k_rim, ix, iy = _stiffness(mesh, youngs_modulus_mpa, poisson_ratio, elements=np.flatnonzero(~race_el))
+        k_race = _stiffness(mesh, youngs_modulus_mpa, poisson_ratio, elements=np.flatnonzero(race_el))[0]
+        stiffness, _ = _sliding_stiffness(xy, k_rim, k_race, ix, iy, bore)
+        n_extra = bore.size
+    n_full = ix.size + iy.size
+    n = n_full + n_extra
+    left_nodes, right_nodes = np.asarray(ring.start_cut_nodes), np.asarray(ring.end_cut_nodes)
+    left = np.column_stack([ix[left_nodes], iy[left_nodes]]).ravel()
+    right = np.column_stack([ix[right_nodes], iy[right_nodes]]).ravel()
+    if n_extra:  # bore sorted by s: bore[0] on the left cut, bore[-1] on the right
+        left, right = np.append(left, n_full), np.append(right, n_full + bore.size - 1)
+    pitch = _Pitch(stiffness, left, right, left_nodes.size, _dof_key(ring, ix, iy, n_extra, bore), ring.pitch_rad,
+                   where)
+    # the bore's mean rotation c·u (as _half_ring_flex: quadratic edges, weights L/6, 2L/3, L/6)
+    c = np.zeros(n)
+    th = np.arctan2(xy[0, bore], xy[1, bore])
+    for e in range((bore.size - 1) // 2):
+        tri = bore[2 * e:2 * e + 3]
+        length = r_bore * abs(th[2 * e + 2] - th[2 * e])
+        for node, w in zip(tri, (length / 6, 2 * length / 3, length / 6)):
+            t = math.atan2(xy[0, node], xy[1, node])
+            c[ix[node]] += w * math.cos(t)
+            c[iy[node]] -= w * math.sin(t)
+    rot = np.zeros(n)
+    rot[ix], rot[iy] = xy[1], -xy[0]
+    if n_extra:
+        rot[n_full:] = np.hypot(xy[0, bore], xy[1, bore])
+    gauges = [2 * int(np.flatnonzero(left_nodes == ring.inner_nodes[0])[0])]
+    if n_extra:
+        gauges.insert(0, 2 * int(np.flatnonzero(left_nodes == bore[0])[0]))
+    return pitch, c, rot, (ix, iy, n_full, n_extra), gauges
+
+
+def _half_ring_flex_substructured(rings, pitch_kind, youngs_modulus_mpa, poisson_ratio, r_bore, points, directions,
+                                  point_pitch, ball_angles, *, tol_mm, tooth_index=None, ball_radius_mm=None,
+                                  bores=None, sliding_race_layers=None):
+    """:func:`_half_ring_flex` by substructures: ``rings[t]`` a one-pitch mesh of pitch kind t
+    (pitch 0's place; ``bores[t]`` its bore row, default its inner surface) and pitch k of
+    the half ring of kind ``pitch_kind[k]``; ``point_pitch``: the pitch of each point (the
+    nearest of it and the two beside it is taken). Each kind is condensed onto its cuts once
+    (:class:`_Pitch`) and the half ring's cuts are solved together (:func:`_chain_flex`): the
+    same flexibility as the whole mesh's, to rounding."""
+    r_ball = r_bore if ball_radius_mm is None else float(ball_radius_mm)
+    bores = [np.asarray(r.inner_nodes if bores is None else bores[t]) for t, r in enumerate(rings)]
+    parts = [_half_ring_pitch(r, youngs_modulus_mpa, poisson_ratio, r_bore, bores[t], sliding_race_layers,
+                              "FS rim" + (" and sliding race" if sliding_race_layers else "") + " (one pitch)")
+             for t, r in enumerate(rings)]
+    pitch_rad = rings[0].pitch_rad
+    n_p = len(pitch_kind)
+    # the contact points: on the tooth surface of their pitch
+    pitch_c, tri_c, w_c, dist, ang_c = _pitch_projection(
+        points, point_pitch, pitch_kind, pitch_rad, [(r.mesh.doflocs, r.outer_nodes) for r in rings])
+    bad = np.flatnonzero(dist > tol_mm)
+    if bad.size:
+        k = int(bad[np.argmax(dist[bad])])
+        which = "" if tooth_index is None else f" (tooth {int(tooth_index[k])})"
+        raise ComplianceError(
+            f"fs_points: point {k}{which} is {dist[k]:.3g} mm off the FS tooth surface once "
+            f"mapped back to its tooth frame (tolerance on_surface_tol_mm = {tol_mm:g} mm); the points, tooth "
+            "indices and inputs.motion must belong together")
+    # the balls: on the inner surface
+    z_half = -rings[0].start_rad
+    ball_mesh = np.mod(ball_angles + z_half, math.pi) - z_half
+    e_r = np.column_stack([np.sin(ball_mesh), np.cos(ball_mesh)])
+    guess = np.floor((ball_mesh + z_half) / pitch_rad).astype(int)
+    pitch_b, tri_b, w_b, _, ang_b = _pitch_projection(
+        r_ball * e_r, guess, pitch_kind, pitch_rad, [(r.mesh.doflocs, r.inner_nodes) for r in rings])
+    pitch_all = np.concatenate([pitch_c, pitch_b])
+    tri_all, w_all = np.vstack([tri_c, tri_b]), np.vstack([w_c, w_b])
+    dirs = _turn_back(np.vstack([directions, e_r]), np.concatenate([ang_c, ang_b]))
+    kind_of = np.asarray(pitch_kind)[pitch_all]
+    loads, load_pitch = [], []
+    for t, (_, _, _, (ix, iy, n_full, n_extra), _) in enumerate(parts):
+        sel = np.flatnonzero(kind_of == t)
+        y = _load_matrix(n_full, ix, iy, tri_all[sel], w_all[sel], dirs[sel])
+        loads.append(sp.vstack([y, sp.csr_matrix((n_extra, sel.size))]).tocsr())
+        load_pitch.append((pitch_all[sel], sel))
+    kinds = [p[0] for p in parts]
+    flex, band = _chain_flex(kinds, pitch_kind, loads, load_pitch, cyclic=True, fixed_cut=parts[0][4],
+                             gauge=([p[1] for p in parts], [p[2] for p in parts]),
+                             where="FS rim" + (" and sliding race" if sliding_race_layers else "") + " (cuts)")
+    dof = sum(int(np.sum(np.asarray(pitch_kind) == t)) * (k.left.size + k.interior.size)
+              for t, k in enumerate(kinds)) - len(parts[0][4])
+    return flex, dof, band, dist
 
 
 def _cs_pieces(space, cs_teeth: int):
@@ -688,7 +1063,9 @@ def _edge_sag_mm(top, columns: int) -> float:
 
 
 def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers, back_layers, outer_radius_mm,
-             tol_mm):
+             tol_mm, substructure=True):
+    """The CS sector: flexibility between the CS contact loads. ``substructure``: one space
+    meshed and condensed onto its cuts, else the whole sector (the reference)."""
     from ..rim.toothed import pitch_surface, ring_sector_mesh
 
     start = time.perf_counter()
@@ -714,6 +1091,9 @@ def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers
         raise ComplianceError(f"cs_outer_radius_mm = {outer_radius_mm:g} mm: must be > {r_back:.6g} mm (the CS root "
                               "circle plus half a tooth height)")
     n_p = hi - lo + 1
+    if substructure:
+        return _cs_flex_substructured(gearset, points, normals, pitch, lo, n_p, top, per_pitch, r_back, outer_radius_mm,
+                                      tooth_layers, back_layers, tol_mm, start)
     ring = ring_sector_mesh(pitch, (lo - 0.5) * pitch, [top] * n_p, [per_pitch] * n_p, mapped_radius_mm=r_back,
                             polar_radius_mm=outer_radius_mm, mapped_layers=tooth_layers, polar_layers=back_layers,
                             mapped_outside=False, polar_grading=1.6)
@@ -737,6 +1117,46 @@ def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers
     flex = factor.flexibility(loads[free])
     info = {**ring.to_dict(), "spaces": [lo, hi], "outer_radius_mm": outer_radius_mm, "band": factor.band}
     return _BodyFlex(flex, int(free.size), factor.band, info, time.perf_counter() - start, dist)
+
+
+def _cs_flex_substructured(gearset, points, normals, pitch, lo, n_p, top, per_pitch, r_back, outer_radius_mm,
+                           tooth_layers, back_layers, tol_mm, start):
+    """:func:`_cs_flex` by substructures: space 0 meshed, condensed onto its two radial cuts
+    (its outer surface held), and the sector's spaces lo … lo + n_p − 1 (their frames
+    turned by the pitch) joined at their cuts, the sector's two end cuts held."""
+    from ..rim.toothed import ring_sector_mesh
+
+    ring = ring_sector_mesh(pitch, -0.5 * pitch, [top], [per_pitch], mapped_radius_mm=r_back,
+                            polar_radius_mm=outer_radius_mm, mapped_layers=tooth_layers, polar_layers=back_layers,
+                            mapped_outside=False, polar_grading=1.6)
+    mesh = ring.mesh
+    stiffness, ix, iy = _stiffness(mesh, gearset_cs_modulus(gearset), gearset.material.poisson_ratio)
+    n_full = stiffness.shape[0]
+    outer = np.asarray(ring.outer_nodes)
+    left_nodes = np.asarray(ring.start_cut_nodes)[:-1]  # sorted by j: the last is on the held outer surface
+    right_nodes = np.asarray(ring.end_cut_nodes)[:-1]
+    space = _Pitch(stiffness, np.column_stack([ix[left_nodes], iy[left_nodes]]).ravel(),
+                   np.column_stack([ix[right_nodes], iy[right_nodes]]).ravel(), left_nodes.size,
+                   _dof_key(ring, ix, iy), pitch, "CS ring (one space)", fixed=np.concatenate([ix[outer], iy[outer]]))
+    guess = np.round(np.arctan2(points[:, 0], points[:, 1]) / pitch).astype(int) - lo
+    kind = np.zeros(n_p, dtype=int)
+    # frames: space lo + k turned by (lo + k) × pitch; the points turned into space lo's first
+    turned = _turn_back(points, np.full(points.shape[0], lo * pitch))
+    k, triples, weights, dist, ang = _pitch_projection(turned, guess, kind, pitch, [(mesh.doflocs, ring.inner_nodes)])
+    bad = np.flatnonzero(dist > tol_mm)
+    if bad.size:
+        j = int(bad[np.argmax(dist[bad])])
+        raise ComplianceError(f"cs_points: point {j} is {dist[j]:.3g} mm off the fitted CS surface (tolerance "
+                              f"on_surface_tol_mm = {tol_mm:g} mm)")
+    directions = _turn_back(-normals, (k + lo) * pitch)  # the FS pushes the CS along −n_CS
+    loads = _load_matrix(n_full, ix, iy, triples, weights, directions).tocsr()
+    flex, band = _chain_flex([space], kind, [loads], [(k, np.arange(points.shape[0]))], cyclic=False,
+                             where="CS ring (cuts)")
+    n_s, n_j = n_p * per_pitch, ring.layers
+    dof = 2 * (2 * n_s - 1) * (2 * n_j)  # all nodes but the outer surface's and the two end cuts'
+    info = {**_ring_info([ring], kind, ring.time_s), "spaces": [lo, lo + n_p - 1], "outer_radius_mm": outer_radius_mm,
+            "band": band, "substructure": "one space condensed onto its cuts; band: the cuts' system"}
+    return _BodyFlex(flex, dof, band, info, time.perf_counter() - start, dist)
 
 
 def default_race_thickness_mm(gear) -> float:
@@ -849,6 +1269,7 @@ class ContactCompliance:
         on_surface_tol_mm: float = 0.01,
         settle_iterations: int = 0,
         forces_n=None,
+        substructure: bool = True,
     ) -> "ContactCompliance":
         """Influence coefficients for the contact points of one engagement zone.
 
@@ -865,7 +1286,10 @@ class ContactCompliance:
         on the bore), meshed with ``race_layers`` layers; ``race_interface``: "sliding" (joined
         radially only, frictionless; the default) or "bonded" (race and bore share their nodes). All balls within the wrap start active; ``forces_n`` with
         ``settle_iterations`` > 0 runs :meth:`settle_balls` for those contact forces.
-        Other keywords: the mesh (see the module docstring).
+        ``substructure``: condense one pitch of each body onto its cuts and solve the cuts
+        (the default); False assembles and factorises the whole meshes (the reference: the
+        same model and mesh, the same S to rounding, ~10× slower). Other keywords: the mesh
+        (see the module docstring).
         """
         start = time.perf_counter()
         inputs = ContactInput.of(inputs, error=ComplianceError)
@@ -947,21 +1371,23 @@ class ContactCompliance:
                           rim_layers=_whole("rim_layers", rim_layers, 1),
                           tooth_layers=_whole("tooth_layers", tooth_layers, 1), tol_mm=tol,
                           race_thickness_mm=race, race_layers=race_layers,
-                          race_sliding=race_interface == "sliding")
+                          race_sliding=race_interface == "sliding", substructure=bool(substructure))
             cs = _cs_flex(inputs.cs_space, gearset, cs_points, cs_normals, margin=margin,
                           per_pitch=_whole("cs_per_pitch", cs_per_pitch, 2),
                           tooth_layers=_whole("cs_tooth_layers", cs_tooth_layers, 1),
                           back_layers=_whole("cs_back_layers", cs_back_layers, 1),
-                          outer_radius_mm=cs_outer_radius_mm, tol_mm=tol)
-        nb = balls.size
-        result = cls._assemble(
-            flex_cc=fs.flex[:n, :n], flex_cb=fs.flex[:n, n:], flex_bb=fs.flex[n:, n:], cs_flex=cs.flex,
-            face_width_mm=b, tooth=tooth_index, ball_angle_rad=balls, ball_active=np.ones(nb, bool),
-            wrap_half_angle_rad=wrap, wrap_source=wrap_source,
-            dof={"fs": fs.dof, "cs": cs.dof}, time_s={"fs": fs.time_s, "cs": cs.time_s},
-            mesh={"fs": fs.mesh, "cs": cs.mesh, "fs_off_surface_max_mm": float(fs.off_surface_mm.max()),
-                  "cs_off_surface_max_mm": float(cs.off_surface_mm.max())},
-            warnings=tuple(warnings), start=start)
+                          outer_radius_mm=cs_outer_radius_mm, tol_mm=tol, substructure=bool(substructure))
+            nb = balls.size
+            # inside the single-threaded block too: OpenBLAS's threads took 0.46 s for this 196 × 196
+            # Cholesky on the busy machine (cProfile), against milliseconds on one thread
+            result = cls._assemble(
+                flex_cc=fs.flex[:n, :n], flex_cb=fs.flex[:n, n:], flex_bb=fs.flex[n:, n:], cs_flex=cs.flex,
+                face_width_mm=b, tooth=tooth_index, ball_angle_rad=balls, ball_active=np.ones(nb, bool),
+                wrap_half_angle_rad=wrap, wrap_source=wrap_source,
+                dof={"fs": fs.dof, "cs": cs.dof}, time_s={"fs": fs.time_s, "cs": cs.time_s},
+                mesh={"fs": fs.mesh, "cs": cs.mesh, "fs_off_surface_max_mm": float(fs.off_surface_mm.max()),
+                      "cs_off_surface_max_mm": float(cs.off_surface_mm.max())},
+                warnings=tuple(warnings), start=start)
         if settle_iterations and forces_n is not None:
             result = result.settle_balls(forces_n, max_iterations=settle_iterations)
         return result

@@ -641,6 +641,7 @@ def toothed_half_ring_mesh(
     per_pitch: int = 16,
     flat_per_pitch: int = 2,
     check_intorder: int = 4,
+    pitches: int | None = None,
 ) -> RingSectorMesh:
     """Mapped 9-node-quad mesh of the flexspline rim's half ring −π/z1 ≤ θ ≤ π − π/z1.
 
@@ -653,6 +654,8 @@ def toothed_half_ring_mesh(
     the others are a flat ring up to the root circle r_f with ``flat_per_pitch`` columns
     (a coarse rim where no tooth is loaded: it omits the teeth's small share of the rim's
     bending stiffness). ``per_pitch`` columns in a toothed pitch. z1 must be even.
+    ``pitches``: mesh only the first ``pitches`` pitches (k = 0 … pitches − 1; default all
+    z1/2): one pitch is the substructure :mod:`profilegen.contact.compliance` condenses.
     """
     for name in ("teeth", "neutral_radius_mm", "dedendum_y_mm", "addendum_y_mm", "segments", "point"):
         if not hasattr(tooth, name):
@@ -680,6 +683,10 @@ def toothed_half_ring_mesh(
             raise ToothedMeshError(f"toothed_pitches: must be in [0, {n_p}), got {idx.min()} … {idx.max()}")
         toothed = np.zeros(n_p, bool)
         toothed[idx] = True
+    if pitches is not None:
+        toothed = toothed[:_whole("pitches", pitches, 1)]
+        if toothed.size < int(pitches):
+            raise ToothedMeshError(f"pitches = {pitches!r}: must be at most z1/2 = {n_p}")
     pieces = fs_pitch_pieces(tooth)
     half_pitch = math.pi / z1
     psi_root = _pieces(tooth)[2][0]
@@ -717,6 +724,7 @@ def toothed_half_ring_race_mesh(
     per_pitch: int = 16,
     flat_per_pitch: int = 2,
     check_intorder: int = 4,
+    pitches: int | None = None,
 ) -> tuple[RingSectorMesh, np.ndarray]:
     """:func:`toothed_half_ring_mesh` with a flat ring (the wave-generator bearing's outer
     race, thickness ``race_thickness_mm`` > 0, ``race_layers`` layers) added inside the bore,
@@ -724,7 +732,8 @@ def toothed_half_ring_race_mesh(
     interface). Returns ``(ring, bore_nodes)``: ``ring.inner_nodes`` is the race's inner
     surface (radius r_m − δ/2 − t), ``bore_nodes`` the FS bore row (j = ``race_layers``,
     sorted by s). The rim's polar block keeps ``rim_layers`` equal layers, the race
-    ``race_layers`` equal layers (both linear in r, as in :func:`toothed_half_ring_mesh`)."""
+    ``race_layers`` equal layers (both linear in r, as in :func:`toothed_half_ring_mesh`).
+    ``pitches``: only the first pitches, as in :func:`toothed_half_ring_mesh`."""
     from skfem.mapping import MappingIsoparametric
     from skfem.quadrature import get_quadrature
 
@@ -742,7 +751,7 @@ def toothed_half_ring_race_mesh(
     # one polar block from the race's inner radius to the neutral circle, then re-spaced
     ring = toothed_half_ring_mesh(tooth, delta + 2.0 * t_race, toothed_pitches=toothed_pitches,
                                   rim_layers=race_layers + rim_layers, tooth_layers=tooth_layers, per_pitch=per_pitch,
-                                  flat_per_pitch=flat_per_pitch, check_intorder=check_intorder)
+                                  flat_per_pitch=flat_per_pitch, check_intorder=check_intorder, pitches=pitches)
     j = np.asarray(ring.j)
     r_in = r_bore - t_race
     in_race = j <= race_layers
