@@ -69,6 +69,7 @@ __all__ = [
     "involute_tooth",
     "list_profiles",
     "load_gearset",
+    "optimize",
     "parse_gearset",
     "points_tooth",
     "resolve_gearset",
@@ -87,6 +88,10 @@ _LAZY = {"write_design": "output.files", "RimDeformation": "rim", "solve_rim": "
 
 
 def __getattr__(name):
+    if name == "optimize":  # the subpackage, callable: profilegen.optimize(spec, out_dir) runs a spec (pymoo on first use)
+        import importlib
+
+        return importlib.import_module(".optimize", __name__)
     if name in _LAZY:
         import importlib
 

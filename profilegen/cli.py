@@ -181,6 +181,44 @@ def _cmd_sweep(args) -> int:
     return 0
 
 
+def _cmd_optimize(args) -> int:
+    import signal
+
+    from .optimize import load_optimize_spec, optimize
+    from .sweep import dask_executor, interrupt_on_signals
+
+    spec = out = None
+    bar = lambda done, total: None  # noqa: E731
+    try:
+        with interrupt_on_signals((signal.SIGTERM,)):  # SIGTERM stops the run as cleanly as Ctrl-C
+            spec = load_optimize_spec(args.spec)  # validated in full before anything is written
+            out = Path(args.out) if args.out else Path("export") / "optimize" / spec.name
+            bar = _sweep_progress(spec.population * spec.generations, quiet=args.quiet, desc="optimize", unit="design")
+            if args.dask:
+                with dask_executor(args.dask) as executor:
+                    result = optimize(spec, out, executor=executor, progress=bar)
+            else:
+                result = optimize(spec, out, workers=args.workers, progress=bar)
+    except KeyboardInterrupt as exc:
+        bar(None, None)
+        signum = getattr(exc, "signum", signal.SIGINT)
+        resume = "" if out is None else f"; finished designs are in {out / 'journal.csv'} — run the same command again to resume"
+        print(f"profilegen: optimize stopped by {signal.Signals(signum).name}{resume}", file=sys.stderr)
+        return 128 + signum
+    bar(None, None)
+    if not args.quiet:
+        s = result.summary
+        print(f"optimize {spec.name!r}: {s['candidates']} designs in scene {s['scene']} ({s['computed']} run, {s['reused']} from "
+              f"the journal, {s['failed']} failed, {s['feasible']} feasible); front of {s['front']}, "
+              f"{s['dominating_start']} dominate the starting design; {result.time_s:.1f} s")
+        if s.get("confirm_scene"):
+            print(f"  confirmed in scene {s['confirm_scene']}: {s['confirm_infeasible']} infeasible, {s['confirm_dominated']} "
+                  f"dominated; objective order flipped in {s['rank_flips']} of {s['rank_pairs']} pairs")
+        for p in result.files:
+            print(f"  wrote {p}")
+    return 0
+
+
 def _positive_int(text: str) -> int:
     try:
         value = int(text)
@@ -191,18 +229,21 @@ def _positive_int(text: str) -> int:
     return value
 
 
-def _sweep_progress(total: int, *, quiet: bool):
+def _sweep_progress(total: int, *, quiet: bool, desc: str = "sweep", unit: str = "point"):
     """A tqdm bar over the points on stderr (silent when quiet or not a terminal); call (None, None) to close."""
     if quiet or not sys.stderr.isatty():
         return lambda done, total: None
     from tqdm import tqdm
 
-    bar = tqdm(total=total, desc="sweep", unit="point", file=sys.stderr)
+    bar = tqdm(total=total, desc=desc, unit=unit, file=sys.stderr)
 
     def step(done, _total):
         if done is None:
             bar.close()
         else:
+            if _total is not None and _total != bar.total:  # optimize: the confirm step adds the front's designs
+                bar.total = _total
+                bar.refresh()
             bar.update(done - bar.n)
 
     return step
@@ -323,6 +364,14 @@ def _parser() -> argparse.ArgumentParser:
                                   "writes the table there as Parquet (needs pyarrow), the folder beside it")
     sw.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     sw.set_defaults(func=_cmd_sweep)
+    op = sub.add_parser("optimize", help="multi-objective design optimisation of gear-set fields (NSGA-II; "
+                                         "e.g. profiles/optimize/default.toml)")
+    op.add_argument("spec", help="an optimisation spec TOML file (e.g. profiles/optimize/default.toml)")
+    op.add_argument("--workers", type=_positive_int, metavar="N", help="local worker processes (default: the CPU count)")
+    op.add_argument("--dask", metavar="ADDRESS", help="run on the Dask cluster at ADDRESS (tcp://HOST:PORT) instead")
+    op.add_argument("--out", metavar="DIR", help="output folder (default: export/optimize/<name>/)")
+    op.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
+    op.set_defaults(func=_cmd_optimize)
     b = sub.add_parser("bench", help="speed against accuracy: the whole pipeline per scene, then every stage and tier "
                                      "against a converged reference (from a source checkout: the benchmarks are its "
                                      "tests/benchmarks/)")

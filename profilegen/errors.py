@@ -16,6 +16,7 @@ __all__ = [
     "ExportError",
     "StressError",
     "SweepSpecError",
+    "OptimizeSpecError",
     "BenchmarkNotFoundError",
     "FilletError",
 ]
@@ -71,6 +72,13 @@ class SweepSpecError(ProfilegenError, ValueError):
     """A sweep spec (TOML) is malformed: an unknown or missing key, a value of the wrong
     type or out of range, a field path the gear set does not have; the message names the
     file and the key."""
+
+
+class OptimizeSpecError(ProfilegenError, ValueError):
+    """An optimisation spec (TOML) is malformed: an unknown key, a design variable that is not a
+    gear-set field or whose bounds the gear set refuses, an objective or constraint on an output
+    that does not exist (or that the search scene does not compute); the message names the file
+    and the key."""
 
 
 class BenchmarkNotFoundError(ProfilegenError, FileNotFoundError):

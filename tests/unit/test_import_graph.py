@@ -21,7 +21,8 @@ PACKAGE = Path(__file__).resolve().parents[2] / "profilegen"
 DRAWING = ("matplotlib", "plotly")
 
 #: Modules that run stages and write files (orchestrators) — they may import the output layer.
-ORCHESTRATORS = {"profilegen", "profilegen.__main__", "profilegen.cli", "profilegen.sweep", "profilegen.bench"}
+ORCHESTRATORS = {"profilegen", "profilegen.__main__", "profilegen.cli", "profilegen.sweep", "profilegen.bench",
+                 "profilegen.optimize.run"}
 #: Single lazy edges allowed past that: Design._repr_html_, a notebook's view of a design (issue 14, item 4).
 NOTEBOOK_VIEW = {("profilegen.pipeline", "profilegen.output.interactive")}
 
