@@ -169,9 +169,9 @@ class EdgeDisplacement:
         })
 
 
-def _cos_derivative(n: int, phi: np.ndarray, k: int) -> np.ndarray:
-    """d^k/dφ^k cos nφ."""
-    return float(n) ** k * np.cos(n * phi + k * math.pi / 2.0)
+def _cos_derivative(n, phi: np.ndarray, k: int) -> np.ndarray:
+    """d^k/dφ^k cos nφ (n an integer, or an array of them broadcast with φ)."""
+    return np.asarray(n, dtype=float) ** k * np.cos(n * phi + k * math.pi / 2.0)
 
 
 def ellipse_radius_mm(eta_rad, semi_major_mm: float, semi_minor_mm: float) -> np.ndarray:
@@ -319,7 +319,11 @@ def radial_basis(order: int, r_mm, mean_radius_mm: float, *, model: str = "consi
     n = _count("order", order, 0)
     r_m = _positive("mean_radius_mm", mean_radius_mm, "mm")
     model = _choice("model", model, MODELS)
-    r = np.asarray(r_mm, dtype=float)
+    return _radial_basis(n, np.asarray(r_mm, dtype=float), r_m, model)
+
+
+def _radial_basis(n: int, r: np.ndarray, r_m: float, model: str) -> np.ndarray:
+    """:func:`radial_basis` for checked arguments (a :class:`PlateField` evaluates it per harmonic)."""
     if model == "seed002":  # in r (mm): 1, r²/r_m², ln r, (r²/r_m²) ln r
         lg, s = np.log(r), 1.0 / r_m**2
         zero, one = np.zeros_like(r), np.ones_like(r)
@@ -447,22 +451,33 @@ class PlateField:
     def derivatives(self, r_mm, phi_rad) -> dict[str, np.ndarray]:
         """w and its derivatives at (r, φ) (broadcast): keys ``w`` (mm), ``w_r``, ``w_rr``,
         ``w_p``, ``w_pp``, ``w_rp`` (r in mm, φ in rad)."""
-        # the radial functions on r's own shape, the angular ones on φ's, broadcast at the end: on
-        # an (r, φ) grid given as a column and a row that is 144× fewer powers than on the full grid
+        # the radial functions on r's own shape, the angular ones on φ's, broadcast at the end (an
+        # (r, φ) grid given as a column and a row needs 144× fewer powers than the full grid); the
+        # harmonics n ≥ 2 of the consistent model at once, as arrays of exponents
         r, phi = np.asarray(r_mm, float), np.asarray(phi_rad, float)
-        shape = np.broadcast_shapes(r.shape, phi.shape)
-        out = {k: np.zeros(shape) for k in ("w", "w_r", "w_rr", "w_p", "w_pp", "w_rp")}
-        for n, coef in zip(self.orders, self.coefficients_mm):
-            basis = radial_basis(int(n), r, self.mean_radius_mm, model=self.model)
-            g = np.tensordot(coef, basis, axes=([0], [1]))  # R, R', R''
-            c0, c1, c2 = (_cos_derivative(int(n), phi, k) for k in range(3))
-            out["w"] += g[0] * c0
-            out["w_r"] += g[1] * c0
-            out["w_rr"] += g[2] * c0
-            out["w_p"] += g[0] * c1
-            out["w_pp"] += g[0] * c2
-            out["w_rp"] += g[1] * c1
-        return out
+        r_m = _positive("mean_radius_mm", self.mean_radius_mm, "mm")
+        model = _choice("model", self.model, MODELS)
+        orders, coef = self.orders, self.coefficients_mm
+        g = np.zeros((3,) + r.shape + (len(orders),))  # R_n, R_n', R_n'' per harmonic (last axis)
+        each = np.arange(len(orders))
+        if model == "consistent":
+            j = np.flatnonzero(orders >= 2)
+            if j.size:
+                n = orders[j].astype(float)
+                p = np.stack([n, -n, n + 2.0, 2.0 - n], axis=-1)  # (J, 4): ρ^n, ρ^−n, ρ^(n+2), ρ^(2−n)
+                rho = (r / r_m)[..., None, None]
+                c = coef[j]
+                g[0][..., j] = np.sum(c * rho**p, axis=-1)
+                g[1][..., j] = np.sum(c * p * rho ** (p - 1.0), axis=-1) / r_m
+                g[2][..., j] = np.sum(c * p * (p - 1.0) * rho ** (p - 2.0), axis=-1) / r_m**2
+            each = np.flatnonzero(orders < 2)
+        for k in each:  # the repeated powers of n = 0, 1 and seed 002's basis, one harmonic at a time
+            basis = _radial_basis(_count("order", orders[k], 0), r, r_m, model)
+            g[(slice(None),) + (Ellipsis, k)] = np.tensordot(coef[k], basis, axes=([0], [1]))
+        c0, c1, c2 = (_cos_derivative(orders.astype(float), phi[..., None], k) for k in range(3))
+        return {"w": np.sum(g[0] * c0, axis=-1), "w_r": np.sum(g[1] * c0, axis=-1),
+                "w_rr": np.sum(g[2] * c0, axis=-1), "w_p": np.sum(g[0] * c1, axis=-1),
+                "w_pp": np.sum(g[0] * c2, axis=-1), "w_rp": np.sum(g[1] * c1, axis=-1)}
 
     def deflection_mm(self, r_mm, phi_rad) -> np.ndarray:
         """w(r, φ) (mm)."""
