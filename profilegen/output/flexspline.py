@@ -37,30 +37,35 @@ def _radii(tooth) -> tuple[float, float, float]:
     return r_m + tooth.dedendum_y_mm, tooth.pitch_radius_mm, r_m + tooth.addendum_y_mm
 
 
-def _note(name: str, tooth, deviation_mm: float, tol_mm: float) -> str:
-    exact = ("its flank's arcs and line as the tooth defines them" if tooth.kind == "dcta" else
-             f"its {tooth.kind} flank as G1 arcs within {deviation_mm * 1e3:.4f} um (tol {tol_mm * 1e3:g} um)")
-    return (f"{name}: flexspline, m {tooth.module_mm:g} mm, z1 {tooth.teeth}, {tooth.kind} tooth, undeformed; "
-            f"{exact}")
+def _note(name: str, tooth, deviation_mm: float, tol_mm: float) -> tuple[str, str]:
+    """Two lines: what the drawing is, and how exact its flank is."""
+    exact = ("flank: the tooth's own arcs and line (exact)" if tooth.kind == "dcta" else
+             f"flank: G1 arcs within {deviation_mm * 1e3:.4f} um of the exact {tooth.kind} flank "
+             f"(tol {tol_mm * 1e3:g} um)")
+    return (f"{name}: flexspline, m {tooth.module_mm:g} mm, z1 {tooth.teeth}, {tooth.kind} tooth, undeformed, mm",
+            exact)
 
 
-def tooth_layers(tooth, chain: Chain, note: str) -> tuple[dict, list]:
+def tooth_layers(tooth, chain: Chain, note: tuple[str, ...]) -> tuple[dict, list]:
     """Layers and texts of ``flexspline_tooth.dxf``: the tooth chain, tip / pitch / root circle arcs
     over one and a half pitches, the tooth axis, the note below the root."""
     r_f, r_p, r_a = _radii(tooth)
     half = 1.5 * math.pi / tooth.teeth
     arcs = [Arc(np.zeros(2), r, math.pi / 2 - half, 2 * half) for r in (r_a, r_p, r_f)]
-    axis = Line((0.0, r_f - 0.2 * tooth.module_mm), (0.0, r_a + 0.2 * tooth.module_mm))
-    h = 0.04 * tooth.module_mm
-    texts = [("annotation", (-1.5 * r_f * math.sin(half), r_f - 0.5 * tooth.module_mm), h, note)]
+    m = tooth.module_mm
+    axis = Line((0.0, r_f - 0.2 * m), (0.0, r_a + 0.2 * m))
+    h = 0.05 * m
+    x0 = -r_f * math.sin(half)
+    texts = [("annotation", (x0, r_f - 0.4 * m - 2 * i * h), h, line) for i, line in enumerate(note)]
     return {"FS": [chain], "construction": arcs + [axis]}, texts
 
 
-def gear_layers(tooth, outline: Chain, note: str) -> tuple[dict, list]:
+def gear_layers(tooth, outline: Chain, note: tuple[str, ...]) -> tuple[dict, list]:
     """Layers and texts of ``flexspline.dxf``: the closed outline, tip / pitch / root circles."""
     circles = [Arc(np.zeros(2), r, 0.0, 2 * math.pi) for r in _radii(tooth)]
-    r_f = circles[0].radius
-    return {"FS": [outline], "construction": circles}, [("annotation", (-0.6 * r_f, -1.15 * r_f), 0.02 * r_f, note)]
+    r_f, h = circles[0].radius, 0.02 * circles[0].radius
+    texts = [("annotation", (-0.6 * r_f, -1.15 * r_f - 2 * i * h), h, line) for i, line in enumerate(note)]
+    return {"FS": [outline], "construction": circles}, texts
 
 
 def write_flexspline_dxfs(staging: Path, result: Design, *, tol_mm: float = FIT_TOL_MM) -> Chain:
