@@ -32,7 +32,7 @@ from .kinematics import turn
 from .results import readonly as _readonly
 
 __all__ = ["CircularSplineForm", "ClearanceMap", "PolylineDistance", "circular_spline_form", "clearance_map", "cs_chain",
-           "cs_outline"]
+           "cs_outline", "cs_space"]
 
 
 
@@ -457,7 +457,14 @@ def _clip_start_to_circle(element, radius: float):
 
 
 def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: int):
-    """The closed CS inner outline as true arcs and lines, from a fitted right flank.
+    """(space, outline): :func:`cs_space` and the closed CS inner outline it makes
+    (:func:`cs_outline`), as true arcs and lines, from a fitted right flank."""
+    space = cs_space(flank, tip_radius_mm=tip_radius_mm, root_radius_mm=root_radius_mm)
+    return space, cs_outline(space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
+
+
+def cs_space(flank, *, tip_radius_mm: float, root_radius_mm: float):
+    """One CS tooth space as true arcs and lines, from a fitted right flank.
 
     ``flank`` is a contour.Chain in the CS frame running up the right flank of space 0
     (from near the tip circle toward the root). Its start is moved exactly onto the tip
@@ -465,8 +472,9 @@ def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: in
     left flank is the mirror image; the root is an arc of the root circle; neighbouring
     spaces are joined by arcs of the tip circle. Where the two end tangents meet on the
     space's axis before the root circle (a narrow space), one arc centred on the axis and
-    tangent to both flank ends closes the space instead, short of the root circle. Returns (space, outline): the chain of
-    one space (left tip point → right tip point) and the closed chain of all z2 spaces.
+    tangent to both flank ends closes the space instead, short of the root circle. Returns the
+    chain of one space (left tip point → right tip point); its corners are sharp
+    (:mod:`profilegen.rootfillet` rounds them).
     """
     from .contour import Arc, Chain, Line
 
@@ -499,8 +507,7 @@ def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: in
         left_up = right.transformed(_MIRROR)
         a_right = _math_angle(end - centre)
         root = Arc(centre, radius, np.pi - a_right, 2 * a_right - np.pi)  # clockwise across the top
-    space = Chain(tuple(left_up.elements) + (root,) + tuple(right.reversed().elements))
-    return space, cs_outline(space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
+    return Chain(tuple(left_up.elements) + (root,) + tuple(right.reversed().elements))
 
 
 def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
