@@ -27,7 +27,7 @@ def _load(name_or_path: str | None):
 
 def _cmd_design(args) -> int:
     from .output import folder
-    from .output.files import OUTPUT_FILES, write_design
+    from .output.files import OUTPUT_FILES, figure_workers, profile_figures, write_design
     from .pipeline import check_gearset, design, planned_stages
     from .scenes import SCENES
 
@@ -48,10 +48,12 @@ def _cmd_design(args) -> int:
     folder.check(out, ours=OUTPUT_FILES)  # a folder holding the user's files: refused now, not after the stages
     stages = planned_stages(gearset, scene=args.scene, contact=args.contact) + ("files",)
     bar = _progress(len(stages), quiet=args.quiet, what=f"design {gearset.name}")
-    result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name),
-                    contact=args.contact)
-    bar("files")
-    written = write_design(result, out)
+    # the figure workers start now: they import matplotlib and draw the profile's figures while the stages run
+    with figure_workers() as figures:
+        result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name),
+                        contact=args.contact, on_profile=lambda partial: profile_figures(figures, partial))
+        bar("files")
+        written = write_design(result, out, figures=figures)
     bar(None)
     if not args.quiet:
         _summary(result, written)

@@ -260,6 +260,7 @@ def design(
     progress: Callable[[str], None] | None = None,
     contact: bool | None = None,
     stress: bool = True,
+    on_profile: Callable[[Design], None] | None = None,
 ) -> Design:
     """Run every stage for one gear set (see the module docstring).
 
@@ -272,6 +273,10 @@ def design(
 
     ``fit_method`` overrides ``gearset.circular_spline.fit_method`` for the CAD profile.
 
+    ``on_profile``: called with the design as it stands once the CS profile is fitted (no
+    contact, no stresses yet), before the load stages run: the CLI's figure workers start
+    drawing the profile's figures then (:class:`profilegen.output.report.FigureWorkers`).
+
     BLAS runs single-threaded inside (``threadpoolctl``): every matrix here is small, and
     with another process on this 2-core machine OpenBLAS's spinning threads made the rim
     stage 7–13× slower (0.21 s → 1.5–2.9 s measured), the contact's blocks 8×.
@@ -281,7 +286,7 @@ def design(
 
     with threadpool_limits(limits=1, user_api="blas"):
         return _design(gearset, scene=scene, fit_method=fit_method, progress=progress, contact=contact,
-                       stress=stress)
+                       stress=stress, on_profile=on_profile)
 
 
 def check_gearset(gearset: GearSet) -> None:
@@ -308,7 +313,7 @@ def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None 
     return tuple(names)
 
 
-def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress) -> Design:
+def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, on_profile=None) -> Design:
     scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
     step = progress or (lambda name: None)
     warnings: list[str] = list(gearset.warnings)
@@ -391,6 +396,8 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress) -
         warnings.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} µm "
                         f"at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
     result = Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim)
+    if on_profile is not None:
+        on_profile(result)
     if contact:
         result = _with_contact(result, step)
     elif contact is None and scene.contact:

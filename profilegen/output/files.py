@@ -7,6 +7,7 @@ The pipeline computes a :class:`~profilegen.pipeline.Design`; this module turns 
 
 from __future__ import annotations
 
+import contextlib
 import os
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -18,7 +19,7 @@ from ..contour import Arc, Line, Polyline
 if TYPE_CHECKING:  # pragma: no cover
     from ..pipeline import Design
 
-__all__ = ["OUTPUT_FILES", "write_design"]
+__all__ = ["OUTPUT_FILES", "figure_workers", "profile_figures", "write_design"]
 
 
 #: Every file name :func:`write_design` can write (the output folder may hold only these, see
@@ -31,7 +32,29 @@ OUTPUT_FILES = frozenset({
 })
 
 
-def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True) -> list[Path]:
+def figure_workers(workers: int | None = None):
+    """Figure workers for one design run, started now (a context manager): open them before
+    :func:`profilegen.pipeline.design`, hand them the design once it has its profile
+    (``design(..., on_profile=lambda d: profile_figures(figures, d))``), and pass them to
+    :func:`write_design` — the figures are then drawn while the contact and stresses are
+    computed. ``workers``: see :func:`profilegen.output.report.rendering`."""
+    from . import report
+
+    figures = report.FigureWorkers(workers)
+    figures.submit(report.SEED_TABLES_JOB)  # needs no design: the workers fork and start on it now
+    return figures
+
+
+def profile_figures(figures, design: Design) -> None:
+    """Hand the figures of a design that has its CS profile to ``figures`` (the PNGs of its
+    envelope, fit and rim, and report.html's zoomable CS figure)."""
+    from . import report
+
+    figures.submit(report.png_jobs(design))
+    figures.submit(report.report_pieces(design))
+
+
+def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True, figures=None) -> list[Path]:
     """Write every output file of a design into out_dir (see the README, "Outputs"); returns their paths.
 
     The folder changes as a whole (:mod:`profilegen.output.folder`): the files are written into a
@@ -49,12 +72,12 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
     from . import folder
 
     with folder.replacing(out_dir, ours=OUTPUT_FILES) as staging:
-        names = _write_files(result, staging, figure=figure)
+        names = _write_files(result, staging, figure=figure, figures=figures)
     out = Path(out_dir)
     return [out / name for name in names]
 
 
-def _write_files(result: Design, staging: Path, *, figure: bool) -> list[str]:
+def _write_files(result: Design, staging: Path, *, figure: bool, figures=None) -> list[str]:
     """Write the design's files into the empty folder ``staging``, design.json last; their names, sorted.
 
     With ``figure`` the pictures are drawn first thing, in worker processes where two CPUs are
@@ -63,7 +86,11 @@ def _write_files(result: Design, staging: Path, *, figure: bool) -> list[str]:
     from . import cad, export, flexspline, report
 
     pieces = report.html_jobs(result) if figure else {}  # last: while the workers draw, collect() makes them here
-    with report.rendering({**report.png_jobs(result), **pieces} if figure else {}, steal=tuple(pieces)) as collect:
+    jobs = {**report.png_jobs(result), **pieces} if figure else {}
+    own = figures is None or not figure
+    workers = report.FigureWorkers(min(report._default_workers(), len(jobs))) if own else figures
+    with workers if own else contextlib.nullcontext(workers):
+        workers.submit(jobs)
         export.write_envelope_csv(staging / "envelope.csv", result.envelope)
         data = result.to_dict()
         prof = result.profile
@@ -89,7 +116,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool) -> list[str]:
             export.write_json(staging / "stress.json", {"gearset": g.name, "scene": result.scene.name,
                                                         **result.stress.to_dict()})
         if figure:
-            images = collect()
+            images = workers.collect(jobs, steal=tuple(pieces))
             for name in ("envelope", "contact", "stress"):
                 if name in images:
                     with export.atomic_write(staging / f"{name}.png", "wb") as f:

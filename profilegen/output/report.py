@@ -33,7 +33,7 @@ from ..pipeline import interference_tol_mm
 from .sheet import format_clearance, sheet_html
 
 __all__ = ["deformation_fit_dict", "deformation_section_html", "design_report_html", "fit_report_html", "figure_png",
-           "png_jobs", "rendering"]
+           "png_jobs", "rendering", "FigureWorkers"]
 
 log = logging.getLogger(__name__)
 
@@ -548,19 +548,27 @@ def png_jobs(design) -> dict[str, tuple[Callable[..., bytes], tuple]]:
     return jobs
 
 
+#: The seed papers' tables of report.html: one job, the same for every design.
+SEED_TABLES_JOB = {"seed_tables": (_seed_tables, ())}
+
+
 def html_jobs(design) -> dict[str, tuple[Callable[..., str], tuple]]:
     """The pieces of ``report.html`` that take time, as jobs for :func:`rendering` beside the PNGs:
     the seed papers' tables (the same for every design, ~0.4 s of stress models) and the zoomable
     CS figure (plotly's first page ~0.3 s). Drawn in the figure workers they leave the parent's
     path; :func:`design_report_html` takes them from its ``images``. None without the stresses
-    (no report.html then)."""
-    if design.stress is None:
-        return {}
+    (no report.html then); :func:`report_pieces` makes them for a design that has its profile."""
+    return report_pieces(design) if design.stress is not None else {}
+
+
+def report_pieces(design) -> dict[str, tuple[Callable[..., str], tuple]]:
+    """:func:`html_jobs` for a design whose stresses are still to come (``seed_tables`` needs
+    no design: :data:`SEED_TABLES_JOB`)."""
     from dataclasses import replace
 
     # the figure reads the envelope, tooth, motion and fitted profile: the rest is not pickled to the worker
     slim = replace(design, form=None, rim=None, contact=None, stress=None)
-    return {"seed_tables": (_seed_tables, ()), "cs_figure": (figure_html, (slim,))}
+    return {**SEED_TABLES_JOB, "cs_figure": (figure_html, (slim,))}
 
 
 #: Environment variable: how many worker processes draw the figures (0: none, draw in the
@@ -640,62 +648,81 @@ def _init_worker(parent: int) -> None:
     import matplotlib.figure  # noqa: F401
 
 
-def _start(jobs: dict, workers: int) -> tuple[object, dict]:
-    """(executor, futures by name), or (None, {}) when no pool starts here."""
+def _pool(workers: int):
+    """A fork-based process pool of ``workers`` figure workers (ValueError where fork is not available)."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
-    try:
-        ctx = multiprocessing.get_context("fork")  # a fork shares the results; spawn would re-import all
-    except ValueError:
-        return None, {}
-    executor, futures = None, {}
-    try:
-        with _signals_blocked():
-            executor = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
-                                           initargs=(os.getpid(),))
-            for name, (func, args) in jobs.items():
-                futures[name] = executor.submit(func, *args)
-    except Exception as exc:  # noqa: BLE001 - no fork, a daemonic process, no resources: draw here
-        log.info("figures drawn in this process: no worker pool (%s: %s)", type(exc).__name__, exc)
-        if executor is not None:
-            with _signals_blocked():
-                stop_pool(executor, what="figures")
-        return None, {}
-    return executor, futures
+    ctx = multiprocessing.get_context("fork")  # a fork shares the loaded modules; spawn would re-import all
+    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker, initargs=(os.getpid(),))
 
 
-@contextlib.contextmanager
-def rendering(jobs: dict[str, tuple[Callable[..., bytes], tuple]], *,
-              workers: int | None = None, steal: tuple[str, ...] = ()) -> Iterator[Callable[[], dict[str, bytes]]]:
-    """Draw ``jobs`` (see :func:`png_jobs`) while the block runs; yields ``collect()``, which
-    waits for them and returns the PNG bytes by name.
+class FigureWorkers:
+    """Worker processes that draw a design's figures while the caller goes on.
 
-    ``workers`` ≥ 1 draws them in that many forked processes, which start at once and import
-    matplotlib while the caller writes its other files; they get the result pieces pickled
-    and send PNG bytes back, and write nothing. The default is the environment variable
-    ``PROFILEGEN_FIGURE_WORKERS`` if set, else none on one CPU, two where the 1-minute load
-    average leaves a CPU free beside this process, one otherwise. Where no pool can start
-    (no fork, a daemonic process, no resources), with ``workers`` < 2, and for any figure whose
-    worker failed, ``collect()`` draws in this process — the same bytes either way. Leaving the
-    block by an exception (a Ctrl-C included) ends the workers at once; a run killed outright
-    takes them with it (Linux: PR_SET_PDEATHSIG). ``steal``: names of jobs that need no
-    matplotlib (:func:`html_jobs`): ``collect()`` first takes back those no worker has started and
-    makes them here, while the workers draw — the caller would otherwise only wait."""
-    n = _default_workers() if workers is None else int(workers)
-    executor, futures = _start(jobs, min(n, len(jobs))) if n >= 1 and jobs else (None, {})
+    ``submit(jobs)`` hands jobs over as soon as their inputs exist — the CLI opens the workers
+    before the stages run and submits the profile's figures while the contact and stresses are
+    computed (:func:`profilegen.pipeline.design`'s ``on_profile``), so their matplotlib import
+    and most of the drawing overlap the stages. A name is drawn once: a later ``submit`` of a
+    name already given is ignored (the jobs of one design run draw the same pieces, so the bytes
+    are the same). ``collect(jobs, steal=())`` submits what is new, waits for the named jobs and
+    returns their bytes by name; it draws here every job that no worker has (no pool, fewer than
+    one worker) or that a worker failed, and first takes back the ``steal`` jobs no worker has
+    started (pieces that need no matplotlib: the caller would otherwise only wait). ``close()``
+    ends the workers — at once with ``error=True``. A context manager: leaving the block by an
+    exception (a Ctrl-C included) ends them at once; a run killed outright takes them with it
+    (Linux: PR_SET_PDEATHSIG).
 
-    def collect() -> dict[str, bytes]:
+    ``workers``: see :func:`rendering`; the pool forks all its workers at the first ``submit``."""
+
+    def __init__(self, workers: int | None = None):
+        self.workers = _default_workers() if workers is None else int(workers)
+        self._executor = None
+        self._futures: dict[str, object] = {}
+        self._jobs: dict[str, tuple[Callable, tuple]] = {}
+        self._no_pool = self.workers < 1
+
+    def __enter__(self) -> "FigureWorkers":
+        return self
+
+    def __exit__(self, kind, value, traceback) -> None:
+        self.close(error=kind is not None)
+
+    def submit(self, jobs: dict[str, tuple[Callable, tuple]]) -> None:
+        for name, job in jobs.items():
+            if name in self._jobs:
+                continue
+            self._jobs[name] = job
+            future = self._submit(job)
+            if future is not None:
+                self._futures[name] = future
+
+    def _submit(self, job: tuple[Callable, tuple]):
+        if self._no_pool:
+            return None
+        func, args = job
+        try:
+            with _signals_blocked():  # the workers fork here and start with SIGINT/SIGTERM blocked
+                if self._executor is None:
+                    self._executor = _pool(self.workers)
+                return self._executor.submit(func, *args)
+        except Exception as exc:  # noqa: BLE001 - no fork, a daemonic process, no resources, a broken pool: draw here
+            log.info("figures drawn in this process: no worker pool (%s: %s)", type(exc).__name__, exc)
+            self._no_pool = True
+            return None
+
+    def collect(self, jobs: dict[str, tuple[Callable, tuple]], steal: tuple[str, ...] = ()) -> dict[str, bytes]:
+        self.submit(jobs)
         out = {}
         for name in steal:
-            fut = futures.get(name)
+            fut = self._futures.get(name)
             if name in jobs and fut is not None and fut.cancel():  # not started by a worker: made here
-                func, args = jobs[name]
+                func, args = self._jobs[name]
                 out[name] = func(*args)
-        for name, (func, args) in jobs.items():
+        for name in jobs:
             if name in out:
                 continue
-            fut = futures.get(name)
+            fut = self._futures.get(name)
             if fut is not None:
                 try:
                     out[name] = fut.result()
@@ -703,16 +730,39 @@ def rendering(jobs: dict[str, tuple[Callable[..., bytes], tuple]], *,
                 except Exception as exc:  # noqa: BLE001 - a dead worker or a failed figure: draw it here
                     log.warning("figure %s: the worker failed (%s: %s); drawing it in this process",
                                 name, type(exc).__name__, exc)
+            func, args = self._jobs[name]
             out[name] = func(*args)
         return {name: out[name] for name in jobs}
 
-    try:
-        yield collect
-    except BaseException:
-        if executor is not None:
-            with _signals_blocked():
-                stop_pool(executor, what="figures")
-        raise
-    if executor is not None:
+    def close(self, *, error: bool = False) -> None:
+        executor, self._executor, self._no_pool = self._executor, None, True
+        if executor is None:
+            return
         with _signals_blocked():
-            executor.shutdown(wait=True, cancel_futures=True)
+            if error:
+                stop_pool(executor, what="figures")
+            else:
+                executor.shutdown(wait=True, cancel_futures=True)
+
+
+@contextlib.contextmanager
+def rendering(jobs: dict[str, tuple[Callable[..., bytes], tuple]], *,
+              workers: int | None = None, steal: tuple[str, ...] = ()) -> Iterator[Callable[[], dict[str, bytes]]]:
+    """Draw ``jobs`` (see :func:`png_jobs`) while the block runs; yields ``collect()``, which
+    waits for them and returns the PNG bytes by name (:class:`FigureWorkers` takes jobs handed
+    over in steps).
+
+    ``workers`` ≥ 1 draws them in that many forked processes (no more than there are jobs),
+    which start at once and import matplotlib while the caller writes its other files; they get
+    the result pieces pickled and send PNG bytes back, and write nothing. The default is the
+    environment variable ``PROFILEGEN_FIGURE_WORKERS`` if set, else none on one CPU, two where
+    the 1-minute load average leaves a CPU free beside this process, one otherwise. Where no
+    pool can start (no fork, a daemonic process, no resources), with ``workers`` < 1, and for
+    any figure whose worker failed, ``collect()`` draws in this process — the same bytes either
+    way. Leaving the block by an exception (a Ctrl-C included) ends the workers at once.
+    ``steal``: names of jobs that need no matplotlib (:func:`html_jobs`): ``collect()`` first
+    takes back those no worker has started and makes them here, while the workers draw."""
+    n = _default_workers() if workers is None else int(workers)
+    with FigureWorkers(min(n, len(jobs))) as figures:
+        figures.submit(jobs)
+        yield lambda: figures.collect(jobs, steal)

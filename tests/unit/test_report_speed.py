@@ -179,3 +179,29 @@ def test_collect_takes_back_the_pieces_no_worker_started():
     assert os.getpid() in (out["waiting"], out["also"])  # at most one is already queued to the worker
     with report.rendering({"a": (_pid, ())}, workers=0, steal=("a",)) as collect:
         assert collect() == {"a": os.getpid()}
+
+
+def test_figures_handed_over_during_the_stages_are_the_files_figures(tmp_path, monkeypatch):
+    """The CLI's path: figure workers open before design(), the profile's figures handed over by
+    on_profile while the contact and stresses run, the rest by write_design. Every file is the one
+    the plain path writes (figures drawn in this process, after the stages), byte for byte."""
+    from profilegen.output.files import figure_workers, profile_figures
+
+    gs = load_gearset(default_gearset_path())
+    seen = []
+
+    def early(partial):
+        seen.append((partial.contact, partial.stress, partial.profile is not None))
+        profile_figures(figures, partial)
+
+    with figure_workers(2) as figures:
+        result = pg.design(gs, scene="sketch", on_profile=early)
+        pg.write_design(result, tmp_path / "early", figures=figures)
+    assert seen == [(None, None, True)] and result.stress is not None  # once: with the profile, before the stresses
+    monkeypatch.setenv(report.WORKERS_ENV, "0")
+    pg.write_design(result, tmp_path / "plain")
+    early_files = sorted(p.name for p in (tmp_path / "early").iterdir())
+    assert early_files == sorted(p.name for p in (tmp_path / "plain").iterdir())
+    for name in early_files:
+        if name != "design.json":  # its write time differs
+            assert (tmp_path / "early" / name).read_bytes() == (tmp_path / "plain" / name).read_bytes(), name
