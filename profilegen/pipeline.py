@@ -235,6 +235,7 @@ class Design:
                 "max_backlash_mm": self.profile.max_backlash_mm,
                 "min_clearance_mm": self.profile.clearance.min_mm,
                 "clearance_positions": self.profile.positions,
+                "corners": None if self.profile.corners is None else self.profile.corners.to_dict(),
             },
             "contact": None if self.contact is None else {
                 "torques_nm": self.contact.torques_nm.tolist(),

@@ -195,7 +195,17 @@ def _geometry_rows(design) -> str:
             else:
                 rows.append(_row(f"{head}line", f"{el.length_mm:.4f} mm long",
                                  f"{_xy(el.start_mm)} → {_xy(el.end_mm)}"))
-    rows.append(_row("CS root fillet", "none (sharp corner)", "flank meets the root by a straight run"))
+    fillets = () if getattr(prof, "corners", None) is None else prof.corners.fillets
+    if not fillets:
+        rows.append(_row("CS root fillet", "none (sharp corner)", "flank meets the root by a straight run"))
+    for f in fillets:  # the right-hand ones; the left are their mirror images
+        if f.centre_mm[0] < 0:
+            continue
+        label = "CS root fillet" if f.kind == "inside" else f"CS {f.where.split()[0]} round"
+        why = (f"wire radius + spark gap, {html.escape(format_um(f.clearance_mm))} clear of the FS tooth path"
+               if f.kind == "inside" and f.clearance_mm is not None else
+               "wire radius + spark gap" if f.kind == "inside" else "convex corner, rounded for a G1 outline")
+        rows.append(_row(label, f"{f.radius_mm:.4f} mm", f"centre {_xy(f.centre_mm)} (left: mirrored); {why}"))
     bl = prof.max_backlash_mm
     rows.append(_row("backlash (largest)", "—" if bl is None else html.escape(format_um(bl)),
                      "normal gap the fit leaves to the exact flank" if bl is not None

@@ -77,7 +77,8 @@ def test_sheet_text(sketch):
     assert text.count(sketch.gearset.description) == 1
     for label in ("CS tip Ø", "CS root Ø", "R1", "R2", "CS root fillet", "smallest clearance", "backlash"):
         assert label in text, label
-    assert "none (sharp corner)" in text
+    root = next(f for f in sketch.profile.corners.fillets if f.where == "root right")  # wire EDM corners
+    assert f"{root.radius_mm:.4f} mm" in text and "CS tip round" in text
     assert re.search(r"\d+\.\d{4} mm\s+convex", text) and re.search(r"\d+\.\d{4} mm\s+concave", text)
     assert "e-" not in re.sub(r"<style>.*?</style>", "", html, flags=re.S)  # no 2.22e-10 style numbers
     assert f"{2 * sketch.form.tip_radius_mm:.4f} mm" in text
