@@ -6,8 +6,8 @@ frame of :mod:`profilegen.teeth` (origin on the neutral line, centre at ``(0, -r
 moved up by ``r_m``.
 
 One tooth (:func:`flexspline_tooth_chain`) runs counter-clockwise about the centre, as
-``ToothProfile.outline`` does: from the middle of the root space on its right (polar angle
-``π/2 − π/z1``) along the root circle ``r_f = r_m + y_f`` to the right flank's root, a
+``ToothProfile.outline`` does: from the middle of the root space on its right (x > 0, math
+angle ``π/2 − π/z1``) along the root circle ``r_f = r_m + y_f`` to the right flank's root, a
 radial step up to the flank's root point (the flank is truncated by the straight line
 ``y = y_f`` of the tooth frame, ``x²/2r`` — a few µm — outside the root circle; the tooth
 defines no fillet there: ``[cup] root_fillet_radius_mm`` feeds the tooth-ring stress model
