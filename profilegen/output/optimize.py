@@ -132,6 +132,10 @@ def _fmt(v) -> str:
         return "—"
     if isinstance(v, float):
         return f"{v:.6g}"
+    if isinstance(v, Mapping):
+        return html.escape(", ".join(f"{k}: {x}" for k, x in v.items()))
+    if isinstance(v, (list, tuple)):
+        return html.escape("; ".join(str(x) for x in v))
     return html.escape(str(v))
 
 
