@@ -7,8 +7,8 @@ For the gear set's design (computed once, outside the timing): the tooth chain
 (``output.flexspline.write_flexspline_dxfs``, the chain included) and ``assembly.dxf``
 (the posed teeth and the file), each timed by ``time.perf_counter`` and
 ``time.process_time``; then the deviation and the element count of the arc spline of an
-involute and of a point-list flank (24 points of that involute) at 1e-4 … 1e-7 mm, with
-their time. Prints a table; writes nothing outside a temporary folder.
+involute flank and of two point-list flanks (24 points of that involute; 40 points of the
+set's DCTA tooth, whose spline smooths the arc joins) at 1e-4 … 1e-7 mm, with their time. Prints a table; writes nothing outside a temporary folder.
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ def main() -> None:
     import numpy as np
 
     import profilegen as pg
-    from profilegen.fsform import flexspline_tooth_chain
+    from profilegen.fsform import flank_elements, flexspline_tooth_chain
     from profilegen.output import cad
     from profilegen.output.files import _assembly_layers
     from profilegen.output.flexspline import write_flexspline_dxfs
@@ -65,16 +65,21 @@ def main() -> None:
         print(f"  {name:40s} {w:8.4f} {c:8.4f}   {what}")
 
     g = gs.gear
-    inv = involute_tooth(module_mm=g.module_mm, teeth=g.flexspline_teeth, neutral_radius_mm=g.neutral_radius_mm)
-    pts = points_tooth(inv.point(np.linspace(0.0, inv.length_mm, 24)), module_mm=g.module_mm,
-                       teeth=g.flexspline_teeth, neutral_radius_mm=g.neutral_radius_mm, smoothing_mm=0.0)
-    print("arc-spline flanks (tooth chain: flank elements = all - 9 or - 7 lands and steps)")
-    for name, tooth in (("involute", inv), ("points", pts)):
+    kw = dict(module_mm=g.module_mm, teeth=g.flexspline_teeth, neutral_radius_mm=g.neutral_radius_mm)
+    inv = involute_tooth(**kw)
+    dcta = d.tooth
+    flanks = (("involute", inv),
+              ("points: 24 of the involute", points_tooth(inv.point(np.linspace(0.0, inv.length_mm, 24)),
+                                                          smoothing_mm=0.0, **kw)),
+              ("points: 40 of the DCTA", points_tooth(dcta.point(np.linspace(0.0, dcta.length_mm, 40)),
+                                                      smoothing_mm=0.0, **kw)))
+    print("arc-spline flanks: the tooth chain, its deviation from the exact flank, elements per flank")
+    for name, tooth in flanks:
         for tol in (1e-4, 1e-5, 1e-6, 1e-7):
             w, c, (ch, dev) = _timed(lambda: flexspline_tooth_chain(tooth, g, tol_mm=tol), args.n)
-            print(f"  {name:8s} tol {tol:7.0e} mm: deviation {dev:.3e} mm, {len(ch.elements):4d} elements, "
+            per_flank = len(flank_elements(tooth, tol_mm=tol)[0])
+            print(f"  {name:28s} tol {tol:7.0e} mm: deviation {dev:.3e} mm, {per_flank:3d} elements a flank, "
                   f"{w:.4f} s wall / {c:.4f} s CPU")
-
 
 if __name__ == "__main__":
     main()
