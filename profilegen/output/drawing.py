@@ -55,7 +55,7 @@ _DIMSTYLE = "PROFILEGEN"
 _SHEET = (420.0, 297.0)  # A3 landscape, mm
 _BORDER = (20.0, 10.0, 10.0, 10.0)  # left (filing margin), bottom, right, top
 _TITLE_W, _TITLE_H = 180.0, 48.0
-_TABLE_W = 149.0
+_N_NOTES = 7  # lines
 _SCALES = (100.0, 50.0, 20.0, 10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01)
 _TXT = 3.5  # dimension and note text height, mm on paper
 _SMALL = 2.5
@@ -222,21 +222,21 @@ def write_cs_drawing(path: str | os.PathLike, design: Design, *, date: _dt.date 
     sheet.rect(0.0, 0.0, W, H, "construction")  # the trimmed sheet
     sheet.rect(x_lo, y_lo, x_hi, y_hi)  # the frame
 
-    # the right column: title block at the bottom, the element table above it, detail A on top
+    # the right column: title block at the bottom, the notes above it, detail A on top;
+    # the left column: the element table at the bottom, the ring above it
     col_x0 = x_hi - _TITLE_W - 5.0
-    n_rows = len(space.elements) + 1
+    notes_top = y_lo + _TITLE_H + 8.0 + 5.0 * _N_NOTES
+    s_detail = _detail(sheet, space, (col_x0, notes_top + 4.0), (x_hi, y_hi), form, 2.0 * prof.max_error_mm)
     row_h = 5.0
-    table_top = y_lo + _TITLE_H + 14.0 + n_rows * row_h
-    _table(sheet, space, (x_hi - _TABLE_W - 2.0, table_top), row_h, form.root_radius_mm)
-    s_detail = _detail(sheet, space, (col_x0, table_top + 8.0), (x_hi, y_hi), form, 2.0 * prof.max_error_mm)
+    table_top = y_lo + 14.0 + (len(space.elements) + 1) * row_h
+    _table(sheet, space, (x_lo + 6.0, table_top), row_h, form.root_radius_mm)
 
-    # the ring view: the left part of the sheet, above the notes
-    notes_top = y_lo + 42.0
-    view_lo, view_hi = np.array([x_lo, notes_top]), np.array([col_x0, y_hi])
+    view_lo, view_hi = np.array([x_lo, table_top + 6.0]), np.array([col_x0, y_hi])
     r_tip, r_root, r_out = form.tip_radius_mm, form.root_radius_mm, form.outer_radius_mm
     r_max = max(r_tip, r_root, r_out)
-    s_ring = _pick_scale(np.array([2.0 * r_max, 2.0 * r_max]) * 1.45, tuple(view_hi - view_lo - (0.0, 12.0)))
-    ring_c = 0.5 * (view_lo + view_hi) - (0.0, 4.0)
+    s_ring = _pick_scale(np.array([2.0 * r_max + 40.0, 2.0 * r_max + 50.0]), tuple(view_hi - view_lo))
+    # the ring low in its view: the diameters' texts go above it
+    ring_c = np.array([0.5 * (view_lo[0] + view_hi[0]), view_lo[1] + 6.0 + r_max * s_ring])
     zero = np.zeros(2)
     # the outline stays in the gear's own coordinates (true size, centre at the origin, when the view
     # is 1:1: CAM can take it from the drawing as it is); the sheet is moved around it when written
@@ -244,7 +244,7 @@ def write_cs_drawing(path: str | os.PathLike, design: Design, *, date: _dt.date 
     sheet.circle(ring_c, r_out * s_ring, "CS")
     for r in (r_tip, r_root):
         sheet.circle(ring_c, r * s_ring, "construction")
-    arm = r_max * s_ring + 5.0
+    arm = r_max * s_ring + 4.0
     sheet.line(ring_c - (arm, 0), ring_c + (arm, 0), "construction")
     sheet.line(ring_c - (0, arm), ring_c + (0, arm), "construction")
     _ring_dims(sheet, ring_c, s_ring, r_tip, r_root, r_out)
@@ -255,9 +255,9 @@ def write_cs_drawing(path: str | os.PathLike, design: Design, *, date: _dt.date 
     mark_r = max(3.0, 2.0 * float(np.hypot(*(np.asarray(space.end) - np.asarray(space.start)))) * s_ring)
     sheet.circle(mark_c, mark_r, "annotation")
     sheet.text("A", mark_c + (mark_r + 0.8, mark_r + 0.3), 5.0)
-    sheet.text(f"CIRCULAR SPLINE  {_scale_label(s_ring)}", (ring_c[0], view_hi[1] - 9.0), 5.0, "center")
+    sheet.text(f"CIRCULAR SPLINE  {_scale_label(s_ring)}", (view_lo[0] + 6.0, view_hi[1] - 9.0), 5.0)
 
-    _notes(sheet, design, (x_lo + 6.0, notes_top - 4.0))
+    _notes(sheet, design, (col_x0 + 5.0, notes_top - 4.0))
     _title_block(sheet, design, (x_hi - _TITLE_W, y_lo), date_text, __version__, (s_ring, s_detail))
     _write(path, sheet, world, -ring_c)
 
@@ -271,7 +271,8 @@ def _travel_sign(space: Chain) -> float:
 def _ring_dims(sheet: _Sheet, c: np.ndarray, s: float, r_tip: float, r_root: float, r_out: float) -> None:
     """Diameters of the tip, root and outer circles, each through the centre at its own angle."""
     over = {"dimlfac": 1.0 / s}
-    for r, angle_deg, note in ((r_tip, 240.0, " tip"), (r_root, 300.0, " root"), (r_out, 30.0, "")):
+    # CAD programs put a diameter's text at the far end: at 60°, 120° and 150°, above the ring
+    for r, angle_deg, note in ((r_tip, 240.0, " tip"), (r_root, 300.0, " root"), (r_out, 330.0, "")):
         sheet.dims.append(("diameter", dict(center=(float(c[0]), float(c[1])), radius=r * s, angle=angle_deg,
                                             text=f"%%c{_fmt(2.0 * r)}{note}", override=over)))
 
@@ -293,7 +294,7 @@ def _detail(sheet: _Sheet, space: Chain, box_lo, box_hi, form, tolerance_mm: flo
     room = box_hi - box_lo - (0.0, 10.0)  # the title on top
     S = _pick_scale(span * (1.25, 1.9), tuple(room))
     centre_gear = 0.5 * (lo + hi)
-    at = np.array([0.5 * (box_lo[0] + box_hi[0]), box_lo[1] + 0.5 * room[1]])
+    at = np.array([0.5 * (box_lo[0] + box_hi[0]), box_lo[1] + 0.42 * room[1]])  # the root side, up, is the busier
 
     def to_sheet(p) -> np.ndarray:
         return (np.asarray(p, float) - centre_gear) * S + at
@@ -353,10 +354,12 @@ def _detail(sheet: _Sheet, space: Chain, box_lo, box_hi, form, tolerance_mm: flo
                                               mpoint=tuple(map(float, mpoint)), text=text, override=over)))
     for i, a in arcs:
         if (i, a) not in near:
-            _root_note(sheet, layout, a, to_sheet, _concave(a, travel), form, at)
-    # every element's number (the table's rows) in a balloon beside its middle
+            _root_note(sheet, layout, a, i + 1, to_sheet, _concave(a, travel), form)
+    # the table's row numbers: an arc's is its centre's label (C<n>, the radius line runs from it),
+    # the root arc's starts its note, a line's is in a balloon beside it
     for i, e in enumerate(els):
-        _balloon(sheet, layout, e, i + 1, to_sheet, at)
+        if isinstance(e, Line):
+            _balloon(sheet, layout, e, i + 1, to_sheet, at)
     _profile_frame(sheet, layout, els, to_sheet, at, tolerance_mm)
     return S
 
@@ -399,42 +402,48 @@ def _profile_frame(sheet: _Sheet, layout: "_Layout", els: list, to_sheet, at, to
 
 
 def _balloon(sheet: _Sheet, layout: "_Layout", e, number: int, to_sheet, at) -> None:
-    """The element's number in a circle, beside its middle, joined to it by a short line."""
+    """The element's number in a circle beside it, joined to a point of it by a straight line: the
+    first clear spot from its middle outward, along its normal and then turned up to ±60° from it."""
     r = 2.2
     ps = to_sheet(e.sample(1e-5))
-    for frac in (0.5, 0.35, 0.65, 0.2, 0.8, 0.05, 0.95):
-        k = int(round(frac * (len(ps) - 1)))
-        k = min(max(k, 1), len(ps) - 1)
-        p = ps[k]
-        d = ps[k] - ps[k - 1]
-        n = np.array([-d[1], d[0]]) / np.hypot(*d)
-        found = None
-        toward = 1.0 if float(np.dot(n, at - p)) > 0 else -1.0  # into the space first
-        for dist in (4.5, 6.0, 7.5, 9.0, 11.0, 13.0):
-            for side in (toward, -toward):
-                c = p + side * dist * n
-                rect = _Rect(c - (r, r), np.array([1.0, 0.0]), 0.0, 2 * r, 0.0, 2 * r)
-                if layout.free(rect, 0.4) and layout.clear_segment(p + side * 1.8 * n, c - side * r * n, 0.4):
-                    found = (p, c, side)
+    found = None
+    for dist in (4.5, 6.0, 7.5, 9.0, 11.0, 13.0, 16.0):
+        for frac in (0.5, 0.35, 0.65, 0.2, 0.8):
+            k = min(max(int(round(frac * (len(ps) - 1))), 1), len(ps) - 1)
+            p = ps[k]
+            d = ps[k] - ps[k - 1]
+            n = np.array([-d[1], d[0]]) / np.hypot(*d)
+            toward = 1.0 if float(np.dot(n, at - p)) > 0 else -1.0  # into the space first
+            for turn in (0.0, 0.5, -0.5, 1.0, -1.0):
+                for side in (toward, -toward):
+                    v = side * np.array([math.cos(turn) * n[0] - math.sin(turn) * n[1],
+                                         math.sin(turn) * n[0] + math.cos(turn) * n[1]])
+                    c = p + dist * v
+                    rect = _Rect(c - (r, r), np.array([1.0, 0.0]), 0.0, 2 * r, 0.0, 2 * r)
+                    if layout.free(rect, 0.4) and layout.clear_segment(p + 1.8 * v, c - r * v, 0.4):
+                        found = (p, c, v)
+                        break
+                if found:
                     break
             if found:
                 break
         if found:
             break
-    else:
+    if found is None:
         return  # no room: the table still lists it
-    p, c, side = found
+    p, c, v = found
     sheet.circle(c, r, "annotation")
-    sheet.line(p + side * 0.3 * n, c - side * r * n, "annotation")
+    sheet.line(p + 0.3 * v, c - r * v, "annotation")
     sheet.text(str(number), c - (0.0, 0.9), 1.8, "center")
     layout.add_rect(_Rect(c - (r, r), np.array([1.0, 0.0]), 0.0, 2 * r, 0.0, 2 * r))
     layout.add_segment(p, c)
 
 
-def _root_note(sheet: _Sheet, layout: "_Layout", a: Arc, to_sheet, concave: bool, form, at) -> None:
-    """An arc about the gear axis: a leader from a point of it out into the material and a note."""
+def _root_note(sheet: _Sheet, layout: "_Layout", a: Arc, number: int, to_sheet, concave: bool, form) -> None:
+    """An arc about the gear axis: a leader from a point of it out into the material and a note
+    starting with its row number in the table."""
     on_root = abs(a.radius - form.root_radius_mm) < 1e-9
-    text = f"R{_fmt(a.radius)}{' concave' if concave else ''}" + (" (root circle)" if on_root else " (centre: gear axis)")
+    text = f"{number}: R{_fmt(a.radius)}{' concave' if concave else ''}" + (" (root circle)" if on_root else " (centre: gear axis)")
     w = _CHAR_W * _SMALL * len(text)
     best = None
     for frac in (0.9, 0.1, 0.75, 0.25, 0.5):  # off the middle, where the element's balloon goes
@@ -497,6 +506,13 @@ class _Layout:
         grown = _Rect(rect.o, rect.u, rect.s0 - margin, rect.s1 + margin, rect.t0 - margin, rect.t1 + margin)
         return bool(self.occ[self._cells(grown.grid(0.5 * _CELL))].any())
 
+    def overlap(self, rect: _Rect, margin: float) -> int:
+        """How many marked cells the rectangle covers, plus its cells outside the view."""
+        grown = _Rect(rect.o, rect.u, rect.s0 - margin, rect.s1 + margin, rect.t0 - margin, rect.t1 + margin)
+        pts = grown.grid(0.5 * _CELL)
+        i, j = self._cells(pts)
+        return int(self.occ[i, j].sum()) + (len(pts) - len(i))
+
     def free(self, rect: _Rect, margin: float = 0.8) -> bool:
         corners = rect.corners()
         if np.any(corners < self.lo) or np.any(corners > self.hi):
@@ -528,12 +544,16 @@ class _Layout:
             mpoint = c + R * u
             return mpoint, u, _Rect(mpoint, u, 2.0, length, -half, half)
 
+        best = None
         for frac in (0.5, 0.4, 0.6, 0.3, 0.7, 0.2, 0.8, 0.1, 0.9):
             mpoint, u, rect = strip(frac)
             if self.free(rect, 0.3) and self.clear_segment(c + u * 2.2, mpoint - u * 2.5, 0.3):
                 break
-        else:
-            mpoint, u, rect = strip(0.5)
+            overlap = self.overlap(rect, 0.3)
+            if best is None or overlap < best[0]:
+                best = (overlap, frac)
+        else:  # nothing clear: the point where the text covers the fewest marks
+            mpoint, u, rect = strip(best[1])
         self.add_rect(rect)
         self.add_segment(c, mpoint)  # the dimension line from the centre
         return mpoint
@@ -542,13 +562,12 @@ class _Layout:
 def _table(sheet: _Sheet, space: Chain, top_left, row_h: float, root_r: float) -> None:
     """The space's elements: arc radius / centre / sweep / convex-concave, line start / length / direction."""
     travel = _travel_sign(space)
-    cols = [("No.", 8.0), ("ELEMENT", 15.0), ("R / LENGTH", 22.0), ("X", 20.0), ("Y", 20.0),
+    cols = [("No.", 8.0), ("TYPE", 13.0), ("R / LENGTH", 22.0), ("X", 21.0), ("Y", 21.0),
             ("SWEEP / DIR.", 24.0), ("NOTE", 40.0)]
     x, y = float(top_left[0]), float(top_left[1])
     width = sum(w for _, w in cols)
     n = len(space.elements)
-    sheet.text("TOOTH SPACE ELEMENTS (gear frame: origin on the gear axis, y = space axis; mm, deg)",
-               (x, y + 2.0), _SMALL)
+    sheet.text("TOOTH SPACE ELEMENTS  (mm, deg; origin on the gear axis, y along the space's axis)", (x, y + 2.0), _SMALL)
     sheet.text("X, Y: arc centre / line start.  SWEEP: + counter-clockwise.", (x, y - (n + 1) * row_h - 4.0), _SMALL)
     sheet.text("DIR.: the line's angle to the y axis, clockwise +.", (x, y - (n + 1) * row_h - 8.0), _SMALL)
     sheet.rect(x, y - (n + 1) * row_h, x + width, y)
