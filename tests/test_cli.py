@@ -31,7 +31,8 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
     assert res.returncode == 0, res.stderr
     out = tmp_path / "export" / "default"
     assert sorted(p.name for p in out.iterdir()) == [
-        "assembly.dxf", "circular_spline.csv", "circular_spline.dxf", "circular_spline.svg", "contact.json",
+        "assembly.dxf", "circular_spline.csv", "circular_spline.dxf", "circular_spline.svg", "circular_spline_drawing.dxf",
+        "contact.json",
         "contact.png", "deformation_fit.json", "design.json", "envelope.csv", "envelope.png", "fit_report.html",
         "flexspline.dxf", "flexspline_tooth.dxf", "profile_fit.json", "report.html", "stress.json", "stress.png",
         "tooth_space.dxf",

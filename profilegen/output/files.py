@@ -28,7 +28,7 @@ OUTPUT_FILES = frozenset({
     "envelope.csv", "circular_spline.dxf", "tooth_space.dxf", "assembly.dxf", "circular_spline.svg",
     "circular_spline.csv", "profile_fit.json", "deformation_fit.json", "fit_report.html", "envelope.png",
     "contact.json", "contact.png", "stress.json", "stress.png", "report.html", "design.json",
-    "flexspline_tooth.dxf", "flexspline.dxf",
+    "flexspline_tooth.dxf", "flexspline.dxf", "circular_spline_drawing.dxf",
 })
 
 
@@ -83,7 +83,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None) -
     With ``figure`` the pictures are drawn first thing, in worker processes where two CPUs are
     free (:func:`profilegen.output.report.rendering`), while the CAD, CSV and JSON files are written
     here; each is drawn once and the reports embed the same PNG bytes as the files."""
-    from . import cad, export, flexspline, report
+    from . import cad, drawing, export, flexspline, report
 
     pieces = report.html_jobs(result) if figure else {}  # last: while the workers draw, collect() makes them here
     jobs = {**report.png_jobs(result), **pieces} if figure else {}
@@ -103,6 +103,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None) -
         note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
         cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
         cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
+        drawing.write_cs_drawing(staging / "circular_spline_drawing.dxf", result)  # dated by SOURCE_DATE_EPOCH, else blank
         fs_tooth = flexspline.write_flexspline_dxfs(staging, result)  # flexspline_tooth.dxf, flexspline.dxf
         cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result, fs_tooth), texts=note)
         cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
