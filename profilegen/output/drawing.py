@@ -111,7 +111,8 @@ class _Rect:
         return self.o + s * self.u + t * self.v
 
     def grid(self, step: float = 0.5) -> np.ndarray:
-        """Points covering the rectangle, at most ``step`` apart (its edges included)."""
+        """Points covering the rectangle, at most ``step`` apart (its edges included): at the layout
+        grid's cell size they fall in every cell the rectangle covers."""
         ns = max(2, int(math.ceil((self.s1 - self.s0) / step)) + 1)
         nt = max(2, int(math.ceil((self.t1 - self.t0) / step)) + 1)
         ss = self.s0 + (self.s1 - self.s0) / (ns - 1) * np.arange(ns)
@@ -500,16 +501,21 @@ class _Layout:
         self.add_points(np.asarray(p, float) * (1 - t) + np.asarray(q, float) * t)
 
     def add_rect(self, rect: _Rect) -> None:
-        self.add_points(rect.grid(0.5 * _CELL))
+        self.add_points(rect.grid(_CELL))
 
     def _marked(self, rect: _Rect, margin: float) -> bool:
         grown = _Rect(rect.o, rect.u, rect.s0 - margin, rect.s1 + margin, rect.t0 - margin, rect.t1 + margin)
-        return bool(self.occ[self._cells(grown.grid(0.5 * _CELL))].any())
+        if rect.u[0] == 1.0 and rect.u[1] == 0.0:  # upright: the block of cells under it
+            lo = np.floor((grown.o + (grown.s0, grown.t0) - self.lo) / _CELL).astype(int)
+            hi = np.floor((grown.o + (grown.s1, grown.t1) - self.lo) / _CELL).astype(int) + 1
+            lo, hi = np.maximum(lo, 0), np.minimum(hi, self.shape)
+            return bool(self.occ[lo[0]:hi[0], lo[1]:hi[1]].any())
+        return bool(self.occ[self._cells(grown.grid(_CELL))].any())
 
     def overlap(self, rect: _Rect, margin: float) -> int:
         """How many marked cells the rectangle covers, plus its cells outside the view."""
         grown = _Rect(rect.o, rect.u, rect.s0 - margin, rect.s1 + margin, rect.t0 - margin, rect.t1 + margin)
-        pts = grown.grid(0.5 * _CELL)
+        pts = grown.grid(_CELL)
         i, j = self._cells(pts)
         return int(self.occ[i, j].sum()) + (len(pts) - len(i))
 
