@@ -48,6 +48,7 @@ from xml.sax.saxutils import escape, quoteattr
 import numpy as np
 
 from ..contour import Arc, Chain, ContourError, Line, Polyline
+from . import dxftext
 from .export import DXF_LAYER_COLORS, atomic_write, dxf_document, save_dxf
 
 __all__ = [
@@ -63,6 +64,10 @@ __all__ = [
 _UNITS = {"mm": 4}  # DXF $INSUNITS codes; profilegen works in mm throughout
 _FULL_TURN = 2.0 * math.pi
 _JOIN_TOL_MM = 1e-9  # SVG: a chain element starting farther than this from the last end starts a new subpath
+
+#: Write standard drawings from the stored template (:mod:`profilegen.output.dxftext`), not through
+#: an ezdxf document: the same bytes (tests/unit/test_dxf_template.py), without ezdxf's import.
+USE_TEMPLATE = True
 
 Item = Chain | Line | Arc | Polyline
 Text = tuple[str, tuple[float, float], float, str]
@@ -223,13 +228,23 @@ def write_contours_dxf(
         raise ValueError(f"units must be one of {sorted(_UNITS)} (profilegen works in mm), got {units!r}")
     names, items, texts = _check_layers(layers, texts)
     extents = _extents(items, texts)
+    # construction geometry first, so CAD programs (which draw in file order) show it underneath
+    ordered = [(name, e) for name, layer_items in sorted(items.items(), key=lambda kv: kv[0].lower() != "construction")
+               for item in layer_items for e in _elements(item)]
+    if USE_TEMPLATE and extents is not None and dxftext.covers(names, DXF_LAYER_COLORS, texts):
+        # the standard document without ezdxf (its import and document cost more than the geometry
+        # stages): ezdxf's own text for it, from a stored template (profilegen.output.dxftext)
+        handles = [f"{dxftext.FIRST_HANDLE + i:X}" for i in range(len(ordered) + len(texts))]
+        body = _entities_text(ordered, handles, dxftext.OWNER) + "".join(
+            dxftext.text_entity(layer, xy, height, string, handle)
+            for (layer, xy, height, string), handle in zip(texts, handles[len(ordered):]))
+        with atomic_write(path, "w", encoding="utf-8") as f:
+            f.write(dxftext.document(body, len(handles), extents))
+        return
 
     std_lower = {k.lower() for k in DXF_LAYER_COLORS}
     with dxf_document([n for n in names if n.lower() not in std_lower], rename={n.lower(): n for n in names}) as doc:
         msp = doc.modelspace()
-        # construction geometry first, so CAD programs (which draw in file order) show it underneath
-        ordered = [(name, e) for name, layer_items in sorted(items.items(), key=lambda kv: kv[0].lower() != "construction")
-                   for item in layer_items for e in _elements(item)]
         # The entities' text is made here (ezdxf's per-tag export took ~1 ms an entity, most of
         # a design's file time); the handles are reserved from the document's generator in the
         # order ezdxf would give them, so the file is byte-identical to adding them with ezdxf.
