@@ -1,0 +1,27 @@
+"""The 3D cup tier of the rim stage (issue 15): the flexspline cup — wall, tooth ring as an
+equivalent band of the rim thickness, bottom (diaphragm) clamped on its boss — as a body of
+revolution.
+
+* :mod:`profilegen.rim.cup.geometry` — :class:`CupGeometry` (validated, from a GearSet's
+  ``[gear]``, ``[material]``, ``[cup]``) and the meridional mesh.
+* :mod:`profilegen.rim.cup.fourier` — the fast formulation: one 2D meridional FEM problem per
+  Fourier harmonic n (:func:`solve_cup` → :class:`CupDeformation`: ω, υ, the axial
+  displacement and the generator tilt at any (φ, z)).
+* :mod:`profilegen.rim.cup.solid3d` — the plain 3D solid of the same cup (27-node hexahedra,
+  a quarter with the two symmetry planes), the check of the fast formulation.
+"""
+
+from .fourier import CupDeformation, HarmonicBasis, bore_load, harmonic_stiffness, solve_cup
+from .geometry import CupError, CupGeometry, CupMesh, meridional_mesh
+
+__all__ = [
+    "CupDeformation",
+    "CupError",
+    "CupGeometry",
+    "CupMesh",
+    "HarmonicBasis",
+    "bore_load",
+    "harmonic_stiffness",
+    "meridional_mesh",
+    "solve_cup",
+]
