@@ -42,6 +42,8 @@ from .sections import (
     _WAVE_GENERATOR_KEYS,
     COEFFICIENT_SUFFIX,
     CORNER_STYLES,
+    CS_MIN_WALL_PER_MODULE,
+    CS_OUTER_DIAMETER_PER_ROOT,
     FIT_METHODS,
     SCENE_NAMES,
     TOOTH_KINDS,
@@ -410,8 +412,10 @@ class _Reader:
         wave_generator = self.read_wave_generator(self.section(data, "wave_generator"), gear_raw, gear)
         material = self.read_material(self.section(data, "material"))
         torque = self.read_torque(self.section(data, "torque"))
+        reach = (None if None in (gear, tooth, wave_generator) else  # the FS tip's farthest radius, undeformed + w0
+                 gear.pitch_radius_mm + tooth.addendum_mm + wave_generator.deflection_coefficient * gear.module_mm)
         circular_spline = self.read_circular_spline(
-            self.section(data, "circular_spline", required=False), m
+            self.section(data, "circular_spline", required=False), m, fs_reach_mm=reach
         )
         cup = self.read_cup(self.section(data, "cup", required=False), gear)
         rim = gear_raw.get("rim_thickness_mm")
@@ -890,7 +894,8 @@ class _Reader:
             return None
         return Torque(rated_nm=rated, peak_nm=peak, momentary_nm=momentary)
 
-    def read_circular_spline(self, t: Mapping | None, m: float | None) -> CircularSpline | None:
+    def read_circular_spline(self, t: Mapping | None, m: float | None, *,
+                             fs_reach_mm: float | None = None) -> CircularSpline | None:
         if t is None:
             t = {}
         p = "circular_spline"
@@ -913,6 +918,15 @@ class _Reader:
         v["spark_gap_mm"] = self.number(t, p, "spark_gap_mm", unit="mm", rng=_Range(
             0, 0.1, note="the spark gap per side, a few µm to some 50 µm"), default=0.02)
         v["corners"] = self.string(t, p, "corners", default="fillet", choices=CORNER_STYLES)
+        # the STEP ring's outer diameter, against the root diameter estimated as 2·(FS tip reach + root clearance)
+        root = None if None in (fs_reach_mm, v["root_clearance_mm"]) else 2 * (fs_reach_mm + v["root_clearance_mm"])
+        low = 0.0 if root is None else root + 2 * CS_MIN_WALL_PER_MODULE * m
+        v["outer_diameter_mm"] = self.number(t, p, "outer_diameter_mm", unit="mm", rng=_Range(
+            low, lo_open=root is None, note="" if root is None else
+            f"root diameter ~{_fmt(root)} mm + 2 × a wall of {_fmt(CS_MIN_WALL_PER_MODULE)}·m"),
+            default=None if root is None else float(math.ceil(CS_OUTER_DIAMETER_PER_ROOT * root)))
+        if "outer_diameter_mm" not in t and root is None:
+            v.pop("outer_diameter_mm")  # derived from the root diameter at the STEP writer
         if any(x is None for x in v.values()):
             return None
         return CircularSpline(**v)

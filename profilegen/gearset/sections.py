@@ -125,7 +125,11 @@ _MATERIAL_KEYS = (
 )
 _TORQUE_KEYS = ("rated_nm", "peak_nm", "momentary_nm")
 _CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm", "fit_method", "wire_radius_mm", "spark_gap_mm",
-                         "corners")
+                         "corners", "outer_diameter_mm")
+#: [circular_spline] outer_diameter_mm: default (ESTIMATE) this × the CS root diameter, rounded up to
+#: a whole mm; it must leave a ring wall of at least CS_MIN_WALL_PER_MODULE · m beyond the root circle
+CS_OUTER_DIAMETER_PER_ROOT = 1.25
+CS_MIN_WALL_PER_MODULE = 2.0
 CORNER_STYLES = ("fillet", "sharp")
 FIT_METHODS = ("one_sided", "least_squares", "minimax")
 _CUP_KEYS = ("length_mm", "face_width_mm", "bottom_thickness_mm", "boss_radius_mm", "root_fillet_radius_mm")
@@ -351,6 +355,8 @@ class CircularSpline:
     wire_radius_mm: float = 0.125
     spark_gap_mm: float = 0.02
     corners: str = "fillet"
+    #: the CS ring's outer diameter (mm), for its STEP solid; None: CS_OUTER_DIAMETER_PER_ROOT × root diameter
+    outer_diameter_mm: float | None = None
 
     @property
     def corner_radius_mm(self) -> float:
