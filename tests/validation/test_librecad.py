@@ -19,7 +19,12 @@ What is checked:
   the same numbers out in inches);
 * a real circular spline: five tooth spaces of the default gear set's CS (sketch scene),
   each flank replaced by three arcs through its polyline, root and tip lands as arcs
-  about the gear centre, written by ``write_contours_dxf``, prints with red pixels.
+  about the gear centre, written by ``write_contours_dxf``, prints with red pixels;
+* the dimensioned drawing (``circular_spline_drawing.dxf``, profilegen.output.drawing),
+  printed at scale 1 (``-c -s 1``): the A3 sheet fills the A3 page (nothing, e.g. a
+  dimension line to a far centre, lies outside it), the ring view's red outer circle is
+  the blank's diameter in mm on paper (the view is 1:1), detail A's red profile one
+  pitch × 50 wide (its scale, 50:1).
 
 Skipped with the reason when LibreCAD or pdftoppm is missing. LibreCAD keeps its
 settings under ``$HOME/.config``; HOME points into tmp_path so nothing outside is touched.
@@ -129,3 +134,25 @@ def test_real_cs_sector_prints(tmp_path):
     assert len(back) == len(chain.elements) and chain_gaps(back).max() <= 1e-9
     img = _librecad_png(dxf, tmp_path, "-a")
     assert np.median(img) > 0.99 and _red(img).sum() > 1000
+
+
+def test_cs_drawing_prints_at_its_scales(tmp_path):
+    from profilegen.gearset import default_gearset_path, load_gearset
+    from profilegen.output.drawing import write_cs_drawing
+    from profilegen.pipeline import design
+
+    result = design(load_gearset(default_gearset_path()), scene="sketch", contact=False, stress=False)
+    form = result.form
+    dxf = tmp_path / "circular_spline_drawing.dxf"
+    write_cs_drawing(dxf, result, date="2026-01-31")
+    img = _librecad_png(dxf, tmp_path, "-c", "-s", "1")
+    mm = 25.4 / DPI
+    ys, xs = np.nonzero(_dark(img))
+    assert (xs.max() - xs.min()) * mm == pytest.approx(420.0, abs=2.0)  # the whole A3 sheet, on the page
+    assert (ys.max() - ys.min()) * mm == pytest.approx(297.0, abs=2.0)
+    ys, xs = np.nonzero(_red(img))
+    ring = xs < 0.55 * img.shape[1]
+    assert (xs[ring].max() - xs[ring].min() + 1) * mm == pytest.approx(2 * form.outer_radius_mm, abs=0.8)
+    assert (ys[ring].max() - ys[ring].min() + 1) * mm == pytest.approx(2 * form.outer_radius_mm, abs=0.8)
+    pitch_chord = 2 * form.tip_radius_mm * math.sin(math.pi / form.cs_teeth)  # the space and two half lands
+    assert (xs[~ring].max() - xs[~ring].min() + 1) * mm == pytest.approx(50 * pitch_chord, abs=0.8)
