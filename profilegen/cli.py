@@ -53,7 +53,7 @@ def _cmd_design(args) -> int:
         result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name),
                         contact=args.contact, on_profile=lambda partial: profile_figures(figures, partial))
         bar("files")
-        written = write_design(result, out, figures=figures)
+        written = write_design(result, out, figures=figures, step=args.step)
     bar(None)
     if not args.quiet:
         _summary(result, written)
@@ -352,6 +352,8 @@ def _parser() -> argparse.ArgumentParser:
                         "the contact's capacity, a fitted CS that interferes); the files are written either way")
     d.add_argument("-q", "--quiet", action="store_true", help="print nothing on success (a failed verdict still "
                    "prints its one line on stderr)")
+    d.add_argument("--step", action="store_true", help="also write circular_spline.step and flexspline.step "
+                   "(B-rep solids, mm; adds some seconds)")
     d.set_defaults(func=_cmd_design)
     c = sub.add_parser("check", help="validate gear-set files and print every problem")
     c.add_argument("gearsets", nargs="+", help="gear-set TOML files or bundled names")

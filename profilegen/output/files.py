@@ -29,6 +29,7 @@ OUTPUT_FILES = frozenset({
     "circular_spline.csv", "profile_fit.json", "deformation_fit.json", "fit_report.html", "envelope.png",
     "contact.json", "contact.png", "stress.json", "stress.png", "report.html", "design.json",
     "flexspline_tooth.dxf", "flexspline.dxf", "circular_spline_drawing.dxf",
+    "circular_spline.step", "flexspline.step",  # with step=True (profilegen design --step)
 })
 
 
@@ -54,7 +55,8 @@ def profile_figures(figures, design: Design) -> None:
     figures.submit(report.report_pieces(design))
 
 
-def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True, figures=None) -> list[Path]:
+def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True, figures=None,
+                 step: bool = False) -> list[Path]:
     """Write every output file of a design into out_dir (see the README, "Outputs"); returns their paths.
 
     The folder changes as a whole (:mod:`profilegen.output.folder`): the files are written into a
@@ -72,12 +74,12 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
     from . import folder
 
     with folder.replacing(out_dir, ours=OUTPUT_FILES) as staging:
-        names = _write_files(result, staging, figure=figure, figures=figures)
+        names = _write_files(result, staging, figure=figure, figures=figures, step=step)
     out = Path(out_dir)
     return [out / name for name in names]
 
 
-def _write_files(result: Design, staging: Path, *, figure: bool, figures=None) -> list[str]:
+def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, step: bool = False) -> list[str]:
     """Write the design's files into the empty folder ``staging``, design.json last; their names, sorted.
 
     With ``figure`` the pictures are drawn first thing, in worker processes where two CPUs are
@@ -110,6 +112,11 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None) -
         export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
         export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
         export.write_json(staging / "deformation_fit.json", report.deformation_fit_dict(result))
+        if step:  # the STEP solids (OpenCASCADE, imported only here: seconds)
+            from . import step as step_files
+
+            step_files.write_cs_step(staging / "circular_spline.step", result)
+            step_files.write_fs_step(staging / "flexspline.step", result)
         if result.contact is not None:
             export.write_json(staging / "contact.json", {"gearset": g.name, "scene": result.scene.name,
                                                          **result.contact.to_dict()})
