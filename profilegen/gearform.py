@@ -296,7 +296,9 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
     search = _NearestCS(tree, surface_pts, 4 * candidates)
     phis = np.linspace(*phi_range, samples)
     pose = motion.pose(phis)
-    out = np.empty(samples)
+    # the candidates of every pose first (the search runs pose by pose: it bounds each query by the
+    # previous pose's), then their exact distances and insideness in one call for all poses
+    local, counts = [], np.empty(samples, dtype=int)
     for i in range(samples):
         c, s = np.cos(pose.angle[i]), np.sin(pose.angle[i])
         placed = np.stack([surface_pts[:, 0] * c + surface_pts[:, 1] * s, surface_pts[:, 1] * c - surface_pts[:, 0] * s], -1) + pose.origin[i]
@@ -305,10 +307,12 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
         near = np.array(list(dict.fromkeys(order[: 4 * candidates].tolist()))[:candidates])  # nearest first
         near = np.unique(np.clip(near[:, None] + np.arange(-neighbours, neighbours + 1), 0, len(cs) - 1))  # and neighbours
         d = cs[near] - pose.origin[i]
-        q = np.stack([d[:, 0] * c - d[:, 1] * s, d[:, 0] * s + d[:, 1] * c], -1)  # (d·e_t, d·e_r)
-        exact = surface.distance(q)
-        inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
-        out[i] = np.min(np.where(inside, -exact, exact))
+        local.append(np.stack([d[:, 0] * c - d[:, 1] * s, d[:, 0] * s + d[:, 1] * c], -1))  # (d·e_t, d·e_r)
+        counts[i] = len(near)
+    q = np.concatenate(local)
+    exact = surface.distance(q)  # point by point: the same numbers as pose by pose
+    inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
+    out = np.minimum.reduceat(np.where(inside, -exact, exact), np.concatenate([[0], np.cumsum(counts)[:-1]]))
     return ClearanceMap(phis, out)
 
 
@@ -399,8 +403,10 @@ class PolylineDistance:
         r, j = r.reshape(len(p), -1), j.reshape(len(p), -1)
         out = _segment_distance(p[:, None, :], self.a[self.label[j]], self.b[self.label[j]]).min(axis=1)
         unsure = ~(r[:, -1] > np.sqrt(r[:, 0] ** 2 + 0.25 * self.h**2))
-        if unsure.any():
-            out[unsure] = _segment_distance(p[unsure, None, :], self.a[None], self.b[None]).min(axis=1)
+        rare = np.flatnonzero(unsure)
+        for k in range(0, rare.size, 256):  # against every segment, 256 points at a time
+            at = rare[k:k + 256]
+            out[at] = _segment_distance(p[at, None, :], self.a[None], self.b[None]).min(axis=1)
         return out
 
 
