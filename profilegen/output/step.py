@@ -294,7 +294,14 @@ def step_bytes(solid, product: str) -> bytes:
             status = writer.Transfer(solid, o.STEPControl.STEPControl_AsIs, False)  # no check graph: O(n²), unused
             if status != o.RetDone:
                 raise ExportError(f"STEP: OCCT could not transfer the {product} solid ({status})")
-            h = o.MakeHeader(writer.Model())
+            model = writer.Model()
+            for i in range(1, model.NbEntities() + 1):  # the product: OCCT names it "<name> <count of writes>"
+                entity = model.Value(i)
+                if type(entity).__name__ == "StepBasic_Product":
+                    entity.SetId(o.HString(product))
+                    entity.SetName(o.HString(product))
+                    break
+            h = o.MakeHeader(model)
             h.SetName(o.HString(product))
             h.SetTimeStamp(o.HString(_HEADER["timestamp"]))
             h.SetAuthorValue(1, o.HString(_HEADER["author"]))
