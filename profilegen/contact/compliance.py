@@ -519,7 +519,8 @@ def _fs_flex_substructured(tooth, gearset, local_points, local_normals, tooth_in
         bores.append(ring.inner_nodes if bore is None else bore)
     mesh_time = time.perf_counter() - t0
     r_bore = g.neutral_radius_mm - 0.5 * g.rim_thickness_mm
-    # loads in the frame of their pitch k (turned by 2πk/z1): the tooth frame, origin r_m e_y
+    # loads in the mesh frame, as _fs_flex places them (tooth k at 2πk/z1); _pitch_projection turns
+    # them into their pitch's frame
     pitch_rad = rings[0].pitch_rad
     ang = k_mesh * pitch_rad
     c, s = np.cos(ang), np.sin(ang)
@@ -747,9 +748,10 @@ class _Pitch:
     if it has any (none when held): the condensed stiffness is projected so that they are
     its null space exactly, as they are the exact one's (the subtraction below leaves them
     ~1e-14 of K; the thin ring's flexibility is ill-conditioned enough for that to matter:
-    default set, the difference of S to the whole mesh's solve 8.6e-11 → 3.7e-11). Pitch k of the ring is this pitch turned by
-    k × ``pitch_rad``, with its dofs in its own turned frame and its right cut's in the next
-    pitch's frame (``_cut_rotation``): then every pitch has the same condensed stiffness
+    default set, the difference of S to the whole mesh's solve 8.6e-11 → 3.7e-11).
+
+    Pitch k of the ring is this pitch turned by k × ``pitch_rad``, with its dofs in its own
+    turned frame and its right cut's in the next pitch's frame (``_cut_rotation``): then every pitch has the same condensed stiffness
     ``schur`` (2 n_cut square, the cuts' dofs [left, right]) — that of the interior
     K_BB − K_BI K_II⁻¹ K_IB, with K_II factorised once (:class:`_BandedFlex`, W = L⁻¹ Y).
 
@@ -860,7 +862,7 @@ def _chain_flex(kinds, pitch_kind, loads, load_pitch, *, cyclic: bool, fixed_cut
             rot_y[column] = (loads[t][kind.interior].T @ rot[kind.interior]) if mt else 0.0
     g_all = sp.csr_matrix((np.concatenate(g_vals), (np.concatenate(g_rows), np.concatenate(g_cols))),
                           shape=(n_dof, n_ext))
-    position = np.empty(n_cuts, dtype=int)  # the cuts folded round the ring, or in their order
+    # the cuts folded round the ring (0, 1, N − 1, 2, N − 2, …: a band of three cuts), or in their order
     if cyclic:
         d = np.minimum(np.arange(n_cuts), n_cuts - np.arange(n_cuts))
         position = 2 * d + (np.arange(n_cuts) > n_cuts - np.arange(n_cuts))
@@ -1011,7 +1013,6 @@ def _half_ring_flex_substructured(rings, pitch_kind, youngs_modulus_mpa, poisson
                               "FS rim" + (" and sliding race" if sliding_race_layers else "") + " (one pitch)")
              for t, r in enumerate(rings)]
     pitch_rad = rings[0].pitch_rad
-    n_p = len(pitch_kind)
     # the contact points: on the tooth surface of their pitch
     pitch_c, tri_c, w_c, dist, ang_c = _pitch_projection(
         points, point_pitch, pitch_kind, pitch_rad, [(r.mesh.doflocs, r.outer_nodes) for r in rings])

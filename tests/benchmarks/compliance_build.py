@@ -122,7 +122,8 @@ def main() -> None:
               f"balls {_rel(ca.ball_reaction_n, cb.ball_reaction_n):.2e} "
               f"(active {'same' if np.array_equal(ca.ball_active, cb.ball_active) else 'DIFFERENT'}), "
               f"rotation {_rel(ca.rotation_rad, cb.rotation_rad):.2e}")
-    print(f"  secant stiffness: {_rel(res['new'].secant_stiffness_nm_per_rad, res['old'].secant_stiffness_nm_per_rad):.2e}"
+    k_new, k_old = res["new"].secant_stiffness_nm_per_rad, res["old"].secant_stiffness_nm_per_rad
+    print(f"  secant stiffness: {_rel(k_new, k_old):.2e}"
           f" (new {', '.join(f'{k:.6g}' for k in res['new'].secant_stiffness_nm_per_rad)} N·m/rad)")
 
 
