@@ -55,7 +55,6 @@ _DIMSTYLE = "PROFILEGEN"
 _SHEET = (420.0, 297.0)  # A3 landscape, mm
 _BORDER = (20.0, 10.0, 10.0, 10.0)  # left (filing margin), bottom, right, top
 _TITLE_W, _TITLE_H = 180.0, 48.0
-_N_NOTES = 7  # lines
 _SCALES = (100.0, 50.0, 20.0, 10.0, 5.0, 2.0, 1.0, 0.5, 0.2, 0.1, 0.05, 0.02, 0.01)
 _TXT = 3.5  # dimension and note text height, mm on paper
 _SMALL = 2.5
@@ -226,7 +225,8 @@ def write_cs_drawing(path: str | os.PathLike, design: Design, *, date: _dt.date 
     # the right column: title block at the bottom, the notes above it, detail A on top;
     # the left column: the element table at the bottom, the ring above it
     col_x0 = x_hi - _TITLE_W - 5.0
-    notes_top = y_lo + _TITLE_H + 8.0 + 5.0 * _N_NOTES
+    notes = _note_lines(design)
+    notes_top = y_lo + _TITLE_H + 8.0 + 5.0 * len(notes)
     s_detail = _detail(sheet, space, (col_x0, notes_top + 4.0), (x_hi, y_hi), form, 2.0 * prof.max_error_mm)
     row_h = 5.0
     table_top = y_lo + 14.0 + (len(space.elements) + 1) * row_h
@@ -258,7 +258,7 @@ def write_cs_drawing(path: str | os.PathLike, design: Design, *, date: _dt.date 
     sheet.text("A", mark_c + (mark_r + 0.8, mark_r + 0.3), 5.0)
     sheet.text(f"CIRCULAR SPLINE  {_scale_label(s_ring)}", (view_lo[0] + 6.0, view_hi[1] - 9.0), 5.0)
 
-    _notes(sheet, design, (col_x0 + 5.0, notes_top - 4.0))
+    _notes(sheet, notes, (col_x0 + 5.0, notes_top - 4.0))
     _title_block(sheet, design, (x_hi - _TITLE_W, y_lo), date_text, __version__, (s_ring, s_detail))
     _write(path, sheet, world, -ring_c)
 
@@ -446,25 +446,28 @@ def _root_note(sheet: _Sheet, layout: "_Layout", a: Arc, number: int, to_sheet, 
     on_root = abs(a.radius - form.root_radius_mm) < 1e-9
     text = f"{number}: R{_fmt(a.radius)}{' concave' if concave else ''}" + (" (root circle)" if on_root else " (centre: gear axis)")
     w = _CHAR_W * _SMALL * len(text)
-    best = None
-    for frac in (0.9, 0.1, 0.75, 0.25, 0.5):  # off the middle, where the element's balloon goes
-        mid = a.point_at(a.start_angle + frac * a.sweep)
-        p = to_sheet(mid)
-        u = mid / np.hypot(*mid)  # radial, away from the gear axis
-        for dist in np.arange(6.0, 60.0, 1.5):
-            knee = p + u * dist
-            for side in (1.0, -1.0):
-                start = knee + (side * 1.5, 0.6)
-                rect = _text_rect(text, start, _SMALL, "left" if side > 0 else "right")
-                if layout.free(rect, 0.8) and layout.clear_segment(p + u * 2.0, knee, 0.4):
-                    best = (p, u, knee, side, start, rect)
-                    break
-            if best:
+
+    def candidates():
+        for way in (1.0, -1.0):  # out into the material, else in across the space
+            for frac in (0.9, 0.1, 0.5):  # off the middle, clear of the axis
+                mid = a.point_at(a.start_angle + frac * a.sweep)
+                p = to_sheet(mid)
+                u = way * mid / np.hypot(*mid)  # radial
+                for dist in np.arange(6.0, 72.0, 2.0):
+                    knee = p + u * dist
+                    for side in (1.0, -1.0):
+                        start = knee + (side * 1.5, 0.6)
+                        yield p, u, knee, side, start, _text_rect(text, start, _SMALL, "left" if side > 0 else "right")
+
+    best, text_clear = None, None
+    for cand in candidates():
+        if layout.free(cand[5], 0.8):
+            if layout.clear_segment(cand[0] + cand[1] * 2.0, cand[2], 0.4):
+                best = cand
                 break
-        if best:
-            break
-    if best is None:
-        return
+            text_clear = text_clear or cand  # the text clear, its leader crossing something
+    # else the first spot where the text is clear; else where it covers the fewest marks (it must be there)
+    best = best or text_clear or min(candidates(), key=lambda c: layout.overlap(c[5], 0.8))
     p, u, knee, side, start, rect = best
     sheet.line(p, knee, DIMENSION_LAYER)
     sheet.line(knee, knee + (side * (1.5 + w), 0.0), DIMENSION_LAYER)
@@ -503,18 +506,26 @@ class _Layout:
     def add_rect(self, rect: _Rect) -> None:
         self.add_points(rect.grid(_CELL))
 
+    def _block(self, grown: _Rect) -> tuple[np.ndarray, int]:
+        """The cells under an upright rectangle (a block of the grid) and how many lie outside the view."""
+        lo = np.floor((grown.o + (grown.s0, grown.t0) - self.lo) / _CELL).astype(int)
+        hi = np.floor((grown.o + (grown.s1, grown.t1) - self.lo) / _CELL).astype(int) + 1
+        a, b = np.maximum(lo, 0), np.maximum(np.minimum(hi, self.shape), np.maximum(lo, 0))
+        block = self.occ[a[0]:b[0], a[1]:b[1]]
+        return block, int(np.prod(hi - lo)) - block.size
+
     def _marked(self, rect: _Rect, margin: float) -> bool:
         grown = _Rect(rect.o, rect.u, rect.s0 - margin, rect.s1 + margin, rect.t0 - margin, rect.t1 + margin)
         if rect.u[0] == 1.0 and rect.u[1] == 0.0:  # upright: the block of cells under it
-            lo = np.floor((grown.o + (grown.s0, grown.t0) - self.lo) / _CELL).astype(int)
-            hi = np.floor((grown.o + (grown.s1, grown.t1) - self.lo) / _CELL).astype(int) + 1
-            lo, hi = np.maximum(lo, 0), np.minimum(hi, self.shape)
-            return bool(self.occ[lo[0]:hi[0], lo[1]:hi[1]].any())
+            return bool(self._block(grown)[0].any())
         return bool(self.occ[self._cells(grown.grid(_CELL))].any())
 
     def overlap(self, rect: _Rect, margin: float) -> int:
         """How many marked cells the rectangle covers, plus its cells outside the view."""
         grown = _Rect(rect.o, rect.u, rect.s0 - margin, rect.s1 + margin, rect.t0 - margin, rect.t1 + margin)
+        if rect.u[0] == 1.0 and rect.u[1] == 0.0:
+            block, outside = self._block(grown)
+            return int(block.sum()) + outside
         pts = grown.grid(_CELL)
         i, j = self._cells(pts)
         return int(self.occ[i, j].sum()) + (len(pts) - len(i))
@@ -565,6 +576,19 @@ class _Layout:
         return mpoint
 
 
+_G1_DEG = 0.01  # a join turning less than this is tangent
+
+
+def _kinks_deg(chain: Chain) -> np.ndarray:
+    """The angle (deg) between each element's end tangent and the next one's start tangent."""
+    els = chain.elements
+    out = []
+    for a, b in zip(els[:-1], els[1:]):
+        ta, tb = a.tangent(at_end=True), b.tangent()
+        out.append(math.degrees(math.atan2(abs(ta[0] * tb[1] - ta[1] * tb[0]), float(ta @ tb))))
+    return np.array(out)
+
+
 def _table(sheet: _Sheet, space: Chain, top_left, row_h: float, root_r: float) -> None:
     """The space's elements: arc radius / centre / sweep / convex-concave, line start / length / direction."""
     travel = _travel_sign(space)
@@ -584,20 +608,23 @@ def _table(sheet: _Sheet, space: Chain, top_left, row_h: float, root_r: float) -
         cx += w
         sheet.line((cx, y), (cx, y - (n + 1) * row_h))
     rows = [[c for c, _ in cols]]
+    kinks = _kinks_deg(space)
     for i, e in enumerate(space.elements):
+        around = kinks[max(i - 1, 0): i + 1]  # the joins before and after it
+        corner = f"corner {around.max():.2f} deg" if around.size and around.max() > _G1_DEG else ""
         if isinstance(e, Arc):
             note = ""
             if np.hypot(*e.centre) < 1e-9:
                 note = ", root circle" if abs(e.radius - root_r) < 1e-9 else ", gear axis"
             kind = "concave" if _concave(e, travel) else "convex"
             rows.append([str(i + 1), "ARC", "R" + _fmt(e.radius), _fmt(e.centre[0]), _fmt(e.centre[1]),
-                         f"{math.degrees(e.sweep):+.4f}", kind + note])
+                         f"{math.degrees(e.sweep):+.4f}", kind + note + (f"; {corner}" if corner else "")])
         else:
             d = e.end - e.start
             direction = math.degrees(math.atan2(d[0], d[1]))  # from +y, clockwise positive
             direction = (direction + 90.0) % 180.0 - 90.0  # the line, not its direction of travel
             rows.append([str(i + 1), "LINE", _fmt(e.length), _fmt(e.start[0]), _fmt(e.start[1]),
-                         f"{direction:+.4f}", "tangent"])
+                         f"{direction:+.4f}", corner or "tangent"])
     for r, row in enumerate(rows):
         cx = x
         for (name, w), cell in zip(cols, row):
@@ -605,20 +632,29 @@ def _table(sheet: _Sheet, space: Chain, top_left, row_h: float, root_r: float) -
             cx += w
 
 
-def _notes(sheet: _Sheet, design, at) -> None:
+def _note_lines(design) -> list[str]:
     prof, g = design.profile, design.gearset
     gear = g.gear
     e_mm = prof.max_error_mm
     method = prof.method.replace("_", "-")
+    kinks = _kinks_deg(prof.space)
+    worst = float(kinks.max()) if kinks.size else 0.0
+    joins = (f"the elements join tangentially (largest kink {worst:.4f} deg)" if worst <= _G1_DEG
+             else f"largest kink between elements {worst:.2f} deg")
     lines = [
         "NOTES",
         f"1. Circular spline (internal teeth): z2 = {gear.circular_spline_teeth} teeth, module m = {gear.module_mm:g} mm;",
         f"   mates a flexspline z1 = {gear.flexspline_teeth}, {gear.waves} waves.",
-        f"2. Tooth space: arc-line-arc flanks ({method} fit), elements tangent; detail A, element table.",
+        f"2. Tooth space (detail A, element table): arc-line-arc flanks, {method} fit;",
+        f"   {joins}.",
         f"3. PROFILE TOLERANCE of the tooth space: %%p{_fmt(e_mm)} mm (%%p{e_mm * 1e3:.1f} \u00b5m) about the drawn",
         "   profile (zone " + _fmt(2 * e_mm) + " mm): the arc-line-arc fit's largest deviation from the conjugate profile.",
         "4. All dimensions in mm; detail A's dimensions give true size.",
     ]
+    return lines
+
+
+def _notes(sheet: _Sheet, lines: list[str], at) -> None:
     x, y = at
     for k, s in enumerate(lines):
         sheet.text(s, (x, y - k * 5.0), _SMALL if k else _TXT)
