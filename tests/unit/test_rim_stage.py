@@ -92,28 +92,36 @@ def test_toothed_tier_with_both_fitters(gearset):
     json.dumps(rim.to_dict())
 
 
-def _ring_pair(gearset, geometry, within, caplog):
-    """The flat ring (4 × 64) with the contact condensed onto every bore node and onto those
-    with θ ≤ ``within`` only; returns both results and the log."""
+@pytest.fixture(scope="module", params=["linear", "nonlinear"])
+def whole_bore(request, gearset):
+    """The flat ring (4 × 64) with the contact condensed onto every bore node, solved once per
+    geometry for the two tests below (each compares a condensed solve with it)."""
+    from profilegen.rim import solve_ring
+    from profilegen.wavegen import from_gearset
+
+    return request.param, solve_ring(gearset, contour=from_gearset(gearset), layers=4, divisions=64,
+                                     geometry=request.param)
+
+
+def _wrap(gearset, geometry, within, caplog):
+    """The same ring with the contact condensed onto the bore nodes with θ ≤ ``within`` only;
+    returns the result and the log."""
     import logging
 
     from profilegen.rim import solve_ring
     from profilegen.wavegen import from_gearset
 
-    cam = from_gearset(gearset)
-    whole = solve_ring(gearset, contour=cam, layers=4, divisions=64, geometry=geometry)
     with caplog.at_level(logging.INFO, logger="profilegen.rim.ring"):
-        wrap = solve_ring(gearset, contour=cam, layers=4, divisions=64, geometry=geometry,
+        wrap = solve_ring(gearset, contour=from_gearset(gearset), layers=4, divisions=64, geometry=geometry,
                           condense_within_rad=within)
-    return whole, wrap, caplog.text
+    return wrap, caplog.text
 
 
-@pytest.mark.parametrize("geometry", ["linear", "nonlinear"])
-def test_condensing_near_the_wrap_gives_the_whole_bores_answer(gearset, geometry, caplog):
+def test_condensing_near_the_wrap_gives_the_whole_bores_answer(gearset, whole_bore, caplog):
     """The verify tier condenses the rim onto the bore nodes within the wrap + a margin: the
     same ω, υ (to the contact's own 1e-9 mm gap tolerance) and the same contact nodes."""
-    whole, _, _ = _ring_pair(gearset, geometry, None, caplog)
-    _, wrap, text = _ring_pair(gearset, geometry, whole.contact_angle_rad + math.radians(10.0), caplog)
+    geometry, whole = whole_bore
+    wrap, text = _wrap(gearset, geometry, whole.contact_angle_rad + math.radians(10.0), caplog)
     assert "widened" not in text
     assert np.max(np.abs(wrap.omega_mm - whole.omega_mm)) < 1e-9
     assert np.max(np.abs(wrap.upsilon_mm - whole.upsilon_mm)) < 1e-9
@@ -121,11 +129,11 @@ def test_condensing_near_the_wrap_gives_the_whole_bores_answer(gearset, geometry
     assert wrap.max_penetration_mm <= 1e-9  # every bore node, the dropped ones included
 
 
-@pytest.mark.parametrize("geometry", ["linear", "nonlinear"])
-def test_a_kept_set_narrower_than_the_wrap_is_widened(gearset, geometry, caplog):
+def test_a_kept_set_narrower_than_the_wrap_is_widened(gearset, whole_bore, caplog):
     """Kept nodes only up to 10° (the wrap is ~40–60°): the contact reaches the dropped nodes,
     solve_ring says so, widens the kept set and returns the whole bore's answer."""
-    whole, wrap, text = _ring_pair(gearset, geometry, math.radians(10.0), caplog)
+    geometry, whole = whole_bore
+    wrap, text = _wrap(gearset, geometry, math.radians(10.0), caplog)
     assert whole.contact_angle_deg > 20.0
     assert "widened" in text
     assert np.max(np.abs(wrap.omega_mm - whole.omega_mm)) < 1e-9
