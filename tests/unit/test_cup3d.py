@@ -272,3 +272,54 @@ def test_bad_load_and_position_are_named(default_cup, coarse_basis):
 
     with pytest.raises(CupError, match="radial_mm order 1"):
         solve_solid_cup(default_cup, radial_mm={1: 0.1})
+
+
+# --------------------------------------------------------------------------- unilateral contact
+
+
+@pytest.fixture(scope="module")
+def pressed():
+    from profilegen.gearset import load_gearset
+    from profilegen.rim.cup import press_cup
+
+    return press_cup(load_gearset("profiles/default.toml"), element_mm=4.0, angles=8)
+
+
+def test_contact_is_complementary_and_its_harmonics_add_up(pressed):
+    c = pressed
+    scale = float(np.max(c.force_n))
+    assert np.all(c.force_n >= 0.0) and c.max_penetration_mm < 1e-9
+    assert np.max(np.abs(c.force_n * c.gap_mm)) < 1e-9 * scale
+    assert 0 < c.active.sum() < c.active.size  # partial contact: the cup cones on a straight cam
+    # the deformation's own harmonic series at the bore (another path than the compliance
+    # matrix): on the active set the bore sits on the cam
+    d = c.deformation
+    bore_z = d.z_mm  # the bore line has the neutral line's z
+    rows = np.searchsorted(np.round(bore_z, 9), np.round(c.z_mm, 9))
+    u_bore = np.cos(np.outer(c.phi_rad, d.orders)) @ d.bore_radial_mm[:, rows]  # (angles, band nodes)
+    assert np.max(np.abs(u_bore.T - c.load_mm[None, :])[c.active]) < 1e-9
+
+
+def test_a_coning_cup_touches_the_cam_at_the_bearing_edges(pressed):
+    """On a straight (cylindrical) cam a cup whose generators tilt about the diaphragm bears on
+    the major axis at the bearing's diaphragm-side edge and on the minor axis toward the open
+    end; the open end flares beyond w0 (here ~+30 %) — what the bilateral model hides."""
+    c, g = pressed, pressed.deformation.geometry
+    lo, hi = g.bearing_span_mm
+    major, minor = c.contact_span_mm(0), c.contact_span_mm(c.phi_rad.size - 1)
+    assert major is not None and major[1] < lo + 0.25 * (hi - lo)
+    assert minor is not None and minor[1] == pytest.approx(hi) and minor[0] > lo + 0.5 * (hi - lo)
+    d = c.deformation
+    assert d.omega(0.0, hi) > 1.1 * W0 and d.omega(0.0, lo) == pytest.approx(W0, abs=2e-3)
+
+
+def test_long_cup_on_a_narrow_bearing_is_ring_theory():
+    from profilegen.rim.cup import press_cup
+    from profilegen.wavegen import CosineCam
+
+    g = cup(length=300.0, bearing_width_mm=2.0)
+    c = press_cup(g, contour=CosineCam(g.bore_radius_mm, W0), element_mm=4.0, angles=8)
+    phi = np.linspace(0.0, 0.5 * math.pi, 19)
+    d = c.deformation
+    assert np.max(np.abs(d.omega(phi, 300.0) - W0 * np.cos(2 * phi))) < 0.01 * W0
+    assert np.max(np.abs(d.upsilon(phi, 300.0) + 0.5 * W0 * np.sin(2 * phi))) < 0.01 * 0.5 * W0

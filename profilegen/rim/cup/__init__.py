@@ -7,14 +7,21 @@ revolution.
 * :mod:`profilegen.rim.cup.fourier` — the fast formulation: one 2D meridional FEM problem per
   Fourier harmonic n (:func:`solve_cup` → :class:`CupDeformation`: ω, υ, the axial
   displacement and the generator tilt at any (φ, z)).
+* :mod:`profilegen.rim.cup.contact` — the cup pressed onto the wave-generator contour over the
+  bearing's width, frictionless unilateral contact by collocation in φ, the harmonic solves as
+  the compliance operator (:func:`press_cup` → :class:`CupContact`).
+* :mod:`profilegen.rim.cup.assembly` — batched assembly of the stiffness matrices (the
+  harmonic forms and 3D elasticity, equal to scikit-fem's BilinearForms to rounding).
 * :mod:`profilegen.rim.cup.solid3d` — the plain 3D solid of the same cup (27-node hexahedra,
   a quarter with the two symmetry planes), the check of the fast formulation.
 """
 
+from .contact import CupContact, press_cup
 from .fourier import CupDeformation, HarmonicBasis, bore_load, harmonic_stiffness, solve_cup
 from .geometry import CupError, CupGeometry, CupMesh, meridional_mesh
 
 __all__ = [
+    "CupContact",
     "CupDeformation",
     "CupError",
     "CupGeometry",
@@ -23,5 +30,6 @@ __all__ = [
     "bore_load",
     "harmonic_stiffness",
     "meridional_mesh",
+    "press_cup",
     "solve_cup",
 ]

@@ -334,6 +334,17 @@ def _resultants(n: int, reaction: np.ndarray, dofs, r: np.ndarray, z: np.ndarray
 # --------------------------------------------------------------------------- the solve
 
 
+def _factor(matrix):
+    """A factorisation of a harmonic's stiffness (symmetric positive definite once the boss is
+    clamped): the rim stage's banded Cholesky after reverse Cuthill–McKee (a meridional mesh is
+    a long strip, bandwidth ~ 3 × the nodes across it), SuperLU with COLAMD if it is not
+    positive definite. One thread: the solves are small and the machine is shared."""
+    from ..ring import _Factor, _one_blas_thread
+
+    with _one_blas_thread(True):
+        return _Factor(matrix)
+
+
 def solve_cup(
     geometry_or_gearset,
     *,
@@ -354,8 +365,6 @@ def solve_cup(
     elements of ``element_mm`` along the meridian (:func:`~profilegen.rim.cup.geometry.
     meridional_mesh`), or a prepared ``harmonic_basis`` (its mesh is used as is).
     """
-    from scipy.sparse.linalg import splu
-
     start = time.perf_counter()
     if isinstance(geometry_or_gearset, CupGeometry):
         geometry, gearset = geometry_or_gearset, None
@@ -412,7 +421,7 @@ def solve_cup(
         kff = stiff[free][:, free].tocsc()
         rhs = -(stiff[free][:, pressed] @ x[pressed])
         try:
-            x[free] = splu(kff, permc_spec="COLAMD").solve(rhs)
+            x[free] = _factor(kff).solve(rhs)
         except RuntimeError as exc:  # "Factor is exactly singular"
             raise ConvergenceError(f"solve_cup: the harmonic n = {n} stiffness is singular ({exc})") from exc
         if not np.all(np.isfinite(x)):
