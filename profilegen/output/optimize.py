@@ -70,7 +70,8 @@ def front_figure(objectives: Sequence[tuple[str, str]], evaluated: Sequence[Mapp
                  path: str | os.PathLike | None = None, ax=None):
     """The search in objective space, one panel per pair of objectives (one panel for two):
     every feasible candidate (grey), the infeasible ones (red crosses), the front (blue), the
-    front confirmed in the fine scene (open squares, keys ``confirm_<output>``) and the
+    front confirmed in the fine scene (open squares, keys ``confirm_<output>``; red: infeasible
+    there, ``confirm_feasible``) and the
     starting design (star; its confirmed value a open star). ``objectives``: (output, sense).
     Returns the first Axes, or ``path`` when given (PNG, atomically)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -100,10 +101,14 @@ def front_figure(objectives: Sequence[tuple[str, str]], evaluated: Sequence[Mapp
         if pf:
             axis.plot(*zip(*pf), "o", color="#1f5fbf", markersize=6, label=f"front ({len(pf)})")
         if confirm_label:
-            cf = xy(front, a, b, prefix="confirm_")
+            cf = xy([r for r in front if r.get("confirm_feasible")], a, b, prefix="confirm_")
             if cf:
                 axis.plot(*zip(*cf), "s", mfc="none", color="#1f5fbf", markersize=7,
-                          label=f"front, {confirm_label} scene")
+                          label=f"front, {confirm_label} scene ({len(cf)})")
+            cf = xy([r for r in front if not r.get("confirm_feasible")], a, b, prefix="confirm_")
+            if cf:
+                axis.plot(*zip(*cf), "s", mfc="none", color="#d62728", markersize=9,
+                          label=f"front, infeasible in the {confirm_label} scene ({len(cf)})")
         if start is not None:
             s = xy([start], a, b)
             if s:

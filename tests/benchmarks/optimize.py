@@ -130,14 +130,19 @@ def main(argv=None) -> int:
             t1 = time.perf_counter()
             dres = optimize(spec, out / "dask", executor=client.get_executor())
             dwall = time.perf_counter() - t1
-        a = _read_front(out / "pool" / "front.csv")
-        b = _read_front(out / "dask" / "front.csv")
-        same = [x["point_id"] for x in a] == [x["point_id"] for x in b]
-        cols = [c for c in a[0] if c.startswith(pre) or c in {o.output for o in spec.objectives}] if a else []
-        diff = max((abs(float(x[c]) - float(y[c])) / max(abs(float(x[c])), 1e-300)
-                    for x, y in zip(a, b) for c in cols if x.get(c) and y.get(c)), default=0.0)
-        print(f"dask LocalCluster: {dwall:.1f} s wall; same front designs: {same}; largest relative difference of "
-              f"the front's values: {diff:.2e}; candidates {len(dres.search.rows)} vs {len(result.search.rows)}")
+        outputs = [*(o.output for o in spec.objectives), *(c.output for c in spec.constraints)]
+        diff, same = 0.0, True
+        for name in ("evaluations.csv", "front.csv"):
+            a = _read_front(out / "pool" / name)
+            b = _read_front(out / "dask" / name)
+            same = same and [x["point_id"] for x in a] == [x["point_id"] for x in b]
+            cols = [p + o for p in ("", "confirm_") for o in outputs if a and p + o in a[0]]
+            diff = max([diff, *(abs(float(x[c]) - float(y[c])) / max(abs(float(x[c])), 1e-300)
+                                for x, y in zip(a, b) for c in cols if x.get(c) and y.get(c))])
+            same = same and all((x.get(c) == "") == (y.get(c) == "") for x, y in zip(a, b) for c in cols)
+        print(f"dask LocalCluster: {dwall:.1f} s wall; same candidates and front designs: {same}; largest relative "
+              f"difference of their objective/constraint values: {diff:.2e}; candidates {len(dres.search.rows)} vs "
+              f"{len(result.search.rows)}")
         report.update(dask_wall_s=dwall, dask_same_front=same, dask_max_rel=diff)
     out.mkdir(parents=True, exist_ok=True)
     (out / "benchmark.json").write_text(json.dumps(report, indent=1, default=str) + "\n")
