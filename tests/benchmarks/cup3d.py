@@ -17,7 +17,10 @@ boss r_m/2; wall = rim 0.9 mm; bearing = the face, centred on it).
 3. Long cup (l = 300 mm) vs ring theory and vs the package's 2D ring FEM (bilateral cosine cam).
 4. Wall-end axial displacement vs the stress stage's semi-membrane w(φ), l = 40 … 240 mm,
    bearing the face (20 mm) or 4 mm.
-5. The default set's ω, υ at the tooth ring's diaphragm end, mid-face and open end.
+5. The default set's ω, υ at the tooth ring's diaphragm end, mid-face and open end, the bore
+   prescribed (bilateral) over bearings 20, 10 and 4 mm wide.
+6. The default set pressed onto its cam (unilateral, ``press_cup``): ω, υ at the same sections,
+   the contact's extent on the axes, against mesh and collocation angles; medians of 3.
 
 Writes export/bench/cup3d.csv and export/bench/cup3d.png.
 """
@@ -173,6 +176,32 @@ def main() -> None:
                   f"{res.omega(0.5 * math.pi, z):.5f}, υ(π/4) = {res.upsilon(0.25 * math.pi, z):.5f} mm, "
                   f"axial(0) = {res.axial(0.0, z):.5f} mm, tilt(0) = {res.tilt(0.0, z) * 1e3:.4f} mrad")
 
+    print("6. default set on its cam, unilateral (press_cup), bearing over the face:", flush=True)
+    from profilegen.rim.cup import press_cup
+
+    cases = ((4.0, 8), (2.0, 16), (1.0, 16)) if args.quick else ((4.0, 8), (2.0, 16), (1.0, 16), (1.0, 31))
+    finest = None
+    results = []
+    for h, angles in cases:
+        c, t = _timed(1 if angles > 16 else 3, lambda: press_cup(gs, element_mm=h, angles=angles))
+        results.append((h, angles, c, t))
+    finest = results[-1][2].deformation
+    for h, angles, c, t in results:
+        d = c.deformation
+        e_w, e_u = _diff(d, finest, g)
+        rows.append({"part": "contact", "mesh": f"{h} mm x 2 layers, {angles} angles", "dof": d.dof,
+                     "harmonics": int(d.orders.size), "time_s": t, "err_omega_um": e_w * 1e3,
+                     "err_upsilon_um": e_u * 1e3, "rate": "",
+                     "default_of": "press_cup" if (h, angles) == (2.0, 16) else ""})
+        print(f"  {h:4.1f} mm, {angles:2d} angles: {t:6.2f} s (compliance {c.compliance_s:.2f}, contact "
+              f"{c.contact_s:.2f}), {int(c.active.sum())}/{c.active.size} active, vs the finest: ω {e_w * 1e3:.3f} µm, "
+              f"υ {e_u * 1e3:.3f} µm; major axis bears on z = {c.contact_span_mm(0)}, minor axis on "
+              f"z = {c.contact_span_mm(angles - 1)} mm")
+        for name, z in (("diaphragm end", lo), ("mid-face", g.length_mm), ("open end", hi)):
+            print(f"    {name:13s} z = {z:5.1f} mm: ω(0) = {d.omega(0.0, z):.5f}, ω(π/2) = "
+                  f"{d.omega(0.5 * math.pi, z):.5f}, υ(π/4) = {d.upsilon(0.25 * math.pi, z):.5f} mm, "
+                  f"axial(0) = {d.axial(0.0, z):.5f} mm, tilt(0) = {d.tilt(0.0, z) * 1e3:.4f} mrad")
+
     out = ROOT / "export" / "bench"
     keys = ["part", "mesh", "dof", "harmonics", "time_s", "err_omega_um", "err_upsilon_um", "rate", "default_of"]
     buf = io.StringIO()
@@ -192,6 +221,9 @@ def main() -> None:
         sel = [r for r in rows if r["part"] == "fourier" and r["mesh"].endswith(f"{layers} layers")]
         ax.loglog([r["time_s"] for r in sel], [max(r["err_omega_um"], r["err_upsilon_um"]) for r in sel],
                   marker + "-", label=f"Fourier cup, {layers} layers")
+    sel = [r for r in rows if r["part"] == "contact"][:-1]
+    ax.loglog([r["time_s"] for r in sel], [max(r["err_omega_um"], r["err_upsilon_um"]) for r in sel], "v-",
+              label="press_cup (unilateral) vs its finest")
     sel = [r for r in rows if r["part"] == "solid3d"]
     if sel:
         ax.loglog([r["time_s"] for r in sel], [max(r["err_omega_um"], r["err_upsilon_um"]) for r in sel], "^-",
@@ -209,6 +241,9 @@ def main() -> None:
     default = next(r for r in rows if r["default_of"] == "cup3d")
     print(f"cup3d default mesh (1 mm × 2 layers): {default['time_s']:.3f} s (target ≤ 10 s), "
           f"{max(default['err_omega_um'], default['err_upsilon_um']):.4f} µm from the reference")
+    contact = next(r for r in rows if r["default_of"] == "press_cup")
+    print(f"press_cup default (2 mm × 2 layers, 16 angles): {contact['time_s']:.2f} s (target ≤ 10 s), "
+          f"{max(contact['err_omega_um'], contact['err_upsilon_um']):.3f} µm from the finest")
     print(f"wrote {out / 'cup3d.csv'} and {out / 'cup3d.png'}")
 
 

@@ -81,13 +81,17 @@ def press_cup(
     contour=None,
     radial_mm=None,
     angles: int = 16,
-    element_mm: float = 1.0,
+    element_mm: float = 2.0,
     layers: int = 2,
     harmonic_basis: HarmonicBasis | None = None,
 ) -> CupContact:
     """The cup pressed onto ``contour`` (or the bore shape ``radial_mm`` {n: w_n}, even n) over
     the bearing's width, frictionless and unilateral, boss clamped. ``angles`` J collocation
-    angles on 0..π/2 (harmonics 0, 2, …, 2(J − 1)). With a GearSet and no load, its contour."""
+    angles on 0..π/2 (harmonics 0, 2, …, 2(J − 1)). With a GearSet and no load, its contour.
+
+    Defaults (2 mm, 2 layers, 16 angles): within 0.3 µm in ω, 0.05 µm in υ of 1 mm / 31 angles
+    over the default set's tooth ring, 3.1 s against 41 s under a load of ~8 on 2 cores
+    (``python tests/benchmarks/cup3d.py``, part 6)."""
     from scipy.linalg import LinAlgError, cholesky, solve_triangular
     from scipy.optimize import nnls
 
