@@ -8,9 +8,11 @@ machinist can read, on an A3 landscape sheet in modelspace (1 drawing unit = 1 m
   at a standard scale that fits (1:1 for the default set); a circle marks detail A;
 * **detail A** — one tooth space enlarged (the largest standard scale that fits, 50:1 for
   the default set), every arc of the space chain radius-dimensioned (concave arcs labelled
-  so), every arc centre marked ``C<n>``, each line's length dimensioned; the dimensions show
-  true sizes (their DIMLFAC is 1/scale). The space chain is taken as it comes, element by
-  element, so root fillets added to it are dimensioned like any other arc;
+  so; a mirror pair about the space's axis once, "2x"; an arc about the gear axis, the root,
+  by a leader note), every arc centre marked ``C<n>``, each line numbered by a balloon, the
+  profile tolerance in a feature control frame; the dimensions show true sizes (their text,
+  and DIMLFAC = 1/scale). The space chain is taken as it comes, element by element, so root
+  fillets and tip corners in it are dimensioned like any other arc;
 * **element table** — every element of the space: arc radius, centre, sweep, convex or
   concave; line start, length and direction (gear frame: origin on the gear axis, y along
   the space's axis);
@@ -346,13 +348,27 @@ def _detail(sheet: _Sheet, space: Chain, box_lo, box_hi, form, tolerance_mm: flo
     # arcs: a radius dimension each — LibreCAD and ezdxf both draw it from the centre through a point
     # of the arc, the text beyond the arc along that line; the point is chosen along the arc so that
     # the text is clear. An arc about the gear axis (the root) gets a leader note: its centre is far.
-    for i, a in arcs:
-        concave = _concave(a, travel)
-        text = "R" + _fmt(a.radius) + (" concave" if concave else "")
-        if (i, a) in near:
-            mpoint = layout.radius_spot(to_sheet(a.centre), a, S, text)
-            sheet.dims.append(("radius", dict(center=tuple(map(float, to_sheet(a.centre))),
-                                              mpoint=tuple(map(float, mpoint)), text=text, override=over)))
+    # a mirror pair about the space's axis (the same radius, mirrored centres) is dimensioned once, "2x"
+    u_mid = np.asarray(space.start) / np.hypot(*space.start) + np.asarray(space.end) / np.hypot(*space.end)
+    u_mid /= np.hypot(*u_mid)
+    groups: list[list[Arc]] = []
+    for i, a in near:
+        twin = 2.0 * float(a.centre @ u_mid) * u_mid - a.centre
+        for g in groups:
+            b = g[0]
+            if len(g) == 1 and abs(b.radius - a.radius) <= 1e-9 * max(1.0, a.radius) \
+                    and np.hypot(*(b.centre - twin)) <= 1e-9 * max(1.0, float(np.hypot(*twin))) \
+                    and _concave(a, travel) == _concave(b, travel) and b is not a:
+                g.append(a)
+                break
+        else:
+            groups.append([a])
+    for g in groups:
+        a = g[0]
+        text = ("2x " if len(g) == 2 else "") + "R" + _fmt(a.radius) + (" concave" if _concave(a, travel) else "")
+        k, mpoint = layout.radius_spot(g, to_sheet, S, text)
+        sheet.dims.append(("radius", dict(center=tuple(map(float, to_sheet(g[k].centre))),
+                                          mpoint=tuple(map(float, mpoint)), text=text, override=over)))
     for i, a in arcs:
         if (i, a) not in near:
             _root_note(sheet, layout, a, i + 1, to_sheet, _concave(a, travel), form)
@@ -488,6 +504,7 @@ class _Layout:
         self.lo, self.hi = np.asarray(lo, float), np.asarray(hi, float)  # the view's box
         self.shape = tuple(int(v) for v in np.ceil((self.hi - self.lo) / _CELL) + 1)
         self.occ = np.zeros(self.shape, dtype=bool)
+        self.txt = np.zeros(self.shape, dtype=bool)  # the cells under texts (a text over a text is worst)
         self.add_points(points)
 
     def _cells(self, pts: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -504,14 +521,16 @@ class _Layout:
         self.add_points(np.asarray(p, float) * (1 - t) + np.asarray(q, float) * t)
 
     def add_rect(self, rect: _Rect) -> None:
-        self.add_points(rect.grid(_CELL))
+        cells = self._cells(rect.grid(_CELL))
+        self.occ[cells] = True
+        self.txt[cells] = True
 
-    def _block(self, grown: _Rect) -> tuple[np.ndarray, int]:
+    def _block(self, grown: _Rect, grid: np.ndarray | None = None) -> tuple[np.ndarray, int]:
         """The cells under an upright rectangle (a block of the grid) and how many lie outside the view."""
         lo = np.floor((grown.o + (grown.s0, grown.t0) - self.lo) / _CELL).astype(int)
         hi = np.floor((grown.o + (grown.s1, grown.t1) - self.lo) / _CELL).astype(int) + 1
         a, b = np.maximum(lo, 0), np.maximum(np.minimum(hi, self.shape), np.maximum(lo, 0))
-        block = self.occ[a[0]:b[0], a[1]:b[1]]
+        block = (self.occ if grid is None else grid)[a[0]:b[0], a[1]:b[1]]
         return block, int(np.prod(hi - lo)) - block.size
 
     def _marked(self, rect: _Rect, margin: float) -> bool:
@@ -521,14 +540,14 @@ class _Layout:
         return bool(self.occ[self._cells(grown.grid(_CELL))].any())
 
     def overlap(self, rect: _Rect, margin: float) -> int:
-        """How many marked cells the rectangle covers, plus its cells outside the view."""
+        """How many marked cells the rectangle covers — a text's ten times —, plus its cells outside the view."""
         grown = _Rect(rect.o, rect.u, rect.s0 - margin, rect.s1 + margin, rect.t0 - margin, rect.t1 + margin)
         if rect.u[0] == 1.0 and rect.u[1] == 0.0:
             block, outside = self._block(grown)
-            return int(block.sum()) + outside
+            return int(block.sum()) + 9 * int(self._block(grown, self.txt)[0].sum()) + outside
         pts = grown.grid(_CELL)
         i, j = self._cells(pts)
-        return int(self.occ[i, j].sum()) + (len(pts) - len(i))
+        return int(self.occ[i, j].sum()) + 9 * int(self.txt[i, j].sum()) + (len(pts) - len(i))
 
     def free(self, rect: _Rect, margin: float = 0.8) -> bool:
         corners = rect.corners()
@@ -544,36 +563,43 @@ class _Layout:
             return True
         return not self._marked(_Rect(p, (q - p) / length, 0.0, length, 0.0, 0.0), gap)
 
-    def radius_spot(self, c: np.ndarray, a: Arc, S: float, text: str) -> np.ndarray:
-        """The point of the arc (on paper) for its radius dimension: the text runs outward along the
-        radial line beyond it, on either side of the line (ezdxf puts it above the line as read, and
-        estimates a character as wide as high; LibreCAD's text is narrower and starts farther out),
-        so the strip from 2 mm beyond the arc to past the text's end, one text height plus the gap
-        each side, must be clear, and so must the dimension line from the centre. Tried from the
-        arc's middle outward; if nothing is clear, the middle."""
-        R = a.radius * S
+    def radius_spot(self, arcs: list[Arc], to_sheet, S: float, text: str) -> tuple[int, np.ndarray]:
+        """Which of the arcs (a mirror pair, or one) and which point of it (on paper) take the radius
+        dimension: the text runs outward along the radial line beyond the point, on either side of
+        the line (ezdxf puts it above the line as read, and estimates a character as wide as high;
+        LibreCAD's text is narrower and starts farther out), so the strip from 2 mm beyond the arc
+        to past the text's end, one text height plus the gap each side, must be clear, and so must
+        the dimension line from the centre. Tried from each arc's middle outward; if nothing is
+        clear, where the strip covers the fewest marks."""
         length = 3.3 + _TXT * len(text) + 1.0
         half = _TXT + 1.0
 
-        def strip(frac):
+        def strip(k, frac):
+            a = arcs[k]
+            c = to_sheet(a.centre)
             ang = a.start_angle + frac * a.sweep
             u = np.array([math.cos(ang), math.sin(ang)])
-            mpoint = c + R * u
-            return mpoint, u, _Rect(mpoint, u, 2.0, length, -half, half)
+            mpoint = c + a.radius * S * u
+            return c, mpoint, u, _Rect(mpoint, u, 2.0, length, -half, half)
 
-        best = None
+        best, chosen = None, None
         for frac in (0.5, 0.4, 0.6, 0.3, 0.7, 0.2, 0.8, 0.1, 0.9):
-            mpoint, u, rect = strip(frac)
-            if self.free(rect, 0.3) and self.clear_segment(c + u * 2.2, mpoint - u * 2.5, 0.3):
+            for k in range(len(arcs)):
+                c, mpoint, u, rect = strip(k, frac)
+                if self.free(rect, 0.3) and self.clear_segment(c + u * 2.2, mpoint - u * 2.5, 0.3):
+                    chosen = (k, c, mpoint, u, rect)
+                    break
+                overlap = self.overlap(rect, 0.3)
+                if best is None or overlap < best[0]:
+                    best = (overlap, k, frac)
+            if chosen:
                 break
-            overlap = self.overlap(rect, 0.3)
-            if best is None or overlap < best[0]:
-                best = (overlap, frac)
-        else:  # nothing clear: the point where the text covers the fewest marks
-            mpoint, u, rect = strip(best[1])
+        if chosen is None:
+            chosen = (best[1], *strip(best[1], best[2]))
+        k, c, mpoint, u, rect = chosen
         self.add_rect(rect)
         self.add_segment(c, mpoint)  # the dimension line from the centre
-        return mpoint
+        return k, mpoint
 
 
 _G1_DEG = 0.01  # a join turning less than this is tangent
@@ -737,6 +763,7 @@ def _texts_text(texts, handles, owner: str, t: np.ndarray) -> str:
     insertion point, and for a centred or right-aligned text the alignment point (group 11) too."""
     out = []
     for (string, (x, y), height, halign, layer), handle in zip(texts, handles):
+        string = "".join(c if ord(c) >= 32 else " " for c in string)  # a DXF value is one line (a gear set's name)
         x, y = float(x + t[0]) + 0.0, float(y + t[1]) + 0.0
         code = _HALIGN[halign]
         align = f" 72\n{code}\n" if code else ""
@@ -754,9 +781,6 @@ def _write(path, sheet: _Sheet, world: list, shift: np.ndarray) -> None:
     ordered += [("CS", e) for e in world]
     ordered += [(layer, _shifted(e, t)) for layer, e in sheet.elements if layer != "construction"]
     extents = (t, t + _SHEET)
-    for s in (string for string, *_ in sheet.texts):
-        if any(ord(c) < 32 for c in s):
-            raise ValueError(f"drawing text {s!r} has a control character")  # pragma: no cover - our own texts
     with dxf_document([DIMENSION_LAYER], rename=None) as doc:
         msp = doc.modelspace()
         handles = [doc.entitydb.handles.next() for _ in range(len(ordered) + len(sheet.texts))]

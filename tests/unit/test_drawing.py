@@ -1,9 +1,9 @@
 """The dimensioned drawing of the circular spline (profilegen.output.drawing, issue 17 item 3).
 
 Read back with ezdxf and checked against the design's own geometry, not against the writer's
-layout: every arc of the tooth space that has a centre near the space carries a radius
-DIMENSION whose measured length × DIMLFAC (the detail's 1/scale) is the arc's radius and whose
-point lies on the arc; a concave arc (its centre on the air side, decided here from the bore
+layout: every arc of the tooth space that has a centre near the space (or its mirror twin
+about the space's axis, then marked "2x") carries a radius DIMENSION whose measured length ×
+DIMLFAC (the detail's 1/scale) is the arc's radius and whose point lies on the arc; a concave arc (its centre on the air side, decided here from the bore
 polygon, independently of the writer's sweep-sign rule) is labelled so; the diameters are
 2 × the tip, root and outer radii; the element table holds each element's numbers; the title
 block the version, units, projection; the same input gives the same bytes.
@@ -60,31 +60,39 @@ def test_audit_clean_layers_and_units(drawn):
     assert all(d.dxf.geometry in doc.blocks for d in dims)  # each rendered to its block (CAD programs show it)
 
 
+def _mirror(p, axis):
+    return 2.0 * float(np.dot(p, axis)) * axis - np.asarray(p)
+
+
 def test_every_arc_has_its_radius(design, drawn):
     _, doc = drawn
     space = design.profile.space
+    axis = space.start / np.hypot(*space.start) + space.end / np.hypot(*space.end)
+    axis /= np.hypot(*axis)  # the space's axis
     bore = Polygon(design.profile.outline.sample(1e-4))  # the air inside the CS
     dims = _dims(doc, 4)
     near = [a for a in space.elements if isinstance(a, Arc) and np.hypot(*a.centre) > 1.0]
     far = [a for a in space.elements if isinstance(a, Arc) and np.hypot(*a.centre) <= 1.0]
-    assert len(near) >= 4 and len(dims) == len(near)
-    unused = list(dims)
+    assert len(near) >= 4
+
+    def on_arc(d, a) -> bool:  # the dimension's point lies on the arc: its direction within the sweep
+        v = (d.dxf.defpoint4.x - d.dxf.defpoint.x, d.dxf.defpoint4.y - d.dxf.defpoint.y)  # (the detail
+        frac = ((math.atan2(v[1], v[0]) - a.start_angle) * math.copysign(1.0, a.sweep)) % (2 * math.pi)  # keeps them)
+        return frac <= abs(a.sweep) + 1e-9
+
+    used = set()
     for a in near:
         mid = a.point_at(a.start_angle + 0.5 * a.sweep)
         toward_centre = mid + 1e-3 * (a.centre - mid) / a.radius
         concave = bore.contains(Point(*toward_centre))  # the centre side is air: hollow in the part
-        match = [d for d in unused if abs(_true_length(d) - a.radius) <= 1e-9
-                 and d.dxf.text == f"R{a.radius:.4f}" + (" concave" if concave else "")]
-        # the dimension's point lies on the arc: its direction from the centre within the sweep
-        # (the detail is a scaled, shifted copy: directions are kept)
-        ok = []
-        for d in match:
-            v = (d.dxf.defpoint4.x - d.dxf.defpoint.x, d.dxf.defpoint4.y - d.dxf.defpoint.y)
-            frac = ((math.atan2(v[1], v[0]) - a.start_angle) * math.copysign(1.0, a.sweep)) % (2 * math.pi)
-            if frac <= abs(a.sweep) + 1e-9:
-                ok.append(d)
-        assert ok, f"no radius dimension for the arc R{a.radius} at {a.centre}"
-        unused.remove(ok[0])
+        twins = [b for b in near if b is not a and abs(b.radius - a.radius) < 1e-9
+                 and np.allclose(b.centre, _mirror(a.centre, axis), atol=1e-9)]
+        text = ("2x " if twins else "") + f"R{a.radius:.4f}" + (" concave" if concave else "")
+        match = [k for k, d in enumerate(dims) if abs(_true_length(d) - a.radius) <= 1e-9 and d.dxf.text == text
+                 and any(on_arc(d, b) for b in [a, *twins])]
+        assert len(match) == 1, f"not one radius dimension for the arc R{a.radius} at {a.centre}: {len(match)}"
+        used.add(match[0])
+    assert used == set(range(len(dims)))  # no other radius dimension
     for a in far:  # about the gear axis (the root): a note, the diameter in the ring view
         assert any(f"R{a.radius:.4f} concave (root circle)" in t for t in _texts(doc))
 
