@@ -78,13 +78,15 @@ Text = tuple[str, tuple[float, float], float, str]
 
 def _check_layers(layers: Any, texts: Sequence[Text] | None) -> tuple[list[str], dict[str, list[Item]], list[Text]]:
     """Validated layers (in writing order: the standard ones first) and texts."""
-    from ezdxf.lldxf.validator import is_valid_layer_name
-
     if not isinstance(layers, Mapping):
         raise TypeError(f"layers must be a mapping layer name -> list of Chain/Line/Arc, got {type(layers).__name__}")
     seen: dict[str, str] = {}
 
     def name_ok(name: Any, where: str) -> str:
+        if isinstance(name, str) and name in DXF_LAYER_COLORS:  # valid: no need to import ezdxf's rule
+            return name
+        from ezdxf.lldxf.validator import is_valid_layer_name
+
         if not isinstance(name, str) or not is_valid_layer_name(name):
             raise ValueError(f"{where}: {name!r} is not a valid DXF layer name")
         return name
@@ -144,6 +146,8 @@ def _check_element(e: Any, where: str) -> None:
         if not (np.isfinite(e.centre).all() and math.isfinite(e.start_angle) and math.isfinite(e.sweep)):
             raise ValueError(f"{where}: arc centre and angles must be finite, got centre {e.centre.tolist()}, "
                              f"start {e.start_angle!r} rad, sweep {e.sweep!r} rad")
+        if 1e-9 < abs(e.sweep) < _FULL_TURN - 1e-9:  # its ends are > 5e-8° apart in DXF degrees (< 360)
+            return
         _, _, start_deg, end_deg = e.to_ccw()
         if start_deg == end_deg and not _is_full_circle(e):  # DXF would read it as a full circle
             raise ValueError(f"{where}: arc sweep {e.sweep!r} rad is too small to tell its ends apart in DXF degrees")
@@ -166,6 +170,7 @@ def _extents(items: dict[str, list[Item]], texts: list[Text]) -> tuple[np.ndarra
     points: list = []
     boxes: list = []
     quarter = [k * math.pi / 2 for k in range(4)]
+    cos, sin = math.cos, math.sin
     for layer_items in items.values():
         for item in layer_items:
             for e in _elements(item):
@@ -173,10 +178,12 @@ def _extents(items: dict[str, list[Item]], texts: list[Text]) -> tuple[np.ndarra
                     points += (e.start, e.end)
                 elif isinstance(e, Polyline):
                     boxes += (e.points.min(0), e.points.max(0))
-                else:
-                    a0, sweep = (e.start_angle if e.sweep > 0 else e.end_angle), abs(e.sweep)
-                    points += (e.start, e.end)
-                    points += [e.point_at(q) for q in quarter if (q - a0) % _FULL_TURN <= sweep]
+                else:  # Arc.point_at in floats (the same roundings, without an array per point)
+                    (cx, cy), r = e.centre.tolist(), e.radius
+                    start, sweep = e.start_angle, e.sweep
+                    a0 = start if sweep > 0 else start + sweep
+                    for a in [start, start + sweep] + [q for q in quarter if (q - a0) % _FULL_TURN <= abs(sweep)]:
+                        points.append((cx + r * cos(a), cy + r * sin(a)))
     for _, (x, y), h, s in texts:  # a text's box, roughly: 0.7 h per character
         boxes += ((x, y), (x + 0.7 * h * len(s), y + h))
     if not points and not boxes:
