@@ -48,7 +48,7 @@ def harmonic_parts(basis, lam: float, mu: float):
     """K₀₀, K₀₁, K₁₁ of the harmonic-n axisymmetric elasticity (see :mod:`profilegen.rim.cup.
     fourier`) on a scalar 2D basis in (r, z), without the angular factor c_n."""
     value, grad, dx = _tables(basis)
-    r = basis.global_coordinates().value[0]
+    r = np.asarray(basis.global_coordinates())[0]
     nb, nel, nq = value.shape
     phi_r = value / r
     gr, gz = grad[:, 0], grad[:, 1]
