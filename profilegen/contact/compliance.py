@@ -1197,6 +1197,16 @@ def _cs_flex_substructured(gearset, points, normals, pitch, lo, n_p, top, per_pi
     return _BodyFlex(flex, dof, band, info, time.perf_counter() - start, dist)
 
 
+def _support_flex(flex_bb, act, ball_compliance, face_width_mm) -> np.ndarray:
+    """The active balls' block of the rim's 2D flexibility (mm per N/mm), each ball's spring
+    compliance c (mm/N) added to its diagonal as c·b: a ball load R = λ·b compresses the
+    spring by c·R, so the bore there moves by −c·b·λ."""
+    block = flex_bb[np.ix_(act, act)]
+    if ball_compliance is None:
+        return block
+    return block + np.diag(np.asarray(ball_compliance, dtype=float)[act] * face_width_mm)
+
+
 def default_race_thickness_mm(gear) -> float:
     """ESTIMATE of the wave-generator bearing's outer-race thickness: 2.5 % of the FS pitch
     diameter (2.5 mm for the default set). The gear set gives no bearing; a flexible
@@ -1268,11 +1278,16 @@ class ContactCompliance:
     _flex_cb: np.ndarray = field(repr=False)
     _flex_bb: np.ndarray = field(repr=False)
     warnings: tuple[str, ...] = ()
+    #: radial compliance of each candidate ball's support (mm/N, per ball, e.g. its Hertz
+    #: contacts linearised: profilegen.contact.chain); None: rigid supports
+    ball_compliance_mm_per_n: np.ndarray | None = None
 
     def __post_init__(self):
         for name in ("matrix_mm_per_n", "fs_matrix_mm_per_n", "cs_matrix_mm_per_n", "ball_angle_rad", "_flex_cc",
                      "_flex_cb", "_flex_bb"):
             object.__setattr__(self, name, _readonly(getattr(self, name)))
+        if self.ball_compliance_mm_per_n is not None:
+            object.__setattr__(self, "ball_compliance_mm_per_n", _readonly(self.ball_compliance_mm_per_n))
         object.__setattr__(self, "tooth", _readonly(self.tooth, dtype=np.int64))
         object.__setattr__(self, "ball_active", _readonly(self.ball_active, dtype=bool))
 
@@ -1432,13 +1447,13 @@ class ContactCompliance:
 
     @classmethod
     def _assemble(cls, *, flex_cc, flex_cb, flex_bb, cs_flex, face_width_mm, tooth, ball_angle_rad, ball_active,
-                  wrap_half_angle_rad, wrap_source, dof, time_s, mesh, warnings, start=None):
+                  wrap_half_angle_rad, wrap_source, dof, time_s, mesh, warnings, start=None, ball_compliance=None):
         act = np.flatnonzero(ball_active)
         fs2d = flex_cc.copy()
         if act.size:
             from scipy.linalg import cho_factor, cho_solve
 
-            fa = cho_factor(flex_bb[np.ix_(act, act)])
+            fa = cho_factor(_support_flex(flex_bb, act, ball_compliance, face_width_mm))
             fs2d = fs2d - flex_cb[:, act] @ cho_solve(fa, flex_cb[:, act].T)
         fs_s = 0.5 * (fs2d + fs2d.T) / face_width_mm
         cs_s = cs_flex / face_width_mm
@@ -1452,7 +1467,7 @@ class ContactCompliance:
         if start is not None:
             times["total"] = time.perf_counter() - start
         return cls(total, fs_s, cs_s, face_width_mm, tooth, ball_angle_rad, ball_active, wrap_half_angle_rad,
-                   wrap_source, dict(dof), times, mesh, flex_cc, flex_cb, flex_bb, tuple(warnings))
+                   wrap_source, dict(dof), times, mesh, flex_cc, flex_cb, flex_bb, tuple(warnings), ball_compliance)
 
     # --- balls ------------------------------------------------------------------------
     @property
@@ -1474,26 +1489,46 @@ class ContactCompliance:
         out = np.zeros(self.ball_angle_rad.size)
         act = np.flatnonzero(self.ball_active)
         if act.size:
-            out[act] = -np.linalg.solve(self._flex_bb[np.ix_(act, act)], self._flex_cb[:, act].T @ f)
+            flex = _support_flex(self._flex_bb, act, self.ball_compliance_mm_per_n, self.face_width_mm)
+            out[act] = -np.linalg.solve(flex, self._flex_cb[:, act].T @ f)
         return out
 
     def ball_gaps_mm(self, forces_n) -> np.ndarray:
         """Outward radial displacement of the bore at every candidate ball (mm; < 0: the rim
-        moves into the ball) under ``forces_n``; 0 at an active ball."""
+        moves into the ball) under ``forces_n``; 0 at an active rigid ball, −c·R at an active
+        ball of compliance c (its spring compressed by its reaction R)."""
         f = self._forces(forces_n) / self.face_width_mm
         lam = self.ball_reactions(forces_n) / self.face_width_mm
         return self._flex_cb.T @ f + self._flex_bb @ lam
 
-    def with_balls(self, active) -> "ContactCompliance":
-        """The same points with another set of active balls (no new factorisation)."""
+    def with_balls(self, active, *, ball_compliance_mm_per_n=False) -> "ContactCompliance":
+        """The same points with another set of active balls (no new factorisation).
+        ``ball_compliance_mm_per_n``: the radial compliance of every candidate ball's support
+        (mm/N, one per ball or one for all, ≥ 0; None: rigid); not given: keep this one's.
+        A ball of compliance c enters the Schur step as a spring: the ball block of the rim's
+        flexibility gets c·b on its diagonal (b the face width: the 2D flexibility is per
+        unit line load)."""
         act = np.asarray(active, dtype=bool)
         if act.shape != self.ball_angle_rad.shape:
             raise ComplianceError(f"active: must be {self.ball_angle_rad.size} booleans (one per candidate ball)")
+        if ball_compliance_mm_per_n is False:
+            springs = self.ball_compliance_mm_per_n
+        elif ball_compliance_mm_per_n is None:
+            springs = None
+        else:
+            springs = checks.finite_array("ball_compliance_mm_per_n", ball_compliance_mm_per_n, "mm/N",
+                                          error=ComplianceError)
+            springs = np.broadcast_to(springs, self.ball_angle_rad.shape).astype(float) if springs.ndim == 0 \
+                else springs
+            if springs.shape != self.ball_angle_rad.shape or np.any(springs < 0.0):
+                raise ComplianceError(f"ball_compliance_mm_per_n: must be one number or {self.ball_angle_rad.size} "
+                                      "numbers ≥ 0 (mm/N, one per candidate ball)")
         return self._assemble(
             flex_cc=self._flex_cc, flex_cb=self._flex_cb, flex_bb=self._flex_bb,
             cs_flex=self.cs_matrix_mm_per_n * self.face_width_mm, face_width_mm=self.face_width_mm, tooth=self.tooth,
             ball_angle_rad=self.ball_angle_rad, ball_active=act, wrap_half_angle_rad=self.wrap_half_angle_rad,
-            wrap_source=self.wrap_source, dof=self.dof, time_s=self.time_s, mesh=self.mesh, warnings=self.warnings)
+            wrap_source=self.wrap_source, dof=self.dof, time_s=self.time_s, mesh=self.mesh, warnings=self.warnings,
+            ball_compliance=springs)
 
     def settle_balls(self, forces_n, *, max_iterations: int = 20, solve=None) -> "ContactCompliance":
         """Seed 000 steps 4–6 for the balls: drop the balls that pull, take back the dropped

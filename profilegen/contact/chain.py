@@ -1,0 +1,781 @@
+"""The compliance chain between input and output, and the torsional curve in both directions.
+
+The loaded contact (:mod:`profilegen.contact.compliance`, :mod:`profilegen.contact.analysis`)
+models the mesh: the FS tooth ring (a 2D plane-stress slice, S = S_2D/b) on the bearing's
+outer race on rigid radial ball supports, and a CS sector fixed 10 % outside the CS pitch
+circle. Its rotation is that of the FS bore's mean against the CS sector's fixed edge. The
+compliances it leaves out, each a named model here (units mm, N, MPa inside; stiffness in
+N·m/rad outside):
+
+Series terms (the torque passes through them whole, so K_total⁻¹ = K_mesh⁻¹ + Σ K_i⁻¹)
+------------------------------------------------------------------------------------------
+* **Cup wall** (:func:`tube_torsion_stiffness`): a thin-walled tube, θ = T L/(G J),
+  J = 2π r³ t (r the neutral radius r_m, t the rim thickness δ — the wall is taken as thick
+  as the rim). Length: from the cup bottom's upper face (z = t_b/2) to where the tooth ring
+  begins (l − b/2; l = ``cup.length_mm`` to the mid-face, b = ``cup.face_width_mm``), plus
+  b/3 for the tooth ring itself: the contact puts its torque on the ring evenly across the
+  face (S = S_2D/b), so the torque in the ring falls linearly to zero over b, and the mean
+  twist of the loaded face, weighted as the load is (the work-conjugate rotation), is that
+  of a tube of length b/3 under the whole torque. Exact for the thin tube; the thick tube
+  J = π/2 (r_o⁴ − r_i⁴) differs by (t/2r)²/… (:func:`thick_tube_torsion_stiffness`).
+* **Cup bottom / diaphragm** (:func:`annulus_torsion_stiffness`): an annular plate twisted in
+  its plane, shear τ_rθ = T/(2π r² t), u_θ/r = T/(4π G t)(1/r_i² − 1/r²): from the boss
+  r_i = ``cup.boss_radius_mm`` to the wall's mid-surface r_o = r_m, thickness
+  t = ``cup.bottom_thickness_mm``. The two formulas are one family: an annulus with
+  r_o − r_i = L ≪ r is a tube of length L (tested). The junction of wall and bottom is
+  counted once in each (their lengths meet at the wall's mid-surface and the bottom's upper
+  face); the whole cup is checked against :func:`cup_torsion_fem` — the cup as a body of
+  revolution, the torsion harmonic (n = 0) of :mod:`profilegen.rim.cup.fourier` (scikit-fem,
+  9-node quadrilaterals) with the torque put on the bore evenly across the tooth ring and
+  the boss clamped.
+* **CS body outside the modelled sector** (:func:`annulus_torsion_stiffness` again): the
+  compliance model fixes the CS at ``cs_outer_radius_mm`` = 1.1 × the CS pitch radius. The
+  ring from there to where it is held (its outer radius, ``circular_spline.outer_diameter_mm``
+  or 1.25 × the root diameter — ESTIMATE: a CS is bolted through its face on a bolt circle
+  a little inside that) is an annulus in torsion of the CS's width (taken = the face width
+  b, ESTIMATE). The mean rotation of an annulus's inner edge under any tangential traction
+  of torque T equals that under the uniform one (Betti with the uniform solution, whose
+  inner edge turns rigidly), so the series term is exact for the mean rotation; the sector
+  model's fixed radial cuts (the ring between the zones held rigid) are not corrected.
+
+The wave-generator bearing (not a series term)
+----------------------------------------------
+The balls carry the rim radially; a ball's radial compliance lets the rim move in under the
+tooth forces' radial components, which opens the mesh and lets fewer teeth share the load.
+It enters the contact itself: each active ball's support in the Schur step of
+:class:`~profilegen.contact.compliance.ContactCompliance` becomes a spring
+(``ball_compliance_mm_per_n``). The spring is the bearing's radial approach at one ball,
+outer-race contact + inner-race contact, each a Hertz point contact (elliptical, exact:
+:func:`hertz_point_contact`) of a ball of diameter D in a groove of radius f·D on a race of
+pitch diameter d_m (:class:`BallBearing`; ESTIMATES: D = 0.075 × the FS pitch diameter —
+7.5 mm for size 40 —, f = 0.52, 23 balls, the outer race ``default_race_thickness_mm``
+thick). Hertz is δ = c_H Q^{2/3}: the spring is linearised as the secant δ(Q)/Q at each
+ball's own reaction and iterated with the contact to a fixed point (a few iterations); the
+no-load preload of the balls (the rim's pinching force, < 1 N/mm of face) is left out, as
+in the mesh model, which makes lightly loaded balls softer than they are. The races' ring
+bending is the mesh model's own (the outer race is meshed); the inner ring is taken rigid
+on a rigid cam. Its share of the compliance is reported as the rotation it adds to the
+mesh's at the rated torque.
+
+Left out (stated, not modelled)
+-------------------------------
+The inner ring's bending and its fit on the cam, the cam's own compliance; the CS ring's
+ovalisation under the two zones' radial forces (the sector is fixed at 1.1 r_p) and its
+bolted joint; the wave generator's input-side stiffness (the catalogue's K's are measured
+with the wave generator locked: its torsion is not in them); coning of the cup (the load is
+even across the face); friction (so no hysteresis: loading and unloading give one curve).
+
+The torsional curve
+-------------------
+:func:`torsional_curve` solves the contact of both flanks — the right FS flank for one
+direction (``side = +1``), the left for the other (``side = −1``) — each with its own
+points and compliance, at every |T|, with ball settling (seed 000) and the Hertz ball
+springs; the series terms add T/K_i. Rotations are signed in the direction that the
+positive torque turns the FS. At zero torque the FS is free between the two flanks'
+first contacts: the backlash is θ₀(+) + θ₀(−). K1, K2, K3 follow the catalogue's
+definitions on its breakpoints T1, T2 (K1 = T1/φ(T1), K2 = (T2 − T1)/(φ(T2) − φ(T1)),
+K3 = (T3 − T2)/(φ(T3) − φ(T2)) with T3 the set's peak torque), on the elastic rotation
+(the backlash taken out, as the catalogue's curve starts at the origin). Lost motion: the
+rotation span between +f·T_rated and −f·T_rated (f = 3 % by default), backlash included.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+from functools import partial
+
+import numpy as np
+
+from .. import checks
+from ..errors import ConvergenceError, ProfilegenError
+from ..results import json_ready, readonly as _readonly
+
+__all__ = [
+    "ARCMIN_PER_RAD",
+    "BallBearing",
+    "CATALOGUE_SIZE40_RATIO50",
+    "ChainError",
+    "ChainPart",
+    "ComplianceChain",
+    "HertzContact",
+    "TorsionalCurve",
+    "annulus_torsion_stiffness",
+    "compliance_chain",
+    "cup_torsion_fem",
+    "hertz_point_contact",
+    "thick_tube_torsion_stiffness",
+    "torsional_curve",
+    "tube_torsion_stiffness",
+]
+
+log = logging.getLogger(__name__)
+
+ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi
+
+#: Harmonic Drive LLC, CSF/CSG catalogue, table 42 "Torsional Stiffness for Ratio 1/50", size 40:
+#: T1, T2 (N·m) and K1 (0…T1), K2 (T1…T2) in N·m/rad — the values the README and
+#: profilegen.output.plot (CATALOG_SIZE40_RATIO50) already use. K3 and the ratio ≥ 80 table
+#: (table 43; ours are ratio 100, listed stiffer) are not in the repository: None.
+CATALOGUE_SIZE40_RATIO50 = {
+    "source": "Harmonic Drive LLC CSF/CSG catalogue, table 42 (ratio 1/50), size 40",
+    "ratio": 50,
+    "T1_nm": 54.0, "K1_nm_per_rad": 10e4,
+    "T2_nm": 196.0, "K2_nm_per_rad": 14e4,
+    "K3_nm_per_rad": None,
+    "lost_motion_arcmin": None,
+}
+
+
+class ChainError(ProfilegenError, ValueError):
+    """Bad input to the compliance chain or the torsional curve; names the parameter, value, unit, range."""
+
+
+_positive = partial(checks.positive, error=ChainError)
+_number = partial(checks.number, error=ChainError)
+_whole = partial(checks.whole, error=ChainError)
+
+
+# --------------------------------------------------------------------------- analytic models
+
+
+def tube_torsion_stiffness(shear_modulus_mpa: float, radius_mm: float, thickness_mm: float,
+                           length_mm: float) -> float:
+    """Thin-walled circular tube in torsion: K = G J / L, J = 2π r³ t (N·mm/rad); r the wall's
+    mid-surface radius."""
+    g = _positive("shear_modulus_mpa", shear_modulus_mpa, "MPa")
+    r = _positive("radius_mm", radius_mm)
+    t = _positive("thickness_mm", thickness_mm)
+    length = _positive("length_mm", length_mm)
+    return g * 2.0 * math.pi * r ** 3 * t / length
+
+
+def thick_tube_torsion_stiffness(shear_modulus_mpa: float, inner_radius_mm: float, outer_radius_mm: float,
+                                 length_mm: float) -> float:
+    """Circular tube in torsion, exact polar moment: K = G π (r_o⁴ − r_i⁴) / (2L) (N·mm/rad)."""
+    g = _positive("shear_modulus_mpa", shear_modulus_mpa, "MPa")
+    ri = _positive("inner_radius_mm", inner_radius_mm, allow_zero=True)
+    ro = _number("outer_radius_mm", outer_radius_mm, "mm", ri)
+    length = _positive("length_mm", length_mm)
+    return g * 0.5 * math.pi * (ro ** 4 - ri ** 4) / length
+
+
+def annulus_torsion_stiffness(shear_modulus_mpa: float, thickness_mm: float, inner_radius_mm: float,
+                              outer_radius_mm: float) -> float:
+    """Annular plate twisted in its plane (torque T on the inner edge, the outer held, or the
+    reverse): τ_rθ = T/(2π r² t), rotation θ = T/(4π G t) (1/r_i² − 1/r_o²), so
+    K = 4π G t / (1/r_i² − 1/r_o²) (N·mm/rad)."""
+    g = _positive("shear_modulus_mpa", shear_modulus_mpa, "MPa")
+    t = _positive("thickness_mm", thickness_mm)
+    ri = _positive("inner_radius_mm", inner_radius_mm)
+    ro = _number("outer_radius_mm", outer_radius_mm, "mm", ri)
+    return 4.0 * math.pi * g * t / (ri ** -2 - ro ** -2)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class HertzContact:
+    """A Hertz point contact at one load: approach δ (mm), semi-axes a ≥ b (mm), peak pressure
+    p0 (MPa), eccentricity e = √(1 − b²/a²)."""
+
+    force_n: float
+    approach_mm: float
+    semi_major_mm: float
+    semi_minor_mm: float
+    max_pressure_mpa: float
+    eccentricity: float
+
+
+def hertz_point_contact(force_n: float, curvature_sum_1: float, curvature_sum_2: float,
+                        contact_modulus_mpa: float) -> HertzContact:
+    """Hertz contact of two bodies whose gap is h = A x² + B y² (exact, elliptical).
+
+    ``curvature_sum_1``, ``curvature_sum_2`` (1/mm): the sums of the two bodies' principal
+    curvatures in the two principal planes (1/R₁ + 1/R₁' and 1/R₂ + 1/R₂'; concave negative),
+    both > 0; ``contact_modulus_mpa``: E* = 1/((1 − ν₁²)/E₁ + (1 − ν₂²)/E₂).
+
+    Johnson, *Contact Mechanics* (1985) §4.2: with A = κ₁/2 ≤ B = κ₂/2, the ellipse's
+    eccentricity e (a along x) solves B/A = ((a/b)² E(e) − K(e)) / (K(e) − E(e)); then
+    a³ = 3P (K − E)/(2π E* e² A), b = a √(1 − e²), p0 = 3P/(2π a b), δ = p0 b K(e)/E*
+    (K, E the complete elliptic integrals of modulus e). e = 0 is the sphere:
+    a³ = 3PR/(4E*), δ = a²/R with 1/R = κ₁ = κ₂."""
+    from scipy.optimize import brentq
+    from scipy.special import ellipe, ellipk
+
+    p = _positive("force_n", force_n, "N")
+    k1 = _positive("curvature_sum_1", curvature_sum_1, "1/mm")
+    k2 = _positive("curvature_sum_2", curvature_sum_2, "1/mm")
+    e_star = _positive("contact_modulus_mpa", contact_modulus_mpa, "MPa")
+    a_coef, b_coef = 0.5 * min(k1, k2), 0.5 * max(k1, k2)
+    ratio = b_coef / a_coef
+    if ratio - 1.0 < 1e-9:  # sphere (to 1e-9 in the curvatures)
+        r = 1.0 / a_coef / 2.0
+        a = (3.0 * p * r / (4.0 * e_star)) ** (1.0 / 3.0)
+        return HertzContact(p, a * a / r, a, a, 3.0 * p / (2.0 * math.pi * a * a), 0.0)
+
+    def excess(m):  # m = e²
+        k, e = ellipk(m), ellipe(m)
+        return (e / (1.0 - m) - k) / (k - e) - ratio
+
+    lo = 1e-12
+    while excess(lo) > 0.0:  # tiny ratios − 1: start closer to the sphere
+        lo *= 1e-3
+    m = brentq(excess, lo, 1.0 - 1e-15, xtol=1e-15, rtol=1e-15, maxiter=200)
+    k, e = ellipk(m), ellipe(m)
+    a = (3.0 * p * (k - e) / (2.0 * math.pi * e_star * m * a_coef)) ** (1.0 / 3.0)
+    b = a * math.sqrt(1.0 - m)
+    p0 = 3.0 * p / (2.0 * math.pi * a * b)
+    return HertzContact(p, p0 * b * k / e_star, a, b, p0, math.sqrt(m))
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class BallBearing:
+    """The wave generator's flexible ball bearing, as far as its radial compliance at one ball
+    needs it (mm, MPa): ``ball_count`` N, ``ball_diameter_mm`` D, ``pitch_diameter_mm`` d_m
+    (ball centres), ``groove_conformity`` f (groove radius f·D, both races), steel balls
+    and races of the gear set's modulus and Poisson ratio. ``estimates``: the fields that
+    are estimates. Construct with :meth:`from_gearset`."""
+
+    ball_count: int
+    ball_diameter_mm: float
+    pitch_diameter_mm: float
+    groove_conformity: float
+    youngs_modulus_mpa: float
+    poisson_ratio: float
+    estimates: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        n = _whole("ball_count", self.ball_count, 3)
+        d = _positive("ball_diameter_mm", self.ball_diameter_mm)
+        dm = _positive("pitch_diameter_mm", self.pitch_diameter_mm)
+        f = _number("groove_conformity", self.groove_conformity, "", 0.5, 1.0)
+        _positive("youngs_modulus_mpa", self.youngs_modulus_mpa, "MPa")
+        _number("poisson_ratio", self.poisson_ratio, "", -1.0, 0.5)
+        if not d < dm:
+            raise ChainError(f"ball_diameter_mm = {d!r} mm: must be smaller than the pitch diameter {dm:.6g} mm")
+        # N balls of diameter D on the pitch circle: their chords must not overlap (a cage needs ~10 % more)
+        gap_angle = 2.0 * math.pi / n
+        chord = dm * math.sin(0.5 * gap_angle)
+        if not d < 0.9 * chord:
+            raise ChainError(f"ball_count = {n}, ball_diameter_mm = {d:.6g} mm: the balls do not fit on the "
+                             f"{dm:.6g} mm pitch circle with a cage (need D < 0.9 × the chord {chord:.6g} mm)")
+        del f
+
+    @classmethod
+    def from_gearset(cls, gearset, *, ball_count: int | None = None, ball_diameter_mm: float | None = None,
+                     race_thickness_mm: float | None = None, groove_conformity: float | None = None) -> "BallBearing":
+        """The bearing under the FS bore: the outer race's raceway at r_bore − t_race
+        (``race_thickness_mm``: default the compliance model's :func:`~profilegen.contact.
+        compliance.default_race_thickness_mm`), ball centres D/2 inside it. Defaults, ESTIMATES:
+        23 balls (seed 000's CSF40-100), D = 0.075 × the FS pitch diameter (7.5 mm for 100 mm),
+        f = 0.52 (a deep-groove ball bearing's usual conformity)."""
+        from .compliance import DEFAULT_BALL_COUNT, default_race_thickness_mm
+
+        g = gearset.gear
+        estimates = []
+        if ball_count is None:
+            ball_count = DEFAULT_BALL_COUNT
+            estimates.append(f"ball_count = {ball_count} (seed 000's CSF40-100)")
+        if ball_diameter_mm is None:
+            ball_diameter_mm = 0.075 * 2.0 * float(g.pitch_radius_mm)
+            estimates.append(f"ball_diameter_mm = {ball_diameter_mm:.4g} (0.075 × the FS pitch diameter)")
+        if race_thickness_mm is None:
+            race_thickness_mm = default_race_thickness_mm(g)
+            estimates.append(f"race_thickness_mm = {race_thickness_mm:.4g} (2.5 % of the FS pitch diameter)")
+        if groove_conformity is None:
+            groove_conformity = 0.52
+            estimates.append("groove_conformity = 0.52 (groove radius / ball diameter)")
+        d = _positive("ball_diameter_mm", ball_diameter_mm)
+        t = _positive("race_thickness_mm", race_thickness_mm, allow_zero=True)
+        r_bore = float(g.neutral_radius_mm) - 0.5 * float(g.rim_thickness_mm)
+        r_centre = r_bore - t - 0.5 * d
+        if not r_centre > 0.5 * d:
+            raise ChainError(f"ball_diameter_mm = {d:.6g} mm, race_thickness_mm = {t:.6g} mm: the bearing does not "
+                             f"fit in the FS bore (radius {r_bore:.6g} mm)")
+        m = gearset.material
+        return cls(int(ball_count), d, 2.0 * r_centre, float(groove_conformity), float(m.youngs_modulus_mpa),
+                   float(m.poisson_ratio), tuple(estimates))
+
+    @property
+    def contact_modulus_mpa(self) -> float:
+        """E* = E / (2 (1 − ν²)) for two bodies of the same steel."""
+        return self.youngs_modulus_mpa / (2.0 * (1.0 - self.poisson_ratio ** 2))
+
+    def curvature_sums(self) -> dict[str, tuple[float, float]]:
+        """(rolling-plane, transverse) curvature sums (1/mm) of the outer and inner contact
+        (ball 2/D each way; outer race −2/(d_m + D) and −1/(fD), inner +2/(d_m − D) and −1/(fD))."""
+        d, dm, f = self.ball_diameter_mm, self.pitch_diameter_mm, self.groove_conformity
+        groove = 2.0 / d - 1.0 / (f * d)
+        return {"outer": (2.0 / d - 2.0 / (dm + d), groove), "inner": (2.0 / d + 2.0 / (dm - d), groove)}
+
+    def hertz_coefficient(self) -> float:
+        """c_H in δ = c_H Q^{2/3} (mm/N^{2/3}): the radial approach of inner and outer race at one
+        ball under its load Q (both contacts in series, along the same line)."""
+        sums = self.curvature_sums()
+        return sum(hertz_point_contact(1.0, *sums[k], self.contact_modulus_mpa).approach_mm for k in ("outer", "inner"))
+
+    def approach_mm(self, force_n) -> np.ndarray:
+        """Radial approach (mm) at loads ``force_n`` (N, ≥ 0)."""
+        q = np.maximum(np.asarray(force_n, dtype=float), 0.0)
+        return self.hertz_coefficient() * q ** (2.0 / 3.0)
+
+    def secant_compliance_mm_per_n(self, force_n, *, floor_n: float = 1.0) -> np.ndarray:
+        """δ(Q)/Q = c_H Q^{−1/3} (mm/N), Q held ≥ ``floor_n`` (the secant is infinite at no load)."""
+        q = np.maximum(np.asarray(force_n, dtype=float), floor_n)
+        return self.hertz_coefficient() * q ** (-1.0 / 3.0)
+
+    def to_dict(self) -> dict:
+        return {"ball_count": self.ball_count, "ball_diameter_mm": self.ball_diameter_mm,
+                "pitch_diameter_mm": self.pitch_diameter_mm, "groove_conformity": self.groove_conformity,
+                "hertz_coefficient_mm_per_n2_3": self.hertz_coefficient(), "estimates": list(self.estimates)}
+
+
+# --------------------------------------------------------------------------- the chain
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ChainPart:
+    """One series compliance: ``name``, its ``model`` (words) and ``formula``, its stiffness
+    (N·m/rad), the numbers that went in (mm, MPa) and which of them are estimates."""
+
+    name: str
+    model: str
+    formula: str
+    stiffness_nm_per_rad: float
+    parameters: dict
+    estimates: tuple[str, ...] = ()
+
+    @property
+    def compliance_rad_per_nm(self) -> float:
+        return 1.0 / self.stiffness_nm_per_rad
+
+    def to_dict(self) -> dict:
+        return json_ready({"name": self.name, "model": self.model, "formula": self.formula,
+                           "stiffness_nm_per_rad": self.stiffness_nm_per_rad,
+                           "compliance_rad_per_nm": self.compliance_rad_per_nm,
+                           "parameters": dict(self.parameters), "estimates": list(self.estimates)})
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ComplianceChain:
+    """The series parts (cup wall, cup bottom, CS body) and the ball bearing that enters the
+    contact as springs. ``series_stiffness_nm_per_rad``: (Σ K_i⁻¹)⁻¹."""
+
+    parts: tuple[ChainPart, ...]
+    bearing: BallBearing | None
+    left_out: tuple[str, ...]
+
+    @property
+    def series_compliance_rad_per_nm(self) -> float:
+        return float(sum(p.compliance_rad_per_nm for p in self.parts))
+
+    @property
+    def series_stiffness_nm_per_rad(self) -> float:
+        c = self.series_compliance_rad_per_nm
+        return math.inf if c == 0.0 else 1.0 / c
+
+    def part(self, name: str) -> ChainPart:
+        for p in self.parts:
+            if p.name == name:
+                return p
+        raise ChainError(f"name = {name!r}: no such part (have {', '.join(p.name for p in self.parts)})")
+
+    def with_mesh(self, mesh_stiffness_nm_per_rad: float) -> float:
+        """K_total = (K_mesh⁻¹ + Σ K_i⁻¹)⁻¹ (N·m/rad) for a mesh stiffness (secant or tangent)."""
+        k = _positive("mesh_stiffness_nm_per_rad", mesh_stiffness_nm_per_rad, "N·m/rad")
+        return 1.0 / (1.0 / k + self.series_compliance_rad_per_nm)
+
+    def to_dict(self) -> dict:
+        return json_ready({"parts": [p.to_dict() for p in self.parts],
+                           "series_stiffness_nm_per_rad": self.series_stiffness_nm_per_rad,
+                           "bearing": None if self.bearing is None else self.bearing.to_dict(),
+                           "left_out": list(self.left_out)})
+
+
+LEFT_OUT = (
+    "the bearing's inner ring bending and its fit on the cam; the cam's own compliance",
+    "the CS ring's ovalisation under the two zones' radial forces (the sector is held at 1.1 r_p) and its bolted joint",
+    "the sector model's fixed radial cuts (the CS ring between the zones taken rigid)",
+    "coning of the cup (the load is taken even across the face) and the cup's bending under the tooth forces",
+    "the balls' preload from pinching the rim (lightly loaded balls come out softer)",
+    "friction: no hysteresis, loading and unloading give one curve",
+)
+
+
+def _cs_held_radius(gearset) -> tuple[float, str | None]:
+    cs = getattr(gearset, "circular_spline", None)
+    d_out = None if cs is None else cs.outer_diameter_mm
+    if d_out is not None:
+        return 0.5 * float(d_out), None
+    from ..gearset.sections import CS_OUTER_DIAMETER_PER_ROOT
+
+    g = gearset.gear
+    w0 = float(gearset.wave_generator.deflection_coefficient) * float(g.module_mm)
+    root = 2.0 * (float(g.pitch_radius_mm) + float(gearset.tooth.addendum_mm) + w0 + 0.25 * float(g.module_mm))
+    r = 0.5 * math.ceil(CS_OUTER_DIAMETER_PER_ROOT * root)
+    return r, f"cs_held_radius_mm = {r:.4g} (1.25 × the estimated CS root diameter)"
+
+
+def compliance_chain(gearset, *, cs_sector_radius_mm: float | None = None, cs_held_radius_mm: float | None = None,
+                     cs_width_mm: float | None = None, bearing: BallBearing | None | bool = True) -> ComplianceChain:
+    """The compliances between input and output that the mesh model leaves out (module
+    docstring), for a gear set. ``cs_sector_radius_mm``: where the compliance model holds the
+    CS (default its 1.1 × the CS pitch radius); ``cs_held_radius_mm``: where the CS is held
+    (default the CS outer radius); ``cs_width_mm``: the CS's width (default the face width);
+    ``bearing``: a :class:`BallBearing`, True for :meth:`BallBearing.from_gearset`, or
+    None/False for rigid ball supports."""
+    g, cup, mat = gearset.gear, gearset.cup, gearset.material
+    if cup is None:
+        raise ChainError("gearset.cup: the cup is needed (its fields default to estimates when the gear is valid)")
+    shear = float(mat.shear_modulus_mpa)
+    r_m, t = float(g.neutral_radius_mm), float(g.rim_thickness_mm)
+    length, b, t_b, r0 = float(cup.length_mm), float(cup.face_width_mm), float(cup.bottom_thickness_mm), \
+        float(cup.boss_radius_mm)
+    wall_len = length - 0.5 * b - 0.5 * t_b
+    if not wall_len > 0.0:
+        raise ChainError(f"cup.length_mm = {length:.6g} mm: the wall must reach below the tooth ring "
+                         f"(length > face_width/2 + bottom_thickness/2 = {0.5 * b + 0.5 * t_b:.6g} mm)")
+    eff_len = wall_len + b / 3.0
+    k_wall = tube_torsion_stiffness(shear, r_m, t, eff_len) * 1e-3
+    k_bottom = annulus_torsion_stiffness(shear, t_b, r0, r_m) * 1e-3
+    r_sector = 1.1 * float(g.cs_pitch_radius_mm) if cs_sector_radius_mm is None else \
+        _positive("cs_sector_radius_mm", cs_sector_radius_mm)
+    est_cs = []
+    if cs_held_radius_mm is None:
+        r_held, note = _cs_held_radius(gearset)
+        if note:
+            est_cs.append(note)
+        else:
+            est_cs.append(f"cs_held_radius_mm = {r_held:.4g} (the CS outer radius; its bolt circle is a little inside)")
+    else:
+        r_held = _positive("cs_held_radius_mm", cs_held_radius_mm)
+    if not r_held > r_sector:
+        raise ChainError(f"cs_held_radius_mm = {r_held:.6g} mm: must be > the sector's outer radius {r_sector:.6g} mm")
+    width = b if cs_width_mm is None else _positive("cs_width_mm", cs_width_mm)
+    if cs_width_mm is None:
+        est_cs.append(f"cs_width_mm = {width:.4g} (the face width)")
+    k_cs = annulus_torsion_stiffness(shear, width, r_sector, r_held) * 1e-3
+    cup_est = tuple(f"cup.{k} (default estimate)" for k in ("length_mm", "face_width_mm", "bottom_thickness_mm",
+                                                             "boss_radius_mm"))
+    parts = (
+        ChainPart("cup_wall", "thin-walled tube in torsion, wall = rim thickness; the tooth ring as b/3 of tube "
+                  "(torque entering evenly across the face)", "K = G·2π r_m³ δ / (l − b/2 − t_b/2 + b/3)", k_wall,
+                  {"shear_modulus_mpa": shear, "radius_mm": r_m, "thickness_mm": t, "wall_length_mm": wall_len,
+                   "effective_length_mm": eff_len}, cup_est),
+        ChainPart("cup_bottom", "annular plate twisted in its plane, boss to the wall's mid-surface",
+                  "K = 4π G t_b / (1/r0² − 1/r_m²)", k_bottom,
+                  {"shear_modulus_mpa": shear, "thickness_mm": t_b, "inner_radius_mm": r0, "outer_radius_mm": r_m},
+                  cup_est),
+        ChainPart("cs_body", "annulus in torsion from the compliance model's fixed CS edge to where the CS is held",
+                  "K = 4π G w / (1/r_s² − 1/r_h²)", k_cs,
+                  {"shear_modulus_mpa": shear, "width_mm": width, "inner_radius_mm": r_sector,
+                   "outer_radius_mm": r_held}, tuple(est_cs) + ("CS of the FS's steel",)),
+    )
+    if bearing is True:
+        bearing = BallBearing.from_gearset(gearset)
+    elif bearing is False:
+        bearing = None
+    elif bearing is not None and not isinstance(bearing, BallBearing):
+        raise ChainError(f"bearing = {bearing!r}: must be a BallBearing, True (estimated) or None (rigid balls)")
+    return ComplianceChain(parts, bearing, LEFT_OUT)
+
+
+# --------------------------------------------------------------------------- FE check of the cup
+
+
+def cup_torsion_fem(geometry_or_gearset, *, element_mm: float = 2.0, layers: int = 2,
+                    bottom_layers: int | None = None) -> float:
+    """Torsional stiffness of the whole cup (N·m/rad) from the torsion harmonic n = 0 of the
+    body-of-revolution model (:mod:`profilegen.rim.cup.fourier`, scikit-fem 9-node quads):
+    boss clamped, the torque put on the bore as a uniform tangential traction over the tooth
+    ring (l − b/2 … l + b/2), the stiffness T / θ with θ the work-conjugate (load-weighted
+    mean) rotation of the loaded bore — the rotation the contact model's bore sees."""
+    from ..rim.cup.fourier import harmonic_stiffness
+    from ..rim.cup.geometry import CupGeometry, meridional_mesh
+
+    geometry = geometry_or_gearset if isinstance(geometry_or_gearset, CupGeometry) else \
+        CupGeometry.from_gearset(geometry_or_gearset)
+    hb = harmonic_stiffness(meridional_mesh(geometry, element_mm=element_mm, layers=layers,
+                                            bottom_layers=bottom_layers))
+    iu, iw, iv = hb.components()
+    r, z = hb.nodes
+    g = geometry
+    tol = 1e-9 * max(g.outer_radius_mm, g.open_end_mm)
+    lo, hi = g.ring_span_mm
+    boss = np.flatnonzero(np.abs(r - g.boss_radius_mm) < tol)
+    line = np.flatnonzero((np.abs(r - g.bore_radius_mm) < tol) & (z > lo - tol) & (z < hi + tol))
+    line = line[np.argsort(z[line])]
+    if boss.size == 0 or line.size < 3 or line.size % 2 == 0:
+        raise ConvergenceError("cup_torsion_fem: the meridional mesh has no quadratic node line on the tooth ring's bore")
+    # consistent nodal forces of a uniform traction τ along z on quadratic edges (1/6, 4/6, 1/6 of each edge)
+    zs = z[line]
+    w = np.zeros(line.size)
+    for k in range(0, line.size - 2, 2):
+        h = zs[k + 2] - zs[k]
+        w[k:k + 3] += h * np.array([1.0, 4.0, 1.0]) / 6.0
+    rb = g.bore_radius_mm
+    torque = 1.0e3  # N·mm; V is the physical u_θ, and K_0 carries the 2π of ∫dφ
+    tau = torque / (2.0 * math.pi * rb * rb * (hi - lo))
+    force = np.zeros(hb.dof)
+    force[iv[line]] = 2.0 * math.pi * rb * tau * w
+    stiff = hb.stiffness(0)
+    fixed = np.concatenate([iu[boss], iw[boss], iv[boss]])
+    free = np.setdiff1d(np.arange(hb.dof), fixed)
+    from scipy.sparse.linalg import spsolve
+
+    x = np.zeros(hb.dof)
+    x[free] = spsolve(stiff[free][:, free].tocsc(), force[free])
+    theta = float(force @ x) / torque
+    if not (math.isfinite(theta) and theta > 0.0):
+        raise ConvergenceError(f"cup_torsion_fem: the rotation came out {theta!r} rad")
+    return torque / theta * 1e-3
+
+
+# --------------------------------------------------------------------------- the torsional curve
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class TorsionalCurve:
+    """Rotation of the FS against the CS (wave generator locked) at signed torques.
+
+    ``torque_nm`` (sorted, no zero); rotations (rad, signed like the torque): ``mesh_rad``
+    (the mesh on rigid balls: the contact model as it is), ``mesh_balls_rad`` (the mesh with
+    the Hertz ball springs), ``rotation_rad`` (the latter plus the series parts: the whole
+    gear as modelled). All include the free play to the loaded flank's first contact θ₀.
+    ``flags``: per torque the reason it is beyond the contact model, or None.
+    ``backlash_rad``: θ₀(+) + θ₀(−). ``k_nm_per_rad``: {"mesh", "mesh_balls", "total"} →
+    {"K1", "K2", "K3"} per direction ("positive", "negative"); ``lost_motion_rad`` likewise.
+    """
+
+    torque_nm: np.ndarray
+    mesh_rad: np.ndarray
+    mesh_balls_rad: np.ndarray
+    rotation_rad: np.ndarray
+    teeth_in_contact: np.ndarray
+    active_balls: np.ndarray
+    flags: tuple
+    backlash_rad: float
+    first_contact_rad: dict
+    breakpoints_nm: dict
+    k_nm_per_rad: dict
+    lost_motion_rad: dict
+    lost_motion_torque_nm: float
+    compliances_at_rated: dict
+    chain: ComplianceChain
+    catalogue: dict | None
+    odd_symmetry_defect: float
+    time_s: float
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self):
+        for name in ("torque_nm", "mesh_rad", "mesh_balls_rad", "rotation_rad"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        object.__setattr__(self, "teeth_in_contact", _readonly(self.teeth_in_contact, int))
+        object.__setattr__(self, "active_balls", _readonly(self.active_balls, int))
+
+    @property
+    def rotation_arcmin(self) -> np.ndarray:
+        return self.rotation_rad * ARCMIN_PER_RAD
+
+    def to_dict(self) -> dict:
+        """JSON-ready, in the names of issue 16's ``contact.json["torsional"]``."""
+        k_total = self.k_nm_per_rad["total"]["positive"]
+        return json_ready({
+            "torque_nm": self.torque_nm.tolist(),
+            "rotation_arcmin": self.rotation_arcmin.tolist(),
+            "rotation_mesh_arcmin": (self.mesh_rad * ARCMIN_PER_RAD).tolist(),
+            "rotation_mesh_balls_arcmin": (self.mesh_balls_rad * ARCMIN_PER_RAD).tolist(),
+            "teeth_in_contact_per_zone": self.teeth_in_contact.tolist(),
+            "active_balls": self.active_balls.tolist(),
+            "beyond_capacity": list(self.flags),
+            "k1_nm_per_rad": k_total["K1"], "k2_nm_per_rad": k_total["K2"], "k3_nm_per_rad": k_total["K3"],
+            "stiffness_nm_per_rad": self.k_nm_per_rad,
+            "breakpoints_nm": self.breakpoints_nm,
+            "lost_motion_arcmin": self.lost_motion_rad["total"] * ARCMIN_PER_RAD,
+            "lost_motion_mesh_arcmin": self.lost_motion_rad["mesh"] * ARCMIN_PER_RAD,
+            "lost_motion_torque_nm": self.lost_motion_torque_nm,
+            "backlash_arcmin": self.backlash_rad * ARCMIN_PER_RAD,
+            "first_contact_arcmin": {k: v * ARCMIN_PER_RAD for k, v in self.first_contact_rad.items()},
+            "hysteresis_arcmin": None,
+            "hysteresis_note": "no friction is modelled: loading and unloading give one curve",
+            "compliances": self.compliances_at_rated,
+            "chain": self.chain.to_dict(),
+            "catalogue": self.catalogue,
+            "odd_symmetry_defect": self.odd_symmetry_defect,
+            "time_s": self.time_s,
+            "warnings": list(self.warnings),
+        })
+
+
+def _checked_signed_torques(torques_nm) -> np.ndarray:
+    try:
+        t = np.atleast_1d(np.asarray(torques_nm, dtype=float))
+    except (TypeError, ValueError) as exc:
+        raise ChainError("torques_nm: must be a list of torques (N·m)") from exc
+    if t.ndim != 1 or t.size == 0:
+        raise ChainError("torques_nm: must be one torque or a list of torques (N·m)")
+    bad = np.flatnonzero(~np.isfinite(t) | (t == 0.0))
+    if bad.size:
+        raise ChainError(f"torques_nm = {t[bad[0]]!r} N·m: every torque must be finite and ≠ 0 (zero torque is the "
+                         "backlash, reported on its own; the sign is the direction)")
+    return t
+
+
+def _solve_side(points, compliance, magnitude_nm: float, bearing: BallBearing | None, *, settle_iterations: int,
+                spring_iterations: int, spring_tol: float):
+    """One flank at |T|: the zone's contact with ball settling; with a bearing, the Hertz
+    springs iterated to their secant fixed point. → (φ rigid balls, φ with springs, teeth, balls)."""
+    from .solvers import solve_lemke
+
+    tz = magnitude_nm / points.zones * 1e3
+
+    def forces_for(matrix):
+        return solve_lemke(matrix, points.theta_rad, points.lever_mm, tz).force_n
+
+    def settled_solve(comp):
+        first = solve_lemke(comp.matrix_mm_per_n, points.theta_rad, points.lever_mm, tz)
+        settled = comp.settle_balls(first.force_n, max_iterations=settle_iterations, solve=forces_for)
+        sol = first if settled is comp else solve_lemke(settled.matrix_mm_per_n, points.theta_rad,
+                                                        points.lever_mm, tz)
+        return settled, sol
+
+    comp, sol = settled_solve(compliance.with_balls(compliance.ball_active, ball_compliance_mm_per_n=None))
+    phi_rigid = float(sol.phi_rad)
+    rigid_sol = sol
+    if bearing is None:
+        return phi_rigid, phi_rigid, sol, rigid_sol, comp
+    springs = None
+    for _ in range(spring_iterations):
+        react = comp.ball_reactions(sol.force_n)
+        floor = max(1.0, 1e-3 * float(react.max(initial=0.0)))
+        new = bearing.secant_compliance_mm_per_n(react, floor_n=floor)
+        if springs is not None and np.all(np.abs(new - springs) <= spring_tol * springs):
+            break
+        springs = new if springs is None else 0.5 * (springs + new)  # damped: the fixed point of δ/Q ∝ Q^(−1/3)
+        comp, sol = settled_solve(comp.with_balls(comp.ball_active, ball_compliance_mm_per_n=springs))
+    else:
+        raise ConvergenceError(f"torsional_curve: the Hertz ball springs did not settle in {spring_iterations} "
+                               f"iterations at {magnitude_nm:g} N·m")
+    return phi_rigid, float(sol.phi_rad), sol, rigid_sol, comp
+
+
+def _stiffnesses(phi_of, theta0: float, t1: float, t2: float, t3: float) -> dict:
+    e1, e2, e3 = phi_of(t1) - theta0, phi_of(t2) - theta0, phi_of(t3) - theta0
+    return {"K1": t1 / e1, "K2": (t2 - t1) / (e2 - e1), "K3": (t3 - t2) / (e3 - e2)}
+
+
+def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None, sides: dict | None = None,
+                    breakpoints_nm: tuple[float, float] | None = None, lost_motion_fraction: float = 0.03,
+                    catalogue: dict | None = CATALOGUE_SIZE40_RATIO50, stations: int = 5, max_gap_mm: float = 0.12,
+                    settle_iterations: int = 20, spring_iterations: int = 60,
+                    spring_tol: float = 1e-6) -> TorsionalCurve:
+    """Rotation against signed torque (N·m; ≠ 0) for a design (or a :class:`~profilegen.
+    contact.inputs.ContactInput`), both flanks (see the module docstring).
+
+    ``chain``: the series parts and the bearing (default :func:`compliance_chain` of the
+    design's gear set). ``sides``: {+1: (points, compliance), −1: (…)} from an earlier call
+    (``result`` of :func:`~profilegen.contact.analysis.solve_contact` with ``side=±1``) to
+    skip building them. ``breakpoints_nm``: (T1, T2) (default the catalogue's); K3 runs from
+    T2 to the set's peak torque. ``lost_motion_fraction``: f of the rated torque."""
+    from .analysis import _load_case
+    from .compliance import ContactCompliance
+    from .inputs import ContactInput
+    from .points import contact_points
+
+    t0 = time.perf_counter()
+    torques = np.sort(_checked_signed_torques(torques_nm))
+    inputs = ContactInput.from_design(design, name="design")
+    gs = inputs.gearset
+    chain = compliance_chain(gs) if chain is None else chain
+    if not isinstance(chain, ComplianceChain):
+        raise ChainError(f"chain = {chain!r}: must be a ComplianceChain (compliance_chain(gearset)) or None")
+    f = _number("lost_motion_fraction", lost_motion_fraction, "", 0.0, 0.5)
+    if breakpoints_nm is None:
+        if catalogue is None:
+            raise ChainError("breakpoints_nm: give (T1, T2) in N·m when no catalogue is given")
+        breakpoints_nm = (catalogue["T1_nm"], catalogue["T2_nm"])
+    t1 = _positive("breakpoints_nm[0]", breakpoints_nm[0], "N·m")
+    t2 = _number("breakpoints_nm[1]", breakpoints_nm[1], "N·m", t1)
+    t3 = float(gs.torque.peak_nm)
+    if not t3 > t2:
+        raise ChainError(f"torque.peak_nm = {t3:g} N·m: must exceed T2 = {t2:g} N·m for K3 (T2 … the peak torque)")
+    rated = float(gs.torque.rated_nm)
+    t_lm = f * rated
+
+    if sides is None:
+        sides = {}
+        for s in (1, -1):
+            pts = contact_points(inputs, side=s, stations=stations, max_gap_mm=max_gap_mm)
+            comp = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm)
+            sides[s] = (pts, comp)
+    if set(sides) != {1, -1}:
+        raise ChainError("sides: must map +1 and −1 to (points, compliance)")
+    for s, (pts, _) in sides.items():
+        if pts.side != s:
+            raise ChainError(f"sides[{s}]: its points are of side {pts.side}")
+    # the direction of rotation that loads each flank, in the package's angle sense
+    rot_pos, rot_neg = sides[1][0].rotation, sides[-1][0].rotation
+    warnings: list[str] = []
+    if rot_pos == rot_neg:
+        warnings.append("both flanks are loaded by the same direction of rotation: the two sides are not opposite")
+
+    series = chain.series_compliance_rad_per_nm  # rad per N·m
+    cache: dict[tuple[int, float], tuple] = {}
+
+    def solve(side: int, magnitude: float):
+        key = (side, float(magnitude))
+        if key not in cache:
+            pts, comp = sides[side]
+            phi_r, phi_b, sol, rigid_sol, settled = _solve_side(
+                pts, comp, magnitude, chain.bearing, settle_iterations=settle_iterations,
+                spring_iterations=spring_iterations, spring_tol=spring_tol)
+            case, notes = _load_case(pts, magnitude, sol, settled)
+            cache[key] = (phi_r, phi_b, case, notes)
+        return cache[key]
+
+    from threadpoolctl import threadpool_limits
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        rows = []
+        for t in torques:
+            side = 1 if t > 0 else -1
+            phi_r, phi_b, case, notes = solve(side, abs(t))
+            sign = 1.0 if t > 0 else -1.0
+            rows.append((sign * phi_r, sign * phi_b, sign * (phi_b + abs(t) * series), case))
+            warnings += notes
+        theta0 = {s: float(np.min(sides[s][0].theta_rad)) for s in (1, -1)}
+        k = {}
+        lost = {}
+        for label, pick in (("mesh", 0), ("mesh_balls", 1), ("total", None)):
+            k[label] = {}
+            for s, name in ((1, "positive"), (-1, "negative")):
+                def phi_of(m, s=s, pick=pick):
+                    r = solve(s, m)
+                    return r[1] + m * series if pick is None else r[pick]
+                k[label][name] = _stiffnesses(phi_of, theta0[s], t1, t2, t3)
+            at = (lambda m, s, pick=pick: (solve(s, m)[1] + m * series) if pick is None else solve(s, m)[pick])
+            lost[label] = at(t_lm, 1) + at(t_lm, -1)
+        phi_r_rated, phi_b_rated = solve(1, rated)[:2]
+    compliances = {
+        "mesh_rad_per_nm": (phi_r_rated - theta0[1]) / rated,
+        "ball_hertz_rad_per_nm": (phi_b_rated - phi_r_rated) / rated,
+        **{f"{p.name}_rad_per_nm": p.compliance_rad_per_nm for p in chain.parts},
+    }
+    compliances["total_rad_per_nm"] = sum(compliances.values())
+    # odd symmetry: the same |T| both ways
+    mags = sorted(set(np.abs(torques)) & set(-torques[torques < 0]))
+    defect = 0.0
+    for m in mags:
+        a, b = solve(1, m)[1] - theta0[1], solve(-1, m)[1] - theta0[-1]
+        defect = max(defect, abs(a - b) / max(abs(a), abs(b)))
+    flags = tuple(r[3].beyond_capacity for r in rows)
+    return TorsionalCurve(
+        torque_nm=torques, mesh_rad=np.array([r[0] for r in rows]), mesh_balls_rad=np.array([r[1] for r in rows]),
+        rotation_rad=np.array([r[2] for r in rows]), teeth_in_contact=np.array([r[3].teeth_in_contact for r in rows]),
+        active_balls=np.array([int(r[3].ball_active.sum()) for r in rows]), flags=flags,
+        backlash_rad=theta0[1] + theta0[-1], first_contact_rad={"positive": theta0[1], "negative": theta0[-1]},
+        breakpoints_nm={"T1": t1, "T2": t2, "T3": t3}, k_nm_per_rad=k, lost_motion_rad=lost,
+        lost_motion_torque_nm=t_lm, compliances_at_rated=compliances, chain=chain,
+        catalogue=None if catalogue is None else dict(catalogue), odd_symmetry_defect=float(defect),
+        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)))
