@@ -21,6 +21,10 @@ boss r_m/2; wall = rim 0.9 mm; bearing = the face, centred on it).
    prescribed (bilateral) over bearings 20, 10 and 4 mm wide.
 6. The default set pressed onto its cam (unilateral, ``press_cup``): ω, υ at the same sections,
    the contact's extent on the axes, against mesh and collocation angles; medians of 3.
+7. Seed 004's printed 0.553 / −0.557 / 0.293 mm (ω major / minor at mid-face, υ at the open end)
+   beside press_cup's extremes over φ at the tooth ring's sections, bearing 20 and 10 mm wide
+   (preliminary: the cup's length, bottom and boss are [cup] estimates, the gap is first order
+   and the seed's open-end axial restraint is not modelled).
 
 Writes export/bench/cup3d.csv and export/bench/cup3d.png.
 """
@@ -201,6 +205,16 @@ def main() -> None:
             print(f"    {name:13s} z = {z:5.1f} mm: ω(0) = {d.omega(0.0, z):.5f}, ω(π/2) = "
                   f"{d.omega(0.5 * math.pi, z):.5f}, υ(π/4) = {d.upsilon(0.25 * math.pi, z):.5f} mm, "
                   f"axial(0) = {d.axial(0.0, z):.5f} mm, tilt(0) = {d.tilt(0.0, z) * 1e3:.4f} mrad")
+
+    print("7. seed 004 (0.553 / -0.557 mm at mid-face, |υ| 0.293 mm at the open end) beside press_cup:")
+    phi = np.linspace(0.0, math.pi, 721)
+    for bw in (g.face_width_mm, 10.0):
+        c = press_cup(CupGeometry.from_gearset(gs, bearing_width_mm=bw), contour=from_gearset(gs))
+        d = c.deformation
+        for name, z in (("diaphragm end", lo), ("mid-face", g.length_mm), ("open end", hi)):
+            w, u = d.omega(phi, z), d.upsilon(phi, z)
+            print(f"  bearing {bw:4.1f} mm, {name:13s}: ω {w.max():.4f} / {w.min():.4f} mm, |υ| max {np.abs(u).max():.4f} "
+                  f"mm at {math.degrees(phi[np.abs(u).argmax()]):.1f}°")
 
     out = ROOT / "export" / "bench"
     keys = ["part", "mesh", "dof", "harmonics", "time_s", "err_omega_um", "err_upsilon_um", "rate", "default_of"]
