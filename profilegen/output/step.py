@@ -236,17 +236,17 @@ def fs_solid(outline: Chain, *, bore_radius_mm: float, wall_outer_radius_mm: flo
     r_b, r_w, r_0, h_0 = float(bore_radius_mm), float(wall_outer_radius_mm), float(boss_radius_mm), float(boss_thickness_mm)
     r_min = _radius_range_mm(outline)[0]
     z_ring = l - b / 2.0
-    for name, ok, rule in (
-        ("cup.face_width_mm", b > 0, "> 0 mm"),
-        ("cup.bottom_thickness_mm", t > 0, "> 0 mm"),
-        ("cup.length_mm", z_ring > t, f"> bottom thickness + face width / 2 = {t + b / 2:g} mm"),
-        ("cup.boss_radius_mm", 0 < r_0 < r_b, f"in (0, {r_b:g}) mm (inside the bore)"),
-        ("boss thickness", h_0 >= t, f">= the bottom thickness {t:g} mm"),
-        ("gear.rim_thickness_mm", 0 < r_b < r_w, "> 0 mm"),
-        ("flexspline outline", r_min > r_b, f"all outside the bore radius {r_b:g} mm (innermost {r_min:.4f} mm)"),
+    for name, value, ok, rule in (
+        ("cup.face_width_mm", b, b > 0, "> 0 mm"),
+        ("cup.bottom_thickness_mm", t, t > 0, "> 0 mm"),
+        ("cup.length_mm", l, z_ring > t, f"> bottom thickness + face width / 2 = {t + b / 2:g} mm"),
+        ("cup.boss_radius_mm", r_0, 0 < r_0 < r_b, f"in (0, {r_b:g}) mm (inside the bore)"),
+        ("boss thickness", h_0, h_0 >= t, f">= the bottom thickness {t:g} mm"),
+        ("gear.rim_thickness_mm", r_w - r_b, 0 < r_b < r_w, "> 0 mm"),
+        ("bore radius", r_b, r_min > r_b, f"< the flexspline outline's innermost radius {r_min:.4f} mm"),
     ):
         if not ok:
-            raise GearSetError(f"flexspline STEP: {name} must be {rule}")
+            raise GearSetError(f"flexspline STEP: {name} = {value:g} mm: must be {rule}")
     o = _occ()
     ring = _ring_prism(_chain_wire(outline, z_ring, ccw=True), _circle_wire(r_b, z_ring, ccw=False), b)
     # the meridian section (x = r, z), counter-clockwise, revolved once about z

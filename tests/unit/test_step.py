@@ -323,7 +323,7 @@ def test_fs_cup_inputs_named():
     chain = slot_gear(6, R_TIP, R_SLOT, W_SLOT)
     base = dict(bore_radius_mm=15.0, wall_outer_radius_mm=16.0, length_mm=30.0, face_width_mm=5.0,
                 bottom_thickness_mm=1.0, boss_radius_mm=5.0, boss_thickness_mm=3.0)
-    for key, value, name in (("boss_radius_mm", 15.0, "cup.boss_radius_mm"), ("length_mm", 3.0, "cup.length_mm"),
-                             ("bore_radius_mm", 20.5, "flexspline outline")):
+    for key, value, name in (("boss_radius_mm", 15.0, "cup.boss_radius_mm = 15 mm"), ("length_mm", 3.0, "cup.length_mm = 3 mm"),
+                             ("bore_radius_mm", 20.5, "bore radius = 20.5 mm")):
         with pytest.raises(GearSetError, match=name):
             step.fs_solid(chain, **{**base, key: value, "wall_outer_radius_mm": max(16.0, value + 1.0)})
