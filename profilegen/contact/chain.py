@@ -209,8 +209,10 @@ def hertz_point_contact(force_n: float, curvature_sum_1: float, curvature_sum_2:
     e_star = _positive("contact_modulus_mpa", contact_modulus_mpa, "MPa")
     a_coef, b_coef = 0.5 * min(k1, k2), 0.5 * max(k1, k2)
     ratio = b_coef / a_coef
-    if ratio - 1.0 < 1e-9:  # sphere (to 1e-9 in the curvatures)
-        r = 1.0 / a_coef / 2.0
+    if ratio - 1.0 < 1e-5:
+        # nearly a sphere: K − E loses its digits as e → 0, so the sphere of the mean radius
+        # R_e = (R'R'')^(1/2) (Johnson eq. 4.29), exact to O((B/A − 1)²) ~ 1e-10
+        r = 0.5 / math.sqrt(a_coef * b_coef)
         a = (3.0 * p * r / (4.0 * e_star)) ** (1.0 / 3.0)
         return HertzContact(p, a * a / r, a, a, 3.0 * p / (2.0 * math.pi * a * a), 0.0)
 
@@ -218,10 +220,8 @@ def hertz_point_contact(force_n: float, curvature_sum_1: float, curvature_sum_2:
         k, e = ellipk(m), ellipe(m)
         return (e / (1.0 - m) - k) / (k - e) - ratio
 
-    lo = 1e-12
-    while excess(lo) > 0.0:  # tiny ratios − 1: start closer to the sphere
-        lo *= 1e-3
-    m = brentq(excess, lo, 1.0 - 1e-15, xtol=1e-15, rtol=1e-15, maxiter=200)
+    # B/A − 1 ≈ 3m/4 for small m: the root lies above 1e-6 when B/A − 1 ≥ 1e-5
+    m = brentq(excess, 1e-7, 1.0 - 1e-15, xtol=1e-16, rtol=1e-15, maxiter=200)
     k, e = ellipk(m), ellipe(m)
     a = (3.0 * p * (k - e) / (2.0 * math.pi * e_star * m * a_coef)) ** (1.0 / 3.0)
     b = a * math.sqrt(1.0 - m)
@@ -685,12 +685,12 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
 
     t0 = time.perf_counter()
     torques = np.sort(_checked_signed_torques(torques_nm))
+    f = _number("lost_motion_fraction", lost_motion_fraction, "", 0.0, 0.5)
+    if chain is not None and not isinstance(chain, ComplianceChain):
+        raise ChainError(f"chain = {chain!r}: must be a ComplianceChain (compliance_chain(gearset)) or None")
     inputs = ContactInput.from_design(design, name="design")
     gs = inputs.gearset
     chain = compliance_chain(gs) if chain is None else chain
-    if not isinstance(chain, ComplianceChain):
-        raise ChainError(f"chain = {chain!r}: must be a ComplianceChain (compliance_chain(gearset)) or None")
-    f = _number("lost_motion_fraction", lost_motion_fraction, "", 0.0, 0.5)
     if breakpoints_nm is None:
         if catalogue is None:
             raise ChainError("breakpoints_nm: give (T1, T2) in N·m when no catalogue is given")

@@ -1,0 +1,226 @@
+"""The compliance chain and the torsional curve (profilegen.contact.chain).
+
+Analytic checks: the thin-walled tube against the exact polar moment (ratio 1 + (t/2r)²),
+the annulus in in-plane torsion against the tube it becomes when narrow (ratio
+(1 − (L/2r)²)²), both against the cup as a body of revolution in scikit-fem (the n = 0
+torsion harmonic of profilegen.rim.cup.fourier); Hertz: the sphere on a flat (Johnson
+§4.2: a³ = 3PR/4E*, δ = a²/R) and the elliptical contact against Hamrock & Brewe's
+curve fits (J. Lubr. Technol. 105 (1983) 171: k = 1.0339 α^0.636, ℰ = 1.0003 + 0.5968/α,
+𝔉 = 1.5277 + 0.6023 ln α); the ball springs in the Schur step against a one-point,
+one-ball system solved by hand; the series sum; the curve on the default set's sketch
+design: monotone, odd (the two flanks are mirror images), the chain softer than the mesh.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+import profilegen as pg
+from profilegen.contact.chain import (
+    BallBearing,
+    ChainError,
+    compliance_chain,
+    cup_torsion_fem,
+    hertz_point_contact,
+    annulus_torsion_stiffness,
+    thick_tube_torsion_stiffness,
+    torsional_curve,
+    tube_torsion_stiffness,
+)
+from profilegen.contact.compliance import ComplianceError, ContactCompliance
+
+
+@pytest.fixture(scope="module")
+def gearset():
+    return pg.load_gearset(pg.default_gearset_path())
+
+
+# --------------------------------------------------------------------------- tube and annulus
+
+
+def test_thin_tube_against_the_exact_polar_moment():
+    """J_exact = π/2 (r_o⁴ − r_i⁴) = 2π r³ t (1 + (t/2r)²) for r_o,i = r ± t/2."""
+    g, length = 80e3, 55.0
+    for r, t in ((48.95, 0.9), (20.0, 3.0), (10.0, 4.0)):
+        thin = tube_torsion_stiffness(g, r, t, length)
+        thick = thick_tube_torsion_stiffness(g, r - t / 2, r + t / 2, length)
+        assert thick / thin == pytest.approx(1.0 + (t / (2 * r)) ** 2, rel=1e-12)
+    # G J / L by hand for the default wall: 80 GPa, r = 48.95, t = 0.9, L = 55
+    assert tube_torsion_stiffness(g, 48.95, 0.9, 55.0) == pytest.approx(80e3 * 2 * math.pi * 48.95 ** 3 * 0.9 / 55.0)
+
+
+def test_narrow_annulus_is_a_short_tube():
+    """An annulus r ± L/2 twisted in its plane: K = 2πG t r³/L · (1 − (L/2r)²)² — the tube's
+    formula with the wall's length L, the same family, exactly."""
+    g, t, r = 80e3, 0.9, 40.0
+    for length in (8.0, 1.0, 0.01):
+        ann = annulus_torsion_stiffness(g, t, r - length / 2, r + length / 2)
+        tube = tube_torsion_stiffness(g, r, t, length)
+        assert ann / tube == pytest.approx((1.0 - (length / (2 * r)) ** 2) ** 2, rel=1e-10)
+
+
+def test_cup_formulas_against_the_body_of_revolution(gearset):
+    """The wall (tube, tooth ring as b/3) and the bottom (annulus) in series against the
+    cup's n = 0 harmonic in scikit-fem, for the default cup and a short one whose bottom
+    dominates; the FE at two mesh sizes agrees with itself."""
+    chain = compliance_chain(gearset)
+    formulas = 1.0 / (chain.part("cup_wall").compliance_rad_per_nm + chain.part("cup_bottom").compliance_rad_per_nm)
+    coarse = cup_torsion_fem(gearset, element_mm=4.0)
+    fine = cup_torsion_fem(gearset, element_mm=2.0)
+    assert abs(coarse / fine - 1.0) < 5e-3
+    assert abs(formulas / fine - 1.0) < 0.02
+    short = dataclasses.replace(gearset, cup=dataclasses.replace(gearset.cup, length_mm=15.0, face_width_mm=10.0,
+                                                                  bottom_thickness_mm=0.6))
+    chain_s = compliance_chain(short)
+    assert chain_s.part("cup_bottom").compliance_rad_per_nm > 3.0 * chain_s.part("cup_wall").compliance_rad_per_nm
+    formulas_s = 1.0 / (chain_s.part("cup_wall").compliance_rad_per_nm
+                        + chain_s.part("cup_bottom").compliance_rad_per_nm)
+    assert abs(formulas_s / cup_torsion_fem(short, element_mm=2.0) - 1.0) < 0.03
+
+
+def test_series_sum_and_parts(gearset):
+    chain = compliance_chain(gearset)
+    c = sum(1.0 / p.stiffness_nm_per_rad for p in chain.parts)
+    assert chain.series_stiffness_nm_per_rad == pytest.approx(1.0 / c, rel=1e-14)
+    assert chain.with_mesh(4.55e5) == pytest.approx(1.0 / (1.0 / 4.55e5 + c), rel=1e-14)
+    assert chain.with_mesh(4.55e5) < min(4.55e5, chain.series_stiffness_nm_per_rad)
+    # the CS ring outside the sector: annulus 1.1 r_p2 … the CS outer radius, 20 mm wide
+    cs = chain.part("cs_body")
+    g = gearset.material.shear_modulus_mpa
+    r_s = 1.1 * gearset.gear.cs_pitch_radius_mm
+    assert cs.stiffness_nm_per_rad == pytest.approx(4 * math.pi * g * 20.0 / (r_s ** -2 - 64.0 ** -2) * 1e-3)
+    d = chain.to_dict()
+    assert {p["name"] for p in d["parts"]} == {"cup_wall", "cup_bottom", "cs_body"} and d["left_out"]
+
+
+# --------------------------------------------------------------------------- Hertz and the bearing
+
+
+def test_hertz_sphere_on_flat():
+    """Sphere R = 5 mm on a flat, P = 200 N: a³ = 3PR/(4E*), δ = a²/R, p0 = 3P/(2πa²);
+    and a nearly circular contact (curvatures 1e-6 apart) joins it continuously."""
+    e_star, r, p = 113e3, 5.0, 200.0
+    a = (3 * p * r / (4 * e_star)) ** (1 / 3)
+    h = hertz_point_contact(p, 1 / r, 1 / r, e_star)
+    assert h.semi_major_mm == pytest.approx(a, rel=1e-13) and h.approach_mm == pytest.approx(a * a / r, rel=1e-13)
+    assert h.max_pressure_mpa == pytest.approx(3 * p / (2 * math.pi * a * a), rel=1e-13)
+    # slightly elliptical: δ of the sphere of radius R_e = (R'R'')^(1/2) to first order in B/A − 1,
+    # on both sides of the switch to the sphere formula (B/A − 1 = 1e-5)
+    for eps in (1e-7, 1e-6, 2e-5, 1e-4):
+        near = hertz_point_contact(p, 1 / r, (1 + eps) / r, e_star)
+        assert near.approach_mm == pytest.approx(h.approach_mm * (1 + eps) ** (1 / 6), rel=2 * eps ** 2 + 1e-13)
+    # δ ∝ P^(2/3)
+    assert hertz_point_contact(8 * p, 1 / r, 2 / r, e_star).approach_mm == pytest.approx(
+        4 * hertz_point_contact(p, 1 / r, 2 / r, e_star).approach_mm, rel=1e-10)
+
+
+@pytest.mark.parametrize("alpha", [2.0, 5.0, 10.0, 30.0])
+def test_hertz_ellipse_against_hamrock_brewe(alpha):
+    e_star, w, rx = 1e5, 100.0, 10.0
+    ry = alpha * rx
+    h = hertz_point_contact(w, 1 / rx, 1 / ry, e_star)
+    k = 1.0339 * alpha ** 0.636
+    ell = 1.0003 + 0.5968 / alpha
+    fk = 1.5277 + 0.6023 * math.log(alpha)
+    r_eff = 1 / (1 / rx + 1 / ry)
+    delta = fk * ((9 / (2 * ell * r_eff)) * (w / (math.pi * k * 2 * e_star)) ** 2) ** (1 / 3)
+    assert h.approach_mm == pytest.approx(delta, rel=0.02)
+    assert h.semi_major_mm / h.semi_minor_mm == pytest.approx(k, rel=0.02)
+
+
+def test_bearing_estimate_and_fit(gearset):
+    b = BallBearing.from_gearset(gearset)
+    assert b.ball_count == 23 and b.ball_diameter_mm == pytest.approx(7.5) and b.estimates
+    # the groove conforms: the outer contact is softer than the inner (flatter in the rolling plane)
+    sums = b.curvature_sums()
+    assert sums["outer"][0] < sums["inner"][0]
+    q = np.array([10.0, 300.0])
+    assert np.allclose(b.approach_mm(q), b.hertz_coefficient() * q ** (2 / 3))
+    assert np.allclose(b.secant_compliance_mm_per_n(q) * q, b.approach_mm(q))
+    with pytest.raises(ChainError, match="ball_count"):
+        BallBearing.from_gearset(gearset, ball_count=40)
+    with pytest.raises(ChainError, match="race_thickness_mm"):
+        BallBearing.from_gearset(gearset, ball_diameter_mm=30.0, race_thickness_mm=20.0)
+
+
+# --------------------------------------------------------------------------- ball springs in the Schur step
+
+
+def _one_point_one_ball(spring):
+    """n = 1 point, 1 ball: 2D flexibilities (mm per N/mm) cc, cb, bb and a CS part, b = 20 mm."""
+    cc, cb, bb, cs, b = 4.0e-3, -2.5e-3, 3.0e-3, 1.0e-3, 20.0
+    comp = ContactCompliance._assemble(
+        flex_cc=np.array([[cc]]), flex_cb=np.array([[cb]]), flex_bb=np.array([[bb]]), cs_flex=np.array([[cs]]),
+        face_width_mm=b, tooth=np.array([0]), ball_angle_rad=np.array([0.0]), ball_active=np.array([True]),
+        wrap_half_angle_rad=0.5, wrap_source="given", dof={}, time_s={}, mesh={}, warnings=())
+    return comp if spring is None else comp.with_balls([True], ball_compliance_mm_per_n=spring), (cc, cb, bb, cs, b)
+
+
+def test_ball_spring_schur_step_by_hand():
+    c = 2e-5  # mm/N, the order of a Hertz ball at a few hundred N
+    comp, (cc, cb, bb, cs, b) = _one_point_one_ball(c)
+    assert comp.matrix_mm_per_n[0, 0] == pytest.approx((cc - cb * cb / (bb + c * b)) / b + cs / b, rel=1e-14)
+    f = 150.0
+    r = comp.ball_reactions([f])[0]
+    assert r == pytest.approx(-cb * f / (bb + c * b), rel=1e-14)
+    # the bore at the ball moves in by the spring's compression c·R
+    assert comp.ball_gaps_mm([f])[0] == pytest.approx(-c * r, rel=1e-12)
+    rigid, _ = _one_point_one_ball(None)
+    assert rigid.matrix_mm_per_n[0, 0] == pytest.approx((cc - cb * cb / bb) / b + cs / b, rel=1e-14)
+    zero, _ = _one_point_one_ball(0.0)
+    assert zero.matrix_mm_per_n[0, 0] == pytest.approx(rigid.matrix_mm_per_n[0, 0], rel=1e-14)
+    soft, _ = _one_point_one_ball(1e6)  # a spring that carries nothing: the ball is as good as gone
+    assert soft.matrix_mm_per_n[0, 0] == pytest.approx((cc + cs) / b, rel=1e-8)
+    # kept through with_balls, dropped with None
+    assert comp.with_balls([True]).ball_compliance_mm_per_n[0] == c
+    assert comp.with_balls([True], ball_compliance_mm_per_n=None).ball_compliance_mm_per_n is None
+    with pytest.raises(ComplianceError, match="ball_compliance_mm_per_n"):
+        comp.with_balls([True], ball_compliance_mm_per_n=[-1.0])
+
+
+# --------------------------------------------------------------------------- the torsional curve
+
+
+@pytest.fixture(scope="module")
+def curve(gearset):
+    design = pg.design(gearset, scene="sketch", contact=False, stress=False)
+    return torsional_curve(design, [-265.0, -54.0, -8.0, 8.0, 54.0, 265.0, 196.0, -196.0], stations=3)
+
+
+def test_curve_monotone_odd_and_softer_with_the_chain(curve):
+    t = curve.torque_nm
+    assert np.all(np.diff(t) > 0) and t[0] == -265.0
+    for rot in (curve.mesh_rad, curve.mesh_balls_rad, curve.rotation_rad):
+        assert np.all(np.diff(rot) > 0)
+        # odd: the left flank under −T mirrors the right flank under +T
+        assert np.allclose(rot[::-1], -rot, rtol=2e-3, atol=1e-9)
+    assert curve.odd_symmetry_defect < 2e-3
+    # each addition makes the gear softer; the series parts add exactly |T| Σ 1/K_i
+    mag = np.abs(t)
+    assert np.all(np.abs(curve.mesh_balls_rad) > np.abs(curve.mesh_rad))
+    assert np.allclose(np.abs(curve.rotation_rad) - np.abs(curve.mesh_balls_rad),
+                       mag * curve.chain.series_compliance_rad_per_nm, rtol=1e-12)
+    k = curve.k_nm_per_rad
+    for name in ("K1", "K2", "K3"):
+        assert k["total"]["positive"][name] < k["mesh_balls"]["positive"][name] < k["mesh"]["positive"][name]
+    # more teeth take load as the torque grows: the gear stiffens, K1 < K2 < K3
+    kt = k["total"]["positive"]
+    assert kt["K1"] < kt["K2"] < kt["K3"]
+    # lost motion spans the backlash and the elastic rotation at ±3 % of the rated torque
+    assert curve.backlash_rad >= 0.0
+    assert curve.lost_motion_rad["total"] > curve.lost_motion_rad["mesh"] > curve.backlash_rad
+    c = curve.compliances_at_rated
+    assert c["total_rad_per_nm"] == pytest.approx(sum(v for kk, v in c.items() if kk != "total_rad_per_nm"))
+    d = curve.to_dict()
+    assert len(d["torque_nm"]) == len(d["rotation_arcmin"]) == 8 and d["hysteresis_arcmin"] is None
+
+
+def test_curve_bad_input(gearset):
+    with pytest.raises(ChainError, match="torques_nm"):
+        torsional_curve(None, [54.0, 0.0])
+    with pytest.raises(ChainError, match="lost_motion_fraction"):
+        torsional_curve(None, [54.0], chain=compliance_chain(gearset), lost_motion_fraction=2.0, sides={})
