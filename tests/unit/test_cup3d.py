@@ -298,6 +298,9 @@ def test_contact_is_complementary_and_its_harmonics_add_up(pressed):
     rows = np.searchsorted(np.round(bore_z, 9), np.round(c.z_mm, 9))
     u_bore = np.cos(np.outer(c.phi_rad, d.orders)) @ d.bore_radial_mm[:, rows]  # (angles, band nodes)
     assert np.max(np.abs(u_bore.T - c.load_mm[None, :])[c.active]) < 1e-9
+    import json
+
+    assert json.loads(json.dumps(c.to_dict()))["contact"]["max_penetration_mm"] == c.max_penetration_mm
 
 
 def test_a_coning_cup_touches_the_cam_at_the_bearing_edges(pressed):

@@ -69,6 +69,20 @@ class CupContact:
     def max_penetration_mm(self) -> float:
         return float(max(0.0, -np.min(self.gap_mm)))
 
+    def to_dict(self) -> dict:
+        from ...results import json_ready
+
+        out = self.deformation.to_dict()
+        out["model"] = ("cup as a body of revolution, Fourier harmonics of 2D meridional FEM, pressed onto the "
+                        "contour over the bearing width: frictionless unilateral contact by collocation in φ, "
+                        "first-order (radial) gap, boss clamped")
+        out["contact"] = json_ready({"z_mm": self.z_mm, "phi_rad": self.phi_rad, "force_n": self.force_n,
+                                     "gap_mm": self.gap_mm, "load_mm": self.load_mm,
+                                     "max_penetration_mm": self.max_penetration_mm,
+                                     "compliance_s": self.compliance_s, "contact_s": self.contact_s,
+                                     "time_s": self.time_s})
+        return out
+
     def contact_span_mm(self, phi_index: int) -> tuple[float, float] | None:
         """(first, last) z of the loaded band nodes at collocation angle ``phi_index``, or None."""
         on = np.flatnonzero(self.active[:, phi_index])
