@@ -41,8 +41,8 @@ from dataclasses import dataclass
 from functools import partial
 
 import numpy as np
-from scipy.linalg import solve_triangular
-from scipy.optimize import least_squares, minimize_scalar
+from scipy.linalg import lapack, solve_triangular
+from scipy.optimize import least_squares, leastsq, minimize_scalar
 
 from . import checks
 from .deformation import HarmonicDeformation
@@ -696,16 +696,119 @@ def _pursuit(phi, y, count, b_max):
     return np.array(freqs)
 
 
+class _Projection:
+    """Variable projection of f = Σ α_i sin b_iφ + β_i cos b_iφ onto the frequencies b:
+    the residual r(b) = y − A(b)c(b) of the linear least-squares amplitudes c = A⁺y
+    (A = [sin bφ, cos bφ], n × 2·terms) and its exact Jacobian ∂r/∂b (Golub & Pereyra 1973).
+
+    c is the solution ``np.linalg.lstsq(A, y, rcond=None)`` gives: by a Householder QR of A
+    (LAPACK geqrf/orgqr, A = QR) when every singular value of R (those of A) exceeds
+    lstsq's cut eps·max(n, 2·terms)·s_max, else — frequencies (nearly) coinciding — by the
+    SVD A = (QW) S Vᵀ (R = W S Vᵀ) without the cut values, the minimum-norm solution.
+    With U an orthonormal basis of A's (kept) column space, P⊥ = I − UUᵀ and
+    D_k = ∂A/∂b_k (nonzero only in the two columns of term k):
+
+        ∂r/∂b_k = −(P⊥ D_k c + (A⁺)ᵀ D_kᵀ r),   (A⁺)ᵀ = Q R⁻ᵀ  (or U S⁻¹ Vᵀ),
+
+    D_k c = φ (α_k cos b_kφ − β_k sin b_kφ), D_kᵀ r = (φ cos b_kφ · r, −φ sin b_kφ · r) at
+    rows k, terms + k. The factors of the last two points are kept: the optimizer asks the
+    Jacobian at a point whose residual it has just evaluated.
+    """
+
+    def __init__(self, phi, y, terms):
+        self.phi, self.y, self.terms = phi, y, terms
+        k = 2 * terms
+        self.cut = np.finfo(float).eps * max(phi.size, k)
+        self._upper = np.triu(np.ones((k, k)))
+        self._cache = []  # [(b, state)] of the last two points
+        self.factorizations = 0
+
+    def _state(self, b):
+        key = b.tobytes()
+        for cached, state in self._cache:
+            if cached == key:
+                return state
+        self.factorizations += 1
+        t, y = self.terms, self.y
+        trig = np.empty((2 * t, self.phi.size))  # rows sin b_kφ, then cos b_kφ: A = trig.T, Fortran order
+        arg = np.multiply.outer(b, self.phi)
+        np.sin(arg, out=trig[:t])
+        np.cos(arg, out=trig[t:])
+        qr, tau, _, info = lapack.dgeqrf(trig.T)
+        r = qr[: 2 * t]  # R in its upper triangle (trtri, trtrs read no more)
+        r_inv, info_inv = lapack.dtrtri(r)
+        # σ_min ≥ 1/‖R⁻¹‖_F and σ_max ≤ ‖R‖_F: when their ratio clears lstsq's cut, no singular
+        # value is cut and lstsq's solution is the QR one; else decide by the singular values
+        full = info == 0 and info_inv == 0 and self._ratio(r, r_inv) > self.cut
+        if not full and info == 0:
+            _, sv, _, info_sv = lapack.dgesdd(np.triu(r), compute_uv=0)
+            full = info_sv == 0 and sv[-1] > self.cut * sv[0]
+        if full:
+            q, _, info = lapack.dorgqr(qr, tau)
+            qty = q.T @ y
+            r_inv *= self._upper  # trtri leaves the strict lower triangle as it was
+            state = (trig, q, r_inv, None, None, lapack.dtrtrs(r, qty)[0], y - q @ qty)
+        else:  # rank cut: the minimum-norm solution of the kept singular triplets
+            q, r = np.linalg.qr(trig.T)
+            w, sv, vt = np.linalg.svd(r)
+            keep = sv > self.cut * sv[0]
+            u = q @ w[:, keep]
+            uty = u.T @ y
+            coef = vt[keep].T @ (uty / sv[keep])
+            state = (trig, u, None, sv[keep], vt[keep], coef, y - u @ uty)
+        self._cache = [(key, state)] + self._cache[:1]
+        return state
+
+    def _ratio(self, r, r_inv):
+        """1/(‖R‖_F ‖R⁻¹‖_F) of the upper triangles: a lower bound of σ_min/σ_max."""
+        upper = self._upper
+        a, b = r * upper, r_inv * upper
+        return 1.0 / math.sqrt(float(np.vdot(a, a)) * float(np.vdot(b, b)))
+
+    def amplitudes(self, b):
+        """α, β and the residual y − f at frequencies b (the minimum-norm least-squares α, β)."""
+        coef, resid = self._state(b)[5:]
+        return coef[: self.terms], coef[self.terms :], resid
+
+    def residual(self, b):
+        return self._state(b)[6]
+
+    def jacobian(self, b):
+        trig, u, r_inv, sv, vt, coef, resid = self._state(b)
+        t, phi = self.terms, self.phi
+        s, c = trig[:t], trig[t:]  # (t, n)
+        g = (c * coef[:t, None] - s * coef[t:, None]) * phi  # row k: (D_k c)ᵀ
+        pr = phi * resid
+        d_sin, d_cos = c @ pr, -(s @ pr)  # D_kᵀ r = d_sin[k] e_k + d_cos[k] e_{t+k}
+        # (A⁺)ᵀ D_kᵀ r = U z_k with z_k = Mᵀ D_kᵀ r = d_sin[k] M[k] + d_cos[k] M[t + k] (rows of M),
+        # M = R⁻¹ (A = QR) or M = (S⁻¹Vᵀ)ᵀ (A = USVᵀ)
+        m = r_inv if r_inv is not None else (vt / sv[:, None]).T
+        zt = d_sin[:, None] * m[:t] + d_cos[:, None] * m[t:]  # row k: z_k
+        # ∂r/∂b_k = −(P⊥ D_k c + (A⁺)ᵀ D_kᵀ r) = U (Uᵀ D_k c − z_k) − D_k c
+        jac = (g @ u - zt) @ u.T  # (t, n): the Jacobian's transpose, so .T is Fortran order for MINPACK
+        jac -= g
+        return jac.T
+
+
 def _residual_and_jacobian(phi, y, terms):
+    cache = {}
+
+    def trig(x):
+        key = x.tobytes()
+        if key not in cache:
+            cache.clear()
+            arg = np.multiply.outer(phi, x.reshape(terms, 3)[:, 2])
+            cache[key] = (np.sin(arg), np.cos(arg))
+        return cache[key]
+
     def residual(x):
-        alpha, beta, b = _unpack(x, terms)
-        arg = np.multiply.outer(phi, b)
-        return np.sin(arg) @ alpha + np.cos(arg) @ beta - y
+        alpha, beta, _ = _unpack(x, terms)
+        s, c = trig(x)
+        return s @ alpha + c @ beta - y
 
     def jacobian(x):
-        alpha, beta, b = _unpack(x, terms)
-        arg = np.multiply.outer(phi, b)
-        s, c = np.sin(arg), np.cos(arg)
+        alpha, beta, _ = _unpack(x, terms)
+        s, c = trig(x)
         jac = np.empty((phi.size, terms, 3))
         jac[:, :, 0] = s
         jac[:, :, 1] = c
@@ -715,7 +818,23 @@ def _residual_and_jacobian(phi, y, terms):
     return residual, jacobian
 
 
-def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int | None = 0) -> SeriesFit:
+def _lm(fun, jac, x0, max_nfev):
+    """MINPACK's Levenberg–Marquardt (lmder) from x0 to tolerance 1e-15: (x, ½SSE, nfev, converged).
+
+    The run ``least_squares(fun, x0, jac=jac, method="lm", x_scale="jac", ftol=xtol=gtol=1e-15,
+    max_nfev=max_nfev)`` makes (the same iterates, bit for bit: it calls the same lmder with
+    diag=None, factor=100), through ``leastsq``, which skips least_squares' per-call wrapper
+    (≈ a third of the time of these small residuals). "Converged" is MINPACK's info 1–4 (a
+    tolerance met), least_squares' status > 0; with tolerances above eps, info 6–8 cannot occur.
+    """
+    x, _, info, _, ier = leastsq(fun, x0, Dfun=jac, full_output=True, ftol=1e-15, xtol=1e-15, gtol=1e-15,
+                                 maxfev=max_nfev)
+    f = info["fvec"]
+    return x, 0.5 * float(f @ f), int(info["nfev"]), ier in (1, 2, 3, 4)
+
+
+def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int | None = 0,
+                    _reference: bool = False) -> SeriesFit:
     """Fit seed 004's f(φ) = Σ_{i=1..terms} a_i sin(b_i φ + c_i) to samples (mm).
 
     Nonlinear least squares with ``scipy.optimize.least_squares`` (Levenberg–Marquardt)
@@ -767,31 +886,41 @@ def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int 
         b = rng.choice(pool, size=terms, replace=False) if i % 2 else greedy
         initial.append(np.abs(b + rng.uniform(-0.5, 0.5, terms) * resolution))
 
-    def projected(b):
+    projection = _Projection(phi, values, terms)
+
+    def projected(b):  # the fitter before issue 14 (_reference): SVD least squares, finite-difference Jacobian
         return _linear_amplitudes(phi, values, b)[2]
 
     best_b, best_cost = None, math.inf
     costs, n_success, nfev = [], 0, 0
     for b0 in initial:
-        res = least_squares(projected, b0, method="lm", x_scale="jac", ftol=1e-15, xtol=1e-15, gtol=1e-15,
-                            max_nfev=100 * (terms + 1))
-        nfev += int(res.nfev)
-        n_success += int(res.status > 0)
-        cost = float(res.cost) if np.all(np.isfinite(res.x)) and math.isfinite(res.cost) else math.inf
+        if _reference:
+            res = least_squares(projected, b0, method="lm", x_scale="jac", ftol=1e-15, xtol=1e-15, gtol=1e-15,
+                                max_nfev=100 * (terms + 1))
+            x, cost, evals, converged = res.x, float(res.cost), int(res.nfev), res.status > 0
+        else:
+            x, cost, evals, converged = _lm(projection.residual, projection.jacobian, b0, 100 * (terms + 1))
+        nfev += evals
+        n_success += int(converged)
+        cost = cost if np.all(np.isfinite(x)) and math.isfinite(cost) else math.inf
         costs.append(cost)
         if cost < best_cost:
-            best_b, best_cost = res.x, cost
+            best_b, best_cost = x, cost
     if best_b is None:
         raise ConvergenceError(f"fit_sine_series: no start of {starts} gave a finite fit ({terms} terms, {n} samples)")
 
     # polish in all parameters (α, β, b) with the analytic Jacobian
-    alpha, beta, _ = _linear_amplitudes(phi, values, best_b)
+    alpha, beta, _ = (_linear_amplitudes(phi, values, best_b) if _reference else projection.amplitudes(best_b))
     x0 = np.column_stack([alpha, beta, best_b]).ravel()
     residual, jacobian = _residual_and_jacobian(phi, values, terms)
-    polished = least_squares(residual, x0, jac=jacobian, method="lm", x_scale="jac",
-                             ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=50 * n_params)
-    nfev += int(polished.nfev)
-    x = polished.x if polished.cost <= best_cost and np.all(np.isfinite(polished.x)) else x0
+    if _reference:
+        polished = least_squares(residual, x0, jac=jacobian, method="lm", x_scale="jac",
+                                 ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=50 * n_params)
+        x_pol, cost_pol, evals = polished.x, polished.cost, int(polished.nfev)
+    else:
+        x_pol, cost_pol, evals, _ = _lm(residual, jacobian, x0, 50 * n_params)
+    nfev += evals
+    x = x_pol if cost_pol <= best_cost and np.all(np.isfinite(x_pol)) else x0
 
     alpha, beta, b = _unpack(x, terms)
     amplitude = np.hypot(alpha, beta)
