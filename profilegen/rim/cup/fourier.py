@@ -41,7 +41,6 @@ from functools import partial
 from typing import Mapping
 
 import numpy as np
-import scipy.sparse as sp
 
 from ... import checks
 from ...errors import ConvergenceError
