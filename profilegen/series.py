@@ -737,13 +737,7 @@ class _Projection:
         qr, tau, _, info = lapack.dgeqrf(trig.T)
         r = qr[: 2 * t]  # R in its upper triangle (trtri, trtrs read no more)
         r_inv, info_inv = lapack.dtrtri(r)
-        # σ_min ≥ 1/‖R⁻¹‖_F and σ_max ≤ ‖R‖_F: when their ratio clears lstsq's cut, no singular
-        # value is cut and lstsq's solution is the QR one; else decide by the singular values
-        full = info == 0 and info_inv == 0 and self._ratio(r, r_inv) > self.cut
-        if not full and info == 0:
-            _, sv, _, info_sv = lapack.dgesdd(np.triu(r), compute_uv=0)
-            full = info_sv == 0 and sv[-1] > self.cut * sv[0]
-        if full:
+        if info == 0 and info_inv == 0 and self._full_rank(r, r_inv):
             q, _, info = lapack.dorgqr(qr, tau)
             qty = q.T @ y
             r_inv *= self._upper  # trtri leaves the strict lower triangle as it was
@@ -759,11 +753,15 @@ class _Projection:
         self._cache = [(key, state)] + self._cache[:1]
         return state
 
-    def _ratio(self, r, r_inv):
-        """1/(‖R‖_F ‖R⁻¹‖_F) of the upper triangles: a lower bound of σ_min/σ_max."""
-        upper = self._upper
-        a, b = r * upper, r_inv * upper
-        return 1.0 / math.sqrt(float(np.vdot(a, a)) * float(np.vdot(b, b)))
+    def _full_rank(self, r, r_inv) -> bool:
+        """Whether lstsq would keep every singular value of R (upper triangle of ``r``; its
+        inverse in that of ``r_inv``): σ_min ≥ 1/‖R⁻¹‖_F and σ_max ≤ ‖R‖_F, so when that ratio
+        clears the cut, so does σ_min/σ_max; else decide by the singular values."""
+        a, b = r * self._upper, r_inv * self._upper
+        if float(np.vdot(a, a)) * float(np.vdot(b, b)) * self.cut**2 < 1.0:
+            return True
+        _, sv, _, info = lapack.dgesdd(a, compute_uv=0)
+        return info == 0 and sv[-1] > self.cut * sv[0]
 
     def amplitudes(self, b):
         """α, β and the residual y − f at frequencies b (the minimum-norm least-squares α, β)."""
