@@ -114,7 +114,7 @@ def main(argv=None) -> int:
                     print(f"  {toml}: profilegen design exit {run.returncode}: {run.stderr.strip()[-300:]}")
                     continue
                 got = design_json_outputs(json.loads((Path(tmp) / "design.json").read_text()))
-            for o in [*(o.output for o in spec.objectives), *(c.output for c in spec.constraints)]:
+            for o in dict.fromkeys([*(o.output for o in spec.objectives), *(c.output for c in spec.constraints)]):
                 want = r.get(pre + o)
                 if o in got and want is not None and got[o] is not None:
                     rel = abs(got[o] - want) / max(abs(want), 1e-300)
@@ -130,7 +130,7 @@ def main(argv=None) -> int:
             t1 = time.perf_counter()
             dres = optimize(spec, out / "dask", executor=client.get_executor())
             dwall = time.perf_counter() - t1
-        outputs = [*(o.output for o in spec.objectives), *(c.output for c in spec.constraints)]
+        outputs = list(dict.fromkeys([*(o.output for o in spec.objectives), *(c.output for c in spec.constraints)]))
         diff, same = 0.0, True
         for name in ("evaluations.csv", "front.csv"):
             a = _read_front(out / "pool" / name)
