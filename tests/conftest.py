@@ -26,3 +26,32 @@ def default_set():
     motion = HarmonicDriveMotion.from_gearset(gs)
     env = envelope_of(tooth, motion, cs_teeth=gs.gear.circular_spline_teeth, waves=gs.gear.waves)
     return tooth, motion, env
+
+
+def pytest_collection_modifyitems(config, items):
+    """The heavy tests (marked ``slow``) first, in their collected order, then the rest.
+
+    With two xdist workers (``--dist loadgroup``) the run ends when the later worker ends: a
+    20–40 s test handed out last keeps one worker busy while the other waits. Handing the heavy
+    ones out first leaves the hundreds of sub-second tests to fill in at the end. The order is
+    the same in every worker (xdist requires identical collections)."""
+    items.sort(key=lambda item: item.get_closest_marker("slow") is None)
+
+
+@pytest.fixture(scope="session")
+def default_sketch_run(tmp_path_factory):
+    """`profilegen design default --scene sketch --out DIR`, run once as a user types it (a
+    subprocess, stdout and stderr piped): (CompletedProcess, DIR). Three tests check this one
+    run (tests/test_cli.py: the progress lines and the DXF; tests/test_bundled.py: the default
+    set's sketch scene); they share the xdist group ``default_sketch`` so one worker runs it."""
+    import os
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    cwd = tmp_path_factory.mktemp("default_sketch")
+    out = cwd / "o"
+    res = subprocess.run([sys.executable, "-m", "profilegen", "design", "default", "--scene", "sketch", "--out", str(out)],
+                         cwd=cwd, capture_output=True, text=True, env=dict(os.environ, PYTHONPATH=str(root)), timeout=300)
+    return res, out

@@ -16,8 +16,10 @@ from profilegen.cli import main
 from profilegen.gearset import list_profiles, load_gearset
 
 BUNDLED = sorted(p.stem for p in list_profiles())
-# the default set in the design scene is `profilegen design` itself: tests/test_cli.py runs it
-CASES = [(name, scene) for name in BUNDLED for scene in ("sketch", "design") if (name, scene) != ("default", "design")]
+# the default set in the design scene is `profilegen design` itself: tests/test_cli.py runs it; its
+# sketch scene is the run tests/test_cli.py's progress and DXF tests check too (conftest.py:
+# default_sketch_run), checked below by test_the_default_set_sketch_obeys_its_checks
+CASES = [(name, scene) for name in BUNDLED for scene in ("sketch", "design") if name != "default"]
 
 
 def test_the_bundled_sets_are_the_four_seed_sets():
@@ -30,11 +32,24 @@ def test_bundled_set_runs_and_obeys_its_checks(name, scene, tmp_path, capsys):
     out = tmp_path / "out"
     assert main(["design", name, "--scene", scene, "--out", str(out)]) == 0
     printed = capsys.readouterr()
+    _check(name, scene, out, printed.out, printed.err)
+
+
+@pytest.mark.slow
+@pytest.mark.xdist_group("default_sketch")
+def test_the_default_set_sketch_obeys_its_checks(default_sketch_run):
+    """`profilegen design default --scene sketch` (a subprocess, run once for three tests)."""
+    res, out = default_sketch_run
+    assert res.returncode == 0, res.stderr
+    _check("default", "sketch", out, res.stdout, res.stderr)
+
+
+def _check(name, scene, out, stdout, stderr):
     data = json.loads((out / "design.json").read_text())
     assert sorted(data["files"]) == sorted(p.name for p in out.iterdir())
     verdict = data["verdict"]
     # the verdict is the last line: on stdout when it passes, on stderr when it fails
-    assert (printed.out if verdict["passed"] else printed.err).splitlines()[-1] == verdict["line"]
+    assert (stdout if verdict["passed"] else stderr).splitlines()[-1] == verdict["line"]
     # the CAD profile is the one-sided fit: it may touch the FS tooth, never cut into it
     tol = max(1e-6, data["envelope"]["chord_tol_mm"])
     assert data["profile"]["method"] == "one_sided" and data["profile"]["min_clearance_mm"] >= -tol

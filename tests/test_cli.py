@@ -25,6 +25,7 @@ def run_cli(*args, cwd: Path) -> subprocess.CompletedProcess:
     return subprocess.run([sys.executable, "-m", "profilegen", *args], cwd=cwd, capture_output=True, text=True, env=env, timeout=300)
 
 
+@pytest.mark.slow
 def test_design_without_arguments_writes_the_default_set(tmp_path):
     """The README quickstart: `profilegen design` on the bundled default set."""
     res = run_cli("design", cwd=tmp_path)
@@ -69,14 +70,18 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
         assert part in page
 
 
-def test_design_dxf_is_the_closed_cs_outline_of_true_arcs_in_mm(tmp_path):
+@pytest.mark.slow
+@pytest.mark.xdist_group("default_sketch")
+def test_design_dxf_is_the_closed_cs_outline_of_true_arcs_in_mm(default_sketch_run):
     """circular_spline.dxf: only LINE and ARC on layer CS, mm units, audit clean, one closed
     chain (gaps ≤ 1e-9 mm after read-back), z2 identical spaces between the tip and root circles,
-    and its flank within the reported deviation of the exact envelope."""
+    and its flank within the reported deviation of the exact envelope. (The files of
+    `profilegen design default --scene sketch`, run once for three tests: conftest.py.)"""
     from profilegen.output import cad
 
-    assert main(["design", "--scene", "sketch", "--out", str(tmp_path / "o"), "-q"]) == 0
-    path = tmp_path / "o" / "circular_spline.dxf"
+    res, out = default_sketch_run
+    assert res.returncode == 0, res.stderr
+    path = out / "circular_spline.dxf"
     assert cad.audit(path) == 0
     import ezdxf
 
@@ -86,13 +91,13 @@ def test_design_dxf_is_the_closed_cs_outline_of_true_arcs_in_mm(tmp_path):
     assert {type(e).__name__ for e in cs} <= {"Line", "Arc"}
     chain = cad.oriented_chain(cs)
     assert chain.gaps(closed=True).max() <= 1e-9
-    data = json.loads((tmp_path / "o" / "design.json").read_text())
+    data = json.loads((out / "design.json").read_text())
     pts = chain.sample(1e-4)
     r = np.hypot(pts[:, 0], pts[:, 1])
     assert r.min() == pytest.approx(data["circular_spline"]["tip_radius_mm"], abs=1e-9)
     assert r.max() == pytest.approx(data["circular_spline"]["root_radius_mm"], abs=1e-6)
     assert len(cs) % 202 == 0  # z2 identical spaces, each with its tip land
-    fit = json.loads((tmp_path / "o" / "profile_fit.json").read_text())
+    fit = json.loads((out / "profile_fit.json").read_text())
     assert fit["outline_max_gap_mm"] <= 1e-9
     assert fit["clearance_check"]["min_clearance_mm"] >= -1e-6  # the one-sided profile never cuts the FS
 
@@ -159,6 +164,7 @@ def test_scene_list(capsys):
     assert all(s in out for s in ("sketch", "design", "verify"))
 
 
+@pytest.mark.slow
 def test_readme_python_example_runs(tmp_path, monkeypatch):
     """The README's profile-generation script, exactly as printed there."""
     readme = (ROOT / "README.md").read_text()
@@ -168,6 +174,7 @@ def test_readme_python_example_runs(tmp_path, monkeypatch):
     exec(compile(blocks[0], "README.md", "exec"), {"__name__": "__readme__"})
 
 
+@pytest.mark.slow
 def test_design_with_contact_writes_the_loaded_contact(tmp_path):
     """`profilegen design --contact`: the loaded contact at the set's rated, peak and
     momentary torques — contact.json, contact.png, a `contact` stage and headline figures."""
@@ -189,6 +196,7 @@ def test_design_with_contact_writes_the_loaded_contact(tmp_path):
     assert (out / "contact.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
 
 
+@pytest.mark.slow
 def test_bench_quick_writes_the_speed_accuracy_chart(tmp_path, capsys):
     """`profilegen bench --quick`: sketch and design against the refined design scene; the
     refined envelope is nearer the design scene's than the sketch scene's (ring theory).
@@ -227,10 +235,13 @@ def test_bench_outside_a_source_checkout_is_one_line_and_exit_2(tmp_path):
     assert not out.exists()
 
 
-def test_progress_is_one_line_per_stage_on_stderr_when_piped(tmp_path):
+@pytest.mark.slow
+@pytest.mark.xdist_group("default_sketch")
+def test_progress_is_one_line_per_stage_on_stderr_when_piped(tmp_path, default_sketch_run):
     """`design` into a pipe: every stage announces itself on stderr as it starts, in order,
-    numbered against the stages this run will have (sketch: no contact); -q silences it."""
-    res = run_cli("design", "--scene", "sketch", "--out", str(tmp_path / "o"), cwd=tmp_path)
+    numbered against the stages this run will have (sketch: no contact); -q silences it.
+    (`profilegen design default --scene sketch`, run once for three tests: conftest.py.)"""
+    res, _ = default_sketch_run
     assert res.returncode == 0, res.stderr
     lines = [ln for ln in res.stderr.splitlines() if ln.startswith("profilegen: design default [")]
     names = [re.match(r"profilegen: design default \[(\d+)/(\d+)\] (\S+) \(\d+\.\d s\)$", ln).groups() for ln in lines]
@@ -241,6 +252,7 @@ def test_progress_is_one_line_per_stage_on_stderr_when_piped(tmp_path):
     assert quiet.returncode == 0 and quiet.stderr == "" and quiet.stdout == ""  # PASS under --strict: exit 0
 
 
+@pytest.mark.slow
 def test_a_failing_design_says_fail_in_one_line_and_strict_exits_3(tmp_path):
     """Torques four times what the default set's size carries: the cup bottom yields (safety
     0.52 at 4800 N·m). The last line names every failed check; --strict turns that into exit code 3 (the

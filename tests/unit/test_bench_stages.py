@@ -20,6 +20,10 @@ from tests.benchmarks.stages import FIELDS, STAGES, format_stage_rows, stage_ben
 
 CHEAP = ("rim", "fit", "envelope", "stress")
 
+# one xdist worker runs the whole module: the studies (~40 s CPU) are a module fixture, which
+# each worker would otherwise compute for its share of the tests (pyproject: --dist loadgroup)
+pytestmark = pytest.mark.xdist_group("bench_stages")
+
 
 @pytest.fixture(scope="module")
 def gearset():

@@ -72,6 +72,7 @@ def test_unknown_tier_names_the_parameter(gearset):
         solve_rim(gearset, tier="fast")
 
 
+@pytest.mark.slow
 def test_toothed_tier_with_both_fitters(gearset):
     """The verify path on a lighter mesh (linear, 16 → 14 columns per pitch for the estimate):
     toothed FEM, Fourier fit used, general sine fit reported with its periodicity defect."""

@@ -182,6 +182,7 @@ def test_displacements_at_any_radius(gearset, cam_solution):
         res.at_radius(-1.0)
 
 
+@pytest.mark.slow
 def test_teeth_change_omega_by_less_than_a_micrometre(gearset, cam_solution):
     """DESIGN.md trap 7: the teeth stiffen the rim but move ω on the neutral line by < 1 µm
     (observed 0.14 µm nonlinear, benchmark); the major axis stays on the cam; the toothed rim
