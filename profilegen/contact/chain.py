@@ -249,7 +249,7 @@ class BallBearing:
         n = _whole("ball_count", self.ball_count, 3)
         d = _positive("ball_diameter_mm", self.ball_diameter_mm)
         dm = _positive("pitch_diameter_mm", self.pitch_diameter_mm)
-        f = _number("groove_conformity", self.groove_conformity, "", 0.5, 1.0)
+        _number("groove_conformity", self.groove_conformity, "", 0.5, 1.0)
         _positive("youngs_modulus_mpa", self.youngs_modulus_mpa, "MPa")
         _number("poisson_ratio", self.poisson_ratio, "", -1.0, 0.5)
         if not d < dm:
@@ -260,7 +260,6 @@ class BallBearing:
         if not d < 0.9 * chord:
             raise ChainError(f"ball_count = {n}, ball_diameter_mm = {d:.6g} mm: the balls do not fit on the "
                              f"{dm:.6g} mm pitch circle with a cage (need D < 0.9 × the chord {chord:.6g} mm)")
-        del f
 
     @classmethod
     def from_gearset(cls, gearset, *, ball_count: int | None = None, ball_diameter_mm: float | None = None,
