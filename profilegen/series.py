@@ -835,11 +835,15 @@ def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int 
                     _reference: bool = False) -> SeriesFit:
     """Fit seed 004's f(φ) = Σ_{i=1..terms} a_i sin(b_i φ + c_i) to samples (mm).
 
-    Nonlinear least squares with ``scipy.optimize.least_squares`` (Levenberg–Marquardt)
-    in the form Σ α_i sin b_iφ + β_i cos b_iφ. Each of the ``starts`` starting frequency
-    sets is first solved by variable projection (only the b_i are iterated; α_i, β_i by
-    linear least squares at every step), then the best one is polished in all 3·terms
-    parameters with the analytic Jacobian. Starting frequencies come from FFT peaks:
+    Nonlinear least squares by MINPACK's Levenberg–Marquardt (lmder, as
+    ``scipy.optimize.least_squares(method="lm")`` runs it) in the form
+    Σ α_i sin b_iφ + β_i cos b_iφ. Each of the ``starts`` starting frequency sets is first
+    solved by variable projection (only the b_i are iterated; α_i, β_i by linear least
+    squares, a QR of the sin/cos matrix, at every step; the exact Golub–Pereyra Jacobian of
+    the projected residual), then the best one is polished in all 3·terms parameters with
+    the analytic Jacobian. (``_reference=True``: the variable projection as before issue 14,
+    ``np.linalg.lstsq`` and a finite-difference Jacobian — 3–4× the CPU time, the same fit
+    to rounding; kept for tests/benchmarks/sine_fit.py.) Starting frequencies come from FFT peaks:
     matching pursuit takes the strongest peak of the residual's spectrum, refines its
     frequency by a 1-D search, refits the amplitudes and repeats (2·terms + 2 times).
     Start 0 is its first ``terms`` frequencies; odd starts draw ``terms`` of the pursuit

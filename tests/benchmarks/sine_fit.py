@@ -138,14 +138,16 @@ def main() -> None:
             for k in fitters:
                 print(f"  {k}: wall {med[k][0]:6.2f} s  cpu {med[k][1]:6.2f} s  nfev {fits[k].nfev:5d}  "
                       f"starts at best {fits[k].n_at_best}/{fits[k].n_starts}  SSE {fits[k].stats.sse_mm2:.12e} mm²")
-            print(f"  ratio old/new: wall {med['old'][0] / med['new'][0]:.2f}×  cpu {med['old'][1] / med['new'][1]:.2f}×")
+            ratio = [med["old"][i] / med["new"][i] for i in (0, 1)]
+            print(f"  ratio old/new: wall {ratio[0]:.2f}×  cpu {ratio[1]:.2f}×")
             ref = old.evaluate(phi, 3)
             for k, fit in fits.items():
                 if k == "old":
                     continue
                 d = np.abs(fit.evaluate(phi, 3) - ref).max(axis=1)
                 sse = fit.stats.sse_mm2 - old.stats.sse_mm2
-                print(f"  {k} − old: max |Δf| {d[0]:.2e} mm, |Δf'| {d[1]:.2e}, |Δf''| {d[2]:.2e}, |Δf'''| {d[3]:.2e}; "
+                print(f"  {k} − old: max |Δf| {d[0]:.2e} mm, |Δf'| {d[1]:.2e}, |Δf''| {d[2]:.2e}, "
+                      f"|Δf'''| {d[3]:.2e}; "
                       f"ΔSSE {sse:+.2e} mm² ({sse / old.stats.sse_mm2:+.1e} relative)")
                 for b, da, db, dc, a in _matched(old, fit):
                     flat = "  (b ≈ 0: flat valley, a, b, c undetermined)" if b < 1e-3 else ""
