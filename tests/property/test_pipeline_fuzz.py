@@ -3,9 +3,10 @@ every example ends in a result whose outputs — in memory and in the files ``wr
 wrote — hold no NaN or infinity, or in a named ProfilegenError; never in another exception,
 a MemoryError under a 4 GB address-space cap, or a run past its time limit.
 
-Six strata (DCTA, involute and point-list teeth, valid — 50, 45, 50 examples — or with a
+Six strata (DCTA, involute and point-list teeth, valid — 20, 45, 25 examples — or with a
 spoiled field — 90 each; every third result is written to files; sized to keep the suite near
-5 minutes on 2 cores, the volume is the benchmark's); the gear sets span m
+5 minutes on 2 cores: every stratum and its property every run, the volume in the benchmark);
+the gear sets span m
 0.1–2 mm, z1 60–600, 2–4 waves, z2 − z1 = U or 2U, and the point lists include noisy,
 crossing and looping ones. ``python tests/benchmarks/fuzz.py`` runs 10 000
 and more, over the design and verify scenes as well. Fuzzing like this found two fit
@@ -22,9 +23,15 @@ from hypothesis import HealthCheck, given, settings
 from tests.property.fuzzrun import memory_cap, outcome, time_limit
 from tests.property.gearsets import gear_sets
 
-#: examples per stratum: valid sets (~1 s each, half of it writing files) and spoiled ones (almost
-#: all stop in validation, ~20 ms each)
-VALID = {"dcta": 50, "involute": 45, "points": 50}
+#: examples per stratum: valid sets (~0.7-0.9 s CPU each where they reach a result, a third of
+#: the results also written to files) and spoiled ones (almost all stop in validation, ~20 ms
+#: each). The valid strata had 50/45/50 (120 s CPU, a third of the suite's budget); hypothesis's
+#: later examples here mostly vary ones already tried, and the volume is tests/benchmarks/fuzz.py's
+#: (10 000 examples, the design and verify scenes too). The involute stratum keeps its 45: most of
+#: its sets now stop early at the EDM wire check (FilletError: circular_spline.wire_radius_mm, a
+#: 0.145 mm fillet in small-module spaces), and its first 20 reached no result after the DCTA
+#: stratum in one process (the "some example reaches a result" check failed; 45 reach some).
+VALID = {"dcta": 20, "involute": 45, "points": 25}
 SPOILED = 90
 WRITE_EVERY = 3  # write the files of every third result (write_design costs about what the sketch design does)
 TIME_LIMIT_S = 120.0  # per example; the slowest sketch example measured ~10 s on the busy machine
@@ -34,7 +41,8 @@ FUZZ = dict(deadline=None, derandomize=True, database=None,
 
 
 @pytest.mark.parametrize("kind", sorted(VALID))
-@pytest.mark.parametrize("spoil", [False, True], ids=["valid", "spoiled"])
+@pytest.mark.parametrize("spoil", [pytest.param(False, id="valid", marks=pytest.mark.slow),
+                                   pytest.param(True, id="spoiled")])
 def test_every_gear_set_gives_a_result_or_a_named_error(kind, spoil, tmp_path):
     n = SPOILED if spoil else VALID[kind]
     seen: dict[str, int] = {}
