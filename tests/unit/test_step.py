@@ -122,6 +122,17 @@ def volume_mm3(shape) -> float:
     return p.Mass()
 
 
+def count_faces(shape) -> int:
+    from OCP.TopAbs import TopAbs_FACE
+    from OCP.TopExp import TopExp_Explorer
+
+    exp, n = TopExp_Explorer(shape, TopAbs_FACE), 0
+    while exp.More():
+        n += 1
+        exp.Next()
+    return n
+
+
 def is_valid(shape) -> bool:
     from OCP.BRepCheck import BRepCheck_Analyzer
 
@@ -185,12 +196,20 @@ def cs_standin(chain: Chain, *, outer_diameter_mm=D_OUT, root_radius_mm=R_SLOT +
                            form=SimpleNamespace(root_radius_mm=root_radius_mm))
 
 
-@pytest.fixture(scope="module")
-def cs_case(tmp_path_factory):
+@pytest.fixture(scope="module", params=[1000, 30], ids=["one cap face", "cap sectors"])
+def cs_case(request, tmp_path_factory):
+    """The slot gear's ring with its caps as one face each, and cut into sectors of <= 30 edges
+    (as the default set's 2828-edge outline is, in sectors of <= 500)."""
     chain = slot_gear(Z_SLOTS, R_TIP, R_SLOT, W_SLOT).reversed()  # clockwise, like the CS outline
     path = tmp_path_factory.mktemp("cs") / "circular_spline.step"
-    step.write_cs_step(path, cs_standin(chain))
-    return chain, path, read_step(path)
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(step, "_MAX_CAP_EDGES", request.param)
+        step.write_cs_step(path, cs_standin(chain))
+    shape = read_step(path)
+    faces = count_faces(shape)
+    sectors = 1 if request.param > len(chain.elements) else math.ceil(len(chain.elements) / request.param)
+    assert faces == len(chain.elements) + sectors * 3  # sides + outer cylinder patches + both caps
+    return chain, path, shape, request.param
 
 
 def test_chain_area_formula_against_the_slot_gear_closed_form():
@@ -201,7 +220,7 @@ def test_chain_area_formula_against_the_slot_gear_closed_form():
 
 
 def test_cs_file_is_one_valid_solid_of_the_right_volume(cs_case):
-    chain, _, shape = cs_case
+    chain, _, shape, _ = cs_case
     solids = solids_of(shape)
     assert len(solids) == 1
     assert is_valid(solids[0])
@@ -210,7 +229,7 @@ def test_cs_file_is_one_valid_solid_of_the_right_volume(cs_case):
 
 
 def test_cs_section_at_mid_face_is_the_chain(cs_case):
-    chain, _, shape = cs_case
+    chain, _, shape, _ = cs_case
     got = compare_section(section_edges(shape, FACE_MM / 2), chain, inner=True, split_radius=D_OUT / 2 - 1.0)
     assert got["edges"] == len(chain.elements)  # one edge per line / arc: true lines and arcs, not a polyline
     assert got["point_to_chain_mm"] < TOL_MM
@@ -219,8 +238,10 @@ def test_cs_section_at_mid_face_is_the_chain(cs_case):
 
 
 def test_cs_file_is_deterministic(cs_case, tmp_path):
-    chain, path, _ = cs_case
-    again = step.write_cs_step(tmp_path / "again.step", cs_standin(chain))
+    chain, path, _, max_edges = cs_case
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(step, "_MAX_CAP_EDGES", max_edges)
+        again = step.write_cs_step(tmp_path / "again.step", cs_standin(chain))
     data = path.read_bytes()
     assert again.read_bytes() == data
     header = data[: data.index(b"ENDSEC;")].decode()
@@ -291,7 +312,9 @@ def fs_case(tmp_path_factory):
     gs = load_gearset(folder / "small.toml")
     tooth = tooth_from_gearset(gs)
     chain, _ = flexspline_outline(tooth, gs.gear)
-    path = step.write_fs_step(folder / "flexspline.step", SimpleNamespace(gearset=gs, tooth=tooth))
+    with pytest.MonkeyPatch.context() as mp:  # caps in 3 sectors (240 edges), as the default set's are
+        mp.setattr(step, "_MAX_CAP_EDGES", 100)
+        path = step.write_fs_step(folder / "flexspline.step", SimpleNamespace(gearset=gs, tooth=tooth))
     return gs, chain, path, read_step(path)
 
 
