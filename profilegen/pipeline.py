@@ -366,6 +366,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     form = circular_spline_form(env, cs_teeth=g.circular_spline_teeth,
                                 tip_clearance_mm=gearset.circular_spline.tip_clearance_mm,
                                 root_clearance_mm=gearset.circular_spline.root_clearance_mm,
+                                outer_radius_mm=_half(gearset.circular_spline.outer_diameter_mm),  # = the STEP ring's
                                 chord_tol_mm=scene.chord_tol_mm)
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples)
     form = _with_clearance(form, cmap)
@@ -458,6 +459,10 @@ def _with_contact(result: Design, step) -> Design:
         f"rated {rated.torque_nm:g} N·m: {rated.teeth_in_contact} teeth per zone, rotation "
         f"{rated.rotation_arcmin:.3f} arcmin, max tooth force {rated.max_tooth_force_n:.0f} N"))
     return replace(result, stages=tuple(stages), warnings=result.warnings + tuple(contact.warnings), contact=contact)
+
+
+def _half(diameter_mm: float | None) -> float | None:
+    return None if diameter_mm is None else diameter_mm / 2.0
 
 
 def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=None) -> CSProfile:
