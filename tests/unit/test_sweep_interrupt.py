@@ -26,7 +26,7 @@ pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="si
 
 FIELD = "wave_generator.deflection_coefficient"
 SLOW = 0.95  # the point that sleeps; it is first, so a worker is in it when the others finish
-FAST = [0.8, 1.05]
+FAST = [0.8, 1.0]  # designs that pass (at ω* = 1.05 the 0.25 mm wire's root fillet enters the FS tooth's swept region: FilletError)
 STOP_WITHIN_S = 5.0  # a hang guard: the slow point sleeps 600 s
 START_WITHIN_S = 90.0  # start-up and the first point, on a busy machine
 
