@@ -167,13 +167,32 @@ def _slow_pid(seconds: float) -> int:
     return os.getpid()
 
 
-def test_collect_takes_back_the_pieces_no_worker_started():
+def _pid_when(marker: str) -> int:
+    """This process's id, once ``marker`` exists (30 s at most)."""
+    end = time.monotonic() + 30.0
+    while not os.path.exists(marker) and time.monotonic() < end:
+        time.sleep(0.01)
+    return os.getpid()
+
+
+def test_collect_takes_back_the_pieces_no_worker_started(tmp_path):
     """steal: a job still waiting for a worker when collect() is called is made in this process
-    (the caller would only wait); one a worker has begun is left to it; the order is the jobs'."""
-    jobs = {"busy": (_slow_pid, (1.0,)), "waiting": (_pid, ()), "also": (_pid, ())}
+    (the caller would only wait); one a worker has begun is left to it; the order is the jobs'.
+    The busy job ends only when a timer releases it, long after collect() has taken its pick (a
+    fixed sleep let a descheduled test find every job done on a loaded CI machine)."""
+    import threading
+
+    marker = str(tmp_path / "release")
+    jobs = {"busy": (_pid_when, (marker,)), "waiting": (_pid, ()), "also": (_pid, ())}
+    release = threading.Timer(3.0, lambda: open(marker, "w").close())
     with report.rendering(jobs, workers=1, steal=("waiting", "also")) as collect:
         time.sleep(0.3)  # the one worker runs "busy"; the others wait behind it (or sit in its queue)
-        out = collect()
+        release.start()
+        try:
+            out = collect()
+        finally:
+            release.cancel()
+            open(marker, "w").close()
     assert list(out) == list(jobs)
     assert out["busy"] != os.getpid()
     assert os.getpid() in (out["waiting"], out["also"])  # at most one is already queued to the worker
