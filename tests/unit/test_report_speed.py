@@ -162,11 +162,6 @@ def test_html_pieces_made_anywhere_give_the_same_report(sketch):
     assert report.html_jobs(replace(sketch, stress=None)) == {}  # no report.html without the stresses
 
 
-def _slow_pid(seconds: float) -> int:
-    time.sleep(seconds)
-    return os.getpid()
-
-
 def _pid_when(marker: str) -> int:
     """This process's id, once ``marker`` exists (30 s at most)."""
     end = time.monotonic() + 30.0
