@@ -282,6 +282,10 @@ def _round(space: Chain, radius: float, *, tip_radius_mm: float, cs_teeth: int, 
         try:
             a_t, arc, b_t = _corner_fillet(a, b, r)
         except _NoRoom:
+            if where.startswith("flank"):  # a kink of the fitted flank itself (a ridge: branch fits meet,
+                done.append((where, kind, None, corner, abs(kink)))  # a short line between): kept
+                j += 1
+                continue
             raise _NoRoom(where, kind) from None
         new = ([(a_t, tag_a)] if a_t is not None else []) + [(arc, "fillet")] + ([(b_t, tag_b)] if b_t is not None else [])
         els[j:j + 2] = new
@@ -299,7 +303,7 @@ def _fits(space, radius, *, tip_radius_mm, cs_teeth, swept, swept_tol_mm) -> boo
         return False
     if any(isinstance(e, Arc) and e.sweep < 0 and e.radius < radius * (1 - 1e-9) for e in els):
         return False
-    inside = [arc for _, kind, arc, _, _ in done if kind == INSIDE]
+    inside = [arc for _, kind, arc, _, _ in done if kind == INSIDE and arc is not None]
     if swept is not None and inside:  # one call for every fillet: the swept depth is the costly part
         return float(np.max(swept(np.vstack([_arc_points(arc) for arc in inside])))) <= swept_tol_mm
     return True
@@ -333,7 +337,7 @@ def _largest_clear(space, radius, *, tip_radius_mm, cs_teeth, swept, swept_tol_m
 
     def excess(r):
         _, done = _round(space, r, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth, inside_only=True)
-        pts = [_arc_points(arc) for _, kind, arc, _, _ in done if kind == INSIDE]
+        pts = [_arc_points(arc) for _, kind, arc, _, _ in done if kind == INSIDE and arc is not None]
         return float(np.max(swept(np.vstack(pts)))) - swept_tol_mm if pts else -1.0
 
     lo = 1e-6 * radius
@@ -377,6 +381,17 @@ def round_space(space: Chain, *, radius_mm: float, tip_radius_mm: float, cs_teet
         els, done = _round_shrunk(space, radius_mm, **kw)
     warnings = []
     fillets = []
+    for where, kind, arc, corner, kink in done:
+        if arc is None:  # a kink of the fitted flank with no room beside it for the round: kept
+            shortest = min(e.length for e in space.elements
+                           if min(np.hypot(*(e.start - corner)), np.hypot(*(e.end - corner))) < 1e-9)
+            msg = (f"the CS {where} corner at ({corner[0]:.4f}, {corner[1]:.4f}) mm, a {kink:.3g}° kink of the fitted "
+                   f"flank (where the fits of two envelope branches meet), is kept sharp: an element beside it is "
+                   f"{shortest * 1e3:.3g} µm long, too short for a {radius_mm:.4g} mm round; the wire "
+                   + ("rounds it itself" if kind == INSIDE else "cuts it sharp (convex)"))
+            log.warning(msg)
+            warnings.append(msg)
+    done = [d for d in done if d[2] is not None]
     inside = [arc for _, kind, arc, _, _ in done if kind == INSIDE]
     depths = iter(np.max(swept(np.vstack([_arc_points(arc) for arc in inside])).reshape(len(inside), -1), axis=1)
                   if swept is not None and inside else [])

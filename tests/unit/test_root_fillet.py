@@ -281,3 +281,26 @@ def test_round_space_refuses_a_bad_radius(parts):
     sharp = filleted_cs_chain(flank, corners="sharp", **kw)
     with pytest.raises(FilletError, match="wire_radius_mm"):
         round_space(sharp.space, radius_mm=-1.0, tip_radius_mm=kw["tip_radius_mm"], cs_teeth=202)
+
+
+def test_a_step_in_the_fitted_flank_is_kept_sharp_with_a_warning(parts, caplog):
+    """Where the fits of two envelope branches meet (a ridge; the verify scene of the default
+    set), a 0.5 µm line joins them at right angles: no 0.145 mm round fits beside it. Those two
+    corners stay sharp, each named in a warning with the short element's length; the root
+    fillets and tip rounds are made as before (not an error: the default set's verify scene
+    refused its own file)."""
+    flank, swept, kw = parts
+    first, rest = flank.elements[0], flank.elements[1:]
+    step = 5e-4 * np.array([-first.tangent(at_end=True)[1], first.tangent(at_end=True)[0]])  # 0.5 µm across the flank
+    moved = [e.transformed(np.eye(2), step) for e in rest]
+    stepped = Chain((first, Line(first.end, first.end + step), *moved))
+    with caplog.at_level("WARNING", logger="profilegen.rootfillet"):
+        out = filleted_cs_chain(stepped, radius_mm=RADIUS, swept=swept, **kw)
+    kept = [w for w in out.warnings if "kept sharp" in w]
+    assert len(kept) == 4  # two corners of the step, on each flank
+    assert all("0.5 µm long" in w and "0.145 mm round" in w for w in kept)
+    assert sum("rounds it itself" in w for w in kept) == 2 and sum("cuts it sharp" in w for w in kept) == 2
+    assert sorted(f.kind for f in out.fillets) == sorted(f.kind for f in filleted_cs_chain(
+        flank, radius_mm=RADIUS, swept=swept, **kw).fillets)  # the same root fillets and tip rounds
+    assert all(f.radius_mm == RADIUS for f in out.fillets if f.kind == INSIDE)
+    assert 89.0 < max_kink_deg(out.outline) < 91.0  # the step's corners: the only non-G1 joins
