@@ -355,6 +355,21 @@ def _loads_last(order: np.ndarray, loaded_dofs: np.ndarray) -> np.ndarray:
     return order if first >= order.size - 1 - last else order[::-1]
 
 
+def _bore_rotation(xy: np.ndarray, bore: np.ndarray, r_bore: float, ix, iy, n: int) -> np.ndarray:
+    """c with c·u the bore's mean rotation (its weights: quadratic edges along the bore, L/6,
+    2L/3, L/6 at each edge's nodes), over ``n`` dof."""
+    c = np.zeros(n)
+    th = np.arctan2(xy[0, bore], xy[1, bore])
+    for e in range((bore.size - 1) // 2):
+        tri = bore[2 * e:2 * e + 3]
+        length = r_bore * abs(th[2 * e + 2] - th[2 * e])
+        for node, w in zip(tri, (length / 6, 2 * length / 3, length / 6)):
+            t = math.atan2(xy[0, node], xy[1, node])
+            c[ix[node]] += w * math.cos(t)
+            c[iy[node]] -= w * math.sin(t)
+    return c
+
+
 def _edge_projection(xy_nodes: np.ndarray, line: np.ndarray, points: np.ndarray, window=None):
     """Project ``points`` (m, 2) onto the chain of quadratic edges along the node line
     ``line`` (node indices sorted along the boundary: vertex, mid, vertex, mid, …).
@@ -595,15 +610,7 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
     b_red = (tie.T @ loads).tocsr()
 
     # gauge: the bore's mean rotation c·u = 0 (uniform tangential traction as its reaction)
-    c_full = np.zeros(n_full)
-    th = np.arctan2(xy[0, bore], xy[1, bore])
-    for e in range((bore.size - 1) // 2):
-        tri = bore[2 * e:2 * e + 3]
-        length = r_bore * abs(th[2 * e + 2] - th[2 * e])
-        for node, w in zip(tri, (length / 6, 2 * length / 3, length / 6)):
-            t = math.atan2(xy[0, node], xy[1, node])
-            c_full[ix[node]] += w * math.cos(t)
-            c_full[iy[node]] -= w * math.sin(t)
+    c_full = _bore_rotation(xy, bore, r_bore, ix, iy, n_full)
     rot_full = np.zeros(n_full)
     rot_full[ix], rot_full[iy] = xy[1], -xy[0]
     c_red = tie.T @ c_full
@@ -979,15 +986,7 @@ def _half_ring_pitch(ring, youngs_modulus_mpa, poisson_ratio, r_bore, bore, slid
     pitch = _Pitch(stiffness, left, right, left_nodes.size, _dof_key(ring, ix, iy, n_extra, bore), ring.pitch_rad,
                    where, modes=modes)
     # the bore's mean rotation c·u (as _half_ring_flex: quadratic edges, weights L/6, 2L/3, L/6)
-    c = np.zeros(n)
-    th = np.arctan2(xy[0, bore], xy[1, bore])
-    for e in range((bore.size - 1) // 2):
-        tri = bore[2 * e:2 * e + 3]
-        length = r_bore * abs(th[2 * e + 2] - th[2 * e])
-        for node, w in zip(tri, (length / 6, 2 * length / 3, length / 6)):
-            t = math.atan2(xy[0, node], xy[1, node])
-            c[ix[node]] += w * math.cos(t)
-            c[iy[node]] -= w * math.sin(t)
+    c = _bore_rotation(xy, bore, r_bore, ix, iy, n)
     rot = np.zeros(n)
     rot[ix], rot[iy] = xy[1], -xy[0]
     if n_extra:
