@@ -20,24 +20,26 @@ from tests.benchmarks.stages import FIELDS, STAGES, format_stage_rows, stage_ben
 
 CHEAP = ("rim", "fit", "envelope", "stress")
 
-# one xdist worker runs the whole module: the studies (~40 s CPU) are a module fixture, which
-# each worker would otherwise compute for its share of the tests (pyproject: --dist loadgroup)
+# one xdist worker runs the whole module: the studies (~40 s CPU) are a fixture, which each
+# worker would otherwise compute for its share of the tests (pyproject: --dist loadgroup). Session
+# scope: in the full suite the worker ran other modules' tests between this module's, and a module
+# fixture was torn down and computed again (two 33 s setups in the fresh-clone CI log)
 pytestmark = pytest.mark.xdist_group("bench_stages")
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def gearset():
     return load_gearset(default_gearset_path())
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def design_scene(gearset):
     from profilegen.pipeline import design
 
     return design(gearset, scene="design", contact=False, stress=False)
 
 
-@pytest.fixture(scope="module")
+@pytest.fixture(scope="session")
 def rows(gearset, design_scene):
     return stage_benchmark(gearset, quick=True, repeats=1, stages=CHEAP, designs={"design": design_scene})
 
