@@ -314,33 +314,46 @@ def load_sweep_spec(path: str | os.PathLike) -> SweepSpec:
     return parse_sweep_spec(data, origin=str(path), base_dir=path.parent, default_name=path.stem)
 
 
+def spec_header(data, top_keys, fail, *, what: str, default_name: str, base_dir) -> tuple:
+    """The checks a sweep and an optimisation spec share: a table of known keys, its ``name``
+    (a safe folder name), ``description`` and base ``gearset`` (relative to ``base_dir``, the
+    spec's folder). Returns (name, description, base folder, GearSet); ``fail(key, problem)`` raises."""
+    if not isinstance(data, Mapping):
+        fail("<file>", f"{what} must be a table, got {type(data).__name__}")
+    for key in data:
+        if key not in top_keys:
+            fail(str(key), f"unknown key (allowed: {', '.join(top_keys)})")
+    name = _text(data, "name", default_name, fail)
+    _check_name(name, fail)
+    description = _text(data, "description", "", fail)
+    base = Path(base_dir) if base_dir is not None else Path.cwd()
+    return name, description, base, _base_gearset(_text(data, "gearset", "default", fail), base, fail)
+
+
+def spec_scene(text: str, base: Path, gearset, fail, key: str):
+    """A spec's scene: a preset name or a scenes file (relative to ``base``), resolved for ``gearset``."""
+    from .scenes import resolve_scene
+
+    arg = text if not looks_like_path(text) or Path(text).is_absolute() else base / text
+    try:
+        return resolve_scene(arg, default=gearset.scene)
+    except GearSetError as exc:
+        fail(key, str(exc))
+
+
 def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | os.PathLike | None = None,
                      default_name: str = "sweep") -> SweepSpec:
     """Validate a spec mapping (the TOML's tables) and build the :class:`SweepSpec`.
 
     Relative gear-set and scene file paths are taken from ``base_dir`` (the spec's folder).
     """
-    from .scenes import resolve_scene
 
     def fail(key: str, problem: str):
         raise SweepSpecError(f"{origin}: {key}: {problem}")
 
-    if not isinstance(data, Mapping):
-        fail("<file>", f"a sweep spec must be a table, got {type(data).__name__}")
-    for key in data:
-        if key not in _TOP_KEYS:
-            fail(str(key), f"unknown key (allowed: {', '.join(_TOP_KEYS)})")
-    name = _text(data, "name", default_name, fail)
-    _check_name(name, fail)
-    description = _text(data, "description", "", fail)
-    base = Path(base_dir) if base_dir is not None else Path.cwd()
-    gearset = _base_gearset(_text(data, "gearset", "default", fail), base, fail)
-    scene_text = _text(data, "scene", "sketch", fail)
-    scene_arg = scene_text if not looks_like_path(scene_text) or Path(scene_text).is_absolute() else base / scene_text
-    try:
-        scene = resolve_scene(scene_arg, default=gearset.scene)
-    except GearSetError as exc:
-        fail("scene", str(exc))
+    name, description, base, gearset = spec_header(data, _TOP_KEYS, fail, what="a sweep spec",
+                                                   default_name=default_name, base_dir=base_dir)
+    scene = spec_scene(_text(data, "scene", "sketch", fail), base, gearset, fail, "scene")
     plot = _text(data, "plot", DEFAULT_PLOT, fail)
     if plot not in OUTPUT_COLUMNS:
         fail("plot", f"{plot!r} is not an output column (one of {', '.join(OUTPUT_COLUMNS)})")

@@ -355,6 +355,18 @@ def _loads_last(order: np.ndarray, loaded_dofs: np.ndarray) -> np.ndarray:
     return order if first >= order.size - 1 - last else order[::-1]
 
 
+def _check_on_surface(dist: np.ndarray, tol_mm: float, tooth_index) -> None:
+    """A ComplianceError naming the FS point farthest off the tooth surface, if one is beyond ``tol_mm``."""
+    bad = np.flatnonzero(dist > tol_mm)
+    if bad.size:
+        k = int(bad[np.argmax(dist[bad])])
+        which = "" if tooth_index is None else f" (tooth {int(tooth_index[k])})"
+        raise ComplianceError(
+            f"fs_points: point {k}{which} is {dist[k]:.3g} mm off the FS tooth surface once "
+            f"mapped back to its tooth frame (tolerance on_surface_tol_mm = {tol_mm:g} mm); the points, tooth "
+            "indices and inputs.motion must belong together")
+
+
 def _bore_rotation(xy: np.ndarray, bore: np.ndarray, r_bore: float, ix, iy, n: int) -> np.ndarray:
     """c with c·u the bore's mean rotation (its weights: quadratic edges along the bore, L/6,
     2L/3, L/6 at each edge's nodes), over ``n`` dof."""
@@ -582,14 +594,7 @@ def _half_ring_flex(ring, youngs_modulus_mpa, poisson_ratio, r_bore, points, dir
     n_full = ix.size + iy.size
     xy = mesh.doflocs
     triples, weights, dist, _ = _edge_projection(xy, ring.outer_nodes, points)
-    bad = np.flatnonzero(dist > tol_mm)
-    if bad.size:
-        k = int(bad[np.argmax(dist[bad])])
-        which = "" if tooth_index is None else f" (tooth {int(tooth_index[k])})"
-        raise ComplianceError(
-            f"fs_points: point {k}{which} is {dist[k]:.3g} mm off the FS tooth surface once "
-            f"mapped back to its tooth frame (tolerance on_surface_tol_mm = {tol_mm:g} mm); the points, tooth "
-            "indices and inputs.motion must belong together")
+    _check_on_surface(dist, tol_mm, tooth_index)
     loads_c = _load_matrix(n_full, ix, iy, triples, weights, directions)
     z_half = -ring.start_rad  # the start cut is at θ = −z_half, the end cut at π − z_half
     ball_mesh = np.mod(ball_angles + z_half, math.pi) - z_half
@@ -1015,14 +1020,7 @@ def _half_ring_flex_substructured(rings, pitch_kind, youngs_modulus_mpa, poisson
     # the contact points: on the tooth surface of their pitch
     pitch_c, tri_c, w_c, dist, ang_c = _pitch_projection(
         points, point_pitch, pitch_kind, pitch_rad, [(r.mesh.doflocs, r.outer_nodes) for r in rings])
-    bad = np.flatnonzero(dist > tol_mm)
-    if bad.size:
-        k = int(bad[np.argmax(dist[bad])])
-        which = "" if tooth_index is None else f" (tooth {int(tooth_index[k])})"
-        raise ComplianceError(
-            f"fs_points: point {k}{which} is {dist[k]:.3g} mm off the FS tooth surface once "
-            f"mapped back to its tooth frame (tolerance on_surface_tol_mm = {tol_mm:g} mm); the points, tooth "
-            "indices and inputs.motion must belong together")
+    _check_on_surface(dist, tol_mm, tooth_index)
     # the balls: on the inner surface
     z_half = -rings[0].start_rad
     ball_mesh = np.mod(ball_angles + z_half, math.pi) - z_half

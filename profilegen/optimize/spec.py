@@ -39,8 +39,8 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from ..errors import GearSetError, OptimizeSpecError
-from ..gearset import GearSet, looks_like_path
-from ..sweep import _base_gearset, _check_field, _check_name, _flat_table, _text
+from ..gearset import GearSet
+from ..sweep import _check_field, _flat_table, spec_header, spec_scene
 from .evaluate import CONTACT_OUTPUTS, DESIGN_OUTPUTS
 from .search import SENSES, Constraint, Objective, Variable
 
@@ -119,21 +119,12 @@ def field_value(gearset: GearSet, path: str):
 def parse_optimize_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | os.PathLike | None = None,
                         default_name: str = "optimize") -> OptimizeSpec:
     """Validate a spec mapping (the TOML's tables) and build the :class:`OptimizeSpec`."""
-    from ..scenes import resolve_scene
 
     def fail(key: str, problem: str):
         raise OptimizeSpecError(f"{origin}: {key}: {problem}")
 
-    if not isinstance(data, Mapping):
-        fail("<file>", f"an optimisation spec must be a table, got {type(data).__name__}")
-    for key in data:
-        if key not in _TOP_KEYS:
-            fail(str(key), f"unknown key (allowed: {', '.join(_TOP_KEYS)})")
-    name = _text(data, "name", default_name, fail)
-    _check_name(name, fail)
-    description = _text(data, "description", "", fail)
-    base = Path(base_dir) if base_dir is not None else Path.cwd()
-    gearset = _base_gearset(_text(data, "gearset", "default", fail), base, fail)
+    name, description, base, gearset = spec_header(data, _TOP_KEYS, fail, what="an optimisation spec",
+                                                   default_name=default_name, base_dir=base_dir)
 
     def scene_of(key: str, default: str):
         text = data.get(key, default)
@@ -141,11 +132,7 @@ def parse_optimize_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str 
             fail(key, f"must be a text, got {text!r}")
         if key == "confirm_scene" and text == "":
             return None
-        arg = text if not looks_like_path(text) or Path(text).is_absolute() else base / text
-        try:
-            return resolve_scene(arg, default=gearset.scene)
-        except GearSetError as exc:
-            fail(key, str(exc))
+        return spec_scene(text, base, gearset, fail, key)
 
     scene = scene_of("scene", "sketch")
     confirm = scene_of("confirm_scene", "design")
