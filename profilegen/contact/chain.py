@@ -647,7 +647,7 @@ def _solve_side(points, compliance, magnitude_nm: float, bearing: BallBearing | 
     phi_rigid = float(sol.phi_rad)
     rigid_sol = sol
     if bearing is None:
-        return phi_rigid, phi_rigid, sol, rigid_sol, comp
+        return phi_rigid, phi_rigid, sol, rigid_sol, comp, None
     # the secant springs' fixed point, in log c: c = c_H R(c)^(−1/3). Plain steps contract by ~1/3
     # (12 steps to 1e-6 on the default set); a per-ball secant estimate q of the map's slope
     # (Steffensen) takes x + (g − x)/(1 − q) instead, and a start from a neighbouring torque's springs
@@ -680,6 +680,194 @@ def _solve_side(points, compliance, magnitude_nm: float, bearing: BallBearing | 
     return phi_rigid, float(sol.phi_rad), sol, rigid_sol, comp, np.exp(x)
 
 
+class _BallShim:
+    """What :func:`~profilegen.contact.analysis._load_case` reads of a compliance: the balls."""
+
+    __slots__ = ("ball_angle_rad", "ball_active", "_reactions")
+
+    def __init__(self, angles, active, reactions):
+        self.ball_angle_rad, self.ball_active, self._reactions = angles, active, reactions
+
+    def ball_reactions(self, forces_n):
+        return self._reactions
+
+
+class _ReducedZone:
+    """One flank's contact, ball settling and Hertz springs solved on reduced systems.
+
+    The same problem as :func:`_solve_side` (whose answer is unique: the contact's QP is
+    strictly convex for a given ball set and springs), solved without assembling the n × n
+    compliance or running Lemke's method from scratch: for a ball set B with springs c the
+    compliance's columns at the loaded points P are S[:, P] = S_CS[:, P] + (F_cc[:, P] −
+    F_cB W[:, P]) / b, W = (F_BB + diag(c b))⁻¹ F_cBᵀ (a |B| × |B| Cholesky factor, |B| ≤ the
+    candidate balls); equilibrium and closed gaps on P are a (|P| + 1) bordered system; P
+    follows the primal–dual active-set rule (keep the loaded points with F > 0, take in the
+    points with a negative gap) from the previous torque's P, B and springs — continuation
+    in T. The balls settle and the springs reach their secant fixed point in the same loop,
+    by the rules of :func:`_solve_side`. A loop that cycles or does not end falls back to
+    the reference (Lemke on the assembled matrix) for that torque.
+    """
+
+    def __init__(self, points, compliance, bearing):
+        self.points, self.compliance, self.bearing = points, compliance, bearing
+        self.theta = np.asarray(points.theta_rad, dtype=float)
+        self.r = np.asarray(points.lever_mm, dtype=float)
+        self.b = float(compliance.face_width_mm)
+        cc = np.asarray(compliance._flex_cc, dtype=float)
+        self.cc = 0.5 * (cc + cc.T)
+        self.cs = np.asarray(compliance.cs_matrix_mm_per_n, dtype=float)
+        self.cb = np.asarray(compliance._flex_cb, dtype=float)
+        self.bb = np.asarray(compliance._flex_bb, dtype=float)
+        self.base_diag = np.diag(self.cs) + np.diag(self.cc) / self.b
+        self.c_hertz = None if bearing is None else bearing.hertz_coefficient()
+
+    # --- the pieces for one ball set
+    def _balls(self, active, springs):
+        from scipy.linalg import cho_factor, cho_solve
+
+        act = np.flatnonzero(active)
+        if act.size == 0:
+            return act, np.zeros((0, self.r.size))
+        block = self.bb[np.ix_(act, act)]
+        if springs is not None:
+            block = block + np.diag(springs[act] * self.b)
+        w = cho_solve(cho_factor(block), self.cb[:, act].T)
+        return act, w
+
+    def _columns(self, act, w, cols):
+        out = self.cs[:, cols] + self.cc[:, cols] / self.b
+        if act.size:
+            out -= (self.cb[:, act] @ w[:, cols]) / self.b
+        return out
+
+    def _contact(self, act, w, tz, loaded):
+        """Contact for fixed balls from the loaded set ``loaded`` (bool): → (F, φ, gaps,
+        loaded, iterations) or None when the active-set rule cycles."""
+        th, r = self.theta, self.r
+        seen = set()
+        for it in range(1, 4 * r.size + 20):
+            key = loaded.tobytes()
+            if key in seen:
+                return None
+            seen.add(key)
+            p = np.flatnonzero(loaded)
+            if p.size == 0:
+                p = np.array([int(np.argmin(th))])
+                loaded = np.zeros(r.size, bool)
+                loaded[p] = True
+            cols = self._columns(act, w, p)
+            spp = 0.5 * (cols[p] + cols[p].T)
+            # scaled as the solvers are (moments m = rF/T, angles over τ = a0 T)
+            a0 = float(np.mean(np.diag(spp) / r[p] ** 2))
+            tau = a0 * tz
+            tmin = float(th[p].min())
+            k = p.size
+            kkt = np.zeros((k + 1, k + 1))
+            kkt[:k, :k] = spp / np.outer(r[p], r[p]) / a0
+            kkt[:k, k] = -1.0
+            kkt[k, :k] = 1.0
+            rhs = np.concatenate([-(th[p] - tmin) / tau, [1.0]])
+            sol = np.linalg.solve(kkt, rhs)
+            force = np.zeros(r.size)
+            force[p] = tz * sol[:k] / r[p]
+            phi = tmin + tau * float(sol[k])
+            gap = r * (th - phi) + cols @ force[p]
+            ghat = gap / (r * tau)
+            tol = 1e-10 * (1.0 + abs(float(sol[k])))
+            new = (loaded & (force > 0.0)) | (~loaded & (ghat < -tol))
+            if np.array_equal(new, loaded):
+                return force, phi, gap, loaded, it
+            loaded = new
+        return None
+
+    def solve(self, magnitude_nm: float, state, *, springs_on: bool, max_iterations: int, spring_tol: float):
+        """One |T| from ``state`` = (loaded points, active balls, log springs or None), the
+        previous torque's: → dict (φ, F, gaps, loaded, ball set, reactions, springs, S's
+        diagonal, iterations) or None (the loop cycled or did not end: use the reference).
+        ``springs_on``: with the Hertz springs (from rigid supports when the state has none),
+        else rigid balls."""
+        tz = magnitude_nm / self.points.zones * 1e3
+        loaded, active, x = state
+        loaded, active = loaded.copy(), active.copy()
+        x = x if springs_on else None
+        x_prev = g_prev = None
+        total = 0
+        seen = set()
+        for _ in range(max_iterations):
+            act, w = self._balls(active, None if x is None else np.exp(x))
+            out = self._contact(act, w, tz, loaded)
+            if out is None:
+                return None
+            force, phi, gap, loaded, it = out
+            total += it
+            react = np.zeros(active.size)
+            if act.size:
+                react[act] = -(w @ force)
+            # seed 000's ball settling, as ContactCompliance.settle_balls: the most tensile ball
+            # leaves, else the most pressed dropped ball comes back
+            tol = 1e-12 * max(1.0, float(np.abs(react).max(initial=0.0)))
+            pulling = active & (react < -tol)
+            if pulling.any():
+                active[np.flatnonzero(pulling)[np.argmin(react[pulling])]] = False
+                continue
+            ball_gap = self.cb.T @ (force / self.b) + self.bb[:, act] @ (react[act] / self.b)
+            pressed = ~active & (ball_gap < -1e-15)
+            if pressed.any():
+                key = (active.tobytes(), None if x is None else x.tobytes())
+                if key in seen:
+                    return None
+                seen.add(key)
+                active[np.flatnonzero(pressed)[np.argmin(ball_gap[pressed])]] = True
+                continue
+            if not springs_on:
+                break
+            # the springs' secant fixed point in log c, as _solve_side (Steffensen per ball)
+            floor = max(1.0, 1e-3 * float(react.max(initial=0.0)))
+            g = np.log(self.c_hertz * np.maximum(react, floor) ** (-1.0 / 3.0))
+            if x is not None and np.all(np.abs(np.expm1(g - x)) <= spring_tol):
+                break
+            step = g
+            if x is not None and x_prev is not None:
+                dx, dg = x - x_prev, g - g_prev
+                q = np.clip(np.divide(dg, dx, out=np.zeros_like(dx), where=np.abs(dx) > 1e-14), -0.9, 0.5)
+                step = x + (g - x) / (1.0 - q)
+            if x is not None:
+                x_prev, g_prev = x, g
+            x = step
+        else:
+            return None
+        diag = self.base_diag.copy()
+        if act.size:
+            diag -= np.einsum("ij,ji->i", self.cb[:, act], w) / self.b
+        return {"phi": phi, "force": force, "gap": gap, "loaded": loaded, "active": active, "reactions": react,
+                "log_springs": x, "diag": diag, "iterations": total}
+
+
+def _solution(zone: _ReducedZone, magnitude_nm: float, out: dict, t0: float):
+    """A ContactSolution of the reduced solve (the fields and residuals of solvers._finish)."""
+    from .solvers import ContactSolution
+
+    tz = magnitude_nm / zone.points.zones * 1e3
+    r = zone.r
+    force, phi, gap, loaded, iterations = out["force"], out["phi"], out["gap"], out["loaded"], out["iterations"]
+    moment = r * force
+    theta_min = float(zone.theta.min())
+    a0 = float(np.mean(out["diag"] / r ** 2))
+    tau = a0 * tz
+    comp = float(np.max(np.abs(force * gap))) / (tz * (abs(phi - theta_min) + tau))
+    equi = abs(float(np.sum(moment)) - tz) / tz
+    warnings = []
+    all_loaded = bool(np.all(loaded))
+    if all_loaded:
+        warnings.append(f"all {r.size} candidate points are loaded: the torque {tz:.6g} N·mm has used up the contact "
+                        "points given; points not in the list (further teeth or flank) would close too")
+    return ContactSolution(
+        method="continuation", torque_nmm=tz, force_n=force, moment_nmm=moment, phi_rad=phi, gap_mm=gap,
+        loaded=loaded, iterations=iterations, complementarity_residual=comp, equilibrium_residual=equi,
+        time_s=time.perf_counter() - t0, all_points_loaded=all_loaded, warnings=tuple(warnings),
+        diagnostics={"tau_rad": tau, "theta_min_rad": theta_min, "a0_rad_per_nmm": a0, "points": int(r.size)})
+
+
 def _stiffnesses(phi_of, theta0: float, t1: float, t2: float, t3: float) -> dict:
     """The catalogue's K1, K2, K3 on the elastic rotation, and the secants T/φ at T1 and T2."""
     e1, e2, e3 = phi_of(t1) - theta0, phi_of(t2) - theta0, phi_of(t3) - theta0
@@ -691,7 +879,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
                     breakpoints_nm: tuple[float, float] | None = None, lost_motion_fraction: float = 0.03,
                     catalogue: dict | None = CATALOGUE_SIZE40_RATIO50, stations: int = 5, max_gap_mm: float = 0.12,
                     settle_iterations: int = 20, spring_iterations: int = 60,
-                    spring_tol: float = 1e-5) -> TorsionalCurve:
+                    spring_tol: float = 1e-5, method: str = "continuation") -> TorsionalCurve:
     """Rotation against signed torque (N·m; ≠ 0) for a design (or a :class:`~profilegen.
     contact.inputs.ContactInput`), both flanks (see the module docstring).
 
@@ -699,7 +887,14 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     design's gear set). ``sides``: {+1: (points, compliance), −1: (…)} from an earlier call
     (``result`` of :func:`~profilegen.contact.analysis.solve_contact` with ``side=±1``) to
     skip building them. ``breakpoints_nm``: (T1, T2) (default the catalogue's); K3 runs from
-    T2 to the set's peak torque. ``lost_motion_fraction``: f of the rated torque."""
+    T2 to the set's peak torque. ``lost_motion_fraction``: f of the rated torque.
+
+    ``method``: ``"continuation"`` (default) solves each flank's torques in increasing |T|,
+    each from the previous one's loaded points, ball set and springs, on reduced systems
+    (:class:`_ReducedZone`); ``"lemke"`` is the reference: every torque from scratch by
+    Lemke's method on the assembled compliance, settling and springs iterated around it
+    (:func:`_solve_side`). Both solve the same problem, whose solution is unique: they agree
+    to the springs' tolerance (tests/unit/test_compliance_chain.py)."""
     from .analysis import _load_case
     from .compliance import ContactCompliance
     from .inputs import ContactInput
@@ -707,6 +902,8 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
 
     t0 = time.perf_counter()
     torques = np.sort(_checked_signed_torques(torques_nm))
+    if method not in ("continuation", "lemke"):
+        raise ChainError(f"method = {method!r}: must be 'continuation' or 'lemke'")
     f = _number("lost_motion_fraction", lost_motion_fraction, "", 0.0, 0.5)
     if chain is not None and not isinstance(chain, ComplianceChain):
         raise ChainError(f"chain = {chain!r}: must be a ComplianceChain (compliance_chain(gearset)) or None")
@@ -765,9 +962,47 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
             cache[key] = (phi_r, phi_b, case, notes)
         return cache[key]
 
+    def continuation(side: int, magnitudes) -> None:
+        """Fill the cache for one flank, |T| ascending, each torque from the one before."""
+        pts, comp = sides[side]
+        zone = _ReducedZone(pts, comp, chain.bearing)
+        start = np.zeros(pts.count, bool)
+        start[int(np.argmin(pts.theta_rad))] = True
+        rigid_state = (start, np.asarray(comp.ball_active, bool), None)
+        spring_state, previous = rigid_state, None
+        cap = settle_iterations + spring_iterations
+        for m in sorted(magnitudes):
+            if (side, m) in cache:
+                continue
+            tm = time.perf_counter()
+            rigid = zone.solve(m, rigid_state, springs_on=False, max_iterations=cap, spring_tol=spring_tol)
+            loaded, active, x = spring_state
+            if x is not None:
+                x = x - math.log(m / previous) / 3.0  # ball loads ∝ T roughly, c ∝ Q^(−1/3)
+            springs = None if rigid is None else zone.solve(
+                m, (loaded, active, x), springs_on=chain.bearing is not None, max_iterations=cap,
+                spring_tol=spring_tol)
+            if springs is None:  # the reduced loop cycled or did not end: the reference for this torque
+                log.info("torsional_curve: the reference solve at %g N·m (side %+d)", m, side)
+                solve(side, m)
+                continue
+            rigid_state = (rigid["loaded"], rigid["active"], None)
+            spring_state, previous = (springs["loaded"], springs["active"], springs["log_springs"]), m
+            sol = _solution(zone, m, springs, tm)
+            balls = _BallShim(comp.ball_angle_rad, springs["active"], springs["reactions"])
+            case, notes = _load_case(pts, m, sol, balls)
+            cache[(side, m)] = (float(rigid["phi"]), float(springs["phi"]), case, notes)
+
     from threadpoolctl import threadpool_limits
 
     with threadpool_limits(limits=1, user_api="blas"):
+        if method == "continuation":
+            needed = {s: {t1, t2, t3, t_lm} for s in (1, -1)}
+            needed[1].add(rated)
+            for t in torques:
+                needed[1 if t > 0 else -1].add(float(abs(t)))
+            for s in (1, -1):
+                continuation(s, needed[s])
         rows = []
         for t in torques:
             side = 1 if t > 0 else -1
