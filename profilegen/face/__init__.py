@@ -1,0 +1,30 @@
+"""Face width and FS tooth modification along the face (issue 15, items 4 and 5).
+
+* :mod:`profilegen.face.sections` — one axial section of the tooth ring (its deformation from
+  the 3D cup, motion, envelope) and the signed gap of CS points to its swept region;
+* :mod:`profilegen.face.stage` — :func:`face_width`: the sections, the design section, the one
+  CS outline and the clearance map (axial position × φ) → :class:`FaceWidth`;
+* :mod:`profilegen.face.modification` — the tooth-thickness taper and crowning along the face
+  (:func:`solve_modification`, :func:`apply_modification`) → :class:`ToothModification`.
+"""
+
+from .modification import ToothModification, apply_modification, modified_tooth, solve_modification, thickness_change
+from .sections import FaceError, FaceSection, ring_span, section_fit, signed_gap, solve_section
+from .stage import FaceWidth, SectionClearance, face_width, section_clearance
+
+__all__ = [
+    "FaceError",
+    "FaceSection",
+    "FaceWidth",
+    "SectionClearance",
+    "ToothModification",
+    "apply_modification",
+    "face_width",
+    "modified_tooth",
+    "ring_span",
+    "section_clearance",
+    "section_fit",
+    "signed_gap",
+    "solve_modification",
+    "thickness_change",
+]

@@ -1,0 +1,222 @@
+"""FS tooth modification along the face (issue 15, item 5): a linear taper and a crowning of the
+tooth thickness that make the one CS profile interference-free at every section with the
+backlash as uniform as it can be.
+
+The modification is a change of the FS tooth thickness on the pitch line (both flanks, mm;
+negative: thinner), zero at the design section z_d (whose tooth the CS is conjugate to)::
+
+    Δs(z) = taper · (z − z_d) − crowning · (u(z)² − u(z_d)²),   u(z) = (z − z_mid) / (b/2)
+
+``taper_mm_per_mm`` per mm toward the open end; ``crowning_mm`` the thinning at both face ends
+against the mid-face z_mid (b: the face width). A section's tooth is the gear set's with
+``half_thickness_mm`` + Δs/2 (the flanks moved along the tooth's tangent, DCTA and involute
+teeth).
+
+Computed (:func:`solve_modification`) as a minimax linear programme (scipy HiGHS) in
+(taper, crowning, t): minimise t, the largest backlash over the sections, subject to no
+interference at any pose of any section, with every section's clearances
+linear in Δs on the φ grid of the face map — c_k(φ) + σ_k(φ) Δs_k ≥ 0 at every pose, ≤ t at
+the design section's engaged poses (σ: the clearance's change per mm of thickness, first from
+a finite difference at the design section, then the secant of each section's own recomputed
+map). Each step recomputes the modified sections' maps exactly; it stops when they are
+interference-free (or after ``iterations`` steps, with a warning).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from .. import checks
+from ..results import json_ready, readonly
+from .sections import FaceError, ring_span
+from .stage import FaceWidth, _map, face_map
+
+__all__ = ["ToothModification", "apply_modification", "modified_tooth", "solve_modification", "thickness_change"]
+
+#: the finite-difference step of the first sensitivity (mm of tooth thickness)
+FD_STEP_MM = 4e-3
+
+
+class _ToothFields:
+    """A tooth section with ``half_thickness_mm`` replaced (for :func:`profilegen.teeth.tooth_from_gearset`)."""
+
+    def __init__(self, tooth, half_thickness_mm: float):
+        self._tooth, self.half_thickness_mm = tooth, half_thickness_mm
+
+    def __getattr__(self, name):
+        return getattr(self._tooth, name)
+
+
+class _GearSetView:
+    def __init__(self, gearset, tooth):
+        self.gear, self.tooth = gearset.gear, tooth
+
+
+def modified_tooth(gearset, thickness_change_mm: float):
+    """The gear set's FS tooth with its thickness on the pitch line changed by
+    ``thickness_change_mm`` (half on each flank)."""
+    from ..teeth import tooth_from_gearset
+
+    t = gearset.tooth
+    if getattr(t, "kind", None) not in ("dcta", "involute"):
+        raise FaceError(f"face.taper_mm_per_mm / face.crowning_mm: a tooth of kind {getattr(t, 'kind', None)!r} "
+                        "cannot be modified (its thickness is not a field); tooth.kind must be dcta or involute")
+    if thickness_change_mm == 0.0:
+        return tooth_from_gearset(gearset)
+    h = float(t.half_thickness_mm) + 0.5 * float(thickness_change_mm)
+    return tooth_from_gearset(_GearSetView(gearset, _ToothFields(t, h)))
+
+
+def thickness_change(z_mm, *, taper_mm_per_mm: float, crowning_mm: float, design_z_mm: float,
+                     ring_span_mm: tuple[float, float]) -> np.ndarray:
+    """Δs(z) of the module docstring (mm)."""
+    lo, hi = ring_span_mm
+    mid, half = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    z = np.asarray(z_mm, dtype=float)
+    return taper_mm_per_mm * (z - design_z_mm) - crowning_mm * (((z - mid) / half) ** 2 - ((design_z_mm - mid) / half) ** 2)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ToothModification:
+    """The modification and the face with it applied: ``taper_mm_per_mm``, ``crowning_mm``,
+    ``source`` ("computed" or "given"), the thickness change of each section
+    ``thickness_change_mm``, its ``table`` (SectionClearance rows) and clearance map
+    ``clearance_mm`` (sections × φ) against the same CS; ``iterations`` of the LP, the
+    ``predicted_backlash_mm`` of the last LP (the recomputed one is in the table)."""
+
+    taper_mm_per_mm: float
+    crowning_mm: float
+    source: str
+    method: str
+    thickness_change_mm: np.ndarray
+    sections: tuple
+    table: tuple
+    clearance_mm: np.ndarray
+    iterations: int
+    predicted_backlash_mm: float | None
+    time_s: float
+    warnings: tuple = field(default=())
+
+    def __post_init__(self):
+        object.__setattr__(self, "thickness_change_mm", readonly(self.thickness_change_mm))
+        object.__setattr__(self, "clearance_mm", readonly(self.clearance_mm))
+
+    @property
+    def max_interference_mm(self) -> float:
+        return float(max(0.0, -min(r.min_clearance_mm for r in self.table)))
+
+    @property
+    def max_backlash_mm(self) -> float:
+        return float(max(r.max_backlash_mm for r in self.table))
+
+    def to_dict(self) -> dict:
+        return json_ready({
+            "taper_mm_per_mm": self.taper_mm_per_mm, "crowning_mm": self.crowning_mm, "source": self.source,
+            "method": self.method,
+            "definition": "tooth thickness change on the pitch line Δs(z) = taper·(z − z_d) − crowning·(u² − u_d²), "
+                          "u = (z − z_mid)/(b/2); zero at the design section",
+            "sections": [r.to_dict() for r in self.table],
+            "max_interference_mm": self.max_interference_mm, "max_backlash_mm": self.max_backlash_mm,
+            "iterations": self.iterations, "predicted_backlash_mm": self.predicted_backlash_mm,
+            "time_s": self.time_s, "warnings": list(self.warnings)})
+
+
+def _modified_sections(gearset, face: FaceWidth, ds: np.ndarray):
+    """The sections with their teeth modified by ``ds`` (same motion; the envelope is not traced)."""
+    return [s if abs(d) < 1e-12 else replace(s, tooth=modified_tooth(gearset, float(d)), envelope=None)
+            for s, d in zip(face.sections, ds)]
+
+
+def _finish(gearset, face, secs, ds, taper, crown, source, method, iterations, predicted, start, warnings):
+    rows, _, cmap, _ = face_map(face.form, secs, face.design_index, samples=face.map_samples, thickness_change_mm=ds)
+    rows = [replace(r, max_backlash_mm=float(np.max(c[face.engaged]))) for r, c in zip(rows, cmap)]
+    mod = ToothModification(float(taper), float(crown), source, method, ds, tuple(secs), tuple(rows), cmap,
+                            iterations, predicted, time.perf_counter() - start, tuple(warnings))
+    if mod.max_interference_mm > face.interference_tol_mm:
+        warnings.append(f"with the tooth modification the CS still interferes by {mod.max_interference_mm * 1e3:.3g} µm")
+        mod = replace(mod, warnings=tuple(warnings))
+    return mod
+
+
+def apply_modification(gearset, deformation, face: FaceWidth, taper_mm_per_mm: float,
+                       crowning_mm: float) -> ToothModification:
+    """The face with a given modification (gear-set fields ``[face] taper_mm_per_mm``, ``crowning_mm``)."""
+    start = time.perf_counter()
+    taper = checks.number("face.taper_mm_per_mm", taper_mm_per_mm, "mm/mm", -0.01, 0.01, low_open=False,
+                          high_open=False, error=FaceError)
+    crown = checks.number("face.crowning_mm", crowning_mm, "mm", -0.1, 0.1, low_open=False, high_open=False,
+                          error=FaceError)
+    ds = thickness_change(face.z_mm, taper_mm_per_mm=taper, crowning_mm=crown, design_z_mm=face.design_section_z_mm,
+                          ring_span_mm=ring_span(deformation))
+    secs = _modified_sections(gearset, face, ds)
+    return _finish(gearset, face, secs, ds, taper, crown, "given", "as given", 0, None, start, [])
+
+
+def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool = True,
+                       iterations: int = 4) -> ToothModification:
+    """The taper (and crowning, unless ``crowning=False``) that make the one CS interference-free
+    at every section with the least largest backlash (minimax LP, see the module docstring)."""
+    from scipy.optimize import linprog
+
+    start = time.perf_counter()
+    span = ring_span(deformation)
+    z, zd = face.z_mm, face.design_section_z_mm
+    a = z - zd
+    mid, half = 0.5 * (span[0] + span[1]), 0.5 * (span[1] - span[0])
+    c = -(((z - mid) / half) ** 2 - ((zd - mid) / half) ** 2)
+    c0 = face.clearance_mm
+    engaged = face.engaged
+    samples = face.map_samples
+
+    # first sensitivity: the design section's tooth made thicker by FD_STEP_MM
+    d = face.design_index
+    thick = replace(face.sections[d], tooth=modified_tooth(gearset, FD_STEP_MM), envelope=None)
+    sens = np.tile((_map(face.form, thick, samples).clearance_mm - c0[d]) / FD_STEP_MM, (z.size, 1))
+
+    nvar = 3 if crowning else 2
+    warnings: list[str] = []
+    taper = crown = 0.0
+    ds = np.zeros(z.size)
+    secs = list(face.sections)
+    predicted = None
+    method = ("minimax LP (scipy HiGHS): the least largest backlash over the sections' engaged poses, no "
+              "interference at any pose of any section; clearances linear in the thickness change, recomputed "
+              "after each step (secant sensitivities)")
+    done = 0
+    for it in range(1, iterations + 1):
+        rows_ub, rhs_ub = [], []
+        for k in range(z.size):
+            basis = np.array([a[k], c[k]])[: nvar - 1]
+            m = sens[k][:, None] * basis[None, :]
+            if k != d:  # the design section's tooth is not modified (its own map is ~0 within the chord)
+                rows_ub.append(np.hstack([-m, np.zeros((m.shape[0], 1))]))  # c + σΔs ≥ 0
+                rhs_ub.append(c0[k])
+            rows_ub.append(np.hstack([m[engaged], -np.ones((int(engaged.sum()), 1))]))  # c + σΔs ≤ t
+            rhs_ub.append(-c0[k][engaged])
+        cost = np.zeros(nvar)
+        cost[-1] = 1.0
+        lp = linprog(cost, A_ub=np.vstack(rows_ub), b_ub=np.concatenate(rhs_ub),
+                     bounds=[(-0.01, 0.01)] + ([(-0.1, 0.1)] if crowning else []) + [(None, None)], method="highs")
+        if lp.status != 0:
+            warnings.append(f"tooth modification: the LP failed ({lp.message}); the last step is kept")
+            break
+        taper, crown = float(lp.x[0]), (float(lp.x[1]) if crowning else 0.0)
+        predicted = float(lp.x[-1])
+        ds_new = a * taper + c * crown
+        secs = _modified_sections(gearset, face, ds_new)
+        cmaps = np.array([c0[k] if abs(ds_new[k]) < 1e-12 else _map(face.form, secs[k], samples).clearance_mm
+                          for k in range(z.size)])
+        done = it
+        for k in range(z.size):  # the secant of each section's own clearances
+            if abs(ds_new[k]) > 1e-9:
+                sens[k] = (cmaps[k] - c0[k]) / ds_new[k]
+        ds = ds_new
+        if float(cmaps.min()) >= -face.interference_tol_mm:
+            break
+    else:
+        warnings.append(f"tooth modification: still interfering after {iterations} LP steps")
+    return _finish(gearset, face, secs, ds, taper, crown, "computed", method, done, predicted, start, warnings)
