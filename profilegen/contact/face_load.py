@@ -1,0 +1,423 @@
+"""Load across the face: the face width as N axial slices in parallel, each with its own gaps.
+
+The loaded contact (:mod:`profilegen.contact.analysis`) solves one section and spreads it
+evenly across the face: the compliance is S = S_2D/b (b the face width) and every axial
+position has the design section's initial gaps. The cup does not deform alike along its
+axis: ω(φ, z), υ(φ, z) of the 3D cup (:func:`profilegen.rim.cup.contact.press_cup`) grow
+from the diaphragm end toward the open end (coning), so each axial position of a tooth
+stands a little higher or lower in its CS space than the design section did.
+
+The model
+---------
+N slices of width b/N at z_i = z_0 − b/2 + (i + ½) b/N (z_0 the design section, the mid-face
+``cup.length_mm`` of :class:`~profilegen.rim.cup.geometry.CupGeometry`). Slice i is the 2D
+contact with
+
+* the compliance of a slice b/N wide: N·S (the 2D plane-stress compliance is per unit width),
+  and no coupling to the other slices (``coupling_length_mm`` = 0; see below);
+* the initial gaps e_k + Δe_ki, Δe_ki = −n_k · (p_k(z_i) − p_k(z_0)): the change of the FS
+  flank point p_k (tooth-frame station ``points.local_mm``, placed in the CS frame with the
+  exact pose of DESIGN.md trap 1) when the deformation of section z_i replaces that of
+  z_0, along the common normal n_k (out of the FS tooth, the direction the FS pushes). It
+  is the first-order change of the separation, and exact to first order at a separation's
+  local minimum (the stations there are the minima: :mod:`profilegen.contact.points`),
+  where the foot of the normal slides along the flanks without changing the distance;
+* all slices share the rigid rotation φ of the FS against the CS, and the zone torque
+  T/U = Σ_i Σ_k r_k F_ki.
+
+It is one complementarity problem in N·n unknowns with block-diagonal compliance
+diag(N·S, …, N·S), solved by the package's Lemke solver
+(:func:`~profilegen.contact.solvers.solve_lemke`). With identical slices (Δe = 0) it is the
+2D solve exactly: F_ki = F_k/N, the same φ (the 2D gaps and complementarity hold slice by
+slice; the solution is unique). Where coning makes a slice's gap negative (the FS tooth
+would overlap the CS flank at no load) the problem is still the same convex QP: the
+separations are shifted by the smallest one, which moves φ by that amount and nothing else
+(:mod:`profilegen.contact.solvers`, "Scaling").
+
+Sections
+--------
+:func:`cup_sections`: the 3D cup's sections at the slices (its Fourier harmonics
+interpolated in z as the cup's own elements do), as the kinematics' harmonic deformation;
+the reference is the cup's section at z_0, so only the *change* along the face enters —
+the design's own 2D deformation stays the one the CS was generated with.
+:func:`semi_membrane_sections`: the analytic check (DESIGN.md, "Notes for the 3D cup"):
+the wall inextensible along its generators and in shear, ω(φ, z) = ω(φ, z_0)·z/z_0 and
+υ likewise, z from the cup bottom.
+
+What is neglected, and its bound
+--------------------------------
+* **Coupling between slices.** The slices are independent springs (a Winkler foundation
+  along the face, as ISO 6336's face-load factor K_Hβ treats the mesh); the tooth and the
+  rim are plates/shells that carry load between neighbouring slices. ``coupling_length_mm``
+  λ > 0 couples them as a Pasternak foundation: the slices' compliance becomes
+  N·(I + (λ/Δz)² L)⁻¹ ⊗ S (L the chain Laplacian of the slices with free ends, Δz = b/N),
+  whose rows sum to N·S — an even load still gives the 2D solution — while a load that
+  varies along the face meets a stiffer structure. A *smooth* gap pattern (coning is
+  linear in z) therefore meets more resistance to the variation, not less, and the coupled
+  structure adds line loads at the face ends (the Pasternak edge term λ²·dw/dz): coupling
+  does not lower the end's peak below the independent slices' when the whole face is in
+  contact; it spreads a load that is concentrated on a few slices (a partly open face).
+  The benchmark (``tests/benchmarks/face_load.py``) brackets it with λ = the tooth height
+  (the tooth as a cantilever plate) and λ = √(r_m δ) (the rim as a cylindrical shell).
+* **The opposite flank.** One flank is modelled (as in the 2D contact). Where coning makes
+  the gap negative on the loaded flank it usually does on the other flank too (the tooth
+  moves radially into the CS space); that flank's preload, which would push back, is not
+  in the model, so the load on such slices is an upper bound.
+* **The cup's own radial compliance between slices.** A slice's compliance is the design
+  section's (rim on the balls, per unit width); the cup wall's axial bending, which would
+  let an overloaded slice's rim give way radially, is the coupling above.
+* The deformation of the cup under the tooth forces themselves (the cup sections are those
+  of the cup pressed onto the cam at no torque).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+from functools import partial
+
+import numpy as np
+
+from .. import checks
+from ..errors import ProfilegenError
+from ..kinematics import HarmonicDriveMotion
+from ..results import json_ready, readonly as _readonly
+
+__all__ = [
+    "FaceLoad",
+    "FaceLoadError",
+    "cup_sections",
+    "face_load",
+    "gap_shift_mm",
+    "semi_membrane_sections",
+    "slice_coupling",
+    "slice_positions",
+    "solve_face",
+]
+
+log = logging.getLogger(__name__)
+
+
+class FaceLoadError(ProfilegenError, ValueError):
+    """Bad input to the across-the-face contact; names the parameter, its value, unit and range."""
+
+
+_positive = partial(checks.positive, error=FaceLoadError)
+_whole = partial(checks.whole, error=FaceLoadError)
+_number = partial(checks.number, error=FaceLoadError)
+
+
+# --------------------------------------------------------------------------- the slices
+
+
+def slice_positions(face_width_mm: float, slices: int, centre_mm: float) -> np.ndarray:
+    """Mid-planes z_i = z_0 − b/2 + (i + ½) b/N of N slices of a face b wide centred on z_0 (mm)."""
+    b = _positive("face_width_mm", face_width_mm)
+    n = _whole("slices", slices, 1)
+    z0 = _number("centre_mm", centre_mm, "mm")
+    return z0 - 0.5 * b + (np.arange(n) + 0.5) * b / n
+
+
+def slice_coupling(slices: int, coupling_length_mm: float, slice_width_mm: float) -> np.ndarray:
+    """The slices' compliance factor K (N × N) such that slice i's deflection is Σ_j K_ij S F_j.
+
+    λ = 0: K = N·I (independent slices, each b/N wide). λ > 0: K = N (I + (λ/Δz)² L)⁻¹ with
+    L the Laplacian of the chain of slices with free ends (Pasternak foundation); L·1 = 0, so
+    every row sums to N and an even load gives the 2D deflection. Symmetric positive definite."""
+    n = _whole("slices", slices, 1)
+    lam = _positive("coupling_length_mm", coupling_length_mm, allow_zero=True)
+    dz = _positive("slice_width_mm", slice_width_mm)
+    if lam == 0.0 or n == 1:
+        return n * np.eye(n)
+    lap = np.diag(np.r_[1.0, 2.0 * np.ones(n - 2), 1.0]) - np.eye(n, k=1) - np.eye(n, k=-1)
+    kern = np.linalg.inv(np.eye(n) + (lam / dz) ** 2 * lap)
+    return n * 0.5 * (kern + kern.T)
+
+
+# --------------------------------------------------------------------------- sections and gaps
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _ScaledDeformation:
+    """A deformation times a factor (ω, υ and their φ-derivatives all scaled)."""
+
+    base: object
+    factor: float
+
+    def evaluate(self, phi, order: int = 3):
+        w, u = self.base.evaluate(phi, order=order)
+        return np.asarray(w) * self.factor, np.asarray(u) * self.factor
+
+
+def semi_membrane_sections(deformation, z_mm, reference_z_mm: float) -> list:
+    """Semi-membrane coning: the deformation at z is the reference section's times z/z_ref
+    (z from the cup bottom's mid-plane). Returns one deformation per z (with ``evaluate``)."""
+    zr = _positive("reference_z_mm", reference_z_mm)
+    z = np.atleast_1d(np.asarray(checks.finite("z_mm", z_mm, "mm", error=FaceLoadError), dtype=float))
+    if np.any(z <= 0.0):
+        raise FaceLoadError(f"z_mm = {float(z[z <= 0.0][0])!r} mm: must be > 0 (from the cup bottom)")
+    return [_ScaledDeformation(deformation, float(zi / zr)) for zi in z]
+
+
+def cup_sections(cup, z_mm) -> list:
+    """The 3D cup's sections (a :class:`~profilegen.rim.cup.fourier.CupDeformation`, or the
+    :class:`~profilegen.rim.cup.contact.CupContact` of :func:`press_cup`) at ``z_mm``, each as a
+    :class:`~profilegen.deformation.HarmonicDeformation` (mean, cos 2kφ, sin 2kφ) on the
+    neutral surface: its even harmonics projected exactly from ω(φ, z), υ(φ, z)."""
+    from ..deformation import HarmonicDeformation
+
+    deformation = getattr(cup, "deformation", cup)
+    if not hasattr(deformation, "omega") or not hasattr(deformation, "orders"):
+        raise FaceLoadError(f"cup: must be a CupDeformation or CupContact (press_cup), got {type(cup).__name__}")
+    orders = np.asarray(deformation.orders, dtype=int)
+    if np.any(orders % 2):
+        raise FaceLoadError("cup: odd harmonics present; the sections need a two-wave (even) deformation")
+    k = orders // 2  # harmonic of cos 2kφ
+    kmax = int(k.max())
+    m = 4 * (kmax + 1)
+    phi = math.pi * np.arange(m) / m  # 2φ covers a full period: exact DFT for 2k < 2m
+    z = np.atleast_1d(np.asarray(z_mm, dtype=float))
+    out = []
+    for zi in z:
+        w = deformation.omega(phi, zi)
+        u = deformation.upsilon(phi, zi)
+        kk = np.arange(1, kmax + 1)
+        a = 2.0 / m * (np.cos(2.0 * np.outer(kk, phi)) @ w)
+        b = 2.0 / m * (np.sin(2.0 * np.outer(kk, phi)) @ u)
+        out.append(HarmonicDeformation(2, a, b, float(w.mean()), tier="cup3d", source=f"cup section z = {zi:g} mm"))
+    return out
+
+
+def gap_shift_mm(points, motion: HarmonicDriveMotion, section, reference) -> np.ndarray:
+    """Δe_k (mm): the change of each point's initial separation when the deformation
+    ``section`` replaces ``reference`` (both objects with ``evaluate(phi, order)``) in the
+    FS tooth's pose — Δe_k = −n_k · (p_k(section) − p_k(reference)), the points placed as
+    :func:`~profilegen.contact.points.contact_points` places them (tooth i in CS space i).
+    Negative: the slice's tooth stands closer to the CS flank."""
+    g_rm, waves, z2 = motion.neutral_radius_mm, motion.waves, motion.cs_teeth
+    m_sec = HarmonicDriveMotion(section, g_rm, waves, z2)
+    m_ref = HarmonicDriveMotion(reference, g_rm, waves, z2)
+    local = np.asarray(points.local_mm, dtype=float)
+    phi = np.asarray(points.phi_rad, dtype=float)
+    d = m_sec.pose(phi).to_cs(local) - m_ref.pose(phi).to_cs(local)  # CS space 0's frame
+    angle = 2.0 * math.pi * np.asarray(points.tooth, dtype=float) / z2
+    c, s = np.cos(angle), np.sin(angle)
+    # turn() by a per-point angle (the package's sense: +y toward +x), as the points were
+    d_turned = np.column_stack([d[:, 0] * c + d[:, 1] * s, d[:, 1] * c - d[:, 0] * s])
+    return -np.einsum("ij,ij->i", np.asarray(points.normal, dtype=float), d_turned)
+
+
+# --------------------------------------------------------------------------- the solve
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class FaceLoad:
+    """The contact of one engagement zone across the face (mm, N, rad).
+
+    ``z_mm`` (N,) the slices' mid-planes, ``slice_width_mm`` b/N; ``force_n`` (N, n): the
+    normal force of point k in slice i; ``gap_shift_mm`` (N, n): Δe_ki; ``rotation_rad`` φ;
+    ``first_contact_rad``: the smallest initial angular separation over every slice (the
+    rotation at which the first point touches); ``zone_torque_nmm``; ``coupling_length_mm``;
+    the solver's residuals; ``reference``: the same solve with even slices (Δe = 0: the
+    2D contact spread evenly) as (force_n (n,), rotation_rad, first_contact_rad)."""
+
+    z_mm: np.ndarray
+    slice_width_mm: float
+    tooth: np.ndarray
+    lever_mm: np.ndarray
+    force_n: np.ndarray
+    gap_shift_mm: np.ndarray
+    rotation_rad: float
+    first_contact_rad: float
+    zone_torque_nmm: float
+    coupling_length_mm: float
+    complementarity_residual: float
+    equilibrium_residual: float
+    reference_force_n: np.ndarray
+    reference_rotation_rad: float
+    reference_first_contact_rad: float
+    time_s: float
+    zones: int = 1
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self):
+        for name in ("z_mm", "lever_mm", "force_n", "gap_shift_mm", "reference_force_n"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        object.__setattr__(self, "tooth", _readonly(self.tooth, int))
+
+    @property
+    def slices(self) -> int:
+        return int(self.z_mm.size)
+
+    @property
+    def face_width_mm(self) -> float:
+        return self.slice_width_mm * self.slices
+
+    @property
+    def slice_force_n(self) -> np.ndarray:
+        """Total normal force on each slice (N)."""
+        return self.force_n.sum(axis=1)
+
+    @property
+    def slice_line_load_n_per_mm(self) -> np.ndarray:
+        """Each slice's total normal force per mm of face (N/mm); the even spread is ΣF/b."""
+        return self.slice_force_n / self.slice_width_mm
+
+    def _per_tooth(self, forces: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        teeth, slot = np.unique(self.tooth, return_inverse=True)
+        f = np.atleast_2d(forces)
+        out = np.zeros((f.shape[0], teeth.size))
+        for i in range(f.shape[0]):
+            out[i] = np.bincount(slot, weights=f[i], minlength=teeth.size)
+        return teeth, out
+
+    @property
+    def peak_line_load_n_per_mm(self) -> float:
+        """The largest line load of one tooth in one slice: max_{tooth, i} F / (b/N) (N/mm)."""
+        return float(self._per_tooth(self.force_n)[1].max() / self.slice_width_mm)
+
+    @property
+    def uniform_peak_line_load_n_per_mm(self) -> float:
+        """Today's assumption: the 2D solve's largest tooth force spread evenly, max F_2D / b (N/mm)."""
+        return float(self._per_tooth(self.reference_force_n)[1].max() / self.face_width_mm)
+
+    @property
+    def peak_ratio(self) -> float:
+        """Peak line load across the face over the even spread's (the face-load factor K_Hβ)."""
+        return self.peak_line_load_n_per_mm / self.uniform_peak_line_load_n_per_mm
+
+    @property
+    def stiffness_nm_per_rad(self) -> float:
+        """Zone torque × U over the elastic rotation, T / (φ − first contact) (N·m/rad): the
+        mesh's secant stiffness with the gaps across the face."""
+        return self._zones_torque_nm / (self.rotation_rad - self.first_contact_rad)
+
+    @property
+    def reference_stiffness_nm_per_rad(self) -> float:
+        """The same for the even spread (the 2D contact)."""
+        return self._zones_torque_nm / (self.reference_rotation_rad - self.reference_first_contact_rad)
+
+    @property
+    def _zones_torque_nm(self) -> float:
+        return self.zone_torque_nmm * 1e-3 * self.zones
+
+    def to_dict(self) -> dict:
+        return json_ready({
+            "model": "face as N independent axial slices (compliance N·S each) sharing the rotation; slice gaps "
+                     "shifted by the change of the cup deformation from the design section"
+                     + (f"; Pasternak coupling λ = {self.coupling_length_mm:g} mm" if self.coupling_length_mm else ""),
+            "z_mm": self.z_mm, "slice_width_mm": self.slice_width_mm,
+            "slice_force_n": self.slice_force_n, "slice_line_load_n_per_mm": self.slice_line_load_n_per_mm,
+            "uniform_line_load_n_per_mm": float(self.reference_force_n.sum() / self.face_width_mm),
+            "peak_line_load_n_per_mm": self.peak_line_load_n_per_mm,
+            "uniform_peak_line_load_n_per_mm": self.uniform_peak_line_load_n_per_mm,
+            "peak_ratio": self.peak_ratio,
+            "gap_shift_um_min_max": [float(self.gap_shift_mm.min() * 1e3), float(self.gap_shift_mm.max() * 1e3)],
+            "rotation_rad": self.rotation_rad, "first_contact_rad": self.first_contact_rad,
+            "reference_rotation_rad": self.reference_rotation_rad,
+            "complementarity_residual": self.complementarity_residual,
+            "equilibrium_residual": self.equilibrium_residual,
+            "time_s": self.time_s, "warnings": list(self.warnings),
+        })
+
+
+def _solve_slices(compliance, theta, lever, torque_nmm, coupling):
+    """Lemke on the stacked slices; θ may be negative (shifted by its minimum, exact)."""
+    from .solvers import solve_lemke
+
+    n_s = coupling.shape[0]
+    big = np.kron(coupling, compliance)
+    th = theta.ravel()
+    shift = float(th.min())
+    sol = solve_lemke(big, th - shift, np.tile(lever, n_s), torque_nmm)
+    return sol, shift
+
+
+def solve_face(points, compliance_mm_per_n, gap_shift, torque_nm: float, *, coupling_length_mm: float = 0.0,
+               face_width_mm: float | None = None, z_mm=None) -> FaceLoad:
+    """One zone across the face at the gear torque ``torque_nm`` (N·m; the zone takes T/U).
+
+    ``points``: :class:`~profilegen.contact.points.ContactPoints` (or anything with ``gap_mm``,
+    ``lever_mm``, ``tooth``, ``zones``); ``compliance_mm_per_n``: their n × n compliance for the
+    whole face (S = S_2D/b, as the contact builds it); ``gap_shift`` (N, n) mm: Δe_ki per slice
+    (zeros: identical slices). ``face_width_mm``: b, for the line loads and the coupling
+    (default N mm: slices 1 mm wide); ``z_mm``: the slices' positions to report (default
+    their mid-planes from 0)."""
+    t0 = time.perf_counter()
+    s = np.asarray(compliance_mm_per_n, dtype=float)
+    e = np.asarray(points.gap_mm, dtype=float)
+    r = np.asarray(points.lever_mm, dtype=float)
+    n = e.size
+    if s.shape != (n, n):
+        raise FaceLoadError(f"compliance_mm_per_n: shape {s.shape} does not match the {n} contact points")
+    de = np.atleast_2d(np.asarray(gap_shift, dtype=float))
+    if de.ndim != 2 or de.shape[1] != n:
+        raise FaceLoadError(f"gap_shift: shape {de.shape} must be (slices, {n}) mm")
+    if not np.all(np.isfinite(de)):
+        raise FaceLoadError("gap_shift: every shift must be finite (mm)")
+    torque = _positive("torque_nm", torque_nm, "N·m")
+    n_s = de.shape[0]
+    b = float(n_s) if face_width_mm is None else _positive("face_width_mm", face_width_mm)
+    dz = b / n_s
+    coupling = slice_coupling(n_s, coupling_length_mm, dz)
+    tz = torque / points.zones * 1e3
+    theta = (e[None, :] + de) / r[None, :]
+    sol, shift = _solve_slices(s, theta, r, tz, coupling)
+    ref, ref_shift = _solve_slices(s, (e / r)[None, :], r, tz, np.eye(1))
+    warnings = list(sol.warnings)
+    if np.any(theta < 0.0):
+        warnings.append(f"coning closes {int(np.count_nonzero(theta < 0.0))} of {theta.size} slice gaps below zero "
+                        f"(down to {float((e[None, :] + de).min()) * 1e3:.2f} µm): those slices are preloaded at no "
+                        "torque; the opposite flank, not modelled, would push back (the load there is an upper bound)")
+    result = FaceLoad(
+        z_mm=np.arange(n_s) * dz + 0.5 * dz if z_mm is None else np.asarray(z_mm, dtype=float), slice_width_mm=dz, tooth=np.asarray(points.tooth), lever_mm=r,
+        force_n=sol.force_n.reshape(n_s, n), gap_shift_mm=de, rotation_rad=float(sol.phi_rad) + shift,
+        first_contact_rad=float(theta.min()), zone_torque_nmm=tz, coupling_length_mm=float(coupling_length_mm),
+        complementarity_residual=float(sol.complementarity_residual),
+        equilibrium_residual=float(sol.equilibrium_residual), reference_force_n=ref.force_n,
+        reference_rotation_rad=float(ref.phi_rad) + ref_shift, reference_first_contact_rad=float((e / r).min()),
+        time_s=time.perf_counter() - t0, zones=int(points.zones), warnings=tuple(warnings))
+    return result
+
+
+def face_load(inputs, torque_nm: float, *, slices: int = 8, cup=None, coning: str = "cup",
+              coupling_length_mm: float = 0.0, points=None, compliance=None, side: int = 1) -> FaceLoad:
+    """The contact across the face of a design (or :class:`~profilegen.contact.inputs.ContactInput`)
+    at ``torque_nm``: ``slices`` N; ``coning`` "cup" (the 3D cup's sections; ``cup`` a
+    :class:`~profilegen.rim.cup.contact.CupContact` / CupDeformation, default
+    :func:`~profilegen.rim.cup.contact.press_cup` of the gear set), "semi_membrane" (the
+    analytic z/z_0 scaling of the design's deformation) or "none" (identical slices).
+    ``points``, ``compliance``: a :class:`~profilegen.contact.compliance.ContactCompliance` and its
+    points from an earlier solve, else built; the compliance's balls are settled at this
+    torque on the 2D solve first (seed 000's loop) and then held."""
+    from .analysis import solve_contact
+    from .inputs import ContactInput
+
+    inputs = ContactInput.from_design(inputs, name="inputs")
+    gs = inputs.gearset
+    cup_geo = gs.cup
+    if cup_geo is None:
+        raise FaceLoadError("inputs.gearset.cup: the cup is needed for the face width and the design section")
+    checks.choice("coning", coning, ("cup", "semi_membrane", "none"), error=FaceLoadError)
+    b, z0 = float(cup_geo.face_width_mm), float(cup_geo.length_mm)
+    z = slice_positions(b, slices, z0)
+    res = solve_contact(inputs, [torque_nm], side=side, points=points, compliance=compliance)
+    pts, comp = res.points, res.compliance
+    settled = comp.with_balls(res.cases[0].ball_active)
+    motion = inputs.motion
+    if coning == "none":
+        shifts = np.zeros((z.size, pts.count))
+    else:
+        if coning == "cup":
+            if cup is None:
+                from ..rim.cup.contact import press_cup
+
+                cup = press_cup(gs)
+            secs = cup_sections(cup, np.r_[z0, z])
+        else:
+            secs = [motion.deformation] + semi_membrane_sections(motion.deformation, z, z0)
+        shifts = np.array([gap_shift_mm(pts, motion, sec, secs[0]) for sec in secs[1:]])
+    return solve_face(pts, settled.matrix_mm_per_n, shifts, torque_nm, coupling_length_mm=coupling_length_mm,
+                      face_width_mm=b, z_mm=z)

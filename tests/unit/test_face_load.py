@@ -1,0 +1,168 @@
+"""Load across the face (profilegen.contact.face_load): slices in parallel sharing the rotation.
+
+Checked against things the slice model does not compute itself: the 2D solve (identical
+slices must reproduce it exactly, forces ÷ N), a two-slice one-point case solved by hand,
+equilibrium and complementarity in every slice, a rigid rotation of the rim (the gap shift
+must be −r_k·α), the exact harmonics of a section, and the coupling kernel's row sums."""
+
+from __future__ import annotations
+
+import math
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from profilegen.contact.face_load import (
+    FaceLoadError, cup_sections, gap_shift_mm, semi_membrane_sections, slice_coupling, slice_positions, solve_face)
+from profilegen.contact.solvers import solve_lemke
+from profilegen.deformation import HarmonicDeformation
+from profilegen.kinematics import HarmonicDriveMotion, turn
+
+
+def _problem(n=7, seed=3):
+    rng = np.random.default_rng(seed)
+    a = rng.normal(size=(n, n))
+    s = (a @ a.T + n * np.eye(n)) * 1e-8  # mm/N, SPD
+    gap = rng.uniform(0.0, 4e-3, n)
+    gap[2] = 0.0
+    lever = rng.uniform(40.0, 50.0, n)
+    pts = SimpleNamespace(gap_mm=gap, lever_mm=lever, tooth=np.arange(n) // 2, zones=2)
+    return pts, s
+
+
+def test_identical_slices_reproduce_the_2d_solve():
+    pts, s = _problem()
+    torque = 120.0  # N·m on the gear, 60 on the zone
+    ref = solve_lemke(s, pts.gap_mm / pts.lever_mm, pts.lever_mm, torque / 2 * 1e3)
+    for n_s in (1, 3, 5):
+        face = solve_face(pts, s, np.zeros((n_s, s.shape[0])), torque, face_width_mm=20.0)
+        np.testing.assert_allclose(face.force_n * n_s, np.broadcast_to(ref.force_n, face.force_n.shape),
+                                   rtol=1e-9, atol=1e-9 * ref.force_n.max())
+        assert face.rotation_rad == pytest.approx(float(ref.phi_rad), rel=1e-12)
+        assert face.peak_ratio == pytest.approx(1.0, rel=1e-9)
+        np.testing.assert_allclose(face.slice_line_load_n_per_mm, ref.force_n.sum() / 20.0, rtol=1e-9)
+
+
+def test_two_slices_one_point_by_hand():
+    # g_i = r(θ − φ) + δ_i + 2 s F_i = 0 for both slices, r(F_1 + F_2) = T → F_1 − F_2 = (δ_2 − δ_1)/(2 s)
+    s, r, e, t_zone = 2e-7, 45.0, 1e-3, 30.0e3
+    pts = SimpleNamespace(gap_mm=np.array([e]), lever_mm=np.array([r]), tooth=np.array([0]), zones=1)
+    d1, d2 = -2e-4, -1e-4  # (δ_2 − δ_1)/(2s) = 250 N < T/r = 667 N: both slices loaded
+    face = solve_face(pts, [[s]], [[d1], [d2]], t_zone * 1e-3, face_width_mm=10.0)
+    total = t_zone / r
+    f1 = 0.5 * (total + (d2 - d1) / (2 * s))
+    np.testing.assert_allclose(face.force_n[:, 0], [f1, total - f1], rtol=1e-10)
+    phi = (e + d1 + 2 * s * f1) / r
+    assert face.rotation_rad == pytest.approx(phi, rel=1e-10)
+    # beyond the shift difference the second slice opens: all on the first
+    face = solve_face(pts, [[s]], [[d1], [d1 + 2 * s * total * 1.01]], t_zone * 1e-3)
+    np.testing.assert_allclose(face.force_n[:, 0], [total, 0.0], atol=1e-9 * total)
+
+
+def test_equilibrium_and_complementarity_in_every_slice():
+    pts, s = _problem(n=9, seed=11)
+    rng = np.random.default_rng(5)
+    n_s = 4
+    shift = rng.uniform(-3e-3, 3e-3, (n_s, 9))  # some gaps below zero (preload)
+    for lam in (0.0, 4.0):
+        face = solve_face(pts, s, shift, 80.0, face_width_mm=16.0, coupling_length_mm=lam)
+        moment = float((face.force_n * pts.lever_mm).sum())
+        assert moment == pytest.approx(80.0 / 2 * 1e3, rel=1e-12)
+        k = slice_coupling(n_s, lam, 4.0)
+        deflection = (np.kron(k, s) @ face.force_n.ravel()).reshape(n_s, 9)
+        gap = pts.gap_mm + shift - pts.lever_mm * face.rotation_rad + deflection
+        assert gap.min() > -1e-12
+        assert np.max(np.abs(gap * face.force_n)) < 1e-12 * 80.0
+        assert np.all(face.force_n >= 0.0)
+    assert any("preloaded" in w for w in face.warnings)
+
+
+def test_coupling_keeps_an_even_load_and_is_spd():
+    k = slice_coupling(6, 5.0, 2.0)
+    np.testing.assert_allclose(k.sum(axis=1), 6.0, rtol=1e-12)
+    np.testing.assert_allclose(k, k.T)
+    assert np.linalg.eigvalsh(k).min() > 0.0
+    np.testing.assert_array_equal(slice_coupling(6, 0.0, 2.0), 6.0 * np.eye(6))
+    pts, s = _problem()
+    ref = solve_face(pts, s, np.zeros((1, 7)), 50.0)
+    face = solve_face(pts, s, np.zeros((6, 7)), 50.0, coupling_length_mm=5.0, face_width_mm=12.0)
+    np.testing.assert_allclose(face.force_n * 6, np.broadcast_to(ref.force_n, (6, 7)), rtol=1e-8,
+                               atol=1e-9 * ref.force_n.max())
+
+
+class _Constant:
+    def __init__(self, omega, upsilon):
+        self.omega, self.upsilon = omega, upsilon
+
+    def evaluate(self, phi, order=3):
+        phi = np.atleast_1d(phi)
+        w, u = np.zeros((order + 1, phi.size)), np.zeros((order + 1, phi.size))
+        w[0], u[0] = self.omega, self.upsilon
+        return w, u
+
+
+def test_gap_shift_of_a_rigid_rotation():
+    # υ = c on an undeformed rim turns every tooth rigidly by atan(c/r_m): Δe_k = −α (p × n) to O(c²)
+    rm, z2 = 48.675, 202
+    motion = HarmonicDriveMotion(_Constant(0.0, 0.0), rm, 2, z2)
+    rng = np.random.default_rng(2)
+    tooth = np.array([-20, -3, 0, 7, 31])
+    phi = 2 * math.pi * tooth / 200
+    local = np.column_stack([rng.uniform(-0.4, 0.4, 5), rng.uniform(-0.3, 0.5, 5)])
+    ang = rng.uniform(0, 2 * math.pi, 5)
+    normal = np.column_stack([np.cos(ang), np.sin(ang)])
+    pose = motion.pose(phi)
+    p = np.array([turn(pose.to_cs(local[i:i + 1])[i], 2 * math.pi * tooth[i] / z2) for i in range(5)])
+    pts = SimpleNamespace(local_mm=local, phi_rad=phi, tooth=tooth, normal=normal)
+    c = 1e-5
+    shift = gap_shift_mm(pts, motion, _Constant(0.0, c), _Constant(0.0, 0.0))
+    alpha = math.atan2(c, rm)
+    expected = -alpha * (p[:, 1] * normal[:, 0] - p[:, 0] * normal[:, 1])
+    np.testing.assert_allclose(shift, expected, rtol=1e-5, atol=1e-12)
+    # a radial shift ω = c moves the tooth frame outward by c along its radius (no tilt): Δe = −c n·e_r
+    shift = gap_shift_mm(pts, motion, _Constant(c, 0.0), _Constant(0.0, 0.0))
+    gamma = 2.0 / z2 * phi + 2 * math.pi * tooth / z2  # the tooth frame's polar angle in the CS frame
+    e_r = np.column_stack([np.sin(gamma), np.cos(gamma)])
+    np.testing.assert_allclose(shift, -c * np.einsum("ij,ij->i", normal, e_r), rtol=1e-6, atol=1e-13)
+
+
+def test_sections_are_exact_and_semi_membrane_scales():
+    class FakeCup:
+        orders = np.array([0, 2, 4, 6])
+
+        def omega(self, phi, z):
+            return 0.01 * z + 0.5 * (z / 60) * np.cos(2 * phi) - 0.02 * np.cos(4 * phi) + 1e-3 * z * np.cos(6 * phi)
+
+        def upsilon(self, phi, z):
+            return -0.25 * (z / 60) * np.sin(2 * phi) + 0.005 * np.sin(4 * phi)
+
+    secs = cup_sections(FakeCup(), [30.0, 60.0])
+    phi = np.linspace(0, 2 * math.pi, 37)
+    for sec, z in zip(secs, (30.0, 60.0)):
+        w, u = sec.evaluate(phi, order=1)
+        np.testing.assert_allclose(w[0], FakeCup().omega(phi, z), atol=1e-15)
+        np.testing.assert_allclose(u[0], FakeCup().upsilon(phi, z), atol=1e-15)
+    base = HarmonicDeformation(2, np.array([0.5, 0.01]), np.array([-0.25, 0.002]))
+    half, same = semi_membrane_sections(base, [30.0, 60.0], 60.0)
+    w0, u0 = base.evaluate(phi, order=2)
+    w1, u1 = half.evaluate(phi, order=2)
+    np.testing.assert_allclose(w1, 0.5 * w0)
+    np.testing.assert_allclose(u1, 0.5 * u0)
+    assert same.factor == 1.0
+
+
+def test_bad_input_is_named():
+    pts, s = _problem()
+    with pytest.raises(FaceLoadError, match="gap_shift"):
+        solve_face(pts, s, np.zeros((2, 5)), 10.0)
+    with pytest.raises(FaceLoadError, match="torque_nm"):
+        solve_face(pts, s, np.zeros((2, 7)), 0.0)
+    with pytest.raises(FaceLoadError, match="compliance_mm_per_n"):
+        solve_face(pts, s[:3, :3], np.zeros((2, 7)), 10.0)
+    with pytest.raises(FaceLoadError, match="slices"):
+        slice_positions(20.0, 0, 60.0)
+    with pytest.raises(FaceLoadError, match="z_mm"):
+        semi_membrane_sections(HarmonicDeformation(2, np.array([0.5]), np.array([-0.25])), [-1.0], 60.0)
+    with pytest.raises(FaceLoadError, match="cup"):
+        cup_sections(object(), [1.0])
