@@ -1320,6 +1320,7 @@ class ContactCompliance:
         settle_iterations: int = 0,
         forces_n=None,
         substructure: bool = True,
+        shift_rad: float = 0.0,
     ) -> "ContactCompliance":
         """Influence coefficients for the contact points of one engagement zone.
 
@@ -1339,7 +1340,10 @@ class ContactCompliance:
         ``substructure``: condense one pitch of each body onto its cuts and solve the cuts
         (the default); False assembles and factorises the whole meshes (the reference: the
         same model and mesh, the same S to rounding, ~10× slower). Other keywords: the mesh
-        (see the module docstring).
+        (see the module docstring). ``shift_rad``: every FS tooth i at 2πi/z1 + shift from the
+        major axis (another wave-generator position, as ``contact_points(shift_rad=…)`` places
+        the points): the points are mapped back with it, and the balls (``ball_phase_rad`` and
+        the wrap, from the major axis) sit at −shift in the rim's frame.
         """
         start = time.perf_counter()
         inputs = ContactInput.of(inputs, error=ComplianceError)
@@ -1400,7 +1404,8 @@ class ContactCompliance:
         from ..kinematics import turn
 
         z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
-        phi = 2.0 * math.pi * tooth_index / z1
+        shift = float(shift_rad)
+        phi = 2.0 * math.pi * tooth_index / z1 + shift
         pose = inputs.motion.pose(phi)
         angle = 2.0 * math.pi * tooth_index / z2
         local = pose.to_tooth(turn(fs_points, -angle))
@@ -1415,7 +1420,7 @@ class ContactCompliance:
         balls = np.sort(theta[np.abs(theta) <= wrap + 1e-12])
 
         with _serial_blas():
-            fs = _fs_flex(inputs.tooth, gearset, local, local_n, tooth_index, balls, margin=margin,
+            fs = _fs_flex(inputs.tooth, gearset, local, local_n, tooth_index, balls - shift, margin=margin,
                           toothed_teeth=toothed_teeth, per_pitch=_whole("per_pitch", per_pitch, 2),
                           flat_per_pitch=_whole("flat_per_pitch", flat_per_pitch, 1),
                           rim_layers=_whole("rim_layers", rim_layers, 1),

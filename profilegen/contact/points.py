@@ -145,10 +145,12 @@ def _flank_start(tooth, inputs: ContactInput) -> float:
 
 
 def contact_points(inputs: ContactInput, *, side: int = 1, stations: int = 5,
-                   max_gap_mm: float = 0.12) -> ContactPoints:
+                   max_gap_mm: float = 0.12, shift_rad: float = 0.0) -> ContactPoints:
     """The potential contact points of one engagement zone of a design, from its
     :class:`~profilegen.contact.inputs.ContactInput` (``ContactInput.from_design(design)``).
-    See the module docstring."""
+    See the module docstring. ``shift_rad``: every FS tooth i at φ_i = 2πi/z1 + shift from
+    the major axis instead (another wave-generator position; still in CS space i, by the
+    same closure: :mod:`profilegen.contact.transmission`)."""
     inputs = ContactInput.of(inputs, error=ContactPointError)
     if side not in (1, -1):
         raise ContactPointError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
@@ -172,7 +174,7 @@ def contact_points(inputs: ContactInput, *, side: int = 1, stations: int = 5,
 
     half = z1 // (2 * waves)
     teeth = np.arange(-half + 1, half + 1)
-    phis = 2.0 * math.pi * teeth / z1
+    phis = 2.0 * math.pi * teeth / z1 + float(shift_rad)
     pose = motion.pose(phis)
     cos, sin = np.cos(pose.angle), np.sin(pose.angle)
 

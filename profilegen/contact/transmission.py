@@ -1,0 +1,319 @@
+"""Loaded transmission error over a wave-generator turn: the contact at several positions ψ.
+
+As the wave generator turns by ψ (package angle sense, +y toward +x) with the CS fixed, the
+FS turns by −ψU/z1 against the CS at the ideal ratio, and FS tooth i moves against the
+major axis from φ_i = 2πi/z1 to φ_i + δ, δ = −ψ z2/z1 (the major axis turns by ψ, the FS by
+−ψU/z1; z2 = z1 + U). By the closure that :mod:`profilegen.contact.points` uses at ψ = 0,
+tooth i then still stands in CS space i as the generating tooth stands in space 0 at
+φ_i + δ. After ψ = 2π/z2 (δ = −2π/z1, one *tooth passage*) every tooth stands where its
+neighbour stood: the mesh repeats with the teeth relabelled. So the tooth-passage error is
+periodic in ψ with period 2π/z2 and ``span="tooth"`` samples it on [0, 2π/z2) evenly.
+
+At each ψ everything that moves with the teeth is recomputed, nothing is interpolated:
+the contact points and their initial gaps (``contact_points(shift_rad=δ)``: the fine scan
+and the refined minima of every tooth at its new φ), and the influence coefficients for
+those points (``ContactCompliance.build(shift_rad=δ)``): the points sit elsewhere on
+their flanks, and the balls sit elsewhere under the teeth (the rim turns by δ against the
+wave generator), so S is a new matrix at every ψ. Reused, because it is exact:
+
+* the design's inputs (FS tooth, motion, fitted CS space): the kinematics of the mesh do not
+  depend on ψ, only the teeth's places in it;
+* the wrap angle that selects the candidate balls (the rim's no-load contact angle, or the
+  flat-ring solve when the rim FEM gave none): the no-load rim sits on the wave generator
+  the same way at every ψ (it is a property of the wave-generator frame); it is computed
+  once here, not once per position (the flat-ring solve alone took 0.3–7 s on the busy
+  machine);
+* the FE meshes themselves are the same at every ψ (one FS pitch, one CS space, condensed);
+  ``ContactCompliance.build`` rebuilds and condenses them per call (~0.3 s; it has no hook
+  to keep the factorisation), which is the larger part of the cost per position.
+
+The balls: ``ball_motion="wave_generator"`` (default) holds them at fixed angles from the
+major axis (ball 0 on it), so the load path under the teeth repeats with the tooth passage
+and the result is exactly periodic; it isolates the tooth-passage error. In the real
+bearing the balls roll: the cage turns at ≈ (1 − D/d_m)/2 of the wave generator's speed,
+i.e. the balls drift against the major axis by −ψ(1 + D/d_m)/2 (``ball_motion="cage"``, D
+and d_m from :class:`~profilegen.contact.chain.BallBearing`), a second, slower ripple with
+period 2π/N / ((1 + D/d_m)/2) in ψ (≈ 29° for 23 balls), not periodic over a tooth passage.
+
+Per position the contact is solved as :func:`~profilegen.contact.analysis.solve_contact`
+solves it (Lemke, the balls that pull dropped, rigid ball supports), one zone with T/U.
+The result:
+
+* ``rotation_rad``: φ(ψ), the loaded rotation of the FS against the CS beyond its
+  kinematic (ideal-ratio) position, in the direction that loads the flank — the output's
+  lag behind the ideal motion; ``first_contact_rad``: φ₀(ψ) = min θ_k, the same at no load
+  (the no-load error of the fitted CS against the ideal ratio);
+* ``error_arcsec``: φ(ψ) − mean φ in arcsec, its ``peak_to_peak_arcsec``;
+* ``stiffness_nm_per_rad``: the secant mesh stiffness T / (φ − φ₀) at each ψ and its
+  ``stiffness_ripple`` = max / min over ψ.
+
+The series compliances of :mod:`profilegen.contact.chain` (cup, CS body) add a rotation
+T/K that is the same at every ψ: they move the mean, not the error. The Hertz ball springs
+are left out (rigid balls, as ``solve_contact``): their compliance does depend on ψ (the
+ball loads move with the teeth) and would add to the ripple.
+
+Positions run in a process pool of ``workers`` (fork: the inputs are inherited, not
+pickled) when there are more than two; each position is independent.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import os
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ProfilegenError
+from ..results import json_ready, readonly as _readonly
+from .inputs import ContactInput
+
+__all__ = ["ARCSEC_PER_RAD", "TransmissionError", "TransmissionErrorError", "transmission_error"]
+
+log = logging.getLogger(__name__)
+
+ARCSEC_PER_RAD = 180.0 * 3600.0 / math.pi
+
+_BALL_MOTIONS = ("wave_generator", "cage")
+
+
+class TransmissionErrorError(ProfilegenError, ValueError):
+    """Bad input to the transmission-error run; names the parameter, value, unit and range."""
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class TransmissionError:
+    """The loaded contact at wave-generator positions ψ (see the module docstring).
+
+    Per position: ``psi_rad`` ψ, ``shift_rad`` δ = −ψ z2/z1 (the teeth's shift against the
+    major axis), ``rotation_rad`` φ, ``first_contact_rad`` φ₀, ``teeth_in_contact`` (one
+    zone), ``max_tooth_force_n``, ``active_balls``, ``equilibrium_residual`` (|Σ r F − T/U|
+    /(T/U), the solver's), ``flags`` (None or why the case is beyond the searched points).
+    ``points`` and ``cases``: the :class:`~profilegen.contact.points.ContactPoints` and
+    :class:`~profilegen.contact.analysis.LoadCase` of each position; ``matrices``: the settled
+    compliance S (mm/N) of each position when asked for (``keep_matrices``), else ().
+    """
+
+    torque_nm: float
+    zones: int
+    side: int
+    ball_motion: str
+    psi_rad: np.ndarray
+    shift_rad: np.ndarray
+    rotation_rad: np.ndarray
+    first_contact_rad: np.ndarray
+    teeth_in_contact: np.ndarray
+    max_tooth_force_n: np.ndarray
+    active_balls: np.ndarray
+    equilibrium_residual: np.ndarray
+    flags: tuple
+    points: tuple = field(repr=False, default=())
+    cases: tuple = field(repr=False, default=())
+    matrices: tuple = field(repr=False, default=())
+    workers: int = 1
+    time_s: float = 0.0
+    warnings: tuple[str, ...] = ()
+
+    def __post_init__(self):
+        for name in ("psi_rad", "shift_rad", "rotation_rad", "first_contact_rad", "max_tooth_force_n",
+                     "equilibrium_residual"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        for name in ("teeth_in_contact", "active_balls"):
+            object.__setattr__(self, name, _readonly(getattr(self, name), int))
+
+    @property
+    def psi_deg(self) -> np.ndarray:
+        return np.degrees(self.psi_rad)
+
+    @property
+    def error_arcsec(self) -> np.ndarray:
+        """φ(ψ) − mean φ (arcsec): the loaded transmission error about its mean."""
+        return (self.rotation_rad - self.rotation_rad.mean()) * ARCSEC_PER_RAD
+
+    @property
+    def no_load_error_arcsec(self) -> np.ndarray:
+        """φ₀(ψ) − mean φ₀ (arcsec): the same at no load (first contact)."""
+        return (self.first_contact_rad - self.first_contact_rad.mean()) * ARCSEC_PER_RAD
+
+    @property
+    def peak_to_peak_arcsec(self) -> float:
+        e = self.error_arcsec
+        return float(e.max() - e.min())
+
+    @property
+    def stiffness_nm_per_rad(self) -> np.ndarray:
+        """Secant mesh stiffness T / (φ − φ₀) at each ψ (N·m/rad)."""
+        return self.torque_nm / (self.rotation_rad - self.first_contact_rad)
+
+    @property
+    def stiffness_ripple(self) -> float:
+        """max / min of the secant mesh stiffness over ψ."""
+        k = self.stiffness_nm_per_rad
+        return float(k.max() / k.min())
+
+    def to_dict(self) -> dict:
+        k = self.stiffness_nm_per_rad
+        return json_ready({
+            "torque_nm": self.torque_nm,
+            "zones": self.zones,
+            "side": self.side,
+            "ball_motion": self.ball_motion,
+            "error_definition": "loaded rotation of the FS against the CS beyond the ideal-ratio position, minus "
+                                "its mean over psi (arcsec)",
+            "psi_deg": self.psi_deg,
+            "error_arcsec": self.error_arcsec,
+            "peak_to_peak_arcsec": self.peak_to_peak_arcsec,
+            "no_load_error_arcsec": self.no_load_error_arcsec,
+            "no_load_peak_to_peak_arcsec": float(np.ptp(self.no_load_error_arcsec)),
+            "mean_rotation_arcsec": float(self.rotation_rad.mean() * ARCSEC_PER_RAD),
+            "stiffness_nm_per_rad": k,
+            "stiffness_ripple": self.stiffness_ripple,
+            "teeth_in_contact_per_zone": self.teeth_in_contact,
+            "max_tooth_force_n": self.max_tooth_force_n,
+            "active_balls": self.active_balls,
+            "flags": list(self.flags),
+            "workers": self.workers,
+            "time_s": self.time_s,
+            "warnings": list(self.warnings),
+        })
+
+
+# --------------------------------------------------------------------------- one position
+
+#: what the forked workers inherit: (inputs, options) of the run in progress
+_JOB: tuple | None = None
+
+
+def _position(inputs, psi: float, opts: dict):
+    """The contact at one wave-generator position ψ → (points, case, settled S or None, warnings)."""
+    from .analysis import solve_contact
+    from .compliance import ContactCompliance
+    from .points import contact_points
+
+    g = inputs.gearset.gear
+    shift = -psi * g.circular_spline_teeth / g.flexspline_teeth
+    pts = contact_points(inputs, side=opts["side"], stations=opts["stations"], max_gap_mm=opts["max_gap_mm"],
+                         shift_rad=shift)
+    phase = 0.0 if opts["ball_motion"] == "wave_generator" else -psi * opts["cage_rate"]
+    comp = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
+                                   face_width_mm=opts["face_width_mm"], race_thickness_mm=opts["race_thickness_mm"],
+                                   race_interface=opts["race_interface"], wrap_half_angle_rad=opts["wrap"],
+                                   ball_phase_rad=phase, shift_rad=shift)
+    res = solve_contact(inputs, [opts["torque_nm"]], points=pts, compliance=comp)
+    case = res.cases[0]
+    matrix = comp.with_balls(case.ball_active).matrix_mm_per_n if opts["keep_matrices"] else None
+    return pts, case, matrix, res.warnings
+
+
+def _job_position(psi: float):
+    inputs, opts = _JOB
+    return _position(inputs, psi, opts)
+
+
+def _checked(name: str, value, unit: str, *, low: float = 0.0) -> float:
+    if isinstance(value, bool):
+        raise TransmissionErrorError(f"{name} = {value!r}: must be a number ({unit})")
+    try:
+        v = float(value)
+    except (TypeError, ValueError):
+        raise TransmissionErrorError(f"{name} = {value!r}: must be a number ({unit})") from None
+    if not (math.isfinite(v) and v > low):
+        raise TransmissionErrorError(f"{name} = {value!r} {unit}: must be finite and > {low:g}")
+    return v
+
+
+def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="tooth", side: int = 1,
+                       stations: int = 5, max_gap_mm: float = 0.12, ball_motion: str = "wave_generator",
+                       face_width_mm: float | None = None, race_thickness_mm: float | None = None,
+                       race_interface: str = "sliding", workers: int | None = None,
+                       keep_matrices: bool = False) -> TransmissionError:
+    """The loaded transmission error of a design (or a :class:`~profilegen.contact.inputs.
+    ContactInput`) at ``torque_nm`` (N·m, > 0, on the whole gear) over ``positions`` (≥ 2)
+    wave-generator positions ψ evenly over ``span``: ``"tooth"`` (one tooth passage, ψ in
+    [0, 2π/z2), periodic) or a number of degrees of ψ (ψ in [0, span], both ends). ``side``:
+    +1 the right FS flank loaded, −1 the left. ``ball_motion``: "wave_generator" (balls held
+    against the major axis) or "cage" (rolling). ``workers``: processes (default: up to 2,
+    one per position; 1 = in this process). ``keep_matrices``: keep each position's settled
+    S. Other keywords as :func:`~profilegen.contact.analysis.solve_contact`. See the module
+    docstring."""
+    global _JOB
+    from threadpoolctl import threadpool_limits
+
+    from .compliance import _wrap_half_angle
+
+    t0 = time.perf_counter()
+    inputs = ContactInput.from_design(inputs, name="inputs")
+    g = inputs.gearset.gear
+    torque = _checked("torque_nm", torque_nm, "N·m")
+    if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or positions < 2:
+        raise TransmissionErrorError(f"positions = {positions!r}: must be a whole number ≥ 2 (wave-generator "
+                                     "positions)")
+    if side not in (1, -1):
+        raise TransmissionErrorError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
+    if ball_motion not in _BALL_MOTIONS:
+        raise TransmissionErrorError(f"ball_motion = {ball_motion!r}: must be one of {', '.join(_BALL_MOTIONS)}")
+    passage = 2.0 * math.pi / g.circular_spline_teeth
+    if isinstance(span, str):
+        if span != "tooth":
+            raise TransmissionErrorError(f"span = {span!r}: must be 'tooth' (one tooth passage, 2π/z2) or a number "
+                                         "of degrees of wave-generator rotation in (0, 360]")
+        psi = passage * np.arange(positions) / positions
+    else:
+        span_deg = _checked("span", span, "deg")
+        if span_deg > 360.0:
+            raise TransmissionErrorError(f"span = {span!r} deg: must be in (0, 360] (degrees of wave-generator "
+                                         "rotation) or 'tooth'")
+        psi = np.radians(span_deg) * np.arange(positions) / (positions - 1)
+    if workers is None:
+        workers = min(2, os.cpu_count() or 1, positions)
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise TransmissionErrorError(f"workers = {workers!r}: must be a whole number ≥ 1 (processes)")
+    cage_rate = 0.0
+    if ball_motion == "cage":
+        from .chain import BallBearing
+
+        bearing = BallBearing.from_gearset(inputs.gearset, race_thickness_mm=race_thickness_mm)
+        cage_rate = 0.5 * (1.0 + bearing.ball_diameter_mm / bearing.pitch_diameter_mm)
+    with threadpool_limits(limits=1, user_api="blas"):  # the flat-ring solve's BLAS threads only contend
+        wrap, wrap_source = _wrap_half_angle(inputs.rim_contact_angle_rad, inputs.gearset)  # once: ψ-invariant
+    opts = dict(side=side, stations=stations, max_gap_mm=max_gap_mm, ball_motion=ball_motion, cage_rate=cage_rate,
+                face_width_mm=face_width_mm, race_thickness_mm=race_thickness_mm, race_interface=race_interface,
+                wrap=wrap, torque_nm=torque, keep_matrices=bool(keep_matrices))
+
+    if workers > 1 and positions > 2:
+        import multiprocessing
+        from concurrent.futures import ProcessPoolExecutor
+
+        _JOB = (inputs, opts)  # inherited by the forked workers
+        try:
+            ctx = multiprocessing.get_context("fork")
+            with ProcessPoolExecutor(max_workers=int(workers), mp_context=ctx) as pool:
+                out = list(pool.map(_job_position, psi.tolist()))
+        finally:
+            _JOB = None
+    else:
+        workers = 1
+        with threadpool_limits(limits=1, user_api="blas"):
+            out = [_position(inputs, float(p), opts) for p in psi]
+
+    pts = tuple(o[0] for o in out)
+    cases = tuple(o[1] for o in out)
+    warnings = [f"the wrap angle that selects the candidate balls comes from {wrap_source}"]
+    for o in out:
+        warnings += list(o[3])
+    result = TransmissionError(
+        torque_nm=torque, zones=int(g.waves), side=side, ball_motion=ball_motion, psi_rad=psi,
+        shift_rad=-psi * g.circular_spline_teeth / g.flexspline_teeth,
+        rotation_rad=np.array([c.rotation_rad for c in cases]),
+        first_contact_rad=np.array([float(np.min(p.theta_rad)) for p in pts]),
+        teeth_in_contact=np.array([c.teeth_in_contact for c in cases]),
+        max_tooth_force_n=np.array([c.max_tooth_force_n for c in cases]),
+        active_balls=np.array([int(np.count_nonzero(c.ball_active)) for c in cases]),
+        equilibrium_residual=np.array([c.solution.equilibrium_residual for c in cases]),
+        flags=tuple(c.beyond_capacity for c in cases), points=pts, cases=cases,
+        matrices=tuple(o[2] for o in out) if keep_matrices else (), workers=int(workers),
+        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)))
+    log.debug("transmission_error: %d positions, %.2f s, %d workers", positions, result.time_s, workers)
+    return result
