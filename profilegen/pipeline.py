@@ -169,6 +169,9 @@ class Design:
     rim: RimDeformation | None = None
     contact: object = None  # ContactResult at the gear set's torques (None when the scene skips it)
     stress: object = None  # StressResult at the gear set's torques (None when skipped)
+    #: the whole gear's torsional curve (contact.chain.TorsionalCurve, both directions, with the
+    #: compliance chain), run with the contact; None when the contact was not run or it failed
+    torsional: object = None
 
     @property
     def time_s(self) -> float:
@@ -246,6 +249,7 @@ class Design:
                 "beyond_capacity": [c.beyond_capacity for c in self.contact.cases],
                 "secant_stiffness_nm_per_rad": self.contact.secant_stiffness_nm_per_rad.tolist(),
                 "warnings": list(self.contact.warnings),
+                "torsional": None if self.torsional is None else self.torsional.headline(),
             },
             "stress": None if self.stress is None else self.stress.headline(),
             "verdict": self.verdict.to_dict(),
@@ -452,13 +456,30 @@ def _with_contact(result: Design, step) -> Design:
                                 pts.lever_mm, rated.zone_torque_nm * 1e3)
     diff = float(np.max(np.abs(check.force_n - rated.solution.force_n)) / max(rated.solution.max_force_n, 1e-300))
     dof = int(sum(contact.compliance.dof.values()))
+    # the whole gear in torsion: both flanks (the left one built here), the compliance chain, K1–K3
+    from .contact.chain import whole_gear_curve
+
+    notes = list(contact.warnings)
+    try:
+        torsional = whole_gear_curve(result, contact)
+    except ProfilegenError as exc:
+        torsional = None
+        notes.append(f"torsional curve (both directions, compliance chain) failed, skipped: {exc}")
+    else:
+        notes += [f"torsional curve: {w}" for w in torsional.warnings]
+    whole = "" if torsional is None else (
+        f"; whole gear K1/K2/K3 {torsional.k_nm_per_rad['total']['positive']['K1']:.3g}/"
+        f"{torsional.k_nm_per_rad['total']['positive']['K2']:.3g}/"
+        f"{torsional.k_nm_per_rad['total']['positive']['K3']:.3g} N·m/rad, lost motion "
+        f"{torsional.lost_motion_rad['total'] * 10800 / np.pi:.3f} arcmin")
     stages.append(StageReport(
         "contact", f"Lemke, {pts.count} points on {pts.teeth.size} teeth, FEM influence coefficients", dof,
         time.perf_counter() - t0, diff,
         "relative max difference of the contact forces from the independent active-set QP at the rated torque",
         f"rated {rated.torque_nm:g} N·m: {rated.teeth_in_contact} teeth per zone, rotation "
-        f"{rated.rotation_arcmin:.3f} arcmin, max tooth force {rated.max_tooth_force_n:.0f} N"))
-    return replace(result, stages=tuple(stages), warnings=result.warnings + tuple(contact.warnings), contact=contact)
+        f"{rated.rotation_arcmin:.3f} arcmin, max tooth force {rated.max_tooth_force_n:.0f} N{whole}"))
+    return replace(result, stages=tuple(stages), warnings=result.warnings + tuple(notes), contact=contact,
+                   torsional=torsional)
 
 
 def _half(diameter_mm: float | None) -> float | None:

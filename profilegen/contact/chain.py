@@ -104,10 +104,13 @@ __all__ = [
     "TorsionalCurve",
     "annulus_torsion_stiffness",
     "compliance_chain",
+    "catalogue_for",
     "cup_torsion_fem",
+    "curve_torques_nm",
     "hertz_point_contact",
     "thick_tube_torsion_stiffness",
     "torsional_curve",
+    "whole_gear_curve",
     "tube_torsion_stiffness",
 ]
 
@@ -127,6 +130,70 @@ CATALOGUE_SIZE40_RATIO50 = {
     "K3_nm_per_rad": None,
     "lost_motion_arcmin": None,
 }
+
+
+#: Catalogue sizes (the size number ≈ the pitch diameter in tenths of an inch) whose stiffness
+#: table the repository holds, by size.
+_CATALOGUES = {40: CATALOGUE_SIZE40_RATIO50}
+
+
+#: The catalogue's sizes (CSF/CSG/SHF series): the nominal pitch diameter in tenths of an inch
+CATALOGUE_SIZES = (8, 11, 14, 17, 20, 25, 32, 40, 45, 50, 58, 65, 80, 90, 100)
+
+
+def catalogue_size(gearset) -> int | None:
+    """The catalogue size of a gear set: the size whose nominal pitch diameter (size × 2.54 mm)
+    is nearest the FS pitch diameter, within 8 % (size 40: 101.6 mm; the default set's 100 mm
+    is size 40); None when no size is that near."""
+    g = gearset.gear
+    d = float(g.module_mm) * int(g.flexspline_teeth)
+    size = min(CATALOGUE_SIZES, key=lambda n: abs(math.log(d / (2.54 * n))))
+    return size if abs(d / (2.54 * size) - 1.0) <= 0.08 else None
+
+
+def catalogue_for(gearset) -> dict | None:
+    """The catalogue stiffness table the gear set is compared with, or None: the repository's
+    table for its size (:func:`catalogue_size`), with ``size`` and a ``note`` saying when the
+    table's ratio is not the set's. A sourced ratio ≥ 80 table (profilegen.contact.catalogue,
+    when present) is preferred for ratios ≥ 80."""
+    size = catalogue_size(gearset)
+    ratio = float(gearset.ratio)
+    cat = None
+    try:  # a sourced table for this size and ratio, when the module that holds them is there
+        from . import catalogue as _tables
+    except ImportError:
+        _tables = None
+    if _tables is not None and hasattr(_tables, "stiffness_table"):
+        try:
+            cat = _tables.stiffness_table(size, ratio)
+        except (ValueError, KeyError, LookupError):
+            cat = None
+    if cat is None:
+        cat = _CATALOGUES.get(size)
+    if cat is None:
+        return None
+    out = dict(cat)
+    out["size"] = size
+    if out.get("ratio") is not None and float(out["ratio"]) != ratio:
+        out["note"] = (f"the catalogue's table is for ratio {float(out['ratio']):g}, this set's ratio is {ratio:g} "
+                       "(the catalogue lists ratios ≥ 80 stiffer)")
+    return out
+
+
+def curve_torques_nm(gearset, breakpoints_nm=None, *, count: int = 12) -> np.ndarray:
+    """The signed torques of a design's torsional curve (N·m): ``count`` magnitudes spaced
+    geometrically from 3 % of the rated torque to the momentary torque (the peak when the set
+    has none), with the breakpoints T1, T2, the rated and peak torques added, both
+    directions — ≥ 2 × ``count`` torques."""
+    count = _whole("count", count, 2)
+    tq = gearset.torque
+    rated, peak = float(tq.rated_nm), float(tq.peak_nm)
+    top = float(tq.momentary_nm) if tq.momentary_nm is not None else peak
+    mags = set(np.geomspace(0.03 * rated, top, count).round(6).tolist()) | {rated, peak, top}
+    if breakpoints_nm is not None:
+        mags |= {float(t) for t in breakpoints_nm}
+    mags = np.array(sorted(m for m in mags if m > 0.0))
+    return np.concatenate([-mags[::-1], mags])
 
 
 class ChainError(ProfilegenError, ValueError):
@@ -568,6 +635,8 @@ class TorsionalCurve:
     odd_symmetry_defect: float
     time_s: float
     warnings: tuple[str, ...] = field(default=())
+    #: "catalogue" (T1, T2 the catalogue's), "given", or "estimate" (fractions of the rated torque)
+    breakpoints_source: str = "catalogue"
     #: {+1: (points, compliance), −1: (…)}: pass as ``sides`` to skip building them again
     sides: dict = field(default_factory=dict, repr=False)
 
@@ -580,6 +649,62 @@ class TorsionalCurve:
     @property
     def rotation_arcmin(self) -> np.ndarray:
         return self.rotation_rad * ARCMIN_PER_RAD
+
+    def rotation_at(self, torque_nm: float) -> float:
+        """The whole gear's rotation (rad) at a torque of the curve."""
+        hit = np.flatnonzero(self.torque_nm == float(torque_nm))
+        if hit.size == 0:
+            raise ChainError(f"torque_nm = {torque_nm!r} N·m: not a torque of the curve")
+        return float(self.rotation_rad[hit[0]])
+
+    def catalogue_comparison(self) -> dict | None:
+        """The catalogue's values, its source, and this model's against them (whole gear,
+        positive direction): K1, K2 and the secants at T1 and T2 (the catalogue's secant at
+        T2 from its bilinear curve, T2 / (T1/K1 + (T2 − T1)/K2)), and K3 and lost motion
+        when the catalogue gives them."""
+        cat = self.catalogue
+        if cat is None:
+            return None
+        k = self.k_nm_per_rad["total"]["positive"]
+        compared = {}
+
+        def add(name, model, value):
+            if value is not None:
+                compared[name] = {"model": model, "catalogue": value, "model_over_catalogue": model / value}
+
+        k1, k2, t1, t2 = (cat.get(n) for n in ("K1_nm_per_rad", "K2_nm_per_rad", "T1_nm", "T2_nm"))
+        add("K1_nm_per_rad", k["K1"], k1)
+        add("K2_nm_per_rad", k["K2"], k2)
+        add("K3_nm_per_rad", k["K3"], cat.get("K3_nm_per_rad"))
+        if k1 is not None:
+            add("secant_T1_nm_per_rad", k["secant_T1"], k1)
+        if None not in (k1, k2, t1, t2):
+            add("secant_T2_nm_per_rad", k["secant_T2"], t2 / (t1 / k1 + (t2 - t1) / k2))
+        add("lost_motion_arcmin", self.lost_motion_rad["total"] * ARCMIN_PER_RAD, cat.get("lost_motion_arcmin"))
+        return json_ready({**cat, "compared": compared,
+                           "breakpoints_from_catalogue": self.breakpoints_source == "catalogue"})
+
+    def headline(self) -> dict:
+        """The figures design.json["contact"]["torsional"] carries (whole gear, N·m/rad, arcmin)."""
+        k = self.k_nm_per_rad["total"]
+        cmp = self.catalogue_comparison()
+        return json_ready({
+            "k1_nm_per_rad": k["positive"]["K1"], "k2_nm_per_rad": k["positive"]["K2"],
+            "k3_nm_per_rad": k["positive"]["K3"],
+            "k1_k2_k3_negative_nm_per_rad": [k["negative"][n] for n in ("K1", "K2", "K3")],
+            "secant_t1_nm_per_rad": k["positive"]["secant_T1"], "secant_t2_nm_per_rad": k["positive"]["secant_T2"],
+            "breakpoints_nm": self.breakpoints_nm, "breakpoints_source": self.breakpoints_source,
+            "lost_motion_arcmin": self.lost_motion_rad["total"] * ARCMIN_PER_RAD,
+            "lost_motion_torque_nm": self.lost_motion_torque_nm,
+            "backlash_arcmin": self.backlash_rad * ARCMIN_PER_RAD,
+            "mesh_share_at_rated": self.compliances_at_rated["mesh_rad_per_nm"]
+            / self.compliances_at_rated["total_rad_per_nm"],
+            "torques": len(self.torque_nm),
+            "beyond_capacity_nm": [float(t) for t, f in zip(self.torque_nm, self.flags) if f is not None],
+            "catalogue_source": None if cmp is None else cmp.get("source"),
+            "model_over_catalogue": None if cmp is None else
+            {n: v["model_over_catalogue"] for n, v in cmp["compared"].items()},
+        })
 
     def to_dict(self) -> dict:
         """JSON-ready, in the names of issue 16's ``contact.json["torsional"]``."""
@@ -595,6 +720,7 @@ class TorsionalCurve:
             "k1_nm_per_rad": k_total["K1"], "k2_nm_per_rad": k_total["K2"], "k3_nm_per_rad": k_total["K3"],
             "stiffness_nm_per_rad": self.k_nm_per_rad,
             "breakpoints_nm": self.breakpoints_nm,
+            "breakpoints_source": self.breakpoints_source,
             "lost_motion_arcmin": self.lost_motion_rad["total"] * ARCMIN_PER_RAD,
             "lost_motion_mesh_arcmin": self.lost_motion_rad["mesh"] * ARCMIN_PER_RAD,
             "lost_motion_torque_nm": self.lost_motion_torque_nm,
@@ -604,7 +730,7 @@ class TorsionalCurve:
             "hysteresis_note": "no friction is modelled: loading and unloading give one curve",
             "compliances": self.compliances_at_rated,
             "chain": self.chain.to_dict(),
-            "catalogue": self.catalogue,
+            "catalogue": self.catalogue_comparison(),
             "odd_symmetry_defect": self.odd_symmetry_defect,
             "time_s": self.time_s,
             "warnings": list(self.warnings),
@@ -910,10 +1036,11 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     inputs = ContactInput.from_design(design, name="design")
     gs = inputs.gearset
     chain = compliance_chain(gs) if chain is None else chain
+    source = "given"
     if breakpoints_nm is None:
         if catalogue is None:
             raise ChainError("breakpoints_nm: give (T1, T2) in N·m when no catalogue is given")
-        breakpoints_nm = (catalogue["T1_nm"], catalogue["T2_nm"])
+        breakpoints_nm, source = (catalogue["T1_nm"], catalogue["T2_nm"]), "catalogue"
     t1 = _positive("breakpoints_nm[0]", breakpoints_nm[0], "N·m")
     t2 = _number("breakpoints_nm[1]", breakpoints_nm[1], "N·m", t1)
     t3 = float(gs.torque.peak_nm)
@@ -1044,4 +1171,48 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
         breakpoints_nm={"T1": t1, "T2": t2, "T3": t3}, k_nm_per_rad=k, lost_motion_rad=lost,
         lost_motion_torque_nm=t_lm, compliances_at_rated=compliances, chain=chain,
         catalogue=None if catalogue is None else dict(catalogue), odd_symmetry_defect=float(defect),
-        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), sides=dict(sides))
+        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), sides=dict(sides),
+        breakpoints_source=source)
+
+
+#: T1, T2 as fractions of the rated torque when no catalogue table is at hand (ESTIMATE: the
+#: size-40 table's 54 and 196 N·m against the CSF-40's ~265 N·m rated torque)
+ESTIMATED_BREAKPOINTS_PER_RATED = (0.2, 0.75)
+
+
+def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict | None | bool = True,
+                     **options) -> TorsionalCurve:
+    """The torsional curve a design run reports: :func:`curve_torques_nm` (≥ 24 torques, both
+    directions up to the momentary torque), K1–K3 on the breakpoints of the catalogue table
+    for the set's size (:func:`catalogue_for`; without one, T1 and T2 at
+    :data:`ESTIMATED_BREAKPOINTS_PER_RATED` of the rated torque, ``breakpoints_source`` =
+    "estimate"). ``contact``: the design's :class:`~profilegen.contact.analysis.ContactResult`
+    (right flank): its points and compliance are reused, only the left flank is built.
+    ``catalogue``: True for :func:`catalogue_for`, or a table, or None. The result keeps no
+    flanks (``sides`` empty: it is small enough to pickle and keep in a Design).
+    ``options``: :func:`torsional_curve`'s."""
+    from dataclasses import replace
+
+    from .compliance import ContactCompliance
+    from .inputs import ContactInput
+    from .points import contact_points
+
+    inputs = ContactInput.from_design(design, name="design")
+    gs = inputs.gearset
+    cat = catalogue_for(gs) if catalogue is True else (catalogue or None)
+    if cat is not None:
+        bp, source = (float(cat["T1_nm"]), float(cat["T2_nm"])), "catalogue"
+    else:
+        rated = float(gs.torque.rated_nm)
+        bp, source = tuple(f * rated for f in ESTIMATED_BREAKPOINTS_PER_RATED), "estimate"
+    stations, max_gap = options.get("stations", 5), options.get("max_gap_mm", 0.12)
+    sides = options.pop("sides", None)
+    if sides is None and contact is not None and getattr(contact, "compliance", None) is not None:
+        pts = contact.points
+        if pts.side == 1 and pts.stations == stations and pts.max_gap_mm == max_gap:
+            left = contact_points(inputs, side=-1, stations=stations, max_gap_mm=max_gap)
+            comp = ContactCompliance.build(inputs, left.fs_point_mm, left.normal, left.tooth, left.cs_point_mm)
+            sides = {1: (pts, contact.compliance), -1: (left, comp)}
+    curve = torsional_curve(inputs, curve_torques_nm(gs, bp, count=count), sides=sides, breakpoints_nm=bp,
+                            catalogue=cat, **options)
+    return replace(curve, sides={}, breakpoints_source=source)

@@ -119,7 +119,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
             step_files.write_fs_step(staging / "flexspline.step", result)
         if result.contact is not None:
             export.write_json(staging / "contact.json", {"gearset": g.name, "scene": result.scene.name,
-                                                         **result.contact.to_dict()})
+                                                         **result.contact.to_dict(), **_whole_gear(result)})
         if result.stress is not None:
             export.write_json(staging / "stress.json", {"gearset": g.name, "scene": result.scene.name,
                                                         **result.stress.to_dict()})
@@ -143,6 +143,12 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
     data["files"] = names
     export.write_json(staging / "design.json", data)  # last: a staging folder with design.json is complete
     return names
+
+
+def _whole_gear(result: Design) -> dict:
+    """contact.json's whole-gear parts (issue 16): the torsional curve, when the run made one."""
+    torsional = getattr(result, "torsional", None)
+    return {} if torsional is None else {"torsional": torsional.to_dict()}
 
 
 def _space_guides(result: Design) -> list:
