@@ -1,0 +1,541 @@
+"""Ratcheting: the torque at which the loaded FS teeth ride up the CS flanks until they skip.
+
+``ratcheting_torque(design) -> Ratcheting`` (``torque_nm``, ``model``, ``flag(torque)``,
+``to_dict()``). Units mm, N, MPa inside; torque N·m.
+
+Model
+-----
+Under torque the tooth forces F_k act along the common normals n_k (out of the FS tooth).
+Their radial components F_k sin α_k (α_k = asin(n_k·e_r), the effective pressure angle at
+the point) push the FS rim inward, onto the wave-generator bearing, and the CS outward. The
+FS tooth slides along the CS flank as it goes (the torque keeps the flanks pressed), so the
+teeth separate radially without unloading until the corners meet.
+
+* **Radial separation** Δr_k(T) of FS tooth k from its CS space: the FS part is read from the
+  package's own loaded contact — the FEM influence coefficients of
+  :class:`~profilegen.contact.compliance.ContactCompliance` with two extra *probe* points per
+  tooth (the FS tooth's tip-land centre with the radial direction e_r, paired with the CS
+  space's root centre), so Δr_k = Σ_j S_probe(k), j F_j (S·F along a direction is the bodies' separation along it): the FS rim and tooth ring, the
+  outer race and the balls, each active ball a Hertz spring (:class:`~profilegen.contact.
+  chain.BallBearing`, linearised as its secant at its own reaction and iterated to the fixed
+  point, as the torsional curve does), with the ball set settled (seed 000). The contact
+  model holds its CS sector rigid at 1.1 r_p, so the CS's own ovalisation is added
+  analytically (``cs_ring=True``): the CS as a free thin ring (mean radius R between its
+  root and outer circles, radial thickness h, width w = the face width, I = w h³/12) under
+  the radial components of both zones' tooth forces, inextensible bending harmonics
+  n = 2, 4, … plus the extensional n = 0 term:
+  w(θ) = Σ_k P_k [1/(2π) · R/(E A) + (1/π) Σ_n cos n(θ − θ_k) R³/(E I (n² − 1)²)]
+  (for two opposite point loads this is Roark's (π/4 − 2/π)/2 · P R³/(E I) under the load,
+  tested). ESTIMATE: a CS bolted on its face is stiffer than a free ring (an upper bound on
+  this compliance).
+* **Criterion.** The available radial depth of tooth k is its no-load engagement at the
+  corners, h_k = |FS tip corner of the loaded flank| − r_CS,tip (CS frame, the package's
+  kinematics with the no-load deformation): when the FS tooth has moved out of the space by
+  h_k while sliding along the flank, its tip corner stands on the CS tip circle and the next
+  increment of rotation takes it over the CS tooth's tip (the contact normal turns radial,
+  no tangential force is held). The gear ratchets when the **most loaded tooth** reaches it:
+  Δr_k*(T) = h_k*. Teeth at the zone's edges reach their (small) h_k earlier; they leave the
+  mesh as the load shifts, which the contact already does.
+* **Torque.** Δr_k*(T) at a ladder of torques up to what the contact model can carry (a load
+  case the contact flags beyond its searched points is reported, not used); if the
+  criterion is met inside the ladder the torque is interpolated (linearly in the margin), otherwise the last
+  three valid torques give Δr ∝ T^p (least squares in log–log, ``exponent`` p) and
+  T = T_last (h/Δr_last)^{1/p}; the estimate is the lower of that and the proportional
+  T_last h/Δr_last (the fitted p < 1 comes from the zone spreading over more teeth, which ends
+  once the whole zone is loaded) — an extrapolation, flagged as such.
+
+Left out (stated): the growth of α_k as the contact climbs onto the tip arcs (which raises
+the radial force and makes the real ratcheting torque lower); the inner ring and the cam's
+compliance; the cup's bending under the radial forces; the balls beyond the no-load wrap
+(the contact model's candidate balls are those within it); the CS's bolted joint (the ring
+is taken free); friction (it adds μ F_k to the force that resists sliding up the flank and
+raises the torque).
+
+Bad input: a zero or non-finite torque is a :class:`RatchetingError`; a wave-generator
+bearing that does not fit (:func:`check_bearing_fits`) is a :class:`BearingFitError` naming
+the field, its value, unit and range; a torque at or beyond the estimate is flagged by
+:meth:`Ratcheting.flag` (a reason string, ``None`` below it).
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+from functools import partial
+
+import numpy as np
+
+from .. import checks
+from ..errors import ConvergenceError, ProfilegenError
+from ..results import json_ready, readonly as _readonly
+
+__all__ = [
+    "BearingFitError",
+    "CATALOGUE_RATCHETING",
+    "Ratcheting",
+    "RatchetingError",
+    "check_bearing_fits",
+    "cs_ring_radial_compliance",
+    "ratcheting_torque",
+]
+
+log = logging.getLogger(__name__)
+
+#: The catalogue's ratcheting torque for the size of the default and seed000_csf40 sets
+#: (CSF-40-100). None: no sourced value was found — not in the repository, the seeds, or
+#: the searchable catalogue pages (searched for "Harmonic Drive CSF ratcheting torque
+#: size 40"); a value may be put here only with its source.
+CATALOGUE_RATCHETING = None
+
+
+class RatchetingError(ProfilegenError, ValueError):
+    """Bad input to the ratcheting estimate (a zero or non-finite torque, an unknown
+    option); names the parameter, its value, unit and allowed range."""
+
+
+class BearingFitError(RatchetingError):
+    """The wave-generator bearing does not fit between the FS bore and the cam; names the
+    field or keyword, its value, unit and allowed range."""
+
+
+_positive = partial(checks.positive, error=RatchetingError)
+_number = partial(checks.number, error=RatchetingError)
+
+
+def _torque(name: str, value) -> float:
+    t = checks.number(name, value, "N·m", error=RatchetingError)
+    if not math.isfinite(t) or t == 0.0:
+        raise RatchetingError(f"{name} = {value!r} N·m: must be finite and ≠ 0 (zero torque loads no flank: "
+                              "there is nothing to ratchet)")
+    return t
+
+
+# --------------------------------------------------------------------------- the bearing fits
+
+
+def check_bearing_fits(gearset, bearing=None, *, race_thickness_mm: float | None = None,
+                       inner_race_thickness_mm: float | None = None) -> None:
+    """Raise :class:`BearingFitError` unless the wave-generator bearing fits between the FS
+    bore and the cam. ``bearing``: a :class:`~profilegen.contact.chain.BallBearing` (default
+    its estimate for the gear set). Radially, from the bore in: the outer race
+    (``race_thickness_mm``, default the contact model's estimate), the balls (D), the inner
+    race (``inner_race_thickness_mm``, default = the outer race's) and the cam. With
+    ``wave_generator.bearing_thickness_mm`` = h given (the cam is h below the bore), the
+    section must fit in it: t_o + D + t_i ≤ h. Always: the ball row's pitch radius
+    r_bore − t_o − D/2 must exceed D/2 (the cam needs a centre)."""
+    from .chain import BallBearing, ChainError
+    from .compliance import default_race_thickness_mm
+
+    g = gearset.gear
+    r_bore = float(g.neutral_radius_mm) - 0.5 * float(g.rim_thickness_mm)
+    t_o = default_race_thickness_mm(g) if race_thickness_mm is None else \
+        checks.positive("race_thickness_mm", race_thickness_mm, "mm", allow_zero=True, error=BearingFitError)
+    t_i = t_o if inner_race_thickness_mm is None else \
+        checks.positive("inner_race_thickness_mm", inner_race_thickness_mm, "mm", allow_zero=True,
+                        error=BearingFitError)
+    if bearing is None:
+        try:
+            bearing = BallBearing.from_gearset(gearset, race_thickness_mm=t_o)
+        except ChainError as exc:
+            raise BearingFitError(str(exc)) from None
+    elif not isinstance(bearing, BallBearing):
+        raise BearingFitError(f"bearing = {bearing!r}: must be a BallBearing (profilegen.contact.chain) or None")
+    d = float(bearing.ball_diameter_mm)
+    room = r_bore - t_o
+    if not d < room:
+        raise BearingFitError(f"ball_diameter_mm = {d:.6g} mm: must be in (0, {room:.6g}) mm — the balls must fit "
+                              f"inside the outer race (FS bore radius {r_bore:.6g} mm less race_thickness_mm = "
+                              f"{t_o:.6g} mm) around a cam")
+    h = getattr(gearset.wave_generator, "bearing_thickness_mm", None)
+    if h is not None:
+        space = float(h) - t_o - t_i
+        if not d <= space:
+            raise BearingFitError(
+                f"ball_diameter_mm = {d:.6g} mm: must be in (0, {max(space, 0.0):.6g}] mm — it does not fit between "
+                f"the races in wave_generator.bearing_thickness_mm = {float(h):.6g} mm (outer race {t_o:.6g} mm + "
+                f"balls + inner race {t_i:.6g} mm); give a thicker bearing or smaller balls")
+
+
+# --------------------------------------------------------------------------- the CS ring
+
+
+def cs_ring_radial_compliance(angles_rad, at_rad, *, mean_radius_mm: float, thickness_mm: float,
+                              width_mm: float, youngs_modulus_mpa: float, harmonics: int = 200) -> np.ndarray:
+    """Radial displacement (mm, outward) of a free thin ring at ``at_rad`` per unit outward
+    radial point load (N) at each of ``angles_rad``: an (m, k) matrix. Curved-beam theory,
+    inextensible bending for the harmonics n = 2 … (one rigid-body harmonic n = 1 is left to
+    the supports: the loads' resultant must vanish, as two opposite zones' do) plus the
+    extensional n = 0 term: w = 1/(2π) R/(E A) + (1/π) Σ_{n≥2} cos n(θ − θ_k) R³/(E I (n² − 1)²),
+    A = w h, I = w h³/12."""
+    r = _positive("mean_radius_mm", mean_radius_mm)
+    h = _positive("thickness_mm", thickness_mm)
+    w = _positive("width_mm", width_mm)
+    e = _positive("youngs_modulus_mpa", youngs_modulus_mpa, "MPa")
+    n_max = checks.whole("harmonics", harmonics, 2, error=RatchetingError)
+    a = np.atleast_1d(np.asarray(angles_rad, dtype=float))
+    t = np.atleast_1d(np.asarray(at_rad, dtype=float))
+    area, inertia = w * h, w * h ** 3 / 12.0
+    n = np.arange(2, n_max + 1, dtype=float)
+    coef = r ** 3 / (e * inertia * (n * n - 1.0) ** 2) / math.pi
+    d = t[:, None] - a[None, :]
+    bending = np.cos(d[..., None] * n) @ coef
+    return bending + r / (e * area) / (2.0 * math.pi)
+
+
+def _cs_ring_section(gearset, inputs) -> tuple[float, float, float, list[str]]:
+    """(mean radius, radial thickness, width) of the CS ring (mm) and the estimates in them."""
+    from .chain import _cs_held_radius
+
+    r_out, note = _cs_held_radius(gearset)
+    estimates = [note] if note else []
+    # the root circle of the fitted CS space: its farthest point from the centre
+    pts = np.asarray(inputs.cs_space.sample(1e-3), dtype=float)
+    r_root = float(np.max(np.hypot(pts[:, 0], pts[:, 1])))
+    width = float(gearset.cup.face_width_mm)
+    estimates.append(f"cs_ring width = {width:.4g} mm (the face width), free ring (not bolted)")
+    return 0.5 * (r_root + r_out), r_out - r_root, width, estimates
+
+
+# --------------------------------------------------------------------------- the result
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Ratcheting:
+    """The ratcheting estimate (see the module docstring).
+
+    ``torque_nm``: the estimate (N·m; ``inf`` if the teeth never separate in this model);
+    ``torque_fitted_nm`` / ``torque_proportional_nm``: the two extrapolations (None inside);
+    ``model``/``criterion``: words; ``extrapolated``: the criterion lies beyond the torques
+    the contact could carry; ``exponent``: p of Δr ∝ T^p used to extrapolate. Per solved
+    torque (``torques_nm``): ``tooth`` the most loaded tooth, ``depth_mm`` its h,
+    ``separation_mm`` its Δr (FS side + CS ring), ``separation_fs_mm``, ``separation_cs_mm``,
+    ``pressure_angle_deg`` its force-weighted α, ``valid`` (not flagged by the contact),
+    ``flags`` (the contact's reason, or None). ``catalogue``: {"torque_nm", "source"} or None.
+    """
+
+    torque_nm: float
+    model: str
+    criterion: str
+    torques_nm: np.ndarray
+    tooth: np.ndarray
+    tooth_phi_deg: np.ndarray
+    depth_mm: np.ndarray
+    separation_mm: np.ndarray
+    separation_fs_mm: np.ndarray
+    separation_cs_mm: np.ndarray
+    pressure_angle_deg: np.ndarray
+    valid: np.ndarray
+    flags: tuple
+    extrapolated: bool
+    exponent: float | None
+    rated_torque_nm: float
+    catalogue: dict | None
+    parts: dict
+    estimates: tuple[str, ...]
+    time_s: float
+    warnings: tuple[str, ...] = field(default=())
+    torque_fitted_nm: float | None = None
+    torque_proportional_nm: float | None = None
+
+    def __post_init__(self):
+        for name in ("torques_nm", "tooth_phi_deg", "depth_mm", "separation_mm", "separation_fs_mm",
+                     "separation_cs_mm", "pressure_angle_deg"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+        object.__setattr__(self, "tooth", _readonly(self.tooth, int))
+        object.__setattr__(self, "valid", _readonly(self.valid, bool))
+
+    @property
+    def ratio_to_rated(self) -> float:
+        return self.torque_nm / self.rated_torque_nm
+
+    @property
+    def ratio_to_catalogue(self) -> float | None:
+        """estimate / catalogue, or None without a sourced catalogue value."""
+        if not self.catalogue or self.catalogue.get("torque_nm") is None:
+            return None
+        return self.torque_nm / float(self.catalogue["torque_nm"])
+
+    def margin_mm(self) -> np.ndarray:
+        """h − Δr at the most loaded tooth, per solved torque (mm; ≤ 0: ratcheted)."""
+        return self.depth_mm - self.separation_mm
+
+    def flag(self, torque_nm) -> str | None:
+        """Why ``torque_nm`` (N·m, either sign) is beyond the ratcheting estimate, or None.
+        Zero or a non-finite torque: :class:`RatchetingError`."""
+        t = abs(_torque("torque_nm", torque_nm))
+        if t < self.torque_nm:
+            return None
+        how = "extrapolated" if self.extrapolated else "interpolated"
+        return (f"{t:g} N·m is at or beyond the ratcheting estimate {self.torque_nm:.4g} N·m ({how}; the loaded FS "
+                "teeth ride up the CS flanks until their tips meet): the teeth may skip")
+
+    def to_dict(self) -> dict:
+        return json_ready({
+            "torque_nm": self.torque_nm,
+            "ratio_to_rated": self.ratio_to_rated,
+            "model": self.model,
+            "criterion": self.criterion,
+            "extrapolated": self.extrapolated,
+            "exponent": self.exponent,
+            "torque_fitted_nm": self.torque_fitted_nm,
+            "torque_proportional_nm": self.torque_proportional_nm,
+            "catalogue": self.catalogue,
+            "ratio_to_catalogue": self.ratio_to_catalogue,
+            "torques_nm": self.torques_nm.tolist(),
+            "tooth": self.tooth.tolist(),
+            "tooth_phi_deg": self.tooth_phi_deg.tolist(),
+            "depth_mm": self.depth_mm.tolist(),
+            "separation_mm": self.separation_mm.tolist(),
+            "separation_fs_mm": self.separation_fs_mm.tolist(),
+            "separation_cs_mm": self.separation_cs_mm.tolist(),
+            "pressure_angle_deg": self.pressure_angle_deg.tolist(),
+            "valid": self.valid.tolist(),
+            "beyond_capacity": list(self.flags),
+            "parts": self.parts,
+            "estimates": list(self.estimates),
+            "time_s": self.time_s,
+            "warnings": list(self.warnings),
+        })
+
+
+# --------------------------------------------------------------------------- the estimate
+
+
+def _probes(inputs, points):
+    """Per candidate tooth: the FS tip-land centre (CS frame), e_r there, the CS space's root
+    centre, and the loaded flank's tip corner (CS frame)."""
+    from ..kinematics import turn
+
+    g = inputs.gearset.gear
+    teeth = points.teeth
+    phis = 2.0 * math.pi * teeth / g.flexspline_teeth
+    pose = inputs.motion.pose(phis)
+    tooth = inputs.tooth
+    tip_y = float(tooth.tip_point[1])
+    corner = tooth.evaluate(np.array([tooth.length_mm]), side=points.side)[0][0]
+    fs = pose.to_cs(np.broadcast_to(np.array([0.0, tip_y]), (teeth.size, 2)).copy())
+    cn = pose.to_cs(np.broadcast_to(corner, (teeth.size, 2)).copy())
+    _, foot = inputs.cs_space.nearest(np.array([[0.0, 2.0 * float(g.cs_pitch_radius_mm)]]))
+    angles = 2.0 * math.pi * teeth / g.circular_spline_teeth
+    fs = np.vstack([turn(fs[k:k + 1], a) for k, a in enumerate(angles)])
+    cn = np.vstack([turn(cn[k:k + 1], a) for k, a in enumerate(angles)])
+    cs = np.vstack([turn(foot, a) for a in angles])
+    e_r = fs / np.linalg.norm(fs, axis=1)[:, None]
+    return teeth, phis, fs, e_r, cs, cn
+
+
+def _split(combined, n: int):
+    """The contact points' ContactCompliance out of one built with the probes after them (the
+    same FEM flexibilities, sliced: exact)."""
+    from .compliance import ContactCompliance
+
+    b = combined.face_width_mm
+    return ContactCompliance._assemble(
+        flex_cc=combined._flex_cc[:n, :n], flex_cb=combined._flex_cb[:n], flex_bb=combined._flex_bb,
+        cs_flex=combined.cs_matrix_mm_per_n[:n, :n] * b, face_width_mm=b, tooth=combined.tooth[:n],
+        ball_angle_rad=combined.ball_angle_rad, ball_active=combined.ball_active,
+        wrap_half_angle_rad=combined.wrap_half_angle_rad, wrap_source=combined.wrap_source, dof=combined.dof,
+        time_s=combined.time_s, mesh=combined.mesh, warnings=combined.warnings,
+        ball_compliance=combined.ball_compliance_mm_per_n)
+
+
+def _solve(points, comp, torque_nm: float, bearing, *, settle_iterations: int, spring_iterations: int,
+           spring_tol: float):
+    """One torque: Lemke with ball settling and, with a bearing, the Hertz secant springs
+    iterated to their fixed point. → (solution, the settled compliance with its springs)."""
+    from .solvers import solve_lemke
+
+    tz = torque_nm / points.zones * 1e3
+
+    def forces_for(matrix):
+        return solve_lemke(matrix, points.theta_rad, points.lever_mm, tz).force_n
+
+    def settled(c):
+        first = solve_lemke(c.matrix_mm_per_n, points.theta_rad, points.lever_mm, tz)
+        s = c.settle_balls(first.force_n, max_iterations=settle_iterations, solve=forces_for)
+        sol = first if s is c else solve_lemke(s.matrix_mm_per_n, points.theta_rad, points.lever_mm, tz)
+        return s, sol
+
+    comp, sol = settled(comp.with_balls(comp.ball_active, ball_compliance_mm_per_n=None))
+    if bearing is None:
+        return sol, comp
+    springs = None
+    for _ in range(spring_iterations):
+        react = comp.ball_reactions(sol.force_n)
+        floor = max(1.0, 1e-3 * float(react.max(initial=0.0)))
+        new = bearing.secant_compliance_mm_per_n(react, floor_n=floor)
+        if springs is not None and np.all(np.abs(new / springs - 1.0) <= spring_tol):
+            return sol, comp
+        springs = new
+        comp, sol = settled(comp.with_balls(comp.ball_active, ball_compliance_mm_per_n=springs))
+    raise ConvergenceError(f"ratcheting_torque: the Hertz ball springs did not settle in {spring_iterations} "
+                           f"iterations at {torque_nm:g} N·m")
+
+
+def _default_ladder(gearset) -> np.ndarray:
+    rated = float(gearset.torque.rated_nm)
+    top = float(gearset.torque.momentary_nm or gearset.torque.peak_nm)
+    ladder = rated * np.array([0.25, 0.5, 1.0, 1.5, 2.0, 3.0])
+    return np.unique(np.append(ladder[ladder < top], top))
+
+
+def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, cs_ring: bool = True,
+                      stations: int = 5, max_gap_mm: float = 0.12, race_thickness_mm: float | None = None,
+                      catalogue: dict | None = CATALOGUE_RATCHETING, settle_iterations: int = 20,
+                      spring_iterations: int = 60, spring_tol: float = 1e-6) -> Ratcheting:
+    """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
+    by the model of the module docstring.
+
+    ``torques_nm``: the ladder to solve (N·m, > 0; default 0.25 … 4.5 × the rated torque, up to
+    the momentary one); ``side``: the loaded flank (+1/−1); ``bearing``: a
+    :class:`~profilegen.contact.chain.BallBearing`, True (its estimate for the gear set) or
+    None/False (rigid balls); ``cs_ring``: add the CS ring's ovalisation; ``catalogue``:
+    {"torque_nm": …, "source": …} to compare with (a value only with its source)."""
+    from .chain import BallBearing
+    from .compliance import ContactCompliance
+    from .inputs import ContactInput
+    from .points import contact_points
+
+    t0 = time.perf_counter()
+    inputs = ContactInput.from_design(design, name="design")
+    gs = inputs.gearset
+    if torques_nm is None:
+        torques = _default_ladder(gs)
+    else:
+        torques = np.atleast_1d(np.asarray(torques_nm, dtype=float)) if not isinstance(torques_nm, (int, float)) \
+            else np.array([float(torques_nm)])
+        if torques.ndim != 1 or torques.size < 2:
+            raise RatchetingError(f"torques_nm: must be at least 2 torques (N·m), got {torques.size}")
+        for k, t in enumerate(torques):
+            if not _torque(f"torques_nm[{k}]", t) > 0.0:
+                raise RatchetingError(f"torques_nm[{k}] = {t!r} N·m: must be > 0 (the flank is chosen by side)")
+        torques = np.unique(torques)
+    if side not in (1, -1):
+        raise RatchetingError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
+    if bearing is True:
+        check_bearing_fits(gs, race_thickness_mm=race_thickness_mm)
+        bearing = BallBearing.from_gearset(gs, race_thickness_mm=race_thickness_mm)
+    elif bearing is False or bearing is None:
+        bearing = None
+    elif isinstance(bearing, BallBearing):
+        check_bearing_fits(gs, bearing, race_thickness_mm=race_thickness_mm)
+    else:
+        raise RatchetingError(f"bearing = {bearing!r}: must be a BallBearing, True (estimated) or None (rigid balls)")
+    if catalogue is not None and (not isinstance(catalogue, dict) or "source" not in catalogue
+                                  or "torque_nm" not in catalogue):
+        raise RatchetingError("catalogue: must be None or {'torque_nm': …, 'source': …} (a value only with its source)")
+
+    points = contact_points(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm)
+    teeth, phis, fs_probe, e_r, cs_probe, corner = _probes(inputs, points)
+    n = points.count
+    combined = ContactCompliance.build(
+        inputs, np.vstack([points.fs_point_mm, fs_probe]), np.vstack([points.normal, e_r]),
+        np.concatenate([points.tooth, teeth]), np.vstack([points.cs_point_mm, cs_probe]),
+        race_thickness_mm=race_thickness_mm)
+    comp = _split(combined, n)
+    depth = np.linalg.norm(corner, axis=1) - inputs.cs_tip_radius_mm
+    slot = np.searchsorted(teeth, points.tooth)
+    e_r_pts = points.fs_point_mm / np.linalg.norm(points.fs_point_mm, axis=1)[:, None]
+    sin_alpha = np.einsum("ij,ij->i", points.normal, e_r_pts)
+
+    estimates = list(bearing.estimates) if bearing is not None else []
+    ring = None
+    if cs_ring:
+        r_mean, thick, width, notes = _cs_ring_section(gs, inputs)
+        estimates += notes
+        # both zones: tooth i at φ_i and its image at φ_i + π (U = 2)
+        ang = np.concatenate([phis, phis + math.pi])
+        ring = cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
+                                         youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
+        ring_info = {"mean_radius_mm": r_mean, "thickness_mm": thick, "width_mm": width}
+    rows, flags, warnings = [], [], []
+    from .analysis import _load_case
+
+    with _serial():
+        for t in torques:
+            sol, settled = _solve(points, comp, float(t), bearing, settle_iterations=settle_iterations,
+                                  spring_iterations=spring_iterations, spring_tol=spring_tol)
+            case, _ = _load_case(points, float(t), sol, settled)
+            flags.append(case.beyond_capacity)
+            full = combined.with_balls(settled.ball_active, ball_compliance_mm_per_n=settled.ball_compliance_mm_per_n)
+            f = sol.force_n
+            # S·F along a probe = the separation of the two bodies along it (the FS pushed along −e_r)
+            sep_fs = full.matrix_mm_per_n[n:, :n] @ f
+            sep_cs = np.zeros(teeth.size)
+            if ring is not None:
+                radial = np.bincount(slot, weights=f * sin_alpha, minlength=teeth.size)  # outward on the CS
+                sep_cs = ring @ np.concatenate([radial, radial])
+            per_tooth = case.tooth_force_n
+            k = int(np.argmax(per_tooth))
+            on = slot == k
+            alpha = float(np.degrees(np.arcsin(np.clip(np.sum(f[on] * sin_alpha[on]) / max(np.sum(f[on]), 1e-300),
+                                                       -1.0, 1.0))))
+            rows.append((int(teeth[k]), math.degrees(phis[k]), float(depth[k]), float(sep_fs[k] + sep_cs[k]),
+                         float(sep_fs[k]), float(sep_cs[k]), alpha))
+    tooth_k, phi_k, h, sep, sep_fs, sep_cs, alpha = (np.array(c) for c in zip(*rows))
+    valid = np.array([fl is None for fl in flags])
+    rated = float(gs.torque.rated_nm)
+    torque, extrapolated, exponent, fitted, proportional = _criterion(torques, h, sep, valid, warnings)
+    cat = None if catalogue is None else dict(catalogue)
+    if cat is None:
+        warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")
+    model = ("radial separation of the most loaded tooth from its CS space against its corner depth; FS side "
+             "from the contact's FEM influence coefficients (tip-land probes, Hertz ball springs, settled balls)"
+             + ("; CS side a free thin ring (bending harmonics n = 2, 4, … and n = 0)" if cs_ring else
+                "; CS held by the contact model's sector (no ring ovalisation)"))
+    criterion = ("Δr_k*(T) = h_k* = |FS tip corner| − r_CS,tip at the most loaded tooth k* (the tips meet while "
+                 "the flanks slide); interpolated linearly in the margin inside the solved torques, else Δr ∝ T^p from the "
+                 "last three valid torques")
+    parts = {"bearing": None if bearing is None else bearing.to_dict(),
+             "cs_ring": ring_info if cs_ring else None,
+             "points": int(n), "probe_teeth": int(teeth.size)}
+    return Ratcheting(float(torque), model, criterion, torques, tooth_k, phi_k, h, sep, sep_fs, sep_cs, alpha, valid,
+                      tuple(flags), extrapolated, exponent, rated, cat, parts, tuple(estimates),
+                      time.perf_counter() - t0, tuple(dict.fromkeys(warnings)), fitted, proportional)
+
+
+def _serial():
+    from threadpoolctl import threadpool_limits
+
+    return threadpool_limits(limits=1, user_api="blas")
+
+
+def _criterion(torques, depth, sep, valid, warnings) -> tuple[float, bool, float | None, float | None, float | None]:
+    """(T_r, extrapolated, p, T with the fitted p, T with p = 1) from the most loaded tooth's
+    separation and depth per torque. Outside the solved torques T_r is the lower of the two
+    extrapolations: the fitted p < 1 comes from the loaded zone spreading over more teeth as
+    the torque grows, which stops once the whole zone carries load."""
+    t = torques[valid]
+    h, s = depth[valid], sep[valid]
+    if t.size < 2:
+        raise ConvergenceError(f"ratcheting_torque: only {t.size} of the {torques.size} torques lie within what the "
+                               "contact model can carry; give lower torques_nm")
+    margin = h - s
+    hit = np.flatnonzero(margin <= 0.0)
+    if hit.size:
+        k = int(hit[0])
+        if k == 0:
+            warnings.append(f"the lowest torque {t[0]:g} N·m already reaches the criterion")
+            return float(t[0]), False, None, None, None
+        m0, m1 = margin[k - 1], margin[k]  # linear in the margin between the bracketing torques
+        return float(t[k - 1] + m0 / (m0 - m1) * (t[k] - t[k - 1])), False, None, None, None
+    last = slice(max(0, t.size - 3), t.size)
+    tt, ss = t[last], s[last]
+    if np.any(ss <= 0.0):
+        warnings.append("the most loaded tooth does not move out of its space (Δr ≤ 0) at the highest valid torques: "
+                        "this model predicts no ratcheting")
+        return math.inf, True, None, None, None
+    p, _ = np.polyfit(np.log(tt), np.log(ss), 1)
+    proportional = float(tt[-1] * h[-1] / ss[-1])
+    if not p > 0.0:
+        warnings.append(f"Δr does not grow with the torque (p = {p:.3g}) at the highest valid torques; the "
+                        "estimate takes Δr ∝ T")
+        return proportional, True, float(p), math.inf, proportional
+    fitted = float(tt[-1] * (h[-1] / ss[-1]) ** (1.0 / p))
+    torque = min(fitted, proportional)
+    warnings.append(f"the criterion lies beyond the torques the contact model carries ({tt[-1]:g} N·m): extrapolated "
+                    f"by a factor {torque / tt[-1]:.3g} (Δr ∝ T^{p:.3f} fitted: {fitted:.4g} N·m; Δr ∝ T: "
+                    f"{proportional:.4g} N·m; the lower is the estimate)")
+    return torque, True, float(p), fitted, proportional
