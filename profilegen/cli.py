@@ -46,11 +46,16 @@ def _cmd_design(args) -> int:
     check_gearset(gearset)  # what check rejects fails here, before the first progress line
     out = Path(args.out) if args.out else Path("export") / gearset.name
     folder.check(out, ours=OUTPUT_FILES)  # a folder holding the user's files: refused now, not after the stages
-    stages = planned_stages(gearset, scene=args.scene, contact=args.contact) + ("files",)
+    scene = args.scene
+    if args.rim is not None:  # the scene's rim tier overridden: --rim cup3d
+        from .scenes import resolve_scene, with_rim_tier
+
+        scene = with_rim_tier(resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene), args.rim)
+    stages = planned_stages(gearset, scene=scene, contact=args.contact) + ("files",)
     bar = _progress(len(stages), quiet=args.quiet, what=f"design {gearset.name}")
     # the figure workers start now: they import matplotlib and draw the profile's figures while the stages run
     with figure_workers() as figures:
-        result = design(gearset, scene=args.scene, fit_method=args.fit, progress=lambda name: bar(name),
+        result = design(gearset, scene=scene, fit_method=args.fit, progress=lambda name: bar(name),
                         contact=args.contact, on_profile=lambda partial: profile_figures(figures, partial))
         bar("files")
         written = write_design(result, out, figures=figures, step=args.step)
@@ -341,6 +346,9 @@ def _parser() -> argparse.ArgumentParser:
                    help="fidelity preset (default: the gear set's), or a scene file (a copy of the bundled "
                         "scenes.toml; FILE.toml#NAME picks one of its scenes); 'list' shows the presets and where "
                         "their file is (so does --scene alone)")
+    d.add_argument("--rim", metavar="sketch|design|verify|toothed|cup3d",  # checked by scenes.with_rim_tier
+                   help="the rim stage's tier instead of the scene's: cup3d = the 3D cup (coning across the face), "
+                        "toothed (= verify) = the 2D toothed rim, design = the 2D flat ring, sketch = ring theory")
     d.add_argument("--out", help="output folder (default: export/<gear-set name>/)")
     d.add_argument("--contact", action=argparse.BooleanOptionalAction, default=None,
                    help="loaded tooth contact at the set's rated/peak/momentary torques (default: on in the design "

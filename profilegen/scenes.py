@@ -2,8 +2,10 @@
 
 A scene file has one table per scene; the table's key is the scene's name, its keys are
 the fields of :class:`Scene` (documented in the bundled file). The rim
-stage's tier is the ``tier`` key (``sketch``, ``design`` or ``verify``), which a scene named
-after a tier may leave out. A user's copy of the bundled file (or a file with one table) is
+stage's tier is the ``tier`` key (one of :data:`RIM_TIER_NAMES`: ``sketch``, ``design``,
+``verify`` — the toothed 2D rim, also named ``toothed`` — or ``cup3d``, the 3D cup), which a
+scene named sketch or design may leave out (the bundled ``verify`` scene uses ``cup3d``).
+:func:`with_rim_tier` gives a scene another rim tier (``profilegen design --rim cup3d``). A user's copy of the bundled file (or a file with one table) is
 used with ``design(gearset, scene="my_scenes.toml")`` or ``profilegen design --scene
 my_scenes.toml``; ``my_scenes.toml#fast`` picks the scene ``fast`` of a file with several.
 
@@ -17,6 +19,8 @@ Every problem is a :class:`SceneError` (a :class:`~profilegen.errors.GearSetErro
 Traceback (most recent call last):
 ...
 profilegen.scenes.SceneError: ...mine.toml: scene 'fast': tier = 'quick': must be one of sketch, design, verify...
+>>> scenes["verify"].rim_tier, with_rim_tier(scenes["design"], "cup3d").rim_tier
+('cup3d', 'cup3d')
 """
 
 from __future__ import annotations
@@ -33,7 +37,14 @@ from .errors import GearSetError
 from .gearset import SCENE_NAMES
 from .gearset import looks_like_path
 
-__all__ = ["SCENES", "SCENE_NAMES", "Scene", "SceneError", "bundled_scenes_path", "parse_scenes", "read_scenes", "resolve_scene"]
+__all__ = ["RIM_TIER_NAMES", "SCENES", "SCENE_NAMES", "Scene", "SceneError", "bundled_scenes_path", "parse_scenes",
+           "read_scenes", "resolve_scene", "with_rim_tier"]
+
+#: the rim stage's tiers (the keys of :data:`profilegen.rim.stage.RIM_TIERS`, named here without
+#: importing the solvers) with the label a scene gets when :func:`with_rim_tier` sets one
+RIM_TIER_NAMES = ("sketch", "design", "verify", "toothed", "cup3d")
+RIM_TIER_LABELS = {"sketch": "ring theory", "design": "ring FEM (nonlinear)", "verify": "toothed-rim FEM (nonlinear)",
+                   "toothed": "toothed-rim FEM (nonlinear)", "cup3d": "3D cup (Fourier harmonics)"}
 
 
 class SceneError(GearSetError):
@@ -52,6 +63,7 @@ _KEYS: dict[str, tuple[str, bool, tuple[float, float] | None]] = {
     "fit_check_positions": ("count", False, (3, 100_000)),
     "contact": ("bool", False, None),
     "tier": ("text", False, None),
+    "figures": ("choice", False, ("all", "none")),
 }
 @dataclass(frozen=True, slots=True)
 class Scene:
@@ -67,7 +79,8 @@ class Scene:
     description: str
     fit_check_positions: int = 2001  # FS tooth poses the fitted CS profile is checked against
     contact: bool = False  # loaded tooth contact at the gear set's torques (rated, peak, momentary)
-    tier: str = ""  # the rim stage's tier (sketch, design, verify); "" → the scene's name
+    tier: str = ""  # the rim stage's tier (RIM_TIER_NAMES); "" → the scene's name
+    figures: str = "all"  # the PNG figures of the files and reports: "all", or "none" (`--figures` draws them)
 
     @property
     def rim_tier(self) -> str:
@@ -124,10 +137,10 @@ def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:
         if "tier" in table and "tier" not in values:
             pass  # reported above
         elif tier is None:
-            problems.append(f"{where}: tier: missing (the rim stage's tier, one of {', '.join(SCENE_NAMES)}; only "
+            problems.append(f"{where}: tier: missing (the rim stage's tier, one of {', '.join(RIM_TIER_NAMES)}; only "
                             f"a scene named after a tier may leave it out)")
-        elif tier not in SCENE_NAMES:
-            problems.append(f"{where}: tier = {tier!r}: must be one of {', '.join(SCENE_NAMES)}")
+        elif tier not in RIM_TIER_NAMES:
+            problems.append(f"{where}: tier = {tier!r}: must be one of {', '.join(RIM_TIER_NAMES)}")
         if len(problems) == before:
             values.pop("tier", None)
             scenes[name] = Scene(name=name, **values, tier="" if tier == name else tier)
@@ -163,12 +176,26 @@ def resolve_scene(scene: str | os.PathLike | Scene, *, default: str = "design") 
     return scenes[default]
 
 
+def with_rim_tier(scene: Scene, tier: str | None) -> Scene:
+    """``scene`` with the rim stage's tier ``tier`` (one of :data:`RIM_TIER_NAMES`) and its label;
+    ``scene`` itself for None or its own tier (``profilegen design --rim``)."""
+    import dataclasses
+
+    if tier is None or tier == scene.rim_tier:
+        return scene
+    if tier not in RIM_TIER_NAMES:
+        raise SceneError(f"rim tier = {tier!r}: must be one of {', '.join(RIM_TIER_NAMES)}")
+    return dataclasses.replace(scene, tier=tier, rim=RIM_TIER_LABELS[tier])
+
+
 def _check(value, kind: str, rng) -> str:
     """'' if ``value`` is a valid ``kind`` within ``rng``, else what is wrong."""
     if kind == "text":
         return "" if isinstance(value, str) and value.strip() else "must be a non-empty text"
     if kind == "bool":
         return "" if isinstance(value, bool) else f"must be true or false, got {_type_name(value)}"
+    if kind == "choice":
+        return "" if isinstance(value, str) and value in rng else f"must be one of {_describe(kind, rng)}"
     if kind == "count":
         if isinstance(value, bool) or not isinstance(value, int) or not rng[0] <= value <= rng[1]:
             return f"must be an integer in [{rng[0]}, {rng[1]}]"
@@ -183,6 +210,8 @@ def _describe(kind: str, rng) -> str:
         return f"an integer in [{rng[0]}, {rng[1]}]"
     if kind == "mm":
         return f"mm, in ({rng[0]:g}, {rng[1]:g}]"
+    if kind == "choice":
+        return ", ".join(f'"{v}"' for v in rng)
     return "true or false" if kind == "bool" else "text"
 
 

@@ -63,7 +63,7 @@ __all__ = [
 log = logging.getLogger(__name__)
 
 TWO_PI = 2.0 * math.pi
-TIERS = ("sketch", "design", "verify")
+TIERS = ("sketch", "design", "verify", "toothed", "cup3d")  # the rim stage's tiers (profilegen.rim.stage.RIM_TIERS)
 # Residuals below this fraction of the component's magnitude are rounding, not signal:
 # both order criteria floor the RMS at _FLOOR_REL·max|f| so that exact data (ring theory)
 # do not pick harmonics by comparing rounding noise.

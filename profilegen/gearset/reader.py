@@ -57,6 +57,7 @@ from .sections import (
     PointsTooth,
     Torque,
     WaveGenerator,
+    check_cup_geometry,
 )
 
 
@@ -955,6 +956,25 @@ class _Reader:
             "root_fillet_radius_mm": self.number(t, p, "root_fillet_radius_mm", unit="mm", rng=_Range(
                 0, 2 * gear.module_mm, lo_open=True, note="upper bound 2·m"), default=0.6 * gear.module_mm),
         }
-        if any(x is None for x in v.values()):
+        # the 3D cup's fields (default: wall = δ, bearing = the face, centred on the mid-face), their
+        # ranges relative to the others: check_cup_geometry, the rules CupGeometry uses too
+        for key in ("wall_thickness_mm", "bearing_width_mm", "bearing_center_mm"):
+            v[key] = self.number(t, p, key, unit="mm", rng=_Range(0, lo_open=True), default=None)
+            if key in t and v[key] is None:
+                return None  # reported
+        if any(v[key] is None for key in v if key not in ("wall_thickness_mm", "bearing_width_mm",
+                                                          "bearing_center_mm")):
             return None
+        try:
+            full = check_cup_geometry(
+                neutral_radius_mm=r_m, ring_thickness_mm=gear.rim_thickness_mm, length_mm=v["length_mm"],
+                face_width_mm=v["face_width_mm"], bottom_thickness_mm=v["bottom_thickness_mm"],
+                boss_radius_mm=v["boss_radius_mm"], wall_thickness_mm=v["wall_thickness_mm"],
+                bearing_width_mm=v["bearing_width_mm"], bearing_center_mm=v["bearing_center_mm"],
+                error=GearSetError, prefix="cup.", ring_name="gear.rim_thickness_mm")
+        except GearSetError as exc:
+            self.problem(str(exc))
+            return None
+        for key in ("wall_thickness_mm", "bearing_width_mm", "bearing_center_mm"):
+            v[key] = full[key]
         return Cup(**v)

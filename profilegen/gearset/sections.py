@@ -132,7 +132,8 @@ CS_OUTER_DIAMETER_PER_ROOT = 1.25
 CS_MIN_WALL_PER_MODULE = 2.0
 CORNER_STYLES = ("fillet", "sharp")
 FIT_METHODS = ("one_sided", "least_squares", "minimax")
-_CUP_KEYS = ("length_mm", "face_width_mm", "bottom_thickness_mm", "boss_radius_mm", "root_fillet_radius_mm")
+_CUP_KEYS = ("length_mm", "face_width_mm", "bottom_thickness_mm", "boss_radius_mm", "root_fillet_radius_mm",
+             "wall_thickness_mm", "bearing_width_mm", "bearing_center_mm")
 _SECTION_KEYS = {
     "gear": _GEAR_KEYS,
     "wave_generator": _WAVE_GENERATOR_KEYS,
@@ -371,14 +372,72 @@ class Cup:
     semi-membrane length of seed 002, k = l / 2r_m); ``face_width_mm`` b, the teeth's face
     width; ``bottom_thickness_mm`` t of the cup bottom (seed 002's plate, seed 000's
     diaphragm); ``boss_radius_mm`` r0, where the bottom is clamped to its boss;
-    ``root_fillet_radius_mm`` r1, the fillet where a tooth meets the rim (seed 001). Absent
-    fields are ESTIMATES from the gear (see docs/gearset.md)."""
+    ``root_fillet_radius_mm`` r1, the fillet where a tooth meets the rim (seed 001). For the 3D
+    cup (:class:`profilegen.rim.cup.CupGeometry`, same frame: z from the mid-plane of the cup
+    bottom toward the open end): ``wall_thickness_mm`` t_w of the wall between the bottom and
+    the tooth ring (same bore; default the rim thickness δ), ``bearing_width_mm`` and
+    ``bearing_center_mm`` (z) of the wave-generator bearing that presses the bore (default: the
+    face width, centred on the mid-face z = l). Absent fields are ESTIMATES from the gear (see
+    docs/gearset.md); :func:`check_cup_geometry` holds the rules that relate them."""
 
     length_mm: float
     face_width_mm: float
     bottom_thickness_mm: float
     boss_radius_mm: float
     root_fillet_radius_mm: float
+    wall_thickness_mm: float | None = None
+    bearing_width_mm: float | None = None
+    bearing_center_mm: float | None = None
+
+
+def check_cup_geometry(*, neutral_radius_mm, ring_thickness_mm, length_mm, face_width_mm, bottom_thickness_mm,
+                       boss_radius_mm, wall_thickness_mm=None, bearing_width_mm=None, bearing_center_mm=None,
+                       error: type = GearSetError, prefix: str = "", ring_name: str = "ring_thickness_mm") -> dict:
+    """The rules that relate the cup's dimensions (mm), written once: the gear-set reader
+    (``[cup]``, ``error=GearSetError``, ``prefix="cup."``) and
+    :class:`profilegen.rim.cup.CupGeometry` (``error=CupError``) both call it. Checked in this
+    order, each range from the values before it: r_m > 0; the tooth ring's thickness δ
+    (``ring_name``) in (0, r_m); l > 0; the bottom t_b in (0, l); the boss r0 in (0, r_bore)
+    with r_bore = r_m − δ/2, and t_b < r_bore − r0 (a bottom as thick as its annulus is wide is
+    no diaphragm); the face b in (0, 2l − t_b) (the tooth ring must end above the bottom);
+    the wall t_w in (δ/2, δ] (same bore as the ring; the 3D cup reads ω on r_m, which must
+    run through the wall); the bearing's width in (0, b] and its centre z within the tooth ring
+    (its edges at l ± b/2 at most). Returns the values with the defaults filled in (t_w = δ,
+    bearing width b, centre l); raises ``error`` naming ``prefix + field``, its value, mm and
+    the range."""
+    from .. import checks
+
+    def number(name, value, low, high=math.inf, *, low_open=True, high_open=True, why=""):
+        try:  # a name with a section of its own ("gear.rim_thickness_mm") is not prefixed
+            return checks.number(name if "." in name else prefix + name, value, "mm", low, high, low_open=low_open, high_open=high_open,
+                                 error=error)
+        except error as exc:
+            raise error(f"{exc} ({why})" if why else str(exc)) from None
+
+    r_m = number("neutral_radius_mm", neutral_radius_mm, 0.0)
+    t = number(ring_name, ring_thickness_mm, 0.0, r_m, why="the tooth ring's radial thickness δ")
+    length = number("length_mm", length_mm, 0.0, why="cup bottom to the tooth ring's mid-face")
+    t_b = number("bottom_thickness_mm", bottom_thickness_mm, 0.0, length, why="thinner than the cup is long")
+    r_bore = r_m - 0.5 * t
+    r0 = number("boss_radius_mm", boss_radius_mm, 0.0, r_bore, why=f"inside the bore, r_bore = {r_bore:g} mm")
+    number("bottom_thickness_mm", t_b, 0.0, r_bore - r0,
+           why=f"thinner than the bottom's annulus from the boss to the bore is wide, r_bore − r0 = {r_bore - r0:g} mm")
+    b = number("face_width_mm", face_width_mm, 0.0, 2.0 * length - t_b,
+               why="the tooth ring l ± b/2 must end above the cup bottom: b < 2l − t_b")
+    t_w = t if wall_thickness_mm is None else number(
+        "wall_thickness_mm", wall_thickness_mm, 0.5 * t, t, high_open=False,
+        why=f"the wall between the bottom and the tooth ring, same bore, at most the ring's δ = {t:g} mm and "
+            "thicker than δ/2 (ω is read on r_m, which must run through the wall)")
+    bw = b if bearing_width_mm is None else number("bearing_width_mm", bearing_width_mm, 0.0, b, high_open=False,
+                                                   why="the bearing presses the bore within the tooth ring")
+    lo, hi = length - 0.5 * b + 0.5 * bw, length + 0.5 * b - 0.5 * bw
+    bc = length if bearing_center_mm is None else number(
+        "bearing_center_mm", bearing_center_mm, lo, hi, low_open=False, high_open=False,
+        why=f"z from the cup bottom's mid-plane; the tooth ring l ± b/2 = [{length - 0.5 * b:g}, "
+            f"{length + 0.5 * b:g}] mm must hold the whole bearing width")
+    return {"neutral_radius_mm": r_m, "ring_thickness_mm": t, "length_mm": length, "face_width_mm": b,
+            "bottom_thickness_mm": t_b, "boss_radius_mm": r0, "wall_thickness_mm": t_w, "bearing_width_mm": bw,
+            "bearing_center_mm": bc}
 
 
 _SECTION_TYPES = {

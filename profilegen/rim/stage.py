@@ -7,8 +7,22 @@ tier      rim model                                                    fit
 ========  ===========================================================  ==========================
 sketch    ring theory, ω = w0 cos Uφ, υ = −(w0/U) sin Uφ (analytic)    none (it is the model)
 design    flat ring FEM, geometrically nonlinear, unilateral contact   Fourier, order ≤ 32
-verify    toothed-rim FEM, nonlinear, refined                          Fourier + general sine
+verify    toothed-rim FEM, nonlinear, refined (also named ``toothed``)   Fourier + general sine
+cup3d     the 3D cup: body of revolution, Fourier harmonics of 2D      Fourier at the design
+          meridional FEM, pressed onto the contour over the bearing    section + general sine
+          width (unilateral, frictionless, first-order gap; linear)
 ========  ===========================================================  ==========================
+
+The ``cup3d`` tier (:func:`profilegen.rim.cup.press_cup` on the gear set's contour, its
+``[cup]`` geometry) keeps the whole 3D answer on the result (``cup``: ω, υ, axial
+displacement, tilt at any (φ, z); ``cup_contact``: the contact state) and gives the
+kinematics the Fourier fit of one section, ``section_z_mm`` (``solve_rim(z_mm=...)``;
+default the gear set's ``[face] design_section_z_mm`` where it has one, else the mid-face
+z = l; z from the cup bottom's mid-plane). Its ``fem`` is a :class:`CupSection`: that
+section's samples in the shape of the 2D tiers' ring solution, so the report, the plots and
+the contact stage read it as they read a ring. Its error estimate is the largest change of
+ω or υ over the tooth ring (11 sections) against half the meridional resolution *and* half the
+collocation angles (4 mm, 8 angles for the tier's 2 mm, 16).
 
 Every FEM tier reports an error estimate: the largest change of ω or υ on the neutral line
 when the circumferential divisions are halved (flat ring: the mesh-convergence error of the
@@ -39,7 +53,7 @@ from .. import series
 from ..deformation import ring_theory
 from .ring import WRAP_WARNING, RingResult, solve_ring
 
-__all__ = ["RIM_TIERS", "RimDeformation", "RimTier", "one_period", "solve_rim"]
+__all__ = ["RIM_TIERS", "CupSection", "RimDeformation", "RimTier", "design_section_z", "one_period", "solve_rim"]
 
 log = logging.getLogger(__name__)
 
@@ -49,7 +63,7 @@ class RimTier:
     """Model and mesh of one rim tier."""
 
     name: str
-    model: str  # "ring theory" | "flat" | "toothed"
+    model: str  # "ring theory" | "flat" | "toothed" | "cup"
     geometry: str = "nonlinear"
     layers: int = 4
     divisions: int = 64
@@ -57,10 +71,15 @@ class RimTier:
     sine_fit: bool = False  # also fit seed 004's general sine series (reported, not used)
     tooth_layers: int = 2
     per_pitch: int = 16  # toothed: element columns per tooth pitch (≥ 14 for the default DCTA tooth)
+    element_mm: float = 2.0  # cup: element size along the meridian (mm)
+    angles: int = 16  # cup: collocation angles of the contact on 0..π/2 (harmonics 0, 2, …, 2(angles − 1))
 
     def label(self) -> str:
         if self.model == "ring theory":
             return "ring theory (analytic)"
+        if self.model == "cup":
+            return (f"3D cup, Fourier harmonics of meridional FEM ({self.element_mm:g} mm, {self.layers} layers, "
+                    f"{self.angles} contact angles)")
         mesh = (f"{self.layers}×{self.divisions}" if self.model == "flat"
                 else f"toothed, {self.per_pitch}/pitch, {self.layers}+{self.tooth_layers} layers")
         return f"{self.geometry} {self.model} ring FEM ({mesh})"
@@ -71,7 +90,93 @@ RIM_TIERS: dict[str, RimTier] = {
     "design": RimTier("design", "flat", layers=4, divisions=64, max_order=32),
     "verify": RimTier("verify", "toothed", layers=2, divisions=0, max_order=40, sine_fit=True,
                       tooth_layers=2, per_pitch=16),
+    "toothed": RimTier("toothed", "toothed", layers=2, divisions=0, max_order=40, sine_fit=True,
+                       tooth_layers=2, per_pitch=16),  # the verify tier by its model's name
+    "cup3d": RimTier("cup3d", "cup", geometry="linear", layers=2, divisions=0, max_order=16, sine_fit=True,
+                     element_mm=2.0, angles=16),
 }
+#: the cup tier's coarse companion (the error estimate): this factor × the element size, ÷ it the angles
+CUP_COARSENING = 2
+#: sections of the tooth ring over which the cup tier's error estimate is taken
+CUP_ERROR_SECTIONS = 11
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class CupSection:
+    """The 3D cup at one axial section z, in the shape of a 2D tier's ring solution (what the
+    report, the plots and the contact stage read from ``RimDeformation.fem``).
+
+    ``phi_rad``, ``omega_mm``, ``upsilon_mm``: the neutral surface r = r_m at z, 0 ≤ φ ≤ π/2;
+    ``bore_omega_mm``: the bore's radial displacement there. ``contact_phi_rad``: the contact
+    angles (0..π/2) at which the cam presses the bore anywhere on the bearing band,
+    ``contact_force_n`` the cam's radial force at each, summed over the band (N, each the total
+    of its four symmetric copies) — the cup's contact is not one wrap: it varies along z
+    (``RimDeformation.cup_contact`` has it per band node). Linear: no Newton steps."""
+
+    z_mm: float
+    phi_rad: np.ndarray
+    omega_mm: np.ndarray
+    upsilon_mm: np.ndarray
+    bore_omega_mm: np.ndarray
+    contact_phi_rad: np.ndarray
+    contact_force_n: np.ndarray
+    max_penetration_mm: float
+    dof: int
+    time_s: float
+    tier: str
+    warnings: tuple[str, ...] = ()
+    geometry: str = "linear"
+    newton_steps_mm: tuple[float, ...] = ()
+
+    def __post_init__(self):
+        from ..results import readonly
+
+        for name in ("phi_rad", "omega_mm", "upsilon_mm", "bore_omega_mm", "contact_phi_rad", "contact_force_n"):
+            object.__setattr__(self, name, readonly(getattr(self, name)))
+        object.__setattr__(self, "warnings", tuple(self.warnings))
+
+    @property
+    def bore_phi_rad(self) -> np.ndarray:
+        return self.phi_rad
+
+    @property
+    def contact_angle_rad(self) -> float:
+        """The largest contact angle from the major axis anywhere on the bearing band (rad)."""
+        return float(self.contact_phi_rad.max()) if self.contact_phi_rad.size else 0.0
+
+    @property
+    def contact_angle_deg(self) -> float:
+        return math.degrees(self.contact_angle_rad)
+
+    @classmethod
+    def of(cls, contact, z_mm: float, *, samples: int, tier: str) -> CupSection:
+        """The section ``z_mm`` of a :class:`~profilegen.rim.cup.CupContact` at ``samples``
+        equispaced angles on 0..π/2."""
+        d = contact.deformation
+        phi = 0.5 * math.pi * np.arange(samples) / (samples - 1)
+        on = contact.active.any(axis=0)
+        return cls(float(z_mm), phi, d.omega(phi, z_mm), d.upsilon(phi, z_mm), d.bore_omega(phi, z_mm),
+                   contact.phi_rad[on], contact.force_n.sum(axis=0)[on], contact.max_penetration_mm, d.dof,
+                   contact.time_s, tier, d.warnings)
+
+    def to_dict(self) -> dict:
+        return {
+            "tier": self.tier,
+            "model": "3D cup at one section: body of revolution, Fourier harmonics of meridional FEM, unilateral "
+                     "frictionless contact over the bearing width (first-order gap), linear",
+            "geometry": self.geometry,
+            "section_z_mm": self.z_mm,
+            "dof": self.dof,
+            "contact_angle_deg": self.contact_angle_deg,
+            "contact_angles_deg": np.degrees(self.contact_phi_rad).tolist(),
+            "contact_force_n": self.contact_force_n.tolist(),
+            "max_penetration_mm": self.max_penetration_mm,
+            "time_s": self.time_s,
+            "phi_rad": self.phi_rad.tolist(),
+            "omega_mm": self.omega_mm.tolist(),
+            "upsilon_mm": self.upsilon_mm.tolist(),
+            "warnings": list(self.warnings),
+        }
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -82,13 +187,17 @@ class RimDeformation:
     series.DeformationFit`, or ring theory). ``fem``: the FEM solution (None for ring
     theory); ``coarse``: the FEM solution on the halved mesh behind ``error_estimate_mm``.
     ``sine``: seed 004's general sine series on the same samples (verify tier) or None.
-    ``reference``: ring theory with the same w0, for the report.
+    ``reference``: ring theory with the same w0, for the report. The cup tier: ``fem`` and
+    ``coarse`` are :class:`CupSection`\ s at ``section_z_mm``; ``cup`` the whole 3D answer
+    (:class:`~profilegen.rim.cup.CupDeformation`: ω, υ, axial, tilt at any (φ, z)),
+    ``cup_contact`` its contact state (:class:`~profilegen.rim.cup.CupContact`); None for the
+    2D tiers.
     """
 
     tier: RimTier
     model: object
-    fem: RingResult | None
-    coarse: RingResult | None
+    fem: RingResult | CupSection | None
+    coarse: RingResult | CupSection | None
     sine: object
     reference: object
     fem_time_s: float
@@ -96,6 +205,9 @@ class RimDeformation:
     error_estimate_mm: float | None
     error_measure: str
     warnings: tuple[str, ...] = field(default=())
+    cup: object = None
+    cup_contact: object = None
+    section_z_mm: float | None = None
 
     @property
     def dof(self) -> int:
@@ -121,7 +233,33 @@ class RimDeformation:
             "fourier": self.model.to_dict() if hasattr(self.model, "to_dict") else None,
             "sine": None if self.sine is None else self.sine.to_dict(),
             "warnings": list(self.warnings),
+            "cup": None if self.cup is None else _cup_summary(self),
         }
+
+
+def _cup_summary(rim: RimDeformation) -> dict:
+    """The cup tier's 3D answer in a few numbers (design.json["rim"]["cup"]): the geometry, the
+    design section, ω on the axes and max |υ| at the tooth ring's diaphragm end, mid-face and
+    open end, where the cam touches the bore on the axes."""
+    d, c = rim.cup, rim.cup_contact
+    g = d.geometry
+    lo, hi = g.ring_span_mm
+    phi = np.linspace(0.0, 0.5 * math.pi, 91)
+    sections = []
+    for where, z in (("diaphragm end", lo), ("mid-face", g.length_mm), ("open end", hi)):
+        sections.append({"where": where, "z_mm": float(z), "omega_major_mm": float(d.omega(0.0, z)),
+                         "omega_minor_mm": float(d.omega(0.5 * math.pi, z)),
+                         "upsilon_max_mm": float(np.max(np.abs(d.upsilon(phi, z)))),
+                         "axial_major_mm": float(d.axial(0.0, z)), "tilt_major_rad": float(d.tilt(0.0, z))})
+    spans = {}
+    if c is not None:
+        for name, j in (("major_axis", 0), ("minor_axis", c.phi_rad.size - 1)):
+            span = c.contact_span_mm(j)
+            spans[name] = None if span is None else list(span)
+    return {"geometry": g.to_dict(), "section_z_mm": rim.section_z_mm, "z_frame": "z from the cup bottom's "
+            "mid-plane toward the open end (mm)", "dof": d.dof, "elements": d.elements, "element_mm": d.element_mm,
+            "harmonics": d.orders.tolist(), "sections": sections, "contact_span_z_mm": spans,
+            "max_penetration_mm": None if c is None else c.max_penetration_mm}
 
 
 def one_period(res: RingResult) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -233,8 +371,82 @@ def _solve_named(gearset, tier: RimTier, contour, *, coarse: bool, per_pitch: in
         ) from exc
 
 
-def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
-    """ω(φ), υ(φ) of the gear set's rim on its wave generator, fitted for the kinematics."""
+def design_section_z(gearset, z_mm: float | None = None) -> float:
+    """The section the cup tier gives the kinematics (mm, z from the cup bottom's mid-plane):
+    ``z_mm``, else the gear set's ``[face] design_section_z_mm`` where it has one, else the
+    mid-face ``[cup] length_mm``. Checked to lie on the tooth ring l ± b/2."""
+    from .cup.geometry import CupError
+
+    cup = gearset.cup
+    if z_mm is None:
+        z_mm = getattr(getattr(gearset, "face", None), "design_section_z_mm", None)
+    if z_mm is None:
+        return float(cup.length_mm)
+    lo, hi = cup.length_mm - 0.5 * cup.face_width_mm, cup.length_mm + 0.5 * cup.face_width_mm
+    from .. import checks
+
+    return checks.number("z_mm", z_mm, "mm", lo, hi, low_open=False, high_open=False, error=CupError)
+
+
+def _solve_cup(gearset, tier: RimTier, contour, z_mm: float | None, reference, warnings: list[str]) -> RimDeformation:
+    """The cup tier: press_cup at the tier's mesh and at half its resolution (the estimate), the
+    design section's samples fitted."""
+    from ..errors import ProfilegenError, RimSolverError
+    from .cup import CupGeometry, press_cup
+
+    geometry = CupGeometry.from_gearset(gearset)
+    z = design_section_z(gearset, z_mm)
+    samples = 4 * tier.max_order + 1  # on 0..π/2: 128 per wave period, 8 per period of the highest fitted harmonic
+    coarse_angles = max(2, tier.angles // CUP_COARSENING)
+    runs = []
+    t0 = time.perf_counter()
+    for element_mm, angles in ((tier.element_mm, tier.angles), (CUP_COARSENING * tier.element_mm, coarse_angles)):
+        try:
+            runs.append(press_cup(geometry, contour=contour, angles=angles, element_mm=element_mm, layers=tier.layers))
+        except (ProfilegenError, np.linalg.LinAlgError, RuntimeError, FloatingPointError) as exc:
+            if isinstance(exc, ProfilegenError) and not isinstance(exc, RuntimeError):
+                raise
+            reason = " ".join(str(exc).split()) or type(exc).__name__
+            raise RimSolverError(f"rim stage ({tier.label()}, {element_mm:g} mm, {angles} angles) failed: {reason}. "
+                                 f"Inputs that decide this: the [cup] geometry {geometry.to_dict()}") from exc
+        if len(runs) == 1:
+            fem_time = time.perf_counter() - t0
+    fine, coarse = runs
+    section = CupSection.of(fine, z, samples=samples, tier=tier.name)
+    coarse_section = CupSection.of(coarse, z, samples=samples, tier=f"{tier.name}, coarse")
+    lo, hi = geometry.ring_span_mm
+    phi = section.phi_rad[:, None]
+    zs = np.linspace(lo, hi, CUP_ERROR_SECTIONS)[None, :]
+    a, b = fine.deformation, coarse.deformation
+    error = float(max(np.max(np.abs(a.omega(phi, zs) - b.omega(phi, zs))),
+                      np.max(np.abs(a.upsilon(phi, zs) - b.upsilon(phi, zs)))))
+    measure = (f"max |Δω|, |Δυ| on r_m over the tooth ring ({CUP_ERROR_SECTIONS} sections, 0 ≤ φ ≤ π/2) between "
+               f"this mesh ({tier.element_mm:g} mm, {tier.angles} contact angles) and one with "
+               f"{CUP_COARSENING * tier.element_mm:g} mm and {coarse_angles} angles (mm; an upper estimate)")
+    t0 = time.perf_counter()
+    phi_s, w, u = one_period(section)
+    waves = gearset.gear.waves
+    fit = series.fit_fourier(phi_s, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
+    sine = None
+    if tier.sine_fit:
+        from ..series import GeneralSineDeformation, fit_sine_series
+
+        sine = GeneralSineDeformation(fit_sine_series(phi_s, w, terms=3), fit_sine_series(phi_s, u, terms=3),
+                                      waves=waves, tier=tier.name)
+    fit_time = time.perf_counter() - t0
+    warnings += [w_ for w_ in fine.deformation.warnings]
+    warnings += [w_ for w_ in fit.warnings if not w_.startswith("order picked")]
+    if fine.max_penetration_mm > 1e-6:
+        warnings.append(f"the 3D cup's contact leaves {fine.max_penetration_mm * 1e3:.3g} µm penetration")
+    return RimDeformation(tier, fit, section, coarse_section, sine, reference, fem_time, fit_time, error, measure,
+                          tuple(warnings), cup=fine.deformation, cup_contact=fine, section_z_mm=z)
+
+
+def solve_rim(gearset, *, tier: str | RimTier = "design", z_mm: float | None = None) -> RimDeformation:
+    """ω(φ), υ(φ) of the gear set's rim on its wave generator, fitted for the kinematics.
+
+    ``z_mm``: the cup tier's design section (mm from the cup bottom's mid-plane; see
+    :func:`design_section_z`); the 2D tiers have one section and ignore it."""
     from ..errors import GearSetError
     from ..wavegen import from_gearset
 
@@ -256,6 +468,8 @@ def solve_rim(gearset, *, tier: str | RimTier = "design") -> RimDeformation:
                               "none: ring theory is the model itself", tuple(warnings))
 
     contour = from_gearset(gearset)
+    if tier.model == "cup":
+        return _solve_cup(gearset, tier, contour, z_mm, reference, warnings)
     t0 = time.perf_counter()
     per_pitch = _toothed_per_pitch(gearset, tier) if tier.model == "toothed" else None  # once: it builds the tooth
     if per_pitch is not None and per_pitch != tier.per_pitch:

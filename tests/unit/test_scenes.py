@@ -19,8 +19,8 @@ PRESETS = {
                     "interactive use and sweeps: analytic rim, coarse envelope", 181),
     "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False,
                     "the default: 1 nm envelope, classified, loaded contact", 721, True),
-    "verify": Scene("verify", "toothed-rim FEM (nonlinear)", 1e-7, 192, 481, 721, True,
-                    "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001, True),
+    "verify": Scene("verify", "3D cup (Fourier harmonics)", 1e-7, 192, 481, 721, True,  # rim: the 3D cup (issue 15)
+                    "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001, True, tier="cup3d"),
 }
 
 

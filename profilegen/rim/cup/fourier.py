@@ -281,6 +281,10 @@ class CupDeformation:
         """Generator tilt ∂ω/∂z on the neutral surface (rad, + leaning outward toward the open end)."""
         return self._series(self.radial_mm, phi_rad, z_mm, np.cos, derivative=1)
 
+    def bore_omega(self, phi_rad, z_mm) -> np.ndarray:
+        """Radial displacement of the bore r = r_bore (mm, outward +) at (φ, z) on the wall; broadcasts."""
+        return self._series(self.bore_radial_mm, phi_rad, z_mm, np.cos)
+
     def section(self, z_mm: float, samples: int = 181) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(φ, ω, υ) at the axial position ``z_mm`` over one wave period 0 ≤ φ < π (mm)."""
         samples = _whole("samples", samples, 8)

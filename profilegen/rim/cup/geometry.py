@@ -4,17 +4,24 @@ Coordinates (mm): r the radius, z the axis, z = 0 the mid-plane of the cup botto
 toward the open end; φ from the wave-generator major axis (DESIGN.md). The meridional
 section (r, z) is an L:
 
-* the bottom (diaphragm) r0 ≤ r ≤ r_m + t/2, −t_b/2 ≤ z ≤ t_b/2, clamped on the boss at r = r0;
-* the wall r_m − t/2 ≤ r ≤ r_m + t/2, t_b/2 ≤ z ≤ z_open = l + b/2 (l: ``length_mm``, bottom
-  to mid-face, seed 002's semi-membrane length; b: ``face_width_mm``);
-* the tooth ring l − b/2 ≤ z ≤ l + b/2 is an equivalent band of the rim thickness (the wall
-  continued: no teeth);
-* the wave-generator bearing presses the bore r = r_m − t/2 over
+* the bottom (diaphragm) r0 ≤ r ≤ r_bore + t_w, −t_b/2 ≤ z ≤ t_b/2, clamped on the boss at r = r0;
+* the wall r_bore ≤ r ≤ r_bore + t_w, t_b/2 ≤ z ≤ l − b/2 (t_w: ``wall_thickness_mm``, the
+  gear set's ``[cup] wall_thickness_mm``, at most the ring's δ: a wall turned thinner on the
+  outside, the bore one diameter);
+* the tooth ring r_bore ≤ r ≤ r_m + δ/2, l − b/2 ≤ z ≤ z_open = l + b/2 (l: ``length_mm``,
+  bottom to mid-face, seed 002's semi-membrane length; b: ``face_width_mm``; δ:
+  ``ring_thickness_mm``, the rim thickness of the 2D models, r_bore = r_m − δ/2) is an
+  equivalent band (no teeth); with t_w = δ (the default) wall and ring are one cylinder;
+* the wave-generator bearing presses the bore r = r_bore over
   ``bearing_center_mm`` ± ``bearing_width_mm``/2, which must lie within the tooth ring.
+
+The rules that relate these dimensions are the gear set's
+(:func:`profilegen.gearset.sections.check_cup_geometry`): the gear-set reader and
+:class:`CupGeometry` both apply them.
 
 :func:`meridional_mesh` meshes the L with straight-sided quadrilaterals (``MeshQuad``;
 quadratic ``MeshQuad2`` from it is exact), node lines on every break: the bore, r_m, the
-outer surface, the bearing edges, the tooth-ring edges and the mid-face.
+outer surfaces of the wall and the ring, the bearing edges, the tooth-ring edges and the mid-face.
 """
 
 from __future__ import annotations
@@ -43,9 +50,11 @@ _whole = partial(checks.whole, error=CupError)
 class CupGeometry:
     """Geometry and material of the cup (mm, MPa); see the module docstring for the frame.
 
-    ``wall_thickness_mm`` t is the wall's and the tooth ring's (the rim thickness δ of the
-    2D models); ``bearing_width_mm`` None: the face width; ``bearing_center_mm`` None: the
-    mid-face l."""
+    ``wall_thickness_mm`` t_w is the wall's between the bottom and the tooth ring;
+    ``ring_thickness_mm`` δ the tooth ring's (the rim thickness of the 2D models; None: t_w, a
+    cup of one thickness); ``bearing_width_mm`` None: the face width; ``bearing_center_mm``
+    None: the mid-face l. The dimensions are checked by the gear set's rules
+    (:func:`~profilegen.gearset.sections.check_cup_geometry`), E and ν here."""
 
     neutral_radius_mm: float
     wall_thickness_mm: float
@@ -57,51 +66,56 @@ class CupGeometry:
     poisson_ratio: float
     bearing_width_mm: float | None = None
     bearing_center_mm: float | None = None
+    ring_thickness_mm: float | None = None
 
     def __post_init__(self):
-        r_m = _number("neutral_radius_mm", self.neutral_radius_mm, "mm", 0.0)
-        t = _number("wall_thickness_mm", self.wall_thickness_mm, "mm", 0.0, r_m)
-        length = _number("length_mm", self.length_mm, "mm", 0.0)
-        t_b = _number("bottom_thickness_mm", self.bottom_thickness_mm, "mm", 0.0, length)
-        r_bore = r_m - 0.5 * t
-        r0 = _number("boss_radius_mm", self.boss_radius_mm, "mm", 0.0, r_bore)
-        # the wall must reach below the tooth ring: l − b/2 > t_b/2 ("a face wider than the cup")
-        b = _number("face_width_mm", self.face_width_mm, "mm", 0.0, 2.0 * length - t_b)
-        bw = b if self.bearing_width_mm is None else _number("bearing_width_mm", self.bearing_width_mm, "mm",
-                                                              0.0, b, high_open=False)
-        lo, hi = length - 0.5 * b + 0.5 * bw, length + 0.5 * b - 0.5 * bw
-        bc = length if self.bearing_center_mm is None else _number(
-            "bearing_center_mm", self.bearing_center_mm, "mm", lo, hi, low_open=False, high_open=False)
+        from ...gearset.sections import check_cup_geometry
+
+        one = self.ring_thickness_mm is None  # one thickness: the ring's is the wall's, named as such
+        values = check_cup_geometry(
+            neutral_radius_mm=self.neutral_radius_mm,
+            ring_thickness_mm=self.wall_thickness_mm if one else self.ring_thickness_mm,
+            length_mm=self.length_mm, face_width_mm=self.face_width_mm, bottom_thickness_mm=self.bottom_thickness_mm,
+            boss_radius_mm=self.boss_radius_mm, wall_thickness_mm=None if one else self.wall_thickness_mm,
+            bearing_width_mm=self.bearing_width_mm, bearing_center_mm=self.bearing_center_mm, error=CupError,
+            ring_name="wall_thickness_mm" if one else "ring_thickness_mm")
         e = _number("youngs_modulus_mpa", self.youngs_modulus_mpa, "MPa", 0.0)
         nu = _number("poisson_ratio", self.poisson_ratio, "", -1.0, 0.5)
-        for name, value in (("neutral_radius_mm", r_m), ("wall_thickness_mm", t), ("length_mm", length),
-                            ("bottom_thickness_mm", t_b), ("boss_radius_mm", r0), ("face_width_mm", b),
-                            ("bearing_width_mm", bw), ("bearing_center_mm", bc), ("youngs_modulus_mpa", e),
-                            ("poisson_ratio", nu)):
+        for name, value in (*values.items(), ("youngs_modulus_mpa", e), ("poisson_ratio", nu)):
             object.__setattr__(self, name, value)
 
     @classmethod
     def from_gearset(cls, gearset, *, bearing_width_mm: float | None = None,
                      bearing_center_mm: float | None = None) -> CupGeometry:
-        """From a GearSet: r_m, δ (the wall) from ``[gear]``, E, ν from ``[material]``, the rest
-        from ``[cup]`` (its ``bearing_width_mm`` / ``bearing_center_mm`` if it has them, else
-        the arguments, else the face width centred on the mid-face)."""
+        """From a GearSet: r_m, δ (the tooth ring) from ``[gear]``, E, ν from ``[material]``, the
+        rest from ``[cup]`` (its ``wall_thickness_mm``, default δ; the bearing: the arguments,
+        else the ``[cup]`` fields, else the face width centred on the mid-face)."""
         gear, mat, cup = gearset.gear, gearset.material, gearset.cup
         if bearing_width_mm is None:
             bearing_width_mm = getattr(cup, "bearing_width_mm", None)
         if bearing_center_mm is None:
             bearing_center_mm = getattr(cup, "bearing_center_mm", None)
-        return cls(gear.neutral_radius_mm, gear.rim_thickness_mm, cup.length_mm, cup.face_width_mm,
-                   cup.bottom_thickness_mm, cup.boss_radius_mm, mat.youngs_modulus_mpa, mat.poisson_ratio,
-                   bearing_width_mm=bearing_width_mm, bearing_center_mm=bearing_center_mm)
+        wall = getattr(cup, "wall_thickness_mm", None)
+        return cls(gear.neutral_radius_mm, gear.rim_thickness_mm if wall is None else wall, cup.length_mm,
+                   cup.face_width_mm, cup.bottom_thickness_mm, cup.boss_radius_mm, mat.youngs_modulus_mpa,
+                   mat.poisson_ratio, bearing_width_mm=bearing_width_mm, bearing_center_mm=bearing_center_mm,
+                   ring_thickness_mm=gear.rim_thickness_mm)
 
     @property
     def bore_radius_mm(self) -> float:
-        return self.neutral_radius_mm - 0.5 * self.wall_thickness_mm
+        return self.neutral_radius_mm - 0.5 * self.ring_thickness_mm
 
     @property
     def outer_radius_mm(self) -> float:
-        return self.neutral_radius_mm + 0.5 * self.wall_thickness_mm
+        """Outer radius of the tooth ring (mm)."""
+        return self.neutral_radius_mm + 0.5 * self.ring_thickness_mm
+
+    @property
+    def wall_outer_radius_mm(self) -> float:
+        """Outer radius of the wall between the bottom and the tooth ring, and of the bottom (mm)."""
+        if self.wall_thickness_mm >= self.ring_thickness_mm:  # one cylinder: exactly the ring's outer radius
+            return self.outer_radius_mm
+        return self.bore_radius_mm + self.wall_thickness_mm
 
     @property
     def open_end_mm(self) -> float:
@@ -120,7 +134,7 @@ class CupGeometry:
 
     def to_dict(self) -> dict:
         return {name: float(getattr(self, name)) for name in (
-            "neutral_radius_mm", "wall_thickness_mm", "length_mm", "face_width_mm", "bottom_thickness_mm",
+            "neutral_radius_mm", "wall_thickness_mm", "ring_thickness_mm", "length_mm", "face_width_mm", "bottom_thickness_mm",
             "boss_radius_mm", "bearing_width_mm", "bearing_center_mm", "youngs_modulus_mpa", "poisson_ratio")}
 
 
@@ -155,7 +169,7 @@ def meridional_mesh(geometry: CupGeometry, *, element_mm: float = 1.0, layers: i
     bottom_layers = layers if bottom_layers is None else _whole("bottom_layers", bottom_layers, 1)
     fine = 0.5 * h if refine_mm is None else _number("refine_mm", refine_mm, "mm", 0.0)
     fine = min(fine, h)
-    decay = math.sqrt(g.neutral_radius_mm * g.wall_thickness_mm)
+    decay = math.sqrt(g.neutral_radius_mm * g.ring_thickness_mm)
     r_in, r_out, t_b = g.bore_radius_mm, g.outer_radius_mm, g.bottom_thickness_mm
     z_lo = 0.5 * t_b
     z_open = g.open_end_mm
@@ -193,6 +207,9 @@ def meridional_mesh(geometry: CupGeometry, *, element_mm: float = 1.0, layers: i
         n = max(1, math.ceil((b - a) / size - 1e-9))
         r_plate.extend(np.linspace(a, b, n + 1)[1:])
     r_wall = np.linspace(r_in, r_out, layers + 1)
+    r_w = g.wall_outer_radius_mm  # = r_out for a cup of one thickness (no extra break: the same mesh)
+    if r_w < r_out:
+        r_wall = np.union1d(r_wall, [r_w])
     r_all = np.concatenate([np.asarray(r_plate)[:-1], r_wall])
 
     from skfem import MeshQuad
@@ -200,6 +217,8 @@ def meridional_mesh(geometry: CupGeometry, *, element_mm: float = 1.0, layers: i
     box = MeshQuad.init_tensor(r_all, z_all)
     centre = box.p[:, box.t].mean(axis=1)
     keep = (centre[1] < z_lo) | (centre[0] > r_in)
+    if r_w < r_out:  # the wall and the bottom end at r_w, the tooth ring at r_out
+        keep &= (centre[0] < r_w) | (centre[1] > ring_lo)
     t = box.t[:, keep]
     used = np.unique(t)
     renumber = -np.ones(box.p.shape[1], dtype=int)
