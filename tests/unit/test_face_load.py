@@ -166,3 +166,28 @@ def test_bad_input_is_named():
         semi_membrane_sections(HarmonicDeformation(2, np.array([0.5]), np.array([-0.25])), [-1.0], 60.0)
     with pytest.raises(FaceLoadError, match="cup"):
         cup_sections(object(), [1.0])
+
+
+def test_cs_ring_two_opposite_loads_match_roark():
+    # Roark, thin circular ring, two equal opposite radial loads P: ΔD along them +0.1488 PR³/EI, across −0.1366;
+    # the ring here is also extensible in hoop (n = 0): + U·R/(2π E A) on every radial term
+    from profilegen.contact.cs_ring import CSRing, CSRingError, cs_ring_compliance
+
+    ring = CSRing(50.0, 60.0, 10.0, 200000.0)
+    r, ei = ring.radius_mm, ring.youngs_modulus_mpa * ring.second_moment_mm4
+    hoop = 2 * r / (2 * math.pi * ring.youngs_modulus_mpa * ring.area_mm2)
+    pts = np.array([[0.0, 55.0], [55.0, 0.0], [40.0, 40.0]])
+    dirs = np.array([[0.0, 1.0], [1.0, 0.0], [0.6, -0.8]])
+    s = cs_ring_compliance(ring, pts, dirs, harmonics=4000)
+    assert s[0, 0] - hoop == pytest.approx(0.1488 / 2 * r ** 3 / ei, rel=2e-3)
+    assert s[1, 0] - hoop == pytest.approx(-0.1366 / 2 * r ** 3 / ei, rel=2e-3)
+    np.testing.assert_allclose(s, s.T)
+    assert np.linalg.eigvalsh(s).min() > -1e-12 * s.max()
+    # even tangential forces all round (torsion, n = 0) are the chain's cs_body term, not this one: only the
+    # harmonics n = 36k of 36 point forces remain (~1/36⁴ of a radial pair's)
+    th = 2 * math.pi * np.arange(18) / 36  # one zone's half; the U = 2 copies give the other 18
+    ring_pts = 55.0 * np.column_stack([np.sin(th), np.cos(th)])
+    t = cs_ring_compliance(ring, ring_pts, np.column_stack([np.cos(th), -np.sin(th)]))
+    assert np.abs(t.sum(axis=1)).max() < 1e-5 * s[0, 0]
+    with pytest.raises(CSRingError, match="outer_radius_mm"):
+        CSRing(60.0, 50.0, 10.0, 200000.0)
