@@ -27,7 +27,7 @@ __all__ = ["OUTPUT_FILES", "figure_workers", "profile_figures", "write_design"]
 OUTPUT_FILES = frozenset({
     "envelope.csv", "circular_spline.dxf", "tooth_space.dxf", "assembly.dxf", "circular_spline.svg",
     "circular_spline.csv", "profile_fit.json", "deformation_fit.json", "fit_report.html", "envelope.png",
-    "contact.json", "contact.png", "stress.json", "stress.png", "report.html", "design.json",
+    "contact.json", "contact.png", "torsional.png", "stress.json", "stress.png", "report.html", "design.json",
     "flexspline_tooth.dxf", "flexspline.dxf", "circular_spline_drawing.dxf",
     "circular_spline.step", "flexspline.step",  # with step=True (profilegen design --step)
 })
@@ -125,7 +125,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
                                                         **result.stress.to_dict()})
         if figure:
             images = workers.collect(jobs, steal=tuple(pieces))
-            for name in ("envelope", "contact", "stress"):
+            for name in ("envelope", "contact", "torsional", "stress"):
                 if name in images:
                     with export.atomic_write(staging / f"{name}.png", "wb") as f:
                         f.write(images[name])

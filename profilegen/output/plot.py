@@ -30,7 +30,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from ..stress.tooth_ring import ToothRingStudy
 
 __all__ = ["CLASS_STYLE", "PAPER_RC", "envelope", "envelope_figure", "envelope_png", "clearance", "tooth_line",
-           "family_outlines", "contact_figure", "stress_figure", "fixed_figure", "png_bytes",
+           "family_outlines", "contact_figure", "torsional_figure", "stress_figure", "fixed_figure", "png_bytes",
            "plot_goodman", "plot_tooth_ring_study", "sweep_figure"]
 
 #: Line style per envelope class, in legend order.
@@ -393,6 +393,76 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
     _tidy(ax3)
     if title:
         fig.suptitle(title, fontsize=9, y=1 - 0.06 / 4.0, va="top")
+    if path is not None:
+        _save(png_bytes(fig, 130), path)
+    return fig
+
+
+def torsional_figure(curve: Any, *, title: str = "", ratio: float | None = None,
+                     path: str | os.PathLike | None = None) -> "Figure":
+    """The whole gear in torsion (a :class:`~profilegen.contact.chain.TorsionalCurve`): rotation
+    of the FS against the CS (arcmin) against the signed torque — the mesh on rigid balls,
+    with the Hertz ball springs, and the whole gear with the series compliances (cup wall,
+    cup bottom, CS body) — over the whole range (left) and to 1.25 T2 (middle), with the
+    catalogue's K1/K2 lines in both directions, labelled with the catalogue table's ratio and
+    the set's (``ratio``); right, each part's compliance at the rated torque."""
+    k = 180 * 60 / math.pi
+    fig, (ax1, ax2, ax3) = fixed_figure((15.0, 4.6), 1, 3, left=0.7, right=0.25, bottom=0.55,
+                                        top=0.45 if title else 0.2, wgap=1.25)
+    t = np.asarray(curve.torque_nm)
+    cat = curve.catalogue
+    t2 = float(curve.breakpoints_nm["T2"])
+    zoom = np.abs(t) <= 1.25 * t2
+    for ax, pick in ((ax1, np.ones(t.size, bool)), (ax2, zoom)):
+        for rot, style, label in ((curve.rotation_rad, "o-", "whole gear (mesh + balls + cup + CS body)"),
+                                  (curve.mesh_balls_rad, "s--", "mesh + Hertz ball springs"),
+                                  (curve.mesh_rad, "^:", "mesh only (rigid balls)")):
+            ax.plot(t[pick], np.asarray(rot)[pick] * k, style, ms=3, lw=1, label=label)
+        flagged = [i for i, f in enumerate(curve.flags) if f is not None and pick[i]]
+        if flagged:
+            ax.plot(t[flagged], np.asarray(curve.rotation_rad)[flagged] * k, "x", color="red", ms=8,
+                    label="beyond the modelled contact (flagged)")
+        if cat and cat.get("K1_nm_per_rad") and cat.get("K2_nm_per_rad"):
+            c1, c2 = float(cat["T1_nm"]), float(cat["T2_nm"])
+            a1 = c1 / float(cat["K1_nm_per_rad"])
+            a2 = a1 + (c2 - c1) / float(cat["K2_nm_per_rad"])
+            cat_ratio, size = cat.get("ratio"), cat.get("size")
+            label = ("catalogue" + (f" size {size}" if size else "")
+                     + (f", ratio 1/{float(cat_ratio):g}" if cat_ratio else "") + ": K1 to T1, K2 to T2"
+                     + ("" if ratio is None or cat_ratio is None or float(cat_ratio) == float(ratio)
+                        else f"\n(this gear: ratio 1/{float(ratio):g})"))
+            ax.plot([-c2, -c1, 0.0, c1, c2], np.array([-a2, -a1, 0.0, a1, a2]) * k, "k--", lw=1.4, label=label)
+        for name in ("T1", "T2"):
+            tb = float(curve.breakpoints_nm[name])
+            for sgn in (1, -1):
+                ax.axvline(sgn * tb, color="0.8", lw=0.6, zorder=0)
+            ax.text(tb, 0.02, f" {name}", transform=ax.get_xaxis_transform(), fontsize=7, color="0.4")
+        ax.axhline(0.0, color="0.5", lw=0.6)
+        ax.axvline(0.0, color="0.5", lw=0.6)
+        ax.set_xlabel("torque on the FS, wave generator locked (N·m)")
+        _tidy(ax)
+    ax1.set_ylabel("rotation of the FS against the CS (arcmin)")
+    ax1.legend(fontsize=7, loc="upper left")
+    kt = curve.k_nm_per_rad["total"]["positive"]
+    ax1.set_title(f"whole gear: K1 {kt['K1']:.3g}, K2 {kt['K2']:.3g}, K3 {kt['K3']:.3g} N·m/rad "
+                  f"(T1, T2 {curve.breakpoints_source})", fontsize=8)
+    lm = curve.lost_motion_rad["total"] * k
+    ax2.set_title(f"to 1.25 T2; lost motion {lm:.3f} arcmin at ±{curve.lost_motion_torque_nm:.3g} N·m", fontsize=8)
+    comp = {n[:-len("_rad_per_nm")]: v for n, v in curve.compliances_at_rated.items() if n != "total_rad_per_nm"}
+    names = list(comp)
+    values = np.array([comp[n] for n in names]) * 1e6
+    total = float(curve.compliances_at_rated["total_rad_per_nm"]) * 1e6
+    ax3.barh(range(len(names)), values, color="C0")
+    for i, v in enumerate(values):
+        ax3.text(v, i, f" {v:.3g} ({v / total:.0%})", va="center", fontsize=7)
+    ax3.set_yticks(range(len(names)), [n.replace("_", " ") for n in names], fontsize=8)
+    ax3.invert_yaxis()
+    ax3.set_xlim(0.0, 1.35 * float(values.max()))
+    ax3.set_xlabel("compliance at the rated torque (10⁻⁶ rad/N·m)")
+    ax3.set_title(f"total {total:.3g}·10⁻⁶ rad/N·m (secant {1e6 / total:.3g} N·m/rad)", fontsize=8)
+    ax3.tick_params(direction="out", length=3)
+    if title:
+        fig.suptitle(title, fontsize=9, y=1 - 0.06 / 4.6, va="top")
     if path is not None:
         _save(png_bytes(fig, 130), path)
     return fig

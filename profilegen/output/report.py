@@ -389,6 +389,80 @@ pivoting. The stiffness is the mesh's only (no ball Hertz, inner ring, cam or cu
 <img src="{uri}" alt="loaded contact">"""
 
 
+def _torsional_section(design, png: bytes | None = None) -> str:
+    """The whole gear in torsion, in plain words, against the catalogue (issue 16)."""
+    curve = getattr(design, "torsional", None)
+    if curve is None:
+        return ""
+    arcmin = 180 * 60 / np.pi
+    k = curve.k_nm_per_rad["total"]
+    cmp = curve.catalogue_comparison()
+    compared = {} if cmp is None else cmp["compared"]
+    names = {"K1_nm_per_rad": "K1, 0 … T1 (N·m/rad)", "K2_nm_per_rad": "K2, T1 … T2 (N·m/rad)",
+             "K3_nm_per_rad": "K3, T2 … peak (N·m/rad)", "secant_T1_nm_per_rad": "secant T/φ at T1 (N·m/rad)",
+             "secant_T2_nm_per_rad": "secant T/φ at T2 (N·m/rad)", "lost_motion_arcmin": "lost motion (arcmin)"}
+    model = {"K1_nm_per_rad": k["positive"]["K1"], "K2_nm_per_rad": k["positive"]["K2"],
+             "K3_nm_per_rad": k["positive"]["K3"], "secant_T1_nm_per_rad": k["positive"]["secant_T1"],
+             "secant_T2_nm_per_rad": k["positive"]["secant_T2"],
+             "lost_motion_arcmin": curve.lost_motion_rad["total"] * arcmin}
+    rows = "".join(
+        f"<tr><td class=text>{label}</td><td>{model[key]:.4g}</td>"
+        f"<td>{_num(compared[key]['catalogue'], '.4g') if key in compared else '—'}</td>"
+        f"<td>{_num(compared[key]['model_over_catalogue'], '.2f') if key in compared else '—'}</td></tr>"
+        for key, label in names.items())
+    c = curve.compliances_at_rated
+    total = c["total_rad_per_nm"]
+    parts = {p.name: p for p in curve.chain.parts}
+    words = {"mesh": "the teeth and rim in mesh (FEM influence coefficients, rigid balls)",
+             "ball_hertz": "the wave-generator balls: Hertz contact at both races, iterated with the contact",
+             "cup_wall": "cup wall in torsion (thin tube)", "cup_bottom": "cup bottom (diaphragm) twisted in its plane",
+             "cs_body": "the CS ring outside the modelled sector"}
+    comp_rows = "".join(
+        f"<tr><td class=text>{html.escape(n[:-len('_rad_per_nm')].replace('_', ' '))}</td><td>{v * 1e6:.4g}</td>"
+        f"<td>{v / total:.0%}</td><td class=text>"
+        f"{html.escape(words.get(n[:-len('_rad_per_nm')], ''))}"
+        f"{html.escape('; ' + parts[n[:-len('_rad_per_nm')]].formula) if n[:-len('_rad_per_nm')] in parts else ''}"
+        f"</td></tr>"
+        for n, v in c.items() if n != "total_rad_per_nm")
+    estimates = [e for p in curve.chain.parts for e in p.estimates]
+    if curve.chain.bearing is not None:
+        estimates += list(curve.chain.bearing.estimates)
+    estimates = list(dict.fromkeys(estimates))
+    bp = curve.breakpoints_nm
+    if cmp is None:
+        against = ("<p>No catalogue table for this size is in the repository: T1 and T2 are "
+                   f"{'estimates (0.2 and 0.75 of the rated torque)' if curve.breakpoints_source == 'estimate' else 'as given'}"
+                   ", and nothing is compared.</p>")
+    else:
+        ratio = compared.get("secant_T2_nm_per_rad", {}).get("model_over_catalogue")
+        verdict = "" if ratio is None else (
+            f" At T2 this model is {'stiffer' if ratio > 1 else 'softer'} than the catalogue by a factor "
+            f"{max(ratio, 1 / ratio):.2f} (secant stiffness).")
+        against = (f"<p>Compared with {html.escape(str(cmp.get('source')))}."
+                   f"{' ' + html.escape(cmp['note'][:1].upper() + cmp['note'][1:]) + '.' if cmp.get('note') else ''}{verdict}</p>")
+    flagged = [f"{t:g}" for t, f in zip(curve.torque_nm, curve.flags) if f is not None]
+    uri = _png_uri(png) if png is not None else None
+    img = "" if uri is None else f'<img src="{uri}" alt="torsional curve">'
+    return f"""<h2>The whole gear in torsion</h2>
+<p>The wave generator is held and a torque turns the flexspline against the circular spline, in both
+directions, at {len(curve.torque_nm)} torques up to ±{float(np.max(np.abs(curve.torque_nm))):g} N·m. The twist
+adds up from the tooth mesh (both flanks solved, each for its own direction), the balls of the wave-generator
+bearing, the cup wall and bottom, and the CS ring. The catalogue's stiffnesses are read off this curve the
+catalogue's way: K1 = T1/φ(T1), K2 = (T2 − T1)/(φ(T2) − φ(T1)), K3 from T2 to the peak torque, with
+T1 = {bp['T1']:g} N·m, T2 = {bp['T2']:g} N·m ({curve.breakpoints_source}), T3 = {bp['T3']:g} N·m. Lost motion is
+the rotation between ±{curve.lost_motion_torque_nm:.3g} N·m (3 % of the rated torque); the free play at zero
+torque is {curve.backlash_rad * arcmin:.3g} arcmin. No friction is modelled, so there is no hysteresis:
+loading and unloading give one curve. In the other direction K1, K2, K3 are
+{k['negative']['K1']:.4g}, {k['negative']['K2']:.4g}, {k['negative']['K3']:.4g} N·m/rad.</p>
+{against}
+<table><tr><th>whole gear</th><th>this model</th><th>catalogue</th><th>model / catalogue</th></tr>{rows}</table>
+<p>Where the twist comes from at the rated torque ({float(design.gearset.torque.rated_nm):g} N·m):</p>
+<table><tr><th>part</th><th>compliance (10⁻⁶ rad/N·m)</th><th>share</th><th>model</th></tr>{comp_rows}</table>
+<p>Estimated inputs: {html.escape('; '.join(estimates)) or 'none'}. Left out: {html.escape('; '.join(curve.chain.left_out))}.
+{'Torques beyond the modelled contact (flagged): ' + ', '.join(flagged) + ' N·m.' if flagged else ''}</p>
+{img}"""
+
+
 def _stress_section(design, png: bytes | None = None) -> str:
     res = design.stress
     from . import plot
@@ -488,6 +562,7 @@ The full fit-error report is <code>fit_report.html</code>; the CAD files are the
 <table><tr><th>stage</th><th>tier</th><th>time (ms)</th><th>error estimate</th><th>error measure</th></tr>{stages}</table>
 {fit}
 {_contact_section(design, images.get("contact"))}
+{_torsional_section(design, images.get("torsional"))}
 {stress}
 {images.get("seed_tables") or _seed_tables()}
 <h2>Notes</h2><ul>{warnings}</ul>
@@ -507,6 +582,12 @@ def _contact_png(contact, title: str, ratio: float | None = None) -> bytes:
     from .plot import contact_figure, png_bytes
 
     return png_bytes(contact_figure(contact, title=title, ratio=ratio), 130)
+
+
+def _torsional_png(curve, title: str, ratio: float | None = None) -> bytes:
+    from .plot import png_bytes, torsional_figure
+
+    return png_bytes(torsional_figure(curve, title=title, ratio=ratio), 110)
 
 
 def _stress_png(stress, title: str) -> bytes:
@@ -533,6 +614,9 @@ def png_jobs(design) -> dict[str, tuple[Callable[..., bytes], tuple]]:
         c = design.contact
         jobs["contact"] = (_contact_png, (c, f"{g.name}: loaded contact, {c.zones} zones, "
                                              f"{c.points.count} candidate points per zone", g.ratio))
+    if getattr(design, "torsional", None) is not None:
+        jobs["torsional"] = (_torsional_png, (design.torsional, f"{g.name}: the whole gear in torsion, wave "
+                                                                "generator locked", g.ratio))
     title = (f"{g.name}: m {g.gear.module_mm:g} mm, z {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}, "
              f"ω* {g.wave_generator.deflection_coefficient:g}, scene {design.scene.name}")
     jobs["envelope"] = (_envelope_png, (design.envelope, design.tooth, design.motion, title))
