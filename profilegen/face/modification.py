@@ -17,9 +17,16 @@ Computed (:func:`solve_modification`) as a minimax linear programme (scipy HiGHS
 interference at any pose of any section, with every section's clearances
 linear in Δs on the φ grid of the face map — c_k(φ) + σ_k(φ) Δs_k ≥ 0 at every pose, ≤ t at
 the design section's engaged poses (σ: the clearance's change per mm of thickness, first from
-a finite difference at the design section, then the secant of each section's own recomputed
-map). Each step recomputes the modified sections' maps exactly; it stops when they are
-interference-free (or after ``iterations`` steps, with a warning).
+a finite difference at each section, then the secant of each section's own recomputed
+map). Each step recomputes the modified sections' maps exactly; the steps stop when the
+thickness change moves by less than STOP_MM; the interference-free step with the least largest
+backlash is kept (none: the last step, with a warning).
+
+What a thickness change cannot do: where a section's tooth goes deeper into the space than the
+design section's (more ω on the major axis) its tip corners meet the CS flank near the top of
+the space, and where it deflects less on the minor axis its root lands meet the CS tips — radial
+interference that thinning barely relieves; the LP is then infeasible (a warning) and the
+design section must move (the default choice avoids it).
 """
 
 from __future__ import annotations
@@ -39,6 +46,8 @@ __all__ = ["ToothModification", "apply_modification", "modified_tooth", "solve_m
 
 #: the finite-difference step of the first sensitivity (mm of tooth thickness)
 FD_STEP_MM = 4e-3
+#: the LP steps stop when the thickness change moves by less than this at every section (mm)
+STOP_MM = 2e-4
 
 
 class _ToothFields:
@@ -157,7 +166,7 @@ def apply_modification(gearset, deformation, face: FaceWidth, taper_mm_per_mm: f
 
 
 def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool = True,
-                       iterations: int = 4) -> ToothModification:
+                       iterations: int = 6) -> ToothModification:
     """The taper (and crowning, unless ``crowning=False``) that make the one CS interference-free
     at every section with the least largest backlash (minimax LP, see the module docstring)."""
     from scipy.optimize import linprog
@@ -172,10 +181,14 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
     engaged = face.engaged
     samples = face.map_samples
 
-    # first sensitivity: the design section's tooth made thicker by FD_STEP_MM
+    # first sensitivities: each section's tooth made thicker by FD_STEP_MM (the nearest CS point at a
+    # pose differs from section to section, so does the clearance's response)
     d = face.design_index
-    thick = replace(face.sections[d], tooth=modified_tooth(gearset, FD_STEP_MM), envelope=None)
-    sens = np.tile((_map(face.form, thick, samples).clearance_mm - c0[d]) / FD_STEP_MM, (z.size, 1))
+    thick = modified_tooth(gearset, FD_STEP_MM)
+    sens = np.zeros_like(c0)
+    for k, s in enumerate(face.sections):
+        if k != d:
+            sens[k] = (_map(face.form, replace(s, tooth=thick, envelope=None), samples).clearance_mm - c0[k]) / FD_STEP_MM
 
     nvar = 3 if crowning else 2
     warnings: list[str] = []
@@ -186,7 +199,7 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
     method = ("minimax LP (scipy HiGHS): the least largest backlash over the sections' engaged poses, no "
               "interference at any pose of any section; clearances linear in the thickness change, recomputed "
               "after each step (secant sensitivities)")
-    done = 0
+    done, best = 0, None
     for it in range(1, iterations + 1):
         rows_ub, rhs_ub = [], []
         for k in range(z.size):
@@ -214,9 +227,16 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
         for k in range(z.size):  # the secant of each section's own clearances
             if abs(ds_new[k]) > 1e-9:
                 sens[k] = (cmaps[k] - c0[k]) / ds_new[k]
+        moved = float(np.max(np.abs(ds_new - ds)))
         ds = ds_new
         if float(cmaps.min()) >= -face.interference_tol_mm:
-            break
+            backlash = float(np.max(cmaps[:, engaged]))
+            if best is None or backlash < best[0]:
+                best = (backlash, taper, crown, ds, secs, predicted)
+            if moved < STOP_MM:
+                break
+    if best is None:
+        warnings.append(f"tooth modification: still interfering after {done} LP steps")
     else:
-        warnings.append(f"tooth modification: still interfering after {iterations} LP steps")
+        _, taper, crown, ds, secs, predicted = best
     return _finish(gearset, face, secs, ds, taper, crown, "computed", method, done, predicted, start, warnings)
