@@ -1,5 +1,5 @@
 """The cup pressed onto the wave-generator contour over the bearing's width: frictionless
-unilateral contact, first order, by collocation in φ with the harmonic solves as the
+unilateral contact by collocation in φ with the harmonic solves as the
 compliance operator (DESIGN.md, "Notes for the 3D cup": each solve stays 2D).
 
 Unknowns: the radial force μ_ij ≥ 0 (N) of the cam on bore node i of the bearing band
@@ -14,13 +14,31 @@ w = ρ − r_bore of the contour; μ ≥ 0, μ·g = 0 — the convex QP min ½μ
 solved exactly as the non-negative least-squares problem min |Lᵀμ − L⁻¹w| (C = LLᵀ) as
 :func:`profilegen.rim.ring._contact_set` does.
 
+The exact gap (``gap="exact"``): the bore point X_ij = r_bore·e_r(φ_j) displaced by its
+radial and tangential displacement (u_r, u_φ; both harmonic series, so the band's compliance
+G_n is 2m × 2m) has the signed distance d_ij to the contour (``contour.closest``: + outside,
+the bore free); the force acts along the contour's normal n at the foot, whose components
+(n_r, n_φ) in the point's frame weight the harmonics (P_n^U = Σ_j μ_ij n_r cos nφ_j,
+P_n^V = Σ_j μ_ij n_φ sin nφ_j: the four symmetric copies of a point have equal n_r and
+mirrored n_φ). With the gap linearised at the current iterate, g = d + n·Δu, the contact is
+the same QP with C = Σ_n B_nᵀ G_n B_n; it is re-linearised until every loaded point is on
+the contour and no free one penetrates (the 2D ring's :func:`profilegen.rim.ring.
+_contact_set`). The first-order gap differs by O(w0²/r): the tangential displacement moves a
+bore point along a contour whose radius changes, 2w0 sin 2φ per radian, and the contour's
+normal leans by r′/r (up to 2w0/r = 0.02 rad) from the radius.
+
+Geometric nonlinearity (``nonlinear=True``): the internal force of the total Lagrangian St
+Venant–Kirchhoff cup by harmonic balance (:mod:`profilegen.rim.cup.nonlinear`), modified
+Newton with the linear harmonic stiffnesses: each step the response to the out-of-balance
+force is the "base" of the same contact problem (the 2D ring's Newton loop).
+
 The result is a :class:`~profilegen.rim.cup.fourier.CupDeformation` (harmonics 0..2(J − 1)) and
-the contact state (:class:`CupContact`). Not yet: the O(w0²/R) exact-gap geometry of the 2D
-ring (its ~4.6 µm in ω on the default set), geometric nonlinearity.
+the contact state (:class:`CupContact`).
 """
 
 from __future__ import annotations
 
+import logging
 import math
 import time
 from dataclasses import dataclass
@@ -34,7 +52,11 @@ from ...results import readonly
 from .fourier import CupDeformation, HarmonicBasis, _resultants, bore_load, harmonic_stiffness
 from .geometry import CupError, CupGeometry, meridional_mesh
 
-__all__ = ["CupContact", "press_cup"]
+__all__ = ["GAPS", "CupContact", "press_cup"]
+
+log = logging.getLogger(__name__)
+
+GAPS = ("first_order", "exact")
 
 _whole = partial(checks.whole, error=CupError)
 
@@ -42,10 +64,13 @@ _whole = partial(checks.whole, error=CupError)
 @dataclass(frozen=True, slots=True, eq=False)
 class CupContact:
     """The cup on its contour: ``deformation`` (ω, υ, axial, tilt at any (φ, z)); the bearing
-    band's bore nodes ``z_mm`` × collocation angles ``phi_rad`` (0..π/2): the cam's radial
-    force ``force_n`` (N, each the total of its four symmetric copies), the gap ``gap_mm`` (the
-    bore's radial displacement minus the contour's w(φ); ≥ 0), ``active`` (force > 0);
-    ``load_mm``: w(φ_j); ``compliance_s``, ``contact_s``: times (s)."""
+    band's bore nodes ``z_mm`` × collocation angles ``phi_rad`` (0..π/2): the cam's force
+    ``force_n`` (N, each the total of its four symmetric copies; radial with the first-order
+    gap, along the contour's normal with the exact one), the gap ``gap_mm`` (first order: the
+    bore's radial displacement minus the contour's w(φ); exact: the displaced bore point's
+    signed distance to the contour; ≥ 0), ``active`` (force > 0); ``load_mm``: w(φ_j);
+    ``compliance_s``, ``contact_s``: times (s); ``gap``, ``nonlinear``: the model;
+    ``iterations``: contact re-linearisations; ``newton_steps_mm``: the nonlinear steps."""
 
     deformation: CupDeformation
     z_mm: np.ndarray
@@ -56,6 +81,10 @@ class CupContact:
     compliance_s: float
     contact_s: float
     time_s: float
+    gap: str = "first_order"
+    nonlinear: bool = False
+    iterations: int = 1
+    newton_steps_mm: tuple = ()
 
     def __post_init__(self):
         for name in ("z_mm", "phi_rad", "force_n", "gap_mm", "load_mm"):
@@ -75,18 +104,29 @@ class CupContact:
         out = self.deformation.to_dict()
         out["model"] = ("cup as a body of revolution, Fourier harmonics of 2D meridional FEM, pressed onto the "
                         "contour over the bearing width: frictionless unilateral contact by collocation in φ, "
-                        "first-order (radial) gap, boss clamped")
+                        + ("exact gap (distance to the contour along its normal)" if self.gap == "exact"
+                           else "first-order (radial) gap")
+                        + (", geometrically nonlinear (total Lagrangian, harmonic balance)" if self.nonlinear
+                           else ", linear") + ", boss clamped")
         out["contact"] = json_ready({"z_mm": self.z_mm, "phi_rad": self.phi_rad, "force_n": self.force_n,
                                      "gap_mm": self.gap_mm, "load_mm": self.load_mm,
                                      "max_penetration_mm": self.max_penetration_mm,
                                      "compliance_s": self.compliance_s, "contact_s": self.contact_s,
-                                     "time_s": self.time_s})
+                                     "time_s": self.time_s, "gap": self.gap, "nonlinear": self.nonlinear,
+                                     "iterations": self.iterations,
+                                     "newton_steps_mm": list(self.newton_steps_mm)})
         return out
 
     def contact_span_mm(self, phi_index: int) -> tuple[float, float] | None:
         """(first, last) z of the loaded band nodes at collocation angle ``phi_index``, or None."""
         on = np.flatnonzero(self.active[:, phi_index])
         return None if on.size == 0 else (float(self.z_mm[on[0]]), float(self.z_mm[on[-1]]))
+
+
+def _check_choice(name: str, value, allowed: tuple) -> str:
+    if value not in allowed:
+        raise CupError(f"{name} = {value!r}: must be one of {', '.join(repr(a) for a in allowed)}")
+    return value
 
 
 def press_cup(
@@ -98,10 +138,28 @@ def press_cup(
     element_mm: float = 2.0,
     layers: int = 2,
     harmonic_basis: HarmonicBasis | None = None,
+    gap: str = "first_order",
+    nonlinear: bool = False,
+    open_end_axial_fixed: bool = False,
+    gap_tol_mm: float = 1e-9,
+    newton_tol_mm: float = 1e-7,
+    max_iterations: int = 50,
 ) -> CupContact:
     """The cup pressed onto ``contour`` (or the bore shape ``radial_mm`` {n: w_n}, even n) over
     the bearing's width, frictionless and unilateral, boss clamped. ``angles`` J collocation
     angles on 0..π/2 (harmonics 0, 2, …, 2(J − 1)). With a GearSet and no load, its contour.
+
+    ``gap``: ``"first_order"`` (the bore point's radial displacement minus the contour's
+    w(φ) at its *undeformed* angle, the force radial) or ``"exact"`` (the signed distance of
+    the displaced bore point — radial and tangential displacement — to the contour, the force
+    along the contour's normal at its foot, re-linearised until every loaded point is on the
+    contour within ``gap_tol_mm``: the 2D ring's contact; needs a ``contour``).
+    ``nonlinear``: geometrically nonlinear (total Lagrangian St Venant–Kirchhoff by harmonic
+    balance, :mod:`profilegen.rim.cup.nonlinear`), modified Newton with the linear harmonic
+    stiffnesses from the linear solution, Anderson-accelerated (memory 5), until the step is
+    below ``newton_tol_mm``.
+    ``open_end_axial_fixed``: the open end's axial displacement held at zero (seed 004's
+    restraint), otherwise free.
 
     Defaults (2 mm, 2 layers, 16 angles): within 0.3 µm in ω, 0.05 µm in υ of 1 mm / 31 angles
     over the default set's tooth ring, 3.1 s against 41 s under a load of ~8 on 2 cores
@@ -109,6 +167,7 @@ def press_cup(
     from scipy.linalg import LinAlgError, cholesky, solve_triangular
     from scipy.optimize import nnls
 
+    from ..ring import _one_blas_thread
     from .fourier import _factor
 
     start = time.perf_counter()
@@ -117,6 +176,12 @@ def press_cup(
     else:
         geometry, gearset = CupGeometry.from_gearset(geometry_or_gearset), geometry_or_gearset
     angles = _whole("angles", angles, 2)
+    gap = _check_choice("gap", gap, GAPS)
+    nonlinear = bool(_check_choice("nonlinear", nonlinear, (False, True)))
+    open_end_axial_fixed = bool(_check_choice("open_end_axial_fixed", open_end_axial_fixed, (False, True)))
+    gap_tol_mm = checks.number("gap_tol_mm", gap_tol_mm, "mm", 0.0, error=CupError)
+    newton_tol_mm = checks.number("newton_tol_mm", newton_tol_mm, "mm", 0.0, error=CupError)
+    max_iterations = _whole("max_iterations", max_iterations, 1)
     orders = 2 * np.arange(angles)
     if radial_mm is not None and contour is not None:
         raise CupError("radial_mm and contour: give one load, not both")
@@ -131,6 +196,9 @@ def press_cup(
         w_cam = np.asarray(contour.radius(phi), dtype=float) - geometry.bore_radius_mm
         load = bore_load(contour, geometry.bore_radius_mm, max_order=int(orders[-1]))
     else:
+        if gap == "exact":
+            raise CupError("gap = 'exact': needs a contour (its normal and distance); a radial_mm bore shape has "
+                           "only the first-order gap")
         from .fourier import _load
 
         load = _load(radial_mm)
@@ -138,6 +206,8 @@ def press_cup(
             raise CupError("radial_mm: odd harmonics break the two symmetry planes the contact uses")
         phi = 0.5 * math.pi * np.arange(angles) / (angles - 1)
         w_cam = sum(w * np.cos(n * phi) for n, w in load.items())
+    if gap == "exact" and not callable(getattr(contour, "closest", None)):
+        raise CupError(f"contour = {contour!r}: gap = 'exact' needs a contour with closest(points)")
     if harmonic_basis is None:
         harmonic_basis = harmonic_stiffness(meridional_mesh(geometry, element_mm=element_mm, layers=layers))
     elif harmonic_basis.cup_mesh.geometry is not geometry:
@@ -156,65 +226,247 @@ def press_cup(
     bore_line = np.flatnonzero((np.abs(r - g.bore_radius_mm) < tol) & (z > z_wall - tol))
     bore_line = bore_line[np.argsort(z[bore_line])]
     clamped = np.concatenate([iu[boss], iw[boss], iv[boss]])
+    if open_end_axial_fixed:
+        clamped = np.concatenate([clamped, iw[np.flatnonzero(np.abs(z - g.open_end_mm) < tol)]])
     free = np.setdiff1d(np.arange(hb.dof), clamped)
     where = -np.ones(hb.dof, dtype=int)
     where[free] = np.arange(free.size)
     m = band.size
+    exact = gap == "exact"
+    comps = 2 if exact else 1  # unit forces on the band: radial (and tangential)
 
-    # compliance of every harmonic: the responses to unit radial forces on the band nodes
+    # compliance of every harmonic: the responses to unit radial (tangential) forces on the band
     t0 = time.perf_counter()
-    responses = []
-    rhs = np.zeros((free.size, m))
+    responses, factors = [], []
+    rhs = np.zeros((free.size, comps * m))
     rhs[where[iu[band]], np.arange(m)] = 1.0
+    if exact:
+        rhs[where[iv[band]], m + np.arange(m)] = 1.0
     for n in orders:
         stiff = hb.stiffness(int(n))
         try:
-            cols = _factor(stiff[free][:, free]).solve(rhs)
+            factor = _factor(stiff[free][:, free])
+            cols = factor.solve(rhs)
         except RuntimeError as exc:
             raise ConvergenceError(f"press_cup: the harmonic n = {n} stiffness is singular ({exc})") from exc
-        full = np.zeros((hb.dof, m))
+        full = np.zeros((hb.dof, comps * m))
         full[free] = cols
         responses.append(full)
-    a = np.cos(np.outer(orders, phi))  # (harmonics, angles)
-    compliance = np.zeros((m * angles, m * angles))
-    for k, full in enumerate(responses):
-        g_n = full[iu[band]]
-        g_n = 0.5 * (g_n + g_n.T)
-        compliance += np.kron(g_n, np.outer(a[k], a[k]))
+        factors.append(factor)
+    band_dofs = np.concatenate([iu[band], iv[band]]) if exact else iu[band]
+    blocks = []
+    for full in responses:
+        g_n = full[band_dofs]
+        blocks.append(0.5 * (g_n + g_n.T))
+    a_cos = np.cos(np.outer(orders, phi))  # (harmonics, angles)
+    a_sin = np.sin(np.outer(orders, phi))
     t_comp = time.perf_counter() - t0
 
+    # the band's bore points (m, J) in the wave-generator frame: (r sin φ, r cos φ)
+    e_r = np.stack([np.sin(phi), np.cos(phi)], axis=-1)[None, :, :]
+    e_t = np.stack([np.cos(phi), -np.sin(phi)], axis=-1)[None, :, :]
+    x_ref = g.bore_radius_mm * e_r
+
+    def state(u_r, u_t):
+        """(n_r, n_t, signed distance) of the bore points displaced by (u_r, u_t) (m, J)."""
+        if not exact:
+            return np.ones_like(u_r), np.zeros_like(u_r), u_r - w_cam[None, :]
+        pos = x_ref + u_r[..., None] * e_r + u_t[..., None] * e_t
+        _, normal, dist = contour.closest(pos.reshape(-1, 2))
+        normal = normal.reshape(m, angles, 2)
+        return (np.einsum("ija,ija->ij", normal, np.broadcast_to(e_r, normal.shape)),
+                np.einsum("ija,ija->ij", normal, np.broadcast_to(e_t, normal.shape)), dist.reshape(m, angles))
+
+    def generalised(mu, n_r, n_t):
+        """The harmonic generalised forces (harmonics, comps·m) of the point forces μ along n."""
+        p_u = (mu * n_r) @ a_cos.T  # (m, harmonics)
+        if not exact:
+            return p_u.T
+        return np.concatenate([p_u, (mu * n_t) @ a_sin.T], axis=0).T
+
+    def band_displacement(p):
+        """(u_r, u_t) (m, J) at the collocation points of the band for generalised forces p."""
+        y = np.stack([blk @ p[k] for k, blk in enumerate(blocks)])  # (harmonics, comps·m)
+        u_r = y[:, :m].T @ a_cos
+        u_t = y[:, m:].T @ a_sin if exact else np.zeros_like(u_r)
+        return u_r, u_t
+
+    # the compliance between the collocation points, per pair of components (radial / tangential
+    # force → radial / tangential displacement), before the normals weight it: T[(i,j),(i',j')] =
+    # Σ_n G_n[i,i'] a_n(φ_j) a_n(φ_j')
+    def pair(rows, cols, ta, tb):
+        t = sum(np.einsum("ik,j,l->ijkl", blk[rows][:, cols], ta[k], tb[k]) for k, blk in enumerate(blocks))
+        return t.reshape(m * angles, m * angles)
+
+    sl_u, sl_v = slice(0, m), slice(m, 2 * m)
+    t_uu = pair(sl_u, sl_u, a_cos, a_cos)
+    if exact:
+        t_uv, t_vv = pair(sl_u, sl_v, a_cos, a_sin), pair(sl_v, sl_v, a_sin, a_sin)
+
+    def assemble(n_r, n_t):
+        a, b = n_r.ravel(), n_t.ravel()
+        c = a[:, None] * t_uu * a[None, :]
+        if exact:
+            cross = a[:, None] * t_uv * b[None, :]
+            c = c + cross + cross.T + b[:, None] * t_vv * b[None, :]
+        return 0.5 * (c + c.T)
+
+    def complementary(compliance, q, guess):
+        """μ ≥ 0, Cμ − q ≥ 0, μ·(Cμ − q) = 0: first a primal–dual active-set iteration from the
+        ``guess`` (the last set: a few linear solves), exactly by NNLS (min |Lᵀμ − L⁻¹q|, C = LLᵀ)
+        if it does not settle in 12 sets or cycles."""
+        from scipy.linalg import solve
+
+        scale = max(float(np.max(np.abs(q))), 1e-300)
+        on = None if guess is None or not guess.any() else guess.copy()
+        seen = set()
+        while on is not None and on.any() and len(seen) < 12:  # primal–dual active set from the guess
+            key = on.tobytes()
+            if key in seen:  # it cycles: leave it to NNLS
+                break
+            seen.add(key)
+            try:
+                part = solve(compliance[np.ix_(on, on)], q[on], assume_a="pos", check_finite=False)
+            except (LinAlgError, ValueError):
+                break
+            mu = np.zeros_like(q)
+            mu[on] = part
+            slack = compliance @ mu - q
+            if np.all(part > 0.0) and np.min(slack[~on], initial=0.0) >= -1e-12 * scale:
+                return mu
+            on = np.where(on, mu > 0.0, slack < -1e-12 * scale)
+        try:
+            lower = cholesky(compliance, lower=True)
+        except LinAlgError as exc:
+            raise ConvergenceError(f"press_cup: the contact compliance ({m} band nodes × {angles} angles) is "
+                                   f"not positive definite ({exc})") from exc
+        return nnls(lower.T, solve_triangular(lower, q, lower=True), maxiter=50 * q.size)[0]
+
+    def contact(now_r, now_t, base_r, base_t, guess=None):
+        """Unilateral contact for band displacement (now + base + G f), the gap re-linearised
+        at the current iterate until the loaded points sit on the contour: (μ, n_r, n_t, gap,
+        iterations)."""
+        disp_r, disp_t = base_r.copy(), base_t.copy()
+        n_r, n_t, dist = state(now_r + disp_r, now_t + disp_t)
+        for iteration in range(1, max_iterations + 1):
+            q = (n_r * (disp_r - base_r) + n_t * (disp_t - base_t) - dist).ravel()
+            force = complementary(assemble(n_r, n_t), q, guess)
+            if not np.all(np.isfinite(force)):
+                raise ConvergenceError(f"press_cup: non-finite contact forces at iteration {iteration}")
+            mu = force.reshape(m, angles)
+            guess = force > 0.0
+            used = n_r, n_t
+            d_r, d_t = band_displacement(generalised(mu, n_r, n_t))
+            disp_r, disp_t = base_r + d_r, base_t + d_t
+            n_r, n_t, dist = state(now_r + disp_r, now_t + disp_t)
+            on = mu > 0.0
+            if (np.max(np.abs(dist[on]), initial=0.0) <= gap_tol_mm
+                    and np.min(dist[~on], initial=0.0) >= -gap_tol_mm):
+                return mu, used[0], used[1], dist, iteration
+        raise ConvergenceError(
+            f"press_cup: the contact gaps did not close in {max_iterations} re-linearisations (largest gap error "
+            f"{np.max(np.abs(dist[mu > 0]), initial=0.0):.3g} mm, deepest penetration "
+            f"{-np.min(dist[mu <= 0], initial=0.0):.3g} mm)")
+
+    def solve_field(rhs_of):
+        """Displacement (harmonics, dof) for the generalised force rhs_of(k) of each harmonic."""
+        out = np.zeros((orders.size, hb.dof))
+        for k, factor in enumerate(factors):
+            out[k, free] = factor.solve(rhs_of(k)[free])
+        return out
+
+    def response(mu, n_r, n_t):
+        p = generalised(mu, n_r, n_t)
+        return np.stack([full @ p[k] for k, full in enumerate(responses)])
+
+    def at_band(x):
+        return x[:, iu[band]].T @ a_cos, x[:, iv[band]].T @ a_sin
+
     t0 = time.perf_counter()
-    q = np.tile(w_cam, m)  # (i, j) → i·J + j
-    try:
-        lower = cholesky(compliance, lower=True)
-    except LinAlgError as exc:
-        raise ConvergenceError(f"press_cup: the contact compliance ({m} band nodes × {angles} angles) is not "
-                               f"positive definite ({exc})") from exc
-    force, _ = nnls(lower.T, solve_triangular(lower, q, lower=True), maxiter=50 * q.size)
-    if not np.all(np.isfinite(force)):
-        raise ConvergenceError("press_cup: non-finite contact forces")
-    gap = compliance @ force - q
+    with _one_blas_thread(True):
+        x, mu, dist, iterations, newton_steps, body = _solve(
+            contact, response, solve_field, at_band, state, hb, orders, nonlinear, max_iterations, newton_tol_mm, m,
+            angles)
+    gap_mm = dist
     t_contact = time.perf_counter() - t0
 
-    mu = force.reshape(m, angles)
-    p = mu @ a.T  # (m, harmonics): P_n,i
-    radial = np.zeros((orders.size, line.size))
-    axial, tangential = np.zeros_like(radial), np.zeros_like(radial)
-    bore_radial = np.zeros_like(radial)
+
+    radial = x[:, iu[line]]
+    axial = x[:, iw[line]]
+    tangential = x[:, iv[line]]
+    bore_radial = x[:, iu[bore_line]]
     boss_res, bore_res = [], []
-    for k, (n, full) in enumerate(zip(orders, responses)):
-        x = full @ p[:, k]
-        radial[k], axial[k], tangential[k] = x[iu[line]], x[iw[line]], x[iv[line]]
-        bore_radial[k] = x[iu[bore_line]]
-        reaction = hb.stiffness(int(n)) @ x
+    internal = body.force(x) if nonlinear else None
+    for k, n in enumerate(orders):
+        reaction = internal[k] if nonlinear else hb.stiffness(int(n)) @ x[k]
         boss_res.append(_resultants(int(n), reaction, (iu, iw, iv), r, z, boss))
         bore_res.append(_resultants(int(n), reaction, (iu, iw, iv), r, z, band))
     elapsed = time.perf_counter() - start
+    notes = ["unilateral contact by collocation, " + ("exact gap (the contour's distance along its normal)"
+                                                        if exact else "first-order (radial) gap")]
+    if nonlinear:
+        notes.append(f"geometrically nonlinear (harmonic balance), {len(newton_steps)} modified Newton steps")
+    if open_end_axial_fixed:
+        notes.append("open end held axially")
     deformation = CupDeformation(
         geometry=g, orders=orders, load_mm=np.array([load.get(int(n), 0.0) for n in orders]), z_mm=z[line],
         radial_mm=radial, axial_mm=axial, tangential_mm=tangential, bore_radial_mm=bore_radial,
         boss_reaction=tuple(boss_res), bore_reaction=tuple(bore_res), dof=hb.dof,
         elements=hb.cup_mesh.elements, element_mm=hb.cup_mesh.element_mm, layers=hb.cup_mesh.layers,
-        assembly_s=hb.assembly_s, solve_s=t_comp + t_contact, time_s=elapsed,
-        warnings=("unilateral contact by collocation, first-order (radial) gap",))
-    return CupContact(deformation, z[band], phi, mu, gap.reshape(m, angles), w_cam, t_comp, t_contact, elapsed)
+        assembly_s=hb.assembly_s, solve_s=t_comp + t_contact, time_s=elapsed, warnings=tuple(notes))
+    return CupContact(deformation, z[band], phi, mu, gap_mm, w_cam, t_comp, t_contact, elapsed, gap=gap,
+                      nonlinear=nonlinear, iterations=iterations, newton_steps_mm=tuple(newton_steps))
+
+
+def _solve(contact, response, solve_field, at_band, state, hb, orders, nonlinear, max_iterations, newton_tol_mm, m,
+           angles):
+    """The linear contact solve, then (``nonlinear``) the modified Newton loop: (x, μ, gap,
+    contact iterations, Newton steps, the nonlinear body or None)."""
+    zero = np.zeros((m, angles))
+    mu, n_r, n_t, dist, iterations = contact(zero, zero, zero, zero)
+    x = response(mu, n_r, n_t)
+    newton_steps: list[float] = []
+    body = None
+    if nonlinear:
+        from .nonlinear import HarmonicTotalLagrangian
+
+        body = HarmonicTotalLagrangian(hb, orders)
+        mixed: list[tuple[np.ndarray, np.ndarray]] = []  # Anderson history: (x_k + Δx_k, Δx_k)
+        best = math.inf
+        for newton in range(1, max_iterations + 1):
+            internal = body.force(x)
+            du = solve_field(lambda k: -internal[k])
+            now_r, now_t = at_band(x)
+            base_r, base_t = at_band(du)
+            mu, n_r, n_t, dist, its = contact(now_r, now_t, base_r, base_t, guess=(mu > 0.0).ravel())
+            iterations += its
+            du += response(mu, n_r, n_t)
+            step = float(np.max(np.abs(du)))
+            if not np.isfinite(step):
+                raise ConvergenceError(f"press_cup (nonlinear): non-finite Newton step at iteration {newton}")
+            newton_steps.append(step)
+            log.debug("press_cup (nonlinear): Newton %d, step %.3g mm, %d loaded points", newton, step,
+                      int((mu > 0).sum()))
+            if step <= newton_tol_mm:
+                x = x + du
+                break
+            # Anderson acceleration (memory 5) of the fixed-point map x → x + Δx of the modified
+            # Newton step; the history restarts when a step grows past twice the best one
+            if step > 2.0 * best:
+                mixed.clear()
+            best = min(best, step)
+            mixed.append((x + du, du))
+            mixed = mixed[-6:]
+            if len(mixed) > 1:
+                d_g = np.stack([(a[0] - b[0]).ravel() for a, b in zip(mixed[1:], mixed[:-1])], axis=1)
+                d_f = np.stack([(a[1] - b[1]).ravel() for a, b in zip(mixed[1:], mixed[:-1])], axis=1)
+                gamma = np.linalg.lstsq(d_f, du.ravel(), rcond=None)[0]
+                x = x + du - (d_g @ gamma).reshape(x.shape)
+            else:
+                x = x + du
+        else:
+            raise ConvergenceError(f"press_cup (nonlinear): no convergence in {max_iterations} Newton iterations "
+                                   "(last steps " + ", ".join(f"{s:.2e}" for s in newton_steps[-4:]) + " mm)")
+        now_r, now_t = at_band(x)
+        dist = state(now_r, now_t)[2]
+    return x, mu, dist, iterations, newton_steps, body
