@@ -66,6 +66,7 @@ from .sections import (  # noqa: F401
     WAVE_GENERATOR_CONTOURS,
     CircularSpline,
     Cup,
+    Face,
     DctaTooth,
     Gear,
     InvoluteTooth,

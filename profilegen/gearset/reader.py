@@ -30,6 +30,10 @@ from ..teeth import MAX_POINTS  # most points a kind = "points" tooth may have: 
 from .sections import (
     _CIRCULAR_SPLINE_KEYS,
     _CUP_KEYS,
+    _FACE_KEYS,
+    FACE_CROWNING_LIMIT,
+    FACE_SECTIONS_RANGE,
+    FACE_TAPER_LIMIT,
     _DCTA_DEFAULTS,
     _GEAR_KEYS,
     _MATERIAL_KEYS,
@@ -50,6 +54,7 @@ from .sections import (
     WAVE_GENERATOR_CONTOURS,
     CircularSpline,
     Cup,
+    Face,
     DctaTooth,
     Gear,
     InvoluteTooth,
@@ -419,6 +424,7 @@ class _Reader:
             self.section(data, "circular_spline", required=False), m, fs_reach_mm=reach
         )
         cup = self.read_cup(self.section(data, "cup", required=False), gear)
+        face = self.read_face(self.section(data, "face", required=False), cup)
         rim = gear_raw.get("rim_thickness_mm")
         if None not in (rim, m, wave_generator):
             w0 = wave_generator.deflection_coefficient * m
@@ -442,6 +448,7 @@ class _Reader:
             torque=torque,
             circular_spline=circular_spline,
             cup=cup,
+            face=face,
         )
 
     def read_gear(self, t: Mapping | None) -> dict[str, Any]:
@@ -978,3 +985,34 @@ class _Reader:
         for key in ("wall_thickness_mm", "bearing_width_mm", "bearing_center_mm"):
             v[key] = full[key]
         return Cup(**v)
+
+    def read_face(self, t: Mapping | None, cup: Cup | None) -> Face | None:
+        """The ``[face]`` section: every field optional; "auto" (or absent) for the design section
+        and the modification means chosen / computed by the face stage."""
+        if t is None:
+            return Face()
+        p = "face"
+        self.unknown_keys(t, p, _FACE_KEYS)
+        v = {}
+        auto = {k: None for k in ("design_section_z_mm", "taper_mm_per_mm", "crowning_mm")
+                if isinstance(t.get(k), str) and t.get(k) == "auto"}
+        if "design_section_z_mm" not in auto:
+            if cup is None:  # invalid cup: reported already; the tooth ring is unknown
+                rng = _Range(0, lo_open=True)
+            else:
+                lo, hi = cup.length_mm - 0.5 * cup.face_width_mm, cup.length_mm + 0.5 * cup.face_width_mm
+                rng = _Range(lo, hi, note='the tooth ring l ± b/2 of [cup], z from the cup bottom\'s mid-plane; or "auto"')
+            v["design_section_z_mm"] = self.number(t, p, "design_section_z_mm", unit="mm", rng=rng, default=None)
+        lo, hi = FACE_SECTIONS_RANGE
+        v["sections"] = self.number(t, p, "sections", unit="", rng=_Range(lo, hi), default=5, integer=True)
+        if "taper_mm_per_mm" not in auto:
+            v["taper_mm_per_mm"] = self.number(t, p, "taper_mm_per_mm", unit="mm/mm", rng=_Range(
+                -FACE_TAPER_LIMIT, FACE_TAPER_LIMIT, note='or "auto"'), default=None)
+        if "crowning_mm" not in auto:
+            v["crowning_mm"] = self.number(t, p, "crowning_mm", unit="mm", rng=_Range(
+                -FACE_CROWNING_LIMIT, FACE_CROWNING_LIMIT, note='or "auto"'), default=None)
+        if any(k in t and v.get(k) is None and k not in auto for k in _FACE_KEYS):
+            return None  # reported
+        for k in auto:
+            self.given.add(f"{p}.{k}")
+        return Face(**{**v, **auto})

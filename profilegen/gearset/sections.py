@@ -38,7 +38,7 @@ _DCTA_DEFAULTS = {
 }
 
 _TOP_KEYS = ("name", "description", "source", "scene")
-_SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline", "cup")
+_SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline", "cup", "face")
 _GEAR_KEYS = (
     "module_mm",
     "flexspline_teeth",
@@ -134,6 +134,11 @@ CORNER_STYLES = ("fillet", "sharp")
 FIT_METHODS = ("one_sided", "least_squares", "minimax")
 _CUP_KEYS = ("length_mm", "face_width_mm", "bottom_thickness_mm", "boss_radius_mm", "root_fillet_radius_mm",
              "wall_thickness_mm", "bearing_width_mm", "bearing_center_mm")
+#: [face] (profilegen.face): the CS design section, the number of axial sections, the FS tooth modification
+_FACE_KEYS = ("design_section_z_mm", "sections", "taper_mm_per_mm", "crowning_mm")
+FACE_SECTIONS_RANGE = (3, 41)
+FACE_TAPER_LIMIT = 0.01  # mm of tooth thickness per mm of face
+FACE_CROWNING_LIMIT = 0.1  # mm
 _SECTION_KEYS = {
     "gear": _GEAR_KEYS,
     "wave_generator": _WAVE_GENERATOR_KEYS,
@@ -141,6 +146,7 @@ _SECTION_KEYS = {
     "torque": _TORQUE_KEYS,
     "circular_spline": _CIRCULAR_SPLINE_KEYS,
     "cup": _CUP_KEYS,
+    "face": _FACE_KEYS,
 }
 
 
@@ -390,6 +396,22 @@ class Cup:
     bearing_center_mm: float | None = None
 
 
+@dataclass(**_FROZEN)
+class Face:
+    """The face width (:mod:`profilegen.face`, the cup3d rim tier): ``design_section_z_mm`` the
+    axial section whose envelope the one CS profile is cut from (z from the cup bottom's
+    mid-plane, on the tooth ring; None or "auto": the interference-free section with the least
+    largest backlash); ``sections`` axial sections over the tooth ring; the FS tooth
+    modification along the face, ``taper_mm_per_mm`` (tooth thickness change per mm toward the
+    open end) and ``crowning_mm`` (thinning at both face ends against the mid-face) — None or
+    "auto": computed (:func:`profilegen.face.solve_modification`)."""
+
+    design_section_z_mm: float | None = None
+    sections: int = 5
+    taper_mm_per_mm: float | None = None
+    crowning_mm: float | None = None
+
+
 def check_cup_geometry(*, neutral_radius_mm, ring_thickness_mm, length_mm, face_width_mm, bottom_thickness_mm,
                        boss_radius_mm, wall_thickness_mm=None, bearing_width_mm=None, bearing_center_mm=None,
                        error: type = GearSetError, prefix: str = "", ring_name: str = "ring_thickness_mm") -> dict:
@@ -448,6 +470,7 @@ _SECTION_TYPES = {
     "torque": Torque,
     "circular_spline": CircularSpline,
     "cup": Cup,
+    "face": Face,
 }
 
 

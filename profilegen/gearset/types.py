@@ -25,6 +25,7 @@ from .reader import _fmt, _Reader, read_toml
 from .sections import (
     _CIRCULAR_SPLINE_KEYS,
     _CUP_KEYS,
+    _FACE_KEYS,
     _FROZEN,
     _GEAR_KEYS,
     _MATERIAL_KEYS,
@@ -35,6 +36,7 @@ from .sections import (
     COEFFICIENT_SUFFIX,
     CircularSpline,
     Cup,
+    Face,
     DctaTooth,
     Gear,
     InvoluteTooth,
@@ -125,6 +127,7 @@ class GearSet:
     torque: Torque
     circular_spline: CircularSpline
     cup: Cup
+    face: Face = field(default_factory=Face)
     origin: str = field(default="<dict>", repr=False)
     given: frozenset[str] | None = field(default=None, repr=False)
 
@@ -250,6 +253,8 @@ class GearSet:
             "torque": _optional_fields(tq, _TORQUE_KEYS),
             "circular_spline": {key: _json_value(getattr(cs, key)) for key in _CIRCULAR_SPLINE_KEYS},
             "cup": {key: _json_value(getattr(cup, key)) for key in _CUP_KEYS},
+            "face": {key: ("auto" if getattr(self.face, key) is None else _json_value(getattr(self.face, key)))
+                     for key in _FACE_KEYS},
         }
         if include_defaults or self.given is None:
             return out
@@ -263,7 +268,7 @@ class GearSet:
                     for k, v in value.items()
                     if f"{key}.{k}" in given or f"{key}.{k}" in keep_always
                 }
-                if section or key not in ("circular_spline", "cup"):
+                if section or key not in ("circular_spline", "cup", "face"):
                     explicit[key] = section
             elif key in given or key in keep_always:
                 explicit[key] = value
