@@ -19,11 +19,13 @@ BUNDLED = sorted(p.stem for p in list_profiles())
 # the default set in the design scene is `profilegen design` itself: tests/test_cli.py runs it; its
 # sketch scene is the run tests/test_cli.py's progress and DXF tests check too (conftest.py:
 # default_sketch_run), checked below by test_the_default_set_sketch_obeys_its_checks
-CASES = [(name, scene) for name in BUNDLED for scene in ("sketch", "design") if name != "default"]
+CASES = [(name, scene) for name in BUNDLED for scene in ("sketch", "design") if name != "default"
+         and name != "csf32_100"]  # csf32_100 (issue 16's second catalogue size): its design run is in
+# tests/benchmarks/catalogue_stiffness.py (~27 s), out of the suite's time budget; test_cli checks it
 
 
 def test_the_bundled_sets_are_the_four_seed_sets():
-    assert BUNDLED == ["default", "seed000_csf40", "seed001_shf25", "seed002_short_cup"]
+    assert BUNDLED == ["csf32_100", "default", "seed000_csf40", "seed001_shf25", "seed002_short_cup"]
 
 
 @pytest.mark.slow

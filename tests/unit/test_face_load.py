@@ -191,3 +191,15 @@ def test_cs_ring_two_opposite_loads_match_roark():
     assert np.abs(t.sum(axis=1)).max() < 1e-5 * s[0, 0]
     with pytest.raises(CSRingError, match="outer_radius_mm"):
         CSRing(60.0, 50.0, 10.0, 200000.0)
+
+
+def test_catalogue_rows_are_the_sourced_ones_with_the_ratio_caveat():
+    from profilegen.contact.catalogue import CatalogueError, catalogue_row
+
+    row = catalogue_row(40, 100)
+    assert (row["T1_nm"], row["K1_nm_per_rad"], row["T2_nm"], row["K2_nm_per_rad"]) == (54.0, 1e5, 196.0, 1.4e5)
+    assert row["ratio"] == 50 and row["note"] and "table 42" in row["source"]
+    assert row["ratcheting_torque_nm"] == 2100.0
+    assert catalogue_row(32, 50)["note"] is None
+    with pytest.raises(CatalogueError, match="size"):
+        catalogue_row(11, 100)
