@@ -33,16 +33,24 @@ teeth separate radially without unloading until the corners meet.
   kinematics with the no-load deformation): when the FS tooth has moved out of the space by
   h_k while sliding along the flank, its tip corner stands on the CS tip circle and the next
   increment of rotation takes it over the CS tooth's tip (the contact normal turns radial,
-  no tangential force is held). The gear ratchets when the **most loaded tooth** reaches it:
-  Δr_k*(T) = h_k*. Teeth at the zone's edges reach their (small) h_k earlier; they leave the
-  mesh as the load shifts, which the contact already does.
-* **Torque.** Δr_k*(T) at a ladder of torques up to what the contact model can carry (a load
-  case the contact flags beyond its searched points is reported, not used); if the
-  criterion is met inside the ladder the torque is interpolated (linearly in the margin), otherwise the last
-  three valid torques give Δr ∝ T^p (least squares in log–log, ``exponent`` p) and
-  T = T_last (h/Δr_last)^{1/p}; the estimate is the lower of that and the proportional
-  T_last h/Δr_last (the fitted p < 1 comes from the zone spreading over more teeth, which ends
-  once the whole zone is loaded) — an extrapolation, flagged as such.
+  no tangential force is held). The gear ratchets when the loaded teeth reach it on the
+  load-weighted mean: Σ_k F_k (h_k − Δr_k) / Σ_k F_k = 0 (the force-weighted margin). The
+  most loaded tooth alone (the first choice) jumps between the two bands of the loaded zone
+  from one torque to the next (default set, design scene: teeth −2, −4, 22, −15 from 265 to
+  1200 N·m), and the rim's deformation moves the two bands in opposite directions (outward on
+  one side of the major axis, inward on the other), so its margin is no smooth function of
+  the torque; the mean over the loaded teeth is, and it is the most loaded tooth's margin when
+  one tooth dominates. The most loaded tooth is reported too.
+* **Torque.** h̄(T), Δr̄(T) at a ladder of torques up to what the contact model can carry (a
+  load case the contact flags beyond its searched points is reported, not used); if the
+  margin reaches 0 inside the ladder the torque is interpolated (linearly in the margin).
+  Otherwise the estimate is the proportional bound min_T T h̄(T)/Δr̄(T) over the solved
+  torques with Δr̄ > 0: Δr̄ taken to grow ∝ T from the torque where Δr̄/T is largest. Δr̄
+  grows more slowly than T in this model (the Hertz approach ∝ Q^{2/3}, the zone spreads over
+  more teeth, and past ~the rated torque the load moves to the teeth the rim's deformation
+  pushes into mesh, so Δr̄ even falls), so the bound is the lower end of what the model
+  gives; the fit Δr̄ ∝ T^p over the last three valid torques is reported beside it when p > 0
+  (``exponent``, ``torque_fitted_nm``). Flagged as an extrapolation.
 
 Left out (stated): the growth of α_k as the contact climbs onto the tip arcs (which raises
 the radial force and makes the real ratcheting torque lower); the inner ring and the cam's
@@ -107,7 +115,7 @@ _number = partial(checks.number, error=RatchetingError)
 def _torque(name: str, value) -> float:
     t = checks.number(name, value, "N·m", error=RatchetingError)
     if not math.isfinite(t) or t == 0.0:
-        raise RatchetingError(f"{name} = {value!r} N·m: must be finite and ≠ 0 (zero torque loads no flank: "
+        raise RatchetingError(f"{name} = {t!r} N·m: must be finite and ≠ 0 (zero torque loads no flank: "
                               "there is nothing to ratchet)")
     return t
 
@@ -206,7 +214,9 @@ class Ratcheting:
     """The ratcheting estimate (see the module docstring).
 
     ``torque_nm``: the estimate (N·m; ``inf`` if the teeth never separate in this model);
-    ``torque_fitted_nm`` / ``torque_proportional_nm``: the two extrapolations (None inside);
+    ``torque_fitted_nm`` / ``torque_proportional_nm``: the fitted and the proportional extrapolation
+    (None when the criterion is met inside the solved torques); ``mean_depth_mm`` h̄ and
+    ``mean_separation_mm`` Δr̄ per torque (the criterion's);
     ``model``/``criterion``: words; ``extrapolated``: the criterion lies beyond the torques
     the contact could carry; ``exponent``: p of Δr ∝ T^p used to extrapolate. Per solved
     torque (``torques_nm``): ``tooth`` the most loaded tooth, ``depth_mm`` its h,
@@ -238,10 +248,12 @@ class Ratcheting:
     warnings: tuple[str, ...] = field(default=())
     torque_fitted_nm: float | None = None
     torque_proportional_nm: float | None = None
+    mean_depth_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    mean_separation_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self):
         for name in ("torques_nm", "tooth_phi_deg", "depth_mm", "separation_mm", "separation_fs_mm",
-                     "separation_cs_mm", "pressure_angle_deg"):
+                     "separation_cs_mm", "pressure_angle_deg", "mean_depth_mm", "mean_separation_mm"):
             object.__setattr__(self, name, _readonly(getattr(self, name)))
         object.__setattr__(self, "tooth", _readonly(self.tooth, int))
         object.__setattr__(self, "valid", _readonly(self.valid, bool))
@@ -258,14 +270,14 @@ class Ratcheting:
         return self.torque_nm / float(self.catalogue["torque_nm"])
 
     def margin_mm(self) -> np.ndarray:
-        """h − Δr at the most loaded tooth, per solved torque (mm; ≤ 0: ratcheted)."""
-        return self.depth_mm - self.separation_mm
+        """The force-weighted margin h̄ − Δr̄ of the loaded teeth, per solved torque (mm; ≤ 0: ratcheted)."""
+        return self.mean_depth_mm - self.mean_separation_mm
 
     def flag(self, torque_nm) -> str | None:
         """Why ``torque_nm`` (N·m, either sign) is beyond the ratcheting estimate, or None.
         Zero or a non-finite torque: :class:`RatchetingError`."""
         t = abs(_torque("torque_nm", torque_nm))
-        if t < self.torque_nm:
+        if not t >= self.torque_nm:
             return None
         how = "extrapolated" if self.extrapolated else "interpolated"
         return (f"{t:g} N·m is at or beyond the ratcheting estimate {self.torque_nm:.4g} N·m ({how}; the loaded FS "
@@ -288,6 +300,8 @@ class Ratcheting:
             "tooth_phi_deg": self.tooth_phi_deg.tolist(),
             "depth_mm": self.depth_mm.tolist(),
             "separation_mm": self.separation_mm.tolist(),
+            "mean_depth_mm": self.mean_depth_mm.tolist(),
+            "mean_separation_mm": self.mean_separation_mm.tolist(),
             "separation_fs_mm": self.separation_fs_mm.tolist(),
             "separation_cs_mm": self.separation_cs_mm.tolist(),
             "pressure_angle_deg": self.pressure_angle_deg.tolist(),
@@ -409,7 +423,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
         if torques.ndim != 1 or torques.size < 2:
             raise RatchetingError(f"torques_nm: must be at least 2 torques (N·m), got {torques.size}")
         for k, t in enumerate(torques):
-            if not _torque(f"torques_nm[{k}]", t) > 0.0:
+            if not _torque(f"torques_nm[{k}]", float(t)) > 0.0:
                 raise RatchetingError(f"torques_nm[{k}] = {t!r} N·m: must be > 0 (the flank is chosen by side)")
         torques = np.unique(torques)
     if side not in (1, -1):
@@ -450,7 +464,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
         ring = cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
                                          youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
         ring_info = {"mean_radius_mm": r_mean, "thickness_mm": thick, "width_mm": width}
-    rows, flags, warnings = [], [], []
+    rows, flags, warnings, every = [], [], [], []
     from .analysis import _load_case
 
     with _serial():
@@ -472,28 +486,32 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
             on = slot == k
             alpha = float(np.degrees(np.arcsin(np.clip(np.sum(f[on] * sin_alpha[on]) / max(np.sum(f[on]), 1e-300),
                                                        -1.0, 1.0))))
+            total = sep_fs + sep_cs
+            w = per_tooth / per_tooth.sum()
+            every.append((float(w @ depth), float(w @ total)))
             rows.append((int(teeth[k]), math.degrees(phis[k]), float(depth[k]), float(sep_fs[k] + sep_cs[k]),
                          float(sep_fs[k]), float(sep_cs[k]), alpha))
     tooth_k, phi_k, h, sep, sep_fs, sep_cs, alpha = (np.array(c) for c in zip(*rows))
     valid = np.array([fl is None for fl in flags])
     rated = float(gs.torque.rated_nm)
-    torque, extrapolated, exponent, fitted, proportional = _criterion(torques, h, sep, valid, warnings)
+    mean_h, mean_sep = (np.array(c) for c in zip(*every))
+    torque, extrapolated, exponent, fitted, proportional = _criterion(torques, mean_h, mean_sep, valid, warnings)
     cat = None if catalogue is None else dict(catalogue)
     if cat is None:
         warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")
-    model = ("radial separation of the most loaded tooth from its CS space against its corner depth; FS side "
+    model = ("force-weighted radial separation of the loaded teeth from their CS spaces against their corner depth; FS side "
              "from the contact's FEM influence coefficients (tip-land probes, Hertz ball springs, settled balls)"
              + ("; CS side a free thin ring (bending harmonics n = 2, 4, … and n = 0)" if cs_ring else
                 "; CS held by the contact model's sector (no ring ovalisation)"))
-    criterion = ("Δr_k*(T) = h_k* = |FS tip corner| − r_CS,tip at the most loaded tooth k* (the tips meet while "
-                 "the flanks slide); interpolated linearly in the margin inside the solved torques, else Δr ∝ T^p from the "
-                 "last three valid torques")
+    criterion = ("Σ F_k (h_k − Δr_k) / Σ F_k = 0 with h_k = |FS tip corner| − r_CS,tip (the loaded teeth's tips "
+                 "meet the CS tips while the flanks slide, on the load-weighted mean); interpolated linearly in the "
+                 "margin inside the solved torques, else the proportional bound min T h̄/Δr̄ over them")
     parts = {"bearing": None if bearing is None else bearing.to_dict(),
              "cs_ring": ring_info if cs_ring else None,
              "points": int(n), "probe_teeth": int(teeth.size)}
     return Ratcheting(float(torque), model, criterion, torques, tooth_k, phi_k, h, sep, sep_fs, sep_cs, alpha, valid,
                       tuple(flags), extrapolated, exponent, rated, cat, parts, tuple(estimates),
-                      time.perf_counter() - t0, tuple(dict.fromkeys(warnings)), fitted, proportional)
+                      time.perf_counter() - t0, tuple(dict.fromkeys(warnings)), fitted, proportional, mean_h, mean_sep)
 
 
 def _serial():
@@ -502,11 +520,9 @@ def _serial():
     return threadpool_limits(limits=1, user_api="blas")
 
 
-def _criterion(torques, depth, sep, valid, warnings) -> tuple[float, bool, float | None, float | None, float | None]:
-    """(T_r, extrapolated, p, T with the fitted p, T with p = 1) from the most loaded tooth's
-    separation and depth per torque. Outside the solved torques T_r is the lower of the two
-    extrapolations: the fitted p < 1 comes from the loaded zone spreading over more teeth as
-    the torque grows, which stops once the whole zone carries load."""
+def _criterion(torques, depth, sep, valid, warnings):
+    """(T_r, extrapolated, p, T with the fitted p, T proportional) from the force-weighted depth
+    h̄ and separation Δr̄ per torque (see the module docstring)."""
     t = torques[valid]
     h, s = depth[valid], sep[valid]
     if t.size < 2:
@@ -521,21 +537,23 @@ def _criterion(torques, depth, sep, valid, warnings) -> tuple[float, bool, float
             return float(t[0]), False, None, None, None
         m0, m1 = margin[k - 1], margin[k]  # linear in the margin between the bracketing torques
         return float(t[k - 1] + m0 / (m0 - m1) * (t[k] - t[k - 1])), False, None, None, None
-    last = slice(max(0, t.size - 3), t.size)
-    tt, ss = t[last], s[last]
-    if np.any(ss <= 0.0):
-        warnings.append("the most loaded tooth does not move out of its space (Δr ≤ 0) at the highest valid torques: "
-                        "this model predicts no ratcheting")
+    out = s > 0.0
+    if not out.any():
+        warnings.append("the loaded teeth do not move out of their spaces on the load-weighted mean (Δr̄ ≤ 0) at any "
+                        "valid torque: this model predicts no ratcheting")
         return math.inf, True, None, None, None
-    p, _ = np.polyfit(np.log(tt), np.log(ss), 1)
-    proportional = float(tt[-1] * h[-1] / ss[-1])
-    if not p > 0.0:
-        warnings.append(f"Δr does not grow with the torque (p = {p:.3g}) at the highest valid torques; the "
-                        "estimate takes Δr ∝ T")
-        return proportional, True, float(p), math.inf, proportional
-    fitted = float(tt[-1] * (h[-1] / ss[-1]) ** (1.0 / p))
-    torque = min(fitted, proportional)
-    warnings.append(f"the criterion lies beyond the torques the contact model carries ({tt[-1]:g} N·m): extrapolated "
-                    f"by a factor {torque / tt[-1]:.3g} (Δr ∝ T^{p:.3f} fitted: {fitted:.4g} N·m; Δr ∝ T: "
-                    f"{proportional:.4g} N·m; the lower is the estimate)")
-    return torque, True, float(p), fitted, proportional
+    proportional = float(np.min(t[out] * h[out] / s[out]))
+    last = slice(max(0, t.size - 3), t.size)
+    fitted, p = None, None
+    if np.all(s[last] > 0.0):
+        p = float(np.polyfit(np.log(t[last]), np.log(s[last]), 1)[0])
+        if p > 0.0:
+            fitted = float(t[-1] * (h[-1] / s[-1]) ** (1.0 / p))
+    if p is None or p <= 0.0:
+        warnings.append("Δr̄ does not grow with the torque at the highest valid torques (the load moves to teeth the "
+                        "rim pushes into mesh): the estimate is the proportional bound")
+    k = int(np.argmax(np.where(out, s / t, -np.inf)))
+    warnings.append(f"the criterion lies beyond the torques the contact model carries ({t[-1]:g} N·m): the estimate "
+                    f"{proportional:.4g} N·m is Δr̄ ∝ T from {t[k]:g} N·m, the torque with the largest Δr̄/T"
+                    + ("" if fitted is None else f" (Δr̄ ∝ T^{p:.3f} from the last three: {fitted:.4g} N·m)"))
+    return proportional, True, p, fitted, proportional
