@@ -1211,7 +1211,9 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
         pts = contact.points
         if pts.side == 1 and pts.stations == stations and pts.max_gap_mm == max_gap:
             left = contact_points(inputs, side=-1, stations=stations, max_gap_mm=max_gap)
-            comp = ContactCompliance.build(inputs, left.fs_point_mm, left.normal, left.tooth, left.cs_point_mm)
+            # the right flank's wrap angle: without a rim FEM (sketch) it is a flat-ring solve, the same for both
+            comp = ContactCompliance.build(inputs, left.fs_point_mm, left.normal, left.tooth, left.cs_point_mm,
+                                           wrap_half_angle_rad=contact.compliance.wrap_half_angle_rad)
             sides = {1: (pts, contact.compliance), -1: (left, comp)}
     curve = torsional_curve(inputs, curve_torques_nm(gs, bp, count=count), sides=sides, breakpoints_nm=bp,
                             catalogue=cat, **options)

@@ -14,6 +14,7 @@ design: monotone, odd (the two flanks are mirror images), the chain softer than 
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
 
 import numpy as np
@@ -21,8 +22,11 @@ import pytest
 
 import profilegen as pg
 from profilegen.contact.chain import (
+    ARCMIN_PER_RAD,
     BallBearing,
     ChainError,
+    catalogue_for,
+    catalogue_size,
     compliance_chain,
     cup_torsion_fem,
     hertz_point_contact,
@@ -73,8 +77,11 @@ def test_cup_formulas_against_the_body_of_revolution(gearset):
     fine = cup_torsion_fem(gearset, element_mm=2.0)
     assert abs(coarse / fine - 1.0) < 5e-3
     assert abs(formulas / fine - 1.0) < 0.02
+    # the bearing under the shorter tooth ring: its width and centre follow the ring's
+    bearing = {k: v for k, v in (("bearing_width_mm", 10.0), ("bearing_center_mm", 15.0))
+               if hasattr(gearset.cup, k)}
     short = dataclasses.replace(gearset, cup=dataclasses.replace(gearset.cup, length_mm=15.0, face_width_mm=10.0,
-                                                                  bottom_thickness_mm=0.6))
+                                                                  bottom_thickness_mm=0.6, **bearing))
     chain_s = compliance_chain(short)
     assert chain_s.part("cup_bottom").compliance_rad_per_nm > 3.0 * chain_s.part("cup_wall").compliance_rad_per_nm
     formulas_s = 1.0 / (chain_s.part("cup_wall").compliance_rad_per_nm
@@ -186,9 +193,30 @@ def test_ball_spring_schur_step_by_hand():
 
 
 @pytest.fixture(scope="module")
-def curve(gearset):
-    design = pg.design(gearset, scene="sketch", contact=False, stress=False)
-    return torsional_curve(design, [-265.0, -54.0, -8.0, 8.0, 54.0, 265.0, 196.0, -196.0], stations=3)
+def sketch_design(gearset):
+    """The default set's sketch design with the loaded contact, which runs the whole gear's
+    torsional curve too (pipeline._with_contact)."""
+    return pg.design(gearset, scene="sketch", contact=True, stress=False)
+
+
+@pytest.fixture(scope="module")
+def sides(sketch_design):
+    """Both flanks' points and compliance: the contact stage's right flank and the left one
+    built with its wrap angle (the sketch scene has no rim FEM: a flat-ring solve otherwise)."""
+    from profilegen.contact import ContactInput
+    from profilegen.contact.points import contact_points
+
+    right = sketch_design.contact
+    inputs = ContactInput.from_design(sketch_design)
+    left = contact_points(inputs, side=-1)
+    comp = ContactCompliance.build(inputs, left.fs_point_mm, left.normal, left.tooth, left.cs_point_mm,
+                                   wrap_half_angle_rad=right.compliance.wrap_half_angle_rad)
+    return {1: (right.points, right.compliance), -1: (left, comp)}
+
+
+@pytest.fixture(scope="module")
+def curve(sketch_design, sides):
+    return torsional_curve(sketch_design, [-265.0, -54.0, -8.0, 8.0, 54.0, 265.0, 196.0, -196.0], sides=sides)
 
 
 def test_curve_monotone_odd_and_softer_with_the_chain(curve):
@@ -224,3 +252,100 @@ def test_curve_bad_input(gearset):
         torsional_curve(None, [54.0, 0.0])
     with pytest.raises(ChainError, match="lost_motion_fraction"):
         torsional_curve(None, [54.0], chain=compliance_chain(gearset), lost_motion_fraction=2.0, sides={})
+
+
+def test_continuation_equals_the_reference(curve, sketch_design):
+    """The curve by continuation in T on reduced systems against the reference path (every
+    torque from scratch: Lemke on the assembled compliance, settling and springs around it):
+    the same problem, so the same answer to the springs' tolerance."""
+    torques = [-265.0, -20.0, 20.0, 265.0]
+    fast = torsional_curve(sketch_design, torques, sides=curve.sides, spring_tol=1e-10, breakpoints_nm=(20.0, 265.0))
+    ref = torsional_curve(sketch_design, torques, sides=curve.sides, spring_tol=1e-10, breakpoints_nm=(20.0, 265.0),
+                          method="lemke")
+    assert np.allclose(fast.mesh_rad, ref.mesh_rad, rtol=1e-12, atol=0.0)
+    for name in ("mesh_balls_rad", "rotation_rad"):
+        assert np.allclose(getattr(fast, name), getattr(ref, name), rtol=1e-9, atol=0.0)
+    assert np.array_equal(fast.teeth_in_contact, ref.teeth_in_contact)
+    assert np.array_equal(fast.active_balls, ref.active_balls) and fast.flags == ref.flags
+    for label in ("mesh", "mesh_balls", "total"):
+        for side in ("positive", "negative"):
+            for key, value in ref.k_nm_per_rad[label][side].items():
+                assert fast.k_nm_per_rad[label][side][key] == pytest.approx(value, rel=1e-8)
+    with pytest.raises(ChainError, match="method"):
+        torsional_curve(sketch_design, [54.0], sides=curve.sides, method="newton")
+
+
+def test_whole_gear_in_the_design_outputs(sketch_design):
+    """design.json["contact"]["torsional"] and contact.json["torsional"] (issue 16's names):
+    present, finite, units in the names; the rigid-ball rotation at the rated torque is the
+    contact stage's own Lemke answer (an independent solve of the same flank)."""
+    from profilegen.output.files import _whole_gear
+
+    head = sketch_design.to_dict()["contact"]["torsional"]
+    for key in ("k1_nm_per_rad", "k2_nm_per_rad", "k3_nm_per_rad", "lost_motion_arcmin", "backlash_arcmin"):
+        assert math.isfinite(head[key]) and head[key] >= 0.0
+    assert head["breakpoints_source"] == "catalogue" and head["catalogue_source"]
+    tors = _whole_gear(sketch_design)["torsional"]
+    json.dumps(tors, allow_nan=False)
+    t = np.array(tors["torque_nm"])
+    assert t.size >= 20 and (t < 0).sum() >= 10 and (t > 0).sum() >= 10
+    assert np.all(np.isfinite(tors["rotation_arcmin"])) and len(tors["rotation_arcmin"]) == t.size
+    assert tors["catalogue"]["source"] and "K1_nm_per_rad" in tors["catalogue"]["compared"]
+    assert set(tors["compliances"]) >= {"mesh_rad_per_nm", "ball_hertz_rad_per_nm", "cup_wall_rad_per_nm",
+                                        "cup_bottom_rad_per_nm", "cs_body_rad_per_nm", "total_rad_per_nm"}
+    rated = sketch_design.gearset.torque.rated_nm
+    lemke = sketch_design.contact.cases[0]
+    assert lemke.torque_nm == rated
+    mesh = np.array(tors["rotation_mesh_arcmin"])[t == rated][0] / ARCMIN_PER_RAD
+    assert mesh == pytest.approx(lemke.rotation_rad, rel=1e-9)
+
+
+def test_stiffnesses_follow_their_definitions_from_the_arrays(sketch_design):
+    """K1 = T1/φ(T1), K2 = (T2 − T1)/(φ(T2) − φ(T1)), K3 = (T3 − T2)/(φ(T3) − φ(T2)) on the
+    elastic rotation (first contact θ0 taken out), lost motion = φ(+f T_r) − φ(−f T_r), the
+    total compliance at the rated torque = (φ(T_r) − θ0)/T_r — recomputed from contact.json's
+    torque and rotation arrays."""
+    from profilegen.output.files import _whole_gear
+
+    tors = _whole_gear(sketch_design)["torsional"]
+    t = np.array(tors["torque_nm"])
+    rot = np.array(tors["rotation_arcmin"]) / ARCMIN_PER_RAD
+
+    def phi(torque):
+        hit = np.flatnonzero(np.isclose(t, torque, rtol=1e-12, atol=0.0))
+        assert hit.size == 1, torque
+        return rot[hit[0]]
+
+    bp = tors["breakpoints_nm"]
+    t1, t2, t3 = bp["T1"], bp["T2"], bp["T3"]
+    for sign, name, key in ((1, "positive", None), (-1, "negative", None)):
+        th0 = tors["first_contact_arcmin"][name] / ARCMIN_PER_RAD
+        e1, e2, e3 = (sign * phi(sign * tt) - th0 for tt in (t1, t2, t3))
+        k = tors["stiffness_nm_per_rad"]["total"][name]
+        assert k["K1"] == pytest.approx(t1 / e1, rel=1e-12)
+        assert k["K2"] == pytest.approx((t2 - t1) / (e2 - e1), rel=1e-12)
+        assert k["K3"] == pytest.approx((t3 - t2) / (e3 - e2), rel=1e-12)
+    assert tors["k1_nm_per_rad"] == tors["stiffness_nm_per_rad"]["total"]["positive"]["K1"]
+    f_t = tors["lost_motion_torque_nm"]
+    assert f_t == pytest.approx(0.03 * sketch_design.gearset.torque.rated_nm)
+    assert tors["lost_motion_arcmin"] == pytest.approx((phi(f_t) - phi(-f_t)) * ARCMIN_PER_RAD, rel=1e-12)
+    rated = sketch_design.gearset.torque.rated_nm
+    th0 = tors["first_contact_arcmin"]["positive"] / ARCMIN_PER_RAD
+    assert tors["compliances"]["total_rad_per_nm"] == pytest.approx((phi(rated) - th0) / rated, rel=1e-12)
+    # the catalogue comparison is the model's value over the table's
+    cmp = tors["catalogue"]["compared"]["K1_nm_per_rad"]
+    assert cmp["model_over_catalogue"] == pytest.approx(tors["k1_nm_per_rad"] / tors["catalogue"]["K1_nm_per_rad"])
+
+
+def test_catalogue_size_and_table(gearset):
+    """Size = the nominal pitch diameter in tenths of an inch: the default set's 100 mm is size
+    40 (101.6 mm); a 70 mm gear is no catalogue size (64 and 81 mm are the nearest)."""
+    assert catalogue_size(gearset) == 40
+    cat = catalogue_for(gearset)
+    assert cat["size"] == 40 and cat["source"] and "ratio is 100" in cat["note"]
+    from types import SimpleNamespace
+
+    odd = SimpleNamespace(gear=SimpleNamespace(module_mm=0.35, flexspline_teeth=200), ratio=100.0)
+    assert catalogue_size(odd) is None and catalogue_for(odd) is None
+    size25 = SimpleNamespace(gear=SimpleNamespace(module_mm=0.4, flexspline_teeth=160), ratio=80.0)  # 64 mm
+    assert catalogue_size(size25) == 25
