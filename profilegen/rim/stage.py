@@ -188,7 +188,7 @@ class RimDeformation:
     theory); ``coarse``: the FEM solution on the halved mesh behind ``error_estimate_mm``.
     ``sine``: seed 004's general sine series on the same samples (verify tier) or None.
     ``reference``: ring theory with the same w0, for the report. The cup tier: ``fem`` and
-    ``coarse`` are :class:`CupSection`\ s at ``section_z_mm``; ``cup`` the whole 3D answer
+    ``coarse`` are :class:`CupSection` objects at ``section_z_mm``; ``cup`` the whole 3D answer
     (:class:`~profilegen.rim.cup.CupDeformation`: ω, υ, axial, tilt at any (φ, z)),
     ``cup_contact`` its contact state (:class:`~profilegen.rim.cup.CupContact`); None for the
     2D tiers.
