@@ -78,19 +78,30 @@ class CSRing:
         _positive("youngs_modulus_mpa", self.youngs_modulus_mpa, "MPa")
 
     @classmethod
-    def from_gearset(cls, gearset) -> "CSRing":
-        """From the contact model's sector edge (1.1 × the CS pitch radius) to where the CS is
-        held (the chain's estimate: ``circular_spline.outer_diameter_mm``/2 or 1.25 × the
-        estimated root diameter), the face width wide (ESTIMATE), of the FS's steel."""
+    def from_gearset(cls, gearset, *, inner: str = "root") -> "CSRing":
+        """The CS ring to where it is held (the chain's estimate: ``circular_spline.
+        outer_diameter_mm``/2 or 1.25 × the estimated root diameter), the face width wide
+        (ESTIMATE), of the FS's steel. ``inner``: "root" — the whole section from the CS root
+        circle (estimated r1 + addendum + w0 + 0.25 m), which is what bends in ovalisation
+        (the contact's CS sector models the teeth and the ring locally, not the ring's global
+        bending); "sector" — only the ring outside the contact model's sector edge (1.1 × the
+        CS pitch radius): about 4× softer in bending (h³), the upper bound."""
         from .chain import _cs_held_radius  # the chain's own estimate of where the CS is held
 
+        checks.choice("inner", inner, ("root", "sector"), error=CSRingError)
         g = gearset.gear
-        r_s = 1.1 * float(g.cs_pitch_radius_mm)
+        if inner == "sector":
+            r_i = 1.1 * float(g.cs_pitch_radius_mm)
+            est = ["inner_radius_mm = the contact model's CS sector edge, 1.1 r2"]
+        else:
+            r_i = float(g.pitch_radius_mm) + float(gearset.tooth.addendum_mm) + float(gearset.deflection_mm) \
+                + 0.25 * float(g.module_mm)
+            est = ["inner_radius_mm = the CS root radius estimated as r1 + addendum + w0 + 0.25 m"]
         r_o, note = _cs_held_radius(gearset)
-        est = ["width_mm = the face width", "the CS of the FS's steel", "a free ring (no housing)"]
+        est += ["width_mm = the face width", "the CS of the FS's steel", "a free ring (no housing)"]
         if note:
             est.append(note)
-        return cls(r_s, float(r_o), float(gearset.cup.face_width_mm), float(gearset.material.youngs_modulus_mpa),
+        return cls(r_i, float(r_o), float(gearset.cup.face_width_mm), float(gearset.material.youngs_modulus_mpa),
                    tuple(est))
 
     @property

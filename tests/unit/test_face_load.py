@@ -203,3 +203,15 @@ def test_catalogue_rows_are_the_sourced_ones_with_the_ratio_caveat():
     assert catalogue_row(32, 50)["note"] is None
     with pytest.raises(CatalogueError, match="size"):
         catalogue_row(11, 100)
+
+
+def test_cs_ring_of_a_gearset_root_section_is_stiffer_than_the_sector_part():
+    from profilegen.contact.cs_ring import CSRing, CSRingError
+    from profilegen.gearset import default_gearset_path, load_gearset
+
+    gs = load_gearset(default_gearset_path())
+    root, sector = CSRing.from_gearset(gs), CSRing.from_gearset(gs, inner="sector")
+    assert root.inner_radius_mm < 1.1 * gs.gear.cs_pitch_radius_mm == pytest.approx(sector.inner_radius_mm)
+    assert root.outer_radius_mm == sector.outer_radius_mm and root.second_moment_mm4 > 3 * sector.second_moment_mm4
+    with pytest.raises(CSRingError, match="inner"):
+        CSRing.from_gearset(gs, inner="bore")
