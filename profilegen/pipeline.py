@@ -169,6 +169,7 @@ class Design:
     rim: RimDeformation | None = None
     contact: object = None  # ContactResult at the gear set's torques (None when the scene skips it)
     stress: object = None  # StressResult at the gear set's torques (None when skipped)
+    face: object = None  # FaceWidth across the tooth ring (profilegen.face; the cup3d rim tier only)
     #: the whole gear's torsional curve (contact.chain.TorsionalCurve, both directions, with the
     #: compliance chain), run with the contact; None when the contact was not run or it failed
     torsional: object = None
@@ -252,6 +253,7 @@ class Design:
                 "torsional": None if self.torsional is None else self.torsional.headline(),
             },
             "stress": None if self.stress is None else self.stress.headline(),
+            "face": None if self.face is None else self.face.to_dict(),
             "verdict": self.verdict.to_dict(),
             "warnings": list(self.warnings),
         }
@@ -310,6 +312,8 @@ def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None 
     arguments (a progress display's total). The contact and stress models need two waves."""
     scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
     names = ["tooth", "deformation", "envelope", "gearform", "arcfit"]
+    if scene.rim_tier == "cup3d" and gearset.gear.waves == 2:
+        names.insert(2, "face")
     two_waves = gearset.gear.waves == 2
     if two_waves and (contact or (contact is None and scene.contact)):
         names.append("contact")
@@ -338,6 +342,11 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
 
     t0 = time.perf_counter()
     rim = solve_rim(gearset, tier=scene.rim_tier)
+    face, face_report = None, None
+    if getattr(rim, "cup", None) is not None:  # the 3D cup: the face stage picks the CS's design section
+        t_face = time.perf_counter()
+        rim, face, face_report = _with_face(gearset, rim, step)
+        t0 += time.perf_counter() - t_face  # the rim stage's time without the face stage
     deformation = rim.model
     warnings += list(rim.warnings)
     if rim.fem is None:
@@ -355,6 +364,9 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
             2 * fit.order + 1, rim.fit_time_s,
             max(fit.omega_stats.max_error_mm, fit.upsilon_stats.max_error_mm),
             "max |fit − FEM sample| of ω and υ (mm)"))
+    if face_report is not None:
+        stages.append(face_report)
+        warnings += list(face.warnings)
     motion = HarmonicDriveMotion.from_gearset(gearset, deformation)
 
     step("envelope")
@@ -401,7 +413,8 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     if profile.clearance.min_mm < -interference_tol_mm(scene):
         warnings.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} µm "
                         f"at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
-    result = Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim)
+    result = Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim,
+                    face=face)
     if on_profile is not None:
         on_profile(result)
     if contact:
@@ -414,6 +427,42 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
         except ProfilegenError as exc:
             result = replace(result, warnings=result.warnings + (f"loaded contact failed, skipped: {exc}",))
     return _with_stress(result, step) if stress else result
+
+
+def _with_face(gearset: GearSet, rim, step):
+    """The face stage (:func:`profilegen.face.face_width`) on the cup tier's 3D deformation, with
+    the gear set's ``[face]`` fields: its design section (auto: chosen; the rim is then solved
+    again at that section when it differs from the one the tier fitted, so the CS profile of
+    the files is the chosen section's) and the FS tooth modification (both fields absent or
+    "auto": computed; otherwise the given values, a missing one 0). Returns (rim, face, report)."""
+    from .face import face_width
+    from .rim.stage import solve_rim
+
+    step("face")
+    t0 = time.perf_counter()
+    f = gearset.face
+    design_section = "auto" if f.design_section_z_mm is None else f.design_section_z_mm
+    if f.taper_mm_per_mm is None and f.crowning_mm is None:
+        modification = "auto"
+    else:
+        modification = (f.taper_mm_per_mm or 0.0, f.crowning_mm or 0.0)
+    face = face_width(gearset, rim.cup, sections=f.sections, design_section=design_section, modification=modification)
+    note = ""
+    if rim.section_z_mm is None or abs(face.design_section_z_mm - rim.section_z_mm) > 1e-9:
+        note = (f"; the rim's Fourier fit moved from z = {rim.section_z_mm:g} mm to the design section (the 3D cup "
+                "solved again)")
+        rim = solve_rim(gearset, tier=rim.tier, z_mm=face.design_section_z_mm)
+    mod = face.modification
+    report = StageReport(
+        "face", f"{len(face.sections)} sections, envelope chord {face.chord_tol_mm:g} mm, map {face.map_samples} poses",
+        len(face.sections), time.perf_counter() - t0, face.max_interference_mm,
+        "largest interference of the FS teeth with the one CS profile over the face, unmodified teeth (mm)",
+        f"design section z = {face.design_section_z_mm:g} mm ({face.design_choice}); largest backlash "
+        f"{face.max_backlash_mm * 1e3:.2f} µm" + ("" if mod is None else
+        f"; with the tooth modification (taper {mod.taper_mm_per_mm * 1e3:.3g} µm/mm, crowning "
+        f"{mod.crowning_mm * 1e3:.3g} µm, {mod.source}) {mod.max_backlash_mm * 1e3:.2f} µm, interference "
+        f"{mod.max_interference_mm * 1e3:.3g} µm") + note)
+    return rim, face, report
 
 
 def _with_stress(result: Design, step) -> Design:

@@ -31,16 +31,19 @@ design section must move (the default choice avoids it).
 
 from __future__ import annotations
 
-import math
 import time
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import checks
 from ..results import json_ready, readonly
+from .clearance import _map, face_map
 from .sections import FaceError, ring_span
-from .stage import FaceWidth, _map, face_map
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .stage import FaceWidth
 
 __all__ = ["ToothModification", "apply_modification", "modified_tooth", "solve_modification", "thickness_change"]
 

@@ -101,7 +101,6 @@ def solve_section(gearset, deformation, z_mm: float, tooth, *, chord_tol_mm: flo
     g = gearset.gear
     period = 2.0 * math.pi / g.waves
     phi = period * np.arange(360) / 360
-    omega = np.asarray(deformation.omega(phi, z_mm), dtype=float)
     upsilon = np.asarray(deformation.upsilon(phi, z_mm), dtype=float)
     if fit is None:
         fit = section_fit(deformation, z_mm, waves=g.waves)[0]

@@ -34,9 +34,11 @@ import numpy as np
 
 from .. import checks
 from ..results import json_ready, readonly
+from .clearance import ENGAGED_MM, MAP_SAMPLES, face_map
+from .modification import apply_modification, solve_modification
 from .sections import FaceError, FaceSection, ring_span, signed_gap, solve_section
 
-__all__ = ["FaceWidth", "SectionClearance", "face_width", "section_clearance"]
+__all__ = ["FaceWidth", "face_width"]
 
 log = logging.getLogger(__name__)
 
@@ -45,39 +47,6 @@ log = logging.getLogger(__name__)
 CHORD_TOL_MM = 1e-4
 N_T = 96
 N_PHI = 241
-#: FS poses of each section's clearance map over one pass; the minimum is refined around the
-#: sampled one with REFINE_SAMPLES poses over ± two sample steps.
-MAP_SAMPLES = 181
-REFINE_SAMPLES = 41
-#: The design section's engaged poses: where its own clearance map is within this of contact (mm);
-#: the coarse envelope's polyline CS touches its own tooth within ~0.1 µm there.
-ENGAGED_MM = 1e-3
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class SectionClearance:
-    """One section against the one CS outline (mm): ``min_clearance_mm`` (clearance map, < 0
-    interference) at ``at_phi_rad``; ``max_backlash_mm`` (the largest clearance over the design
-    section's engaged poses); ``min_gap_mm`` (smallest gap of the whole CS space to the section's
-    swept boundary; None for a modified section, whose envelope is not traced)."""
-
-    z_mm: float
-    omega_major_mm: float
-    omega_minor_mm: float
-    upsilon_max_mm: float
-    min_clearance_mm: float
-    at_phi_rad: float
-    max_backlash_mm: float
-    min_gap_mm: float | None
-    thickness_change_mm: float = 0.0
-
-    def to_dict(self) -> dict:
-        return {"z_mm": self.z_mm, "omega_major_mm": self.omega_major_mm, "omega_minor_mm": self.omega_minor_mm,
-                "upsilon_max_mm": self.upsilon_max_mm, "min_clearance_mm": self.min_clearance_mm,
-                "max_backlash_mm": self.max_backlash_mm, "at_phi_deg": math.degrees(self.at_phi_rad),
-                "min_gap_mm": self.min_gap_mm, "thickness_change_mm": self.thickness_change_mm}
-
-
 @dataclass(frozen=True, slots=True, eq=False)
 class FaceWidth:
     """The face-width result: ``sections`` (FaceSection, ascending z), the ``design_index`` of
@@ -169,62 +138,6 @@ def _cs_form(gearset, section: FaceSection, chord_tol_mm: float):
                                 chord_tol_mm=chord_tol_mm)
 
 
-def _flanks(form) -> np.ndarray:
-    return np.vstack([form.working_flank["right"], form.working_flank["left"]])
-
-
-def _map(form, section: FaceSection, samples: int, phi_range=None):
-    from ..gearform import clearance_map
-
-    waves = section.motion.waves
-    phi_range = (-math.pi / waves, math.pi / waves) if phi_range is None else phi_range
-    return clearance_map(form, section.tooth, section.motion, phi_range=phi_range, samples=samples)
-
-
-def engaged_zone(clearance_mm: np.ndarray) -> np.ndarray:
-    """Where the design section's own tooth touches the CS (its map within ENGAGED_MM)."""
-    return np.asarray(clearance_mm) <= ENGAGED_MM
-
-
-def section_clearance(form, section: FaceSection, engaged: np.ndarray | None = None, *, samples: int = MAP_SAMPLES,
-                      thickness_change_mm: float = 0.0, cmap=None) -> tuple[SectionClearance, np.ndarray, np.ndarray]:
-    """One section's row of the face map against the CS ``form``: (SectionClearance, φ, c(φ)).
-    ``engaged``: the design section's engaged poses on the same φ grid (None: this section is the
-    design section, its own); ``cmap``: the map if already computed."""
-    if cmap is None:
-        cmap = _map(form, section, samples)
-    c = cmap.clearance_mm
-    i = int(np.argmin(c))
-    phi = cmap.phi
-    step = phi[1] - phi[0]
-    lo, hi = max(phi[0], phi[i] - 2 * step), min(phi[-1], phi[i] + 2 * step)
-    fine = _map(form, section, REFINE_SAMPLES, (lo, hi))
-    j = int(np.argmin(fine.clearance_mm))
-    c_min, at = (fine.clearance_mm[j], fine.phi[j]) if fine.clearance_mm[j] < c[i] else (c[i], phi[i])
-    engaged = engaged_zone(c) if engaged is None else engaged
-    backlash = float(np.max(c[engaged])) if np.any(engaged) else float("nan")
-    gap = None if section.envelope is None else float(np.min(signed_gap(form.space, section.boundary)))
-    row = SectionClearance(section.z_mm, section.omega_major_mm, section.omega_minor_mm, section.upsilon_max_mm,
-                           float(c_min), float(at), backlash, gap, float(thickness_change_mm))
-    return row, phi, c
-
-
-def face_map(form, secs, design_index: int, *, samples: int = MAP_SAMPLES, thickness_change_mm=None):
-    """Every section's row against ``form``, the design section's engaged zone first:
-    (rows, φ, clearance (sections × φ), engaged)."""
-    n = len(secs)
-    ds = np.zeros(n) if thickness_change_mm is None else np.asarray(thickness_change_mm, dtype=float)
-    rows, maps = [None] * n, [None] * n
-    row, phi, c = section_clearance(form, secs[design_index], samples=samples,
-                                    thickness_change_mm=ds[design_index])
-    engaged = engaged_zone(c)
-    rows[design_index], maps[design_index] = row, c
-    for k, s in enumerate(secs):
-        if k != design_index:
-            rows[k], _, maps[k] = section_clearance(form, s, engaged, samples=samples, thickness_change_mm=ds[k])
-    return rows, phi, np.array(maps), engaged
-
-
 def face_width(
     gearset,
     deformation,
@@ -310,8 +223,6 @@ def face_width(
                         f"the FS tooth by {result.max_interference_mm * 1e3:.3g} µm over the face")
     mod = None
     if modification is not None:
-        from .modification import apply_modification, solve_modification
-
         if isinstance(modification, str):
             if modification != "auto":
                 raise FaceError(f"modification = {modification!r}: must be None, \"auto\" or (taper_mm_per_mm, "

@@ -15,6 +15,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..contour import Arc, Line, Polyline
+from . import face as face_files
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..pipeline import Design
@@ -30,6 +31,7 @@ OUTPUT_FILES = frozenset({
     "contact.json", "contact.png", "torsional.png", "stress.json", "stress.png", "report.html", "design.json",
     "flexspline_tooth.dxf", "flexspline.dxf", "circular_spline_drawing.dxf",
     "circular_spline.step", "flexspline.step",  # with step=True (profilegen design --step)
+    "face.png", *face_files.FILES,  # the face width, with the cup3d rim tier (profilegen.face)
 })
 
 
@@ -107,6 +109,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
         cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
         drawing.write_cs_drawing(staging / "circular_spline_drawing.dxf", result)  # dated by SOURCE_DATE_EPOCH, else blank
         fs_tooth = flexspline.write_flexspline_dxfs(staging, result)  # flexspline_tooth.dxf, flexspline.dxf
+        face_files.write_face_dxfs(staging, result)  # face_tooth_NN.dxf, one per face section (cup3d tier)
         cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result, fs_tooth), texts=note)
         cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
         export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
@@ -125,7 +128,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
                                                         **result.stress.to_dict()})
         if figure:
             images = workers.collect(jobs, steal=tuple(pieces))
-            for name in ("envelope", "contact", "torsional", "stress"):
+            for name in ("envelope", "contact", "torsional", "stress", "face"):
                 if name in images:
                     with export.atomic_write(staging / f"{name}.png", "wb") as f:
                         f.write(images[name])

@@ -362,6 +362,16 @@ def _verdict(check) -> str:
     return '<span class="pass">pass</span>' if check.passed else '<span class="fail">FAIL</span>'
 
 
+def _face_section(design, images: dict) -> str:
+    """Across the face width (:func:`profilegen.output.face.face_section_html`), face.png embedded."""
+    from .face import face_png_job, face_section_html
+
+    job = face_png_job(design)
+    if job is None:
+        return ""
+    return face_section_html(design, _image(images, "face", job[0], *job[1]))
+
+
 def _png_uri(png: bytes) -> str:
     return "data:image/png;base64," + base64.b64encode(png).decode("ascii")
 
@@ -563,6 +573,7 @@ The full fit-error report is <code>fit_report.html</code>; the CAD files are the
 {fit}
 {_contact_section(design, images.get("contact"))}
 {_torsional_section(design, images.get("torsional"))}
+{_face_section(design, images)}
 {stress}
 {images.get("seed_tables") or _seed_tables()}
 <h2>Notes</h2><ul>{warnings}</ul>
@@ -619,6 +630,10 @@ def png_jobs(design) -> dict[str, tuple[Callable[..., bytes], tuple]]:
                                                                 "generator locked", g.ratio))
     title = (f"{g.name}: m {g.gear.module_mm:g} mm, z {g.gear.flexspline_teeth}/{g.gear.circular_spline_teeth}, "
              f"ω* {g.wave_generator.deflection_coefficient:g}, scene {design.scene.name}")
+    from .face import face_png_job
+
+    if (face_job := face_png_job(design)) is not None:
+        jobs["face"] = face_job
     jobs["envelope"] = (_envelope_png, (design.envelope, design.tooth, design.motion, title))
     prof = design.profile
     if prof is not None:

@@ -1,0 +1,100 @@
+"""The clearance of one section's FS teeth against the one CS outline: the map c(φ), its refined
+minimum, the backlash over the design section's engaged poses (see :mod:`profilegen.face.stage`)."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .sections import FaceSection, signed_gap
+
+__all__ = ["ENGAGED_MM", "MAP_SAMPLES", "REFINE_SAMPLES", "SectionClearance", "engaged_zone", "face_map",
+           "section_clearance"]
+
+#: FS poses of each section's clearance map over one pass; the minimum is refined around the
+#: sampled one with REFINE_SAMPLES poses over ± two sample steps.
+MAP_SAMPLES = 181
+REFINE_SAMPLES = 41
+#: The design section's engaged poses: where its own clearance map is within this of contact (mm);
+#: the coarse envelope's polyline CS touches its own tooth within ~0.1 µm there.
+ENGAGED_MM = 1e-3
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class SectionClearance:
+    """One section against the one CS outline (mm): ``min_clearance_mm`` (clearance map, < 0
+    interference) at ``at_phi_rad``; ``max_backlash_mm`` (the largest clearance over the design
+    section's engaged poses); ``min_gap_mm`` (smallest gap of the whole CS space to the section's
+    swept boundary; None for a modified section, whose envelope is not traced)."""
+
+    z_mm: float
+    omega_major_mm: float
+    omega_minor_mm: float
+    upsilon_max_mm: float
+    min_clearance_mm: float
+    at_phi_rad: float
+    max_backlash_mm: float
+    min_gap_mm: float | None
+    thickness_change_mm: float = 0.0
+
+    def to_dict(self) -> dict:
+        return {"z_mm": self.z_mm, "omega_major_mm": self.omega_major_mm, "omega_minor_mm": self.omega_minor_mm,
+                "upsilon_max_mm": self.upsilon_max_mm, "min_clearance_mm": self.min_clearance_mm,
+                "max_backlash_mm": self.max_backlash_mm, "at_phi_deg": math.degrees(self.at_phi_rad),
+                "min_gap_mm": self.min_gap_mm, "thickness_change_mm": self.thickness_change_mm}
+
+
+def _map(form, section: FaceSection, samples: int, phi_range=None):
+    from ..gearform import clearance_map
+
+    waves = section.motion.waves
+    phi_range = (-math.pi / waves, math.pi / waves) if phi_range is None else phi_range
+    return clearance_map(form, section.tooth, section.motion, phi_range=phi_range, samples=samples)
+
+
+def engaged_zone(clearance_mm: np.ndarray) -> np.ndarray:
+    """Where the design section's own tooth touches the CS (its map within ENGAGED_MM)."""
+    return np.asarray(clearance_mm) <= ENGAGED_MM
+
+
+def section_clearance(form, section: FaceSection, engaged: np.ndarray | None = None, *, samples: int = MAP_SAMPLES,
+                      thickness_change_mm: float = 0.0, cmap=None) -> tuple[SectionClearance, np.ndarray, np.ndarray]:
+    """One section's row of the face map against the CS ``form``: (SectionClearance, φ, c(φ)).
+    ``engaged``: the design section's engaged poses on the same φ grid (None: this section is the
+    design section, its own); ``cmap``: the map if already computed."""
+    if cmap is None:
+        cmap = _map(form, section, samples)
+    c = cmap.clearance_mm
+    i = int(np.argmin(c))
+    phi = cmap.phi
+    step = phi[1] - phi[0]
+    lo, hi = max(phi[0], phi[i] - 2 * step), min(phi[-1], phi[i] + 2 * step)
+    fine = _map(form, section, REFINE_SAMPLES, (lo, hi))
+    j = int(np.argmin(fine.clearance_mm))
+    c_min, at = (fine.clearance_mm[j], fine.phi[j]) if fine.clearance_mm[j] < c[i] else (c[i], phi[i])
+    engaged = engaged_zone(c) if engaged is None else engaged
+    backlash = float(np.max(c[engaged])) if np.any(engaged) else float("nan")
+    gap = None if section.envelope is None else float(np.min(signed_gap(form.space, section.boundary)))
+    row = SectionClearance(section.z_mm, section.omega_major_mm, section.omega_minor_mm, section.upsilon_max_mm,
+                           float(c_min), float(at), backlash, gap, float(thickness_change_mm))
+    return row, phi, c
+
+
+def face_map(form, secs, design_index: int, *, samples: int = MAP_SAMPLES, thickness_change_mm=None):
+    """Every section's row against ``form``, the design section's engaged zone first:
+    (rows, φ, clearance (sections × φ), engaged)."""
+    n = len(secs)
+    ds = np.zeros(n) if thickness_change_mm is None else np.asarray(thickness_change_mm, dtype=float)
+    rows, maps = [None] * n, [None] * n
+    row, phi, c = section_clearance(form, secs[design_index], samples=samples,
+                                    thickness_change_mm=ds[design_index])
+    engaged = engaged_zone(c)
+    rows[design_index], maps[design_index] = row, c
+    for k, s in enumerate(secs):
+        if k != design_index:
+            rows[k], _, maps[k] = section_clearance(form, s, engaged, samples=samples, thickness_change_mm=ds[k])
+    return rows, phi, np.array(maps), engaged
+
+
