@@ -12,7 +12,10 @@ T1/T2 (K3 from T2 to the set's peak torque), the secants at T1 and T2, lost moti
 of the rated torque and the backlash, against the Harmonic Drive CSF/CSG catalogue's
 table 42 (size 40, ratio 1/50; our sets are ratio 100, which the catalogue lists stiffer).
 Times: the first call (points and compliance of both flanks built) and, with them reused,
-20 torques both ways (medians of 3, CPU).
+the design run's curve (contact.chain.curve_torques_nm: 32 torques, both ways, to the
+momentary torque, + the breakpoints) by continuation in T (median of 5, CPU) and by the
+reference path (Lemke from scratch at every torque; median of 3), with their largest
+difference.
 """
 
 from __future__ import annotations
@@ -29,7 +32,8 @@ sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
 from profilegen.contact.chain import (  # noqa: E402
-    ARCMIN_PER_RAD, CATALOGUE_SIZE40_RATIO50, compliance_chain, cup_torsion_fem, torsional_curve)
+    ARCMIN_PER_RAD, CATALOGUE_SIZE40_RATIO50, compliance_chain, cup_torsion_fem, curve_torques_nm,
+    torsional_curve)
 
 TORQUES_NM = [-1200, -660, -265, -196, -100, -54, -8, 8, 54, 100, 196, 265, 660, 1200]
 SETS = [ROOT / "profiles" / "seed000_csf40.toml", Path(pg.default_gearset_path())]
@@ -107,15 +111,31 @@ def run(path: Path) -> None:
     print(f"  total       {c['total_rad_per_nm'] * 1e6:8.4f}          (K = {1 / c['total_rad_per_nm']:.4g} N·m/rad)")
     if curve.warnings:
         print("warnings:", *curve.warnings, sep="\n  ")
-    many = [s * t for t in (8, 20, 40, 54, 80, 100, 150, 196, 265, 660) for s in (1, -1)]
-    times = []
-    for _ in range(3):
-        t0 = time.process_time()
-        torsional_curve(design, many, chain=chain, sides=curve.sides)
-        times.append(time.process_time() - t0)
+    # speed: the whole curve with both flanks built (reused), by continuation in T and by the reference
+    many = curve_torques_nm(gs, (cat["T1_nm"], cat["T2_nm"]))
+    cold = torsional_curve(design, [float(many[-1])], chain=chain, sides=curve.sides)  # noqa: F841 (warm imports)
+    times = {"continuation": [], "lemke": []}
+    results = {}
+    for method, repeats in (("continuation", 5), ("lemke", 3)):
+        for _ in range(repeats):
+            t0 = time.process_time()
+            results[method] = torsional_curve(design, many, chain=chain, sides=curve.sides, method=method)
+            times[method].append(time.process_time() - t0)
+    fast, ref = results["continuation"], results["lemke"]
+    diff = {name: float(max(abs(a / b - 1.0) for a, b in zip(getattr(fast, name), getattr(ref, name))))
+            for name in ("mesh_rad", "mesh_balls_rad", "rotation_rad")}
+    t0 = time.process_time()
+    torsional_curve(design, [float(many[-1])], chain=chain, sides=curve.sides)
+    one = time.process_time() - t0
     print(f"time: first call {first:.2f} s CPU (both flanks built, {len(TORQUES_NM)} torques + breakpoints); "
-          f"{len(many)} torques with the flanks reused {statistics.median(times):.2f} s CPU (median of 3, "
-          f"K1–K3 and lost motion included)")
+          f"with the flanks reused, {len(many)} torques ({int((many < 0).sum())} each way, "
+          f"{many[many > 0].min():.3g} … {many.max():g} N·m) + breakpoints, K1–K3 and lost motion included: "
+          f"continuation {statistics.median(times['continuation']):.3f} s CPU (median of 5), reference (Lemke "
+          f"from scratch) {statistics.median(times['lemke']):.2f} s CPU (median of 3); one torque + the breakpoints "
+          f"{one:.3f} s")
+    print("continuation vs reference, max relative difference: " + ", ".join(f"{k} {v:.1e}" for k, v in diff.items())
+          + f" (springs' tolerance 1e-5); teeth in contact equal: "
+          f"{bool((fast.teeth_in_contact == ref.teeth_in_contact).all())}")
 
 
 def main() -> None:
