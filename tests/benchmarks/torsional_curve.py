@@ -113,7 +113,7 @@ def run(path: Path) -> None:
         print("warnings:", *curve.warnings, sep="\n  ")
     # speed: the whole curve with both flanks built (reused), by continuation in T and by the reference
     many = curve_torques_nm(gs, (cat["T1_nm"], cat["T2_nm"]))
-    cold = torsional_curve(design, [float(many[-1])], chain=chain, sides=curve.sides)  # noqa: F841 (warm imports)
+    torsional_curve(design, [float(many[-1])], chain=chain, sides=curve.sides)  # warm: imports, caches
     times = {"continuation": [], "lemke": []}
     results = {}
     for method, repeats in (("continuation", 5), ("lemke", 3)):
