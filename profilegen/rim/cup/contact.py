@@ -41,7 +41,7 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import partial
 
 import numpy as np
@@ -52,7 +52,7 @@ from ...results import readonly
 from .fourier import CupDeformation, HarmonicBasis, _resultants, bore_load, harmonic_stiffness
 from .geometry import CupError, CupGeometry, meridional_mesh
 
-__all__ = ["GAPS", "CupContact", "press_cup"]
+__all__ = ["GAPS", "CupContact", "DisplacedHalves", "press_cup"]
 
 log = logging.getLogger(__name__)
 
@@ -70,7 +70,8 @@ class CupContact:
     bore's radial displacement minus the contour's w(φ); exact: the displaced bore point's
     signed distance to the contour; ≥ 0), ``active`` (force > 0); ``load_mm``: w(φ_j);
     ``compliance_s``, ``contact_s``: times (s); ``gap``, ``nonlinear``: the model;
-    ``iterations``: contact re-linearisations; ``newton_steps_mm``: the nonlinear steps."""
+    ``iterations``: contact re-linearisations; ``newton_steps_mm``: the nonlinear steps;
+    ``band_radial_mm``, ``band_tangential_mm``: the bore's displacement at the band × angles."""
 
     deformation: CupDeformation
     z_mm: np.ndarray
@@ -85,9 +86,11 @@ class CupContact:
     nonlinear: bool = False
     iterations: int = 1
     newton_steps_mm: tuple = ()
+    band_radial_mm: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    band_tangential_mm: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
 
     def __post_init__(self):
-        for name in ("z_mm", "phi_rad", "force_n", "gap_mm", "load_mm"):
+        for name in ("z_mm", "phi_rad", "force_n", "gap_mm", "load_mm", "band_radial_mm", "band_tangential_mm"):
             object.__setattr__(self, name, readonly(getattr(self, name)))
 
     @property
@@ -414,8 +417,10 @@ def press_cup(
         boss_reaction=tuple(boss_res), bore_reaction=tuple(bore_res), dof=hb.dof,
         elements=hb.cup_mesh.elements, element_mm=hb.cup_mesh.element_mm, layers=hb.cup_mesh.layers,
         assembly_s=hb.assembly_s, solve_s=t_comp + t_contact, time_s=elapsed, warnings=tuple(notes))
+    band_r, band_t = at_band(x)
     return CupContact(deformation, z[band], phi, mu, gap_mm, w_cam, t_comp, t_contact, elapsed, gap=gap,
-                      nonlinear=nonlinear, iterations=iterations, newton_steps_mm=tuple(newton_steps))
+                      nonlinear=nonlinear, iterations=iterations, newton_steps_mm=tuple(newton_steps),
+                      band_radial_mm=band_r, band_tangential_mm=band_t)
 
 
 def _solve(contact, response, solve_field, at_band, state, hb, orders, nonlinear, max_iterations, newton_tol_mm, m,
@@ -470,3 +475,53 @@ def _solve(contact, response, solve_field, at_band, state, hb, orders, nonlinear
         now_r, now_t = at_band(x)
         dist = state(now_r, now_t)[2]
     return x, mu, dist, iterations, newton_steps, body
+
+
+class DisplacedHalves:
+    """A wave generator of two rigid halves (seed 004: "its upper and lower semi-elliptical halves
+    are given prescribed displacements of +ω0 and −ω0"): the half y ≥ 0 of ``half`` (a contour
+    symmetric about both axes; wave-generator frame, major axis +y) moved by +``shift_mm`` along
+    the major axis, the half y ≤ 0 by −``shift_mm``. Between them, about the minor axis, the
+    bore rests on the straight bridges x = ±x_end, |y| < shift (x_end = the half's radius on the
+    minor axis): the convex hull, the surface a bore wrapped around the two halves touches.
+
+    ``closest(points)`` → (foot, outward normal, signed distance, + outside) and ``radius(θ)``
+    (polar radius of the hull) as the contours of :mod:`profilegen.wavegen`."""
+
+    def __init__(self, half, shift_mm: float):
+        if not (callable(getattr(half, "closest", None)) and callable(getattr(half, "radius", None))):
+            raise CupError(f"half = {half!r}: must be a wave-generator contour with closest(points) and radius(θ)")
+        self.half = half
+        self.shift_mm = checks.number("shift_mm", shift_mm, "mm", 0.0, error=CupError, low_open=False)
+        self.x_end_mm = float(np.asarray(half.radius(0.5 * math.pi)).ravel()[0])
+
+    def closest(self, points):
+        p = np.asarray(points, dtype=float).reshape(-1, 2)
+        s = np.where(p[:, 1] >= 0.0, 1.0, -1.0)
+        q = p.copy()
+        q[:, 1] -= s * self.shift_mm
+        foot, normal, dist = (np.array(a, dtype=float) for a in self.half.closest(q))
+        foot[:, 1] += s * self.shift_mm
+        bridge = np.abs(p[:, 1]) < self.shift_mm
+        if bridge.any():
+            side = np.where(p[bridge, 0] >= 0.0, 1.0, -1.0)
+            foot[bridge] = np.column_stack([side * self.x_end_mm, p[bridge, 1]])
+            normal[bridge] = np.column_stack([side, np.zeros_like(side)])
+            dist[bridge] = np.abs(p[bridge, 0]) - self.x_end_mm
+        return foot, normal, dist
+
+    def radius(self, theta) -> np.ndarray:
+        theta = np.atleast_1d(np.asarray(theta, dtype=float))
+        e = np.column_stack([np.sin(theta), np.cos(theta)])
+        lo = np.zeros_like(theta)
+        hi = np.full_like(theta, 2.0 * (self.x_end_mm + self.shift_mm) + float(np.max(self.half.radius(0.0))))
+        for _ in range(100):  # a star-shaped hull: the signed distance grows along the ray
+            mid = 0.5 * (lo + hi)
+            outside = self.closest(mid[:, None] * e)[2] > 0.0
+            hi = np.where(outside, mid, hi)
+            lo = np.where(outside, lo, mid)
+        return 0.5 * (lo + hi)
+
+    def to_dict(self) -> dict:
+        half = self.half.to_dict() if callable(getattr(self.half, "to_dict", None)) else repr(self.half)
+        return {"kind": "displaced_halves", "half": half, "shift_mm": self.shift_mm, "x_end_mm": self.x_end_mm}

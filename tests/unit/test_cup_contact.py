@@ -1,0 +1,154 @@
+"""The cup on its wave generator (profilegen.rim.cup.contact, .nonlinear): the exact contact gap,
+geometric nonlinearity and seed 004's displaced halves, each against something the solver does
+not compute itself:
+
+* the harmonic-balance internal force is the linear harmonic stiffness for a small displacement
+  and zero for a finite rigid rotation about the axis (the kinematics);
+* a cam equal to the undeformed bore loads nothing, linear or nonlinear;
+* with the exact gap the loaded bore points lie on the cam ellipse (its implicit equation, not
+  the solver's distance function), while the first-order gap leaves them µm off; the two
+  differ by O(w0²) (halving w0 quarters the difference);
+* in the long-cup limit the cup's nonlinear change of ω, υ is the 2D nonlinear ring's;
+* seed 004's halves: pushing two halves apart by ±s lengthens their hull by exactly 4s (so the
+  halves of the bore's own circle would stretch the bore, and the "inextensible" halves need a
+  shorter ellipse); on the hull's bridges the distance and normal are the straight line's.
+
+Coarse meshes; tests/benchmarks/seed004_cup.py has the default-mesh runs and the table.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from profilegen.rim.cup import CupGeometry, harmonic_stiffness, meridional_mesh, press_cup
+from profilegen.rim.cup.contact import DisplacedHalves
+from profilegen.rim.cup.nonlinear import HarmonicTotalLagrangian
+from profilegen.wavegen import EllipticalCam, ellipse_perimeter
+
+E, NU = 209000.0, 0.295
+R_M, T = 48.95, 0.9
+R_B = R_M - 0.5 * T
+W0 = 0.5
+
+
+def cup(length=60.0, **kw):
+    return CupGeometry(R_M, T, length, 20.0, T, 0.5 * R_M, E, NU, **kw)
+
+
+def cam(w0=W0):
+    """The default set's elliptical cam (no bearing): major radius r_bore + w0, the bore's perimeter."""
+    from scipy.optimize import brentq
+
+    a = R_B + w0
+    return EllipticalCam(a, brentq(lambda b: ellipse_perimeter(a, b) - 2 * math.pi * R_B, 0.5 * a, a))
+
+
+GEOM = cup()
+
+
+@pytest.fixture(scope="module")
+def coarse():
+    return harmonic_stiffness(meridional_mesh(GEOM, element_mm=4.0, layers=2))
+
+
+def test_nonlinear_force_is_the_linear_stiffness_when_small_and_zero_for_a_rigid_rotation(coarse):
+    orders = np.arange(0, 8, 2)
+    body = HarmonicTotalLagrangian(coarse, orders)
+    x = np.random.default_rng(1).standard_normal((orders.size, coarse.dof))
+    eps = 1e-6
+    small = (body.force(eps * x) - body.force(-eps * x)) / (2 * eps)  # central: the O(u²) part cancels
+    for k, n in enumerate(orders):
+        kx = coarse.stiffness(int(n)) @ x[k]
+        assert np.max(np.abs(small[k] - kx)) < 1e-8 * np.max(np.abs(kx)), n
+    # a finite rotation α about the axis: u_r = r(cos α − 1), u_φ = r sin α (harmonic 0) is strain free
+    iu, _, iv = coarse.components()
+    r = coarse.nodes[0]
+    rot = np.zeros((orders.size, coarse.dof))
+    rot[0, iu], rot[0, iv] = r * (math.cos(0.3) - 1.0), r * math.sin(0.3)
+    assert np.max(np.abs(body.force(rot))) < 1e-12 * np.max(np.abs(coarse.stiffness(0) @ rot[0]))
+    # ... which the linear stiffness is not: its strain of the same field is not zero
+    assert np.max(np.abs(coarse.stiffness(0) @ rot[0])) > 1e3
+
+
+def test_a_cam_equal_to_the_undeformed_bore_loads_nothing(coarse):
+    bore = EllipticalCam(R_B, R_B)
+    for nonlinear in (False, True):
+        c = press_cup(GEOM, contour=bore, gap="exact", nonlinear=nonlinear, harmonic_basis=coarse, angles=6)
+        # (the cam's distance function is exact to ~1e-14 mm: forces of that order times the stiffness)
+        assert np.max(c.force_n) < 1e-6  # N; w0 = 0.5 mm needs ~1e3 N
+        assert np.max(np.abs(c.deformation.radial_mm)) < 1e-12 and np.max(np.abs(c.deformation.tangential_mm)) < 1e-12
+
+
+def _off_ellipse(c, contour):
+    """Largest distance (mm, first order in the implicit function) of the loaded bore points from
+    the cam ellipse (x/b)² + (y/a)² = 1, from the solver's bore displacements."""
+    phi = c.phi_rad[None, :]
+    r = R_B + c.band_radial_mm
+    x = r * np.sin(phi) + c.band_tangential_mm * np.cos(phi)
+    y = r * np.cos(phi) - c.band_tangential_mm * np.sin(phi)
+    a, b = contour.semi_major_mm, contour.semi_minor_mm
+    f = (x / b) ** 2 + (y / a) ** 2 - 1.0
+    grad = np.hypot(2 * x / b**2, 2 * y / a**2)
+    return float(np.max(np.abs(f / grad)[c.active]))
+
+
+def test_the_exact_gap_puts_the_loaded_bore_on_the_cam_and_differs_by_order_w0_squared(coarse):
+    diffs = []
+    for w0 in (0.5, 0.25, 0.125):
+        ct = cam(w0)
+        exact = press_cup(GEOM, contour=ct, gap="exact", harmonic_basis=coarse, angles=8)
+        first = press_cup(GEOM, contour=ct, gap="first_order", harmonic_basis=coarse, angles=8)
+        if w0 == 0.5:
+            assert _off_ellipse(exact, ct) < 1e-8
+            assert _off_ellipse(first, ct) > 1e-3  # the tangential displacement along a curved cam
+        diffs.append(abs(exact.deformation.omega(0.0, 70.0) - first.deformation.omega(0.0, 70.0)))
+    assert diffs[0] > 4e-3  # µm-level: 5.7 µm at the open end on this mesh
+    # O(w0²) once the loaded set is the same in both (at w0 = 0.5 the first-order gap loads 54
+    # collocation points, the exact one 60; measured 4.04 for 0.25 → 0.125, 3.999 for 0.125 → 0.0625)
+    assert 3.8 < diffs[1] / diffs[2] < 4.2, diffs
+
+
+def test_long_cup_nonlinearity_is_the_2d_nonlinear_rings():
+    """A 300 mm cup on a 4 mm bearing: its section under the bearing is a ring, and the change
+    that geometric nonlinearity makes there (−10.5 µm on the minor axis for the 2D ring, the free
+    part's inextensibility at second order) is the ring's: sign, place and size (within 25 %)."""
+    from profilegen.rim.ring import RingParameters, solve_ring
+
+    ct = cam()
+    ring = RingParameters(R_M, T, E, NU)
+    d_ring = {g: solve_ring(ring, contour=ct, geometry=g, divisions=32) for g in ("linear", "nonlinear")}
+    g = cup(300.0, bearing_width_mm=4.0)
+    hb = harmonic_stiffness(meridional_mesh(g, element_mm=4.0, layers=2))
+    d_cup = {nl: press_cup(g, contour=ct, gap="exact", nonlinear=nl, harmonic_basis=hb, angles=12).deformation
+             for nl in (False, True)}
+    phi = np.array([0.0, 0.5 * math.pi, 3 * math.pi / 8])
+
+    def ring_at(res):
+        return np.interp(phi, res.phi_rad, res.omega_mm), np.interp(phi, res.phi_rad, res.upsilon_mm)
+
+    (wl, ul), (wn, un) = ring_at(d_ring["linear"]), ring_at(d_ring["nonlinear"])
+    dw_ring, du_ring = wn - wl, un - ul
+    dw_cup = d_cup[True].omega(phi, 300.0) - d_cup[False].omega(phi, 300.0)
+    du_cup = d_cup[True].upsilon(phi, 300.0) - d_cup[False].upsilon(phi, 300.0)
+    assert dw_ring[1] < -8e-3  # the 2D ring: about −10.5 µm on the minor axis
+    assert abs(dw_cup[1] - dw_ring[1]) < 0.25 * abs(dw_ring[1]), (dw_cup, dw_ring)
+    assert abs(du_cup[2] - du_ring[2]) < 0.25 * abs(du_ring[2]), (du_cup, du_ring)
+    assert abs(dw_cup[0]) < 0.05 * abs(dw_ring[1])  # the major axis stays on the cam
+
+
+def test_displaced_halves_hull_is_four_shifts_longer_and_its_bridges_are_straight():
+    half = EllipticalCam(R_B, R_B - 1.0)
+    s = 0.5
+    wg = DisplacedHalves(half, s)
+    theta = np.linspace(0.0, 2 * math.pi, 4001)
+    r = wg.radius(theta)
+    pts = np.column_stack([r * np.sin(theta), r * np.cos(theta)])
+    hull = float(np.sum(np.hypot(*np.diff(pts, axis=0).T)))
+    assert hull == pytest.approx(ellipse_perimeter(R_B, R_B - 1.0) + 4 * s, abs=2e-4)  # polygon: −3e-5
+    assert r[0] == pytest.approx(R_B + s, abs=1e-12)  # the major axis: pushed out by s
+    # a point beside the bridge: distance and normal of the line x = x_end
+    foot, normal, dist = wg.closest(np.array([[R_B - 2.0, 0.2], [R_B + 1.0, -0.3]]))
+    np.testing.assert_allclose(dist, [-1.0, 2.0], atol=1e-12)
+    np.testing.assert_allclose(normal, [[1.0, 0.0], [1.0, 0.0]], atol=1e-15)
+    np.testing.assert_allclose(foot[:, 0], R_B - 1.0, atol=1e-12)
