@@ -107,8 +107,8 @@ def solve_section(gearset, deformation, z_mm: float, tooth, *, chord_tol_mm: flo
     motion = HarmonicDriveMotion.from_gearset(gearset, fit)
     env = envelope_of(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves, chord_tol_mm=chord_tol_mm,
                       n_t=n_t, n_phi=n_phi)
-    quarter = period / 4.0
-    return FaceSection(float(z_mm), float(deformation.omega(0.0, z_mm)), float(deformation.omega(quarter, z_mm)),
+    minor = period / 2.0  # the minor axis, φ = π/U
+    return FaceSection(float(z_mm), float(deformation.omega(0.0, z_mm)), float(deformation.omega(minor, z_mm)),
                        float(np.max(np.abs(upsilon))), fit, motion, env, tooth, time.perf_counter() - t0)
 
 

@@ -33,14 +33,16 @@ def face_png_job(design):
              f"{face.design_section_z_mm:g} mm), {len(face.sections)} sections")
     return face_png, (face.z_mm, face.phi_rad, face.clearance_mm, face.design_section_z_mm,
                       None if mod is None else mod.clearance_mm,
-                      None if mod is None else (mod.taper_mm_per_mm, mod.crowning_mm), title)
+                      None if mod is None else (mod.taper_mm_per_mm, mod.crowning_mm), title,
+                      face.interference_tol_mm)
 
 
 def face_png(z_mm, phi_rad, clearance_mm, design_z_mm: float, modified_mm=None, modification=None,
-             title: str = "") -> bytes:
+             title: str = "", tol_mm: float = 1e-4) -> bytes:
     """The map z × φ, colour = clearance (µm, the scale stopping at SCALE_UM), interference (< 0)
-    in red with its zero contour and a cross at each section's deepest point; the design
-    section dashed. A second panel with the modified teeth when given."""
+    in red; where a section interferes by more than ``tol_mm`` (the envelope's chord: below it
+    is the polyline's noise), the −tol contour and a cross with the depth at its deepest pose.
+    The design section dashed. A second panel with the modified teeth when given."""
     from matplotlib.colors import TwoSlopeNorm
 
     from .plot import fixed_figure, png_bytes
@@ -58,11 +60,11 @@ def face_png(z_mm, phi_rad, clearance_mm, design_z_mm: float, modified_mm=None, 
     for ax, (label, m) in zip(axes[0], maps):
         um = np.minimum(m * 1e3, SCALE_UM)
         mesh = ax.pcolormesh(deg, z, um, cmap="RdYlGn", norm=norm, shading="nearest")
-        if np.min(m) < 0 and z.size > 1:
-            ax.contour(deg, z, m, levels=[0.0], colors="k", linewidths=0.8)
+        if np.min(m) < -tol_mm and z.size > 1:
+            ax.contour(deg, z, m, levels=[-tol_mm], colors="k", linewidths=0.8)
         for k in range(z.size):
             i = int(np.argmin(m[k]))
-            if m[k, i] < 0:
+            if m[k, i] < -tol_mm:
                 ax.plot(deg[i], z[k], "kx", ms=6)
                 ax.annotate(f"{m[k, i] * 1e3:.2g} µm", (deg[i], z[k]), fontsize=7, xytext=(4, 3),
                             textcoords="offset points")
@@ -118,6 +120,15 @@ _HEAD = ("<tr><th>z (mm)</th><th>ω major (µm)</th><th>ω minor (µm)</th><th>m
          "<th>thickness change (µm)</th><th>min clearance (µm)</th><th>at φ (deg)</th><th>max backlash (µm)</th></tr>")
 
 
+def _limit(mod) -> str:
+    """What keeps the backlash from being more uniform: the section with the most left, and the
+    pose where its tooth is nearest the CS (where a thicker tooth would interfere)."""
+    worst = max(mod.table, key=lambda r: r.max_backlash_mm)
+    return (f"The most backlash is left at z = {worst.z_mm:g} mm: its tooth cannot be made thicker, since at "
+            f"φ = {math.degrees(worst.at_phi_rad):.1f}° it already comes within "
+            f"{worst.min_clearance_mm * 1e3:.2g} µm of the CS.")
+
+
 def face_section_html(design, png_uri: str | None = None) -> str:
     """The report section "Across the face width", in plain words, or "" without a face."""
     face = getattr(design, "face", None)
@@ -139,7 +150,7 @@ changes by Δs(z) = taper·(z − z_d) − crowning·(u² − u_d²), u = (z −
 (the face ends that much thinner than the mid-face). {html.escape(mod.method[:1].upper() + mod.method[1:])}.
 With it the largest interference over the face is {mod.max_interference_mm * 1e3:.3g} µm and the largest
 backlash {mod.max_backlash_mm * 1e3:.2f} µm (without: {face.max_interference_mm * 1e3:.3g} µm and
-{face.max_backlash_mm * 1e3:.2f} µm). Each section's modified tooth is a DXF: <code>face_tooth_01.dxf</code>
+{face.max_backlash_mm * 1e3:.2f} µm). {_limit(mod)} Each section's modified tooth is a DXF: <code>face_tooth_01.dxf</code>
 (the diaphragm end) to <code>face_tooth_{len(face.sections):02d}.dxf</code> (the open end).</p>
 <table>{_HEAD}{_rows(mod.table)}</table>"""
     img = "" if png_uri is None else f'<img src="{png_uri}" alt="clearance map across the face">'
