@@ -213,20 +213,6 @@ class ProfileRelief:
         if self.start_mm is not None:
             checks.positive("start_mm", self.start_mm, "mm", allow_zero=True, error=LoadZoneError)
 
-    @classmethod
-    def from_gearset(cls, gearset) -> "ProfileRelief | None":
-        """The gear set's ``[contact]`` relief fields (``relief_kind``, ``relief_depth_mm``,
-        ``relief_half_angle_deg``, ``relief_shape``, ``relief_start_mm``), or None when the gear
-        set has none or its depth is 0."""
-        table = getattr(gearset, "contact", None)
-        depth = getattr(table, "relief_depth_mm", None) if table is not None else None
-        if not depth:
-            return None
-        return cls(kind=getattr(table, "relief_kind", "major_axis") or "major_axis", depth_mm=float(depth),
-                   half_angle_deg=float(getattr(table, "relief_half_angle_deg", 10.0) or 10.0),
-                   shape=getattr(table, "relief_shape", "linear") or "linear",
-                   start_mm=getattr(table, "relief_start_mm", None))
-
     def extra_gap_mm(self, points) -> np.ndarray:
         """The extra gap of every point (mm, ≥ 0)."""
         n = points.count
