@@ -8,13 +8,17 @@ settling), per FS tooth of one zone its force, force-weighted pressure angle α 
 contact position along the FS flank and its smallest no-load gap; the bands of loaded teeth;
 then the same torque with reliefs (profilegen.contact.loadzone.ProfileRelief: an FS tip
 relief, and a wave-generator flattening near the major axis) on the same compliance: largest
-tooth force, teeth in contact, rotation and secant mesh stiffness. Writes
+tooth force, teeth in contact, rotation and secant mesh stiffness. The no-load gaps are set
+against the CS arc-line-arc fit's own deviation from the exact envelope at each contact's CS
+foot, and the contact is solved once more with the gaps less that deviation (the exact
+conjugate, to first order). Writes
 export/bench/loaded_zone_<set>.png (force, pressure angle, no-load gap and contact position
 against φ) and .csv.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import resource
 import sys
 import time
@@ -61,6 +65,29 @@ def run(path: Path) -> None:
         if zone.min_gap_mm[k] < 0.03 or zone.tooth_force_n[k] > 0:
             print(f"{zone.teeth[k]:5d} {zone.tooth_phi_deg[k]:6.1f} {zone.tooth_force_n[k]:7.1f} "
                   f"{zone.pressure_angle_deg[k]:6.1f} {zone.flank_t_mm[k]:7.3f} {zone.min_gap_mm[k] * 1e3:8.2f}")
+    # the no-load gap against the CS fit's own deviation from the exact envelope at the contact's CS foot:
+    # the one-sided arc-line-arc fit stands off the envelope by 0 … max_error_mm
+    fit_dev = _fit_deviation(design, res.points)
+    best = {}
+    for k in range(res.points.count):
+        i = int(res.points.tooth[k])
+        if i not in best or res.points.gap_mm[k] < res.points.gap_mm[best[i]]:
+            best[i] = k
+    ks = np.array([best[i] for i in zone.teeth])
+    print(f"\nno-load gap of each tooth's closest point against the CS fit's deviation from the envelope at its foot "
+          f"(fit max error {design.profile.max_error_mm * 1e3:.3f} µm):")
+    diff = res.points.gap_mm[ks] - fit_dev[ks]
+    mid = (zone.tooth_phi_deg > 6.0) & (zone.tooth_phi_deg < 62.0)
+    print(f"  φ 6…62°: |gap − fit deviation| ≤ {np.abs(diff[mid]).max() * 1e3:.3f} µm over {mid.sum()} teeth; "
+          f"gap there {res.points.gap_mm[ks][mid].min() * 1e3:.2f} … {res.points.gap_mm[ks][mid].max() * 1e3:.2f} µm")
+    exact = dataclasses.replace(res.points, gap_mm=np.maximum(res.points.gap_mm - fit_dev, 0.0))
+    ex = solve_contact(design, [rated], points=exact, compliance=res.compliance)
+    ez = load_zone(ex.cases[0], exact, teeth_total=z1)
+    print(f"  the gaps less the fit's deviation (the exact envelope, to first order; same compliance): "
+          f"{ez.teeth_in_contact} teeth ({ez.fraction_in_contact:.1%}), largest force {ez.max_tooth_force_n:.1f} N, "
+          f"K mesh {ez.secant_stiffness_nm_per_rad:.4g} N·m/rad; bands "
+          + "; ".join(f"{b['phi_deg'][0]:.1f}…{b['phi_deg'][1]:.1f}° {b['count']} teeth α {b['pressure_angle_deg']:.1f}°"
+                      for b in ez.bands))
     t0 = time.process_time()
     study = relief_study(design, rated, RELIEFS, result=res)
     print(f"\nreliefs at {rated:g} N·m ({time.process_time() - t0:.2f} s CPU for {len(RELIEFS)}):")
@@ -74,7 +101,25 @@ def run(path: Path) -> None:
                                                                      else ""))
     for w in study.warnings:
         print("  warning:", w)
-    _write(gs.name, zone, study)
+    _write(gs.name, zone, study, fit_dev[ks], ez)
+
+
+def _fit_deviation(design, points) -> np.ndarray:
+    """The CS flank fit's deviation from the envelope (ProfileFit.error_mm, mm) at the fit point
+    nearest to each contact point's CS foot (turned back to space 0; both flanks)."""
+    import math
+
+    from profilegen.kinematics import turn
+
+    ff = design.profile.flank_fit
+    z2 = design.gearset.gear.circular_spline_teeth
+    cloud = np.vstack([ff.points_mm, ff.points_mm * np.array([-1.0, 1.0])])
+    err = np.concatenate([ff.error_mm, ff.error_mm])
+    out = np.empty(points.count)
+    for k in range(points.count):
+        c = turn(points.cs_point_mm[k:k + 1], -2.0 * math.pi * int(points.tooth[k]) / z2)[0]
+        out[k] = err[np.argmin(np.hypot(*(cloud - c).T))]
+    return out
 
 
 def _label(r: ProfileRelief) -> str:
@@ -84,7 +129,7 @@ def _label(r: ProfileRelief) -> str:
     return f"major axis {r.depth_mm * 1e3:g} µm, ±{r.half_angle_deg:g}° {r.shape}"
 
 
-def _write(name: str, zone, study) -> None:
+def _write(name: str, zone, study, fit_dev, exact_zone) -> None:
     out = ROOT / "export" / "bench"
     out.mkdir(parents=True, exist_ok=True)
     tip = study.relieved[1]
@@ -106,15 +151,19 @@ def _write(name: str, zone, study) -> None:
     ax[0].bar(phi - 0.35, zone.tooth_force_n, 0.7, label="no relief")
     ax[0].bar(phi + 0.35, tip.tooth_force_n, 0.7, label="FS tip relief 5 µm", alpha=0.7)
     ax[0].set_ylabel("tooth force (N)")
-    ax[0].legend()
     ax[0].set_title(f"{name}: one zone at {zone.torque_nm:g} N·m")
+    ax[0].legend(fontsize=8)
     on = zone.tooth_force_n > 0
     ax[1].plot(phi, zone.pressure_angle_deg, ".", color="0.6", label="closest point (unloaded)")
     ax[1].plot(phi[on], zone.pressure_angle_deg[on], "o", label="loaded (force-weighted)")
     ax[1].set_ylabel("pressure angle α (°)")
     ax[1].legend()
-    ax[2].semilogy(phi, np.maximum(zone.min_gap_mm * 1e3, 1e-3), ".-")
+    ax[2].semilogy(phi, np.maximum(zone.min_gap_mm * 1e3, 1e-3), ".-", label="no-load gap")
+    ax[2].semilogy(phi, np.maximum(fit_dev * 1e3, 1e-3), "x", label="CS fit's deviation from the envelope at the foot")
     ax[2].set_ylabel("smallest no-load gap (µm)")
+    ax[2].legend(fontsize=8)
+    ax[0].plot(exact_zone.tooth_phi_deg, exact_zone.tooth_force_n, "k.-", lw=0.8,
+               label="gaps less the fit's deviation")
     ax[3].plot(phi, zone.flank_t_mm, ".", color="0.6")
     ax[3].plot(phi[on], zone.flank_t_mm[on], "o")
     ax[3].axhline(zone.flank_length_mm, ls=":", color="k")
