@@ -282,8 +282,11 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
                 face_width_mm=face_width_mm, race_thickness_mm=race_thickness_mm, race_interface=race_interface,
                 wrap=wrap, torque_nm=torque, keep_matrices=bool(keep_matrices))
 
+    import multiprocessing
+
+    if multiprocessing.current_process().daemon:
+        workers = 1  # a daemonic worker (a multiprocessing.Pool's, Dask's) cannot have children
     if workers > 1 and positions > 2:
-        import multiprocessing
         from concurrent.futures import ProcessPoolExecutor
 
         _JOB = (inputs, opts)  # inherited by the forked workers
