@@ -152,3 +152,38 @@ def test_displaced_halves_hull_is_four_shifts_longer_and_its_bridges_are_straigh
     np.testing.assert_allclose(dist, [-1.0, 2.0], atol=1e-12)
     np.testing.assert_allclose(normal, [[1.0, 0.0], [1.0, 0.0]], atol=1e-15)
     np.testing.assert_allclose(foot[:, 0], R_B - 1.0, atol=1e-12)
+
+
+# --------------------------------------------------------------------------- seed 004's numbers
+
+
+def test_a_rigid_cam_stops_the_minor_axis_at_its_radius_whatever_the_cup_length():
+    """What the refutation of the rigid-contour reading (a) of seed 004 rests on: where the
+    bearing covers a section, the bore cannot go inside the cam, so ω on the minor axis is never
+    below the cam's minor radius − r_bore (−0.503 mm for w0 = 0.5), for a short or a long cup —
+    the seed's −0.557 mm is 54 µm deeper; and the cup does reach it (it bears there)."""
+    ct = cam()
+    floor = ct.semi_minor_mm - R_B
+    zs = np.linspace(50.0, 70.0, 41)
+    for length in (60.0, 180.0):
+        g = cup(length)
+        d = press_cup(g, contour=ct, gap="exact", element_mm=4.0, angles=8).deformation
+        w = d.omega(0.5 * math.pi, zs + (length - 60.0))
+        # the neutral surface sits half a wall out from the bore, whose thickness changes by ~0.25 µm
+        assert np.min(w) > floor - 5e-4, (length, np.min(w), floor)
+        assert np.min(w) < floor + 1e-3  # it bears on the cam's minor axis (at the open end)
+    assert floor > -0.557 + 0.05
+
+
+def test_seed_004_printed_omega_extremes_are_its_own_middle_section_fit():
+    """Seed 004's printed sine-series fits (the rim's middle cross-section, by its text) have the
+    extremes 0.554 / −0.555 mm — its printed 0.553 / −0.557 to its fitting error — and a υ
+    amplitude of 0.296 mm: the three numbers describe the middle section, not the open end."""
+    phi = np.linspace(0.0, 2 * math.pi, 20001)
+    w = sum(a * np.sin(b * phi + c) for a, b, c in ((0.5272, 1.987, 1.611), (0.02677, 5.965, 1.694),
+                                                    (0.007596, 4.033, -9.533)))
+    u = sum(a * np.sin(b * phi + c) for a, b, c in ((0.2956, 2.013, 3.090), (0.01807, 0.2032, -1.919),
+                                                    (0.01897, 4.067, -1.909)))
+    assert w.max() == pytest.approx(0.553, abs=2e-3) and w.min() == pytest.approx(-0.557, abs=3e-3)
+    half = phi <= math.pi
+    assert np.abs(u[half]).max() == pytest.approx(0.2965, abs=5e-4)
