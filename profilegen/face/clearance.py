@@ -10,13 +10,13 @@ import numpy as np
 
 from .sections import FaceSection, signed_gap
 
-__all__ = ["ENGAGED_MM", "MAP_SAMPLES", "REFINE_SAMPLES", "SectionClearance", "engaged_zone", "face_map",
+__all__ = ["ENGAGED_MM", "MAP_SAMPLES", "SectionClearance", "engaged_zone", "face_map",
            "section_clearance"]
 
-#: FS poses of each section's clearance map over one pass; the minimum is refined around the
-#: sampled one with REFINE_SAMPLES poses over ± two sample steps.
+#: FS poses of each section's clearance map over one pass; the minimum is refined by the parabola
+#: through the sampled minimum and its neighbours (a second map around it cost as much as the
+#: first: the map's set-up, not its poses, is its time).
 MAP_SAMPLES = 181
-REFINE_SAMPLES = 41
 #: The design section's engaged poses: where its own clearance map is within this of contact (mm);
 #: the coarse envelope's polyline CS touches its own tooth within ~0.1 µm there.
 ENGAGED_MM = 1e-3
@@ -54,47 +54,62 @@ def _map(form, section: FaceSection, samples: int, phi_range=None):
     return clearance_map(form, section.tooth, section.motion, phi_range=phi_range, samples=samples)
 
 
+def _parabolic_minimum(phi: np.ndarray, c: np.ndarray) -> tuple[float, float]:
+    """The sampled minimum of c(φ), refined by the parabola through it and its two neighbours
+    (kept only when its vertex lies between them and below the sample)."""
+    i = int(np.argmin(c))
+    if 0 < i < c.size - 1:
+        h = phi[i + 1] - phi[i]
+        a, b = 0.5 * (c[i + 1] + c[i - 1]) - c[i], 0.5 * (c[i + 1] - c[i - 1])
+        if a > 0 and abs(b) < 2 * a:
+            x = -b / (2 * a)
+            return float(c[i] - b * b / (4 * a)), float(phi[i] + x * h)
+    return float(c[i]), float(phi[i])
+
+
 def engaged_zone(clearance_mm: np.ndarray) -> np.ndarray:
     """Where the design section's own tooth touches the CS (its map within ENGAGED_MM)."""
     return np.asarray(clearance_mm) <= ENGAGED_MM
 
 
 def section_clearance(form, section: FaceSection, engaged: np.ndarray | None = None, *, samples: int = MAP_SAMPLES,
-                      thickness_change_mm: float = 0.0, cmap=None) -> tuple[SectionClearance, np.ndarray, np.ndarray]:
+                      thickness_change_mm: float = 0.0, cmap=None,
+                      min_gap_mm: float | None = None) -> tuple[SectionClearance, np.ndarray, np.ndarray]:
     """One section's row of the face map against the CS ``form``: (SectionClearance, φ, c(φ)).
     ``engaged``: the design section's engaged poses on the same φ grid (None: this section is the
     design section, its own); ``cmap``: the map if already computed."""
     if cmap is None:
         cmap = _map(form, section, samples)
     c = cmap.clearance_mm
-    i = int(np.argmin(c))
     phi = cmap.phi
-    step = phi[1] - phi[0]
-    lo, hi = max(phi[0], phi[i] - 2 * step), min(phi[-1], phi[i] + 2 * step)
-    fine = _map(form, section, REFINE_SAMPLES, (lo, hi))
-    j = int(np.argmin(fine.clearance_mm))
-    c_min, at = (fine.clearance_mm[j], fine.phi[j]) if fine.clearance_mm[j] < c[i] else (c[i], phi[i])
+    c_min, at = _parabolic_minimum(phi, c)
     engaged = engaged_zone(c) if engaged is None else engaged
     backlash = float(np.max(c[engaged])) if np.any(engaged) else float("nan")
-    gap = None if section.envelope is None else float(np.min(signed_gap(form.space, section.boundary)))
+    gap = min_gap_mm
+    if gap is None and section.envelope is not None:
+        gap = float(np.min(signed_gap(form.space, section.boundary)))
     row = SectionClearance(section.z_mm, section.omega_major_mm, section.omega_minor_mm, section.upsilon_max_mm,
                            float(c_min), float(at), backlash, gap, float(thickness_change_mm))
     return row, phi, c
 
 
-def face_map(form, secs, design_index: int, *, samples: int = MAP_SAMPLES, thickness_change_mm=None):
+def face_map(form, secs, design_index: int, *, samples: int = MAP_SAMPLES, thickness_change_mm=None,
+             min_gap_mm=None):
     """Every section's row against ``form``, the design section's engaged zone first:
-    (rows, φ, clearance (sections × φ), engaged)."""
+    (rows, φ, clearance (sections × φ), engaged). ``min_gap_mm``: each section's smallest signed
+    gap to ``form`` if known (else computed from its envelope)."""
     n = len(secs)
     ds = np.zeros(n) if thickness_change_mm is None else np.asarray(thickness_change_mm, dtype=float)
+    gaps = [None] * n if min_gap_mm is None else [float(g) for g in min_gap_mm]
     rows, maps = [None] * n, [None] * n
     row, phi, c = section_clearance(form, secs[design_index], samples=samples,
-                                    thickness_change_mm=ds[design_index])
+                                    thickness_change_mm=ds[design_index], min_gap_mm=gaps[design_index])
     engaged = engaged_zone(c)
     rows[design_index], maps[design_index] = row, c
     for k, s in enumerate(secs):
         if k != design_index:
-            rows[k], _, maps[k] = section_clearance(form, s, engaged, samples=samples, thickness_change_mm=ds[k])
+            rows[k], _, maps[k] = section_clearance(form, s, engaged, samples=samples, thickness_change_mm=ds[k],
+                                                    min_gap_mm=gaps[k])
     return rows, phi, np.array(maps), engaged
 
 

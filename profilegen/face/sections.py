@@ -28,7 +28,8 @@ from .. import checks
 from ..errors import ProfilegenError
 from ..results import readonly
 
-__all__ = ["FaceError", "FaceSection", "ring_span", "section_fit", "signed_gap", "solve_section"]
+__all__ = ["FaceError", "FaceSection", "cup_deformation", "ring_span", "section_fit", "signed_gap",
+           "solve_section", "SweptRegion"]
 
 
 class FaceError(ProfilegenError, ValueError):
@@ -51,6 +52,27 @@ def ring_span(deformation) -> tuple[float, float]:
     if not (math.isfinite(lo) and math.isfinite(hi) and hi > lo):
         raise FaceError(f"deformation.ring_span_mm = ({lo!r}, {hi!r}) mm: must be an interval lo < hi")
     return lo, hi
+
+
+def cup_deformation(obj):
+    """The 3D deformation inside ``obj``: itself when it has ω(φ, z), else its ``deformation``
+    (CupContact) or its 3D cup field (the rim stage's cup3d tier)."""
+    seen = 0
+    while obj is not None and seen < 4:
+        if callable(getattr(obj, "omega", None)) and callable(getattr(obj, "upsilon", None)):
+            try:
+                ring_span(obj)
+                return obj
+            except FaceError:
+                pass
+        nxt = None
+        for name in ("cup", "cup3d", "contact", "deformation"):
+            if getattr(obj, name, None) is not None:
+                nxt = getattr(obj, name)
+                break
+        obj, seen = nxt, seen + 1
+    raise FaceError("deformation: not a 3D cup deformation (ω(φ, z), υ(φ, z) and the tooth ring's span); run the "
+                    "rim stage's cup3d tier or profilegen.rim.cup.press_cup")
 
 
 def section_fit(deformation, z_mm: float, *, waves: int = 2, max_order: int = 16):
@@ -112,16 +134,29 @@ def solve_section(gearset, deformation, z_mm: float, tooth, *, chord_tol_mm: flo
                        float(np.max(np.abs(upsilon))), fit, motion, env, tooth, time.perf_counter() - t0)
 
 
-def signed_gap(points: np.ndarray, boundary: np.ndarray) -> np.ndarray:
-    """Signed distance (mm) of CS points to the swept region bounded by ``boundary`` (one CS
-    space's swept boundary, CS frame): + outside (gap), − inside (interference). The region is
-    the polygon of the boundary closed through the gear centre (the boundary spans one space,
-    so the closure lies far below every CS point)."""
-    from ..gearform import PolylineDistance
+class SweptRegion:
+    """A section's swept region, bounded by its swept boundary (one CS space's, CS frame): the
+    polygon of the boundary closed through the gear centre (the boundary spans one space, so the
+    closure lies far below every CS point) and an exact distance to the boundary, built once for
+    many queries."""
 
-    p = np.asarray(points, dtype=float)
-    b = np.asarray(boundary, dtype=float)
-    dist = PolylineDistance(b).distance(p)
-    region = shapely.Polygon(np.vstack([b, [[0.0, 0.0]]]))
-    inside = shapely.contains_xy(region, p[:, 0], p[:, 1])
-    return readonly(np.where(inside, -dist, dist))
+    def __init__(self, boundary: np.ndarray):
+        from ..gearform import PolylineDistance
+
+        b = np.asarray(boundary, dtype=float)
+        self._distance = PolylineDistance(b)
+        self._region = shapely.Polygon(np.vstack([b, [[0.0, 0.0]]]))
+        shapely.prepare(self._region)
+
+    def signed_gap(self, points: np.ndarray) -> np.ndarray:
+        """Signed distance (mm) of CS points: + outside the region (gap), − inside (interference)."""
+        p = np.asarray(points, dtype=float)
+        dist = self._distance.distance(p)
+        inside = shapely.contains_xy(self._region, p[:, 0], p[:, 1])
+        return readonly(np.where(inside, -dist, dist))
+
+
+def signed_gap(points: np.ndarray, boundary: np.ndarray) -> np.ndarray:
+    """Signed distance (mm) of CS points to the swept region bounded by ``boundary``
+    (:class:`SweptRegion`): + outside (gap), − inside (interference)."""
+    return SweptRegion(boundary).signed_gap(points)

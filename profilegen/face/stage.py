@@ -9,7 +9,8 @@ fit, which follows it within the fit's error and is one-sided). For every sectio
 
 * the clearance map c_k(φ): :func:`profilegen.gearform.clearance_map` of section k's FS tooth
   in section k's motion against that one outline (signed distance, < 0 interference); its
-  minimum, refined on a fine φ grid around the sampled minimum, is ``min_clearance_mm``;
+  minimum, refined by the parabola through the sampled minimum and its neighbours, is
+  ``min_clearance_mm``;
 * the backlash ``max_backlash_mm``: the largest c_k(φ) over the *engaged* poses, those where
   the design section's own tooth touches the CS (c_d(φ) ≤ ENGAGED_MM): how far section k's
   tooth stands off the CS while the design section's drives.
@@ -36,7 +37,7 @@ from .. import checks
 from ..results import json_ready, readonly
 from .clearance import ENGAGED_MM, MAP_SAMPLES, face_map
 from .modification import apply_modification, solve_modification
-from .sections import FaceError, FaceSection, ring_span, signed_gap, solve_section
+from .sections import FaceError, FaceSection, SweptRegion, cup_deformation, ring_span, solve_section
 
 __all__ = ["FaceWidth", "face_width"]
 
@@ -163,7 +164,7 @@ def face_width(
     10 nm, whichever is larger.
     """
     start = time.perf_counter()
-    deformation = _cup_deformation(deformation)
+    deformation = cup_deformation(deformation)
     lo, hi = ring_span(deformation)
     count = checks.whole("sections", sections, 3, error=FaceError)
     if count > 41:
@@ -195,13 +196,14 @@ def face_width(
 
     # candidates: each computed section's CS against every section's swept region
     forms = [_cs_form(gearset, s, chord) for s in secs]
-    min_gap = np.array([[np.min(signed_gap(f.space, s.boundary)) for s in secs] for f in forms])
+    regions = [SweptRegion(s.boundary) for s in secs]
+    min_gap = np.array([[np.min(r.signed_gap(f.space)) for r in regions] for f in forms])
     max_bl = np.full(min_gap.shape, np.nan)  # the maps' backlash, for the candidates whose maps are computed
     t0 = time.perf_counter()
     if given is not None:
         d = int(np.argmin(np.abs(z - given)))
         choice = "given"
-        found = {d: face_map(forms[d], secs, d, samples=samples)}
+        found = {d: face_map(forms[d], secs, d, samples=samples, min_gap_mm=min_gap[d])}
     else:
         worst = min_gap.min(axis=1)
         ok = np.flatnonzero(worst >= -tol)
@@ -209,7 +211,7 @@ def face_width(
             ok = np.array([int(np.argmax(worst))])
             warnings.append(f"no computed section's CS is interference-free over the face; the least interfering "
                             f"(z = {z[ok[0]]:g} mm, {-worst[ok[0]] * 1e3:.3g} µm) is the design section")
-        found = {int(k): face_map(forms[k], secs, int(k), samples=samples) for k in ok}
+        found = {int(k): face_map(forms[k], secs, int(k), samples=samples, min_gap_mm=min_gap[k]) for k in ok}
         d = min(found, key=lambda k: max(r.max_backlash_mm for r in found[k][0]))
         choice = "auto"
     for k, (rows_k, *_ ) in found.items():
@@ -235,24 +237,3 @@ def face_width(
     from dataclasses import replace
 
     return replace(result, modification=mod, warnings=tuple(warnings), time_s=time.perf_counter() - start)
-
-
-def _cup_deformation(obj):
-    """The 3D deformation inside ``obj``: itself when it has ω(φ, z), else its ``deformation``
-    (CupContact) or its 3D cup field (the rim stage's cup3d tier)."""
-    seen = 0
-    while obj is not None and seen < 4:
-        if callable(getattr(obj, "omega", None)) and callable(getattr(obj, "upsilon", None)):
-            try:
-                ring_span(obj)
-                return obj
-            except FaceError:
-                pass
-        nxt = None
-        for name in ("cup", "cup3d", "contact", "deformation"):
-            if getattr(obj, name, None) is not None:
-                nxt = getattr(obj, name)
-                break
-        obj, seen = nxt, seen + 1
-    raise FaceError("deformation: not a 3D cup deformation (ω(φ, z), υ(φ, z) and the tooth ring's span); run the "
-                    "rim stage's cup3d tier or profilegen.rim.cup.press_cup")
