@@ -173,6 +173,10 @@ class Design:
     #: the whole gear's torsional curve (contact.chain.TorsionalCurve, both directions, with the
     #: compliance chain), run with the contact; None when the contact was not run or it failed
     torsional: object = None
+    #: the ratcheting estimate (contact.ratchet.Ratcheting) and the loaded transmission error over a
+    #: tooth passage (contact.transmission.TransmissionError), when the scene asks for them
+    ratcheting: object = None
+    transmission: object = None
 
     @property
     def time_s(self) -> float:
@@ -189,6 +193,9 @@ class Design:
             for case in self.contact.cases:
                 if case.beyond_capacity is not None:
                     failures.append(f"contact at {case.torque_nm:g} N·m beyond capacity")
+                if self.ratcheting is not None and self.ratcheting.flag(case.torque_nm) is not None:
+                    failures.append(f"{case.torque_nm:g} N·m at or beyond the ratcheting estimate "
+                                    f"{self.ratcheting.torque_nm:.4g} N·m")
         if self.stress is not None:
             for c in self.stress.checks:
                 if c.passed is None:
@@ -251,6 +258,16 @@ class Design:
                 "secant_stiffness_nm_per_rad": self.contact.secant_stiffness_nm_per_rad.tolist(),
                 "warnings": list(self.contact.warnings),
                 "torsional": None if self.torsional is None else self.torsional.headline(),
+                "ratcheting_torque_nm": None if self.ratcheting is None else self.ratcheting.torque_nm,
+                "ratcheting": None if self.ratcheting is None else {
+                    "torque_nm": self.ratcheting.torque_nm, "extrapolated": self.ratcheting.extrapolated,
+                    "ratio_to_rated": self.ratcheting.ratio_to_rated,
+                    "ratio_to_catalogue": self.ratcheting.ratio_to_catalogue,
+                    "catalogue": self.ratcheting.catalogue},
+                "transmission_error": None if self.transmission is None else {
+                    "torque_nm": self.transmission.torque_nm, "positions": int(self.transmission.psi_rad.size),
+                    "peak_to_peak_arcsec": self.transmission.peak_to_peak_arcsec,
+                    "stiffness_ripple": self.transmission.stiffness_ripple},
             },
             "stress": None if self.stress is None else self.stress.headline(),
             "face": None if self.face is None else self.face.to_dict(),
@@ -521,6 +538,11 @@ def _with_contact(result: Design, step) -> Design:
         f"{torsional.k_nm_per_rad['total']['positive']['K2']:.3g}/"
         f"{torsional.k_nm_per_rad['total']['positive']['K3']:.3g} N·m/rad, lost motion "
         f"{torsional.lost_motion_rad['total'] * 10800 / np.pi:.3f} arcmin")
+    ratchet, transmission = _whole_gear_extras(result, notes)
+    if ratchet is not None:
+        whole += f"; ratcheting ≈ {ratchet.torque_nm:.4g} N·m"
+    if transmission is not None:
+        whole += f"; transmission error {transmission.peak_to_peak_arcsec:.3g} arcsec p-p at the rated torque"
     stages.append(StageReport(
         "contact", f"Lemke, {pts.count} points on {pts.teeth.size} teeth, FEM influence coefficients", dof,
         time.perf_counter() - t0, diff,
@@ -528,7 +550,39 @@ def _with_contact(result: Design, step) -> Design:
         f"rated {rated.torque_nm:g} N·m: {rated.teeth_in_contact} teeth per zone, rotation "
         f"{rated.rotation_arcmin:.3f} arcmin, max tooth force {rated.max_tooth_force_n:.0f} N{whole}"))
     return replace(result, stages=tuple(stages), warnings=result.warnings + tuple(notes), contact=contact,
-                   torsional=torsional)
+                   torsional=torsional, ratcheting=ratchet, transmission=transmission)
+
+
+def _whole_gear_extras(result: Design, notes: list) -> tuple:
+    """The ratcheting estimate and the loaded transmission error at the rated torque (16
+    positions over a tooth passage), each when the scene asks (seconds each); a failure is a
+    note, not an error. Each reports its own time in its result."""
+    ratchet = transmission = None
+    scene, gs = result.scene, result.gearset
+    if getattr(scene, "ratcheting", False):
+        from .contact.chain import catalogue_for
+        from .contact.ratchet import ratcheting_torque
+
+        row = catalogue_for(gs)
+        cat = None if row is None or row.get("ratcheting_torque_nm") is None else {
+            "torque_nm": row["ratcheting_torque_nm"], "source": row.get("ratcheting_source"),
+            "size": row.get("size"), "ratio": row.get("ratio_asked", row.get("ratio"))}
+        try:
+            ratchet = ratcheting_torque(result, catalogue=cat)
+        except ProfilegenError as exc:
+            notes.append(f"ratcheting estimate failed, skipped: {exc}")
+        else:
+            notes += [f"ratcheting: {w}" for w in ratchet.warnings]
+    if getattr(scene, "transmission_error", False):
+        from .contact.transmission import transmission_error
+
+        try:
+            transmission = transmission_error(result, float(gs.torque.rated_nm), positions=16)
+        except ProfilegenError as exc:
+            notes.append(f"transmission error failed, skipped: {exc}")
+        else:
+            notes += [f"transmission error: {w}" for w in transmission.warnings]
+    return ratchet, transmission
 
 
 def _half(diameter_mm: float | None) -> float | None:

@@ -64,6 +64,8 @@ _KEYS: dict[str, tuple[str, bool, tuple[float, float] | None]] = {
     "contact": ("bool", False, None),
     "tier": ("text", False, None),
     "figures": ("choice", False, ("all", "none")),
+    "ratcheting": ("bool", False, None),
+    "transmission_error": ("bool", False, None),
 }
 @dataclass(frozen=True, slots=True)
 class Scene:
@@ -81,6 +83,8 @@ class Scene:
     contact: bool = False  # loaded tooth contact at the gear set's torques (rated, peak, momentary)
     tier: str = ""  # the rim stage's tier (RIM_TIER_NAMES); "" → the scene's name
     figures: str = "all"  # the PNG figures of the files and reports: "all", or "none" (`--figures` draws them)
+    ratcheting: bool = False  # with the contact: the ratcheting torque estimate (contact.ratchet; seconds)
+    transmission_error: bool = False  # with the contact: the loaded transmission error at 16 positions (~10 s)
 
     @property
     def rim_tier(self) -> str:

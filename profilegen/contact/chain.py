@@ -152,29 +152,24 @@ def catalogue_size(gearset) -> int | None:
 
 
 def catalogue_for(gearset) -> dict | None:
-    """The catalogue stiffness table the gear set is compared with, or None: the repository's
-    table for its size (:func:`catalogue_size`), with ``size`` and a ``note`` saying when the
-    table's ratio is not the set's. A sourced ratio ≥ 80 table (profilegen.contact.catalogue,
-    when present) is preferred for ratios ≥ 80."""
+    """The catalogue values the gear set is compared with, or None: the row of
+    :func:`profilegen.contact.catalogue.catalogue_row` for its size (:func:`catalogue_size`)
+    and ratio — with its ``source``, the ``ratio`` of the table used and a ``note`` when that
+    is not the set's, the ratcheting torque — else the repository's own size-40 table."""
+    from .catalogue import catalogue_row
+
     size = catalogue_size(gearset)
-    ratio = float(gearset.ratio)
-    cat = None
-    try:  # a sourced table for this size and ratio, when the module that holds them is there
-        from . import catalogue as _tables
-    except ImportError:
-        _tables = None
-    if _tables is not None and hasattr(_tables, "stiffness_table"):
-        try:
-            cat = _tables.stiffness_table(size, ratio)
-        except (ValueError, KeyError, LookupError):
-            cat = None
-    if cat is None:
-        cat = _CATALOGUES.get(size)
-    if cat is None:
+    if size is None:
         return None
-    out = dict(cat)
+    ratio = float(gearset.ratio)
+    try:
+        out = dict(catalogue_row(size, int(round(ratio))))
+    except ValueError:
+        if size not in _CATALOGUES:
+            return None
+        out = dict(_CATALOGUES[size])
     out["size"] = size
-    if out.get("ratio") is not None and float(out["ratio"]) != ratio:
+    if out.get("ratio") is not None and float(out["ratio"]) != ratio and not out.get("note"):
         out["note"] = (f"the catalogue's table is for ratio {float(out['ratio']):g}, this set's ratio is {ratio:g} "
                        "(the catalogue lists ratios ≥ 80 stiffer)")
     return out

@@ -150,8 +150,20 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
 
 def _whole_gear(result: Design) -> dict:
     """contact.json's whole-gear parts (issue 16): the torsional curve, when the run made one."""
+    out = {}
     torsional = getattr(result, "torsional", None)
-    return {} if torsional is None else {"torsional": torsional.to_dict()}
+    ratchet = getattr(result, "ratcheting", None)
+    if torsional is not None:
+        out["torsional"] = torsional.to_dict()
+        if ratchet is not None:  # the curve's torques at or beyond the ratcheting estimate, flagged
+            out["torsional"]["beyond_ratcheting"] = [ratchet.flag(t) for t in torsional.torque_nm]
+    if ratchet is not None:
+        out["ratcheting_torque_nm"] = ratchet.torque_nm
+        out["ratcheting"] = ratchet.to_dict()
+    transmission = getattr(result, "transmission", None)
+    if transmission is not None:
+        out["transmission_error"] = transmission.to_dict()
+    return out
 
 
 def _space_guides(result: Design) -> list:

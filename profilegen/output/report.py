@@ -399,11 +399,43 @@ pivoting. The stiffness is the mesh's only (no ball Hertz, inner ring, cam or cu
 <img src="{uri}" alt="loaded contact">"""
 
 
+def _ratcheting_and_error_section(design) -> str:
+    """The ratcheting estimate and the loaded transmission error, when the scene ran them."""
+    out = []
+    r = getattr(design, "ratcheting", None)
+    if r is not None:
+        cat = r.catalogue or {}
+        against = ("" if r.ratio_to_catalogue is None else
+                   f" The catalogue gives {float(cat['torque_nm']):g} N·m ({html.escape(str(cat.get('source')))}): "
+                   f"this estimate is {r.ratio_to_catalogue:.2f} times that.")
+        how = ("extrapolated beyond the torques the contact could carry" if r.extrapolated
+               else "interpolated between solved torques")
+        beyond = [f"{c.torque_nm:g}" for c in design.contact.cases if r.flag(c.torque_nm) is not None] \
+            if design.contact is not None else []
+        out.append(f"""<h3>Ratcheting</h3>
+<p>Under torque the tooth forces push the flexspline rim inward and the circular spline outward, so the
+loaded teeth slide up the flanks; when they have climbed as far as the teeth overlap, they skip. This model
+puts that torque at about <b>{r.torque_nm:.4g} N·m</b> ({r.ratio_to_rated:.2f} × the rated torque;
+{how}).{against} {'Torques at or beyond it: ' + ', '.join(beyond) + ' N·m (a failure in the verdict).'
+                     if beyond else 'The set’s torques are all below it.'}
+Model: {html.escape(r.model)}</p>""")
+    te = getattr(design, "transmission", None)
+    if te is not None:
+        out.append(f"""<h3>Transmission error under load</h3>
+<p>At the rated torque ({te.torque_nm:g} N·m) the contact was solved at {te.psi_rad.size} wave-generator
+positions over one tooth passage, the contact points and gaps found afresh at each. The output lags its
+ideal position by an amount that varies by <b>{te.peak_to_peak_arcsec:.3g} arcsec peak to peak</b> over the
+passage; the mesh stiffness varies by a factor {te.stiffness_ripple:.4f} (max/min). The balls are held
+against the wave generator's major axis (the tooth-passage error alone, without the cage's slower ripple).</p>""")
+    return "\n".join(out)
+
+
 def _torsional_section(design, png: bytes | None = None) -> str:
-    """The whole gear in torsion, in plain words, against the catalogue (issue 16)."""
+    """The whole gear in torsion, in plain words, against the catalogue (issue 16); then the
+    ratcheting estimate and the transmission error when the scene ran them."""
     curve = getattr(design, "torsional", None)
     if curve is None:
-        return ""
+        return _ratcheting_and_error_section(design)
     arcmin = 180 * 60 / np.pi
     k = curve.k_nm_per_rad["total"]
     cmp = curve.catalogue_comparison()
@@ -470,7 +502,8 @@ loading and unloading give one curve. In the other direction K1, K2, K3 are
 <table><tr><th>part</th><th>compliance (10⁻⁶ rad/N·m)</th><th>share</th><th>model</th></tr>{comp_rows}</table>
 <p>Estimated inputs: {html.escape('; '.join(estimates)) or 'none'}. Left out: {html.escape('; '.join(curve.chain.left_out))}.
 {'Torques beyond the modelled contact (flagged): ' + ', '.join(flagged) + ' N·m.' if flagged else ''}</p>
-{img}"""
+{img}
+{_ratcheting_and_error_section(design)}"""
 
 
 def _stress_section(design, png: bytes | None = None) -> str:
