@@ -224,6 +224,10 @@ def face_width(
         warnings.append(f"the one CS profile (design section z = {result.design_section_z_mm:g} mm) interferes with "
                         f"the FS tooth by {result.max_interference_mm * 1e3:.3g} µm over the face")
     mod = None
+    if modification == "auto" and getattr(gearset.tooth, "kind", None) not in ("dcta", "involute"):
+        warnings.append(f"no tooth modification along the face: a {gearset.tooth.kind} tooth has no thickness field "
+                        "to modify")
+        modification = None
     if modification is not None:
         if isinstance(modification, str):
             if modification != "auto":

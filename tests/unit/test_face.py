@@ -161,3 +161,15 @@ def test_design_section_outside_the_tooth_ring(gearset, z):
 def test_not_a_3d_deformation(gearset):
     with pytest.raises(FaceError, match="deformation"):
         face_width(gearset, ring_theory(0.5))
+
+
+def test_modified_tooth_moves_each_flank_by_half_the_thickness_change(gearset):
+    from profilegen.face import modified_tooth, thickness_change
+
+    plain, thicker = tooth_from_gearset(gearset), modified_tooth(gearset, 0.01)
+    # the DCTA line through the pitch point moves along the tooth frame's x by Δs/2, nothing else
+    np.testing.assert_allclose(thicker.segments[1].start - plain.segments[1].start, [0.005, 0.0], atol=1e-15)
+    # Δs(z): zero at the design section, the taper's slope, the crowning at the face ends
+    ds = thickness_change([50.0, 60.0, 70.0], taper_mm_per_mm=-1e-3, crowning_mm=0.02, design_z_mm=60.0,
+                          ring_span_mm=SPAN)
+    np.testing.assert_allclose(ds, [0.01 - 0.02, 0.0, -0.01 - 0.02], atol=1e-15)
