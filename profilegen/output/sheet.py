@@ -216,13 +216,29 @@ def _geometry_rows(design) -> str:
     return "".join(rows)
 
 
+def _stiffness_scope(design) -> str:
+    if getattr(design, "torsional", None) is not None:
+        return "secant; mesh, balls, cup and CS body, wave generator locked"
+    return "mesh only: no bearing, cam or cup wind-up"
+
+
 def _load_rows(design) -> str:
     rows = []
     c = design.contact
     if c is None:
         rows.append(_row("stiffness", "not computed", "this scene runs no loaded contact"))
     else:
+        curve = getattr(design, "torsional", None)
         for case, k in zip(c.cases, np.asarray(c.secant_stiffness_nm_per_rad, dtype=float)):
+            if curve is not None and np.any(curve.torque_nm == case.torque_nm):
+                # the whole gear's secant T / (φ(T) − φ at first contact), the mesh's beside it
+                rot = curve.rotation_at(case.torque_nm)
+                whole = case.torque_nm / (rot - curve.first_contact_rad["positive"])
+                rows.append(_row(f"stiffness at {case.torque_nm:g} N·m",
+                                 f"{whole / 1e3:,.0f} kN·m/rad".replace(",", "\u2009"),
+                                 f"{rot * ARCMIN_PER_RAD:.2f} arcmin; mesh only "
+                                 + f"{k / 1e3:,.0f}".replace(",", "\u2009") + " kN·m/rad"))
+                continue
             rows.append(_row(f"stiffness at {case.torque_nm:g} N·m",
                              f"{k / 1e3:,.0f} kN·m/rad".replace(",", "\u2009"),
                              f"{k / ARCMIN_PER_RAD:.0f} N·m/arcmin; rotation {case.rotation_arcmin:.2f} arcmin"))
@@ -275,7 +291,7 @@ def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> 
 {check_rows}</table>
 <h2>To cut <span class="unit">(mm; CS frame: origin on the gear axis, y through the middle of the space)</span></h2>
 <table>{_geometry_rows(design)}</table>
-<h2>Stiffness <span class="unit">(mesh only: no bearing, cam or cup wind-up)</span></h2>
+<h2>Stiffness <span class="unit">({_stiffness_scope(design)})</span></h2>
 <table>{_load_rows(design)}</table></div>
 <div class="fig">{figure_html}</div>
 </div>
