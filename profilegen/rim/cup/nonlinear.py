@@ -3,8 +3,8 @@ balance: total Lagrangian St Venant–Kirchhoff (the 2D ring's :mod:`profilegen.
 model) with the displacement kept as the Fourier series of :mod:`profilegen.rim.cup.fourier`.
 
 The displacement u_r = Σ U_n cos nφ, u_z = Σ W_n cos nφ, u_φ = Σ V_n sin nφ (n in ``orders``;
-for n = 0 the torsion u_φ = V₀, as there) is evaluated at the meridional quadrature points × ``samples`` equispaced angles φ_s on the
-whole circle. There, in the orthonormal cylindrical frame (components r, z, φ),
+for n = 0 the torsion u_φ = V₀, as there) is evaluated at the meridional quadrature points ×
+``samples`` equispaced angles φ_s on the whole circle. There, in the orthonormal cylindrical frame (components r, z, φ),
 
     H = Grad u:  H_rr = ∂u_r/∂r   H_rz = ∂u_r/∂z   H_rφ = (∂u_r/∂φ − u_φ)/r
                  H_zr = ∂u_z/∂r   H_zz = ∂u_z/∂z   H_zφ = (∂u_z/∂φ)/r
