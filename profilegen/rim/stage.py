@@ -10,7 +10,8 @@ design    flat ring FEM, geometrically nonlinear, unilateral contact   Fourier, 
 verify    toothed-rim FEM, nonlinear, refined (also named ``toothed``)   Fourier + general sine
 cup3d     the 3D cup: body of revolution, Fourier harmonics of 2D      Fourier at the design
           meridional FEM, pressed onto the contour over the bearing    section + general sine
-          width (unilateral, frictionless, first-order gap; linear)
+          width (unilateral, frictionless, exact gap; geometrically
+          nonlinear: St Venant–Kirchhoff by harmonic balance)
 ========  ===========================================================  ==========================
 
 The ``cup3d`` tier (:func:`profilegen.rim.cup.press_cup` on the gear set's contour, its
@@ -73,13 +74,14 @@ class RimTier:
     per_pitch: int = 16  # toothed: element columns per tooth pitch (≥ 14 for the default DCTA tooth)
     element_mm: float = 2.0  # cup: element size along the meridian (mm)
     angles: int = 16  # cup: collocation angles of the contact on 0..π/2 (harmonics 0, 2, …, 2(angles − 1))
+    gap: str = "exact"  # cup: the contact gap, "exact" (along the contour normal, as the 2D ring) or "first_order"
 
     def label(self) -> str:
         if self.model == "ring theory":
             return "ring theory (analytic)"
         if self.model == "cup":
-            return (f"3D cup, Fourier harmonics of meridional FEM ({self.element_mm:g} mm, {self.layers} layers, "
-                    f"{self.angles} contact angles)")
+            return (f"{self.geometry} 3D cup, Fourier harmonics of meridional FEM ({self.element_mm:g} mm, "
+                    f"{self.layers} layers, {self.angles} contact angles, {self.gap.replace('_', '-')} gap)")
         mesh = (f"{self.layers}×{self.divisions}" if self.model == "flat"
                 else f"toothed, {self.per_pitch}/pitch, {self.layers}+{self.tooth_layers} layers")
         return f"{self.geometry} {self.model} ring FEM ({mesh})"
@@ -92,8 +94,8 @@ RIM_TIERS: dict[str, RimTier] = {
                       tooth_layers=2, per_pitch=16),
     "toothed": RimTier("toothed", "toothed", layers=2, divisions=0, max_order=40, sine_fit=True,
                        tooth_layers=2, per_pitch=16),  # the verify tier by its model's name
-    "cup3d": RimTier("cup3d", "cup", geometry="linear", layers=2, divisions=0, max_order=16, sine_fit=True,
-                     element_mm=2.0, angles=16),
+    "cup3d": RimTier("cup3d", "cup", geometry="nonlinear", layers=2, divisions=0, max_order=16, sine_fit=True,
+                     element_mm=2.0, angles=16, gap="exact"),
 }
 #: the cup tier's coarse companion (the error estimate): this factor × the element size, ÷ it the angles
 CUP_COARSENING = 2
@@ -111,7 +113,8 @@ class CupSection:
     angles (0..π/2) at which the cam presses the bore anywhere on the bearing band,
     ``contact_force_n`` the cam's radial force at each, summed over the band (N, each the total
     of its four symmetric copies) — the cup's contact is not one wrap: it varies along z
-    (``RimDeformation.cup_contact`` has it per band node). Linear: no Newton steps."""
+    (``RimDeformation.cup_contact`` has it per band node). ``newton_steps_mm``: the nonlinear
+    iteration's steps (none when linear)."""
 
     z_mm: float
     phi_rad: np.ndarray
@@ -155,15 +158,17 @@ class CupSection:
         d = contact.deformation
         phi = 0.5 * math.pi * np.arange(samples) / (samples - 1)
         on = contact.active.any(axis=0)
+        nonlinear = bool(getattr(contact, "nonlinear", False))
         return cls(float(z_mm), phi, d.omega(phi, z_mm), d.upsilon(phi, z_mm), d.bore_omega(phi, z_mm),
                    contact.phi_rad[on], contact.force_n.sum(axis=0)[on], contact.max_penetration_mm, d.dof,
-                   contact.time_s, tier, d.warnings)
+                   contact.time_s, tier, d.warnings, "nonlinear" if nonlinear else "linear",
+                   tuple(getattr(contact, "newton_steps_mm", ())))
 
     def to_dict(self) -> dict:
         return {
             "tier": self.tier,
             "model": "3D cup at one section: body of revolution, Fourier harmonics of meridional FEM, unilateral "
-                     "frictionless contact over the bearing width (first-order gap), linear",
+                     f"frictionless contact over the bearing width, {self.geometry}",
             "geometry": self.geometry,
             "section_z_mm": self.z_mm,
             "dof": self.dof,
@@ -402,7 +407,8 @@ def _solve_cup(gearset, tier: RimTier, contour, z_mm: float | None, reference, w
     t0 = time.perf_counter()
     for element_mm, angles in ((tier.element_mm, tier.angles), (CUP_COARSENING * tier.element_mm, coarse_angles)):
         try:
-            runs.append(press_cup(geometry, contour=contour, angles=angles, element_mm=element_mm, layers=tier.layers))
+            runs.append(press_cup(geometry, contour=contour, angles=angles, element_mm=element_mm, layers=tier.layers,
+                                  gap=tier.gap, nonlinear=tier.geometry == "nonlinear"))
         except (ProfilegenError, np.linalg.LinAlgError, RuntimeError, FloatingPointError) as exc:
             if isinstance(exc, ProfilegenError) and not isinstance(exc, RuntimeError):
                 raise
