@@ -187,3 +187,16 @@ def test_seed_004_printed_omega_extremes_are_its_own_middle_section_fit():
     assert w.max() == pytest.approx(0.553, abs=2e-3) and w.min() == pytest.approx(-0.557, abs=3e-3)
     half = phi <= math.pi
     assert np.abs(u[half]).max() == pytest.approx(0.2965, abs=5e-4)
+
+
+def test_bad_contact_options_are_named(coarse):
+    from profilegen.rim.cup import CupError
+
+    for kw, name in (({"gap": "second_order"}, "gap"), ({"nonlinear": "yes"}, "nonlinear"),
+                     ({"open_end_axial_fixed": 2}, "open_end_axial_fixed"), ({"gap_tol_mm": -1.0}, "gap_tol_mm")):
+        with pytest.raises(CupError, match=name):
+            press_cup(GEOM, contour=cam(), harmonic_basis=coarse, **kw)
+    with pytest.raises(CupError, match="gap = 'exact'"):
+        press_cup(GEOM, radial_mm={2: W0}, gap="exact", harmonic_basis=coarse)
+    with pytest.raises(CupError, match="shift_mm"):
+        DisplacedHalves(cam(), -0.1)
