@@ -463,6 +463,330 @@ def _cup_rows(inp: _Inputs, repeats: int) -> list[dict]:
     return rows
 
 
+def _fit(inp: _Inputs, repeats: int) -> list[dict]:
+    from profilegen.rim import RIM_TIERS
+    from profilegen.rim.stage import one_period
+    from profilegen.series import GeneralSineDeformation, fit_fourier, fit_sine_series
+
+    fem = inp.design.rim.fem if inp.design.rim is not None else None
+    if fem is None:
+        log.info("fit study skipped: the design scene's rim has no FEM samples (ring theory)")
+        return []
+    ref, ref_label, ref_unc, ref_time = inp.flat_reference
+    um, waves = _SCALE["µm"], inp.gearset.gear.waves
+    phi, w, u = one_period(fem)
+    floor = _change_mm(fem, ref)
+    design, verify = RIM_TIERS["design"], RIM_TIERS["verify"]
+    mesh = f"flat {design.layers}×{design.divisions}"
+    rows = []
+
+    def add(method, fit, t, n, scene="", series="", note="", reference=ref, label=ref_label, floor_mm=floor):
+        err = _model_change_mm(fit, reference, whole_turn=True)
+        notes = [note] if note else []
+        if err <= 1.5 * floor_mm:
+            notes.append(f"at the floor set by the fitted samples' own mesh error ({floor_mm * um:.3g} µm)")
+        rows.append(_row("fit", method, t, n, err * um, reference=label, scene=scene, series=series,
+                         note="; ".join(notes)))
+
+    for order in (1, 2, 4, 8, 16):
+        inp.step(f"fit: Fourier order {order}")
+        fit, t, n = _timed(lambda k=order: fit_fourier(phi, w, u, waves=waves, order=k, tier="design"), repeats,
+                           inp.long_s)
+        add(f"Fourier order {order}", fit, t, n, series="Fourier")
+    inp.step("fit: Fourier, order picked (design tier)")
+    fit, t, n = _timed(lambda: fit_fourier(phi, w, u, waves=waves, max_order=design.max_order, tier="design"),
+                       repeats, inp.long_s)
+    add(f"Fourier auto ≤ {design.max_order} (order {fit.order})", fit, t, n, scene="design", series="Fourier",
+        note=f"{mesh} samples")
+
+    def sine(p, a, b):
+        return GeneralSineDeformation(fit_sine_series(p, a, terms=3), fit_sine_series(p, b, terms=3), waves=waves,
+                                      tier="verify")
+
+    inp.step("fit: general sine series, 3 terms")
+    model, t, n = _timed(lambda: sine(phi, w, u), repeats, inp.long_s)
+    d_w, d_u = model.defect_mm
+    add("general sine, 3 terms", model, t, n,
+        note=f"the verify scene's second fitter (reported, not used), here on the {mesh} samples; "
+             f"periodicity defect ω {d_w * um:.3g} µm, υ {d_u * um:.3g} µm over a turn")
+    _close(rows, "fit", ref_label, ref_time, ref_unc * um, "the rim's converged FEM (error = its own uncertainty)")
+    if not inp.quick:
+        t_ref, t_label, t_unc = inp.toothed_reference
+        res, _ = inp.toothed(verify.per_pitch)
+        p2, w2, u2 = one_period(res)
+        t_floor = _change_mm(res, t_ref)
+        inp.step("fit: the verify tier's fits of the toothed samples")
+        fit, t, n = _timed(lambda: fit_fourier(p2, w2, u2, waves=waves, max_order=verify.max_order, tier="verify"),
+                           repeats, inp.long_s)
+        add(f"Fourier auto ≤ {verify.max_order} (order {fit.order}), toothed samples", fit, t, n,
+            reference=t_ref, label=t_label, floor_mm=t_floor, note=f"toothed {verify.per_pitch}/pitch samples")
+        model, t, n = _timed(lambda: sine(p2, w2, u2), repeats, inp.long_s)
+        d_w, d_u = model.defect_mm
+        add("general sine, 3 terms, toothed samples", model, t, n, reference=t_ref,
+            label=t_label, floor_mm=t_floor,
+            note=f"periodicity defect ω {d_w * um:.3g} µm, υ {d_u * um:.3g} µm over a turn")
+        _close(rows, "fit", t_label, inp.toothed(_TOOTHED_REFERENCE)[1], t_unc * um,
+               "the toothed rim's finer FEM (error = its own uncertainty)")
+    return rows
+
+
+def _envelope(inp: _Inputs, repeats: int) -> list[dict]:
+    from profilegen.pipeline import SCENES
+    from profilegen.swept import boundary_distance, swept_region
+
+    ref_env, ref_t, ref_label = inp.envelope_reference
+    ref = np.asarray(ref_env.flank["boundary"])
+    nm = _SCALE["nm"]
+    g = inp.gearset.gear
+    settings = [(s.chord_tol_mm, s.n_t, s.n_phi, s.name) for s in (SCENES[n] for n in ("sketch", "design", "verify"))]
+    if not inp.quick:
+        d, v = SCENES["design"], SCENES["verify"]
+        settings += [(1e-5, d.n_t, d.n_phi, ""), (1e-8, v.n_t, v.n_phi, "")]
+    settings.sort(key=lambda s: -s[0])
+    rows = []
+    for chord, n_t, n_phi, scene in settings:
+        inp.step(f"envelope: traced, chord {chord:g} mm")
+        env, t, n = _timed(lambda c=chord, a=n_t, b=n_phi: inp.trace(c, a, b), repeats, inp.long_s)
+        inp.envelope(chord, n_t, n_phi, given=(env, t))  # the arcfit study fits its flank
+        err = _boundary_distance_mm(np.asarray(env.flank["boundary"]), ref) * nm
+        rows.append(_row("envelope", f"traced chord {chord:g} mm", t, n, err, reference=ref_label, scene=scene,
+                         series="traced", note=f"n_t {n_t}, n_phi {n_phi}"))
+    brute = [721] if inp.quick else [721, 4001]
+    for n_phi in brute:
+        inp.step(f"envelope: brute-force union of {n_phi} poses")
+        region, t, n = _timed(lambda k=n_phi: swept_region(inp.design.tooth, inp.design.motion,
+                                                           cs_teeth=g.circular_spline_teeth, waves=g.waves, n_phi=k),
+                              repeats, inp.long_s)
+        err = float(np.max(boundary_distance(ref, region))) * nm
+        rows.append(_row("envelope", f"brute force {n_phi} poses", t, n, err, reference=ref_label,
+                         scene="verify (cross-check)" if n_phi == 4001 else "", series="brute force",
+                         note="reference vertices to the union's boundary (its notches)"))
+    _close(rows, "envelope", ref_label, ref_t, ref_env.chord_tol_mm * nm,
+           "error = its own uncertainty: its chord tolerance")
+    return rows
+
+
+def _arcfit(inp: _Inputs, repeats: int) -> list[dict]:
+    from profilegen.arcfit import clear_cache, fit_profile
+    from profilegen.errors import ProfilegenError
+    from profilegen.gearset import FIT_METHODS
+    from profilegen.pipeline import FIT_MAX_ITER, SCENES
+
+    ref_env, ref_t, env_label = inp.envelope_reference
+    inp.step("arcfit: the reference flank")
+    ref_flank = inp.flank(ref_env, ref_env.chord_tol_mm)
+    ref_label = f"CS flank of the {env_label}"
+    um = _SCALE["µm"]
+    cad = inp.gearset.circular_spline.fit_method
+    names = {"least_squares": "least squares", "minimax": "minimax", "one_sided": "one-sided"}
+    rows = []
+    for scene in (SCENES["sketch"], SCENES["design"], SCENES["verify"]):
+        env, _ = inp.envelope(scene.chord_tol_mm, scene.n_t, scene.n_phi)
+        flank = inp.flank(env, scene.chord_tol_mm)
+        methods = FIT_METHODS if scene.name == "design" else (cad,)
+        for method in methods:
+            inp.step(f"arcfit: {method}, flank of chord {scene.chord_tol_mm:g} mm")
+            try:
+                fit, t, n = _timed(lambda m=method: fit_profile(flank, method=m, space_side="left",
+                                                                max_iter=FIT_MAX_ITER),
+                                   repeats, inp.long_s, setup=clear_cache)
+            except ProfilegenError as exc:
+                log.warning("arcfit study: %s on the %s flank left out: %s", method, scene.name, exc)
+                continue
+            err = float(np.max(np.abs(fit.distance(ref_flank)))) * um
+            role = "CAD" if method == cad else "report"
+            rows.append(_row("arcfit", f"{names[method]}, flank chord {scene.chord_tol_mm:g}", t, n, err,
+                             reference=ref_label, scene=f"{scene.name} ({role})", series=names[method],
+                             note=f"max deviation from its own {len(flank)} flank points "
+                                  f"{fit.max_error_mm * um:.4g} µm"))
+    design = SCENES["design"]
+    flank = inp.flank(inp.envelope(design.chord_tol_mm, design.n_t, design.n_phi)[0], design.chord_tol_mm)
+    inp.step(f"arcfit: minimax with 40 starts, flank of chord {design.chord_tol_mm:g} mm")
+    try:
+        fit, t, n = _timed(lambda: fit_profile(flank, method="minimax", space_side="left", starts=40, seed=1,
+                                               max_iter=FIT_MAX_ITER), 1, inp.long_s, setup=clear_cache)
+        rows.append(_row("arcfit", f"minimax, 40 starts, flank chord {design.chord_tol_mm:g}", t, n,
+                         float(np.max(np.abs(fit.distance(ref_flank)))) * um, reference=ref_label, series="minimax",
+                         note="the best arc–line–arc found: the floor of every arc–line–arc fit"))
+    except ProfilegenError as exc:
+        log.warning("arcfit study: the 40-start minimax fit left out: %s", exc)
+    _close(rows, "arcfit", ref_label, ref_t, ref_env.chord_tol_mm * um,
+           "error = its own uncertainty: the envelope's chord tolerance")
+    return rows
+
+
+def _contact(inp: _Inputs, repeats: int) -> list[dict]:
+    from profilegen.contact import ContactInput
+    from profilegen.contact.analysis import solve_contact
+    from profilegen.contact.compliance import ContactCompliance
+    from profilegen.contact.solvers import solve_naive_lp
+    from profilegen.errors import ProfilegenError
+
+    d = inp.design
+    torques = inp.torques_nm
+    stations, = _defaults(solve_contact, "stations")
+    fs_cols, cs_cols, layers = _defaults(ContactCompliance.build, "per_pitch", "cs_per_pitch", "tooth_layers")
+    default_fem = f"FEM {fs_cols}/{cs_cols} col./pitch, {layers} layers"
+
+    def build(points, cols, tooth_layers):
+        return ContactCompliance.build(ContactInput.from_design(d), points.fs_point_mm, points.normal, points.tooth,
+                                       points.cs_point_mm,
+                                       per_pitch=cols, cs_per_pitch=cols, tooth_layers=tooth_layers,
+                                       cs_tooth_layers=tooth_layers)
+
+    ref_stations, ref_cols, ref_layers = (stations, 24, 6) if inp.quick else (9, 32, 6)
+    ref_label = f"Lemke, {ref_stations} stations, FEM {ref_cols} col./pitch, {ref_layers} layers"
+    inp.step(f"contact reference: {ref_label}")
+    t0 = time.perf_counter()
+    ref_pts = solve_contact(d, torques[:1], stations=ref_stations).points
+    ref = solve_contact(d, torques, points=ref_pts, compliance=build(ref_pts, ref_cols, ref_layers))
+    ref_time = time.perf_counter() - t0
+    rot_ref = np.array([c.rotation_rad for c in ref.cases])
+    force_ref = np.array([c.max_tooth_force_n for c in ref.cases])
+
+    def errors(rotations, forces=None) -> tuple[float, str]:
+        err = float(np.max(np.abs(np.asarray(rotations) / rot_ref - 1.0))) * 100.0
+        if forces is None:
+            return err, ""
+        df = float(np.max(np.abs(np.asarray(forces) / force_ref - 1.0))) * 100.0
+        return err, f"largest tooth force {df:.2g} % off"
+
+    def add(method, result, t, n, scene="", series="", note=""):
+        err, extra = errors([c.rotation_rad for c in result.cases], [c.max_tooth_force_n for c in result.cases])
+        rows.append(_row("contact", method, t, n, err, reference=ref_label, scene=scene, series=series,
+                         note="; ".join(x for x in (extra, note) if x)))
+
+    rows = []
+    inp.step(f"contact: Lemke, {stations} stations, {default_fem}")
+    res, t, n = _timed(lambda: solve_contact(d, torques), repeats, inp.long_s)
+    add(f"Lemke, {stations} stations, {default_fem}", res, t, n, scene="design, verify", series="FEM",
+        note="the whole stage: points, FEM influence coefficients, solves")
+    pts, comp = res.points, res.compliance
+    for solver, name in (("lemke", "Lemke"), ("active_set", "active-set QP")):
+        inp.step(f"contact: {name}, FEM reused")
+        out, t, n = _timed(lambda s=solver: solve_contact(d, torques, points=pts, compliance=comp, solver=s),
+                           repeats, inp.long_s)
+        add(f"{name}, FEM reused", out, t, n,
+            note="solves and ball settling only" + ("; the pipeline's cross-check" if solver == "active_set" else ""))
+    inp.step("contact: seed 000's naive LP, FEM reused")
+    try:
+        def naive():
+            return [solve_naive_lp(comp.matrix_mm_per_n, pts.theta_rad, pts.lever_mm, tq / pts.zones * 1e3)
+                    for tq in torques]
+
+        sols, t, n = _timed(naive, repeats, inp.long_s)
+        err, _ = errors([s.phi_rad for s in sols])
+        rows.append(_row("contact", "naive LP (seed 000), FEM reused", t, n, err, reference=ref_label,
+                         note="balls held; a phase-1 LP vertex, not a contact solution (DESIGN trap 4)"))
+    except ProfilegenError as exc:
+        log.warning("contact study: the naive LP left out: %s", exc)
+    inp.step("contact: Lemke, 3 stations")
+    out, t, n = _timed(lambda: solve_contact(d, torques, stations=3), repeats, inp.long_s)
+    add(f"Lemke, 3 stations, {default_fem}", out, t, n, series="stations")
+    unc = None
+    if not inp.quick:
+        for cols, tl in ((24, layers), (24, 6)):
+            inp.step(f"contact: FEM {cols} columns per pitch (FS and CS), {tl} tooth layers")
+            out, t, n = _timed(lambda c=cols, k=tl: solve_contact(d, torques, points=pts,
+                                                                  compliance=build(pts, c, k)), repeats, inp.long_s)
+            add(f"Lemke, {stations} stations, FEM {cols} col./pitch, {tl} layers", out, t, n, series="FEM")
+        unc = rows[-1]["error"]
+    _close(rows, "contact", ref_label, ref_time, unc,
+           "error = its own uncertainty: its change from the last mesh refinement (an upper estimate)"
+           if unc is not None else "uncertainty not estimated with --quick")
+    return rows
+
+
+def _stress(inp: _Inputs, repeats: int) -> list[dict]:
+    from profilegen.stress import solve_stress
+    from profilegen.stress.morley import clamp_sigma_r_mpa, richardson, solve_morley
+    from profilegen.stress.plate import cup_bottom_stress
+
+    inp.step("stress: the design scene's cup-bottom edge")
+    res = solve_stress(inp.design)
+    edge = res.cup_bottom[0].edge
+    cup, mat = inp.gearset.cup, inp.gearset.material
+    plate = dict(boss_radius_mm=cup.boss_radius_mm, thickness_mm=cup.bottom_thickness_mm,
+                 youngs_modulus_mpa=mat.youngs_modulus_mpa, poisson_ratio=mat.poisson_ratio)
+
+    pair = (48, 64) if inp.quick else (96, 128)
+    inp.step(f"stress reference: Morley plate, {pair[0]} and {pair[1]} radial divisions")
+    t0 = time.perf_counter()
+    coarse, fine = (solve_morley(edge, radial_divisions=nr, **plate) for nr in pair)
+    ref_time = time.perf_counter() - t0
+    sigma_ref = richardson(coarse, fine, "max_clamp_sigma_r_mpa")
+    unc = abs(sigma_ref - fine.max_clamp_sigma_r_mpa) / abs(sigma_ref) * 100.0
+    ref_label = f"Morley plate, Richardson {pair[0]}/{pair[1]} radial divisions"
+
+    def err(sigma):
+        return abs(sigma / sigma_ref - 1.0) * 100.0
+
+    rows = []
+    for model, scene in (("consistent", "sketch, design, verify"), ("seed002", "")):
+        inp.step(f"stress: {model} plate")
+        out, t, n = _timed(lambda m=model: cup_bottom_stress(edge, model=m, **plate), repeats, inp.long_s)
+        sigma = clamp_sigma_r_mpa(out.field, cup.boss_radius_mm)
+        note = (f"one plate solution; the whole stress stage (tooth ring, {len(res.cup_bottom) + 1} plate cases, "
+                f"diaphragm) took {res.time_s:.3g} s" if model == "consistent"
+                else "the paper's f(r)·w(φ) (DESIGN trap 5)")
+        rows.append(_row("stress", f"{model} plate", t, n, err(sigma), reference=ref_label, scene=scene, note=note))
+    for nr in (8, 16, 32) if inp.quick else (8, 16, 32, 64):
+        inp.step(f"stress: Morley plate, {nr} radial divisions")
+        sol, t, n = _timed(lambda k=nr: solve_morley(edge, radial_divisions=k, **plate), repeats, inp.long_s)
+        rows.append(_row("stress", f"Morley {nr} div", t, n, err(sol.max_clamp_sigma_r_mpa), reference=ref_label,
+                         series="Morley",
+                         note=f"{sol.radial_divisions}×{sol.angular_divisions} cells, {sol.dofs} dofs"))
+    _close(rows, "stress", ref_label, ref_time, unc,
+           "error = its own uncertainty: the Richardson step (an upper estimate)")
+    return rows
+
+
+_STUDIES = {"rim": _rim, "fit": _fit, "envelope": _envelope, "arcfit": _arcfit, "contact": _contact,
+            "stress": _stress}
+
+
+def stage_benchmark(gearset, *, quick: bool, repeats: int, progress=None, stages=STAGES,
+                    designs=None) -> list[dict]:
+    """One row per (stage, method or setting) — see the module docstring — with the keys of
+    :data:`FIELDS`: ``time_s`` (median of up to ``repeats`` runs of that stage alone),
+    ``error`` in ``error_unit`` (against ``reference``, of what ``error_measure`` says),
+    ``scene`` (the scenes that use this tier, "" if none), ``role`` ("scene tier", "option"
+    or "reference"), ``series`` (settings of one family, for the chart) and ``note``.
+
+    ``quick``: coarser references and no toothed-rim FEM (≈ 1 min on two cores instead of ≈ 5).
+    ``stages``: which studies to run (a subset of :data:`STAGES`). ``designs``: already
+    computed designs by scene name (``"design"``: the inputs of the envelope, arcfit, contact
+    and stress studies and the fit's samples; ``"verify"``: its toothed-rim solutions);
+    computed here when missing. ``progress(text)`` is called before each step.
+    """
+    import scipy.linalg  # noqa: F401 — scipy's own OpenBLAS must be loaded for the limit to reach it
+    from threadpoolctl import threadpool_limits
+
+    if not isinstance(quick, bool):
+        raise ValueError(f"quick = {quick!r}: must be True or False")
+    if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
+        raise ValueError(f"repeats = {repeats!r}: must be a whole number ≥ 1")
+    if isinstance(stages, str):
+        stages = (stages,)
+    unknown = [s for s in stages if s not in STAGES]
+    if unknown or not stages:
+        raise ValueError(f"stages = {stages!r}: each must be one of {', '.join(STAGES)}")
+    step = progress or (lambda text: None)
+    inp = _Inputs(gearset, designs, quick, step)
+    rows = []
+    with threadpool_limits(limits=1, user_api="blas"):
+        for stage in STAGES:
+            if stage not in stages:
+                continue
+            if stage in ("rim", "fit", "contact") and gearset.gear.waves != 2:
+                log.info("%s study skipped: its FEM needs gear.waves = 2, got %d", stage, gearset.gear.waves)
+                continue
+            t0 = time.perf_counter()
+            rows += _STUDIES[stage](inp, repeats)
+            log.info("%s study: %.1f s", stage, time.perf_counter() - t0)
+    return rows
+
+
 # --------------------------------------------------------------------------- output
 
 
