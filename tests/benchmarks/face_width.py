@@ -2,8 +2,9 @@
 
     python tests/benchmarks/face_width.py [--repeats N]
 
-1. The 3D cup pressed onto the default set's cam (``press_cup``, its defaults: 2 mm, 2 layers,
-   16 angles): its time (not part of the face stage's budget).
+1. The 3D cup pressed onto the default set's cam as the cup3d rim tier solves it
+   (``solve_rim(tier="cup3d")``: 2 mm, 2 layers, 16 angles, exact gap, geometrically nonlinear,
+   and its coarse companion): its time (not part of the face stage's budget).
 2. ``face_width`` without modification — five sections' envelopes (chord 1e-4 mm), the design
    section's choice, the clearance map (181 poses per section, the minimum refined) — median
    wall and CPU time of N runs (default 5), split into the envelopes and the maps (budget: 2 s;
@@ -36,7 +37,7 @@ sys.path.insert(0, str(ROOT))
 from profilegen.face import face_width, solve_modification  # noqa: E402
 from profilegen.gearset import load_gearset  # noqa: E402
 from profilegen.output.export import atomic_write  # noqa: E402
-from profilegen.rim.cup import press_cup  # noqa: E402
+from profilegen.rim.stage import solve_rim  # noqa: E402
 
 
 def _table(rows) -> str:
@@ -61,8 +62,9 @@ def main() -> None:
     csv_rows = []
     with threadpool_limits(limits=1, user_api="blas"):
         t0 = time.perf_counter()
-        cup = press_cup(gs)
-        print(f"1. press_cup (default set, 2 mm, 2 layers, 16 angles): {time.perf_counter() - t0:.2f} s")
+        rim = solve_rim(gs, tier="cup3d")
+        cup = rim.cup_contact
+        print(f"1. solve_rim(default set, tier cup3d: {rim.tier.label()}): {time.perf_counter() - t0:.2f} s")
 
         runs = []
         for _ in range(args.repeats):
