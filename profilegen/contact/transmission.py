@@ -54,6 +54,17 @@ ball loads move with the teeth) and would add to the ripple.
 
 Positions run in a process pool of ``workers`` (fork: the inputs are inherited, not
 pickled) when there are more than two; each position is independent.
+
+Accuracy and cost (default set, design scene, rated torque, 16 positions over a tooth
+passage, tests/benchmarks/transmission_error.py): 5 or 9 stations per flank, and a search
+depth of 0.12 or 0.2 mm, give the same error to 1e-4 arcsec (the loaded points are each
+tooth's refined closest points). The FE mesh is what moves it: 14 / 24 / 34 columns per
+FS pitch (16 / 28 / 40 per CS space, 4 / 4 / 6 tooth layers) give a peak-to-peak of 0.158
+/ 0.152 / 0.184 arcsec, the mean rotation 120.14 / 120.27 / 120.39 arcsec: a point load
+in the 2D mesh sees a compliance that depends on where it sits in its element, and the
+contact points slide along the flanks with ψ, so ~0.03 arcsec of the curve's detail is the
+mesh's. About 0.7 s CPU per position (0.3 s points, 0.35 s S, the solves ms): 11 s for 16,
+the same CPU in a pool of two.
 """
 
 from __future__ import annotations

@@ -11,6 +11,7 @@ positions in this process (the 16-position run and its timing: tests/benchmarks/
 transmission_error.py).
 """
 
+import json
 import math
 
 import numpy as np
@@ -63,6 +64,10 @@ def test_equilibrium_and_complementarity_at_every_position(inputs, right):
     k = right.torque_nm / (right.rotation_rad - right.first_contact_rad)
     np.testing.assert_allclose(right.stiffness_nm_per_rad, k)
     assert right.stiffness_ripple >= 1.0
+    out = json.loads(json.dumps(right.to_dict()))
+    assert out["psi_deg"] == pytest.approx(np.degrees(right.psi_rad).tolist())
+    assert out["peak_to_peak_arcsec"] == pytest.approx(right.peak_to_peak_arcsec)
+    assert len(out["error_arcsec"]) == 3
 
 
 def test_one_tooth_passage_repeats_with_the_teeth_relabelled(right):
