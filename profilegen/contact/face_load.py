@@ -52,17 +52,22 @@ What is neglected, and its bound
   λ > 0 couples them as a Pasternak foundation: the slices' compliance becomes
   N·(I + (λ/Δz)² L)⁻¹ ⊗ S (L the chain Laplacian of the slices with free ends, Δz = b/N),
   whose rows sum to N·S — an even load still gives the 2D solution — while a load that
-  varies along the face meets a stiffer structure. A *smooth* gap pattern (coning is
-  linear in z) therefore meets more resistance to the variation, not less, and the coupled
-  structure adds line loads at the face ends (the Pasternak edge term λ²·dw/dz): coupling
-  does not lower the end's peak below the independent slices' when the whole face is in
-  contact; it spreads a load that is concentrated on a few slices (a partly open face).
-  The benchmark (``tests/benchmarks/face_load.py``) brackets it with λ = the tooth height
-  (the tooth as a cantilever plate) and λ = √(r_m δ) (the rim as a cylindrical shell).
-* **The opposite flank.** One flank is modelled (as in the 2D contact). Where coning makes
-  the gap negative on the loaded flank it usually does on the other flank too (the tooth
-  moves radially into the CS space); that flank's preload, which would push back, is not
-  in the model, so the load on such slices is an upper bound.
+  varies along the face meets a stiffer structure. A smooth gap pattern (coning is nearly
+  linear in z) therefore needs a *larger* load variation to close, and the coupled structure
+  adds line loads at the face ends (the Pasternak edge term). Measured on seed000_csf40
+  (``tests/benchmarks/face_load.py``): at the rated torque the peak line load is 1.72× the
+  even spread's with independent slices, 1.77× with λ = the tooth height (1 mm), 5.8× with
+  λ = √(r_m δ) = 8.4 mm (the rim as a cylindrical shell, applied to the whole S, an upper
+  bound since the tooth's local compliance does not couple): the independent slices do not
+  overstate the concentration of a coning gap pattern, they understate it.
+* **The opposite flank.** :func:`solve_face` models one flank (as the 2D contact). Where
+  coning makes the gap negative on the loaded flank it does on the other flank too (the
+  tooth moves radially into the CS space). :func:`solve_two_flanks` / :func:`face_two_flanks`
+  solve both: the overlap then preloads both flanks at zero torque, and how much depends on
+  the radial support of the rim along the face, which the slices (each the design section on
+  its balls) do not model — on seed000_csf40 84–625 N·m per flank and zone for Hertz-spring
+  to rigid balls. The one-flank loads are the loaded flank's redistribution with that preload
+  left out.
 * **The cup's own radial compliance between slices.** A slice's compliance is the design
   section's (rim on the balls, per unit width); the cup wall's axial bending, which would
   let an overloaded slice's rim give way radially, is the coupling above.
@@ -72,6 +77,7 @@ What is neglected, and its bound
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -88,13 +94,17 @@ from ..results import json_ready, readonly as _readonly
 __all__ = [
     "FaceLoad",
     "FaceLoadError",
+    "TwoFlankFace",
     "cup_sections",
     "face_load",
+    "face_two_flanks",
     "gap_shift_mm",
     "semi_membrane_sections",
     "slice_coupling",
     "slice_positions",
     "solve_face",
+    "solve_two_flanks",
+    "two_flank_sides",
 ]
 
 log = logging.getLogger(__name__)
@@ -421,3 +431,195 @@ def face_load(inputs, torque_nm: float, *, slices: int = 8, cup=None, coning: st
         shifts = np.array([gap_shift_mm(pts, motion, sec, secs[0]) for sec in secs[1:]])
     return solve_face(pts, settled.matrix_mm_per_n, shifts, torque_nm, coupling_length_mm=coupling_length_mm,
                       face_width_mm=b, z_mm=z)
+
+
+# --------------------------------------------------------------------------- both flanks
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class TwoFlankFace:
+    """Both flanks across the face at one signed torque (mm, N, rad).
+
+    ``rotation_rad``: φ of the FS against the CS in the package's angle sense (+y toward +x);
+    ``force_n`` (N, n): per slice and point (the points of both flanks); ``sense`` (n,): +1
+    for points loaded by a positive rotation, −1 for the others; ``gap_mm`` (N, n): the gaps
+    after load; residuals as the contact solvers define them."""
+
+    torque_nm: float
+    rotation_rad: float
+    force_n: np.ndarray
+    sense: np.ndarray
+    lever_mm: np.ndarray
+    gap_mm: np.ndarray
+    equilibrium_residual: float
+    complementarity_residual: float
+    iterations: int
+    warnings: tuple[str, ...] = field(default=())
+
+    def __post_init__(self):
+        for name in ("force_n", "sense", "lever_mm", "gap_mm"):
+            object.__setattr__(self, name, _readonly(getattr(self, name)))
+
+    @property
+    def flank_torque_nm(self) -> tuple[float, float]:
+        """The zone torque carried by the positive-sense and by the negative-sense flank (N·m,
+        both ≥ 0; their difference is the zone's T/U, their smaller one the preload)."""
+        m = (self.force_n * self.lever_mm[None, :]).sum(axis=0) * 1e-3
+        return float(m[self.sense > 0].sum()), float(m[self.sense < 0].sum())
+
+
+def solve_two_flanks(gap_mm, lever_mm, sense, compliance_mm_per_n, gap_shift, torque_nm: float, *,
+                     zones: int) -> TwoFlankFace:
+    """The contact of both flanks of a zone across the face at a signed gear torque (N·m).
+
+    Points of both flanks in one list: initial separations ``gap_mm`` e_k (mm, any sign after
+    ``gap_shift`` (N, n) is added: a negative one is an overlap at no load, i.e. preload),
+    lever arms ``lever_mm`` r_k > 0 about the centre in the sense that loads each point,
+    ``sense`` s_k = ±1 that sense in the package's angle; ``compliance_mm_per_n`` S (n × n) of
+    all the points for the whole face (S_2D/b), each of the N slices N·S, independent.
+    Gaps g_ki = e_k + Δe_ki − s_k r_k φ + N (S F_i)_k ≥ 0, F ≥ 0, F·g = 0, Σ s_k r_k F_ki = T/U.
+
+    The Lemke form of :mod:`~profilegen.contact.solvers` needs every lever in one sense; here
+    the two flanks pull φ both ways. For a fixed φ each slice is the bound-constrained convex
+    QP min ½ Fᵀ(N S)F + cᵀF, F ≥ 0 (c = e + Δe − s r φ), solved exactly as the non-negative
+    least-squares problem min |Lᵀ F + L⁻¹ c| (N S = L Lᵀ; Lawson–Hanson, scipy's ``nnls``).
+    Its moment Σ s r F(φ) is non-decreasing and continuous in φ (φ is the multiplier of the
+    torque constraint of the joint QP, whose dual is concave), so the φ that carries T is found
+    by Brent's method to 1e-14 rad. With no preload and |T| → 0 the root is anywhere in the
+    free play; a caller wanting the first contact passes a tiny torque of the sign wanted."""
+    from scipy.linalg import LinAlgError, cholesky, solve_triangular
+    from scipy.optimize import brentq, nnls
+
+    e = np.asarray(gap_mm, dtype=float)
+    r = np.asarray(lever_mm, dtype=float)
+    sg = np.asarray(sense, dtype=float)
+    n = e.size
+    if r.shape != (n,) or sg.shape != (n,) or np.any(r <= 0.0) or not np.all(np.isin(sg, (-1.0, 1.0))):
+        raise FaceLoadError(f"lever_mm, sense: must be {n} lever arms > 0 (mm) and {n} signs ±1")
+    s = np.asarray(compliance_mm_per_n, dtype=float)
+    if s.shape != (n, n):
+        raise FaceLoadError(f"compliance_mm_per_n: shape {s.shape} does not match the {n} contact points")
+    de = np.atleast_2d(np.asarray(gap_shift, dtype=float))
+    if de.ndim != 2 or de.shape[1] != n or not np.all(np.isfinite(de)):
+        raise FaceLoadError(f"gap_shift: shape {de.shape} must be (slices, {n}) finite mm")
+    torque = _number("torque_nm", torque_nm, "N·m")
+    u = _whole("zones", zones, 1)
+    n_s = de.shape[0]
+    tz = torque / u * 1e3
+    scale = float(np.mean(np.diag(s))) * n_s
+    try:
+        low = cholesky(n_s * s / scale, lower=True)
+    except LinAlgError as exc:
+        raise FaceLoadError("compliance_mm_per_n: not positive definite") from exc
+    sr = sg * r
+    count = [0]
+
+    def forces(phi):
+        count[0] += 1
+        c = (e[None, :] + de - sr[None, :] * phi) / scale
+        out = np.empty((n_s, n))
+        for i in range(n_s):
+            out[i] = nnls(low.T, -solve_triangular(low, c[i], lower=True), maxiter=50 * n)[0]
+        return out
+
+    def excess(phi):
+        return float((forces(phi) * sr[None, :]).sum()) - tz
+
+    # bracket: the rigid closure of the extreme gaps, widened until the moment changes sign
+    reach = float(np.max(np.abs(e[None, :] + de) / r[None, :])) + 1e-6
+    lo, hi = -reach, reach
+    f_lo, f_hi = excess(lo), excess(hi)
+    for _ in range(60):
+        if f_lo <= 0.0 <= f_hi:
+            break
+        if f_lo > 0.0:
+            lo = 2.0 * lo - hi
+            f_lo = excess(lo)
+        if f_hi < 0.0:
+            hi = 2.0 * hi - lo
+            f_hi = excess(hi)
+    else:
+        raise FaceLoadError(f"torque_nm = {torque!r} N·m: no rotation carries it (the moment stays one-signed)")
+    if f_lo == 0.0:
+        phi = lo
+    elif f_hi == 0.0:
+        phi = hi
+    else:
+        phi = brentq(excess, lo, hi, xtol=1e-15, rtol=1e-14, maxiter=200)
+    f = forces(phi)
+    gap = e[None, :] + de - sr[None, :] * phi + (n_s * (f @ s))  # S symmetric: (N S F_i)_k
+    carried = float(np.abs(f * r[None, :]).sum())  # both flanks' moments: the scale when T ≈ 0 (preload)
+    scale_t = max(abs(tz), carried, 1e-300)
+    return TwoFlankFace(torque, float(phi), f, sg, r, gap, abs(float((f * sr[None, :]).sum()) - tz) / scale_t,
+                        float(np.max(np.abs(f * gap))) / (scale_t * (abs(phi) + 1e-6)), count[0])
+
+
+def two_flank_sides(inputs, *, stations: int = 5, max_gap_mm: float = 0.12) -> tuple:
+    """(points of the positive-sense flank, points of the other, one
+    :class:`~profilegen.contact.compliance.ContactCompliance` of both lists together) for a
+    design or :class:`~profilegen.contact.inputs.ContactInput`: the two flanks share the FS and
+    CS bodies, so their points are coupled through S."""
+    from .compliance import ContactCompliance
+    from .inputs import ContactInput
+    from .points import contact_points
+
+    inputs = ContactInput.from_design(inputs, name="inputs")
+    a, b = (contact_points(inputs, side=s, stations=stations, max_gap_mm=max_gap_mm) for s in (1, -1))
+    pos, neg = (a, b) if a.rotation > 0 else (b, a)
+    comp = ContactCompliance.build(inputs, np.r_[pos.fs_point_mm, neg.fs_point_mm], np.r_[pos.normal, neg.normal],
+                                   np.r_[pos.tooth, neg.tooth], np.r_[pos.cs_point_mm, neg.cs_point_mm])
+    return pos, neg, comp
+
+
+def face_two_flanks(inputs, torque_nm: float, *, slices: int = 8, coning: str = "cup", cup=None,
+                    sides: tuple | None = None, settle_iterations: int = 20) -> TwoFlankFace:
+    """Both flanks across the face of a design at a signed torque (N·m): the slices of
+    :func:`face_load` (``coning`` "cup", "semi_membrane" or "none"), both flanks' points
+    (``sides`` from :func:`two_flank_sides`, else built), the balls settled on the whole
+    face's forces with this solve (seed 000's loop) and held. Where coning makes the flanks
+    overlap at no load, both carry load at zero torque (:attr:`TwoFlankFace.flank_torque_nm`)."""
+    from .inputs import ContactInput
+
+    inputs = ContactInput.from_design(inputs, name="inputs")
+    gs = inputs.gearset
+    if gs.cup is None:
+        raise FaceLoadError("inputs.gearset.cup: the cup is needed for the face width and the design section")
+    checks.choice("coning", coning, ("cup", "semi_membrane", "none"), error=FaceLoadError)
+    pos, neg, comp = two_flank_sides(inputs) if sides is None else sides
+    b, z0 = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
+    z = slice_positions(b, slices, z0)
+    n = pos.count + neg.count
+    if coning == "none":
+        shifts = np.zeros((z.size, n))
+    else:
+        motion = inputs.motion
+        if coning == "cup":
+            if cup is None:
+                from ..rim.cup.contact import press_cup
+
+                cup = press_cup(gs)
+            secs = cup_sections(cup, np.r_[z0, z])
+        else:
+            secs = [motion.deformation] + semi_membrane_sections(motion.deformation, z, z0)
+        shifts = np.array([np.r_[gap_shift_mm(pos, motion, sec, secs[0]), gap_shift_mm(neg, motion, sec, secs[0])]
+                           for sec in secs[1:]])
+    gap = np.r_[pos.gap_mm, neg.gap_mm]
+    lever = np.r_[pos.lever_mm, neg.lever_mm]
+    sense = np.r_[np.ones(pos.count), -np.ones(neg.count)]
+    zones = int(pos.zones)
+
+    def solve(matrix):
+        return solve_two_flanks(gap, lever, sense, matrix, shifts, torque_nm, zones=zones)
+
+    from ..errors import ConvergenceError
+
+    first = solve(comp.matrix_mm_per_n)
+    try:
+        settled = comp.settle_balls(first.force_n.sum(axis=0), max_iterations=settle_iterations,
+                                    solve=lambda m: solve(m).force_n.sum(axis=0))
+    except ConvergenceError as exc:
+        # with both flanks preloaded the ball reactions are small differences of large tooth forces, and seed
+        # 000's one-ball-at-a-time loop can cycle: keep every ball (rigid supports all round), say so
+        log.warning("face_two_flanks at %g N·m: %s; every ball kept", torque_nm, exc)
+        return dataclasses.replace(first, warnings=(f"ball settling did not converge ({exc}); every ball kept",))
+    return first if settled is comp else solve(settled.matrix_mm_per_n)

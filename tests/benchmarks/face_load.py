@@ -12,7 +12,13 @@ even spread, the peak line load of one tooth in one slice against max F_2D / b, 
 mesh's rotation — the secant from the design's first contact and the chord between 54 and
 196 N·m (the catalogue's K2 interval), with and without coning; slices 4 / 8 / 16 at the rated
 torque; the slices coupled (Pasternak) with λ = the tooth height and λ = √(r_m δ) (the rim as a
-cylindrical shell) to bracket what the independent slices leave out. CPU times per solve.
+cylindrical shell) to bracket what the independent slices leave out. Then both flanks
+(profilegen.contact.face_load.face_two_flanks: where coning makes the flanks overlap at no
+load the one-flank model lets the FS back off freely, both flanks do not), every ball active,
+rigid or as a Hertz spring (its secant at 2000 and 500 N): the torque each flank carries at
+zero and the rated torque (the preload), the + flank's line load per slice, K1 = T1/(φ(T1) −
+φ(0⁺)), K2 = (T2 − T1)/(φ(T2) − φ(T1)), the lost motion φ(+3 %) − φ(−3 %), with and without
+coning. CPU times.
 """
 
 from __future__ import annotations
@@ -32,7 +38,7 @@ from threadpoolctl import threadpool_limits  # noqa: E402
 import profilegen as pg  # noqa: E402
 from profilegen.contact.analysis import solve_contact  # noqa: E402
 from profilegen.contact.face_load import (  # noqa: E402
-    cup_sections, gap_shift_mm, semi_membrane_sections, slice_positions, solve_face)
+    cup_sections, gap_shift_mm, semi_membrane_sections, slice_positions, solve_face, two_flank_sides)
 from profilegen.contact.inputs import ContactInput  # noqa: E402
 from profilegen.rim.cup.contact import press_cup  # noqa: E402
 
@@ -127,5 +133,61 @@ def main(path: Path) -> None:
                     f" (x{fl.peak_ratio:.2f}); φ − θ0 = {(fl.rotation_rad - theta0) * 1e6:.2f} µrad; {cpu:.2f} s CPU")
 
 
+def two_flanks(path: Path) -> None:
+    from profilegen.contact.chain import BallBearing
+    from profilegen.contact.face_load import solve_two_flanks
+
+    gs = pg.load_gearset(path)
+    design = pg.design(gs, scene="design", contact=False, stress=False)
+    inp = ContactInput.from_design(design)
+    cup = press_cup(gs)
+    b, z0 = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
+    rated = float(gs.torque.rated_nm)
+    small = 1e-6
+    torques = (small, -small, 0.03 * rated, -0.03 * rated, 54.0, 196.0, rated)
+    bearing = BallBearing.from_gearset(gs)
+    with threadpool_limits(limits=1, user_api="blas"):
+        t0 = time.process_time()
+        pos, neg, comp = two_flank_sides(inp)
+        print(f"\n=== both flanks, {gs.name}: {pos.count} + {neg.count} points, one compliance "
+              f"({time.process_time() - t0:.1f} s CPU); every ball active")
+        z = slice_positions(b, 8, z0)
+        secs = cup_sections(cup, np.r_[z0, z])
+        cone = np.array([np.r_[gap_shift_mm(pos, inp.motion, sec, secs[0]), gap_shift_mm(neg, inp.motion, sec, secs[0])]
+                         for sec in secs[1:]])
+        gap = np.r_[pos.gap_mm, neg.gap_mm]
+        lever = np.r_[pos.lever_mm, neg.lever_mm]
+        sense = np.r_[np.ones(pos.count), -np.ones(neg.count)]
+        supports = {"rigid balls": None}
+        for q in (2000.0, 500.0):
+            supports[f"Hertz balls (secant at {q:g} N)"] = float(bearing.secant_compliance_mm_per_n(q))
+        for support, c in supports.items():
+            matrix = comp.with_balls(np.ones_like(comp.ball_active), ball_compliance_mm_per_n=c).matrix_mm_per_n
+            for coning, shifts in (("none", np.zeros_like(cone)), ("cup", cone)):
+                phi = {}
+                t0 = time.process_time()
+                for t in torques:
+                    r = solve_two_flanks(gap, lever, sense, matrix, shifts, t, zones=pos.zones)
+                    phi[t] = r.rotation_rad
+                    if t in (small, rated):
+                        fp, fn = r.flank_torque_nm
+                        loaded = r.force_n[:, :pos.count]
+                        line = loaded.sum(axis=1) / (b / 8)
+                        per_tooth = np.array([np.bincount(np.searchsorted(np.unique(pos.tooth), pos.tooth), weights=row)
+                                              for row in loaded])
+                        print(f"  {support:28s} {coning:4s} T = {t:7.3g}: zone torque on the + / − flank {fp:7.2f} / "
+                              f"{fn:7.2f} N·m; + flank per slice (N/mm) " + " ".join(f"{v:6.1f}" for v in line)
+                              + f"; peak tooth line load {per_tooth.max() / (b / 8):6.2f} N/mm; eq "
+                              f"{r.equilibrium_residual:.0e} compl {r.complementarity_residual:.0e}")
+                k1 = 54.0 / (phi[54.0] - phi[small])
+                k2 = (196.0 - 54.0) / (phi[196.0] - phi[54.0])
+                lm = (phi[0.03 * rated] - phi[-0.03 * rated]) * 180 * 60 / math.pi
+                print(f"{support:30s} {coning:4s}: mesh K1 {k1:.4g}, K2 {k2:.4g} N·m/rad; lost motion at ±{0.03 * rated:.3g}"
+                      f" N·m {lm:.4f} arcmin; free play {(phi[small] - phi[-small]) * 1e6:.4f} µrad "
+                      f"({time.process_time() - t0:.1f} s CPU, {len(torques)} torques)")
+
+
 if __name__ == "__main__":
-    main(Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "profiles" / "seed000_csf40.toml")
+    target = Path(sys.argv[1]) if len(sys.argv) > 1 else ROOT / "profiles" / "seed000_csf40.toml"
+    main(target)
+    two_flanks(target)

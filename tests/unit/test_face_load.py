@@ -215,3 +215,36 @@ def test_cs_ring_of_a_gearset_root_section_is_stiffer_than_the_sector_part():
     assert root.outer_radius_mm == sector.outer_radius_mm and root.second_moment_mm4 > 3 * sector.second_moment_mm4
     with pytest.raises(CSRingError, match="inner"):
         CSRing.from_gearset(gs, inner="bore")
+
+
+def test_two_flanks_one_point_each_by_hand():
+    # both flanks overlap by δ at no load (preload): g± = −δ ∓ rφ + s F± = 0 while both carry load, so
+    # F+ + F− = 2δ/s, F+ − F− = T/r, φ = (s F+ − δ)/r
+    from profilegen.contact.face_load import solve_two_flanks
+
+    s, r, delta = 2e-7, 45.0, 3e-5
+    for t_zone_nmm in (0.0, 5e3, -5e3):
+        res = solve_two_flanks([-delta, -delta], [r, r], [1, -1], np.diag([s, s]), np.zeros((1, 2)),
+                               t_zone_nmm * 1e-3, zones=1)
+        fp = 0.5 * (2 * delta / s + t_zone_nmm / r)
+        np.testing.assert_allclose(res.force_n[0], [fp, 2 * delta / s - fp], rtol=1e-9)
+        assert res.rotation_rad == pytest.approx((s * fp - delta) / r, rel=1e-8, abs=1e-15)
+        assert res.equilibrium_residual < 1e-9
+    p, m = res.flank_torque_nm
+    assert p - m == pytest.approx(-5.0, rel=1e-9)
+
+
+def test_two_flanks_reduce_to_the_one_flank_solve_when_the_other_stays_open():
+    from profilegen.contact.face_load import solve_two_flanks
+
+    pts, s = _problem(n=6, seed=7)
+    # a second flank 0.1 mm away cannot touch at this torque: the loaded flank's Lemke solution
+    gap = np.r_[pts.gap_mm, np.full(6, 0.1)]
+    big = np.block([[s, 0.3 * s], [0.3 * s, s]])
+    res = solve_two_flanks(gap, np.r_[pts.lever_mm, pts.lever_mm], np.r_[np.ones(6), -np.ones(6)], big,
+                           np.zeros((3, 12)), 60.0, zones=2)
+    ref = solve_lemke(s, pts.gap_mm / pts.lever_mm, pts.lever_mm, 30.0e3)
+    np.testing.assert_allclose(res.force_n[:, :6].sum(axis=0), ref.force_n, rtol=1e-7, atol=1e-7 * ref.force_n.max())
+    assert np.all(res.force_n[:, 6:] == 0.0)
+    assert res.rotation_rad == pytest.approx(float(ref.phi_rad), rel=1e-9)
+    assert res.complementarity_residual < 1e-9
