@@ -33,7 +33,7 @@ sys.path.insert(0, str(ROOT))
 import profilegen as pg  # noqa: E402
 from profilegen.contact.chain import (  # noqa: E402
     ARCMIN_PER_RAD, CATALOGUE_SIZE40_RATIO50, compliance_chain, cup_torsion_fem, curve_torques_nm,
-    torsional_curve)
+    torsional_curve, whole_gear_curve)
 
 TORQUES_NM = [-1200, -660, -265, -196, -100, -54, -8, 8, 54, 100, 196, 265, 660, 1200]
 SETS = [ROOT / "profiles" / "seed000_csf40.toml", Path(pg.default_gearset_path())]
@@ -133,6 +133,22 @@ def run(path: Path) -> None:
           f"continuation {statistics.median(times['continuation']):.3f} s CPU (median of 5), reference (Lemke "
           f"from scratch) {statistics.median(times['lemke']):.2f} s CPU (median of 3); one torque + the breakpoints "
           f"{one:.3f} s")
+    # what the curve adds to the contact stage: the stage's own solve (right flank built, rated/peak/
+    # momentary) against whole_gear_curve with that flank reused (the left flank built, the curve)
+    from profilegen.contact import ContactInput
+    from profilegen.contact.analysis import solve_contact
+
+    stage = {"contact": [], "curve": []}
+    for _ in range(3):
+        t0 = time.process_time()
+        contact = solve_contact(ContactInput.from_design(design), [gs.torque.rated_nm, gs.torque.peak_nm,
+                                                                   gs.torque.momentary_nm])
+        stage["contact"].append(time.process_time() - t0)
+        t0 = time.process_time()
+        whole_gear_curve(design, contact)
+        stage["curve"].append(time.process_time() - t0)
+    print(f"contact stage: its solve {statistics.median(stage['contact']):.2f} s CPU, the whole-gear curve added "
+          f"(left flank built, {len(many)} torques) {statistics.median(stage['curve']):.2f} s CPU (medians of 3)")
     print("continuation vs reference, max relative difference: " + ", ".join(f"{k} {v:.1e}" for k, v in diff.items())
           + f" (springs' tolerance 1e-5); teeth in contact equal: "
           f"{bool((fast.teeth_in_contact == ref.teeth_in_contact).all())}")
