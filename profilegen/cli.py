@@ -53,12 +53,18 @@ def _cmd_design(args) -> int:
         scene = with_rim_tier(resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene), args.rim)
     stages = planned_stages(gearset, scene=scene, contact=args.contact) + ("files",)
     bar = _progress(len(stages), quiet=args.quiet, what=f"design {gearset.name}")
+    # the PNG figures: the scene's choice (the sketch scene draws none), or --figures
+    draw = True if args.figures else None
+    if draw is None:
+        from .scenes import resolve_scene
+
+        draw = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene).figures != "none"
     # the figure workers start now: they import matplotlib and draw the profile's figures while the stages run
-    with figure_workers() as figures:
+    with figure_workers(draw=draw) as figures:
         result = design(gearset, scene=scene, fit_method=args.fit, progress=lambda name: bar(name),
-                        contact=args.contact, on_profile=lambda partial: profile_figures(figures, partial))
+                        contact=args.contact, on_profile=lambda partial: profile_figures(figures, partial, draw=draw))
         bar("files")
-        written = write_design(result, out, figures=figures, step=args.step)
+        written = write_design(result, out, figures=figures, step=args.step, draw=draw)
     bar(None)
     if not args.quiet:
         _summary(result, written)
@@ -362,6 +368,8 @@ def _parser() -> argparse.ArgumentParser:
                    "prints its one line on stderr)")
     d.add_argument("--step", action="store_true", help="also write circular_spline.step and flexspline.step "
                    "(B-rep solids, mm; adds some seconds)")
+    d.add_argument("--figures", action="store_true", help="draw the PNG figures (envelope.png, stress.png, the "
+                   "reports' pictures) even where the scene draws none (the sketch scene: figures = \"none\")")
     d.set_defaults(func=_cmd_design)
     c = sub.add_parser("check", help="validate gear-set files and print every problem")
     c.add_argument("gearsets", nargs="+", help="gear-set TOML files or bundled names")

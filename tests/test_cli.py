@@ -179,7 +179,7 @@ def test_design_with_contact_writes_the_loaded_contact(tmp_path):
     """`profilegen design --contact`: the loaded contact at the set's rated, peak and
     momentary torques — contact.json, contact.png, a `contact` stage and headline figures."""
     out = tmp_path / "c"
-    assert main(["design", "--scene", "sketch", "--contact", "--out", str(out), "-q"]) == 0
+    assert main(["design", "--scene", "sketch", "--contact", "--figures", "--out", str(out), "-q"]) == 0
     data = json.loads((out / "design.json").read_text())
     gs = data["gearset"]["torque"]
     head = data["contact"]

@@ -35,30 +35,33 @@ OUTPUT_FILES = frozenset({
 })
 
 
-def figure_workers(workers: int | None = None):
+def figure_workers(workers: int | None = None, *, draw: bool = True):
     """Figure workers for one design run, started now (a context manager): open them before
     :func:`profilegen.pipeline.design`, hand them the design once it has its profile
     (``design(..., on_profile=lambda d: profile_figures(figures, d))``), and pass them to
     :func:`write_design` — the figures are then drawn while the contact and stresses are
-    computed. ``workers``: see :func:`profilegen.output.report.rendering`."""
+    computed. ``workers``: see :func:`profilegen.output.report.rendering`; ``draw``: false for
+    a run without PNG figures (the workers then make report.html's pieces without importing
+    matplotlib)."""
     from . import report
 
-    figures = report.FigureWorkers(workers)
+    figures = report.FigureWorkers(workers, matplotlib=draw)
     figures.submit(report.SEED_TABLES_JOB)  # needs no design: the workers fork and start on it now
     return figures
 
 
-def profile_figures(figures, design: Design) -> None:
+def profile_figures(figures, design: Design, *, draw: bool | None = None) -> None:
     """Hand the figures of a design that has its CS profile to ``figures`` (the PNGs of its
-    envelope, fit and rim, and report.html's zoomable CS figure)."""
+    envelope, fit and rim, and report.html's zoomable CS figure). ``draw``: see :func:`write_design`."""
     from . import report
 
-    figures.submit(report.png_jobs(design))
+    if _draws(design, draw):
+        figures.submit(report.png_jobs(design))
     figures.submit(report.report_pieces(design))
 
 
 def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True, figures=None,
-                 step: bool = False) -> list[Path]:
+                 step: bool = False, draw: bool | None = None) -> list[Path]:
     """Write every output file of a design into out_dir (see the README, "Outputs"); returns their paths.
 
     The folder changes as a whole (:mod:`profilegen.output.folder`): the files are written into a
@@ -72,16 +75,27 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
     ``out_dir`` must be absent or hold only profilegen's files: a folder with anything else in it
     (a user's notes, a subfolder, ``--out .`` in a project folder) raises an ExportError naming the
     folder and one such entry, and nothing is changed. Every failure is an ExportError naming the path.
+
+    ``draw``: the PNG figures (``envelope.png``, ``contact.png``, ``stress.png`` and the reports'
+    pictures); None: the scene's ``figures`` key (``"none"`` in the sketch scene: the reports are
+    written without pictures, each replaced by a line saying how to draw it). ``figure=False``
+    writes neither figures nor reports.
     """
     from . import folder
 
     with folder.replacing(out_dir, ours=OUTPUT_FILES) as staging:
-        names = _write_files(result, staging, figure=figure, figures=figures, step=step)
+        names = _write_files(result, staging, figure=figure, figures=figures, step=step, draw=draw)
     out = Path(out_dir)
     return [out / name for name in names]
 
 
-def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, step: bool = False) -> list[str]:
+def _draws(result: Design, draw: bool | None) -> bool:
+    """Whether a run draws the PNG figures: ``draw``, or the scene's ``figures`` key."""
+    return bool(draw) if draw is not None else getattr(result.scene, "figures", "all") != "none"
+
+
+def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, step: bool = False,
+                 draw: bool | None = None) -> list[str]:
     """Write the design's files into the empty folder ``staging``, design.json last; their names, sorted.
 
     With ``figure`` the pictures are drawn first thing, in worker processes where two CPUs are
@@ -90,9 +104,10 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
     from . import cad, drawing, export, flexspline, report
 
     pieces = report.html_jobs(result) if figure else {}  # last: while the workers draw, collect() makes them here
-    jobs = {**report.png_jobs(result), **pieces} if figure else {}
+    draw = figure and _draws(result, draw)
+    jobs = {**(report.png_jobs(result) if draw else {}), **pieces} if figure else {}
     own = figures is None or not figure
-    workers = report.FigureWorkers(min(report._default_workers(), len(jobs))) if own else figures
+    workers = report.FigureWorkers(min(report._default_workers(), len(jobs)), matplotlib=draw) if own else figures
     with workers if own else contextlib.nullcontext(workers):
         workers.submit(jobs)
         export.write_envelope_csv(staging / "envelope.csv", result.envelope)
@@ -128,17 +143,22 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
                                                         **result.stress.to_dict()})
         if figure:
             images = workers.collect(jobs, steal=tuple(pieces))
+            if not draw:  # no PNG: each picture's place in the reports says how to draw it
+                images = report.NoFigures(images)
             for name in ("envelope", "contact", "torsional", "stress", "face"):
                 if name in images:
                     with export.atomic_write(staging / f"{name}.png", "wb") as f:
                         f.write(images[name])
             html = report.fit_report_html(result, prof.fits, chosen=prof.method, clearance=prof.clearance,
                                           positions=prof.positions, images=images)
+            if not draw:
+                html = report.without_figures(html, result.scene.name)
             with export.atomic_write(staging / "fit_report.html", "w") as f:
                 f.write(html)
             if result.stress is not None:
                 with export.atomic_write(staging / "report.html", "w") as f:
-                    f.write(report.design_report_html(result, images=images))
+                    page = report.design_report_html(result, images=images)
+                    f.write(page if draw else report.without_figures(page, result.scene.name))
     names = sorted({p.name for p in staging.iterdir()} | {"design.json"})
     unknown = sorted(set(names) - OUTPUT_FILES)
     if unknown:  # a new output file must be named in OUTPUT_FILES, or the next run would refuse the folder

@@ -683,6 +683,34 @@ def png_jobs(design) -> dict[str, tuple[Callable[..., bytes], tuple]]:
 #: The seed papers' tables of report.html: one job, the same for every design.
 SEED_TABLES_JOB = {"seed_tables": (_seed_tables, ())}
 
+#: The HTML pieces of :func:`report_pieces` (not pictures: made in every run).
+_HTML_PIECES = ("seed_tables", "cs_figure")
+
+
+class NoFigures(dict):
+    """``images`` for reports without the PNG figures (a scene with ``figures = "none"``): the
+    HTML pieces made already, and an empty PNG for every picture, whose ``<img>`` tag
+    :func:`without_figures` turns into a line saying how to draw it."""
+
+    def __bool__(self) -> bool:
+        return True
+
+    def get(self, key, default=None):
+        if key in self or key in _HTML_PIECES:
+            return super().get(key, default)
+        return b""
+
+
+def without_figures(page: str, scene: str) -> str:
+    """``page`` (made with :class:`NoFigures`) with each picture's empty tag replaced by a line
+    saying that this run drew no figures and how to draw them."""
+    import re
+
+    how = (f"not drawn: the <b>{html.escape(scene)}</b> scene draws no figures (<code>figures = \"none\"</code>); "
+           f"<code>profilegen design --scene {html.escape(scene)} --figures</code> draws them")
+    return re.sub(r'<img src="data:image/png;base64," alt="([^"]*)">',
+                  lambda m: f'<p class="skip">Figure ({m.group(1)}) {how}.</p>', page)
+
 
 def html_jobs(design) -> dict[str, tuple[Callable[..., str], tuple]]:
     """The pieces of ``report.html`` that take time, as jobs for :func:`rendering` beside the PNGs:
@@ -767,26 +795,30 @@ def _die_with(parent: int) -> None:
         os._exit(1)
 
 
-def _init_worker(parent: int) -> None:
+def _init_worker(parent: int, matplotlib: bool = True) -> None:
     """A figure worker: ignores SIGINT (a Ctrl-C reaches the whole process group; the parent
     decides and ends the workers), dies on SIGTERM and with its parent, and imports matplotlib
-    while the parent writes its other files."""
+    while the parent writes its other files (unless ``matplotlib`` is false: a run that draws
+    no PNG figures)."""
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_DFL)
     if hasattr(signal, "pthread_sigmask"):
         signal.pthread_sigmask(signal.SIG_UNBLOCK, _STOP_SIGNALS)
     _die_with(parent)
+    if not matplotlib:
+        return
     import matplotlib.backends.backend_agg  # noqa: F401
     import matplotlib.figure  # noqa: F401
 
 
-def _pool(workers: int):
+def _pool(workers: int, matplotlib: bool = True):
     """A fork-based process pool of ``workers`` figure workers (ValueError where fork is not available)."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
     ctx = multiprocessing.get_context("fork")  # a fork shares the loaded modules; spawn would re-import all
-    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker, initargs=(os.getpid(),))
+    return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
+                               initargs=(os.getpid(), matplotlib))
 
 
 class FigureWorkers:
@@ -805,10 +837,12 @@ class FigureWorkers:
     exception (a Ctrl-C included) ends them at once; a run killed outright takes them with it
     (Linux: PR_SET_PDEATHSIG).
 
-    ``workers``: see :func:`rendering`; the pool forks all its workers at the first ``submit``."""
+    ``workers``: see :func:`rendering`; the pool forks all its workers at the first ``submit``.
+    ``matplotlib``: the workers import it as they start (false: a run without PNG figures)."""
 
-    def __init__(self, workers: int | None = None):
+    def __init__(self, workers: int | None = None, *, matplotlib: bool = True):
         self.workers = _default_workers() if workers is None else int(workers)
+        self._matplotlib = bool(matplotlib)
         self._executor = None
         self._futures: dict[str, object] = {}
         self._jobs: dict[str, tuple[Callable, tuple]] = {}
@@ -836,7 +870,7 @@ class FigureWorkers:
         try:
             with _signals_blocked():  # the workers fork here and start with SIGINT/SIGTERM blocked
                 if self._executor is None:
-                    self._executor = _pool(self.workers)
+                    self._executor = _pool(self.workers, self._matplotlib)
                 return self._executor.submit(func, *args)
         except Exception as exc:  # noqa: BLE001 - no fork, a daemonic process, no resources, a broken pool: draw here
             log.info("figures drawn in this process: no worker pool (%s: %s)", type(exc).__name__, exc)

@@ -135,7 +135,7 @@ def test_reports_embed_the_files_pictures(sketch, tmp_path, monkeypatch, workers
     fit report's profile and error pictures are the design report's; with and without workers."""
     monkeypatch.setenv(report.WORKERS_ENV, workers)
     out = tmp_path / "out"
-    pg.write_design(sketch, out)
+    pg.write_design(sketch, out, draw=True)  # the sketch scene draws no figures unless asked
     page = _embedded((out / "report.html").read_text(encoding="utf-8"))
     fit = _embedded((out / "fit_report.html").read_text(encoding="utf-8"))
     assert len(fit) == 3  # error, profile, clearance (no FEM rim in the sketch scene)
@@ -206,14 +206,14 @@ def test_figures_handed_over_during_the_stages_are_the_files_figures(tmp_path, m
 
     def early(partial):
         seen.append((partial.contact, partial.stress, partial.profile is not None))
-        profile_figures(figures, partial)
+        profile_figures(figures, partial, draw=True)
 
     with figure_workers(2) as figures:
         result = pg.design(gs, scene="sketch", on_profile=early)
-        pg.write_design(result, tmp_path / "early", figures=figures)
+        pg.write_design(result, tmp_path / "early", figures=figures, draw=True)
     assert seen == [(None, None, True)] and result.stress is not None  # once: with the profile, before the stresses
     monkeypatch.setenv(report.WORKERS_ENV, "0")
-    pg.write_design(result, tmp_path / "plain")
+    pg.write_design(result, tmp_path / "plain", draw=True)
     early_files = sorted(p.name for p in (tmp_path / "early").iterdir())
     assert early_files == sorted(p.name for p in (tmp_path / "plain").iterdir())
     for name in early_files:

@@ -16,7 +16,8 @@ from profilegen.scenes import SceneError, bundled_scenes_path, parse_scenes, rea
 # the presets as pipeline.py spelled them before they became data (the sketch grid since: 96 × 241)
 PRESETS = {
     "sketch": Scene("sketch", "ring theory", 1e-4, 96, 241, 91, False,
-                    "interactive use and sweeps: analytic rim, coarse envelope", 181),
+                    "interactive use and sweeps: analytic rim, coarse envelope", 181,
+                    figures="none"),  # no PNG figures (issue 14: tests/unit/test_scene_figures.py)
     "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False,
                     "the default: 1 nm envelope, classified, loaded contact", 721, True),
     "verify": Scene("verify", "3D cup (Fourier harmonics)", 1e-7, 192, 481, 721, True,  # rim: the 3D cup (issue 15)
