@@ -11,7 +11,10 @@ would add, at T1 and T2, on the mesh with rigid balls settled at that torque (th
 springs' share is the chain's and is kept as it is):
 
 * coning across the face (profilegen.contact.face_load, the 3D cup's sections, 8 slices, the
-  2D tooth uncorrected along the face): the change of the mesh rotation at T1 and T2;
+  2D tooth uncorrected along the face): the change of the mesh rotation at T1 and T2 — one
+  flank (the opposite flank's preload left out; its "K1" is then not a catalogue K1) and both
+  flanks (every ball a Hertz spring at its 500 N secant; the change of the elastic rotation
+  from each variant's own zero-torque position);
 * the CS ring's ovalisation (profilegen.contact.cs_ring, a free ring, the face width wide, to the
   CS's estimated outer radius from its root circle — the section that bends — or, the upper
   bound, from the contact model's sector edge 1.1 r2): S + S_ring re-solved;
@@ -44,7 +47,8 @@ from profilegen.contact.analysis import solve_contact  # noqa: E402
 from profilegen.contact.catalogue import catalogue_row  # noqa: E402
 from profilegen.contact.chain import compliance_chain, torsional_curve  # noqa: E402
 from profilegen.contact.cs_ring import CSRing, cs_ring_compliance  # noqa: E402
-from profilegen.contact.face_load import cup_sections, gap_shift_mm, slice_positions, solve_face  # noqa: E402
+from profilegen.contact.face_load import (  # noqa: E402
+    cup_sections, gap_shift_mm, slice_positions, solve_face, solve_two_flanks, two_flank_sides)
 from profilegen.contact.inputs import ContactInput  # noqa: E402
 from profilegen.contact.solvers import solve_lemke  # noqa: E402
 from profilegen.rim.cup.contact import press_cup  # noqa: E402
@@ -101,9 +105,30 @@ def run(path: Path) -> list:
         secs = cup_sections(cup, np.r_[z0, z])
         shifts = np.array([gap_shift_mm(pts, inp.motion, s, secs[0]) for s in secs[1:]])
         face = {t: solve_face(pts, mats[t], shifts, t, face_width_mm=b, z_mm=z) for t in (t1, t2)}
-        extra["coning (cup, 8 slices)"] = {t: face[t].rotation_rad - base[t] for t in (t1, t2)}
+        extra["coning, one flank"] = {t: face[t].rotation_rad - base[t] for t in (t1, t2)}
         print(f"coning: gap shifts {shifts.min() * 1e3:+.1f} … {shifts.max() * 1e3:+.1f} µm; peak line load at T2 "
-              f"{face[t2].peak_line_load_n_per_mm:.1f} vs even {face[t2].uniform_peak_line_load_n_per_mm:.1f} N/mm; "
+              f"{face[t2].peak_line_load_n_per_mm:.1f} vs even {face[t2].uniform_peak_line_load_n_per_mm:.1f} N/mm "
+              f"(one flank); {time.process_time() - t0:.1f} s CPU")
+        # both flanks, every ball a Hertz spring at its 500 N secant: the elastic rotation with coning minus without
+        t0 = time.process_time()
+        pos, neg, both = two_flank_sides(inp)
+        cone = np.array([np.r_[gap_shift_mm(pos, inp.motion, sec, secs[0]), gap_shift_mm(neg, inp.motion, sec, secs[0])]
+                         for sec in secs[1:]])
+        matrix = both.with_balls(np.ones_like(both.ball_active),
+                                 ball_compliance_mm_per_n=float(chain.bearing.secant_compliance_mm_per_n(500.0))
+                                 ).matrix_mm_per_n
+        gap2, lev2 = np.r_[pos.gap_mm, neg.gap_mm], np.r_[pos.lever_mm, neg.lever_mm]
+        sense = np.r_[np.ones(pos.count), -np.ones(neg.count)]
+
+        def elastic(shifts):
+            phi = {t: solve_two_flanks(gap2, lev2, sense, matrix, shifts, t, zones=pos.zones).rotation_rad
+                   for t in (1e-6, t1, t2)}
+            return {t: phi[t] - phi[1e-6] for t in (t1, t2)}
+
+        with_cone, without = elastic(cone), elastic(np.zeros_like(cone))
+        extra["coning, both flanks"] = {t: with_cone[t] - without[t] for t in (t1, t2)}
+        print(f"coning, both flanks (every ball a Hertz spring at 500 N): elastic rotation at T1 {with_cone[t1] * 1e6:.2f}"
+              f" vs {without[t1] * 1e6:.2f} µrad without, at T2 {with_cone[t2] * 1e6:.2f} vs {without[t2] * 1e6:.2f}; "
               f"{time.process_time() - t0:.1f} s CPU")
         # CS ring
         for inner, label in (("root", "CS ring (free, root→outer)"), ("sector", "CS ring (free, 1.1r2→outer)")):
@@ -137,17 +162,17 @@ def run(path: Path) -> list:
         return (phi_total[t1] + sum(extra[n][t1] for n in names), phi_total[t2] + sum(extra[n][t2] for n in names))
 
     names = list(extra)
-    coning, ring_root, ring_sector, thin = names
+    _, coning, ring_root, ring_sector, thin = names
     rows.append(("+ ring (root) + wall", *plus(ring_root, thin)))
-    rows.append(("+ ring (root) + wall + coning", *plus(ring_root, thin, coning)))
+    rows.append(("+ ring (root) + wall + coning (2 flanks)", *plus(ring_root, thin, coning)))
     rows.append(("+ ring (sector) + wall", *plus(ring_sector, thin)))
     c1, c2 = row["K1_nm_per_rad"], row["K2_nm_per_rad"]
-    print(f"\n{'variant':38s} {'K1':>10s} {'/cat':>6s} {'K2':>10s} {'/cat':>6s} {'T1/φ1':>10s} {'T2/φ2':>10s}"
+    print(f"\n{'variant':42s} {'K1':>10s} {'/cat':>6s} {'K2':>10s} {'/cat':>6s} {'T1/φ1':>10s} {'T2/φ2':>10s}"
           f"   (catalogue K1 {c1:.3g}, K2 {c2:.3g}, secant at T2 {t2 / (t1 / c1 + (t2 - t1) / c2):.3g})")
     out = []
     for name, p1, p2 in rows:
         k1, k2 = ks(t1, t2, p1, p2, theta0)
-        print(f"{name:38s} {k1:10.4g} {k1 / c1:6.2f} {k2:10.4g} {k2 / c2:6.2f} {t1 / (p1 - theta0):10.4g} "
+        print(f"{name:42s} {k1:10.4g} {k1 / c1:6.2f} {k2:10.4g} {k2 / c2:6.2f} {t1 / (p1 - theta0):10.4g} "
               f"{t2 / (p2 - theta0):10.4g}")
         out.append((gs.name, name, k1, k2))
     for name, d in extra.items():
