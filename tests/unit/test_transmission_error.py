@@ -5,10 +5,8 @@ balance U·Σ r_k F_k = T and the contact conditions F ≥ 0, g ≥ 0, F·g = 0 
 recomputed here from each position's own points and S; closure — after one tooth passage
 (ψ = 2π/z2) the mesh repeats with every tooth where its neighbour stood, so the rotation and
 the tooth forces repeat, relabelled; mirror symmetry — the left flank at ψ is the mirror
-image of the right flank at 2π/z2 − ψ; ψ = 0 is the one-position solve
-(:func:`~profilegen.contact.analysis.solve_contact`). Default set, sketch design, 3 + 2
-positions in this process (the 16-position run and its timing: tests/benchmarks/
-transmission_error.py).
+image of the right flank at 2π/z2 − ψ. Default set, sketch design, 3 + 2 positions in this
+process (the 16-position run and its timing: tests/benchmarks/transmission_error.py).
 """
 
 import json
@@ -19,7 +17,6 @@ import pytest
 
 import profilegen as pg
 from profilegen.contact import ContactInput
-from profilegen.contact.analysis import solve_contact
 from profilegen.contact.transmission import TransmissionErrorError, transmission_error
 
 
@@ -86,15 +83,6 @@ def test_one_tooth_passage_repeats_with_the_teeth_relabelled(right):
     assert variation > 1e-4 * right.rotation_rad[0]  # half way the mesh is a different one
     assert abs(c1.rotation_rad - c0.rotation_rad) < 0.02 * variation
     np.testing.assert_allclose(c1.tooth_force_n, c0.tooth_force_n, atol=1e-4 * c0.max_tooth_force_n)
-
-
-def test_position_zero_is_the_one_position_solve(inputs, right):
-    one = solve_contact(inputs, [right.torque_nm])
-    np.testing.assert_array_equal(one.points.tooth, right.points[0].tooth)
-    np.testing.assert_allclose(one.points.gap_mm, right.points[0].gap_mm, atol=1e-15)
-    assert right.cases[0].rotation_rad == pytest.approx(one.cases[0].rotation_rad, rel=1e-12)
-    np.testing.assert_allclose(right.cases[0].solution.force_n, one.cases[0].solution.force_n,
-                               atol=1e-9 * one.cases[0].solution.max_force_n)
 
 
 def test_left_flank_is_the_mirror_image(inputs, right, passage_deg):
