@@ -43,6 +43,7 @@ benchmarks/toothed_rim.py``).
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -217,6 +218,22 @@ class RimDeformation:
     @property
     def dof(self) -> int:
         return 0 if self.fem is None else self.fem.dof
+
+    def at_section(self, z_mm: float, *, waves: int = 2) -> RimDeformation:
+        """The cup tier's result with the kinematics' section moved to ``z_mm`` (mm from the cup
+        bottom's mid-plane), from the same 3D solution: that section's samples (``fem``) and their
+        Fourier (and general sine) fits, as :func:`solve_rim` makes them. ``coarse`` and the
+        error estimate stay: it is taken over the whole tooth ring, not at one section."""
+        from .cup.geometry import CupError
+
+        if self.cup_contact is None:
+            raise CupError(f"at_section: the {self.tier.name} tier has one section (only the cup tier has others)")
+        from .. import checks
+
+        lo, hi = self.cup.geometry.ring_span_mm
+        z = checks.number("z_mm", z_mm, "mm", lo, hi, low_open=False, high_open=False, error=CupError)
+        section, fit, sine, fit_time = _section_fits(self.tier, self.cup_contact, z, waves)
+        return dataclasses.replace(self, model=fit, fem=section, sine=sine, fit_time_s=fit_time, section_z_mm=z)
 
     @property
     def samples(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -393,6 +410,21 @@ def design_section_z(gearset, z_mm: float | None = None) -> float:
     return checks.number("z_mm", z_mm, "mm", lo, hi, low_open=False, high_open=False, error=CupError)
 
 
+def _section_fits(tier: RimTier, contact, z_mm: float, waves: int, *, section: CupSection | None = None):
+    """(section, Fourier fit, general sine fit or None, fit time in s) of the cup at ``z_mm``:
+    the samples the kinematics' model is fitted to (4·max_order + 1 angles on 0..π/2)."""
+    if section is None:
+        section = CupSection.of(contact, z_mm, samples=4 * tier.max_order + 1, tier=tier.name)
+    t0 = time.perf_counter()
+    phi, w, u = one_period(section)
+    fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
+    sine = None
+    if tier.sine_fit:
+        sine = series.GeneralSineDeformation(series.fit_sine_series(phi, w, terms=3),
+                                             series.fit_sine_series(phi, u, terms=3), waves=waves, tier=tier.name)
+    return section, fit, sine, time.perf_counter() - t0
+
+
 def _solve_cup(gearset, tier: RimTier, contour, z_mm: float | None, reference, warnings: list[str]) -> RimDeformation:
     """The cup tier: press_cup at the tier's mesh and at half its resolution (the estimate), the
     design section's samples fitted."""
@@ -429,17 +461,7 @@ def _solve_cup(gearset, tier: RimTier, contour, z_mm: float | None, reference, w
     measure = (f"max |Δω|, |Δυ| on r_m over the tooth ring ({CUP_ERROR_SECTIONS} sections, 0 ≤ φ ≤ π/2) between "
                f"this mesh ({tier.element_mm:g} mm, {tier.angles} contact angles) and one with "
                f"{CUP_COARSENING * tier.element_mm:g} mm and {coarse_angles} angles (mm; an upper estimate)")
-    t0 = time.perf_counter()
-    phi_s, w, u = one_period(section)
-    waves = gearset.gear.waves
-    fit = series.fit_fourier(phi_s, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
-    sine = None
-    if tier.sine_fit:
-        from ..series import GeneralSineDeformation, fit_sine_series
-
-        sine = GeneralSineDeformation(fit_sine_series(phi_s, w, terms=3), fit_sine_series(phi_s, u, terms=3),
-                                      waves=waves, tier=tier.name)
-    fit_time = time.perf_counter() - t0
+    _, fit, sine, fit_time = _section_fits(tier, fine, z, gearset.gear.waves, section=section)
     warnings += [w_ for w_ in fine.deformation.warnings]
     warnings += [w_ for w_ in fit.warnings if not w_.startswith("order picked")]
     if fine.max_penetration_mm > 1e-6:

@@ -104,6 +104,15 @@ def test_design_section_argument_and_summary(default_data, default_rim):
     assert ends["open end"]["omega_major_mm"] > ends["mid-face"]["omega_major_mm"] > ends["diaphragm end"]["omega_major_mm"]
     with pytest.raises(CupError, match=r"z_mm = 75.0 mm: must be in \[50, 70\]"):
         solve_rim(gs, tier=COARSE, z_mm=75.0)
+    # the section moved on the same 3D answer: the open end's ω, υ are the kinematics' model there
+    moved = default_rim.at_section(70.0)
+    phi = np.linspace(0.0, math.pi, 37)
+    fw, fu = moved.model.evaluate(phi, order=0)
+    assert np.max(np.abs(fw[0] - default_rim.cup.omega(phi, 70.0))) < 1e-6
+    assert np.max(np.abs(fu[0] - default_rim.cup.upsilon(phi, 70.0))) < 1e-6
+    assert moved.section_z_mm == 70.0 and moved.error_estimate_mm == default_rim.error_estimate_mm
+    with pytest.raises(CupError, match="z_mm"):
+        default_rim.at_section(49.0)
     assert RIM_TIERS["cup3d"].model == "cup" and RIM_TIERS["toothed"].model == RIM_TIERS["verify"].model == "toothed"
 
 
