@@ -559,7 +559,7 @@ def _with_contact(result: Design, step) -> Design:
         f"{torsional.k_nm_per_rad['total']['positive']['K2']:.3g}/"
         f"{torsional.k_nm_per_rad['total']['positive']['K3']:.3g} N·m/rad, lost motion "
         f"{torsional.lost_motion_rad['total'] * 10800 / np.pi:.3f} arcmin")
-    ratchet, transmission = _whole_gear_extras(result, notes)
+    ratchet, transmission = _whole_gear_extras(result, contact, notes)
     if ratchet is not None:
         whole += f"; ratcheting ≈ {ratchet.torque_nm:.4g} N·m"
     if transmission is not None:
@@ -574,12 +574,20 @@ def _with_contact(result: Design, step) -> Design:
                    torsional=torsional, ratcheting=ratchet, transmission=transmission)
 
 
-def _whole_gear_extras(result: Design, notes: list) -> tuple:
+def _whole_gear_extras(result: Design, contact, notes: list) -> tuple:
     """The ratcheting estimate and the loaded transmission error at the rated torque (16
     positions over a tooth passage), each when the scene asks (seconds each); a failure is a
-    note, not an error. Each reports its own time in its result."""
+    note, not an error. Each reports its own time in its result. Both read the design's contact
+    inputs with the contact's wrap angle (without a rim FEM each would solve a flat ring for it)."""
     ratchet = transmission = None
     scene, gs = result.scene, result.gearset
+    if not (getattr(scene, "ratcheting", False) or getattr(scene, "transmission_error", False)):
+        return ratchet, transmission
+    from .contact import ContactInput
+
+    inputs = ContactInput.from_design(result)
+    if inputs.rim_contact_angle_rad is None and contact.compliance is not None:
+        inputs = replace(inputs, rim_contact_angle_rad=float(contact.compliance.wrap_half_angle_rad))
     if getattr(scene, "ratcheting", False):
         from .contact.chain import catalogue_for
         from .contact.ratchet import ratcheting_torque
@@ -589,7 +597,7 @@ def _whole_gear_extras(result: Design, notes: list) -> tuple:
             "torque_nm": row["ratcheting_torque_nm"], "source": row.get("ratcheting_source"),
             "size": row.get("size"), "ratio": row.get("ratio_asked", row.get("ratio"))}
         try:
-            ratchet = ratcheting_torque(result, catalogue=cat)
+            ratchet = ratcheting_torque(inputs, catalogue=cat)
         except ProfilegenError as exc:
             notes.append(f"ratcheting estimate failed, skipped: {exc}")
         else:
@@ -598,7 +606,7 @@ def _whole_gear_extras(result: Design, notes: list) -> tuple:
         from .contact.transmission import transmission_error
 
         try:
-            transmission = transmission_error(result, float(gs.torque.rated_nm), positions=16)
+            transmission = transmission_error(inputs, float(gs.torque.rated_nm), positions=16)
         except ProfilegenError as exc:
             notes.append(f"transmission error failed, skipped: {exc}")
         else:

@@ -349,3 +349,38 @@ def test_catalogue_size_and_table(gearset):
     assert catalogue_size(odd) is None and catalogue_for(odd) is None
     size25 = SimpleNamespace(gear=SimpleNamespace(module_mm=0.4, flexspline_teeth=160), ratio=80.0)  # 64 mm
     assert catalogue_size(size25) == 25
+
+
+def test_ratcheting_and_transmission_error_in_the_outputs(sketch_design):
+    """The verify scene's extras as the outputs carry them (small runs of the real estimates:
+    two ratcheting torques, two wave-generator positions): contact.json's ratcheting_torque_nm
+    and transmission_error (psi_deg, error_arcsec, peak_to_peak_arcsec) and design.json's
+    headline, finite; a torque at or beyond the ratcheting estimate is flagged in the curve and
+    fails the verdict, one below it does not."""
+    from profilegen.contact import ContactInput
+    from profilegen.contact.ratchet import ratcheting_torque
+    from profilegen.contact.transmission import transmission_error
+    from profilegen.output.files import _whole_gear
+
+    inputs = dataclasses.replace(ContactInput.from_design(sketch_design),
+                                 rim_contact_angle_rad=sketch_design.contact.compliance.wrap_half_angle_rad)
+    ratchet = ratcheting_torque(inputs, torques_nm=[132.5, 265.0])
+    te = transmission_error(inputs, 265.0, positions=2, workers=1)
+    design = dataclasses.replace(sketch_design, ratcheting=ratchet, transmission=te)
+    out = _whole_gear(design)
+    json.dumps(out, allow_nan=False)
+    assert out["ratcheting_torque_nm"] == ratchet.torque_nm > 0.0
+    e = out["transmission_error"]
+    assert len(e["psi_deg"]) == len(e["error_arcsec"]) == 2
+    assert e["peak_to_peak_arcsec"] == pytest.approx(max(e["error_arcsec"]) - min(e["error_arcsec"]))
+    head = design.to_dict()["contact"]
+    assert head["ratcheting_torque_nm"] == ratchet.torque_nm
+    assert head["transmission_error"]["peak_to_peak_arcsec"] == e["peak_to_peak_arcsec"]
+    assert any("ratcheting" in f for f in design.verdict.failures) == (ratchet.torque_nm <= 1200.0)
+    low = dataclasses.replace(design, ratcheting=dataclasses.replace(ratchet, torque_nm=500.0))
+    flags = _whole_gear(low)["torsional"]["beyond_ratcheting"]
+    torques = np.array(_whole_gear(low)["torsional"]["torque_nm"])
+    assert [f is not None for f in flags] == list(np.abs(torques) >= 500.0)
+    failures = " ".join(low.verdict.failures)
+    assert "660 N·m at or beyond the ratcheting" in failures and "1200 N·m at or beyond" in failures
+    assert "265 N·m at or beyond" not in failures
