@@ -17,7 +17,7 @@ Computed (:func:`solve_modification`) as a minimax linear programme (scipy HiGHS
 interference at any pose of any section, with every section's clearances
 linear in Δs on the φ grid of the face map — c_k(φ) + σ_k(φ) Δs_k ≥ 0 at every pose, ≤ t at
 the design section's engaged poses (σ: the clearance's change per mm of thickness, first from
-a finite difference at each section, then the secant of each section's own recomputed
+a one-sided finite difference (thinner) at each section, then the secant of each section's own recomputed
 map). Each step recomputes the modified sections' maps exactly; the steps stop when the
 thickness change moves by less than STOP_MM; the interference-free step with the least largest
 backlash is kept (none: the last step, with a warning).
@@ -40,15 +40,16 @@ import numpy as np
 from .. import checks
 from ..results import json_ready, readonly
 from .clearance import _map, face_map
-from .sections import FaceError, ring_span
+from .sections import FaceError, cup_deformation, ring_span
 
 if TYPE_CHECKING:  # pragma: no cover
     from .stage import FaceWidth
 
 __all__ = ["ToothModification", "apply_modification", "modified_tooth", "solve_modification", "thickness_change"]
 
-#: the finite-difference step of the first sensitivity (mm of tooth thickness)
-FD_STEP_MM = 4e-3
+#: the finite-difference step of the first sensitivity (mm of tooth thickness): thinner, the way
+#: interference is removed (the clearance is a minimum over contacts: its one-sided slopes differ)
+FD_STEP_MM = -4e-3
 #: the LP steps stop when the thickness change moves by less than this at every section (mm)
 STOP_MM = 2e-4
 
@@ -158,6 +159,7 @@ def apply_modification(gearset, deformation, face: FaceWidth, taper_mm_per_mm: f
                        crowning_mm: float) -> ToothModification:
     """The face with a given modification (gear-set fields ``[face] taper_mm_per_mm``, ``crowning_mm``)."""
     start = time.perf_counter()
+    deformation = cup_deformation(deformation)
     taper = checks.number("face.taper_mm_per_mm", taper_mm_per_mm, "mm/mm", -0.01, 0.01, low_open=False,
                           high_open=False, error=FaceError)
     crown = checks.number("face.crowning_mm", crowning_mm, "mm", -0.1, 0.1, low_open=False, high_open=False,
@@ -175,7 +177,7 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
     from scipy.optimize import linprog
 
     start = time.perf_counter()
-    span = ring_span(deformation)
+    span = ring_span(cup_deformation(deformation))
     z, zd = face.z_mm, face.design_section_z_mm
     a = z - zd
     mid, half = 0.5 * (span[0] + span[1]), 0.5 * (span[1] - span[0])
@@ -184,7 +186,7 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
     engaged = face.engaged
     samples = face.map_samples
 
-    # first sensitivities: each section's tooth made thicker by FD_STEP_MM (the nearest CS point at a
+    # first sensitivities: each section's tooth made thinner by |FD_STEP_MM| (the nearest CS point at a
     # pose differs from section to section, so does the clearance's response)
     d = face.design_index
     thick = modified_tooth(gearset, FD_STEP_MM)

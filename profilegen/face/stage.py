@@ -5,7 +5,8 @@ The 3D cup gives each section z its own deformation, so its own motion and swept
 (:mod:`profilegen.face.sections`). The CS is cut with one profile through its whole face: the
 CS outline of the *design section* z_d (the polyline outline of
 :func:`profilegen.gearform.circular_spline_form` from z_d's envelope — not the arc–line–arc
-fit, which follows it within the fit's error and is one-sided). For every section k:
+fit, which follows it within the fit's error and is one-sided), traced at DESIGN_CHORD_TOL_MM
+(the other sections at CHORD_TOL_MM). For every section k:
 
 * the clearance map c_k(φ): :func:`profilegen.gearform.clearance_map` of section k's FS tooth
   in section k's motion against that one outline (signed distance, < 0 interference); its
@@ -43,9 +44,12 @@ __all__ = ["FaceWidth", "face_width"]
 
 log = logging.getLogger(__name__)
 
-#: Coarse envelope settings of the face stage: chord 0.1 µm (against 1 nm in the design scene; the
-#: section table moves by less than 0.1 µm, tests/benchmarks/face_width.py).
+#: Envelope settings of the face stage: every section traced at a chord of 0.1 µm, the design
+#: section's (the one CS profile) again at 1 nm, the design scene's (tests/benchmarks/face_width.py:
+#: with the CS from the 0.1 µm trace the default set's interference read 1.9 µm too deep — the
+#: CS tip circle sits where the traced swept boundary ends).
 CHORD_TOL_MM = 1e-4
+DESIGN_CHORD_TOL_MM = 1e-6
 N_T = 96
 N_PHI = 241
 @dataclass(frozen=True, slots=True, eq=False)
@@ -75,6 +79,7 @@ class FaceWidth:
     time_s: float
     modification: object = None
     warnings: tuple = field(default=())
+    design_chord_tol_mm: float = DESIGN_CHORD_TOL_MM
 
     def __post_init__(self):
         object.__setattr__(self, "engaged", readonly(self.engaged, bool))
@@ -121,6 +126,7 @@ class FaceWidth:
                            "max_backlash_mm": self.candidate_max_backlash_mm},
             "interference_tol_mm": self.interference_tol_mm,
             "chord_tol_mm": self.chord_tol_mm,
+            "design_chord_tol_mm": self.design_chord_tol_mm,
             "map_samples": self.map_samples,
             "envelope_s": self.envelope_s,
             "map_s": self.map_s,
@@ -147,6 +153,7 @@ def face_width(
     design_section: float | str = "auto",
     modification=None,
     chord_tol_mm: float = CHORD_TOL_MM,
+    design_chord_tol_mm: float = DESIGN_CHORD_TOL_MM,
     n_t: int = N_T,
     n_phi: int = N_PHI,
     map_samples: int = MAP_SAMPLES,
@@ -170,6 +177,8 @@ def face_width(
     if count > 41:
         raise FaceError(f"sections = {count}: must be a whole number in [3, 41]")
     chord = checks.number("chord_tol_mm", chord_tol_mm, "mm", 0.0, 0.01, high_open=False, error=FaceError)
+    design_chord = checks.number("design_chord_tol_mm", design_chord_tol_mm, "mm", 0.0, 0.01, high_open=False,
+                                 error=FaceError)
     samples = checks.whole("map_samples", map_samples, 11, error=FaceError)
     tol = max(1e-5, chord) if interference_tol_mm is None else checks.number(
         "interference_tol_mm", interference_tol_mm, "mm", 0.0, error=FaceError)
@@ -203,7 +212,6 @@ def face_width(
     if given is not None:
         d = int(np.argmin(np.abs(z - given)))
         choice = "given"
-        found = {d: face_map(forms[d], secs, d, samples=samples, min_gap_mm=min_gap[d])}
     else:
         worst = min_gap.min(axis=1)
         ok = np.flatnonzero(worst >= -tol)
@@ -211,15 +219,27 @@ def face_width(
             ok = np.array([int(np.argmax(worst))])
             warnings.append(f"no computed section's CS is interference-free over the face; the least interfering "
                             f"(z = {z[ok[0]]:g} mm, {-worst[ok[0]] * 1e3:.3g} µm) is the design section")
-        found = {int(k): face_map(forms[k], secs, int(k), samples=samples, min_gap_mm=min_gap[k]) for k in ok}
-        d = min(found, key=lambda k: max(r.max_backlash_mm for r in found[k][0]))
+        if ok.size == 1:
+            d = int(ok[0])
+        else:  # several interference-free candidates: their maps' largest backlash decides
+            for k in ok:
+                rows_k = face_map(forms[k], secs, int(k), samples=samples, min_gap_mm=min_gap[k])[0]
+                max_bl[k] = [r.max_backlash_mm for r in rows_k]
+            d = int(ok[np.argmin(np.nanmax(max_bl[ok], axis=1))])
         choice = "auto"
-    for k, (rows_k, *_ ) in found.items():
-        max_bl[k] = [r.max_backlash_mm for r in rows_k]
-    rows, phi, cmap, engaged = found[d]
+    # the one CS profile: the design section's envelope traced again at the fine chord (the CS tip
+    # circle comes from where its swept boundary ends, which the coarse trace places µm off)
+    t1 = time.perf_counter()
+    secs[d] = solve_section(gearset, deformation, float(z[d]), tooth, chord_tol_mm=design_chord, n_t=n_t,
+                            n_phi=n_phi, fit=secs[d].fit)
+    envelope_s += time.perf_counter() - t1
+    form = _cs_form(gearset, secs[d], design_chord)
+    rows, phi, cmap, engaged = face_map(form, secs, d, samples=samples)
+    max_bl[d] = [r.max_backlash_mm for r in rows]
     map_s = time.perf_counter() - t0
-    result = FaceWidth(tuple(secs), d, choice, forms[d], phi, cmap, tuple(rows), min_gap, max_bl, engaged, tol, chord,
-                       samples, envelope_s, map_s, time.perf_counter() - start, None, tuple(warnings))
+    result = FaceWidth(tuple(secs), d, choice, form, phi, cmap, tuple(rows), min_gap, max_bl, engaged, tol, chord,
+                       samples, envelope_s, map_s, time.perf_counter() - start, None, tuple(warnings),
+                       design_chord_tol_mm=design_chord)
     if result.max_interference_mm > tol:
         warnings.append(f"the one CS profile (design section z = {result.design_section_z_mm:g} mm) interferes with "
                         f"the FS tooth by {result.max_interference_mm * 1e3:.3g} µm over the face")
