@@ -41,11 +41,11 @@ def _png_size(data: bytes) -> tuple[int, int]:
 
 def test_png_jobs_name_every_picture_of_the_files(sketch):
     jobs = report.png_jobs(sketch)
-    assert set(jobs) == {"stress", "contact", "envelope", "fit_profile", "fit_error", "fit_clearance"}
+    assert set(jobs) == {"stress", "contact", "torsional", "envelope", "fit_profile", "fit_error", "fit_clearance"}
     # no FEM rim in the sketch scene: no deformation figures; without stress and contact, none of theirs
     from dataclasses import replace
 
-    bare = report.png_jobs(replace(sketch, contact=None, stress=None))
+    bare = report.png_jobs(replace(sketch, contact=None, stress=None, torsional=None))
     assert set(bare) == {"envelope", "fit_profile", "fit_error", "fit_clearance"}
 
 
@@ -139,11 +139,12 @@ def test_reports_embed_the_files_pictures(sketch, tmp_path, monkeypatch, workers
     page = _embedded((out / "report.html").read_text(encoding="utf-8"))
     fit = _embedded((out / "fit_report.html").read_text(encoding="utf-8"))
     assert len(fit) == 3  # error, profile, clearance (no FEM rim in the sketch scene)
-    assert len(page) == 4  # profile, error, contact, stress
+    assert len(page) == 5  # profile, error, contact, torsional (the whole gear), stress
     assert page[0] == fit[1] and page[1] == fit[0]
     assert page[2] == (out / "contact.png").read_bytes()
-    assert page[3] == (out / "stress.png").read_bytes()
-    for name in ("envelope", "contact", "stress"):
+    assert page[3] == (out / "torsional.png").read_bytes()
+    assert page[4] == (out / "stress.png").read_bytes()
+    for name in ("envelope", "contact", "torsional", "stress"):
         assert (out / f"{name}.png").read_bytes()[:8] == PNG_MAGIC
 
 
