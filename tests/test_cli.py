@@ -36,7 +36,7 @@ def test_design_without_arguments_writes_the_default_set(tmp_path):
         "contact.json",
         "contact.png", "deformation_fit.json", "design.json", "envelope.csv", "envelope.png", "fit_report.html",
         "flexspline.dxf", "flexspline_tooth.dxf", "profile_fit.json", "report.html", "stress.json", "stress.png",
-        "tooth_space.dxf",
+        "tooth_space.dxf", "torsional.png",
     ]
     data = json.loads((out / "design.json").read_text())
     assert data["gearset"]["name"] == "default"
