@@ -362,7 +362,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     face, face_report = None, None
     if getattr(rim, "cup", None) is not None:  # the 3D cup: the face stage picks the CS's design section
         t_face = time.perf_counter()
-        rim, face, face_report = _with_face(gearset, rim, step, scene.chord_tol_mm)
+        rim, face, face_report = _with_face(gearset, rim, step)
         t0 += time.perf_counter() - t_face  # the rim stage's time without the face stage
     deformation = rim.model
     warnings += list(rim.warnings)
@@ -446,13 +446,12 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     return _with_stress(result, step) if stress else result
 
 
-def _with_face(gearset: GearSet, rim, step, chord_tol_mm: float):
+def _with_face(gearset: GearSet, rim, step):
     """The face stage (:func:`profilegen.face.face_width`) on the cup tier's 3D deformation, with
     the gear set's ``[face]`` fields: its design section (auto: chosen; the rim is then solved
     again at that section when it differs from the one the tier fitted, so the CS profile of
     the files is the chosen section's) and the FS tooth modification (both fields absent or
-    "auto": computed; otherwise the given values, a missing one 0). The one CS profile is traced at
-    the scene's ``chord_tol_mm``, as the CS of the files is. Returns (rim, face, report)."""
+    "auto": computed; otherwise the given values, a missing one 0). Returns (rim, face, report)."""
     from .face import face_width
 
     step("face")
@@ -463,8 +462,7 @@ def _with_face(gearset: GearSet, rim, step, chord_tol_mm: float):
         modification = "auto"
     else:
         modification = (f.taper_mm_per_mm or 0.0, f.crowning_mm or 0.0)
-    face = face_width(gearset, rim.cup, sections=f.sections, design_section=design_section, modification=modification,
-                      design_chord_tol_mm=chord_tol_mm)
+    face = face_width(gearset, rim.cup, sections=f.sections, design_section=design_section, modification=modification)
     note = ""
     if rim.section_z_mm is None or abs(face.design_section_z_mm - rim.section_z_mm) > 1e-9:
         note = f"; the rim's Fourier fit moved from z = {rim.section_z_mm:g} mm to the design section"
