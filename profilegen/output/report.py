@@ -430,6 +430,15 @@ against the wave generator's major axis (the tooth-passage error alone, without 
     return "\n".join(out)
 
 
+def _quantity(value, key: str) -> str:
+    """A stiffness in whole N·m/rad with thin-space thousands (196 346), an angle to 0.001 arcmin."""
+    if value is None:
+        return "—"
+    if key.endswith("_nm_per_rad"):
+        return f"{float(value):,.0f}".replace(",", "\u2009")
+    return f"{float(value):.3f}"
+
+
 def _torsional_section(design, png: bytes | None = None) -> str:
     """The whole gear in torsion, in plain words, against the catalogue (issue 16); then the
     ratcheting estimate and the transmission error when the scene ran them."""
@@ -448,8 +457,8 @@ def _torsional_section(design, png: bytes | None = None) -> str:
              "secant_T2_nm_per_rad": k["positive"]["secant_T2"],
              "lost_motion_arcmin": curve.lost_motion_rad["total"] * arcmin}
     rows = "".join(
-        f"<tr><td class=text>{label}</td><td>{model[key]:.4g}</td>"
-        f"<td>{_num(compared[key]['catalogue'], '.4g') if key in compared else '—'}</td>"
+        f"<tr><td class=text>{label}</td><td>{_quantity(model[key], key)}</td>"
+        f"<td>{_quantity(compared[key]['catalogue'], key) if key in compared else '—'}</td>"
         f"<td>{_num(compared[key]['model_over_catalogue'], '.2f') if key in compared else '—'}</td></tr>"
         for key, label in names.items())
     c = curve.compliances_at_rated
@@ -495,7 +504,7 @@ T1 = {bp['T1']:g} N·m, T2 = {bp['T2']:g} N·m ({curve.breakpoints_source}), T3 
 the rotation between ±{curve.lost_motion_torque_nm:.3g} N·m (3 % of the rated torque); the free play at zero
 torque is {curve.backlash_rad * arcmin:.3g} arcmin. No friction is modelled, so there is no hysteresis:
 loading and unloading give one curve. In the other direction K1, K2, K3 are
-{k['negative']['K1']:.4g}, {k['negative']['K2']:.4g}, {k['negative']['K3']:.4g} N·m/rad.</p>
+{', '.join(_quantity(k['negative'][n], '_nm_per_rad') for n in ('K1', 'K2', 'K3'))} N·m/rad.</p>
 {against}
 <table><tr><th>whole gear</th><th>this model</th><th>catalogue</th><th>model / catalogue</th></tr>{rows}</table>
 <p>Where the twist comes from at the rated torque ({float(design.gearset.torque.rated_nm):g} N·m):</p>
