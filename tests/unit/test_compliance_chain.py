@@ -384,3 +384,26 @@ def test_ratcheting_and_transmission_error_in_the_outputs(sketch_design):
     failures = " ".join(low.verdict.failures)
     assert "660 N·m at or beyond the ratcheting" in failures and "1200 N·m at or beyond" in failures
     assert "265 N·m at or beyond" not in failures
+
+
+def test_continuation_falls_back_to_the_reference(curve, sketch_design, monkeypatch):
+    """A torque whose reduced loop gives up (cycles) is solved by the reference path, and the
+    torques after it continue from the last converged state: the same curve."""
+    from profilegen.contact import chain
+
+    torques = [-54.0, 20.0, 54.0]
+    plain = torsional_curve(sketch_design, torques, sides=curve.sides, breakpoints_nm=(20.0, 54.0))
+    solve = chain._ReducedZone.solve
+    given_up = []
+
+    def flaky(self, magnitude_nm, state, **kw):
+        if magnitude_nm == 20.0 and kw["springs_on"]:
+            given_up.append(magnitude_nm)
+            return None
+        return solve(self, magnitude_nm, state, **kw)
+
+    monkeypatch.setattr(chain._ReducedZone, "solve", flaky)
+    mixed = torsional_curve(sketch_design, torques, sides=curve.sides, breakpoints_nm=(20.0, 54.0))
+    assert given_up == [20.0, 20.0]  # both flanks
+    assert np.allclose(mixed.rotation_rad, plain.rotation_rad, rtol=1e-5, atol=0.0)
+    assert np.array_equal(mixed.teeth_in_contact, plain.teeth_in_contact)
