@@ -189,6 +189,13 @@ class Design:
         if self.profile is not None and self.profile.clearance.min_mm < -interference_tol_mm(self.scene):
             failures.append(f"interference: the fitted CS ({self.profile.method}) cuts into the FS tooth by "
                             f"{-self.profile.clearance.min_mm * 1e3:.3g} µm")
+        face = self.face
+        if face is not None:  # the FS teeth as they are made: modified when the face stage modifies them
+            mod = face.modification
+            depth = face.max_interference_mm if mod is None else mod.max_interference_mm
+            if depth > face.interference_tol_mm:
+                failures.append(f"interference across the face: the FS teeth cut into the one CS profile by "
+                                f"{depth * 1e3:.3g} µm{'' if mod is None else ' with the tooth modification'}")
         if self.contact is not None:
             for case in self.contact.cases:
                 if case.beyond_capacity is not None:
