@@ -105,6 +105,7 @@ class TransmissionError:
     ``points`` and ``cases``: the :class:`~profilegen.contact.points.ContactPoints` and
     :class:`~profilegen.contact.analysis.LoadCase` of each position; ``matrices``: the settled
     compliance S (mm/N) of each position when asked for (``keep_matrices``), else ().
+    ``wrap_source``: where the wrap angle that selects the candidate balls came from.
     """
 
     torque_nm: float
@@ -123,6 +124,7 @@ class TransmissionError:
     points: tuple = field(repr=False, default=())
     cases: tuple = field(repr=False, default=())
     matrices: tuple = field(repr=False, default=())
+    wrap_source: str = ""
     workers: int = 1
     time_s: float = 0.0
     warnings: tuple[str, ...] = ()
@@ -185,6 +187,7 @@ class TransmissionError:
             "max_tooth_force_n": self.max_tooth_force_n,
             "active_balls": self.active_balls,
             "flags": list(self.flags),
+            "wrap_source": self.wrap_source,
             "workers": self.workers,
             "time_s": self.time_s,
             "warnings": list(self.warnings),
@@ -314,7 +317,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
 
     pts = tuple(o[0] for o in out)
     cases = tuple(o[1] for o in out)
-    warnings = [f"the wrap angle that selects the candidate balls comes from {wrap_source}"]
+    warnings = []
     for o in out:
         warnings += list(o[3])
     result = TransmissionError(
@@ -327,7 +330,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
         active_balls=np.array([int(np.count_nonzero(c.ball_active)) for c in cases]),
         equilibrium_residual=np.array([c.solution.equilibrium_residual for c in cases]),
         flags=tuple(c.beyond_capacity for c in cases), points=pts, cases=cases,
-        matrices=tuple(o[2] for o in out) if keep_matrices else (), workers=int(workers),
+        matrices=tuple(o[2] for o in out) if keep_matrices else (), wrap_source=wrap_source, workers=int(workers),
         time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)))
     log.debug("transmission_error: %d positions, %.2f s, %d workers", positions, result.time_s, workers)
     return result
