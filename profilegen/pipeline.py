@@ -473,7 +473,7 @@ def _with_face(gearset: GearSet, rim, step):
     note = ""
     if rim.section_z_mm is None or abs(face.design_section_z_mm - rim.section_z_mm) > 1e-9:
         note = f"; the rim's Fourier fit moved from z = {rim.section_z_mm:g} mm to the design section"
-        rim = _rim_at_section(gearset, rim, face.design_section_z_mm)
+        rim = rim.at_section(face.design_section_z_mm, waves=gearset.gear.waves)
     mod = face.modification
     report = StageReport(
         "face", f"{len(face.sections)} sections, envelope chord {face.chord_tol_mm:g} mm, map {face.map_samples} poses",
@@ -485,29 +485,6 @@ def _with_face(gearset: GearSet, rim, step):
         f"{mod.crowning_mm * 1e3:.3g} µm, {mod.source}) {mod.max_backlash_mm * 1e3:.2f} µm, interference "
         f"{mod.max_interference_mm * 1e3:.3g} µm") + note)
     return rim, face, report
-
-
-def _rim_at_section(gearset: GearSet, rim, z_mm: float):
-    """The cup tier's result with the kinematics' section moved to ``z_mm``, from the same 3D
-    solution (no second cup solve): the section's samples and their Fourier (and general sine)
-    fits as :func:`profilegen.rim.stage.solve_rim` makes them at ``z_mm``. ``coarse`` stays the
-    companion solve's section at the old z: the error estimate it stands for is taken over the
-    whole tooth ring, not at one section."""
-    from . import series
-    from .rim.stage import CupSection, one_period
-
-    tier = rim.tier
-    t0 = time.perf_counter()
-    section = CupSection.of(rim.cup_contact, z_mm, samples=4 * tier.max_order + 1, tier=tier.name)
-    phi, w, u = one_period(section)
-    waves = gearset.gear.waves
-    fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
-    sine = None
-    if tier.sine_fit:
-        sine = series.GeneralSineDeformation(series.fit_sine_series(phi, w, terms=3),
-                                             series.fit_sine_series(phi, u, terms=3), waves=waves, tier=tier.name)
-    return replace(rim, model=fit, fem=section, sine=sine, section_z_mm=float(z_mm),
-                   fit_time_s=time.perf_counter() - t0)
 
 
 def _with_stress(result: Design, step) -> Design:
