@@ -9,8 +9,10 @@ scikit-fem at 4 / 2 / 1 / 0.5 mm, the bearing's Hertz coefficient; then the rota
 against torque at ±8 … ±1200 N·m — mesh only (rigid balls: the contact model as it is),
 mesh + Hertz ball springs, and the whole chain — with K1, K2, K3 on the catalogue's
 T1/T2 (K3 from T2 to the set's peak torque), the secants at T1 and T2, lost motion at ±3 %
-of the rated torque and the backlash, against the Harmonic Drive CSF/CSG catalogue's
-table 42 (size 40, ratio 1/50; our sets are ratio 100, which the catalogue lists stiffer).
+of the rated torque and the backlash, against the Harmonic Drive CSF/CSG catalogue's row for
+the set's size (contact.chain.catalogue_for: table 42, ratio 1/50; our sets are ratio 100,
+which the catalogue lists stiffer). Other sets: ``python tests/benchmarks/torsional_curve.py
+profiles/csf32_100.toml``.
 Times: the first call (points and compliance of both flanks built) and, with them reused,
 the design run's curve (contact.chain.curve_torques_nm: 32 torques, both ways, to the
 momentary torque, + the breakpoints) by continuation in T (median of 5, CPU) and by the
@@ -32,7 +34,7 @@ sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
 from profilegen.contact.chain import (  # noqa: E402
-    ARCMIN_PER_RAD, CATALOGUE_SIZE40_RATIO50, compliance_chain, cup_torsion_fem, curve_torques_nm,
+    ARCMIN_PER_RAD, CATALOGUE_SIZE40_RATIO50, catalogue_for, compliance_chain, cup_torsion_fem, curve_torques_nm,
     torsional_curve, whole_gear_curve)
 
 TORQUES_NM = [-1200, -660, -265, -196, -100, -54, -8, 8, 54, 100, 196, 265, 660, 1200]
@@ -49,7 +51,7 @@ def _catalogue_rotation_rad(torque: float, cat: dict) -> float:
 
 def run(path: Path) -> None:
     gs = pg.load_gearset(path)
-    cat = CATALOGUE_SIZE40_RATIO50
+    cat = catalogue_for(gs) or CATALOGUE_SIZE40_RATIO50  # the row for the set's size (and its ratio's note)
     print(f"\n=== {gs.name} ({path.name}): ratio {gs.gear.flexspline_teeth // 2}, rated {gs.torque.rated_nm:g}, "
           f"peak {gs.torque.peak_nm:g}, momentary {gs.torque.momentary_nm:g} N·m")
     chain = compliance_chain(gs)
@@ -73,7 +75,7 @@ def run(path: Path) -> None:
     design = pg.design(gs, scene="design", contact=False, stress=False)
     print(f"design scene: {time.process_time() - t0:.2f} s CPU")
     t0 = time.process_time()
-    curve = torsional_curve(design, TORQUES_NM, chain=chain)
+    curve = torsional_curve(design, TORQUES_NM, chain=chain, catalogue=cat)
     first = time.process_time() - t0
     print(f"\n{'T (N·m)':>8} {'mesh':>8} {'+balls':>8} {'+chain':>8} {'catalogue':>9} {'teeth':>5} {'balls':>5}  "
           "(rotation, arcmin)")
