@@ -44,7 +44,7 @@ __all__ = ["RIM_TIER_NAMES", "SCENES", "SCENE_NAMES", "Scene", "SceneError", "bu
 #: importing the solvers) with the label a scene gets when :func:`with_rim_tier` sets one
 RIM_TIER_NAMES = ("sketch", "design", "verify", "toothed", "cup3d")
 RIM_TIER_LABELS = {"sketch": "ring theory", "design": "ring FEM (nonlinear)", "verify": "toothed-rim FEM (nonlinear)",
-                   "toothed": "toothed-rim FEM (nonlinear)", "cup3d": "3D cup (Fourier harmonics)"}
+                   "toothed": "toothed-rim FEM (nonlinear)", "cup3d": "3D cup FEM (nonlinear)"}
 
 
 class SceneError(GearSetError):

@@ -20,7 +20,7 @@ PRESETS = {
                     figures="none"),  # no PNG figures (issue 14: tests/unit/test_scene_figures.py)
     "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False,
                     "the default: 1 nm envelope, classified, loaded contact", 721, True),
-    "verify": Scene("verify", "3D cup (Fourier harmonics)", 1e-7, 192, 481, 721, True,  # rim: the 3D cup (issue 15)
+    "verify": Scene("verify", "3D cup FEM (nonlinear)", 1e-7, 192, 481, 721, True,  # rim: the 3D cup (issue 15)
                     "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001, True, tier="cup3d",
                     ratcheting=True, transmission_error=True),  # the whole gear's extras (issue 16)
 }
