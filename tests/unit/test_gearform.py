@@ -134,3 +134,36 @@ def test_cs_chain_refuses_a_flank_past_the_axis(form_default):
     flank = Chain((Line(np.array([0.2, f.tip_radius_mm + 0.01]), np.array([-0.01, f.root_radius_mm - 0.05])),))
     with pytest.raises(EnvelopeError, match="axis"):
         cs_chain(flank, tip_radius_mm=f.tip_radius_mm, root_radius_mm=f.root_radius_mm, cs_teeth=202)
+
+
+def test_clearance_map_finds_the_deepest_point_of_a_dense_interfering_outline(form_default, default_set):
+    """A CS outline sampled every ~0.5 µm and moved 5 µm towards the FS (radially inward)
+    interferes: the 32 nearest-surface candidates all crowd where it crosses the tooth, and
+    the map must still read the brute-force depth (all points inside the tooth, shapely)."""
+    from profilegen.gearform import _local_outline
+
+    tooth, motion, env = default_set
+    cs = _local_outline(form_default)
+    r = np.hypot(*cs.T)
+    near = np.abs(r - np.median(r)) < 0.6  # the working depth around the pitch circle
+    seg = np.nonzero(near[:-1] & near[1:])[0]
+    steps = np.maximum(1, np.ceil(np.hypot(*(cs[seg + 1] - cs[seg]).T) / 5e-4).astype(int))
+    dense = np.vstack([cs[i] + np.linspace(0, 1, n, endpoint=False)[:, None] * (cs[i + 1] - cs[i])
+                       for i, n in zip(seg, steps)])
+    dense = dense * (1.0 - 5e-3 / np.hypot(*dense.T))[:, None]  # 5 µm towards the centre
+    phis = (env.phi_range[0] + 0.45 * np.ptp(env.phi_range), env.phi_range[0] + 0.5 * np.ptp(env.phi_range))
+    cmap = clearance_map(form_default, tooth, motion, phi_range=phis, samples=5, cs_points=dense)
+    surface = shapely.LineString(tooth.surface(n_per_mm=400.0))
+    poly = shapely.Polygon(tooth.outline(n_per_mm=400.0))
+    truths = []
+    for phi, value in zip(cmap.phi, cmap.clearance_mm):
+        q = motion.pose(np.array([phi])).to_tooth(dense)
+        inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
+        truth = -float(np.max(shapely.distance(shapely.points(q[inside]), surface))) if inside.any() else None
+        truths.append(truth)
+        if truth is not None and truth < -1e-4:
+            assert value == pytest.approx(truth, abs=2e-6), np.degrees(phi)
+    assert min(t for t in truths if t is not None) < -1e-3  # the case does interfere by µm
+    shallow = clearance_map(form_default, tooth, motion, phi_range=phis, samples=5, cs_points=dense,
+                            deep_check_mm=np.inf)
+    assert shallow.min_mm > cmap.min_mm + 1e-4  # without the check the depth is under-read
