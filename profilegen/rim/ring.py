@@ -322,9 +322,11 @@ class _Factor:
         if self.banded is None:
             self.lu = splu(matrix.tocsc(), permc_spec="COLAMD")
 
-    def solve_many(self, rhs, block: int = 128):
+    def solve_many(self, rhs, block: int | None = None):
         """:meth:`solve` for many right-hand sides (columns of ``rhs``) by block substitution:
-        the band factor U (K = UᵀU, bandwidth b ≤ ``block``) cut into ``block``-row blocks is
+        the band factor U (K = UᵀU, bandwidth b ≤ ``block``; default b, the least work: 1.23 s
+        against 1.55 s with 128-row blocks for 512 columns of a 28818-row band-81 factor, one
+        thread) cut into ``block``-row blocks is
         block bidiagonal, so each block row is one triangular solve and one matrix product over
         all columns at once (BLAS 3) where LAPACK's banded solve (``dpbtrs``) walks the columns
         one at a time. The forward pass starts at the first block row with a non-zero entry
@@ -335,7 +337,7 @@ class _Factor:
 
         band = self.banded.shape[0] - 1
         n = self.banded.shape[1]
-        block = max(int(block), band, 1)
+        block = max(int(block or band), band, 1)
         if self._blocks is None or self._blocks[0] != block:
             starts = np.arange(0, n, block)
             diag, upper = [], []
@@ -680,7 +682,7 @@ def solve_ring(
             compliance[:, :first] = done
         todo = cols_free[(cols_free >= first) & (cols_free < 2 * n_k)]
         # the wrap mode solves its columns by block substitution, single-threaded (BLAS 3 on
-        # 128-row blocks; threads only contend on a busy machine); the whole-bore mode as before
+        # bandwidth-row blocks; threads only contend on a busy machine); the whole-bore mode as before
         solve = factor.solve if condense_within_rad is None else factor.solve_many
         with _one_blas_thread():
             for start_col in range(0, todo.size, chunk):
