@@ -250,6 +250,8 @@ class Ratcheting:
     torque_proportional_nm: float | None = None
     mean_depth_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
     mean_separation_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    torque_linear_nm: float | None = None
+    climb: dict | None = None
 
     def __post_init__(self):
         for name in ("torques_nm", "tooth_phi_deg", "depth_mm", "separation_mm", "separation_fs_mm",
@@ -279,7 +281,8 @@ class Ratcheting:
         t = abs(_torque("torque_nm", torque_nm))
         if not t >= self.torque_nm:
             return None
-        how = "extrapolated" if self.extrapolated else "interpolated"
+        how = ("extrapolated" if self.extrapolated else "interpolated") if self.climb is None or \
+            self.climb.get("criterion") in (None, "none") else f"climb, {self.climb['criterion']}"
         return (f"{t:g} N·m is at or beyond the ratcheting estimate {self.torque_nm:.4g} N·m ({how}; the loaded FS "
                 "teeth ride up the CS flanks until their tips meet): the teeth may skip")
 
@@ -293,6 +296,8 @@ class Ratcheting:
             "exponent": self.exponent,
             "torque_fitted_nm": self.torque_fitted_nm,
             "torque_proportional_nm": self.torque_proportional_nm,
+            "torque_linear_nm": self.torque_linear_nm,
+            "climb": self.climb,
             "catalogue": self.catalogue,
             "ratio_to_catalogue": self.ratio_to_catalogue,
             "torques_nm": self.torques_nm.tolist(),
@@ -398,7 +403,9 @@ def _default_ladder(gearset) -> np.ndarray:
 def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, cs_ring: bool = True,
                       stations: int = 5, max_gap_mm: float = 0.12, race_thickness_mm: float | None = None,
                       catalogue: dict | None = CATALOGUE_RATCHETING, settle_iterations: int = 20,
-                      spring_iterations: int = 60, spring_tol: float = 1e-6) -> Ratcheting:
+                      spring_iterations: int = 60, spring_tol: float = 1e-6, climb: bool = True,
+                      climb_stations: int = 9, climb_max_gap_mm: float = 0.15,
+                      climb_max_torque_nm: float | None = None, climb_ring_scale: float = 1.0) -> Ratcheting:
     """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
     by the model of the module docstring.
 
@@ -406,7 +413,15 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     the momentary one); ``side``: the loaded flank (+1/−1); ``bearing``: a
     :class:`~profilegen.contact.chain.BallBearing`, True (its estimate for the gear set) or
     None/False (rigid balls); ``cs_ring``: add the CS ring's ovalisation; ``catalogue``:
-    {"torque_nm": …, "source": …} to compare with (a value only with its source)."""
+    {"torque_nm": …, "source": …} to compare with (a value only with its source).
+
+    ``climb``: follow the climb (:mod:`profilegen.contact.climb`: ``climb_stations`` material
+    stations per tooth on the teeth within ``climb_max_gap_mm`` of the CS, the rotation
+    continued until a criterion or ``climb_max_torque_nm``, default 1.5 × the linear
+    estimate); its torque is the estimate when a criterion ends it, the linear one stays in
+    ``torque_linear_nm``. The default ladder is then rated × (0.5, 1, 2) (the linear part is
+    a diagnostic). ``climb_ring_scale``: multiplies the CS ring's compliance in the climb (a
+    study of missing radial compliance; 1 = the model)."""
     from .chain import BallBearing
     from .compliance import ContactCompliance
     from .inputs import ContactInput
@@ -416,7 +431,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     inputs = ContactInput.from_design(design, name="design")
     gs = inputs.gearset
     if torques_nm is None:
-        torques = _default_ladder(gs)
+        torques = _default_ladder(gs) if not climb else float(gs.torque.rated_nm) * np.array([0.5, 1.0, 2.0])
     else:
         torques = np.atleast_1d(np.asarray(torques_nm, dtype=float)) if not isinstance(torques_nm, (int, float)) \
             else np.array([float(torques_nm)])
@@ -496,6 +511,14 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     rated = float(gs.torque.rated_nm)
     mean_h, mean_sep = (np.array(c) for c in zip(*every))
     torque, extrapolated, exponent, fitted, proportional = _criterion(torques, mean_h, mean_sep, valid, warnings)
+    linear = float(torque)
+    climb_info = None
+    if climb:
+        torque, extrapolated, climb_info = _climb(inputs, gs, side=side, bearing=bearing, cs_ring=cs_ring,
+                                                  race_thickness_mm=race_thickness_mm, stations=climb_stations,
+                                                  max_gap_mm=climb_max_gap_mm, linear=linear,
+                                                  max_torque_nm=climb_max_torque_nm, ring_scale=climb_ring_scale,
+                                                  extrapolated=extrapolated, warnings=warnings)
     cat = None if catalogue is None else dict(catalogue)
     if cat is None:
         warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")
@@ -506,12 +529,67 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     criterion = ("Σ F_k (h_k − Δr_k) / Σ F_k = 0 with h_k = |FS tip corner| − r_CS,tip (the loaded teeth's tips "
                  "meet the CS tips while the flanks slide, on the load-weighted mean); interpolated linearly in the "
                  "margin inside the solved torques, else the proportional bound min T h̄/Δr̄ over them")
+    if climb_info is not None:
+        model = ("the climb (profilegen.contact.climb): material stations on the loaded flanks, gaps and lever arms "
+                 "recomputed on the geometry with each tooth shifted out of its space by its computed retreat and the FS "
+                 "turned by φ (rotation control), the contact's influence coefficients + Hertz ball springs + the CS "
+                 "ring; the retreat's fixed point per φ. Linear diagnostics: " + model)
+        criterion = ("the first of: the limit point max T(φ); the force-weighted margin Σ F (h − s)/Σ F = 0; half the load "
+                     "on the FS tip corners; the end of the path (no equilibrium found just beyond its last point). "
+                     "Linear diagnostics: " + criterion)
     parts = {"bearing": None if bearing is None else bearing.to_dict(),
              "cs_ring": ring_info if cs_ring else None,
              "points": int(n), "probe_teeth": int(teeth.size)}
     return Ratcheting(float(torque), model, criterion, torques, tooth_k, phi_k, h, sep, sep_fs, sep_cs, alpha, valid,
                       tuple(flags), extrapolated, exponent, rated, cat, parts, tuple(estimates),
-                      time.perf_counter() - t0, tuple(dict.fromkeys(warnings)), fitted, proportional, mean_h, mean_sep)
+                      time.perf_counter() - t0, tuple(dict.fromkeys(warnings)), fitted, proportional, mean_h, mean_sep,
+                      linear, climb_info)
+
+
+def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, max_gap_mm, linear, max_torque_nm,
+           ring_scale, extrapolated, warnings):
+    """The climb's estimate: → (torque, extrapolated, summary dict)."""
+    from .climb import DesignClimb, climb
+
+    t0 = time.perf_counter()
+    factory = None
+    if cs_ring:
+        r_mean, thick, width, _ = _cs_ring_section(gs, inputs)
+
+        def factory(phis):
+            ang = np.concatenate([phis, phis + math.pi])
+            return cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
+                                             youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
+    rated = float(gs.torque.rated_nm)
+    if max_torque_nm is None:
+        max_torque_nm = 1.5 * linear if math.isfinite(linear) else 20.0 * rated
+    else:
+        max_torque_nm = _positive("climb_max_torque_nm", max_torque_nm, "N·m")
+    ring_scale = _positive("climb_ring_scale", ring_scale, "")
+    with _serial():
+        model = DesignClimb(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm,
+                            race_thickness_mm=race_thickness_mm, bearing=bearing, ring_factory=factory,
+                            ring_scale=ring_scale)
+        theta_min, phi_rated = model.first_rotation(rated)
+        step = 0.5 * max(phi_rated - theta_min, 1e-9)
+        path = climb(model, theta_min + step, step, max_torque_nm=max_torque_nm)
+    warnings += [f"climb: {w}" for w in path.warnings]
+    info = {"criterion": path.criterion, "torque_nm": path.torque_nm, "phi_rad": path.phi_rad,
+            "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,
+            "points": model.n, "teeth": int(model.teeth.size), "ring_scale": ring_scale,
+            "phi_path_rad": path.column("phi_rad").tolist(), "torque_path_nm": path.column("torque_nm").tolist(),
+            "mean_retreat_mm": path.column("mean_retreat_mm").tolist(),
+            "margin_mm": path.column("margin_mm").tolist(), "pressure_angle_deg": path.column("alpha_deg").tolist(),
+            "corner_share": path.column("corner_share").tolist(), "time_s": time.perf_counter() - t0}
+    if path.criterion == "none" or not math.isfinite(path.torque_nm):
+        warnings.append(f"the climb met no criterion up to {max(info['torque_path_nm'], default=0.0):.4g} N·m: the "
+                        f"estimate stays the linear one ({linear:.4g} N·m)")
+        return linear, extrapolated, info
+    if path.criterion == "end of path":
+        warnings.append(f"the climb's path ends at {path.torque_nm:.4g} N·m (no equilibrium found just beyond, "
+                        "step halved 4 times): taken as the ratcheting torque; a limit point or the station "
+                        "discretisation's jump of the contact from one station to the next is not told apart")
+    return float(path.torque_nm), False, info
 
 
 def _serial():

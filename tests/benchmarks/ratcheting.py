@@ -1,6 +1,14 @@
 """Ratcheting torque estimate (issue 16 item 4) and its bad inputs.
 
-    python tests/benchmarks/ratcheting.py [profiles/seed000_csf40.toml ...]
+    python tests/benchmarks/ratcheting.py [--climb-only] [--ring-scale 1,2,4,8] [profiles/seed000_csf40.toml ...]
+
+The climb (profilegen.contact.climb, the default estimate since helper E2): per set the
+linear estimate (climb=False, E's ladder), the climb's estimate with its path (rotation,
+torque, force-weighted retreat, margin, pressure angle, load share on the FS tip corners),
+CPU time of each call, and the catalogue's value (contact.catalogue.catalogue_row, CSF
+table 4). ``--ring-scale``: the climb again with the CS ring's compliance × each factor (how
+much more radial compliance outside the contact model the climb would need to ratchet at
+the catalogue's torque). Sets: seed000_csf40, csf32_100, the default set.
 
 For each gear set (default: seed000_csf40 and the default set; design scene, no contact or
 stress in the design run): profilegen.contact.ratchet.ratcheting_torque with the whole model
@@ -31,7 +39,40 @@ from profilegen.contact.chain import BallBearing  # noqa: E402
 from profilegen.contact.ratchet import (  # noqa: E402
     BearingFitError, RatchetingError, check_bearing_fits, ratcheting_torque)
 
-SETS = [ROOT / "profiles" / "seed000_csf40.toml", Path(pg.default_gearset_path())]
+SETS = [ROOT / "profiles" / "seed000_csf40.toml", ROOT / "profiles" / "csf32_100.toml", Path(pg.default_gearset_path())]
+ARGS = {"climb_only": False, "ring_scale": []}
+
+
+def _catalogue(gs):
+    """The catalogue's ratcheting torque for the set's size and ratio, as the pipeline takes it."""
+    from profilegen.contact.chain import catalogue_for
+
+    row = catalogue_for(gs)
+    if row is None or row.get("ratcheting_torque_nm") is None:
+        return None
+    return {"torque_nm": row["ratcheting_torque_nm"], "source": row.get("ratcheting_source")}
+
+
+def climb_run(gs, design) -> None:
+    cat = _catalogue(gs)
+    for scale in [1.0] + ARGS["ring_scale"]:
+        t0 = time.process_time()
+        r = ratcheting_torque(design, catalogue=cat, climb_ring_scale=scale)
+        cpu = time.process_time() - t0
+        c = r.climb
+        print(f"\n-- climb (CS ring x {scale:g}): {cpu:.2f} s CPU; {c['teeth']} teeth, {c['points']} stations; "
+              f"criterion {c['criterion']}")
+        print(f"{'phi (mrad)':>10} {'T (N·m)':>9} {'retreat µm':>10} {'margin':>7} {'alpha °':>7} {'corner':>6}")
+        for row in zip(c["phi_path_rad"], c["torque_path_nm"], c["mean_retreat_mm"], c["margin_mm"],
+                       c["pressure_angle_deg"], c["corner_share"]):
+            phi, t, sr, mg, a, co = row
+            print(f"{phi * 1e3:10.4f} {t:9.1f} {sr * 1e3:10.1f} {mg:7.3f} {a:7.1f} {co:6.2f}")
+        ratio = "—" if r.ratio_to_catalogue is None else f"{r.ratio_to_catalogue:.2f}"
+        print(f"ratcheting torque {r.torque_nm:.4g} N·m (climb; linear diagnostics {r.torque_linear_nm:.4g}); "
+              f"catalogue {None if cat is None else cat['torque_nm']} N·m; estimate / catalogue {ratio}")
+        for w in r.warnings:
+            if w.startswith("climb") or "climb" in w:
+                print("  warning:", w)
 
 
 def run(path: Path) -> None:
@@ -41,8 +82,11 @@ def run(path: Path) -> None:
     t0 = time.process_time()
     design = pg.design(gs, scene="design", contact=False, stress=False)
     print(f"design scene: {time.process_time() - t0:.2f} s CPU")
-    for label, kw in (("whole model", {}), ("no CS ring", {"cs_ring": False}),
-                      ("rigid balls, no ring", {"bearing": None, "cs_ring": False})):
+    climb_run(gs, design)
+    if ARGS["climb_only"]:
+        return
+    for label, kw in (("whole model (linear)", {"climb": False}), ("no CS ring (linear)", {"cs_ring": False, "climb": False}),
+                      ("rigid balls, no ring (linear)", {"bearing": None, "cs_ring": False, "climb": False})):
         t0 = time.process_time()
         r = ratcheting_torque(design, **kw)
         cpu = time.process_time() - t0
@@ -64,7 +108,7 @@ def run(path: Path) -> None:
         print(f"catalogue: {r.catalogue} (ratio {r.ratio_to_catalogue})")
         for w in r.warnings:
             print("  warning:", w)
-        if label == "whole model":
+        if label == "whole model (linear)":
             whole = r
     print("\nbad input:")
     try:
@@ -75,7 +119,7 @@ def run(path: Path) -> None:
     if whole.torque_nm < float("inf"):
         print(f"  flag(1.01 × estimate): {whole.flag(1.01 * whole.torque_nm)}")
     try:
-        ratcheting_torque(design, torques_nm=[0.0, 265.0])
+        ratcheting_torque(design, torques_nm=[0.0, 265.0], climb=False)
     except RatchetingError as exc:
         print(f"  torques_nm=[0, 265]: {type(exc).__name__}: {exc}")
     big = BallBearing(23, 7.5, 84.5, 0.52, 2.06e5, 0.3)
@@ -88,7 +132,15 @@ def run(path: Path) -> None:
 
 def main() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, 4_000_000_000))
-    for path in [Path(a) for a in sys.argv[1:]] or SETS:
+    argv = sys.argv[1:]
+    if "--climb-only" in argv:
+        argv.remove("--climb-only")
+        ARGS["climb_only"] = True
+    if "--ring-scale" in argv:
+        k = argv.index("--ring-scale")
+        ARGS["ring_scale"] = [float(x) for x in argv[k + 1].split(",")]
+        del argv[k:k + 2]
+    for path in [Path(a) for a in argv] or SETS:
         run(path)
 
 

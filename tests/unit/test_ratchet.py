@@ -7,6 +7,13 @@ P R/(π E A) — and the series' truncation error falling as N⁻³. On the defa
 design: the CS ring moves outward under the tooth forces' radial components, softer ball
 supports (Hertz) let the loaded teeth ride further out than rigid ones, the estimate lies
 above every solved torque whose margin is positive, and the bad inputs are named errors.
+
+The climb (profilegen.contact.climb): its complementarity solve against enumeration of every
+active set; one tooth on a radial spring k at radius R, solved by hand — a straight flank at
+pressure angle α retreats s = T tan α /(k R), so it reaches the depth h at T = k R h cot α;
+an FS tip arc (ρ1) on a CS arc (ρ2) has sin β = sin β0 + s/(ρ1 + ρ2) and
+T(s) = k R s cot β(s), whose maximum is the limit point; on the sketch design, the climb's
+first rotations against the package's linear contact (Lemke, same S) at the same torque.
 """
 
 from __future__ import annotations
@@ -20,6 +27,7 @@ import pytest
 
 import profilegen as pg
 from profilegen.contact.chain import BallBearing
+from profilegen.contact.climb import DesignClimb, climb, solve_lcp
 from profilegen.contact.ratchet import (
     BearingFitError,
     RatchetingError,
@@ -64,7 +72,7 @@ TORQUES = [132.5, 265.0, 397.5]
 
 @pytest.fixture(scope="module")
 def whole(design):
-    return ratcheting_torque(design, torques_nm=TORQUES, stations=3)
+    return ratcheting_torque(design, torques_nm=TORQUES, stations=3, climb=False)
 
 
 def test_estimate_and_its_parts(whole):
@@ -87,8 +95,8 @@ def test_estimate_and_its_parts(whole):
 def test_softer_balls_let_the_teeth_ride_out(design):
     """Rigid ball supports against the Hertz springs (no CS ring in either): the rim sinks into
     the softer supports, so the loaded teeth move further out of their spaces (force-weighted)."""
-    rigid = ratcheting_torque(design, torques_nm=TORQUES, stations=3, bearing=None, cs_ring=False)
-    hertz = ratcheting_torque(design, torques_nm=TORQUES, stations=3, cs_ring=False)
+    rigid = ratcheting_torque(design, torques_nm=TORQUES, stations=3, bearing=None, cs_ring=False, climb=False)
+    hertz = ratcheting_torque(design, torques_nm=TORQUES, stations=3, cs_ring=False, climb=False)
     assert np.all(rigid.separation_cs_mm == 0.0) and np.all(hertz.separation_cs_mm == 0.0)
     assert np.all(hertz.mean_separation_mm > rigid.mean_separation_mm + 2e-3)  # > 2 µm further out
 
@@ -119,3 +127,113 @@ def test_bearing_that_does_not_fit():
     with pytest.raises(BearingFitError, match="race_thickness_mm = -1.0 mm"):
         check_bearing_fits(gs, race_thickness_mm=-1.0)
     assert issubclass(BearingFitError, ValueError)
+
+
+# --------------------------------------------------------------------------- the climb
+
+
+def test_lcp_against_enumeration():
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        a = rng.normal(size=(6, 6))
+        s = a @ a.T + 0.5 * np.eye(6)
+        q = rng.normal(size=6)
+        f = solve_lcp(s, q)
+        best = None
+        for mask in range(64):  # the one active set whose solution is complementary
+            idx = [k for k in range(6) if mask >> k & 1]
+            g = np.zeros(6)
+            if idx:
+                g[idx] = np.linalg.solve(s[np.ix_(idx, idx)], -q[idx])
+            if np.all(g >= -1e-12) and np.all(s @ g + q >= -1e-12):
+                best = g
+        np.testing.assert_allclose(f, best, atol=1e-10)
+        w = s @ f + q
+        assert np.all(f >= 0) and np.all(w >= -1e-12) and abs(f @ w) < 1e-10
+
+
+class _OneTooth:
+    """One tooth on a radial spring k (N/mm) at radius R (mm), in a frame with e_r = +y: an FS
+    tip arc (radius rho1, stations over beta in [5°, 60°], normals (cos β, sin β)) on a CS arc
+    (rho2) touching at beta0, or a straight FS flank on a parallel CS line at pressure angle
+    beta0. The FS turned by φ moves by R φ along +x. S = u uᵀ/k + c I (u = sin β: the spring
+    seen along each normal; c a local compliance), P = uᵀ/k."""
+
+    zones = 1
+
+    def __init__(self, *, straight=False, k=2000.0, r=50.0, c=2e-5, rho1=0.6, rho2=0.8, beta0=math.radians(15),
+                 n=80, depth=0.8):
+        self.k, self.r, self.straight = k, r, straight
+        beta = np.full(n, beta0) if straight else np.linspace(math.radians(5), math.radians(60), n)
+        self.normal = np.column_stack([np.cos(beta), np.sin(beta)])
+        if straight:
+            self.p0 = np.linspace(-0.3, 0.3, n)[:, None] * np.array([-math.sin(beta0), math.cos(beta0)])
+        else:
+            self.p0 = rho1 * self.normal
+            self.c2 = (rho1 + rho2) * np.array([math.cos(beta0), math.sin(beta0)])
+        self.rho2 = rho2
+        self.sin_alpha = self.normal[:, 1].copy()
+        self.slot, self.corner = np.zeros(n, int), np.zeros(n, bool)
+        self.depth_mm = np.array([depth])
+        self.s = c * np.eye(n) + np.outer(self.sin_alpha, self.sin_alpha) / k
+        self.p = (self.sin_alpha / k)[None, :]
+
+    def geometry(self, s, phi=0.0):
+        p = self.p0 + np.array([self.r * phi, -s[0]])
+        gap = -(p @ self.normal[0]) if self.straight else np.linalg.norm(p - self.c2, axis=1) - self.rho2
+        return gap, self.r * self.normal[:, 0]
+
+    def initial_state(self):
+        return None
+
+    def settled(self, state):
+        return True
+
+    def respond(self, q, state):
+        return solve_lcp(self.s, q), None, self.p, np.zeros_like(self.p)
+
+
+def test_climb_straight_flank_reaches_the_depth_at_k_r_h_cot_alpha():
+    alpha, h = math.radians(20), 0.3
+    model = _OneTooth(straight=True, beta0=alpha, depth=h, n=20)
+    path = climb(model, 1e-6, 2e-4)
+    assert path.criterion == "margin"
+    assert path.torque_nm == pytest.approx(model.k * model.r * h / math.tan(alpha) / 1e3, rel=1e-6)
+    # along the path: s = T tan α / (k R)
+    for p in path.points:
+        assert p.retreat_mm[0] == pytest.approx(p.torque_nm * 1e3 * math.tan(alpha) / (model.k * model.r), rel=1e-6)
+
+
+def test_climb_two_arcs_limit_point():
+    rho, beta0 = 1.4, math.radians(15)
+    model = _OneTooth()
+    path = climb(model, 1e-6, 2e-4, refine=4)
+    s = np.linspace(0.0, 1.0, 100001)
+    sb = math.sin(beta0) + s / rho
+    ok = sb < math.sin(math.radians(60))
+    exact = np.max((model.k * model.r * s * np.sqrt(1 - sb ** 2) / sb)[ok]) / 1e3
+    assert path.criterion == "limit point"
+    assert path.torque_nm == pytest.approx(exact, rel=1e-2)  # stations 0.7° apart on the arc
+    # the pressure angle rose from 15° on the way; a constant 15° would carry 4× more to the same depth
+    assert path.points[-1].alpha_deg > 35.0
+    assert path.torque_nm < 0.25 * model.k * model.r * model.depth_mm[0] / math.tan(beta0) / 1e3
+
+
+def test_climb_starts_as_the_linear_contact(design):
+    """At the first rotations the retreat is µm: the climb's torque must be the package's linear
+    contact (Lemke on the same S, settled balls and springs) at the same rotation's torque."""
+    from profilegen.contact.inputs import ContactInput
+    from profilegen.contact.solvers import solve_lemke
+
+    inputs = ContactInput.from_design(design)
+    gs = inputs.gearset
+    model = DesignClimb(inputs, side=1, stations=5, max_gap_mm=0.08, race_thickness_mm=None,
+                        bearing=BallBearing.from_gearset(gs), ring_factory=None)
+    theta, phi_rated = model.first_rotation(float(gs.torque.rated_nm))
+    path = climb(model, theta + 0.25 * (phi_rated - theta), 0.25 * (phi_rated - theta), max_steps=2, refine=0)
+    for p in path.points:
+        s_mat = model._matrices(p.state.active, p.state.springs)[0]
+        gap, lever = model.geometry(np.zeros(model.teeth.size))
+        sol = solve_lemke(s_mat, np.maximum(gap, 0) / lever, lever, p.torque_nm / model.zones * 1e3)
+        assert sol.phi_rad == pytest.approx(p.phi_rad, rel=2e-2)
+        assert abs(p.mean_retreat_mm) < 0.005  # force-weighted: µm

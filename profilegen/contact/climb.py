@@ -1,0 +1,467 @@
+"""The climb: the loaded FS teeth riding up the CS flanks, by continuation in the rotation.
+
+Used by :func:`profilegen.contact.ratchet.ratcheting_torque` (``climb=True``). Units mm, N,
+rad; torque N·m (``zones`` × Σ F·r / 1000).
+
+Model
+-----
+Candidate points are *material* stations on the loaded FS flank of every tooth that can
+engage (fixed arc lengths, fine enough that the contact can move along them: each station
+keeps its FS normal and its FEM influence coefficients, which a rigid radial translation of
+its tooth does not change). Tooth k stands ``s_k`` (mm) radially out of its CS space: its
+stations are at p_j − s_k e_r,k. For a prescribed rigid rotation φ of the FS against the CS:
+
+* the initial gaps g_j(s) are the exact distances of the shifted stations to the fitted CS
+  space (true arcs and lines), and the lever arms r_j(s) = (p_j(s) × n_j)·rotation: as s
+  grows the smallest gaps move to stations nearer the FS tip, whose normals are more radial
+  (the pressure angle rises, 10 → 46° on the default sets' tip arcs);
+* the contact forces F solve the linear complementarity problem F ≥ 0,
+  w = S F + g(s) − sin α ⊙ s_FS − r(s) φ ≥ 0, F·w = 0, with S the contact's influence
+  coefficients (FEM rim + teeth + race, Hertz ball springs at the balls' own reactions, the
+  ball set settled). S already holds, to first order, the normal opening sin α_j · s_FS,k that
+  the FS's own radial yielding s_FS = P F (the tip-land probes of
+  :mod:`profilegen.contact.ratchet`) causes; it is taken out of the gaps (lagged) so that
+  only the geometry beyond first order is added — at small s this is the linear contact
+  exactly;
+* the teeth's retreat is then s = P F + s_CS(F) (the CS ring's ovalisation, which S does not
+  hold), and the rotation's fixed point in s (and in the ball springs and ball set) is found
+  by successive substitution, warm-started from the previous rotation.
+
+The torque T(φ) = U Σ F_j r_j(s) / 1000 is followed over increasing φ (rotation control
+passes a maximum of T, which torque control cannot). The ratcheting torque is the first of:
+the limit point max T(φ) (refined by a parabola through the three points around it); the
+force-weighted margin Σ F_k (h_k − s_k)/Σ F_k reaching 0 (h_k the tooth's depth: its loaded
+tip corner above the CS tip circle); half of the load on the FS tip-corner stations (the
+force-weighted contact at the corner: the next step takes those teeth over the CS tips).
+
+Left out: the contact normal beyond the FS tip corner (a corner station keeps its flank
+normal, ≤ 46° on the default sets, where the CS tip round would turn it radial — so the
+last part of the climb is stiffer here than it is); the change of the influence coefficients
+of the CS side as its contact moves toward the CS tip (its sector's compliance is kept at
+the no-shift feet); friction.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.linalg import cho_factor, cho_solve, solve_triangular
+from scipy.optimize import nnls
+
+from ..errors import ConvergenceError
+
+__all__ = ["ClimbPath", "ClimbPoint", "climb", "solve_lcp"]
+
+
+def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.ndarray:
+    """F ≥ 0 with w = S F + q ≥ 0 and F·w = 0, for S symmetric positive definite: the
+    minimum of ½FᵀSF + qᵀF over F ≥ 0, as a non-negative least-squares problem on the
+    Cholesky factor of S restricted to the candidates (q_j < 0 first; a point whose w comes
+    out below −tol joins and the problem is solved again). Exact for SPD S."""
+    n = q.size
+    f = np.zeros(n)
+    if n == 0:
+        return f
+    scale = float(np.max(np.abs(q))) or 1.0
+    tol = 1e-12 * scale if tol is None else tol
+    cand = q < 0.0
+    for _ in range(n + 1):
+        idx = np.flatnonzero(cand)
+        f[:] = 0.0
+        if idx.size:
+            sub = s[np.ix_(idx, idx)]
+            low = np.linalg.cholesky(sub)
+            rhs = -solve_triangular(low, q[idx], lower=True)
+            f[idx] = nnls(low.T, rhs, maxiter=50 * idx.size)[0]
+        w = s @ f + q
+        bad = (~cand) & (w < -tol)
+        if not bad.any():
+            return f
+        cand |= bad
+    raise ConvergenceError("climb.solve_lcp: the candidate set did not settle")
+
+
+@dataclass(frozen=True, slots=True)
+class ClimbPoint:
+    """One rotation of the path: ``phi_rad``, ``torque_nm``, per tooth ``retreat_mm`` s (FS +
+    CS ring) and ``retreat_fs_mm``, the station forces ``force_n``, the force-weighted
+    ``margin_mm`` Σ F (h − s)/Σ F, ``alpha_deg`` (force-weighted pressure angle),
+    ``corner_share`` (the load share on tip-corner stations), ``iterations``."""
+
+    phi_rad: float
+    torque_nm: float
+    retreat_mm: np.ndarray
+    retreat_fs_mm: np.ndarray
+    force_n: np.ndarray
+    margin_mm: float
+    alpha_deg: float
+    mean_retreat_mm: float
+    corner_share: float
+    iterations: int
+    state: object = None
+
+
+@dataclass(frozen=True, slots=True)
+class ClimbPath:
+    """The path and its ratcheting torque (``torque_nm``; ``criterion`` which ended it:
+    "limit point", "margin", "corner", "end of path" (no equilibrium just beyond the last
+    point), or "none" when the path ran out of steps or torque)."""
+
+    points: tuple
+    torque_nm: float
+    phi_rad: float
+    criterion: str
+    warnings: tuple = field(default=())
+
+    def column(self, name: str) -> np.ndarray:
+        return np.array([getattr(p, name) for p in self.points])
+
+
+def _solve_at(model, phi: float, s_fs, s_cs, state, *, tol_mm: float, max_iterations: int, depth: int = 5):
+    """The fixed point s = G(s) at rotation ``phi`` (G: the retreat the contact forces cause
+    with the teeth at s), by Anderson mixing of the last ``depth`` iterates (plain
+    substitution diverges where the climb's geometric softening is strong): → (F, s_fs, s_cs,
+    state, lever, iterations)."""
+    m = s_fs.size
+    x = np.concatenate([s_fs, s_cs])
+    xs, gs = [], []
+    change = math.inf
+    for it in range(1, max_iterations + 1):
+        s_tot = x[:m] + x[m:]
+        gap, lever = model.geometry(s_tot, phi)
+        q = gap - model.sin_alpha * s_tot[model.slot]
+        f, state, p_fs, p_cs = model.respond(q, state)
+        g = np.concatenate([p_fs @ f, p_cs @ f])
+        r = g - x
+        change = float(np.max(np.abs(r), initial=0.0))
+        if change <= tol_mm and model.settled(state):
+            return f, g[:m], g[m:], state, lever, it
+        xs.append(x)
+        gs.append(g)
+        if len(xs) > depth + 1:
+            xs.pop(0)
+            gs.pop(0)
+        if len(xs) >= 2:
+            res = np.array([gg - xx for gg, xx in zip(gs, xs)])
+            d_r = np.diff(res, axis=0).T
+            d_g = np.diff(np.array(gs), axis=0).T
+            gamma = np.linalg.lstsq(d_r, r, rcond=None)[0]
+            x = g - d_g @ gamma
+        else:
+            x = g
+    raise ConvergenceError(f"climb: the teeth's retreat did not settle at φ = {phi:.6g} rad in {max_iterations} "
+                           f"iterations (last change {change:.3g} mm)")
+
+
+def _point(model, phi, f, s_fs, s_cs, state, lever, iterations) -> ClimbPoint:
+    s = s_fs + s_cs
+    per = np.bincount(model.slot, weights=f, minlength=model.depth_mm.size)
+    total = float(per.sum())
+    torque = model.zones * float(f @ lever) / 1000.0
+    if total > 0.0:
+        margin = float(per @ (model.depth_mm - s)) / total
+        mean_s = float(per @ s) / total
+        alpha = float(np.degrees(np.arcsin(np.clip(model.sin_alpha, -1, 1))) @ f) / total
+        corner = float(f[model.corner].sum()) / total
+    else:
+        margin, mean_s, alpha, corner = float(np.min(model.depth_mm)), 0.0, 0.0, 0.0
+    return ClimbPoint(float(phi), torque, s.copy(), s_fs.copy(), f, margin, alpha, mean_s, corner, iterations, state)
+
+
+def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow: float = 1.25,
+          refine: int = 3, tol_mm: float = 1e-4, max_iterations: int = 30,
+          max_torque_nm: float = math.inf, max_halvings: int = 4) -> ClimbPath:
+    """Follow T(φ) from ``phi_start`` in steps of ``phi_step`` (grown ×``grow`` while nothing
+    ends the path) until a criterion of the module docstring is met, then refine the
+    bracket ``refine`` times (quarter steps from the point before it). ``model`` provides
+    ``geometry(s) → (gap, lever)``, ``respond(q, state) → (F, state, S, P)``, ``ring(F)``,
+    ``settled(state)``, ``initial_state()``, and arrays ``slot``, ``sin_alpha``, ``depth_mm``,
+    ``corner`` and ``zones``. The path stops past ``max_torque_nm`` (N·m). A rotation whose
+    fixed point is not found is tried again with the step halved (``max_halvings`` times);
+    then the path ends at the last point (criterion "end of path": no equilibrium was found
+    just beyond it — under rotation control the teeth would snap)."""
+    m = model.depth_mm.size
+    s_fs, s_cs, state = np.zeros(m), np.zeros(m), model.initial_state()
+    pts: list[ClimbPoint] = []
+    warnings: list[str] = []
+
+    def run(phi, s_fs, s_cs, state):
+        f, s_fs, s_cs, state, lever, it = _solve_at(model, phi, s_fs, s_cs, state, tol_mm=tol_mm,
+                                                    max_iterations=max_iterations)
+        return _point(model, phi, f, s_fs, s_cs, state, lever, it)
+
+    def ended(path):
+        """(criterion, index of the first point past it) or None."""
+        for k, p in enumerate(path):
+            if p.margin_mm <= 0.0:
+                return "margin", k
+            if p.corner_share >= 0.5:
+                return "corner", k
+            if k >= 1 and p.torque_nm < path[k - 1].torque_nm:
+                return "limit point", k
+        return None
+
+    phi, step = float(phi_start), float(phi_step)
+    halvings = 0
+    for _ in range(max_steps):
+        try:
+            p = run(phi, s_fs, s_cs, state)
+        except ConvergenceError as exc:
+            if pts and halvings < max_halvings:  # a shorter step from the last point
+                halvings += 1
+                step *= 0.5
+                phi = pts[-1].phi_rad + step
+                continue
+            # no equilibrium found just past the last point: the path ends there
+            warnings.append(f"{exc} (after {halvings} step halvings): no equilibrium just beyond "
+                            f"φ = {pts[-1].phi_rad if pts else phi:.6g} rad")
+            break
+        pts.append(p)
+        if ended(pts):
+            break
+        if p.torque_nm > max_torque_nm:
+            warnings.append(f"the path stopped at {p.torque_nm:.4g} N·m > max_torque_nm = {max_torque_nm:.4g} N·m "
+                            "with no criterion met")
+            break
+        s_fs, s_cs, state = p.retreat_fs_mm, p.retreat_mm - p.retreat_fs_mm, p.state
+        phi += step
+        step *= grow
+    for _ in range(refine):
+        hit = ended(pts)
+        if hit is None or hit[1] < 2:
+            break
+        k = hit[1]
+        base = pts[k - 2]
+        h = (pts[k].phi_rad - base.phi_rad) / 4.0
+        fine = [base]
+        s_fs, s_cs, state = base.retreat_fs_mm, base.retreat_mm - base.retreat_fs_mm, base.state
+        for j in range(1, 4):
+            try:
+                q = run(base.phi_rad + j * h, s_fs, s_cs, state)
+            except ConvergenceError as exc:
+                warnings.append(str(exc))
+                break
+            fine.append(q)
+            s_fs, s_cs, state = q.retreat_fs_mm, q.retreat_mm - q.retreat_fs_mm, q.state
+        fine.append(pts[k])
+        pts = pts[:k - 2] + sorted(fine, key=lambda x: x.phi_rad) + pts[k + 1:]
+    hit = ended(pts)
+    if hit is None and pts and warnings and "no equilibrium just beyond" in warnings[-1]:
+        best = max(pts, key=lambda x: x.torque_nm)
+        return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "end of path", tuple(warnings))
+    if hit is None:
+        best = max(pts, key=lambda x: x.torque_nm) if pts else None
+        warnings.append("no criterion was met on the path followed: the estimate is its largest torque")
+        return ClimbPath(tuple(pts), best.torque_nm if best else math.nan, best.phi_rad if best else math.nan,
+                         "none", tuple(warnings))
+    crit, k = hit
+    a, b = pts[k - 1] if k else pts[k], pts[k]
+    if crit == "limit point":
+        if k >= 2:
+            x = np.array([pts[k - 2].phi_rad, a.phi_rad, b.phi_rad])
+            y = np.array([pts[k - 2].torque_nm, a.torque_nm, b.torque_nm])
+            c2, c1, c0 = np.polyfit(x, y, 2)
+            if c2 < 0.0:
+                xv = -c1 / (2.0 * c2)
+                if x[0] <= xv <= x[2]:
+                    return ClimbPath(tuple(pts), float(np.polyval([c2, c1, c0], xv)), float(xv), crit, tuple(warnings))
+        return ClimbPath(tuple(pts), a.torque_nm, a.phi_rad, crit, tuple(warnings))
+    if k == 0:
+        warnings.append(f"the first rotation already meets the {crit} criterion")
+        return ClimbPath(tuple(pts), b.torque_nm, b.phi_rad, crit, tuple(warnings))
+    va, vb = (a.margin_mm, b.margin_mm) if crit == "margin" else (0.5 - a.corner_share, 0.5 - b.corner_share)
+    w = va / (va - vb) if va != vb else 1.0
+    return ClimbPath(tuple(pts), float(a.torque_nm + w * (b.torque_nm - a.torque_nm)),
+                     float(a.phi_rad + w * (b.phi_rad - a.phi_rad)), crit, tuple(warnings))
+
+
+# --------------------------------------------------------------------------- a design's teeth
+
+
+class _State:
+    __slots__ = ("active", "springs", "done")
+
+    def __init__(self, active, springs, done=False):
+        self.active, self.springs, self.done = active, springs, done
+
+
+class DesignClimb:
+    """The climb model of a design's engagement zone (module docstring): material stations
+    ``stations`` per tooth on the loaded flank of every tooth whose no-load gap is within
+    ``max_gap_mm``, their influence coefficients with one radial probe per tooth (FS tip-land
+    centre against the CS space's root, as :mod:`profilegen.contact.ratchet`), the Hertz ball
+    springs of ``bearing`` (None: rigid balls) and the CS ring ``ring_matrix`` (m × 2m, the
+    ring's radial compliance at the teeth for loads at the teeth and their images; None: no
+    ring; ``ring_scale`` multiplies it: a study of how much more radial compliance outside the
+    contact's S the climb would need). Built by :func:`profilegen.contact.ratchet.ratcheting_torque`."""
+
+    def __init__(self, inputs, *, side: int, stations: int, max_gap_mm: float, race_thickness_mm, bearing,
+                 ring_factory=None, ring_scale: float = 1.0, spring_tol: float = 1e-3):
+        from ..kinematics import turn
+        from .compliance import ContactCompliance
+        from .points import contact_points
+        from .ratchet import _probes
+
+        every = contact_points(inputs, side=side, stations=stations, max_gap_mm=10.0)
+        best = {int(t): float(every.gap_mm[every.tooth == t].min()) for t in every.teeth}
+        keep = np.isin(every.tooth, [t for t, g in best.items() if g <= max_gap_mm])
+        if not keep.any():
+            raise ConvergenceError(f"climb: no tooth comes within max_gap_mm = {max_gap_mm} mm of the CS")
+        pts = _Subset(every, keep)
+        teeth, phis, fs_probe, e_r, cs_probe, corner = _probes(inputs, pts)
+        g = inputs.gearset.gear
+        self.teeth, self.phis = teeth, phis
+        self.slot = np.searchsorted(teeth, pts.tooth)
+        self.n, self.zones, self.rotation = pts.count, int(pts.zones), int(pts.rotation)
+        back = -2.0 * math.pi * pts.tooth / g.circular_spline_teeth
+        self._p0 = np.vstack([turn(pts.fs_point_mm[k:k + 1], a) for k, a in enumerate(back)])
+        self._n0 = np.vstack([turn(pts.normal[k:k + 1], a) for k, a in enumerate(back)])
+        tb = -2.0 * math.pi * teeth / g.circular_spline_teeth
+        self._e0 = np.vstack([turn(e_r[k:k + 1], a) for k, a in enumerate(tb)])
+        self._space = inputs.cs_space
+        # the space's outline in polar form (angle from +y, radius): CS material lies beyond it
+        outline = np.asarray(inputs.cs_space.sample(1e-3), dtype=float)
+        th = np.arctan2(outline[:, 0], outline[:, 1])
+        order = np.argsort(th)
+        self._rim_theta, self._rim_r = th[order], np.hypot(outline[order, 0], outline[order, 1])
+        self._tip_r = float(inputs.cs_tip_radius_mm)
+        if np.any(np.diff(np.hypot(outline[:, 0], outline[:, 1])[np.argsort(th)]) > 0.5) or not (
+                np.all(np.diff(th) > 0) or np.all(np.diff(th) < 0)):
+            raise ConvergenceError("climb: the CS space's outline is not single-valued in the polar angle; "
+                                   "the overlap of a station cannot be told")
+        e_pts = pts.fs_point_mm / np.linalg.norm(pts.fs_point_mm, axis=1)[:, None]
+        self.sin_alpha = np.einsum("ij,ij->i", pts.normal, e_pts)
+        self.depth_mm = np.linalg.norm(corner, axis=1) - inputs.cs_tip_radius_mm
+        self.corner = pts.t_mm >= float(inputs.tooth.length_mm) - 1e-9
+        self.t_mm = pts.t_mm
+        self.points = pts
+        self._combined = ContactCompliance.build(
+            inputs, np.vstack([pts.fs_point_mm, fs_probe]), np.vstack([pts.normal, e_r]),
+            np.concatenate([pts.tooth, teeth]), np.vstack([pts.cs_point_mm, cs_probe]),
+            race_thickness_mm=race_thickness_mm)
+        self.bearing = bearing
+        m = teeth.size
+        ring = np.zeros((m, 2 * m)) if ring_factory is None else ring_scale * ring_factory(phis)
+        #: the CS ring's radial compliance at the teeth, the image zone's load folded in (m × m)
+        self._ring = ring[:, :m] + ring[:, m:]
+        #: its part of the retreat per station force (m × n) and of S (n × n): sin α_j C sin α_l
+        self._p_cs = self._ring[:, self.slot] * self.sin_alpha[None, :]
+        s_ring = self.sin_alpha[:, None] * self._p_cs[self.slot]
+        self._spring_tol = spring_tol
+        c = self._combined
+        self._base = 0.5 * (c._flex_cc + c._flex_cc.T) / c.face_width_mm + c.cs_matrix_mm_per_n
+        self._base[:self.n, :self.n] += 0.5 * (s_ring + s_ring.T)
+
+    # -- the model interface of climb()
+    def geometry(self, s, phi: float = 0.0):
+        """Signed gaps (mm, < 0: overlap) of the stations with their teeth ``s`` out of their
+        spaces and the FS turned by ``phi`` against the CS, and the lever arms (mm)."""
+        from ..kinematics import turn
+
+        p = turn(self._p0 - s[self.slot, None] * self._e0[self.slot], self.rotation * phi)
+        n = turn(self._n0, self.rotation * phi)
+        dist = self._space.distance(p)
+        theta = np.arctan2(p[:, 0], p[:, 1])
+        inside = np.hypot(p[:, 0], p[:, 1]) > np.interp(theta, self._rim_theta, self._rim_r,
+                                                        left=self._tip_r, right=self._tip_r)
+        gap = np.where(inside, -dist, dist)
+        lever = self.rotation * (p[:, 1] * n[:, 0] - p[:, 0] * n[:, 1])
+        return gap, lever
+
+    def initial_state(self):
+        return _State(self._combined.ball_active.copy(), None)
+
+    def settled(self, state) -> bool:
+        return state.done
+
+    def _matrices(self, active, springs):
+        """(S, P, support factor) for a ball set and springs: the combined compliance's
+        Schur step (:meth:`ContactCompliance.with_balls`) without its positive-definiteness
+        check, which the build made."""
+        c = self._combined
+        b = c.face_width_mm
+        act = np.flatnonzero(active)
+        full = self._base.copy()
+        fa = None
+        if act.size:
+            block = c._flex_bb[np.ix_(act, act)]
+            if springs is not None:
+                block = block + np.diag(springs[act] * b)
+            fa = cho_factor(block, lower=True)
+            w = solve_triangular(fa[0], c._flex_cb[:, act].T, lower=True)
+            full -= (w.T @ w) / b
+        n = self.n
+        return full[:n, :n], full[n:, :n], fa
+
+    def _reactions(self, f, active, fa):
+        """Ball reactions (N, > 0 compressed) and the bore's radial gap at every candidate ball."""
+        c = self._combined
+        b = c.face_width_mm
+        fp = np.zeros(c._flex_cc.shape[0])
+        fp[:self.n] = f
+        react = np.zeros(c.ball_angle_rad.size)
+        act = np.flatnonzero(active)
+        if act.size:
+            react[act] = -cho_solve(fa, c._flex_cb[:, act].T @ fp)
+        gaps = c._flex_cb.T @ (fp / b) + c._flex_bb @ (react / b)
+        return react, gaps
+
+    def respond(self, q, state):
+        active, springs = state.active.copy(), state.springs
+        seen = set()
+        for _ in range(4 * active.size + 4):
+            s_mat, p_mat, fa = self._matrices(active, springs)
+            f = solve_lcp(s_mat, q)
+            react, gaps = self._reactions(f, active, fa)
+            tol = 1e-12 * max(1.0, float(np.abs(react).max(initial=0.0)))
+            pulling = active & (react < -tol)
+            if pulling.any():
+                active[np.flatnonzero(pulling)[np.argmin(react[pulling])]] = False
+            else:
+                pressed = ~active & (gaps < -1e-15)
+                if not pressed.any():
+                    break
+                active[np.flatnonzero(pressed)[np.argmin(gaps[pressed])]] = True
+            key = active.tobytes()
+            if key in seen and not pulling.any():
+                raise ConvergenceError("climb: the ball set cycles")
+            seen.add(key)
+        else:
+            raise ConvergenceError("climb: the ball set did not settle")
+        done = bool(np.array_equal(active, state.active))
+        if self.bearing is not None:
+            floor = max(1.0, 1e-3 * float(react.max(initial=0.0)))
+            new = self.bearing.secant_compliance_mm_per_n(react, floor_n=floor)
+            done = done and springs is not None and bool(np.all(np.abs(new / springs - 1.0) <= self._spring_tol))
+            springs = new
+        return f, _State(active, springs, done), p_mat, self._p_cs
+
+    def first_rotation(self, torque_nm: float) -> tuple[float, float]:
+        """(θ_min, φ at ``torque_nm`` in the linear contact with rigid balls, no shift)."""
+        from .solvers import solve_lemke
+
+        gap, lever = self.geometry(np.zeros(self.teeth.size))
+        s_mat = self._matrices(self._combined.ball_active, None)[0]
+        sol = solve_lemke(s_mat, np.maximum(gap, 0.0) / lever, lever,
+                          torque_nm / self.zones * 1e3)
+        return float(np.min(gap / lever)), float(sol.phi_rad)
+
+
+class _Subset:
+    """The rows ``keep`` of a ContactPoints (the fields the climb reads)."""
+
+    def __init__(self, p, keep):
+        for name in ("tooth", "phi_rad", "t_mm", "local_mm", "fs_point_mm", "cs_point_mm", "normal", "gap_mm",
+                     "lever_mm"):
+            setattr(self, name, np.asarray(getattr(p, name))[keep])
+        self.zones, self.rotation, self.side = p.zones, p.rotation, p.side
+
+    @property
+    def count(self):
+        return int(self.tooth.size)
+
+    @property
+    def teeth(self):
+        return np.unique(self.tooth)
