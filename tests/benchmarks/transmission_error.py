@@ -8,7 +8,9 @@ torque, 16 wave-generator positions over one tooth passage (ψ in [0, 2π/z2)), 
 held against the major axis — the error (loaded rotation minus its mean, arcsec) against ψ,
 its peak-to-peak, the no-load error (first contact), the secant mesh stiffness and its
 ripple, teeth in contact; then the same with the balls rolling (cage), over one ball
-passage with the balls rolling (33 positions), and at the peak torque. Times: the 16
+passage with the balls rolling (33 positions), the candidate-ball window at ψ = 0 (the
+rim's contact angle, +7.5°, 80°: rotation, and how far the bore moves into the balls the
+window leaves out), and at the peak torque. Times: the 16
 positions in this process (workers=1) and in a pool of 2 (fork), ``--repeats`` each,
 medians of wall time and of CPU (this process + its reaped children), with the load
 average before each run (the machine is shared).
@@ -68,6 +70,36 @@ def _summary(label: str, te) -> None:
           f"{te.teeth_in_contact.max()}, max equilibrium residual {te.equilibrium_residual.max():.1e}")
 
 
+def _window_study(inputs, torque: float) -> None:
+    """ψ = 0: the candidate-ball window (the compliance model's wrap angle) against the
+    rotation, and how far the bore moves into the balls the window leaves out."""
+    from profilegen.contact import contact_points
+    from profilegen.contact.analysis import solve_contact
+    from profilegen.contact.compliance import ContactCompliance
+
+    pts = contact_points(inputs)
+    base = inputs.rim_contact_angle_rad
+    if base is None:
+        print("window study skipped: no rim FEM contact angle")
+        return
+    wide = None
+    for wrap in (base, base + np.radians(7.5), np.radians(80.0)):
+        comp = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
+                                       wrap_half_angle_rad=float(wrap))
+        case = solve_contact(inputs, [torque], points=pts, compliance=comp).cases[0]
+        on = np.round(np.degrees(case.ball_angle_rad[case.ball_active]), 1).tolist()
+        print(f"  window ±{np.degrees(wrap):.2f}°: rotation {case.rotation_rad * 206264.806:.2f} arcsec, active balls "
+              f"at {on}°")
+        if wide is None:
+            first = case
+        wide = comp
+    # the first window's solution on the widest window's balls: the bore's radial motion at each
+    act = np.isin(np.round(wide.ball_angle_rad, 9), np.round(first.ball_angle_rad[first.ball_active], 9))
+    gaps = wide.with_balls(act).ball_gaps_mm(first.solution.force_n) * 1e3
+    print("  with the first window, the bore's radial displacement at every ball within ±80° (µm, < 0 inward): "
+          + ", ".join(f"{a:.1f}°: {g:.1f}" for a, g in zip(np.degrees(wide.ball_angle_rad), gaps)))
+
+
 def run(path: Path, repeats: int) -> None:
     gs = pg.load_gearset(path)
     g = gs.gear
@@ -101,6 +133,7 @@ def run(path: Path, repeats: int) -> None:
              balls)
     print(f"  error over the ball passage (arcsec): {np.array2string(balls.error_arcsec, precision=3)}")
     print(f"  active balls: {balls.active_balls.tolist()}")
+    _window_study(inputs, rated)
     peak = transmission_error(inputs, gs.torque.peak_nm, positions=16)
     _summary(f"peak {gs.torque.peak_nm:g} N·m, balls held", peak)
     if te.warnings:
