@@ -60,7 +60,8 @@ def _cap():
 
 
 def _env() -> dict:
-    return {**os.environ, "PYTHONHASHSEED": "0"}
+    # this tree, whatever the installed (editable) package points at; --baseline replaces it
+    return {**os.environ, "PYTHONHASHSEED": "0", "PYTHONPATH": str(ROOT)}
 
 
 def _commands(verify: bool) -> dict[str, list[str]]:
@@ -69,9 +70,18 @@ def _commands(verify: bool) -> dict[str, list[str]]:
         "design": ["design", "-q"],
         "check default": ["check", "default"],
     }
-    if verify:
-        cmds["design --scene verify"] = ["design", "--scene", "verify", "-q"]
+    if verify:  # the 2D tiers: since the verify scene's rim is the 3D cup (issue 15), its toothed 2D rim by --rim
+        cmds["design --scene verify --rim toothed"] = ["design", "--scene", "verify", "--rim", "toothed", "-q"]
     return cmds
+
+
+def _for_tree(cmd: list[str], tree: Path | None) -> list[str]:
+    """``cmd`` as an older tree takes it: without ``--rim toothed`` where its CLI has no --rim
+    (its verify scene was the toothed 2D rim then)."""
+    if tree is None or "--rim" not in cmd or "--rim" in (tree / "profilegen" / "cli.py").read_text():
+        return cmd
+    i = cmd.index("--rim")
+    return cmd[:i] + cmd[i + 2:]
 
 
 def _run(args: list[str], out: Path, env: dict) -> tuple[float, float | None, float]:
@@ -274,7 +284,7 @@ def main() -> int:
             cmds[label if v is None else f"{label} [workers {v}]"] = (cmd, env)
         if args.baseline:
             base = {**_env(), "PYTHONPATH": str(args.baseline.resolve())}
-            cmds[f"{label} (baseline)"] = (cmd, base)
+            cmds[f"{label} (baseline)"] = (_for_tree(cmd, args.baseline), base)
     rows = {k: {"wall": [], "stages": [], "cpu": [], "load": None} for k in cmds}
     problems, saved = [], set()
     print(f"# end to end, {time.strftime('%Y-%m-%d %H:%M')}, {os.cpu_count()} CPUs, load at start {_load()}\n", flush=True)
