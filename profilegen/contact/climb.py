@@ -307,6 +307,12 @@ class DesignClimb:
         every = contact_points(inputs, side=side, stations=stations, max_gap_mm=10.0)
         best = {int(t): float(every.gap_mm[every.tooth == t].min()) for t in every.teeth}
         keep = np.isin(every.tooth, [t for t, g in best.items() if g <= max_gap_mm])
+        # a refined minimum can land next to a fixed station: two stations closer than a fifth of
+        # the spacing make S numerically singular — keep the first
+        spacing = (float(inputs.tooth.length_mm) - float(np.min(every.t_mm))) / max(stations - 1, 1)
+        close = np.zeros(keep.size, bool)
+        close[1:] = (every.tooth[1:] == every.tooth[:-1]) & (np.diff(every.t_mm) < 0.2 * spacing)
+        keep &= ~close
         if not keep.any():
             raise ConvergenceError(f"climb: no tooth comes within max_gap_mm = {max_gap_mm} mm of the CS")
         pts = _Subset(every, keep)

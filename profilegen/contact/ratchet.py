@@ -3,8 +3,27 @@
 ``ratcheting_torque(design) -> Ratcheting`` (``torque_nm``, ``model``, ``flag(torque)``,
 ``to_dict()``). Units mm, N, MPa inside; torque N·m.
 
-Model
------
+The estimate: the climb (since helper E2)
+-----------------------------------------
+``climb=True`` (default): :mod:`profilegen.contact.climb` follows the loaded contact by
+rotation control with the teeth's radial retreat fed back into the geometry — at each
+rotation φ the FS teeth stand out of their CS spaces by their computed retreat s_k (FS side
+from the tip-land probes below, CS side the free ring below, both also in the contact's
+influence coefficients to first order), the gaps and lever arms of fine material stations on
+the loaded flanks are recomputed on that shifted and turned geometry (so the contact moves up
+the flank onto the FS tip arc and the pressure angle rises), and s is iterated to its fixed
+point. The ratcheting torque is the first of: the limit point max T(φ); the force-weighted
+margin Σ F (h − s)/Σ F reaching 0; half the load on the FS tip corners; the end of the path
+(no equilibrium found just beyond its last point, after the step was halved 4 times). Checked
+by hand on one tooth on a radial spring (tests/unit/test_ratchet.py). Seed000_csf40, design
+scene: the path ends at ~5400 N·m (retreat ~0.29 mm, pressure angle ~33°), against the
+linear extrapolation's ~7400 N·m and the catalogue's 2100 N·m (CSF-40-100, table 4): the
+retreat the model computes stays ≤ 11 µm up to ~1600 N·m (the load moves to teeth the rim
+pushes into mesh), so the climb starts late. With the CS ring's compliance × 4 (climb_ring_scale)
+the limit point falls to ~2190 N·m (tests/benchmarks/ratcheting.py --ring-scale).
+
+The linear diagnostics (helper E's estimate, ``torque_linear_nm``)
+------------------------------------------------------------------
 Under torque the tooth forces F_k act along the common normals n_k (out of the FS tooth).
 Their radial components F_k sin α_k (α_k = asin(n_k·e_r), the effective pressure angle at
 the point) push the FS rim inward, onto the wave-generator bearing, and the CS outward. The
@@ -91,10 +110,9 @@ __all__ = [
 
 log = logging.getLogger(__name__)
 
-#: The catalogue's ratcheting torque for the size of the default and seed000_csf40 sets
-#: (CSF-40-100). None: no sourced value was found — not in the repository, the seeds, or
-#: the searchable catalogue pages (searched for "Harmonic Drive CSF ratcheting torque
-#: size 40"); a value may be put here only with its source.
+#: The default ``catalogue`` argument: None (no comparison). The sourced values are in
+#: :data:`profilegen.contact.catalogue.RATCHETING_TORQUE_NM` (CSF table 4: CSF-40-100 2100 N·m);
+#: the pipeline passes its row (``contact.chain.catalogue_for``).
 CATALOGUE_RATCHETING = None
 
 
@@ -573,7 +591,7 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
         theta_min, phi_rated = model.first_rotation(rated)
         step = 0.5 * max(phi_rated - theta_min, 1e-9)
         path = climb(model, theta_min + step, step, max_torque_nm=max_torque_nm)
-    warnings += [f"climb: {w}" for w in path.warnings]
+    warnings += [w if w.startswith("climb") else f"climb: {w}" for w in path.warnings]
     info = {"criterion": path.criterion, "torque_nm": path.torque_nm, "phi_rad": path.phi_rad,
             "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,
             "points": model.n, "teeth": int(model.teeth.size), "ring_scale": ring_scale,
