@@ -295,16 +295,18 @@ class DesignClimb:
     springs of ``bearing`` (None: rigid balls) and the CS ring ``ring_matrix`` (m × 2m, the
     ring's radial compliance at the teeth for loads at the teeth and their images; None: no
     ring; ``ring_scale`` multiplies it: a study of how much more radial compliance outside the
-    contact's S the climb would need). Built by :func:`profilegen.contact.ratchet.ratcheting_torque`."""
+    contact's S the climb would need); ``shift_rad``: the wave generator elsewhere in a tooth
+    passage (every tooth at 2πi/z1 + shift from the major axis, as
+    :func:`~profilegen.contact.points.contact_points`). Built by :func:`profilegen.contact.ratchet.ratcheting_torque`."""
 
     def __init__(self, inputs, *, side: int, stations: int, max_gap_mm: float, race_thickness_mm, bearing,
-                 ring_factory=None, ring_scale: float = 1.0, spring_tol: float = 1e-3):
+                 ring_factory=None, ring_scale: float = 1.0, spring_tol: float = 1e-3, shift_rad: float = 0.0):
         from ..kinematics import turn
         from .compliance import ContactCompliance
         from .points import contact_points
         from .ratchet import _probes
 
-        every = contact_points(inputs, side=side, stations=stations, max_gap_mm=10.0)
+        every = contact_points(inputs, side=side, stations=stations, max_gap_mm=10.0, shift_rad=shift_rad)
         best = {int(t): float(every.gap_mm[every.tooth == t].min()) for t in every.teeth}
         keep = np.isin(every.tooth, [t for t, g in best.items() if g <= max_gap_mm])
         # a refined minimum can land next to a fixed station: two stations closer than a fifth of
@@ -316,7 +318,7 @@ class DesignClimb:
         if not keep.any():
             raise ConvergenceError(f"climb: no tooth comes within max_gap_mm = {max_gap_mm} mm of the CS")
         pts = _Subset(every, keep)
-        teeth, phis, fs_probe, e_r, cs_probe, corner = _probes(inputs, pts)
+        teeth, phis, fs_probe, e_r, cs_probe, corner = _probes(inputs, pts, shift_rad)
         g = inputs.gearset.gear
         self.teeth, self.phis = teeth, phis
         self.slot = np.searchsorted(teeth, pts.tooth)
@@ -346,7 +348,7 @@ class DesignClimb:
         self._combined = ContactCompliance.build(
             inputs, np.vstack([pts.fs_point_mm, fs_probe]), np.vstack([pts.normal, e_r]),
             np.concatenate([pts.tooth, teeth]), np.vstack([pts.cs_point_mm, cs_probe]),
-            race_thickness_mm=race_thickness_mm)
+            race_thickness_mm=race_thickness_mm, shift_rad=shift_rad)
         self.bearing = bearing
         m = teeth.size
         ring = np.zeros((m, 2 * m)) if ring_factory is None else ring_scale * ring_factory(phis)

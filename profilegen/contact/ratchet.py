@@ -340,14 +340,15 @@ class Ratcheting:
 # --------------------------------------------------------------------------- the estimate
 
 
-def _probes(inputs, points):
+def _probes(inputs, points, shift_rad: float = 0.0):
     """Per candidate tooth: the FS tip-land centre (CS frame), e_r there, the CS space's root
-    centre, and the loaded flank's tip corner (CS frame)."""
+    centre, and the loaded flank's tip corner (CS frame); ``shift_rad`` as in
+    :func:`~profilegen.contact.points.contact_points` (another wave-generator position)."""
     from ..kinematics import turn
 
     g = inputs.gearset.gear
     teeth = points.teeth
-    phis = 2.0 * math.pi * teeth / g.flexspline_teeth
+    phis = 2.0 * math.pi * teeth / g.flexspline_teeth + float(shift_rad)
     pose = inputs.motion.pose(phis)
     tooth = inputs.tooth
     tip_y = float(tooth.tip_point[1])
@@ -423,7 +424,8 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                       catalogue: dict | None = CATALOGUE_RATCHETING, settle_iterations: int = 20,
                       spring_iterations: int = 60, spring_tol: float = 1e-6, climb: bool = True,
                       climb_stations: int = 9, climb_max_gap_mm: float = 0.15,
-                      climb_max_torque_nm: float | None = None, climb_ring_scale: float = 1.0) -> Ratcheting:
+                      climb_max_torque_nm: float | None = None, climb_ring_scale: float = 1.0,
+                      climb_shift_rad: float = 0.0) -> Ratcheting:
     """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
     by the model of the module docstring.
 
@@ -439,7 +441,8 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     estimate); its torque is the estimate when a criterion ends it, the linear one stays in
     ``torque_linear_nm``. The default ladder is then rated × (0.5, 1, 2) (the linear part is
     a diagnostic). ``climb_ring_scale``: multiplies the CS ring's compliance in the climb (a
-    study of missing radial compliance; 1 = the model)."""
+    study of missing radial compliance; 1 = the model); ``climb_shift_rad``: the climb with the
+    wave generator elsewhere in the tooth passage (each tooth at 2πi/z1 + shift, rad)."""
     from .chain import BallBearing
     from .compliance import ContactCompliance
     from .inputs import ContactInput
@@ -536,6 +539,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                                                   race_thickness_mm=race_thickness_mm, stations=climb_stations,
                                                   max_gap_mm=climb_max_gap_mm, linear=linear,
                                                   max_torque_nm=climb_max_torque_nm, ring_scale=climb_ring_scale,
+                                                  shift_rad=_number("climb_shift_rad", climb_shift_rad, "rad"),
                                                   extrapolated=extrapolated, warnings=warnings)
     cat = None if catalogue is None else dict(catalogue)
     if cat is None:
@@ -565,7 +569,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
 
 
 def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, max_gap_mm, linear, max_torque_nm,
-           ring_scale, extrapolated, warnings):
+           ring_scale, extrapolated, warnings, shift_rad=0.0):
     """The climb's estimate: → (torque, extrapolated, summary dict)."""
     from .climb import DesignClimb, climb
 
@@ -587,14 +591,14 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     with _serial():
         model = DesignClimb(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm,
                             race_thickness_mm=race_thickness_mm, bearing=bearing, ring_factory=factory,
-                            ring_scale=ring_scale)
+                            ring_scale=ring_scale, shift_rad=shift_rad)
         theta_min, phi_rated = model.first_rotation(rated)
         step = 0.5 * max(phi_rated - theta_min, 1e-9)
         path = climb(model, theta_min + step, step, max_torque_nm=max_torque_nm)
     warnings += [w if w.startswith("climb") else f"climb: {w}" for w in path.warnings]
     info = {"criterion": path.criterion, "torque_nm": path.torque_nm, "phi_rad": path.phi_rad,
             "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,
-            "points": model.n, "teeth": int(model.teeth.size), "ring_scale": ring_scale,
+            "points": model.n, "teeth": int(model.teeth.size), "ring_scale": ring_scale, "shift_rad": shift_rad,
             "phi_path_rad": path.column("phi_rad").tolist(), "torque_path_nm": path.column("torque_nm").tolist(),
             "mean_retreat_mm": path.column("mean_retreat_mm").tolist(),
             "margin_mm": path.column("margin_mm").tolist(), "pressure_angle_deg": path.column("alpha_deg").tolist(),

@@ -1,6 +1,6 @@
 """Ratcheting torque estimate (issue 16 item 4) and its bad inputs.
 
-    python tests/benchmarks/ratcheting.py [--climb-only] [--ring-scale 1,2,4,8] [profiles/seed000_csf40.toml ...]
+    python tests/benchmarks/ratcheting.py [--climb-only] [--ring-scale 2,4,8] [--shift 0.25,0.5,0.75] [profiles/...]
 
 The climb (profilegen.contact.climb, the default estimate since helper E2): per set the
 linear estimate (climb=False, E's ladder), the climb's estimate with its path (rotation,
@@ -8,7 +8,8 @@ torque, force-weighted retreat, margin, pressure angle, load share on the FS tip
 CPU time of each call, and the catalogue's value (contact.catalogue.catalogue_row, CSF
 table 4). ``--ring-scale``: the climb again with the CS ring's compliance × each factor (how
 much more radial compliance outside the contact model the climb would need to ratchet at
-the catalogue's torque). Sets: seed000_csf40, csf32_100, the default set.
+the catalogue's torque). ``--shift``: the climb with the wave generator that fraction of a
+tooth passage on (each tooth at 2πi/z1 − f·2π/z1). Sets: seed000_csf40, csf32_100, the default set.
 
 For each gear set (default: seed000_csf40 and the default set; design scene, no contact or
 stress in the design run): profilegen.contact.ratchet.ratcheting_torque with the whole model
@@ -40,7 +41,7 @@ from profilegen.contact.ratchet import (  # noqa: E402
     BearingFitError, RatchetingError, check_bearing_fits, ratcheting_torque)
 
 SETS = [ROOT / "profiles" / "seed000_csf40.toml", ROOT / "profiles" / "csf32_100.toml", Path(pg.default_gearset_path())]
-ARGS = {"climb_only": False, "ring_scale": []}
+ARGS = {"climb_only": False, "ring_scale": [], "shift": []}
 
 
 def _catalogue(gs):
@@ -55,12 +56,14 @@ def _catalogue(gs):
 
 def climb_run(gs, design) -> None:
     cat = _catalogue(gs)
-    for scale in [1.0] + ARGS["ring_scale"]:
+    runs = [(1.0, 0.0)] + [(x, 0.0) for x in ARGS["ring_scale"]] + [(1.0, x) for x in ARGS["shift"]]
+    for scale, shift in runs:
         t0 = time.process_time()
-        r = ratcheting_torque(design, catalogue=cat, climb_ring_scale=scale)
+        r = ratcheting_torque(design, catalogue=cat, climb_ring_scale=scale,
+                              climb_shift_rad=-shift * 2 * 3.141592653589793 / gs.gear.flexspline_teeth)
         cpu = time.process_time() - t0
         c = r.climb
-        print(f"\n-- climb (CS ring x {scale:g}): {cpu:.2f} s CPU; {c['teeth']} teeth, {c['points']} stations; "
+        print(f"\n-- climb (CS ring x {scale:g}, wave generator {shift:g} tooth passage on): {cpu:.2f} s CPU; {c['teeth']} teeth, {c['points']} stations; "
               f"criterion {c['criterion']}")
         print(f"{'phi (mrad)':>10} {'T (N·m)':>9} {'retreat µm':>10} {'margin':>7} {'alpha °':>7} {'corner':>6}")
         for row in zip(c["phi_path_rad"], c["torque_path_nm"], c["mean_retreat_mm"], c["margin_mm"],
@@ -139,6 +142,10 @@ def main() -> None:
     if "--ring-scale" in argv:
         k = argv.index("--ring-scale")
         ARGS["ring_scale"] = [float(x) for x in argv[k + 1].split(",")]
+        del argv[k:k + 2]
+    if "--shift" in argv:
+        k = argv.index("--shift")
+        ARGS["shift"] = [float(x) for x in argv[k + 1].split(",")]
         del argv[k:k + 2]
     for path in [Path(a) for a in argv] or SETS:
         run(path)
