@@ -23,9 +23,9 @@ wave generator), so S is a new matrix at every ψ. Reused, because it is exact:
   the same way at every ψ (it is a property of the wave-generator frame); it is computed
   once here, not once per position (the flat-ring solve alone took 0.3–7 s on the busy
   machine);
-* the FE meshes themselves are the same at every ψ (one FS pitch, one CS space, condensed);
-  ``ContactCompliance.build`` rebuilds and condenses them per call (~0.3 s; it has no hook
-  to keep the factorisation), which is the larger part of the cost per position.
+* the FE meshes themselves are the same at every ψ (one FS pitch, one CS space, condensed):
+  ``ContactCompliance.build`` keeps them (and the cut systems' factors) between calls in
+  its cache, in each worker process; the matrices are bit for bit those of a fresh build.
 
 The balls: ``ball_motion="wave_generator"`` (default) holds them at fixed angles from the
 major axis (ball 0 on it), so the load path under the teeth repeats with the tooth passage
