@@ -15,12 +15,17 @@ the flank onto the FS tip arc and the pressure angle rises), and s is iterated t
 point. The ratcheting torque is the first of: the limit point max T(φ); the force-weighted
 margin Σ F (h − s)/Σ F reaching 0; half the load on the FS tip corners; the end of the path
 (no equilibrium found just beyond its last point, after the step was halved 4 times). Checked
-by hand on one tooth on a radial spring (tests/unit/test_ratchet.py). Seed000_csf40, design
-scene: the path ends at ~5400 N·m (retreat ~0.29 mm, pressure angle ~33°), against the
-linear extrapolation's ~7400 N·m and the catalogue's 2100 N·m (CSF-40-100, table 4): the
-retreat the model computes stays ≤ 11 µm up to ~1600 N·m (the load moves to teeth the rim
-pushes into mesh), so the climb starts late. With the CS ring's compliance × 4 (climb_ring_scale)
-the limit point falls to ~2190 N·m (tests/benchmarks/ratcheting.py --ring-scale).
+by hand on one tooth on a radial spring (tests/unit/test_ratchet.py). Design scene
+(tests/benchmarks/ratcheting.py): seed000_csf40 5.40 kN·m (linear 7.42, catalogue CSF-40-100
+2.10: ×2.57), csf32_100 3.09 kN·m (linear 3.99, catalogue 1.00: ×3.09), default set 5.30 kN·m
+(linear 8.67: ×2.52); all end as "end of path" with T(φ) still rising (tangent ~half the
+initial), retreat ~0.23–0.29 mm, pressure angle ~33°. The force-weighted retreat stays
+≤ 11 µm up to ~1.6 kN·m (the load moves to teeth the rim pushes into mesh), so the climb
+starts late. What would close it: the radial compliance outside the mesh (the free CS ring's)
+× 4.2 (seed000; limit point 2.19 kN·m at × 4) or × 5.4 (csf32) — an extra 3.2–4.4 × the free
+ring's 1.9–2.2e-5 mm/N; the cam as a ring on its shaft gives 0.01–0.26 × (bores 30–70 % of
+its diameter; it would have to be a 5.0 / 3.8 mm ring), a bolted CS goes the other way (ring
+× 0.25: 10.7 kN·m), the wave generator's place in the tooth passage moves it ±2.5 %.
 
 The linear diagnostics (helper E's estimate, ``torque_linear_nm``)
 ------------------------------------------------------------------
