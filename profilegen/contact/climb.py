@@ -58,7 +58,7 @@ from scipy.optimize import nnls
 
 from ..errors import ConvergenceError
 
-__all__ = ["ClimbPath", "ClimbPoint", "climb", "solve_lcp"]
+__all__ = ["ClimbPath", "ClimbPoint", "DesignClimb", "climb", "solve_lcp", "tooth_probes"]
 
 
 def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.ndarray:
@@ -286,6 +286,31 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
 # --------------------------------------------------------------------------- a design's teeth
 
 
+def tooth_probes(inputs, points, shift_rad: float = 0.0):
+    """Per candidate tooth: the FS tip-land centre (CS frame), e_r there, the CS space's root
+    centre, and the loaded flank's tip corner (CS frame); ``shift_rad`` as in
+    :func:`~profilegen.contact.points.contact_points` (another wave-generator position)."""
+    from ..kinematics import turn
+
+    g = inputs.gearset.gear
+    teeth = points.teeth
+    phis = 2.0 * math.pi * teeth / g.flexspline_teeth + float(shift_rad)
+    pose = inputs.motion.pose(phis)
+    tooth = inputs.tooth
+    tip_y = float(tooth.tip_point[1])
+    corner = tooth.evaluate(np.array([tooth.length_mm]), side=points.side)[0][0]
+    fs = pose.to_cs(np.broadcast_to(np.array([0.0, tip_y]), (teeth.size, 2)).copy())
+    cn = pose.to_cs(np.broadcast_to(corner, (teeth.size, 2)).copy())
+    _, foot = inputs.cs_space.nearest(np.array([[0.0, 2.0 * float(g.cs_pitch_radius_mm)]]))
+    angles = 2.0 * math.pi * teeth / g.circular_spline_teeth
+    fs = np.vstack([turn(fs[k:k + 1], a) for k, a in enumerate(angles)])
+    cn = np.vstack([turn(cn[k:k + 1], a) for k, a in enumerate(angles)])
+    cs = np.vstack([turn(foot, a) for a in angles])
+    e_r = fs / np.linalg.norm(fs, axis=1)[:, None]
+    return teeth, phis, fs, e_r, cs, cn
+
+
+
 class _State:
     __slots__ = ("active", "springs", "done")
 
@@ -310,7 +335,6 @@ class DesignClimb:
         from ..kinematics import turn
         from .compliance import ContactCompliance
         from .points import contact_points
-        from .ratchet import _probes
 
         every = contact_points(inputs, side=side, stations=stations, max_gap_mm=10.0, shift_rad=shift_rad)
         best = {int(t): float(every.gap_mm[every.tooth == t].min()) for t in every.teeth}
@@ -324,7 +348,7 @@ class DesignClimb:
         if not keep.any():
             raise ConvergenceError(f"climb: no tooth comes within max_gap_mm = {max_gap_mm} mm of the CS")
         pts = _Subset(every, keep)
-        teeth, phis, fs_probe, e_r, cs_probe, corner = _probes(inputs, pts, shift_rad)
+        teeth, phis, fs_probe, e_r, cs_probe, corner = tooth_probes(inputs, pts, shift_rad)
         g = inputs.gearset.gear
         self.teeth, self.phis = teeth, phis
         self.slot = np.searchsorted(teeth, pts.tooth)

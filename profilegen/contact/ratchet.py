@@ -102,6 +102,7 @@ import numpy as np
 from .. import checks
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import json_ready, readonly as _readonly
+from .climb import tooth_probes as _probes
 
 __all__ = [
     "BearingFitError",
@@ -343,30 +344,6 @@ class Ratcheting:
 
 
 # --------------------------------------------------------------------------- the estimate
-
-
-def _probes(inputs, points, shift_rad: float = 0.0):
-    """Per candidate tooth: the FS tip-land centre (CS frame), e_r there, the CS space's root
-    centre, and the loaded flank's tip corner (CS frame); ``shift_rad`` as in
-    :func:`~profilegen.contact.points.contact_points` (another wave-generator position)."""
-    from ..kinematics import turn
-
-    g = inputs.gearset.gear
-    teeth = points.teeth
-    phis = 2.0 * math.pi * teeth / g.flexspline_teeth + float(shift_rad)
-    pose = inputs.motion.pose(phis)
-    tooth = inputs.tooth
-    tip_y = float(tooth.tip_point[1])
-    corner = tooth.evaluate(np.array([tooth.length_mm]), side=points.side)[0][0]
-    fs = pose.to_cs(np.broadcast_to(np.array([0.0, tip_y]), (teeth.size, 2)).copy())
-    cn = pose.to_cs(np.broadcast_to(corner, (teeth.size, 2)).copy())
-    _, foot = inputs.cs_space.nearest(np.array([[0.0, 2.0 * float(g.cs_pitch_radius_mm)]]))
-    angles = 2.0 * math.pi * teeth / g.circular_spline_teeth
-    fs = np.vstack([turn(fs[k:k + 1], a) for k, a in enumerate(angles)])
-    cn = np.vstack([turn(cn[k:k + 1], a) for k, a in enumerate(angles)])
-    cs = np.vstack([turn(foot, a) for a in angles])
-    e_r = fs / np.linalg.norm(fs, axis=1)[:, None]
-    return teeth, phis, fs, e_r, cs, cn
 
 
 def _split(combined, n: int):
