@@ -591,8 +591,8 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
         return linear, extrapolated, info
     if path.criterion == "end of path":
         warnings.append(f"the climb's path ends at {path.torque_nm:.4g} N·m (no equilibrium found just beyond, "
-                        "step halved 4 times): taken as the ratcheting torque; a limit point or the station "
-                        "discretisation's jump of the contact from one station to the next is not told apart")
+                        "step halved 4 times): taken as the ratcheting torque (on seed000_csf40 the retreat "
+                        "runs away there with the contact set unchanged: a snap-through)")
     return float(path.torque_nm), False, info
 
 
