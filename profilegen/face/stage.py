@@ -234,7 +234,8 @@ def face_width(
                        samples, envelope_s, map_s, time.perf_counter() - start, None, tuple(warnings))
     if result.max_interference_mm > tol:
         warnings.append(f"the one CS profile (design section z = {result.design_section_z_mm:g} mm) interferes with "
-                        f"the FS tooth by {result.max_interference_mm * 1e3:.3g} µm over the face")
+                        f"the unmodified FS tooth by {result.max_interference_mm * 1e3:.3g} µm over the face"
+                        + ("" if modification is None else " (the tooth modification's result follows in the face stage)"))
     mod = None
     if modification == "auto" and getattr(gearset.tooth, "kind", None) not in ("dcta", "involute"):
         warnings.append(f"no tooth modification along the face: a {gearset.tooth.kind} tooth has no thickness field "
