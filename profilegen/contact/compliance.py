@@ -143,7 +143,8 @@ from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 from .inputs import ContactInput
 
-__all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache", "default_race_thickness_mm"]
+__all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache", "default_race_thickness_mm",
+           "no_load_ball_gap_mm"]
 
 log = logging.getLogger(__name__)
 
@@ -1316,6 +1317,97 @@ def _wrap_half_angle(rim_contact_angle_rad: float | None, gearset) -> tuple[floa
     return float(ring.contact_angle_rad), "a linear flat-ring solve on the gear set's contour (4×64)"
 
 
+def no_load_ball_gap_mm(inputs: ContactInput, theta_rad) -> np.ndarray:
+    """The no-load radial gap (mm) between the FS bore and the wave generator's contour over a
+    ball at each wave-generator angle ``theta_rad`` (from the major axis): the bore as the
+    design's no-load deformation places it (``inputs.motion.deformation``: ω, υ of the neutral
+    line, taken for the bore's — the rim's thickness change and the section's rotation are
+    left out), its signed distance to the contour (:func:`profilegen.wavegen.from_gearset`:
+    the cam offset by the bearing, i.e. where the outer race's outer surface would be were it
+    on the cam), read at each ball's polar angle. ≥ 0 where the rim has left the cam; within
+    the rim stage's contact angle it is the fit's error (a few 0.01 µm on the default set,
+    design scene; the caller takes 0 there). Negative values (the deformation fit a little
+    inside the contour) come back clipped to 0."""
+    from .. import wavegen
+
+    gearset = inputs.gearset
+    g = gearset.gear
+    r_bore = g.neutral_radius_mm - 0.5 * g.rim_thickness_mm
+    phi = np.linspace(-math.pi, math.pi, 1441)
+    (w, *_), (u, *_) = inputs.motion.deformation.evaluate(phi, order=3)
+    e_r = np.column_stack([np.sin(phi), np.cos(phi)])
+    e_t = np.column_stack([np.cos(phi), -np.sin(phi)])
+    p = (r_bore + w)[:, None] * e_r + u[:, None] * e_t
+    _, _, dist = wavegen.from_gearset(gearset).closest(p)
+    polar = np.unwrap(np.arctan2(p[:, 0], p[:, 1]))
+    th = np.mod(np.asarray(theta_rad, dtype=float) + math.pi, 2.0 * math.pi) - math.pi
+    return np.maximum(np.interp(th, polar, dist, period=2.0 * math.pi), 0.0)
+
+
+def _lemke_lcp(m_mat: np.ndarray, q: np.ndarray, where: str, max_pivots: int | None = None):
+    """Lemke's complementary pivoting for w = M z + q, w, z ≥ 0, wᵀz = 0 (covering vector 1,
+    lexicographic ratio test, revised form with an explicit basis inverse), as
+    :func:`~profilegen.contact.solvers.solve_lemke` pivots; for a copositive-plus M (here
+    positive semidefinite) it ends at a solution whenever one exists (Cottle, Pang & Stone
+    §4.4). Returns (the indices of the basic z's, pivots)."""
+    n = q.size
+    z0 = 2 * n
+    binv = np.eye(n)
+    rhs = q.astype(float).copy()
+    basis = np.arange(n)
+    cap = 10 * n + 50 if max_pivots is None else int(max_pivots)
+    if np.all(q >= 0.0):
+        return np.zeros(0, dtype=int), 0
+
+    def column(j: int) -> np.ndarray:
+        if j < n:
+            return binv[:, j].copy()
+        if j < z0:
+            return -(binv @ m_mat[:, j - n])
+        return -binv.sum(axis=1)
+
+    def pivot(row: int, col: np.ndarray, var: int) -> int:
+        nonlocal rhs
+        piv = binv[row] / col[row]
+        prow = rhs[row] / col[row]
+        binv[...] -= np.outer(col, piv)
+        binv[row] = piv
+        rhs -= col * prow
+        rhs[row] = prow
+        leaving = int(basis[row])
+        basis[row] = var
+        return leaving
+
+    leaving = pivot(int(np.argmin(q)), column(z0), z0)
+    pivots = 1
+    while leaving != z0:
+        entering = leaving + n if leaving < n else leaving - n
+        col = column(entering)
+        tol = 1e-11 * max(1.0, float(np.max(np.abs(col))))
+        cand = np.flatnonzero(col > tol)
+        if cand.size == 0:
+            raise ConvergenceError(f"{where}: Lemke's method ended on a ray at pivot {pivots}; impossible for a "
+                                   "positive definite compliance — numerical breakdown")
+        if pivots >= cap:
+            raise ConvergenceError(f"{where}: no complementary solution after {pivots} pivots")
+        ratios = rhs[cand] / col[cand]
+        best = float(np.min(ratios))
+        ties = cand[ratios <= best + 1e-12 * (1.0 + abs(best))]
+        if ties.size > 1:
+            z0row = np.flatnonzero(basis[ties] == z0)
+            if z0row.size:
+                ties = ties[z0row]
+            else:  # lexicographic rule on the rows of B⁻¹/col
+                for j in range(n):
+                    v = binv[ties, j] / col[ties]
+                    ties = ties[v <= np.min(v) + 1e-14 * (1.0 + np.max(np.abs(v)))]
+                    if ties.size == 1:
+                        break
+        leaving = pivot(int(ties[0]), col, entering)
+        pivots += 1
+    return np.sort(basis[(basis >= n) & (basis < z0)] - n), pivots
+
+
 # --------------------------------------------------------------------------- the result
 
 
@@ -1349,6 +1441,12 @@ class ContactCompliance:
     #: radial compliance of each candidate ball's support (mm/N, per ball, e.g. its Hertz
     #: contacts linearised: profilegen.contact.chain); None: rigid supports
     ball_compliance_mm_per_n: np.ndarray | None = None
+    #: "window" (the candidate balls are those within the wrap, rigid at zero gap, settled by
+    #: :meth:`settle_balls`) or "all" (every ball of the zone a one-sided support at its no-load
+    #: gap ``ball_gap_mm``, solved with the teeth by :meth:`solve_unilateral`)
+    ball_supports: str = "window"
+    #: each candidate ball's no-load radial gap to the bore (mm, ≥ 0; 0 within the wrap); None: all 0
+    ball_gap_mm: np.ndarray | None = None
 
     def __post_init__(self):
         for name in ("matrix_mm_per_n", "fs_matrix_mm_per_n", "cs_matrix_mm_per_n", "ball_angle_rad", "_flex_cc",
@@ -1356,6 +1454,8 @@ class ContactCompliance:
             object.__setattr__(self, name, _readonly(getattr(self, name)))
         if self.ball_compliance_mm_per_n is not None:
             object.__setattr__(self, "ball_compliance_mm_per_n", _readonly(self.ball_compliance_mm_per_n))
+        if self.ball_gap_mm is not None:
+            object.__setattr__(self, "ball_gap_mm", _readonly(self.ball_gap_mm))
         object.__setattr__(self, "tooth", _readonly(self.tooth, dtype=np.int64))
         object.__setattr__(self, "ball_active", _readonly(self.ball_active, dtype=bool))
 
@@ -1392,6 +1492,7 @@ class ContactCompliance:
         forces_n=None,
         substructure: bool = True,
         shift_rad: float = 0.0,
+        ball_supports: str = "window",
     ) -> "ContactCompliance":
         """Influence coefficients for the contact points of one engagement zone.
 
@@ -1415,6 +1516,10 @@ class ContactCompliance:
         major axis (another wave-generator position, as ``contact_points(shift_rad=…)`` places
         the points): the points are mapped back with it, and the balls (``ball_phase_rad`` and
         the wrap, from the major axis) sit at −shift in the rim's frame.
+        ``ball_supports``: "window" (the candidate balls are those within the wrap, rigid at
+        zero gap; the default) or "all" (every ball of the zone, |θ| < π/2, a one-sided
+        support at its no-load gap :func:`no_load_ball_gap_mm`, 0 within the wrap; the balls
+        within the wrap start active; solve with :meth:`solve_unilateral`).
         """
         start = time.perf_counter()
         inputs = ContactInput.of(inputs, error=ComplianceError)
@@ -1454,6 +1559,9 @@ class ContactCompliance:
         race_layers = _whole("race_layers", race_layers, 1)
         if race_interface not in ("bonded", "sliding"):
             raise ComplianceError(f"race_interface = {race_interface!r}: must be 'bonded' or 'sliding'")
+        if ball_supports not in ("window", "all"):
+            raise ComplianceError(f"ball_supports = {ball_supports!r}: must be 'window' (the balls within the wrap, "
+                                  "rigid, zero gap) or 'all' (every ball one-sided at its no-load gap)")
         if toothed_teeth not in ("loaded", "all"):
             raise ComplianceError(f"toothed_teeth = {toothed_teeth!r}: must be 'loaded' or 'all'")
         tol = _positive("on_surface_tol_mm", on_surface_tol_mm, "mm")
@@ -1488,7 +1596,12 @@ class ContactCompliance:
         # candidate balls: within the wrap of the major axis θ = 0 (their images cover θ = π)
         k = np.arange(ball_count)
         theta = np.mod(phase + 2.0 * math.pi * k / ball_count + math.pi, 2.0 * math.pi) - math.pi
-        balls = np.sort(theta[np.abs(theta) <= wrap + 1e-12])
+        if ball_supports == "window":
+            balls = np.sort(theta[np.abs(theta) <= wrap + 1e-12])
+            ball_gap = None
+        else:  # the zone's half ring: θ in [−π/2, π/2), the others are images
+            balls = np.sort(theta[(theta >= -0.5 * math.pi) & (theta < 0.5 * math.pi)])
+            ball_gap = np.where(np.abs(balls) <= wrap + 1e-12, 0.0, no_load_ball_gap_mm(inputs, balls))
 
         with _serial_blas():
             fs = _fs_flex(inputs.tooth, gearset, local, local_n, tooth_index, balls - shift, margin=margin,
@@ -1508,19 +1621,21 @@ class ContactCompliance:
             # Cholesky on the busy machine (cProfile), against milliseconds on one thread
             result = cls._assemble(
                 flex_cc=fs.flex[:n, :n], flex_cb=fs.flex[:n, n:], flex_bb=fs.flex[n:, n:], cs_flex=cs.flex,
-                face_width_mm=b, tooth=tooth_index, ball_angle_rad=balls, ball_active=np.ones(nb, bool),
+                face_width_mm=b, tooth=tooth_index, ball_angle_rad=balls,
+                ball_active=np.ones(nb, bool) if ball_gap is None else ball_gap <= 0.0,
                 wrap_half_angle_rad=wrap, wrap_source=wrap_source,
                 dof={"fs": fs.dof, "cs": cs.dof}, time_s={"fs": fs.time_s, "cs": cs.time_s},
                 mesh={"fs": fs.mesh, "cs": cs.mesh, "fs_off_surface_max_mm": float(fs.off_surface_mm.max()),
                       "cs_off_surface_max_mm": float(cs.off_surface_mm.max())},
-                warnings=tuple(warnings), start=start)
+                warnings=tuple(warnings), start=start, ball_supports=ball_supports, ball_gap=ball_gap)
         if settle_iterations and forces_n is not None:
             result = result.settle_balls(forces_n, max_iterations=settle_iterations)
         return result
 
     @classmethod
     def _assemble(cls, *, flex_cc, flex_cb, flex_bb, cs_flex, face_width_mm, tooth, ball_angle_rad, ball_active,
-                  wrap_half_angle_rad, wrap_source, dof, time_s, mesh, warnings, start=None, ball_compliance=None):
+                  wrap_half_angle_rad, wrap_source, dof, time_s, mesh, warnings, start=None, ball_compliance=None,
+                  ball_supports="window", ball_gap=None):
         act = np.flatnonzero(ball_active)
         fs2d = flex_cc.copy()
         if act.size:
@@ -1540,7 +1655,8 @@ class ContactCompliance:
         if start is not None:
             times["total"] = time.perf_counter() - start
         return cls(total, fs_s, cs_s, face_width_mm, tooth, ball_angle_rad, ball_active, wrap_half_angle_rad,
-                   wrap_source, dict(dof), times, mesh, flex_cc, flex_cb, flex_bb, tuple(warnings), ball_compliance)
+                   wrap_source, dict(dof), times, mesh, flex_cc, flex_cb, flex_bb, tuple(warnings), ball_compliance,
+                   ball_supports, ball_gap)
 
     # --- balls ------------------------------------------------------------------------
     @property
@@ -1601,7 +1717,7 @@ class ContactCompliance:
             cs_flex=self.cs_matrix_mm_per_n * self.face_width_mm, face_width_mm=self.face_width_mm, tooth=self.tooth,
             ball_angle_rad=self.ball_angle_rad, ball_active=act, wrap_half_angle_rad=self.wrap_half_angle_rad,
             wrap_source=self.wrap_source, dof=self.dof, time_s=self.time_s, mesh=self.mesh, warnings=self.warnings,
-            ball_compliance=springs)
+            ball_compliance=springs, ball_supports=self.ball_supports, ball_gap=self.ball_gap_mm)
 
     def settle_balls(self, forces_n, *, max_iterations: int = 20, solve=None) -> "ContactCompliance":
         """Seed 000 steps 4–6 for the balls: drop the balls that pull, take back the dropped
@@ -1611,6 +1727,10 @@ class ContactCompliance:
         contact solve of step 5, re-run with every new S); without it the forces are held.
         Raises ConvergenceError if the set still changes after ``max_iterations``."""
         max_iterations = _whole("max_iterations", max_iterations, 1)
+        if self.ball_supports == "all":
+            raise ComplianceError("settle_balls: this compliance has ball_supports = 'all' (every ball one-sided at "
+                                  "its no-load gap); solve it with solve_unilateral, which takes the gaps into "
+                                  "account (settle_balls would put every ball at zero gap)")
         current = self
         f = current._forces(forces_n)
         seen = {tuple(current.ball_active)}
@@ -1636,6 +1756,95 @@ class ContactCompliance:
                 f = current._forces(solve(current.matrix_mm_per_n))
         raise ConvergenceError(f"ContactCompliance.settle_balls: the ball set still changes after {max_iterations} "
                                f"iterations ({int(current.ball_active.sum())} of {current.ball_active.size} active)")
+
+    def solve_unilateral(self, theta_rad, lever_mm, torque_nmm: float):
+        """The contact of one zone with every candidate ball a one-sided support at its gap
+        (``ball_gap_mm``, 0 if None), teeth and balls in one complementarity problem, solved
+        exactly (no settling loop).
+
+        Unknowns: the tooth forces F ≥ 0 (N, one per point), the ball reactions R ≥ 0 (N,
+        > 0 pushes the rim outward) and the rotation φ. With the rim's flexibility between
+        tooth loads and ball loads (the blocks of :meth:`build`'s FS solve, S = S_2D/b; a
+        ball's spring compliance c, if any, on its diagonal) and the CS's:
+
+            g_k = r_k (θ_k − φ) + (S_cc F + C_cb R)_k ≥ 0 ⊥ F_k ≥ 0     (teeth)
+            h_b = gap_b + (C_bc F + C_bb R)_b ≥ 0 ⊥ R_b ≥ 0             (balls: h the gap after load)
+            Σ r_k F_k = T                                                (the zone's torque)
+
+        the KKT conditions of min ½ xᵀCx + eᵀx over x = (F, R) ≥ 0, Σ rF = T (C positive
+        definite): unique F, R and φ. Solved by Lemke's method on the LCP with φ − θ_min ≥ 0
+        as in :func:`~profilegen.contact.solvers.solve_lemke` (the relaxation Σ rF ≥ T has the
+        same solution), scaled to numbers of order one, and the final basis reinverted.
+        ``theta_rad`` (n, ≥ 0) and ``lever_mm`` (n, > 0): the points' first-contact angles and
+        lever arms (:class:`~profilegen.contact.points.ContactPoints` ``theta_rad``,
+        ``lever_mm``); ``torque_nmm``: the zone's torque (N·mm).
+
+        Returns (the teeth's :class:`~profilegen.contact.solvers.ContactSolution`, the ball
+        reactions R (N), the balls' gaps after load h (mm)); the solution's
+        ``complementarity_residual`` covers the balls too (max |R h| on the same scale)."""
+        from .solvers import ContactSolution, _prepare
+
+        t0 = time.perf_counter()
+        b = self.face_width_mm
+        s_cc = 0.5 * (self._flex_cc + self._flex_cc.T) / b + self.cs_matrix_mm_per_n
+        p = _prepare(s_cc, theta_rad, lever_mm, torque_nmm)  # checks θ, r, T and S (named errors)
+        theta, r, torque = p.theta, p.r, p.T
+        n, nb = theta.size, self.ball_angle_rad.size
+        c_bb = self._flex_bb / b
+        if self.ball_compliance_mm_per_n is not None:
+            c_bb = c_bb + np.diag(np.asarray(self.ball_compliance_mm_per_n, dtype=float))
+        full = np.block([[s_cc, self._flex_cb / b], [self._flex_cb.T / b, 0.5 * (c_bb + c_bb.T)]])
+        gap_b = np.zeros(nb) if self.ball_gap_mm is None else np.asarray(self.ball_gap_mm, dtype=float)
+        # scales: force X = T / r̄, compliance c0 = mean S_kk, length L = c0 X, rotation ψ = (φ − θ_min) r̄ / L
+        r_bar = float(r.mean())
+        force = torque / r_bar
+        c0 = float(np.mean(np.diag(s_cc)))
+        length = c0 * force
+        nt = n + nb
+        m_mat = np.zeros((nt + 1, nt + 1))
+        m_mat[:nt, :nt] = full / c0
+        m_mat[:n, nt] = -r / r_bar
+        m_mat[nt, :n] = r / r_bar
+        q = np.concatenate([r * (theta - p.theta_min) / length, gap_b / length, [-1.0]])
+        where = "ContactCompliance.solve_unilateral"
+        basic, pivots = _lemke_lcp(m_mat, q, where)
+        if basic.size == 0 or basic[-1] != nt:
+            raise ConvergenceError(f"{where}: the rotation is not in the final basis after {pivots} pivots")
+        # reinversion: the loaded teeth and balls and ψ, solved directly
+        k = basic.size
+        sol = np.linalg.solve(m_mat[np.ix_(basic, basic)], np.concatenate([-q[basic[:-1]], [1.0]]))
+        z = np.zeros(nt + 1)
+        z[basic[:-1]] = sol[:k - 1]
+        z[nt] = sol[k - 1]
+        if k > 1 and float(np.min(z[basic[:-1]])) < -1e-9:
+            raise ConvergenceError(f"{where}: the final basis is not feasible after reinversion (min force "
+                                   f"{float(np.min(z[basic[:-1]])):.3g}, scaled)")
+        z[:nt] = np.maximum(z[:nt], 0.0)
+        w = m_mat @ z + q
+        if float(np.min(w[:nt])) < -1e-9 * (1.0 + abs(z[nt])):
+            raise ConvergenceError(f"{where}: the final basis leaves a penetration after reinversion (gap "
+                                   f"{float(np.min(w[:nt])):.3g}, scaled)")
+        f = force * z[:n]
+        reaction = force * z[n:nt]
+        phi = p.theta_min + z[nt] * length / r_bar
+        gap = length * w[:n]
+        gap_after = length * w[n:nt]
+        tau = p.tau
+        comp = max(float(np.max(np.abs(f * gap))), float(np.max(np.abs(reaction * gap_after), initial=0.0))) / (
+            torque * (abs(phi - p.theta_min) + tau))
+        loaded = f > 0.0
+        warnings = []
+        if np.all(loaded):
+            warnings.append(f"all {n} candidate points are loaded: the torque {torque:.6g} N·mm has used up the "
+                            "contact points given; points not in the list (further teeth or flank) would close too")
+        solution = ContactSolution(
+            method="lemke (teeth and one-sided balls)", torque_nmm=torque, force_n=f, moment_nmm=r * f, phi_rad=phi,
+            gap_mm=gap, loaded=loaded, iterations=pivots, complementarity_residual=comp,
+            equilibrium_residual=abs(float(np.sum(r * f)) - torque) / torque, time_s=time.perf_counter() - t0,
+            all_points_loaded=bool(np.all(loaded)), warnings=tuple(warnings),
+            diagnostics={"tau_rad": tau, "theta_min_rad": p.theta_min, "points": n, "balls": nb,
+                         "balls_loaded": int(np.count_nonzero(reaction > 0.0))})
+        return solution, reaction, gap_after
 
     # --- reporting -------------------------------------------------------------------
     def per_tooth_diagonal(self) -> dict[int, float]:

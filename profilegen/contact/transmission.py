@@ -141,6 +141,7 @@ class TransmissionError:
     workers: int = 1
     time_s: float = 0.0
     warnings: tuple[str, ...] = ()
+    ball_supports: str = "window"
 
     def __post_init__(self):
         for name in ("psi_rad", "shift_rad", "rotation_rad", "first_contact_rad", "max_tooth_force_n",
@@ -186,6 +187,7 @@ class TransmissionError:
             "zones": self.zones,
             "side": self.side,
             "ball_motion": self.ball_motion,
+            "ball_supports": self.ball_supports,
             "error_definition": "loaded rotation of the FS against the CS beyond the ideal-ratio position, minus "
                                 "its mean over psi (arcsec)",
             "psi_deg": self.psi_deg,
@@ -227,11 +229,33 @@ def _position(inputs, psi: float, opts: dict):
     comp = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
                                    face_width_mm=opts["face_width_mm"], race_thickness_mm=opts["race_thickness_mm"],
                                    race_interface=opts["race_interface"], wrap_half_angle_rad=opts["wrap"],
-                                   ball_phase_rad=phase, shift_rad=shift)
+                                   ball_phase_rad=phase, shift_rad=shift, ball_supports=opts["ball_supports"])
+    if opts["ball_supports"] == "all":
+        from .analysis import _load_case
+
+        torque = opts["torque_nm"]
+        sol, reaction, _ = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, torque / pts.zones * 1e3)
+        case, warnings = _load_case(pts, torque, sol, _Balls(comp.ball_angle_rad, reaction))
+        matrix = comp.with_balls(reaction > 0.0).matrix_mm_per_n if opts["keep_matrices"] else None
+        return pts, case, matrix, tuple(warnings)
     res = solve_contact(inputs, [opts["torque_nm"]], points=pts, compliance=comp)
     case = res.cases[0]
     matrix = comp.with_balls(case.ball_active).matrix_mm_per_n if opts["keep_matrices"] else None
     return pts, case, matrix, res.warnings
+
+
+class _Balls:
+    """What :func:`~profilegen.contact.analysis._load_case` reads of the balls: their angles,
+    reactions (N) and which carry load."""
+
+    __slots__ = ("ball_angle_rad", "ball_active", "_reactions")
+
+    def __init__(self, angles, reactions):
+        self.ball_angle_rad, self._reactions = angles, np.asarray(reactions, dtype=float)
+        self.ball_active = self._reactions > 0.0
+
+    def ball_reactions(self, forces_n):
+        return self._reactions
 
 
 def _job_position(psi: float):
@@ -255,7 +279,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
                        stations: int = 5, max_gap_mm: float = 0.12, ball_motion: str = "wave_generator",
                        face_width_mm: float | None = None, race_thickness_mm: float | None = None,
                        race_interface: str = "sliding", workers: int | None = None,
-                       keep_matrices: bool = False) -> TransmissionError:
+                       keep_matrices: bool = False, ball_supports: str = "window") -> TransmissionError:
     """The loaded transmission error of a design (or a :class:`~profilegen.contact.inputs.
     ContactInput`) at ``torque_nm`` (N·m, > 0, on the whole gear) over ``positions`` (≥ 2)
     wave-generator positions ψ evenly over ``span``: ``"tooth"`` (one tooth passage, ψ in
@@ -263,8 +287,12 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
     +1 the right FS flank loaded, −1 the left. ``ball_motion``: "wave_generator" (balls held
     against the major axis) or "cage" (rolling). ``workers``: processes (default: up to 2,
     one per position; 1 = in this process). ``keep_matrices``: keep each position's settled
-    S. Other keywords as :func:`~profilegen.contact.analysis.solve_contact`. See the module
-    docstring."""
+    S. ``ball_supports``: "window" (the balls within the rim's no-load contact angle, rigid,
+    settled as :func:`~profilegen.contact.analysis.solve_contact` settles them; the default) or
+    "all" (every ball a one-sided support at its no-load gap, solved with the teeth:
+    :meth:`~profilegen.contact.compliance.ContactCompliance.solve_unilateral`; ``matrices``
+    then holds S with the loaded balls rigid). Other keywords as
+    :func:`~profilegen.contact.analysis.solve_contact`. See the module docstring."""
     global _JOB
     from threadpoolctl import threadpool_limits
 
@@ -279,6 +307,9 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
                                      "positions)")
     if side not in (1, -1):
         raise TransmissionErrorError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
+    if ball_supports not in ("window", "all"):
+        raise TransmissionErrorError(f"ball_supports = {ball_supports!r}: must be 'window' (the balls within the rim's "
+                                     "no-load contact angle) or 'all' (every ball one-sided at its no-load gap)")
     if ball_motion not in _BALL_MOTIONS:
         raise TransmissionErrorError(f"ball_motion = {ball_motion!r}: must be one of {', '.join(_BALL_MOTIONS)}")
     passage = 2.0 * math.pi / g.circular_spline_teeth
@@ -307,7 +338,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
         wrap, wrap_source = _wrap_half_angle(inputs.rim_contact_angle_rad, inputs.gearset)  # once: ψ-invariant
     opts = dict(side=side, stations=stations, max_gap_mm=max_gap_mm, ball_motion=ball_motion, cage_rate=cage_rate,
                 face_width_mm=face_width_mm, race_thickness_mm=race_thickness_mm, race_interface=race_interface,
-                wrap=wrap, torque_nm=torque, keep_matrices=bool(keep_matrices))
+                wrap=wrap, torque_nm=torque, keep_matrices=bool(keep_matrices), ball_supports=ball_supports)
 
     import multiprocessing
 
@@ -344,6 +375,6 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
         equilibrium_residual=np.array([c.solution.equilibrium_residual for c in cases]),
         flags=tuple(c.beyond_capacity for c in cases), points=pts, cases=cases,
         matrices=tuple(o[2] for o in out) if keep_matrices else (), wrap_source=wrap_source, workers=int(workers),
-        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)))
+        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), ball_supports=ball_supports)
     log.debug("transmission_error: %d positions, %.2f s, %d workers", positions, result.time_s, workers)
     return result

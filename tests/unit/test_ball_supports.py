@@ -51,3 +51,96 @@ def test_cached_build_is_bitwise_a_fresh_build(inputs):
     # and the cache is keyed on the mesh: another mesh is a new entry, not the old one reused
     other = _build(inputs, pts1, shift, per_pitch=16)
     assert not np.allclose(other.fs_matrix_mm_per_n, cold.fs_matrix_mm_per_n, rtol=1e-6, atol=0.0)
+
+
+@pytest.fixture(scope="module")
+def zone(inputs):
+    """ψ = 0, right flanks: the points, the 'all' compliance and the rated torque's solution."""
+    pts = contact_points(inputs)
+    comp = _build(inputs, pts, ball_supports="all")
+    torque_nmm = inputs.gearset.torque.rated_nm / pts.zones * 1e3
+    sol, reaction, gap_after = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, torque_nmm)
+    return pts, comp, torque_nmm, sol, reaction, gap_after
+
+
+def _blocks(comp):
+    b = comp.face_width_mm
+    s_cc = 0.5 * (comp._flex_cc + comp._flex_cc.T) / b + comp.cs_matrix_mm_per_n
+    return s_cc, comp._flex_cb / b, comp._flex_bb / b
+
+
+def test_all_balls_equilibrium_and_complementarity(zone):
+    """Teeth and balls: F ≥ 0, R ≥ 0, every tooth gap and ball gap after load ≥ 0 and zero
+    where loaded, recomputed here from the raw blocks; U Σ r F = T."""
+    pts, comp, torque_nmm, sol, reaction, gap_after = zone
+    s_cc, c_cb, c_bb = _blocks(comp)
+    f, phi = sol.force_n, sol.phi_rad
+    # the zone's balls: |θ| < π/2, the ones within the window at zero gap, the others at theirs (≥ 0)
+    assert np.all(np.abs(comp.ball_angle_rad) < 0.5 * math.pi)
+    assert comp.ball_angle_rad.size > np.count_nonzero(np.abs(comp.ball_angle_rad) <= WRAP)
+    assert np.all(comp.ball_gap_mm[np.abs(comp.ball_angle_rad) <= WRAP] == 0.0) and np.all(comp.ball_gap_mm >= 0.0)
+    g = pts.lever_mm * (pts.theta_rad - phi) + s_cc @ f + c_cb @ reaction
+    h = comp.ball_gap_mm + c_cb.T @ f + c_bb @ reaction
+    scale_g = float(np.max(np.abs(s_cc @ f)))
+    assert float(pts.lever_mm @ f) == pytest.approx(torque_nmm, rel=1e-12)
+    assert np.all(f >= 0.0) and np.all(reaction >= 0.0)
+    assert g.min() >= -1e-9 * scale_g and h.min() >= -1e-9 * scale_g
+    assert np.max(np.abs(f * g)) <= 1e-9 * scale_g * f.max()
+    assert np.max(np.abs(reaction * h)) <= 1e-9 * scale_g * reaction.max()
+    np.testing.assert_allclose(g, sol.gap_mm, atol=1e-9 * scale_g)
+    np.testing.assert_allclose(h, gap_after, atol=1e-9 * scale_g)
+    # a real problem for the balls: some loaded outside the window, some not loaded at all
+    outside = np.abs(comp.ball_angle_rad) > WRAP
+    assert np.any(reaction[outside] > 0.0) and np.any(reaction == 0.0)
+    assert sol.complementarity_residual < 1e-12 and sol.equilibrium_residual < 1e-12
+
+
+def test_all_balls_against_the_tooth_solver_on_the_final_ball_set(zone):
+    """Solved a second way: the loaded balls A held at their gaps (a Schur complement of the
+    rim's flexibility, the gaps as offsets −C_cA C_AA⁻¹ g_A of the tooth gaps) and the teeth by
+    the package's tooth solver (Lemke on the reduced problem): the same forces and rotation."""
+    from profilegen.contact.solvers import solve_lemke
+
+    pts, comp, torque_nmm, sol, reaction, _ = zone
+    s_cc, c_cb, c_bb = _blocks(comp)
+    a = np.flatnonzero(reaction > 0.0)
+    inv = np.linalg.solve(c_bb[np.ix_(a, a)], np.column_stack([c_cb[:, a].T, comp.ball_gap_mm[a]]))
+    s_red = s_cc - c_cb[:, a] @ inv[:, :-1]
+    theta = pts.theta_rad + (-c_cb[:, a] @ inv[:, -1]) / pts.lever_mm
+    shift = float(theta.min())
+    ref = solve_lemke(s_red, theta - shift, pts.lever_mm, torque_nmm)
+    assert ref.phi_rad + shift == pytest.approx(sol.phi_rad, rel=1e-9)
+    np.testing.assert_allclose(ref.force_n, sol.force_n, rtol=0, atol=1e-8 * sol.force_n.max())
+    # and the ball reactions that hold the balls at their gaps: R_A = −C_AA⁻¹ (C_Ac F + g_A)
+    r_a = -np.linalg.solve(c_bb[np.ix_(a, a)], c_cb[:, a].T @ ref.force_n + comp.ball_gap_mm[a])
+    np.testing.assert_allclose(r_a, reaction[a], rtol=0, atol=1e-8 * reaction.max())
+
+
+def test_all_balls_far_away_is_the_window(inputs, zone):
+    """Limit case: with the balls outside the window pushed 1 mm away they never touch, and the
+    answer is the window model's (rigid balls, settled by solve_contact), built separately."""
+    import dataclasses
+
+    from profilegen.contact.analysis import solve_contact
+
+    pts, comp, torque_nmm, sol, reaction, _ = zone
+    far = dataclasses.replace(comp, ball_gap_mm=np.where(np.abs(comp.ball_angle_rad) <= WRAP, 0.0, 1.0))
+    alone, r_far, _ = far.solve_unilateral(pts.theta_rad, pts.lever_mm, torque_nmm)
+    window = solve_contact(inputs, [2e-3 * torque_nmm], points=pts, compliance=_build(inputs, pts)).cases[0]
+    assert np.all(r_far[np.abs(comp.ball_angle_rad) > WRAP] == 0.0)
+    assert alone.phi_rad == pytest.approx(window.rotation_rad, rel=1e-8)
+    np.testing.assert_allclose(alone.force_n, window.solution.force_n, rtol=0, atol=1e-7 * alone.force_n.max())
+    # the physical choice: the balls the window leaves out carry load and stiffen the mesh
+    assert sol.phi_rad < alone.phi_rad
+
+
+def test_ball_supports_bad_input(inputs, zone):
+    from profilegen.contact.transmission import TransmissionErrorError, transmission_error
+
+    pts, comp, torque_nmm, sol, _, _ = zone
+    with pytest.raises(cm.ComplianceError, match="ball_supports"):
+        _build(inputs, pts, ball_supports="some")
+    with pytest.raises(TransmissionErrorError, match="ball_supports"):
+        transmission_error(inputs, 100.0, positions=2, ball_supports="some")
+    with pytest.raises(cm.ComplianceError, match="solve_unilateral"):
+        comp.settle_balls(sol.force_n)
