@@ -132,7 +132,7 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import partial
 
 import numpy as np
@@ -1757,7 +1757,8 @@ class ContactCompliance:
         raise ConvergenceError(f"ContactCompliance.settle_balls: the ball set still changes after {max_iterations} "
                                f"iterations ({int(current.ball_active.sum())} of {current.ball_active.size} active)")
 
-    def solve_unilateral(self, theta_rad, lever_mm, torque_nmm: float):
+    def solve_unilateral(self, theta_rad, lever_mm, torque_nmm: float, *, bearing=None, spring_tol: float = 1e-6,
+                         max_iterations: int = 200):
         """The contact of one zone with every candidate ball a one-sided support at its gap
         (``ball_gap_mm``, 0 if None), teeth and balls in one complementarity problem, solved
         exactly (no settling loop).
@@ -1779,9 +1780,35 @@ class ContactCompliance:
         lever arms (:class:`~profilegen.contact.points.ContactPoints` ``theta_rad``,
         ``lever_mm``); ``torque_nmm``: the zone's torque (N·mm).
 
+        ``bearing``: a :class:`~profilegen.contact.chain.BallBearing` (anything with
+        ``secant_compliance_mm_per_n(reactions)``): each ball a Hertz spring, its secant
+        compliance δ(R)/R at its own reaction, iterated to a fixed point (geometric mean of
+        the old and new secants; ``spring_tol`` on their log, at most ``max_iterations``, else
+        a ConvergenceError); at the fixed point each loaded ball's spring is compressed by
+        exactly δ(R). Without it the balls keep this compliance's springs (rigid if none).
+
         Returns (the teeth's :class:`~profilegen.contact.solvers.ContactSolution`, the ball
         reactions R (N), the balls' gaps after load h (mm)); the solution's
         ``complementarity_residual`` covers the balls too (max |R h| on the same scale)."""
+        if bearing is None:
+            return self._solve_unilateral(theta_rad, lever_mm, torque_nmm, self.ball_compliance_mm_per_n)
+        tol = _positive("spring_tol", spring_tol, "")
+        cap = _whole("max_iterations", max_iterations, 1)
+        sol, reaction, gap = self._solve_unilateral(theta_rad, lever_mm, torque_nmm, None)
+        springs = np.asarray(bearing.secant_compliance_mm_per_n(reaction), dtype=float)
+        for it in range(1, cap + 1):
+            sol, reaction, gap = self._solve_unilateral(theta_rad, lever_mm, torque_nmm, springs)
+            new = np.asarray(bearing.secant_compliance_mm_per_n(reaction), dtype=float)
+            change = float(np.max(np.abs(np.log(new / springs))))
+            if change <= tol:
+                diagnostics = {**sol.diagnostics, "spring_iterations": it, "ball_compliance_mm_per_n": springs.tolist()}
+                return replace(sol, diagnostics=diagnostics), reaction, gap
+            springs = np.sqrt(springs * new)
+        raise ConvergenceError(f"ContactCompliance.solve_unilateral: the Hertz ball springs still change by "
+                               f"{change:.3g} (log) after {cap} iterations (spring_tol = {tol:g})")
+
+    def _solve_unilateral(self, theta_rad, lever_mm, torque_nmm, springs):
+        """:meth:`solve_unilateral` with the ball springs ``springs`` (mm/N per ball, or None: rigid)."""
         from .solvers import ContactSolution, _prepare
 
         t0 = time.perf_counter()
@@ -1791,8 +1818,8 @@ class ContactCompliance:
         theta, r, torque = p.theta, p.r, p.T
         n, nb = theta.size, self.ball_angle_rad.size
         c_bb = self._flex_bb / b
-        if self.ball_compliance_mm_per_n is not None:
-            c_bb = c_bb + np.diag(np.asarray(self.ball_compliance_mm_per_n, dtype=float))
+        if springs is not None:
+            c_bb = c_bb + np.diag(np.broadcast_to(np.asarray(springs, dtype=float), (nb,)))
         full = np.block([[s_cc, self._flex_cb / b], [self._flex_cb.T / b, 0.5 * (c_bb + c_bb.T)]])
         gap_b = np.zeros(nb) if self.ball_gap_mm is None else np.asarray(self.ball_gap_mm, dtype=float)
         # scales: force X = T / r̄, compliance c0 = mean S_kk, length L = c0 X, rotation ψ = (φ − θ_min) r̄ / L

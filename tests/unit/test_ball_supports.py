@@ -144,3 +144,25 @@ def test_ball_supports_bad_input(inputs, zone):
         transmission_error(inputs, 100.0, positions=2, ball_supports="some")
     with pytest.raises(cm.ComplianceError, match="solve_unilateral"):
         comp.settle_balls(sol.force_n)
+
+
+def test_all_balls_with_hertz_springs_is_the_hertz_law(inputs, zone):
+    """With the bearing's Hertz balls: at the fixed point every loaded ball's spring is
+    compressed by the Hertz approach δ(R) = c_H R^{2/3} of its own reaction (the law, not its
+    linearisation), the contact conditions hold with the springs, and the softer balls turn
+    the FS further than rigid ones."""
+    from profilegen.contact.chain import BallBearing
+
+    pts, comp, torque_nmm, rigid, _, _ = zone
+    bearing = BallBearing.from_gearset(inputs.gearset)
+    sol, reaction, gap_after = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, torque_nmm, bearing=bearing)
+    springs = np.asarray(sol.diagnostics["ball_compliance_mm_per_n"])
+    on = reaction > 0.0
+    assert on.sum() >= 2
+    np.testing.assert_allclose(springs[on] * reaction[on], bearing.approach_mm(reaction[on]), rtol=1e-5)
+    s_cc, c_cb, c_bb = _blocks(comp)
+    h = comp.ball_gap_mm + c_cb.T @ sol.force_n + (c_bb + np.diag(springs)) @ reaction
+    scale = float(np.max(np.abs(s_cc @ sol.force_n)))
+    assert h.min() >= -1e-9 * scale and np.max(np.abs(reaction * h)) <= 1e-9 * scale * reaction.max()
+    np.testing.assert_allclose(h, gap_after, atol=1e-9 * scale)
+    assert sol.phi_rad > rigid.phi_rad
