@@ -1,0 +1,226 @@
+"""What explicit teeth change in the 3D cup (issue 15, item 1: "teeth as an equivalent band is
+acceptable if you show what explicit teeth change").
+
+    python tests/benchmarks/cup_teeth.py [--no-cup] [--sets default,seed000_csf40] [--element-mm 2 --layers 2]
+
+The 3D cup (rim tier ``cup3d``) models the tooth ring as a smooth band of the rim thickness δ
+(``gear.rim_thickness_mm``, bore r_bore = r_m − δ/2). Teeth stiffen the ring. This script
+calibrates that stiffening in 2D, where the package has both models, and carries it into 3D:
+
+1. 2D, per gear set: the toothed rim (the ``toothed`` tier's FEM: nonlinear, 16 columns per
+   pitch, 2 + 2 layers, exact DCTA tooth) against flat rings (the ``design`` tier's mesh,
+   4 × 64, nonlinear) of thickness δ' on the *same bore* r_bore (the cam fixes the bore), so
+   their mid-line is r_bore + δ'/2. Every ring is read at the toothed rim's neutral line r_m
+   (``RingResult.at_radius``: the FE field). Two calibrations of the equivalent band δ_eq:
+   (a) the δ' minimising max(max |Δω|, max |Δυ|) over 0 ≤ φ ≤ π/2 against the toothed rim
+       (bounded Brent search); (b) the δ' whose cam force along the major axis,
+       F_y = Σ λ n_y on the quarter (N per mm of face width; ∝ the ring's bending stiffness EI
+       for a prescribed deflection), equals the toothed rim's (root of log F_y(δ') − log F_y).
+   Printed: the toothed rim vs flat δ (today's band) and vs each δ_eq, in µm.
+2. 3D, each set (unless --no-cup): ``press_cup(gap="exact", nonlinear=True)`` at the
+   ``cup3d`` tier's mesh (2 mm, 2 layers, 16 angles) with the tooth ring a band of δ (today)
+   and of δ_eq (a), the wall keeping δ (``CupGeometry`` built here with
+   ``ring_thickness_mm = δ_eq``, ``wall_thickness_mm = δ``, ``neutral_radius_mm`` =
+   r_bore + δ_eq/2: the bore unchanged). The δ_eq cup's results are moved from its band's
+   mid-surface to the toothed rim's r_m: ω interpolated linearly between the bore and the
+   mid-surface (both node lines), υ by plane sections (υ(r) = υ' + (r − r')(υ' − ∂ω/∂φ)/r').
+   Printed: ω major / minor and max |υ| at the tooth ring's diaphragm end, mid-face and open
+   end, the coning (open end minus diaphragm end), and the change δ → δ_eq.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import resource
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+import profilegen as pg  # noqa: E402
+from profilegen.rim import stage  # noqa: E402
+from profilegen.rim.cup import CupGeometry, press_cup  # noqa: E402
+from profilegen.rim.ring import RingParameters, solve_ring  # noqa: E402
+from profilegen.wavegen import from_gearset  # noqa: E402
+
+UM = 1e3
+
+
+def _force_y(res) -> float:
+    """The cam's force on the quarter along the major axis (N per mm of face width)."""
+    return float(np.sum(res.contact_force_n * res.contact_normal[:, 1]))
+
+
+def _flat(gs, contour, delta_mm: float):
+    """The design tier's flat ring (4 × 64, nonlinear) of thickness δ' on the gear set's bore."""
+    g, mat = gs.gear, gs.material
+    bore = g.neutral_radius_mm - 0.5 * g.rim_thickness_mm
+    params = RingParameters(bore + 0.5 * delta_mm, delta_mm, mat.youngs_modulus_mpa, mat.poisson_ratio, waves=g.waves)
+    return solve_ring(params, contour=contour, layers=4, divisions=64, geometry="nonlinear")
+
+
+def _against(toothed, flat, r_m: float) -> tuple[float, float]:
+    """max |Δω|, max |Δυ| (mm) of a flat ring read at r_m against the toothed rim's neutral line."""
+    from scipy.interpolate import CubicSpline
+
+    phi, w, u = flat.at_radius(r_m)
+    return (float(np.max(np.abs(CubicSpline(phi, w)(toothed.phi_rad) - toothed.omega_mm))),
+            float(np.max(np.abs(CubicSpline(phi, u)(toothed.phi_rad) - toothed.upsilon_mm))))
+
+
+def calibrate(name: str) -> dict:
+    from scipy.optimize import brentq, minimize_scalar
+
+    path = pg.default_gearset_path() if name == "default" else ROOT / "profiles" / f"{name}.toml"
+    gs = pg.load_gearset(path)
+    g = gs.gear
+    contour = from_gearset(gs)
+    delta, r_m = g.rim_thickness_mm, g.neutral_radius_mm
+    t0 = time.perf_counter()
+    toothed = stage._solve_named(gs, stage.RIM_TIERS["toothed"], contour, coarse=False)
+    t_toothed = time.perf_counter() - t0
+    f_t = _force_y(toothed)
+    cache: dict[float, object] = {}
+
+    def flat(d):
+        key = round(float(d), 9)
+        if key not in cache:
+            cache[key] = _flat(gs, contour, key)
+        return cache[key]
+
+    def misfit(d):
+        return max(_against(toothed, flat(d), r_m))
+
+    t0 = time.perf_counter()
+    hi = delta + (g.module_mm * 2.5)  # the band can be no thicker than rim + whole tooth
+    best = minimize_scalar(misfit, bounds=(delta, hi), method="bounded", options={"xatol": 2e-4})
+    d_fit = float(best.x)
+    d_force = float(brentq(lambda d: math.log(_force_y(flat(d)) / f_t), delta, hi, xtol=2e-4))
+    t_search = time.perf_counter() - t0
+    # the 3D readout's check in 2D: the δ_eq ring's ω, υ moved from its mid-line to r_m by the
+    # formulas _cup_numbers uses (ω linear from the bore, υ by plane sections) against its FE field at r_m
+    f = flat(d_fit)
+    r_mid = f.parameters.neutral_radius_mm
+    s = (r_m - f.parameters.bore_radius_mm) / (r_mid - f.parameters.bore_radius_mm)
+    from scipy.interpolate import CubicSpline
+
+    slope = CubicSpline(f.phi_rad, f.omega_mm)(f.phi_rad, 1)
+    w_shift = f.bore_omega_mm + s * (f.omega_mm - f.bore_omega_mm)
+    u_shift = f.upsilon_mm + (r_m - r_mid) * (f.upsilon_mm - slope) / r_mid
+    _, w_fe, u_fe = f.at_radius(r_m)
+    readout = (float(np.max(np.abs(w_shift - w_fe))), float(np.max(np.abs(u_shift - u_fe))), r_mid - r_m)
+    rows = []
+    for label, d in (("flat δ (today's band)", delta), ("δ_eq (a): best ω, υ", d_fit),
+                     ("δ_eq (b): same cam force", d_force)):
+        f = flat(d)
+        dw, du = _against(toothed, f, r_m)
+        rows.append((label, d, dw, du, _force_y(f), f.contact_angle_deg))
+    return {"name": name, "gearset": gs, "delta": delta, "r_m": r_m, "z1": g.flexspline_teeth, "m": g.module_mm,
+            "toothed": toothed, "f_t": f_t, "rows": rows, "d_fit": d_fit, "d_force": d_force,
+            "t_toothed": t_toothed, "t_search": t_search, "flat_solves": len(cache),
+            "readout": readout}
+
+
+def print_calibration(c: dict) -> None:
+    t = c["toothed"]
+    print(f"\n## {c['name']}: z1 = {c['z1']}, m = {c['m']:g} mm, δ = {c['delta']:g} mm, r_m = {c['r_m']:g} mm "
+          f"(toothed FEM {c['t_toothed']:.1f} s, {t.dof} dof; search {c['t_search']:.1f} s, "
+          f"{c['flat_solves']} flat solves)")
+    print(f"toothed rim: ω(0) = {t.omega_mm[0]:.5f} mm, ω(90°) = {t.omega_mm[-1]:.5f} mm, "
+          f"max |υ| = {np.max(np.abs(t.upsilon_mm)):.5f} mm, F_y = {c['f_t']:.4f} N/mm, wrap {t.contact_angle_deg:.1f}°")
+    print("| flat band | thickness (mm) | δ'/δ | max \\|Δω\\| (µm) | max \\|Δυ\\| (µm) | F_y (N/mm) | F_y / toothed "
+          "| wrap (°) |")
+    print("|---|---|---|---|---|---|---|---|")
+    for label, d, dw, du, f, wrap in c["rows"]:
+        print(f"| {label} | {d:.4f} | {d / c['delta']:.3f} | {dw * UM:.3f} | {du * UM:.3f} | {f:.4f} | "
+              f"{f / c['f_t']:.3f} | {wrap:.1f} |")
+    dw, du, shift = c["readout"]
+    print(f"readout check (the 3D table's move from the band's mid-line to r_m, {shift * UM:+.1f} µm, on the 2D δ_eq "
+          f"ring against its FE field at r_m): max |Δω| {dw * UM:.3f} µm, max |Δυ| {du * UM:.3f} µm")
+
+
+def _cup_numbers(contact, r_read: float) -> dict:
+    """ω major / minor and max |υ| at the tooth ring's ends and mid-face, read at radius r_read."""
+    d = contact.deformation
+    geo = d.geometry
+    r_mid, r_bore = geo.neutral_radius_mm, geo.bore_radius_mm
+    lo, hi = geo.ring_span_mm
+    phi = np.linspace(0.0, 0.5 * math.pi, 361)
+    out = {}
+    for where, z in (("diaphragm end", lo), ("mid-face", geo.length_mm), ("open end", hi)):
+        w_mid, w_bore, u_mid = d.omega(phi, z), d.bore_omega(phi, z), d.upsilon(phi, z)
+        s = (r_read - r_bore) / (r_mid - r_bore)
+        w = w_bore + s * (w_mid - w_bore)
+        h = 1e-6
+        dw = (d.omega(phi + h, z) - d.omega(phi - h, z)) / (2 * h)
+        u = u_mid + (r_read - r_mid) * (u_mid - dw) / r_mid
+        out[where] = (float(z), float(w[0]), float(w[-1]), float(np.max(np.abs(u))))
+    return out
+
+
+def cup_table(c: dict, element_mm: float, layers: int) -> None:
+    gs = c["gearset"]
+    base = CupGeometry.from_gearset(gs)
+    contour = from_gearset(gs)
+    tier = stage.RIM_TIERS["cup3d"]
+    delta, r_m = c["delta"], c["r_m"]
+    bore = r_m - 0.5 * delta
+    runs = {}
+    for label, d in (("δ", delta), ("δ_eq", c["d_fit"])):
+        geo = CupGeometry(bore + 0.5 * d, base.wall_thickness_mm, base.length_mm, base.face_width_mm,
+                          base.bottom_thickness_mm, base.boss_radius_mm, base.youngs_modulus_mpa, base.poisson_ratio,
+                          bearing_width_mm=base.bearing_width_mm, bearing_center_mm=base.bearing_center_mm,
+                          ring_thickness_mm=d)
+        t0 = time.perf_counter()
+        contact = press_cup(geo, contour=contour, angles=tier.angles, element_mm=element_mm, layers=layers,
+                            gap=tier.gap, nonlinear=tier.geometry == "nonlinear")
+        runs[label] = (d, _cup_numbers(contact, r_m), time.perf_counter() - t0, contact.max_penetration_mm)
+    print(f"\n## 3D cup, {c['name']} set: tooth ring as a band of δ and of δ_eq (a), wall {base.wall_thickness_mm:g} mm; "
+          f"press_cup exact gap, nonlinear, {element_mm:g} mm × {layers} layers, {tier.angles} angles; "
+          f"read at r_m = {r_m:g} mm")
+    for label, (d, _, secs, pen) in runs.items():
+        print(f"band {label} = {d:.4f} mm: {secs:.1f} s, max penetration {pen * UM:.2g} µm")
+    print("| section | z (mm) | ω major δ | ω major δ_eq | Δ (µm) | ω minor δ | ω minor δ_eq | Δ (µm) | max\\|υ\\| δ "
+          "| max\\|υ\\| δ_eq | Δ (µm) |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    a, b = runs["δ"][1], runs["δ_eq"][1]
+    for where in a:
+        za, wa, ma, ua = a[where]
+        _, wb, mb, ub = b[where]
+        print(f"| {where} | {za:g} | {wa:.5f} | {wb:.5f} | {(wb - wa) * UM:+.2f} | {ma:.5f} | {mb:.5f} | "
+              f"{(mb - ma) * UM:+.2f} | {ua:.5f} | {ub:.5f} | {(ub - ua) * UM:+.2f} |")
+    ends = ("open end", "diaphragm end")
+    for k, axis in ((1, "major"), (2, "minor")):
+        ca = a[ends[0]][k] - a[ends[1]][k]
+        cb = b[ends[0]][k] - b[ends[1]][k]
+        print(f"coning ω_{axis} (open end − diaphragm end): δ {ca * UM:+.2f} µm, δ_eq {cb * UM:+.2f} µm, "
+              f"change {(cb - ca) * UM:+.2f} µm ({(cb - ca) / ca * 100:+.2f} %)")
+
+
+def main() -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, 4_000_000_000))
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--no-cup", action="store_true", help="the 2D calibration only")
+    ap.add_argument("--sets", default="default,seed000_csf40", help="gear sets (profiles/NAME.toml; default: the bundled)")
+    ap.add_argument("--element-mm", type=float, default=stage.RIM_TIERS["cup3d"].element_mm,
+                    help="the cup's meridional element size (mm; default the cup3d tier's)")
+    ap.add_argument("--layers", type=int, default=stage.RIM_TIERS["cup3d"].layers,
+                    help="element layers through the cup's band (even: r_m must be a node line; default the tier's)")
+    args = ap.parse_args()
+    results = []
+    for name in args.sets.split(","):
+        c = calibrate(name.strip())
+        print_calibration(c)
+        results.append(c)
+    if not args.no_cup:
+        for c in results:
+            cup_table(c, args.element_mm, args.layers)
+
+
+if __name__ == "__main__":
+    main()
