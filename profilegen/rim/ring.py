@@ -439,11 +439,16 @@ def _lcp_from_set(normal, compliance4, q, guess, max_pivots: int = 60):
     active = np.asarray(guess, dtype=bool).copy()
     tol = 1e-12 * max(float(np.max(np.abs(q), initial=0.0)), 1e-300)
     fewest, chances = q.size + 1, 3
+    column: dict[int, np.ndarray] = {}  # S's columns formed so far (a pivot changes a few nodes)
     for _ in range(max_pivots):
         idx = np.flatnonzero(active)
         if idx.size == 0:
             return None
-        cols = np.einsum("ia,iajb,jb->ij", normal, compliance4[:, :, idx], normal[idx])
+        new = [j for j in idx.tolist() if j not in column]
+        if new:  # each S_ij the same 4-term sum whichever columns are formed with it
+            made = np.einsum("ia,iajb,jb->ij", normal, compliance4[:, :, new], normal[new])
+            column.update(zip(new, made.T))
+        cols = np.column_stack([column[j] for j in idx.tolist()])
         try:
             lam = cho_solve(cho_factor(cols[idx], lower=True, check_finite=False), q[idx], check_finite=False)
         except (LinAlgError, ValueError):
