@@ -1,7 +1,7 @@
 """What explicit teeth change in the 3D cup (issue 15, item 1: "teeth as an equivalent band is
 acceptable if you show what explicit teeth change").
 
-    python tests/benchmarks/cup_teeth.py [--no-cup] [--sets default,seed000_csf40] [--element-mm 2 --layers 2]
+    python tests/benchmarks/cup_teeth.py [--no-cup] [--sets default,seed000_csf40] [--element-mm 2 --layers 2] [--band fit|force]
 
 The 3D cup (rim tier ``cup3d``) models the tooth ring as a smooth band of the rim thickness δ
 (``gear.rim_thickness_mm``, bore r_bore = r_m − δ/2). Teeth stiffen the ring. This script
@@ -19,7 +19,7 @@ calibrates that stiffening in 2D, where the package has both models, and carries
    Printed: the toothed rim vs flat δ (today's band) and vs each δ_eq, in µm.
 2. 3D, each set (unless --no-cup): ``press_cup(gap="exact", nonlinear=True)`` at the
    ``cup3d`` tier's mesh (2 mm, 2 layers, 16 angles) with the tooth ring a band of δ (today)
-   and of δ_eq (a), the wall keeping δ (``CupGeometry`` built here with
+   and of δ_eq (a) (``--band force``: (b)), the wall keeping δ (``CupGeometry`` built here with
    ``ring_thickness_mm = δ_eq``, ``wall_thickness_mm = δ``, ``neutral_radius_mm`` =
    r_bore + δ_eq/2: the bore unchanged). The δ_eq cup's results are moved from its band's
    mid-surface to the toothed rim's r_m: ω interpolated linearly between the bore and the
@@ -163,7 +163,7 @@ def _cup_numbers(contact, r_read: float) -> dict:
     return out
 
 
-def cup_table(c: dict, element_mm: float, layers: int) -> None:
+def cup_table(c: dict, element_mm: float, layers: int, band: str = "fit") -> None:
     gs = c["gearset"]
     base = CupGeometry.from_gearset(gs)
     contour = from_gearset(gs)
@@ -171,7 +171,7 @@ def cup_table(c: dict, element_mm: float, layers: int) -> None:
     delta, r_m = c["delta"], c["r_m"]
     bore = r_m - 0.5 * delta
     runs = {}
-    for label, d in (("δ", delta), ("δ_eq", c["d_fit"])):
+    for label, d in (("δ", delta), ("δ_eq", c["d_fit"] if band == "fit" else c["d_force"])):
         geo = CupGeometry(bore + 0.5 * d, base.wall_thickness_mm, base.length_mm, base.face_width_mm,
                           base.bottom_thickness_mm, base.boss_radius_mm, base.youngs_modulus_mpa, base.poisson_ratio,
                           bearing_width_mm=base.bearing_width_mm, bearing_center_mm=base.bearing_center_mm,
@@ -180,7 +180,7 @@ def cup_table(c: dict, element_mm: float, layers: int) -> None:
         contact = press_cup(geo, contour=contour, angles=tier.angles, element_mm=element_mm, layers=layers,
                             gap=tier.gap, nonlinear=tier.geometry == "nonlinear")
         runs[label] = (d, _cup_numbers(contact, r_m), time.perf_counter() - t0, contact.max_penetration_mm)
-    print(f"\n## 3D cup, {c['name']} set: tooth ring as a band of δ and of δ_eq (a), wall {base.wall_thickness_mm:g} mm; "
+    print(f"\n## 3D cup, {c['name']} set: tooth ring as a band of δ and of δ_eq ({'a' if band == 'fit' else 'b'}), wall {base.wall_thickness_mm:g} mm; "
           f"press_cup exact gap, nonlinear, {element_mm:g} mm × {layers} layers, {tier.angles} angles; "
           f"read at r_m = {r_m:g} mm")
     for label, (d, _, secs, pen) in runs.items():
@@ -211,6 +211,8 @@ def main() -> None:
                     help="the cup's meridional element size (mm; default the cup3d tier's)")
     ap.add_argument("--layers", type=int, default=stage.RIM_TIERS["cup3d"].layers,
                     help="element layers through the cup's band (even: r_m must be a node line; default the tier's)")
+    ap.add_argument("--band", choices=("fit", "force"), default="fit",
+                    help="the 3D cup's δ_eq: (a) the best ω, υ (default) or (b) the same cam force")
     args = ap.parse_args()
     results = []
     for name in args.sets.split(","):
@@ -219,7 +221,7 @@ def main() -> None:
         results.append(c)
     if not args.no_cup:
         for c in results:
-            cup_table(c, args.element_mm, args.layers)
+            cup_table(c, args.element_mm, args.layers, args.band)
 
 
 if __name__ == "__main__":
