@@ -148,6 +148,7 @@ class TransmissionError:
     time_s: float = 0.0
     warnings: tuple[str, ...] = ()
     ball_supports: str = "window"
+    hertz_balls: bool = False
 
     def __post_init__(self):
         for name in ("psi_rad", "shift_rad", "rotation_rad", "first_contact_rad", "max_tooth_force_n",
@@ -194,6 +195,7 @@ class TransmissionError:
             "side": self.side,
             "ball_motion": self.ball_motion,
             "ball_supports": self.ball_supports,
+            "hertz_balls": self.hertz_balls,
             "error_definition": "loaded rotation of the FS against the CS beyond the ideal-ratio position, minus "
                                 "its mean over psi (arcsec)",
             "psi_deg": self.psi_deg,
@@ -240,7 +242,8 @@ def _position(inputs, psi: float, opts: dict):
         from .analysis import _load_case
 
         torque = opts["torque_nm"]
-        sol, reaction, _ = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, torque / pts.zones * 1e3)
+        sol, reaction, _ = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, torque / pts.zones * 1e3,
+                                                 bearing=opts["bearing"])
         case, warnings = _load_case(pts, torque, sol, _Balls(comp.ball_angle_rad, reaction))
         matrix = comp.with_balls(reaction > 0.0).matrix_mm_per_n if opts["keep_matrices"] else None
         return pts, case, matrix, tuple(warnings)
@@ -285,7 +288,8 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
                        stations: int = 5, max_gap_mm: float = 0.12, ball_motion: str = "wave_generator",
                        face_width_mm: float | None = None, race_thickness_mm: float | None = None,
                        race_interface: str = "sliding", workers: int | None = None,
-                       keep_matrices: bool = False, ball_supports: str = "window") -> TransmissionError:
+                       keep_matrices: bool = False, ball_supports: str = "window",
+                       hertz_balls: bool = False) -> TransmissionError:
     """The loaded transmission error of a design (or a :class:`~profilegen.contact.inputs.
     ContactInput`) at ``torque_nm`` (N·m, > 0, on the whole gear) over ``positions`` (≥ 2)
     wave-generator positions ψ evenly over ``span``: ``"tooth"`` (one tooth passage, ψ in
@@ -297,7 +301,9 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
     settled as :func:`~profilegen.contact.analysis.solve_contact` settles them; the default) or
     "all" (every ball a one-sided support at its no-load gap, solved with the teeth:
     :meth:`~profilegen.contact.compliance.ContactCompliance.solve_unilateral`; ``matrices``
-    then holds S with the loaded balls rigid). Other keywords as
+    then holds S with the loaded balls rigid). ``hertz_balls`` (with "all" only): the balls
+    as the bearing's Hertz springs (:class:`~profilegen.contact.chain.BallBearing`, iterated
+    to the Hertz law at each ball's reaction). Other keywords as
     :func:`~profilegen.contact.analysis.solve_contact`. See the module docstring."""
     global _JOB
     from threadpoolctl import threadpool_limits
@@ -316,6 +322,11 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
     if ball_supports not in ("window", "all"):
         raise TransmissionErrorError(f"ball_supports = {ball_supports!r}: must be 'window' (the balls within the rim's "
                                      "no-load contact angle) or 'all' (every ball one-sided at its no-load gap)")
+    if hertz_balls not in (True, False):
+        raise TransmissionErrorError(f"hertz_balls = {hertz_balls!r}: must be True or False")
+    if hertz_balls and ball_supports != "all":
+        raise TransmissionErrorError("hertz_balls = True: needs ball_supports = 'all' (the window model's balls are "
+                                     "rigid here; chain.torsional_curve has them as Hertz springs)")
     if ball_motion not in _BALL_MOTIONS:
         raise TransmissionErrorError(f"ball_motion = {ball_motion!r}: must be one of {', '.join(_BALL_MOTIONS)}")
     passage = 2.0 * math.pi / g.circular_spline_teeth
@@ -335,16 +346,19 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
     if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
         raise TransmissionErrorError(f"workers = {workers!r}: must be a whole number ≥ 1 (processes)")
     cage_rate = 0.0
-    if ball_motion == "cage":
+    bearing = None
+    if ball_motion == "cage" or hertz_balls:
         from .chain import BallBearing
 
         bearing = BallBearing.from_gearset(inputs.gearset, race_thickness_mm=race_thickness_mm)
-        cage_rate = 0.5 * (1.0 + bearing.ball_diameter_mm / bearing.pitch_diameter_mm)
+        if ball_motion == "cage":
+            cage_rate = 0.5 * (1.0 + bearing.ball_diameter_mm / bearing.pitch_diameter_mm)
     with threadpool_limits(limits=1, user_api="blas"):  # the flat-ring solve's BLAS threads only contend
         wrap, wrap_source = _wrap_half_angle(inputs.rim_contact_angle_rad, inputs.gearset)  # once: ψ-invariant
     opts = dict(side=side, stations=stations, max_gap_mm=max_gap_mm, ball_motion=ball_motion, cage_rate=cage_rate,
                 face_width_mm=face_width_mm, race_thickness_mm=race_thickness_mm, race_interface=race_interface,
-                wrap=wrap, torque_nm=torque, keep_matrices=bool(keep_matrices), ball_supports=ball_supports)
+                wrap=wrap, torque_nm=torque, keep_matrices=bool(keep_matrices), ball_supports=ball_supports,
+                bearing=bearing if hertz_balls else None)
 
     import multiprocessing
 
@@ -381,6 +395,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
         equilibrium_residual=np.array([c.solution.equilibrium_residual for c in cases]),
         flags=tuple(c.beyond_capacity for c in cases), points=pts, cases=cases,
         matrices=tuple(o[2] for o in out) if keep_matrices else (), wrap_source=wrap_source, workers=int(workers),
-        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), ball_supports=ball_supports)
+        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), ball_supports=ball_supports,
+        hertz_balls=bool(hertz_balls))
     log.debug("transmission_error: %d positions, %.2f s, %d workers", positions, result.time_s, workers)
     return result

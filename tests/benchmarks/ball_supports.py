@@ -13,7 +13,7 @@ rotation) = the mesh plus the chain's series parts (cup wall, cup bottom, CS bod
 chain.compliance_chain), next to chain.torsional_curve (window + Hertz + series) and the
 catalogue row (catalogue.catalogue_row(40, 100): the ratio-50 row, with its note); a
 bearing clearance study (every ball outside the window ``--clearance`` µm further away);
-and the rotation over one ball passage with rolling balls (cage), window and all.
+and the rotation over one ball passage with rolling balls (cage), window, all, all + Hertz.
 """
 
 from __future__ import annotations
@@ -113,10 +113,11 @@ def run(path: Path, passage: int, clearances) -> None:
             print(f"  all + Hertz, +{c_um:g} µm clearance outside the window: " + ", ".join(out))
     if passage:
         period = 360.0 / bearing.ball_count / (0.5 * (1.0 + bearing.ball_diameter_mm / bearing.pitch_diameter_mm))
-        for supports in ("window", "all"):
+        for supports, hertz in (("window", False), ("all", False), ("all", True)):
             c0 = time.process_time()
             te = transmission_error(inputs, rated, positions=passage, span=period, ball_motion="cage",
-                                    ball_supports=supports, workers=1)
+                                    ball_supports=supports, hertz_balls=hertz, workers=1)
+            supports += " + Hertz" if hertz else ""
             r = te.rotation_rad * ARCSEC_PER_RAD
             print(f"  ball passage ψ = 0 … {period:.3f}° ({passage} positions, rolling balls), {supports}: rotation "
                   f"{r.min():.2f} … {r.max():.2f}″ (p-p {np.ptp(r):.2f}, largest step {np.max(np.abs(np.diff(r))):.2f}),"
