@@ -1,7 +1,7 @@
 """What explicit teeth change in the 3D cup (issue 15, item 1: "teeth as an equivalent band is
 acceptable if you show what explicit teeth change").
 
-    python tests/benchmarks/cup_teeth.py [--no-cup] [--sets default,seed000_csf40] [--element-mm 2 --layers 2] [--band fit|force]
+    python tests/benchmarks/cup_teeth.py [--no-cup] [--sets default,seed000_csf40] [--element-mm 2 --layers 2] [--band fit|force|ribs]
 
 The 3D cup (rim tier ``cup3d``) models the tooth ring as a smooth band of the rim thickness δ
 (``gear.rim_thickness_mm``, bore r_bore = r_m − δ/2). Teeth stiffen the ring. This script
@@ -19,7 +19,9 @@ calibrates that stiffening in 2D, where the package has both models, and carries
    Printed: the toothed rim vs flat δ (today's band) and vs each δ_eq, in µm.
 2. 3D, each set (unless --no-cup): ``press_cup(gap="exact", nonlinear=True)`` at the
    ``cup3d`` tier's mesh (2 mm, 2 layers, 16 angles) with the tooth ring a band of δ (today)
-   and of δ_eq (a) (``--band force``: (b)), the wall keeping δ (``CupGeometry`` built here with
+   and of δ_eq (a) (``--band force``: (b); ``--band ribs``: the band whose meridional bending
+   stiffness is that of the teeth as continuous axial ribs, an upper bracket: isotropic, it
+   also stiffens the circumferential bending far beyond δ_eq), the wall keeping δ (``CupGeometry`` built here with
    ``ring_thickness_mm = δ_eq``, ``wall_thickness_mm = δ``, ``neutral_radius_mm`` =
    r_bore + δ_eq/2: the bore unchanged). The δ_eq cup's results are moved from its band's
    mid-surface to the toothed rim's r_m: ω interpolated linearly between the bore and the
@@ -120,7 +122,8 @@ def calibrate(name: str) -> dict:
         f = flat(d)
         dw, du = _against(toothed, f, r_m)
         rows.append((label, d, dw, du, _force_y(f), f.contact_angle_deg))
-    return {"name": name, "gearset": gs, "delta": delta, "r_m": r_m, "z1": g.flexspline_teeth, "m": g.module_mm,
+    d_ribs, ribs_ratio = rib_band(gs)
+    return {"name": name, "gearset": gs, "d_ribs": d_ribs, "ribs_ratio": ribs_ratio, "delta": delta, "r_m": r_m, "z1": g.flexspline_teeth, "m": g.module_mm,
             "toothed": toothed, "f_t": f_t, "rows": rows, "d_fit": d_fit, "d_force": d_force,
             "t_toothed": t_toothed, "t_search": t_search, "flat_solves": len(cache),
             "readout": readout}
@@ -139,9 +142,30 @@ def print_calibration(c: dict) -> None:
     for label, d, dw, du, f, wrap in c["rows"]:
         print(f"| {label} | {d:.4f} | {d / c['delta']:.3f} | {dw * UM:.3f} | {du * UM:.3f} | {f:.4f} | "
               f"{f / c['f_t']:.3f} | {wrap:.1f} |")
+    print(f"teeth as continuous axial ribs (meridional bending, smeared over the pitch): I = {c['ribs_ratio']:.2f} × "
+          f"the δ band's, a band of {c['d_ribs']:.4f} mm ({c['d_ribs'] / c['delta']:.3f} δ; --band ribs)")
     dw, du, shift = c["readout"]
     print(f"readout check (the 3D table's move from the band's mid-line to r_m, {shift * UM:+.1f} µm, on the 2D δ_eq "
           f"ring against its FE field at r_m): max |Δω| {dw * UM:.3f} µm, max |Δυ| {du * UM:.3f} µm")
+
+
+def rib_band(gs) -> tuple[float, float]:
+    """(t_mer, I_ribbed / I_band): the band thickness (same bore) whose meridional bending
+    stiffness per unit circumference equals that of the tooth ring with its teeth as continuous
+    axial ribs, smeared over the pitch (beam theory: ∫ f(r) (r − r_c)² dr, f the solid fraction
+    of the pitch at radius r from the exact flank, 1 from the bore to the root circle)."""
+    from profilegen.teeth import tooth_from_gearset
+
+    tooth = tooth_from_gearset(gs)
+    r_m, delta = tooth.neutral_radius_mm, gs.gear.rim_thickness_mm
+    p = tooth.point(np.linspace(0.0, tooth.length_mm, 4001))
+    rho, psi = np.hypot(p[:, 0], p[:, 1] + r_m), np.arctan2(p[:, 0], p[:, 1] + r_m)
+    r = np.linspace(r_m - 0.5 * delta, rho.max(), 20001)
+    f = np.where(r > rho[0], np.interp(r, rho, psi) / (math.pi / tooth.teeth), 1.0)
+    area = np.trapezoid(f, r)
+    centroid = np.trapezoid(f * r, r) / area
+    inertia = np.trapezoid(f * (r - centroid) ** 2, r)
+    return float((12.0 * inertia) ** (1.0 / 3.0)), float(inertia / (delta ** 3 / 12.0))
 
 
 def _cup_numbers(contact, r_read: float) -> dict:
@@ -171,7 +195,8 @@ def cup_table(c: dict, element_mm: float, layers: int, band: str = "fit") -> Non
     delta, r_m = c["delta"], c["r_m"]
     bore = r_m - 0.5 * delta
     runs = {}
-    for label, d in (("δ", delta), ("δ_eq", c["d_fit"] if band == "fit" else c["d_force"])):
+    d_band = {"fit": c["d_fit"], "force": c["d_force"], "ribs": c["d_ribs"]}[band]
+    for label, d in (("δ", delta), ("δ_eq", d_band)):
         geo = CupGeometry(bore + 0.5 * d, base.wall_thickness_mm, base.length_mm, base.face_width_mm,
                           base.bottom_thickness_mm, base.boss_radius_mm, base.youngs_modulus_mpa, base.poisson_ratio,
                           bearing_width_mm=base.bearing_width_mm, bearing_center_mm=base.bearing_center_mm,
@@ -180,7 +205,7 @@ def cup_table(c: dict, element_mm: float, layers: int, band: str = "fit") -> Non
         contact = press_cup(geo, contour=contour, angles=tier.angles, element_mm=element_mm, layers=layers,
                             gap=tier.gap, nonlinear=tier.geometry == "nonlinear")
         runs[label] = (d, _cup_numbers(contact, r_m), time.perf_counter() - t0, contact.max_penetration_mm)
-    print(f"\n## 3D cup, {c['name']} set: tooth ring as a band of δ and of δ_eq ({'a' if band == 'fit' else 'b'}), wall {base.wall_thickness_mm:g} mm; "
+    print(f"\n## 3D cup, {c['name']} set: tooth ring as a band of δ and of δ_eq ({dict(fit='a', force='b', ribs='ribs')[band]}), wall {base.wall_thickness_mm:g} mm; "
           f"press_cup exact gap, nonlinear, {element_mm:g} mm × {layers} layers, {tier.angles} angles; "
           f"read at r_m = {r_m:g} mm")
     for label, (d, _, secs, pen) in runs.items():
@@ -211,8 +236,9 @@ def main() -> None:
                     help="the cup's meridional element size (mm; default the cup3d tier's)")
     ap.add_argument("--layers", type=int, default=stage.RIM_TIERS["cup3d"].layers,
                     help="element layers through the cup's band (even: r_m must be a node line; default the tier's)")
-    ap.add_argument("--band", choices=("fit", "force"), default="fit",
-                    help="the 3D cup's δ_eq: (a) the best ω, υ (default) or (b) the same cam force")
+    ap.add_argument("--band", choices=("fit", "force", "ribs"), default="fit",
+                    help="the 3D cup's δ_eq: (a) the best ω, υ (default), (b) the same cam force, or the teeth's "
+                         "meridional bending stiffness as axial ribs (an upper bracket)")
     args = ap.parse_args()
     results = []
     for name in args.sets.split(","):
