@@ -2,6 +2,7 @@
 acceptable if you show what explicit teeth change").
 
     python tests/benchmarks/cup_teeth.py [--no-cup] [--sets default,seed000_csf40] [--element-mm 2 --layers 2] [--band fit|force|ribs]
+        [--stringers-only --tooth-layers 3 --void 1e-6]
 
 The 3D cup (rim tier ``cup3d``) models the tooth ring as a smooth band of the rim thickness δ
 (``gear.rim_thickness_mm``, bore r_bore = r_m − δ/2). Teeth stiffen the ring. This script
@@ -28,6 +29,13 @@ calibrates that stiffening in 2D, where the package has both models, and carries
    mid-surface (both node lines), υ by plane sections (υ(r) = υ' + (r − r')(υ' − ∂ω/∂φ)/r').
    Printed: ω major / minor and max |υ| at the tooth ring's diaphragm end, mid-face and open
    end, the coning (open end minus diaphragm end), and the change δ → δ_eq.
+3. 3D, each set: the teeth's meridional stiffness, which an isotropic band calibrated on the
+   circumferential (2D) response cannot carry: the teeth as the smeared axial stringers of a
+   stringer-stiffened shell (:func:`stringer_basis`: the meridional mesh extended to the tooth
+   tip, each tooth a homogenised lamella, f(r) × plane stress in its r-z plane, nothing across)
+   above a band of δ or δ_eq, in the LINEAR cup with the exact gap (the nonlinear harmonic
+   balance is isotropic). Printed: the changes against the band of δ, and a check that the
+   extended mesh with void teeth reproduces press_cup's own cup.
 """
 
 from __future__ import annotations
@@ -314,7 +322,7 @@ def stringer_basis(geometry, tooth, band_mm: float, d_top_mm: float, stringers: 
     return HarmonicBasis(CupMesh(g, mesh, r_all, z_all, element_mm, layers), scalar, *parts, time.perf_counter() - t0)
 
 
-def stringer_table(c: dict, element_mm: float, layers: int) -> None:
+def stringer_table(c: dict, element_mm: float, layers: int, tooth_layers: int = 3, void: float = 1e-6) -> None:
     from profilegen.teeth import tooth_from_gearset
 
     gs = c["gearset"]
@@ -332,11 +340,13 @@ def stringer_table(c: dict, element_mm: float, layers: int) -> None:
     runs = {}
     for name, (band, stringers) in VARIANTS.items():
         band_mm = c["delta"] if band == "delta" else c[band]
-        hb = stringer_basis(geo, tooth, band_mm, band_mm, stringers, element_mm=element_mm, layers=layers)
+        hb = stringer_basis(geo, tooth, band_mm, band_mm, stringers, element_mm=element_mm, layers=layers,
+                            tooth_layers=tooth_layers, void=void)
         runs[name] = press(hb)
     check = max(abs(runs["δ"][k][i] - plain[k][i]) for k in plain for i in (1, 2, 3))
     print(f"\n## 3D cup, {c['name']} set, LINEAR (exact gap): the teeth as smeared axial stringers above the band "
-          f"(tooth tip r_m + {tooth.addendum_y_mm:g} mm); {element_mm:g} mm × {layers} layers, {tier.angles} angles; "
+          f"(tooth tip r_m + {tooth.addendum_y_mm:g} mm, {tooth_layers} layers, void {void:g}); {element_mm:g} mm × "
+          f"{layers} layers, {tier.angles} angles; "
           f"change against the band of δ (µm), read at r_m")
     print(f"check: the band of δ on the extended mesh (void teeth) against press_cup's own mesh: max |Δ| "
           f"{check * UM:.4f} µm")
@@ -345,7 +355,7 @@ def stringer_table(c: dict, element_mm: float, layers: int) -> None:
     print("|---|---|---|---|---|---|---|---|---|---|---|")
     a = runs["δ"]
     cone = a["open end"][1] - a["diaphragm end"][1]
-    print(f"| band of δ (mm) | " + " | ".join(f"{a[k][i]:.5f}" for i in (1, 2, 3) for k in a) + f" | {cone * UM:.2f} µm |")
+    print("| band of δ (mm) | " + " | ".join(f"{a[k][i]:.5f}" for i in (1, 2, 3) for k in a) + f" | {cone * UM:.2f} µm |")
     for name, b in runs.items():
         if name == "δ":
             continue
@@ -366,6 +376,9 @@ def main() -> None:
     ap.add_argument("--band", choices=("fit", "force", "ribs"), default="fit",
                     help="the 3D cup's δ_eq: (a) the best ω, υ (default), (b) the same cam force, or the teeth's "
                          "meridional bending stiffness as axial ribs (an upper bracket)")
+    ap.add_argument("--tooth-layers", type=int, default=3, help="part 3: element layers over the teeth")
+    ap.add_argument("--void", type=float, default=1e-6, help="part 3: the isotropic stiffness above the band (× E)")
+    ap.add_argument("--stringers-only", action="store_true", help="part 3 only (after the 2D calibration)")
     args = ap.parse_args()
     results = []
     for name in args.sets.split(","):
@@ -373,10 +386,11 @@ def main() -> None:
         print_calibration(c)
         results.append(c)
     if not args.no_cup:
+        if not args.stringers_only:
+            for c in results:
+                cup_table(c, args.element_mm, args.layers, args.band)
         for c in results:
-            cup_table(c, args.element_mm, args.layers, args.band)
-        for c in results:
-            stringer_table(c, args.element_mm, args.layers)
+            stringer_table(c, args.element_mm, args.layers, args.tooth_layers, args.void)
 
 
 if __name__ == "__main__":
