@@ -453,10 +453,13 @@ def check_cup_geometry(*, neutral_radius_mm, ring_thickness_mm, length_mm, face_
     bw = b if bearing_width_mm is None else number("bearing_width_mm", bearing_width_mm, 0.0, b, high_open=False,
                                                    why="the bearing presses the bore within the tooth ring")
     lo, hi = length - 0.5 * b + 0.5 * bw, length + 0.5 * b - 0.5 * bw
-    bc = length if bearing_center_mm is None else number(
-        "bearing_center_mm", bearing_center_mm, lo, hi, low_open=False, high_open=False,
+    # round-off: a bearing as wide as the face has lo = hi = l only to the last bit (a file written
+    # from a set whose l is 0.6·d read 7.199999999999999 against [7.2, 7.2]); 1e-9 mm is no geometry
+    slack = 1e-9 * max(1.0, abs(length))
+    bc = length if bearing_center_mm is None else min(max(number(
+        "bearing_center_mm", bearing_center_mm, lo - slack, hi + slack, low_open=False, high_open=False,
         why=f"z from the cup bottom's mid-plane; the tooth ring l ± b/2 = [{length - 0.5 * b:g}, "
-            f"{length + 0.5 * b:g}] mm must hold the whole bearing width")
+            f"{length + 0.5 * b:g}] mm must hold the whole bearing width"), lo), hi)
     return {"neutral_radius_mm": r_m, "ring_thickness_mm": t, "length_mm": length, "face_width_mm": b,
             "bottom_thickness_mm": t_b, "boss_radius_mm": r0, "wall_thickness_mm": t_w, "bearing_width_mm": bw,
             "bearing_center_mm": bc}
