@@ -163,8 +163,11 @@ def test_html_pieces_made_anywhere_give_the_same_report(sketch):
     assert report.html_jobs(replace(sketch, stress=None)) == {}  # no report.html without the stresses
 
 
-def _pid_when(marker: str) -> int:
-    """This process's id, once ``marker`` exists (30 s at most)."""
+def _pid_when(marker: str, started: str | None = None) -> int:
+    """This process's id, once ``marker`` exists (30 s at most); ``started`` is created first
+    (the job has begun)."""
+    if started is not None:
+        open(started, "w").close()
     end = time.monotonic() + 30.0
     while not os.path.exists(marker) and time.monotonic() < end:
         time.sleep(0.01)
@@ -175,14 +178,21 @@ def test_collect_takes_back_the_pieces_no_worker_started(tmp_path):
     """steal: a job still waiting for a worker when collect() is called is made in this process
     (the caller would only wait); one a worker has begun is left to it; the order is the jobs'.
     The busy job ends only when a timer releases it, long after collect() has taken its pick (a
-    fixed sleep let a descheduled test find every job done on a loaded CI machine)."""
+    fixed sleep let a descheduled test find every job done on a loaded CI machine), and collect()
+    is called only once the worker has begun it."""
     import threading
 
-    marker = str(tmp_path / "release")
-    jobs = {"busy": (_pid_when, (marker,)), "waiting": (_pid, ()), "also": (_pid, ())}
+    marker, started = str(tmp_path / "release"), str(tmp_path / "started")
+    # three jobs behind the busy one: the executor's call queue holds max_workers + 1 = 2 of them
+    # (both can be queued once the worker has taken "busy"), so at least one is still pending
+    jobs = {"busy": (_pid_when, (marker, started)), "waiting": (_pid, ()), "also": (_pid, ()), "third": (_pid, ())}
     release = threading.Timer(3.0, lambda: open(marker, "w").close())
-    with report.rendering(jobs, workers=1, steal=("waiting", "also")) as collect:
-        time.sleep(0.3)  # the one worker runs "busy"; the others wait behind it (or sit in its queue)
+    with report.rendering(jobs, workers=1, steal=("waiting", "also", "third")) as collect:
+        # the one worker runs "busy"; the others wait behind it (or sit in its queue). Wait until it
+        # has begun: a fixed 0.3 s let a worker still starting on a loaded machine take every job
+        end = time.monotonic() + 30.0
+        while not os.path.exists(started) and time.monotonic() < end:
+            time.sleep(0.01)
         release.start()
         try:
             out = collect()
@@ -191,7 +201,7 @@ def test_collect_takes_back_the_pieces_no_worker_started(tmp_path):
             open(marker, "w").close()
     assert list(out) == list(jobs)
     assert out["busy"] != os.getpid()
-    assert os.getpid() in (out["waiting"], out["also"])  # at most one is already queued to the worker
+    assert os.getpid() in (out["waiting"], out["also"], out["third"])  # at most two are queued to the worker
     with report.rendering({"a": (_pid, ())}, workers=0, steal=("a",)) as collect:
         assert collect() == {"a": os.getpid()}
 
