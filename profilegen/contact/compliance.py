@@ -154,6 +154,7 @@ from .. import checks
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 from .inputs import ContactInput
+from .solvers import LemkeTableau
 
 __all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache", "default_race_thickness_mm",
            "no_load_ball_gap_mm"]
@@ -1364,59 +1365,24 @@ def _lemke_lcp(m_mat: np.ndarray, q: np.ndarray, where: str, max_pivots: int | N
     §4.4). Returns (the indices of the basic z's, pivots)."""
     n = q.size
     z0 = 2 * n
-    binv = np.eye(n)
-    rhs = q.astype(float).copy()
-    basis = np.arange(n)
     cap = 10 * n + 50 if max_pivots is None else int(max_pivots)
     if np.all(q >= 0.0):
         return np.zeros(0, dtype=int), 0
-
-    def column(j: int) -> np.ndarray:
-        if j < n:
-            return binv[:, j].copy()
-        if j < z0:
-            return -(binv @ m_mat[:, j - n])
-        return -binv.sum(axis=1)
-
-    def pivot(row: int, col: np.ndarray, var: int) -> int:
-        nonlocal rhs
-        piv = binv[row] / col[row]
-        prow = rhs[row] / col[row]
-        binv[...] -= np.outer(col, piv)
-        binv[row] = piv
-        rhs -= col * prow
-        rhs[row] = prow
-        leaving = int(basis[row])
-        basis[row] = var
-        return leaving
-
-    leaving = pivot(int(np.argmin(q)), column(z0), z0)
+    tab = LemkeTableau(m_mat, q)
+    leaving = tab.pivot(int(np.argmin(q)), tab.column(z0), z0)
     pivots = 1
     while leaving != z0:
         entering = leaving + n if leaving < n else leaving - n
-        col = column(entering)
-        tol = 1e-11 * max(1.0, float(np.max(np.abs(col))))
-        cand = np.flatnonzero(col > tol)
-        if cand.size == 0:
+        col = tab.column(entering)
+        row = tab.ratio_row(col)
+        if row is None:
             raise ConvergenceError(f"{where}: Lemke's method ended on a ray at pivot {pivots}; impossible for a "
                                    "positive definite compliance — numerical breakdown")
         if pivots >= cap:
             raise ConvergenceError(f"{where}: no complementary solution after {pivots} pivots")
-        ratios = rhs[cand] / col[cand]
-        best = float(np.min(ratios))
-        ties = cand[ratios <= best + 1e-12 * (1.0 + abs(best))]
-        if ties.size > 1:
-            z0row = np.flatnonzero(basis[ties] == z0)
-            if z0row.size:
-                ties = ties[z0row]
-            else:  # lexicographic rule on the rows of B⁻¹/col
-                for j in range(n):
-                    v = binv[ties, j] / col[ties]
-                    ties = ties[v <= np.min(v) + 1e-14 * (1.0 + np.max(np.abs(v)))]
-                    if ties.size == 1:
-                        break
-        leaving = pivot(int(ties[0]), col, entering)
+        leaving = tab.pivot(row, col, entering)
         pivots += 1
+    basis = tab.basis
     return np.sort(basis[(basis >= n) & (basis < z0)] - n), pivots
 
 

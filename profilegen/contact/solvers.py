@@ -398,6 +398,65 @@ def _lemke_reinvert(p: _Scaled, idx: np.ndarray, where: str) -> tuple[np.ndarray
     return m, psi
 
 
+
+class LemkeTableau:
+    """The revised tableau of Lemke's complementary pivoting for w = M z + q (rows
+    [I, −M, −1] x = q; variables 0..N−1 the w's, N..2N−1 the z's, 2N the artificial z0;
+    covering vector 1) with an explicit basis inverse, O(N²) per pivot. Shared by
+    :func:`solve_lemke` (the contact's bordered LCP) and
+    :func:`profilegen.contact.compliance.ContactCompliance.solve_unilateral` (teeth and balls)."""
+
+    def __init__(self, m_mat: np.ndarray, q: np.ndarray):
+        self.m, self.n = m_mat, q.size
+        self.binv = np.eye(self.n)
+        self.rhs = q.astype(float).copy()
+        self.basis = np.arange(self.n)
+
+    def column(self, j: int) -> np.ndarray:
+        """Column of variable j in the current basis."""
+        n = self.n
+        if j < n:
+            return self.binv[:, j].copy()
+        if j < 2 * n:
+            return -(self.binv @ self.m[:, j - n])
+        return -self.binv.sum(axis=1)
+
+    def pivot(self, row: int, col: np.ndarray, var: int) -> int:
+        """``var`` enters on ``row`` (its column ``col``); returns the variable that leaves."""
+        binv, rhs = self.binv, self.rhs
+        piv = binv[row] / col[row]
+        prow = rhs[row] / col[row]
+        binv[...] -= np.outer(col, piv)
+        binv[row] = piv
+        rhs -= col * prow
+        rhs[row] = prow
+        leaving = int(self.basis[row])
+        self.basis[row] = var
+        return leaving
+
+    def ratio_row(self, col: np.ndarray) -> int | None:
+        """The leaving row of the minimum-ratio test (z0's row on a tie, then lexicographic on
+        the rows of B⁻¹/col); None on a ray (no positive entry)."""
+        tol = 1e-11 * max(1.0, float(np.max(np.abs(col))))
+        cand = np.flatnonzero(col > tol)
+        if cand.size == 0:
+            return None
+        ratios = self.rhs[cand] / col[cand]
+        best = float(np.min(ratios))
+        ties = cand[ratios <= best + 1e-12 * (1.0 + abs(best))]
+        if ties.size > 1:
+            z0row = np.flatnonzero(self.basis[ties] == 2 * self.n)
+            if z0row.size:
+                ties = ties[z0row]
+            else:  # lexicographic rule on the rows of B⁻¹/col
+                for j in range(self.n):
+                    v = self.binv[ties, j] / col[ties]
+                    ties = ties[v <= np.min(v) + 1e-14 * (1.0 + np.max(np.abs(v)))]
+                    if ties.size == 1:
+                        break
+        return int(ties[0])
+
+
 def solve_lemke(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *, max_pivots: int | None = None) -> ContactSolution:
     """Contact forces and rotation by Conry–Seireg's restricted-entry simplex, as Lemke's method.
 
@@ -426,41 +485,20 @@ def solve_lemke(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *, max_pi
     q = np.concatenate([p.th, [-1.0]])
     # variables: 0..N-1 w_j, N..2N-1 z_j, 2N z0; rows of [I, −𝕄, −1] x = q
     Z0 = 2 * N
-    Binv = np.eye(N)
-    rhs = q.copy()
-    basis = np.arange(N)
-
-    def column(j: int) -> np.ndarray:
-        if j < N:
-            return Binv[:, j].copy()
-        if j < Z0:
-            return -(Binv @ Mm[:, j - N])
-        return -Binv.sum(axis=1)
-
-    def pivot(row: int, col: np.ndarray, var: int) -> int:
-        nonlocal rhs
-        piv = Binv[row] / col[row]
-        prow = rhs[row] / col[row]
-        Binv[...] -= np.outer(col, piv)
-        Binv[row] = piv
-        rhs -= col * prow
-        rhs[row] = prow
-        leaving = int(basis[row])
-        basis[row] = var
-        return leaving
+    tab = LemkeTableau(Mm, q)
+    basis = tab.basis
 
     # initial pivot: z0 in on the row of the most negative q (the equilibrium row, q = −1)
     row = int(np.argmin(q))
-    leaving = pivot(row, column(Z0), Z0)
+    leaving = tab.pivot(row, tab.column(Z0), Z0)
     pivots = 1
     path = []  # (pivot, entering variable, leaving variable) – the loading history, kept short
     while True:
         entering = leaving + N if leaving < N else leaving - N  # complement of the variable that left
-        col = column(entering)
-        tol = 1e-11 * max(1.0, float(np.max(np.abs(col))))
-        cand = np.flatnonzero(col > tol)
-        applied = 1.0 - float(rhs[basis == Z0][0]) if np.any(basis == Z0) else 1.0
-        if cand.size == 0:
+        col = tab.column(entering)
+        row = tab.ratio_row(col)
+        applied = 1.0 - float(tab.rhs[basis == Z0][0]) if np.any(basis == Z0) else 1.0
+        if row is None:
             raise ConvergenceError(
                 f"solve_lemke: ray termination at pivot {pivots} (entering {_name(entering, n)}, applied torque "
                 f"fraction {applied:.6g}); impossible for an SPD compliance — numerical breakdown"
@@ -471,21 +509,7 @@ def solve_lemke(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *, max_pi
                 f"fraction {applied:.6g}, {int(np.count_nonzero((basis >= N) & (basis < N + n)))} points loaded, "
                 f"entering {_name(entering, n)}"
             )
-        ratios = rhs[cand] / col[cand]
-        best = float(np.min(ratios))
-        ties = cand[ratios <= best + 1e-12 * (1.0 + abs(best))]
-        if ties.size > 1:
-            z0row = np.flatnonzero(basis[ties] == Z0)
-            if z0row.size:
-                ties = ties[z0row]
-            else:  # lexicographic rule on the rows of B⁻¹/col
-                for j in range(N):
-                    v = Binv[ties, j] / col[ties]
-                    ties = ties[v <= np.min(v) + 1e-14 * (1.0 + np.max(np.abs(v)))]
-                    if ties.size == 1:
-                        break
-        row = int(ties[0])
-        leaving = pivot(row, col, entering)
+        leaving = tab.pivot(row, col, entering)
         pivots += 1
         if len(path) < 200:
             path.append((pivots, _name(entering, n), _name(leaving, n)))
