@@ -39,7 +39,7 @@ import numpy as np
 
 from .. import checks
 from ..results import json_ready, readonly
-from .clearance import _map, face_map
+from .clearance import _map, _parabolic_minimum, face_map
 from .sections import FaceError, cup_deformation, ring_span
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -241,7 +241,60 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
             if moved < STOP_MM:
                 break
     if best is None:
-        warnings.append(f"tooth modification: still interfering after {done} LP steps")
+        found = _search_on_maps(gearset, face, a, c if crowning else None)
+        if found is None:
+            warnings.append(f"tooth modification: still interfering after {done} LP steps and the search along "
+                            "the taper and crowning")
+        else:
+            warnings.append(f"tooth modification: the LP found no interference-free step ({done} steps: the "
+                            "clearance is not linear in the thickness there); a bisection on the exact maps "
+                            "along the taper or the crowning found one")
+            backlash, taper, crown, ds, secs = found
+            predicted = None
+            method += "; fallback: bisection on the exact maps along the taper, then the crowning"
     else:
         _, taper, crown, ds, secs, predicted = best
     return _finish(gearset, face, secs, ds, taper, crown, "computed", method, done, predicted, start, warnings)
+
+
+def _search_on_maps(gearset, face: FaceWidth, a: np.ndarray, c: np.ndarray | None, *, steps: int = 9):
+    """When the LP's linearisation finds no interference-free step (the clearance is a minimum over
+    contacts, and where the nearest contact changes a finite-difference slope says little): along the
+    taper (its sign thins the worst-interfering section) and then the crowning, the smallest multiple
+    within the field's range that is interference-free on the exact recomputed maps (to a tenth of the
+    interference tolerance: the margin is real, not the tolerance's), by bisection (``steps``: 1/512
+    of the range). Returns (largest backlash, taper, crowning, Δs, sections) of the better one, or None."""
+    c0 = face.clearance_mm
+    worst = int(np.argmin(c0.min(axis=1)))
+    tol = 0.1 * face.interference_tol_mm
+    directions = []
+    if abs(a[worst]) > 0:
+        directions.append((-np.sign(a[worst]) * 0.01, 0.0))  # taper to its bound, thinning the worst section
+    if c is not None and c[worst] < 0:
+        directions.append((0.0, 0.1))  # crowning to its bound (thins the ends against the design section)
+    best = None
+
+    def evaluate(taper, crown):
+        ds = a * taper + (0.0 if c is None else c * crown)
+        secs = _modified_sections(gearset, face, ds)
+        cmaps = np.array([c0[k] if abs(ds[k]) < 1e-12 else _map(face.form, secs[k], face.map_samples).clearance_mm
+                          for k in range(ds.size)])
+        lowest = min(_parabolic_minimum(face.phi_rad, row)[0] for row in cmaps)  # as the rows report it
+        return float(lowest), float(np.max(cmaps[:, face.engaged])), ds, secs
+
+    for taper_max, crown_max in directions:
+        low, high = 0.0, 1.0
+        ok = evaluate(taper_max, crown_max)
+        if ok[0] < -tol:
+            continue
+        for _ in range(steps):
+            mid = 0.5 * (low + high)
+            trial = evaluate(mid * taper_max, mid * crown_max)
+            if trial[0] >= -tol:
+                high, ok = mid, trial
+            else:
+                low = mid
+        candidate = (ok[1], high * taper_max, high * crown_max, ok[2], ok[3])
+        if best is None or candidate[0] < best[0]:
+            best = candidate
+    return best
