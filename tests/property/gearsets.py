@@ -95,10 +95,24 @@ def gear_sets(draw, kind: str | None = None, spoil: bool | None = None) -> dict:
     if draw(st.booleans()):
         d["circular_spline"] = {"root_clearance_mm": m * u(0.05, 0.6), "tip_clearance_mm": m * u(0.05, 0.6),
                                 "fit_method": draw(st.sampled_from(["one_sided", "least_squares", "minimax"]))}
+        if draw(st.booleans()) and draw(st.booleans()):  # the wire-EDM corners (issue 17)
+            d["circular_spline"] |= {"wire_radius_mm": m * u(0.02, 0.3), "spark_gap_mm": m * u(0.0, 0.05),
+                                     "corners": draw(st.sampled_from(["fillet", "sharp"]))}
     if draw(st.booleans()):
-        d["cup"] = {"length_mm": 2 * r1 * u(0.3, 1.0), "face_width_mm": 2 * r1 * u(0.1, 0.3),
+        length, b = 2 * r1 * u(0.3, 1.0), 2 * r1 * u(0.1, 0.3)
+        d["cup"] = {"length_mm": length, "face_width_mm": b,
                     "bottom_thickness_mm": gear["rim_thickness_mm"] * u(0.5, 3.0), "boss_radius_mm": r1 * u(0.2, 0.7),
                     "root_fillet_radius_mm": m * u(0.2, 1.0)}
+        if draw(st.booleans()) and draw(st.booleans()):  # the 3D cup's fields (issue 15)
+            width = b * u(0.2, 1.0)
+            d["cup"] |= {"wall_thickness_mm": gear["rim_thickness_mm"] * u(0.55, 1.0), "bearing_width_mm": width,
+                         "bearing_center_mm": length + 0.5 * (b - width) * u(-0.99, 0.99)}
+        if draw(st.booleans()) and draw(st.booleans()):  # the face width (issue 15)
+            auto = draw(st.booleans())
+            d["face"] = {"design_section_z_mm": "auto" if auto else length + 0.5 * b * u(-1.0, 1.0),
+                         "sections": draw(st.integers(3, 9)),
+                         "taper_mm_per_mm": "auto" if auto else u(-0.005, 0.005),
+                         "crowning_mm": "auto" if auto else u(-0.05, 0.05)}
     # (hypothesis leans to the first choice: False, so a mixture spoils about one draw in six)
     if spoil or (spoil is None and draw(st.sampled_from([False, False, False, False, False, True]))):
         d = _spoiled(draw, d)

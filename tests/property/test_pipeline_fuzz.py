@@ -31,7 +31,9 @@ from tests.property.gearsets import gear_sets
 #: its sets now stop early at the EDM wire check (FilletError: circular_spline.wire_radius_mm, a
 #: 0.145 mm fillet in small-module spaces), and its first 20 reached no result after the DCTA
 #: stratum in one process (the "some example reaches a result" check failed; 45 reach some).
-VALID = {"dcta": 20, "involute": 45, "points": 25}
+#: The points stratum has 20: with the wire, 3D-cup and face fields in the draws (2026-11-25) its
+#: examples 21-25 reached results and took 22 s more; 15 reached none.
+VALID = {"dcta": 20, "involute": 45, "points": 20}
 SPOILED = 90
 WRITE_EVERY = 3  # write the files of every third result (write_design costs about what the sketch design does)
 TIME_LIMIT_S = 120.0  # per example; the slowest sketch example measured ~10 s on the busy machine
