@@ -1,12 +1,31 @@
 """Catalogue values the whole-gear model is compared with, each with its source.
 
-Source (all rows): Harmonic Drive LLC, "CSF & CSG Series, Cup Type Component Sets & Housed
-Units" catalogue, as published at https://www.yumpu.com/en/document/view/46053898/csf-csg-pdf-harmonic-drive-llc
-— page 50 ("Torsional Stiffness", tables 41 and 42) and page 14 ("Technical Terms": table 4,
-CSF ratcheting torque; table 5, CSF buckling torque). Read through the project's search
-index of stored public pages; the text of table 43 (ratio 1/80 and above — the table that
-fits our ratio-100 sets, listed stiffer than ratio 1/50) is cut off in the stored page and
-was not found elsewhere, nor K3 of table 42: they are None here, not guessed.
+Sources:
+
+* Ratios 30 and 50, ratcheting and buckling torques: Harmonic Drive LLC, "CSF & CSG Series, Cup
+  Type Component Sets & Housed Units" catalogue, as published at
+  https://www.yumpu.com/en/document/view/46053898/csf-csg-pdf-harmonic-drive-llc — page 50
+  ("Torsional Stiffness", tables 41 and 42: component-set values) and page 14 ("Technical
+  Terms": table 4, CSF ratcheting torque; table 5, CSF buckling torque). The text of that
+  page's table 43 (ratio 1/80 and above) is cut off in the stored copy, and so is K3 of table 42.
+* Ratio 80 and above (the row our ratio-100 sets are compared with), and K3 at ratio 50:
+  Harmonic Drive AG, "CHA Series Hollow Shaft Servo Actuators" engineering data, document
+  1018854 12/2015 V01, p. 50, section 3.3.5 "Torsional Stiffness", tables 50.3 (sizes 14–25) and
+  50.4 (sizes 32–58) — https://www.easymanua.ls/harmonic-drive/cha/manual?p=50 — columns
+  i = 30, 50, > 50 (the CHA's ratios above 50 are 80, 100, 120, 160: one row for all of them);
+  the same values in revision 1018854 8/2018 V03, p. 54, tables 54.3/54.4
+  (https://manualshive.com/en/manual/harmonic-drive/cha-14a-e/3973040?page=54), and the size-32
+  > 50 row (T1 29, K1 6.7·10⁴, T2 108, K2 1.1·10⁵, K3 1.2·10⁵) again in the worked example
+  "Calculation of the Torsion Angle" of the same manual (p. 68,
+  https://manualshive.com/en/manual/harmonic-drive/cha/3953713?page=68) and of the LynxDrive
+  manual 1018856 08/2018 V04 (p. 42, https://manualshive.com/en/manual/harmonic-drive/lynxdrive-14c/600784?page=52).
+  Whose values: the CHA table is headed "torsional stiffness (Harmonic Drive® gears)": "the
+  elastic rotation at the output for a given torque with the wave generator blocked" (glossary,
+  p. 83); its i = 30 and i = 50 columns equal the CSF/CSG component-set tables 41 and 42 at every
+  size both give (sizes 14–40: e.g. size 40, i = 50: 100/140 ·10³ against table 42's 10/14 ·10⁴;
+  size 25, i = 30: 10/13/21 ·10³ against table 41's 1.0/1.3/2.1 ·10⁴). So these are the gear
+  component set's values, not the actuator's with its output bearing (an inference from that
+  equality; the page does not say it in words).
 
 Definitions (catalogue, p. 50): the curve is approximated by three lines, K1 from 0 to T1,
 K2 from T1 to T2, K3 above T2 (the rotation at T1 is φ1 = T1/K1, at T2 φ2 = φ1 + (T2 − T1)/K2),
@@ -14,10 +33,10 @@ measured at the output with the wave generator locked.
 
 :func:`catalogue_row` returns the row :func:`profilegen.contact.chain.torsional_curve` takes as
 ``catalogue`` (``T1_nm``, ``K1_nm_per_rad``, ``T2_nm``, ``K2_nm_per_rad``, ``K3_nm_per_rad``,
-``lost_motion_arcmin``, ``source``, ``ratio``) plus the ratcheting and buckling torques; for a
-ratio whose table is not here (≥ 80) it returns the nearest lower ratio's row with that said in
-``note`` — compare with the caveat that the catalogue's own row is likely stiffer (K1 grows
-×2.3–2.5 from ratio 30 to 50 at sizes 25 and 32; the ≥ 80 values themselves are not here).
+``lost_motion_arcmin``, ``source``, ``ratio``) plus the ratcheting and buckling torques; the
+row of the highest tabulated ratio at or below the one asked (ratio 100 → the ≥ 80 row, with
+``ratio`` 80 and a ``note`` saying the row covers 80–160). The ratio-50 rows stay for sets of
+that ratio and for comparison (at size 40 the ≥ 80 row is 1.30× / 1.43× stiffer in K1 / K2).
 """
 
 from __future__ import annotations
@@ -27,7 +46,7 @@ from functools import partial
 from .. import checks
 from ..errors import ProfilegenError
 
-__all__ = ["CatalogueError", "RATCHETING_TORQUE_NM", "SOURCE", "STIFFNESS", "catalogue_row"]
+__all__ = ["CHA_SOURCE", "CatalogueError", "RATCHETING_TORQUE_NM", "SOURCE", "STIFFNESS", "catalogue_row"]
 
 
 class CatalogueError(ProfilegenError, ValueError):
@@ -36,20 +55,38 @@ class CatalogueError(ProfilegenError, ValueError):
 
 SOURCE = ("Harmonic Drive LLC, CSF & CSG Series catalogue (yumpu.com/en/document/view/46053898/"
           "csf-csg-pdf-harmonic-drive-llc)")
+CHA_SOURCE = ("Harmonic Drive AG, CHA Series hollow shaft servo actuators, engineering data 1018854 12/2015 V01 "
+              "(easymanua.ls/harmonic-drive/cha/manual?p=50)")
+_CHA_ALSO = ("the same values in 1018854 8/2018 V03, p. 54, tables 54.3/54.4 "
+             "(manualshive.com/en/manual/harmonic-drive/cha-14a-e/3973040?page=54)")
+_LLC = {"source": SOURCE, "page": 50, "values_of": "component set (CSF/CSG)"}
+_CHA = {"source": CHA_SOURCE, "page": 50, "also_in": _CHA_ALSO, "values_of": "component set (the gear, wave generator blocked; equal to "
+        "the CSF/CSG tables 41/42 where both give a value)"}
+_CHA_RATIOS = "i > 50 (the CHA's ratios 80, 100, 120, 160; one row)"
 
-#: (ratio, size) → T1, K1, T2, K2, K3 (N·m, N·m/rad; None where not in the stored page).
-#: Table 41 "Ratio 1/30" and table 42 "Torsional Stiffness for Ratio 1/50", page 50.
+#: (ratio, size) → T1, K1, T2, K2, K3 (N·m, N·m/rad) with where each comes from. Ratio 80 is
+#: the row "80 and above". Ratios 30/50: the LLC catalogue's tables 41 and 42 (K3 at ratio 50 is
+#: cut off there: the CHA table's, ``K3_source``). Ratio ≥ 80: the CHA table (module docstring).
 STIFFNESS = {
     (30, 25): {"T1_nm": 14.0, "K1_nm_per_rad": 1.0e4, "T2_nm": 48.0, "K2_nm_per_rad": 1.3e4,
-               "K3_nm_per_rad": 2.1e4, "table": "table 41 (ratio 1/30)"},
+               "K3_nm_per_rad": 2.1e4, "table": "table 41 (ratio 1/30)", **_LLC},
     (30, 32): {"T1_nm": 29.0, "K1_nm_per_rad": 2.4e4, "T2_nm": 108.0, "K2_nm_per_rad": 3.0e4,
-               "K3_nm_per_rad": 4.9e4, "table": "table 41 (ratio 1/30)"},
+               "K3_nm_per_rad": 4.9e4, "table": "table 41 (ratio 1/30)", **_LLC},
     (50, 25): {"T1_nm": 14.0, "K1_nm_per_rad": 2.5e4, "T2_nm": 48.0, "K2_nm_per_rad": 3.4e4,
-               "K3_nm_per_rad": None, "table": "table 42 (ratio 1/50)"},
+               "K3_nm_per_rad": 4.4e4, "K3_source": f"{CHA_SOURCE}, table 50.3, i = 50",
+               "table": "table 42 (ratio 1/50)", **_LLC},
     (50, 32): {"T1_nm": 29.0, "K1_nm_per_rad": 5.4e4, "T2_nm": 108.0, "K2_nm_per_rad": 7.8e4,
-               "K3_nm_per_rad": None, "table": "table 42 (ratio 1/50)"},
+               "K3_nm_per_rad": 9.8e4, "K3_source": f"{CHA_SOURCE}, table 50.4, i = 50",
+               "table": "table 42 (ratio 1/50)", **_LLC},
     (50, 40): {"T1_nm": 54.0, "K1_nm_per_rad": 10e4, "T2_nm": 196.0, "K2_nm_per_rad": 14e4,
-               "K3_nm_per_rad": None, "table": "table 42 (ratio 1/50)"},
+               "K3_nm_per_rad": 18e4, "K3_source": f"{CHA_SOURCE}, table 50.4, i = 50",
+               "table": "table 42 (ratio 1/50)", **_LLC},
+    (80, 25): {"T1_nm": 14.0, "K1_nm_per_rad": 3.1e4, "T2_nm": 48.0, "K2_nm_per_rad": 5.0e4,
+               "K3_nm_per_rad": 5.7e4, "table": f"table 50.3 (CHA-25A), {_CHA_RATIOS}", **_CHA},
+    (80, 32): {"T1_nm": 29.0, "K1_nm_per_rad": 6.7e4, "T2_nm": 108.0, "K2_nm_per_rad": 11e4,
+               "K3_nm_per_rad": 12e4, "table": f"table 50.4 (CHA-32A), {_CHA_RATIOS}", **_CHA},
+    (80, 40): {"T1_nm": 54.0, "K1_nm_per_rad": 13e4, "T2_nm": 196.0, "K2_nm_per_rad": 20e4,
+               "K3_nm_per_rad": 23e4, "table": f"table 50.4 (CHA-40A), {_CHA_RATIOS}", **_CHA},
 }
 
 #: (ratio, size) → ratcheting torque (N·m), table 4 "CSF Ratcheting Torque", page 14.
@@ -67,9 +104,11 @@ _whole = partial(checks.whole, error=CatalogueError)
 
 def catalogue_row(size: int, ratio: int) -> dict:
     """The catalogue's comparison values for a CSF of ``size`` and ``ratio`` (see the module
-    docstring): the stiffness row of ``ratio``'s table, or the nearest lower ratio's with a
-    ``note`` when that table is not here; ``ratcheting_torque_nm`` and ``buckling_torque_nm``
-    of the size and ratio (None when not listed)."""
+    docstring): the stiffness row of the highest tabulated ratio at or below ``ratio`` (30, 50,
+    or 80 — "80 and above"), with a ``note`` when that row is not exactly the ratio asked;
+    ``source`` (document, page, table), ``values_of`` (whose values: the component set's),
+    ``ratcheting_torque_nm`` and ``buckling_torque_nm`` of the size and ratio (None when not
+    listed)."""
     size = _whole("size", size, 1)
     ratio = _whole("ratio", ratio, 1)
     ratios = sorted({r for r, s in STIFFNESS if s == size})
@@ -81,15 +120,16 @@ def catalogue_row(size: int, ratio: int) -> dict:
         raise CatalogueError(f"ratio = {ratio}: no stiffness row at or below it for size {size} (ratios {ratios})")
     used = lower[-1]
     row = dict(STIFFNESS[(used, size)])
-    table = row.pop("table")
+    table, source, page = row.pop("table"), row.pop("source"), row.pop("page")
     note = None
-    if used != ratio:
-        note = (f"the catalogue's row for ratio {ratio} (table 43, ratio 1/80 and above) is not in the stored "
-                f"source; this is the ratio-{used} row. The catalogue's K's grow with the ratio (sizes 25 and 32: "
-                "K1 x2.3-2.5 from ratio 30 to 50), so its ratio-" + str(ratio) + " values are likely higher than "
-                "these (not verified)")
+    if used == 80:
+        if ratio != 80:
+            note = f"the catalogue's row for ratios 80 and above (80-160 share one row), used for this set's ratio {ratio}"
+    elif used != ratio:
+        note = (f"no catalogue row for ratio {ratio} here; this is the ratio-{used} row (the catalogue lists "
+                "higher ratios stiffer)")
     return {
-        "source": f"{SOURCE}, p. 50, {table}, size {size}",
+        "source": f"{source}, p. {page}, {table}, size {size}",
         "size": size, "ratio": used, "ratio_asked": ratio, "note": note, **row,
         "lost_motion_arcmin": None,
         "ratcheting_torque_nm": RATCHETING_TORQUE_NM.get((ratio, size)),

@@ -197,8 +197,9 @@ def test_catalogue_rows_are_the_sourced_ones_with_the_ratio_caveat():
     from profilegen.contact.catalogue import CatalogueError, catalogue_row
 
     row = catalogue_row(40, 100)
-    assert (row["T1_nm"], row["K1_nm_per_rad"], row["T2_nm"], row["K2_nm_per_rad"]) == (54.0, 1e5, 196.0, 1.4e5)
-    assert row["ratio"] == 50 and row["note"] and "table 42" in row["source"]
+    assert (row["T1_nm"], row["K1_nm_per_rad"], row["T2_nm"], row["K2_nm_per_rad"]) == (54.0, 1.3e5, 196.0, 2e5)
+    assert row["ratio"] == 80 and row["note"] and "table 50.4" in row["source"]
+    assert catalogue_row(40, 50)["K1_nm_per_rad"] == 1e5 and "table 42" in catalogue_row(40, 50)["source"]
     assert row["ratcheting_torque_nm"] == 2100.0
     assert catalogue_row(32, 50)["note"] is None
     with pytest.raises(CatalogueError, match="size"):
