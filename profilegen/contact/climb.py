@@ -333,7 +333,8 @@ class DesignClimb:
     :func:`~profilegen.contact.points.contact_points`). Built by :func:`profilegen.contact.ratchet.ratcheting_torque`."""
 
     def __init__(self, inputs, *, side: int, stations: int, max_gap_mm: float, race_thickness_mm, bearing,
-                 ring_factory=None, ring_scale: float = 1.0, spring_tol: float = 1e-3, shift_rad: float = 0.0):
+                 ring_factory=None, ring_scale: float = 1.0, spring_tol: float = 1e-3, shift_rad: float = 0.0,
+                 corner_normal: bool = True):
         from ..kinematics import turn
         from .compliance import ContactCompliance
         from .points import contact_points
@@ -377,22 +378,34 @@ class DesignClimb:
         self.corner = pts.t_mm >= float(inputs.tooth.length_mm) - 1e-9
         self.t_mm = pts.t_mm
         self.points = pts
+        #: the FS tip-corner stations whose contact normal follows the CS surface (corner_normal):
+        #: a second influence column each, along the tip land's outward normal (tooth frame +y)
+        self._ci = np.flatnonzero(self.corner) if corner_normal else np.zeros(0, int)
+        pose = inputs.motion.pose(pts.phi_rad[self._ci]) if self._ci.size else None
+        tip_n = np.zeros((0, 2)) if pose is None else np.column_stack([np.sin(pose.angle), np.cos(pose.angle)])
+        self._tn0 = tip_n  # CS space 0's frame, as _n0
+        self._sa_flank = self.sin_alpha.copy()
+        tip_actual = np.vstack([turn(tip_n[k:k + 1], -b) for k, b in enumerate(back[self._ci])]) if self._ci.size \
+            else np.zeros((0, 2))
+        self._sa_tip = np.einsum("ij,ij->i", tip_actual, e_pts[self._ci])
+        nc = self._ci.size
+        self._a, self._b = np.ones(nc), np.zeros(nc)
         self._combined = ContactCompliance.build(
-            inputs, np.vstack([pts.fs_point_mm, fs_probe]), np.vstack([pts.normal, e_r]),
-            np.concatenate([pts.tooth, teeth]), np.vstack([pts.cs_point_mm, cs_probe]),
+            inputs, np.vstack([pts.fs_point_mm, pts.fs_point_mm[self._ci], fs_probe]),
+            np.vstack([pts.normal, tip_actual, e_r]),
+            np.concatenate([pts.tooth, pts.tooth[self._ci], teeth]),
+            np.vstack([pts.cs_point_mm, pts.cs_point_mm[self._ci], cs_probe]),
             race_thickness_mm=race_thickness_mm, shift_rad=shift_rad)
+        self._nn = self.n + nc  # stations + the corners' tip-land columns
         self.bearing = bearing
         m = teeth.size
         ring = np.zeros((m, 2 * m)) if ring_factory is None else ring_scale * ring_factory(phis)
-        #: the CS ring's radial compliance at the teeth, the image zone's load folded in (m × m)
+        #: the CS ring's radial compliance at the teeth, the image zone's load folded in (m × m);
+        #: its part of the retreat and of S is formed per call with the current sin α (_effective)
         self._ring = ring[:, :m] + ring[:, m:]
-        #: its part of the retreat per station force (m × n) and of S (n × n): sin α_j C sin α_l
-        self._p_cs = self._ring[:, self.slot] * self.sin_alpha[None, :]
-        s_ring = self.sin_alpha[:, None] * self._p_cs[self.slot]
         self._spring_tol = spring_tol
         c = self._combined
         self._base = 0.5 * (c._flex_cc + c._flex_cc.T) / c.face_width_mm + c.cs_matrix_mm_per_n
-        self._base[:self.n, :self.n] += 0.5 * (s_ring + s_ring.T)
 
     # -- the model interface of climb()
     def geometry(self, s, phi: float = 0.0):
@@ -402,13 +415,70 @@ class DesignClimb:
 
         p = turn(self._p0 - s[self.slot, None] * self._e0[self.slot], self.rotation * phi)
         n = turn(self._n0, self.rotation * phi)
-        dist = self._space.distance(p)
+        dist, foot = self._space.nearest(p)
         theta = np.arctan2(p[:, 0], p[:, 1])
         inside = np.hypot(p[:, 0], p[:, 1]) > np.interp(theta, self._rim_theta, self._rim_r,
                                                         left=self._tip_r, right=self._tip_r)
         gap = np.where(inside, -dist, dist)
+        ci = self._ci
+        if ci.size:
+            # the FS tip corner against the CS: the contact normal is the CS surface's (the
+            # foot's direction, out of the FS), kept within the corner's cone of normals
+            # between the flank's n_f and the tip land's n_t: n = a n_f + b n_t, a, b ≥ 0
+            nf, nt = n[ci], turn(self._tn0, self.rotation * phi)
+            v = (foot[ci] - p[ci]) * np.where(inside[ci], -1.0, 1.0)[:, None]
+            d = np.linalg.norm(v, axis=1)
+            a, b = np.ones(ci.size), np.zeros(ci.size)
+            ok = d > 1e-12
+            if ok.any():
+                u = v[ok] / d[ok, None]
+                det = nf[ok, 0] * nt[ok, 1] - nf[ok, 1] * nt[ok, 0]
+                aa = (u[:, 0] * nt[ok, 1] - u[:, 1] * nt[ok, 0]) / det
+                bb = (nf[ok, 0] * u[:, 1] - nf[ok, 1] * u[:, 0]) / det
+                over = aa < 0.0  # beyond the tip land's normal: the tip land
+                aa, bb = np.where(over, 0.0, aa), np.where(over, 1.0, bb)
+                under = bb < 0.0  # within the flank's: the flank (no change)
+                a[ok], b[ok] = np.where(under, 1.0, aa), np.where(under, 0.0, bb)
+            self._a, self._b = a, b
+            n = n.copy()
+            n[ci] = a[:, None] * nf + b[:, None] * nt
+            self.sin_alpha = self._sa_flank.copy()
+            self.sin_alpha[ci] = a * self._sa_flank[ci] + b * self._sa_tip
         lever = self.rotation * (p[:, 1] * n[:, 0] - p[:, 0] * n[:, 1])
         return gap, lever
+
+    def _expand(self, f):
+        """Station forces → forces on the built columns (the corners split into a n_f + b n_t)."""
+        out = np.zeros(self._nn)
+        out[:self.n] = f
+        if self._ci.size:
+            out[self._ci] = self._a * f[self._ci]
+            out[self.n:] = self._b * f[self._ci]
+        return out
+
+    def _effective(self, full, probe):
+        """(S, P_fs, P_cs) of the stations from the built columns: the corners' columns and rows
+        combined with the current (a, b) (a congruence: S stays positive definite), and the CS
+        ring's part with the current sin α."""
+        n, ci = self.n, self._ci
+        if ci.size:
+            cols = full[:, :n].copy()
+            cols[:, ci] = self._a * full[:, ci] + self._b * full[:, n:]
+            s_mat = cols[:n].copy()
+            s_mat[ci] = self._a[:, None] * cols[ci] + self._b[:, None] * cols[n:]
+            p_fs = probe[:, :n].copy()
+            p_fs[:, ci] = self._a * probe[:, ci] + self._b * probe[:, n:]
+        else:
+            s_mat, p_fs = full.copy(), probe
+        p_cs = self._ring[:, self.slot] * self.sin_alpha[None, :]
+        s_ring = self.sin_alpha[:, None] * p_cs[self.slot]
+        s_mat += 0.5 * (s_ring + s_ring.T)
+        return s_mat, p_fs, p_cs
+
+    def station_matrix(self, state) -> np.ndarray:
+        """S of the stations (mm/N) with ``state``'s balls and springs at the last geometry."""
+        full, probe, _ = self._matrices(state.active, state.springs)
+        return self._effective(full, probe)[0]
 
     def initial_state(self):
         return _State(self._combined.ball_active.copy(), None)
@@ -432,7 +502,7 @@ class DesignClimb:
             fa = cho_factor(block, lower=True)
             w = solve_triangular(fa[0], c._flex_cb[:, act].T, lower=True)
             full -= (w.T @ w) / b
-        n = self.n
+        n = self._nn
         return full[:n, :n], full[n:, :n], fa
 
     def _reactions(self, f, active, fa):
@@ -440,7 +510,7 @@ class DesignClimb:
         c = self._combined
         b = c.face_width_mm
         fp = np.zeros(c._flex_cc.shape[0])
-        fp[:self.n] = f
+        fp[:self._nn] = self._expand(f)
         react = np.zeros(c.ball_angle_rad.size)
         act = np.flatnonzero(active)
         if act.size:
@@ -452,7 +522,8 @@ class DesignClimb:
         active, springs = state.active.copy(), state.springs
         seen = set()
         for _ in range(4 * active.size + 4):
-            s_mat, p_mat, fa = self._matrices(active, springs)
+            full, probe, fa = self._matrices(active, springs)
+            s_mat, p_mat, p_cs = self._effective(full, probe)
             f = solve_lcp(s_mat, q)
             react, gaps = self._reactions(f, active, fa)
             tol = 1e-12 * max(1.0, float(np.abs(react).max(initial=0.0)))
@@ -476,14 +547,14 @@ class DesignClimb:
             new = self.bearing.secant_compliance_mm_per_n(react, floor_n=floor)
             done = done and springs is not None and bool(np.all(np.abs(new / springs - 1.0) <= self._spring_tol))
             springs = new
-        return f, _State(active, springs, done), p_mat, self._p_cs
+        return f, _State(active, springs, done), p_mat, p_cs
 
     def first_rotation(self, torque_nm: float) -> tuple[float, float]:
         """(θ_min, φ at ``torque_nm`` in the linear contact with rigid balls, no shift)."""
         from .solvers import solve_lemke
 
         gap, lever = self.geometry(np.zeros(self.teeth.size))
-        s_mat = self._matrices(self._combined.ball_active, None)[0]
+        s_mat = self._effective(*self._matrices(self._combined.ball_active, None)[:2])[0]
         sol = solve_lemke(s_mat, np.maximum(gap, 0.0) / lever, lever,
                           torque_nm / self.zones * 1e3)
         return float(np.min(gap / lever)), float(sol.phi_rad)

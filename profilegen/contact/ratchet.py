@@ -136,6 +136,12 @@ _positive = partial(checks.positive, error=RatchetingError)
 _number = partial(checks.number, error=RatchetingError)
 
 
+def _flag(name: str, value) -> bool:
+    if not isinstance(value, (bool, np.bool_)):
+        raise RatchetingError(f"{name} = {value!r}: must be True or False")
+    return bool(value)
+
+
 def _torque(name: str, value) -> float:
     t = checks.number(name, value, "N·m", error=RatchetingError)
     if not math.isfinite(t) or t == 0.0:
@@ -407,7 +413,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                       spring_iterations: int = 60, spring_tol: float = 1e-6, climb: bool = True,
                       climb_stations: int = 9, climb_max_gap_mm: float = 0.15,
                       climb_max_torque_nm: float | None = None, climb_ring_scale: float = 1.0,
-                      climb_shift_rad: float = 0.0) -> Ratcheting:
+                      climb_shift_rad: float = 0.0, climb_corner_normal: bool = True) -> Ratcheting:
     """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
     by the model of the module docstring.
 
@@ -522,7 +528,8 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                                                   max_gap_mm=climb_max_gap_mm, linear=linear,
                                                   max_torque_nm=climb_max_torque_nm, ring_scale=climb_ring_scale,
                                                   shift_rad=_number("climb_shift_rad", climb_shift_rad, "rad"),
-                                                  extrapolated=extrapolated, warnings=warnings)
+                                                  extrapolated=extrapolated, warnings=warnings,
+                                                  corner_normal=_flag("climb_corner_normal", climb_corner_normal))
     cat = None if catalogue is None else dict(catalogue)
     if cat is None:
         warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")
@@ -551,7 +558,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
 
 
 def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, max_gap_mm, linear, max_torque_nm,
-           ring_scale, extrapolated, warnings, shift_rad=0.0):
+           ring_scale, extrapolated, warnings, shift_rad=0.0, corner_normal=True):
     """The climb's estimate: → (torque, extrapolated, summary dict)."""
     from .climb import DesignClimb, climb
 
@@ -573,7 +580,7 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     with _serial():
         model = DesignClimb(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm,
                             race_thickness_mm=race_thickness_mm, bearing=bearing, ring_factory=factory,
-                            ring_scale=ring_scale, shift_rad=shift_rad)
+                            ring_scale=ring_scale, shift_rad=shift_rad, corner_normal=corner_normal)
         theta_min, phi_rated = model.first_rotation(rated)
         step = 0.5 * max(phi_rated - theta_min, 1e-9)
         path = climb(model, theta_min + step, step, max_torque_nm=max_torque_nm)
@@ -581,6 +588,7 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     info = {"criterion": path.criterion, "torque_nm": path.torque_nm, "phi_rad": path.phi_rad,
             "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,
             "points": model.n, "teeth": int(model.teeth.size), "ring_scale": ring_scale, "shift_rad": shift_rad,
+            "corner_normal": corner_normal,
             "phi_path_rad": path.column("phi_rad").tolist(), "torque_path_nm": path.column("torque_nm").tolist(),
             "mean_retreat_mm": path.column("mean_retreat_mm").tolist(),
             "margin_mm": path.column("margin_mm").tolist(), "pressure_angle_deg": path.column("alpha_deg").tolist(),

@@ -232,8 +232,63 @@ def test_climb_starts_as_the_linear_contact(design):
     theta, phi_rated = model.first_rotation(float(gs.torque.rated_nm))
     path = climb(model, theta + 0.25 * (phi_rated - theta), 0.25 * (phi_rated - theta), max_steps=2, refine=0)
     for p in path.points:
-        s_mat = model._matrices(p.state.active, p.state.springs)[0]
         gap, lever = model.geometry(np.zeros(model.teeth.size))
+        s_mat = model.station_matrix(p.state)
         sol = solve_lemke(s_mat, np.maximum(gap, 0) / lever, lever, p.torque_nm / model.zones * 1e3)
         assert sol.phi_rad == pytest.approx(p.phi_rad, rel=2e-2)
         assert abs(p.mean_retreat_mm) < 0.005  # force-weighted: µm
+
+
+@pytest.fixture(scope="module")
+def corner_model(design):
+    from profilegen.contact.inputs import ContactInput
+
+    return DesignClimb(ContactInput.from_design(design), side=1, stations=5, max_gap_mm=0.08, race_thickness_mm=None,
+                       bearing=None, ring_factory=None)
+
+
+def test_corner_normal_turns_with_the_cs_tip_round(corner_model):
+    """The FS tip corners of the teeth leaving the engagement stand over the CS tip rounds
+    (circles): the contact normal of a sharp corner facing a circle passes through the
+    circle's centre, so wherever a corner's normal lies strictly between the flank's and the
+    tip land's, its lever arm must be that of the unit vector from the corner to the round's
+    centre, its radial part (sin α) above the flank's — checked over radial lifts of each
+    tooth, with the rounds taken from the CS space's arcs."""
+    from profilegen.contour import Arc
+
+    model = corner_model
+    rounds = [e for e in model._space.elements if isinstance(e, Arc) and abs(float(e.radius)) < 0.5
+              and np.hypot(*np.asarray(e.centre)) > model._tip_r - 1.0]
+    assert rounds, "the fitted CS space has tip rounds"
+    corners = np.flatnonzero(model.corner)
+    checked = 0
+    for lift in np.linspace(-0.02, 0.05, 8):
+        s = np.full(model.teeth.size, lift)
+        gap, lever = model.geometry(s)
+        for j, k in enumerate(corners):
+            a, b = model._a[j], model._b[j]
+            if not (gap[k] > 1e-4 and a > 1e-3 and b > 1e-3):
+                continue
+            p = model._p0[k] - lift * model._e0[model.slot[k]]
+            c = min(rounds, key=lambda e: abs(np.hypot(*(p - np.asarray(e.centre))) - abs(float(e.radius))))
+            if abs(np.hypot(*(p - np.asarray(c.centre))) - abs(float(c.radius)) - gap[k]) > 1e-9:
+                continue  # its nearest CS point is not on a round
+            u = (np.asarray(c.centre) - p) / np.linalg.norm(np.asarray(c.centre) - p)
+            assert lever[k] == pytest.approx(model.rotation * (p[1] * u[0] - p[0] * u[1]), abs=1e-9)
+            assert model.sin_alpha[k] > model._sa_flank[k]
+            checked += 1
+    assert checked >= 5
+
+
+def test_corner_columns_reduce_to_the_flank_when_b_is_zero(corner_model):
+    """With every corner's normal on its flank (a = 1, b = 0) the stations' S is the one built
+    along the flank normals alone (the extra tip-land columns drop out of the congruence)."""
+    model = corner_model
+    model._a[:], model._b[:] = 1.0, 0.0
+    full, probe, _ = model._matrices(model._combined.ball_active, None)
+    s_mat = model._effective(full, probe)[0]
+    np.testing.assert_array_equal(s_mat, full[:model.n, :model.n])
+    model._b[:] = 0.5  # any b > 0 changes the corners' rows
+    model._a[:] = 0.5
+    assert not np.allclose(model._effective(full, probe)[0][model._ci], s_mat[model._ci])
+    model.geometry(np.zeros(model.teeth.size))
