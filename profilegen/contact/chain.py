@@ -763,8 +763,90 @@ def _checked_signed_torques(torques_nm) -> np.ndarray:
     return t
 
 
+class _SpringIteration:
+    """The Hertz ball springs' secant fixed point, in log c: c = c_H R(c)^(−1/3) per ball.
+
+    Plain steps contract by ~1/3 (12 steps to 1e-6 on the default set); a per-ball secant
+    estimate q of the map's slope (Steffensen) takes x + (g − x)/(1 − q) instead, and a start
+    from a neighbouring torque's springs leaves a few steps. A reaction is held ≥ max(1 N,
+    1e-3 × the largest) in the secant (the secant is infinite at no load; the spring of a
+    ball that carries nothing does not enter the solve). ``x``: the current log springs (None:
+    rigid balls so far, the first step takes the secants at their reactions)."""
+
+    __slots__ = ("c_hertz", "tol", "x", "x_prev", "g_prev")
+
+    def __init__(self, c_hertz: float, tol: float, x=None):
+        self.c_hertz, self.tol, self.x = float(c_hertz), float(tol), x
+        self.x_prev = self.g_prev = None
+
+    def step(self, reactions_n) -> bool:
+        """True when the springs ``x`` reproduce themselves at these reactions to ``tol``
+        (relative); else ``x`` moves to the next iterate and False."""
+        react = np.asarray(reactions_n, dtype=float)
+        floor = max(1.0, 1e-3 * float(react.max(initial=0.0)))
+        g = np.log(self.c_hertz * np.maximum(react, floor) ** (-1.0 / 3.0))
+        x = self.x
+        if x is not None and np.all(np.abs(np.expm1(g - x)) <= self.tol):
+            return True
+        step = g
+        if x is not None and self.x_prev is not None:
+            dx, dg = x - self.x_prev, g - self.g_prev
+            q = np.clip(np.divide(dg, dx, out=np.zeros_like(dx), where=np.abs(dx) > 1e-14), -0.9, 0.5)
+            step = x + (g - x) / (1.0 - q)
+        if x is not None:
+            self.x_prev, self.g_prev = x, g
+        self.x = step
+        return False
+
+    @property
+    def springs(self):
+        return None if self.x is None else np.exp(self.x)
+
+
 def _solve_side(points, compliance, magnitude_nm: float, bearing: BallBearing | None, *, settle_iterations: int,
                 spring_iterations: int, spring_tol: float, start_springs=None):
+    """The reference for one flank at |T|: the window's balls (:func:`_solve_side_window`) or
+    every ball one-sided at its gap (:func:`_solve_side_unilateral`), as the compliance says."""
+    if compliance.ball_supports == "all":
+        return _solve_side_unilateral(points, compliance, magnitude_nm, bearing, spring_iterations=spring_iterations,
+                                      spring_tol=spring_tol, start_springs=start_springs)
+    return _solve_side_window(points, compliance, magnitude_nm, bearing, settle_iterations=settle_iterations,
+                              spring_iterations=spring_iterations, spring_tol=spring_tol, start_springs=start_springs)
+
+
+def _solve_side_unilateral(points, compliance, magnitude_nm: float, bearing: BallBearing | None, *,
+                           spring_iterations: int, spring_tol: float, start_springs=None):
+    """One flank at |T| with every ball a one-sided support at its no-load gap: Lemke from
+    scratch on the teeth and balls (:meth:`~profilegen.contact.compliance.ContactCompliance.
+    solve_unilateral`'s LCP) at rigid balls and at every step of the springs' fixed point
+    (:class:`_SpringIteration`). → (φ rigid balls, φ with springs, teeth, balls, springs)."""
+    tz = magnitude_nm / points.zones * 1e3
+
+    def lcp(springs):
+        sol, react, _ = compliance._solve_unilateral(points.theta_rad, points.lever_mm, tz, springs)
+        return sol, react
+
+    sol, react = lcp(None)
+    rigid_sol, phi_rigid = sol, float(sol.phi_rad)
+    if bearing is None:
+        return phi_rigid, phi_rigid, sol, rigid_sol, _BallShim(compliance.ball_angle_rad, react > 0.0, react), None
+    it = _SpringIteration(bearing.hertz_coefficient(), spring_tol,
+                          None if start_springs is None else np.log(start_springs))
+    if start_springs is not None:
+        sol, react = lcp(np.exp(it.x))
+    for _ in range(spring_iterations):
+        if it.step(react):
+            break
+        sol, react = lcp(np.exp(it.x))
+    else:
+        raise ConvergenceError(f"torsional_curve: the Hertz ball springs did not settle in {spring_iterations} "
+                               f"iterations at {magnitude_nm:g} N·m")
+    return phi_rigid, float(sol.phi_rad), sol, rigid_sol, _BallShim(compliance.ball_angle_rad, react > 0.0, react), \
+        it.springs
+
+
+def _solve_side_window(points, compliance, magnitude_nm: float, bearing: BallBearing | None, *,
+                       settle_iterations: int, spring_iterations: int, spring_tol: float, start_springs=None):
     """One flank at |T|: the zone's contact with ball settling; with a bearing, the Hertz
     springs iterated to their secant fixed point. → (φ rigid balls, φ with springs, teeth, balls)."""
     from .solvers import solve_lemke
@@ -786,36 +868,22 @@ def _solve_side(points, compliance, magnitude_nm: float, bearing: BallBearing | 
     rigid_sol = sol
     if bearing is None:
         return phi_rigid, phi_rigid, sol, rigid_sol, comp, None
-    # the secant springs' fixed point, in log c: c = c_H R(c)^(−1/3). Plain steps contract by ~1/3
-    # (12 steps to 1e-6 on the default set); a per-ball secant estimate q of the map's slope
-    # (Steffensen) takes x + (g − x)/(1 − q) instead, and a start from a neighbouring torque's springs
-    # leaves a few steps
-    x = x_prev = g_prev = None
+    # the secant springs' fixed point (_SpringIteration: Steffensen per ball in log c)
+    it = _SpringIteration(bearing.hertz_coefficient(), spring_tol,
+                          None if start_springs is None else np.log(start_springs))
     if start_springs is not None:
-        x = np.log(start_springs)
         comp, sol = settled_solve(comp.with_balls(comp.ball_active, ball_compliance_mm_per_n=start_springs))
     iterations = 0
     for _ in range(spring_iterations):
-        react = comp.ball_reactions(sol.force_n)
-        floor = max(1.0, 1e-3 * float(react.max(initial=0.0)))
-        g = np.log(bearing.secant_compliance_mm_per_n(react, floor_n=floor))
-        if x is not None and np.all(np.abs(np.expm1(g - x)) <= spring_tol):
+        if it.step(comp.ball_reactions(sol.force_n)):
             break
-        step = g if x is None else x + (g - x)
-        if x is not None and x_prev is not None:
-            dx, dg = x - x_prev, g - g_prev
-            q = np.clip(np.divide(dg, dx, out=np.zeros_like(dx), where=np.abs(dx) > 1e-14), -0.9, 0.5)
-            step = x + (g - x) / (1.0 - q)
-        if x is not None:
-            x_prev, g_prev = x, g
-        x = step
-        comp, sol = settled_solve(comp.with_balls(comp.ball_active, ball_compliance_mm_per_n=np.exp(x)))
+        comp, sol = settled_solve(comp.with_balls(comp.ball_active, ball_compliance_mm_per_n=it.springs))
         iterations += 1
     else:
         raise ConvergenceError(f"torsional_curve: the Hertz ball springs did not settle in {spring_iterations} "
                                f"iterations at {magnitude_nm:g} N·m")
     log.debug("torsional_curve: %d spring iterations at %g N·m", iterations, magnitude_nm)
-    return phi_rigid, float(sol.phi_rad), sol, rigid_sol, comp, np.exp(x)
+    return phi_rigid, float(sol.phi_rad), sol, rigid_sol, comp, it.springs
 
 
 class _BallShim:
@@ -834,16 +902,22 @@ class _ReducedZone:
     """One flank's contact, ball settling and Hertz springs solved on reduced systems.
 
     The same problem as :func:`_solve_side` (whose answer is unique: the contact's QP is
-    strictly convex for a given ball set and springs), solved without assembling the n × n
-    compliance or running Lemke's method from scratch: for a ball set B with springs c the
-    compliance's columns at the loaded points P are S[:, P] = S_CS[:, P] + (F_cc[:, P] −
-    F_cB W[:, P]) / b, W = (F_BB + diag(c b))⁻¹ F_cBᵀ (a |B| × |B| Cholesky factor, |B| ≤ the
-    candidate balls); equilibrium and closed gaps on P are a (|P| + 1) bordered system; P
+    strictly convex for given springs), solved without assembling the n × n compliance or
+    running Lemke's method from scratch. For a ball set B (the balls in contact) with springs
+    c, each ball of B closed at its no-load gap γ_B (0 for the window's balls), the ball
+    reactions are R_B = −W F − b (F_BB + diag(c b))⁻¹ γ_B with W = (F_BB + diag(c b))⁻¹ F_cBᵀ
+    (a |B| × |B| Cholesky factor), so the teeth see the compliance S[:, P] = S_CS[:, P] +
+    (F_cc[:, P] − F_cB W[:, P]) / b at the loaded points P and an initial separation r_k θ_k
+    − (Wᵀ γ_B)_k (the closed balls' gaps pull the rim in: an offset of each point's first
+    contact angle). Equilibrium and closed gaps on P are a (|P| + 1) bordered system; P
     follows the primal–dual active-set rule (keep the loaded points with F > 0, take in the
-    points with a negative gap) from the previous torque's P, B and springs — continuation
-    in T. The balls settle and the springs reach their secant fixed point in the same loop,
-    by the rules of :func:`_solve_side`. A loop that cycles or does not end falls back to
-    the reference (Lemke on the assembled matrix) for that torque.
+    points with a negative gap) from the previous torque's P, B and springs — continuation in
+    T —, B the ball-settling rule (:func:`~profilegen.contact.compliance.settle_step`: the
+    most tensile ball leaves, else the ball the rim moves into most, past its gap, comes
+    back), the springs their secant fixed point (:class:`_SpringIteration`), all in one loop.
+    At its end teeth and balls are both complementary: F ≥ 0, g ≥ 0, F g = 0 and R ≥ 0,
+    h ≥ 0, R h = 0 (h the balls' gaps after load). A loop that cycles or does not end falls
+    back to the reference (Lemke from scratch) for that torque.
     """
 
     def __init__(self, points, compliance, bearing):
@@ -856,21 +930,31 @@ class _ReducedZone:
         self.cs = np.asarray(compliance.cs_matrix_mm_per_n, dtype=float)
         self.cb = np.asarray(compliance._flex_cb, dtype=float)
         self.bb = np.asarray(compliance._flex_bb, dtype=float)
+        nb = self.bb.shape[0]
+        gap = getattr(compliance, "ball_gap_mm", None)
+        self.gap = np.zeros(nb) if gap is None else np.asarray(gap, dtype=float)
         self.base_diag = np.diag(self.cs) + np.diag(self.cc) / self.b
         self.c_hertz = None if bearing is None else bearing.hertz_coefficient()
 
     # --- the pieces for one ball set
     def _balls(self, active, springs):
+        """→ (the active balls, W, the teeth's first-contact angles with the balls' gaps closed,
+        the reactions' part from the gaps (N))."""
         from scipy.linalg import cho_factor, cho_solve
 
         act = np.flatnonzero(active)
         if act.size == 0:
-            return act, np.zeros((0, self.r.size))
+            return act, np.zeros((0, self.r.size)), self.theta, np.zeros(0)
         block = self.bb[np.ix_(act, act)]
         if springs is not None:
             block = block + np.diag(springs[act] * self.b)
-        w = cho_solve(cho_factor(block), self.cb[:, act].T)
-        return act, w
+        factor = cho_factor(block)
+        w = cho_solve(factor, self.cb[:, act].T)
+        gap = self.gap[act]
+        if not np.any(gap):
+            return act, w, self.theta, np.zeros(act.size)
+        u = cho_solve(factor, gap)
+        return act, w, self.theta - (self.cb[:, act] @ u) / self.r, -self.b * u
 
     def _columns(self, act, w, cols):
         out = self.cs[:, cols] + self.cc[:, cols] / self.b
@@ -878,10 +962,11 @@ class _ReducedZone:
             out -= (self.cb[:, act] @ w[:, cols]) / self.b
         return out
 
-    def _contact(self, act, w, tz, loaded):
-        """Contact for fixed balls from the loaded set ``loaded`` (bool): → (F, φ, gaps,
-        loaded, iterations) or None when the active-set rule cycles."""
-        th, r = self.theta, self.r
+    def _contact(self, act, w, th, tz, loaded):
+        """Contact for fixed balls from the loaded set ``loaded`` (bool), ``th`` the points'
+        first-contact angles (with the closed balls' gaps): → (F, φ, gaps, loaded,
+        iterations) or None when the active-set rule cycles."""
+        r = self.r
         seen = set()
         for it in range(1, 4 * r.size + 20):
             key = loaded.tobytes()
@@ -920,65 +1005,54 @@ class _ReducedZone:
 
     def solve(self, magnitude_nm: float, state, *, springs_on: bool, max_iterations: int, spring_tol: float):
         """One |T| from ``state`` = (loaded points, active balls, log springs or None), the
-        previous torque's: → dict (φ, F, gaps, loaded, ball set, reactions, springs, S's
-        diagonal, iterations) or None (the loop cycled or did not end: use the reference).
-        ``springs_on``: with the Hertz springs (from rigid supports when the state has none),
-        else rigid balls."""
+        previous torque's: → dict (φ, F, gaps, loaded, ball set, reactions, the balls' gaps
+        after load, springs, S's diagonal, iterations) or None (the loop cycled or did not
+        end: use the reference). ``springs_on``: with the Hertz springs (from rigid supports
+        when the state has none), else rigid balls."""
+        from .compliance import settle_step
+
         tz = magnitude_nm / self.points.zones * 1e3
         loaded, active, x = state
         loaded, active = loaded.copy(), active.copy()
-        x = x if springs_on else None
-        x_prev = g_prev = None
+        springs = _SpringIteration(self.c_hertz, spring_tol, x if springs_on else None) if springs_on else None
         total = 0
         seen = set()
         for _ in range(max_iterations):
-            act, w = self._balls(active, None if x is None else np.exp(x))
-            out = self._contact(act, w, tz, loaded)
+            c = None if springs is None else springs.springs
+            act, w, th, react_gap = self._balls(active, c)
+            out = self._contact(act, w, th, tz, loaded)
             if out is None:
                 return None
             force, phi, gap, loaded, it = out
             total += it
             react = np.zeros(active.size)
             if act.size:
-                react[act] = -(w @ force)
-            # seed 000's ball settling, as ContactCompliance.settle_balls: the most tensile ball
-            # leaves, else the most pressed dropped ball comes back
-            tol = 1e-12 * max(1.0, float(np.abs(react).max(initial=0.0)))
-            pulling = active & (react < -tol)
-            if pulling.any():
-                active[np.flatnonzero(pulling)[np.argmin(react[pulling])]] = False
+                react[act] = react_gap - w @ force
+            # the balls' gaps after load (an active ball's: its spring's compression, ~0)
+            ball_gap = self.gap + self.cb.T @ (force / self.b) + self.bb[:, act] @ (react[act] / self.b)
+            if c is not None:
+                ball_gap += c * react
+            active_new, change = settle_step(active, react, ball_gap)
+            if change == "leave":
+                active = active_new
                 continue
-            ball_gap = self.cb.T @ (force / self.b) + self.bb[:, act] @ (react[act] / self.b)
-            pressed = ~active & (ball_gap < -1e-15)
-            if pressed.any():
-                key = (active.tobytes(), None if x is None else x.tobytes())
+            if change == "return":
+                key = (active.tobytes(), None if springs is None or springs.x is None else springs.x.tobytes())
                 if key in seen:
                     return None
                 seen.add(key)
-                active[np.flatnonzero(pressed)[np.argmin(ball_gap[pressed])]] = True
+                active = active_new
                 continue
-            if not springs_on:
+            if springs is None or springs.step(react):
                 break
-            # the springs' secant fixed point in log c, as _solve_side (Steffensen per ball)
-            floor = max(1.0, 1e-3 * float(react.max(initial=0.0)))
-            g = np.log(self.c_hertz * np.maximum(react, floor) ** (-1.0 / 3.0))
-            if x is not None and np.all(np.abs(np.expm1(g - x)) <= spring_tol):
-                break
-            step = g
-            if x is not None and x_prev is not None:
-                dx, dg = x - x_prev, g - g_prev
-                q = np.clip(np.divide(dg, dx, out=np.zeros_like(dx), where=np.abs(dx) > 1e-14), -0.9, 0.5)
-                step = x + (g - x) / (1.0 - q)
-            if x is not None:
-                x_prev, g_prev = x, g
-            x = step
         else:
             return None
         diag = self.base_diag.copy()
         if act.size:
             diag -= np.einsum("ij,ji->i", self.cb[:, act], w) / self.b
         return {"phi": phi, "force": force, "gap": gap, "loaded": loaded, "active": active, "reactions": react,
-                "log_springs": x, "diag": diag, "iterations": total}
+                "ball_gap": ball_gap, "log_springs": None if springs is None else springs.x, "diag": diag,
+                "iterations": total}
 
 
 def _solution(zone: _ReducedZone, magnitude_nm: float, out: dict, t0: float):
@@ -992,7 +1066,9 @@ def _solution(zone: _ReducedZone, magnitude_nm: float, out: dict, t0: float):
     theta_min = float(zone.theta.min())
     a0 = float(np.mean(out["diag"] / r ** 2))
     tau = a0 * tz
-    comp = float(np.max(np.abs(force * gap))) / (tz * (abs(phi - theta_min) + tau))
+    # teeth and balls on one scale (as ContactCompliance.solve_unilateral's residual)
+    comp = max(float(np.max(np.abs(force * gap))), float(np.max(np.abs(out["reactions"] * out["ball_gap"]),
+                                                                initial=0.0))) / (tz * (abs(phi - theta_min) + tau))
     equi = abs(float(np.sum(moment)) - tz) / tz
     warnings = []
     all_loaded = bool(np.all(loaded))
@@ -1003,7 +1079,8 @@ def _solution(zone: _ReducedZone, magnitude_nm: float, out: dict, t0: float):
         method="continuation", torque_nmm=tz, force_n=force, moment_nmm=moment, phi_rad=phi, gap_mm=gap,
         loaded=loaded, iterations=iterations, complementarity_residual=comp, equilibrium_residual=equi,
         time_s=time.perf_counter() - t0, all_points_loaded=all_loaded, warnings=tuple(warnings),
-        diagnostics={"tau_rad": tau, "theta_min_rad": theta_min, "a0_rad_per_nmm": a0, "points": int(r.size)})
+        diagnostics={"tau_rad": tau, "theta_min_rad": theta_min, "a0_rad_per_nmm": a0, "points": int(r.size),
+                     "balls_loaded": int(np.count_nonzero(out["reactions"] > 0.0))})
 
 
 def _stiffnesses(phi_of, theta0: float, t1: float, t2: float, t3: float) -> dict:
@@ -1017,7 +1094,8 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
                     breakpoints_nm: tuple[float, float] | None = None, lost_motion_fraction: float = 0.03,
                     catalogue: dict | None = CATALOGUE_SIZE40_RATIO50, stations: int = 5, max_gap_mm: float = 0.12,
                     settle_iterations: int = 20, spring_iterations: int = 60,
-                    spring_tol: float = 1e-5, method: str = "continuation") -> TorsionalCurve:
+                    spring_tol: float = 1e-5, method: str = "continuation",
+                    ball_supports: str = "all") -> TorsionalCurve:
     """Rotation against signed torque (N·m; ≠ 0) for a design (or a :class:`~profilegen.
     contact.inputs.ContactInput`), both flanks (see the module docstring).
 
@@ -1032,7 +1110,12 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     (:class:`_ReducedZone`); ``"lemke"`` is the reference: every torque from scratch by
     Lemke's method on the assembled compliance, settling and springs iterated around it
     (:func:`_solve_side`). Both solve the same problem, whose solution is unique: they agree
-    to the springs' tolerance (tests/unit/test_compliance_chain.py)."""
+    to the springs' tolerance (tests/unit/test_compliance_chain.py).
+
+    ``ball_supports``: how the flanks built here hold the rim (:meth:`~profilegen.contact.
+    compliance.ContactCompliance.build`): "all" (default; every ball of the zone a one-sided
+    support at its no-load gap) or "window" (the balls within the rim's no-load contact angle,
+    rigid at zero gap, settled). Given ``sides`` keep their own."""
     from .analysis import _load_case
     from .compliance import ContactCompliance
     from .inputs import ContactInput
@@ -1042,6 +1125,9 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     torques = np.sort(_checked_signed_torques(torques_nm))
     if method not in ("continuation", "lemke"):
         raise ChainError(f"method = {method!r}: must be 'continuation' or 'lemke'")
+    if ball_supports not in ("all", "window"):
+        raise ChainError(f"ball_supports = {ball_supports!r}: must be 'all' (every ball one-sided at its no-load gap) "
+                         "or 'window' (the balls within the rim's no-load contact angle)")
     f = _number("lost_motion_fraction", lost_motion_fraction, "", 0.0, 0.5)
     if chain is not None and not isinstance(chain, ComplianceChain):
         raise ChainError(f"chain = {chain!r}: must be a ComplianceChain (compliance_chain(gearset)) or None")
@@ -1065,7 +1151,8 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
         sides = {}
         for s in (1, -1):
             pts = contact_points(inputs, side=s, stations=stations, max_gap_mm=max_gap_mm)
-            comp = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm)
+            comp = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
+                                           ball_supports=ball_supports)
             sides[s] = (pts, comp)
     if set(sides) != {1, -1}:
         raise ChainError("sides: must map +1 and −1 to (points, compliance)")
@@ -1218,15 +1305,21 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
         rated = float(gs.torque.rated_nm)
         bp, source = tuple(f * rated for f in ESTIMATED_BREAKPOINTS_PER_RATED), "estimate"
     stations, max_gap = options.get("stations", 5), options.get("max_gap_mm", 0.12)
+    supports = options.get("ball_supports", "all")
     sides = options.pop("sides", None)
     if sides is None and contact is not None and getattr(contact, "compliance", None) is not None:
         pts = contact.points
         if pts.side == 1 and pts.stations == stations and pts.max_gap_mm == max_gap:
             left = contact_points(inputs, side=-1, stations=stations, max_gap_mm=max_gap)
             # the right flank's wrap angle: without a rim FEM (sketch) it is a flat-ring solve, the same for both
+            wrap = contact.compliance.wrap_half_angle_rad
             comp = ContactCompliance.build(inputs, left.fs_point_mm, left.normal, left.tooth, left.cs_point_mm,
-                                           wrap_half_angle_rad=contact.compliance.wrap_half_angle_rad)
-            sides = {1: (pts, contact.compliance), -1: (left, comp)}
+                                           wrap_half_angle_rad=wrap, ball_supports=supports)
+            right = contact.compliance
+            if right.ball_supports != supports:  # the contact stage's balls are the window's: the right flank again
+                right = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
+                                                wrap_half_angle_rad=wrap, ball_supports=supports)
+            sides = {1: (pts, right), -1: (left, comp)}
     curve = torsional_curve(inputs, curve_torques_nm(gs, bp, count=count), sides=sides, breakpoints_nm=bp,
                             catalogue=cat, **options)
     return replace(curve, sides={}, breakpoints_source=source)

@@ -157,7 +157,7 @@ from .inputs import ContactInput
 from .solvers import LemkeTableau
 
 __all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache", "default_race_thickness_mm",
-           "no_load_ball_gap_mm"]
+           "no_load_ball_gap_mm", "settle_step"]
 
 log = logging.getLogger(__name__)
 
@@ -1357,6 +1357,33 @@ def no_load_ball_gap_mm(inputs: ContactInput, theta_rad) -> np.ndarray:
     return np.maximum(np.interp(th, polar, dist, period=2.0 * math.pi), 0.0)
 
 
+def settle_step(active, reactions_n, gaps_mm, *, gap_tol_mm: float = 1e-15):
+    """One step of the ball-settling rule (seed 000 steps 4–6): the most tensile active ball
+    leaves (the others' reactions change with it, so one at a time); else the inactive ball the
+    rim moves into most comes back.
+
+    ``active`` (bool per ball); ``reactions_n``: each ball's reaction (N, > 0 compresses it; an
+    inactive ball's is ignored); ``gaps_mm``: each ball's gap after load (mm, < 0: the rim moves
+    into it; an active ball's is ignored); a reaction counts as tensile below −1e-12 × the
+    largest |reaction| (at least 1 N), a gap as closed below −``gap_tol_mm``.
+    Returns (the new active set, a copy; "leave", "return" or None when nothing changes — the
+    set is settled). Used by :meth:`ContactCompliance.settle_balls` and the torsional curve's
+    continuation (:mod:`profilegen.contact.chain`)."""
+    act = np.array(active, dtype=bool)
+    react = np.asarray(reactions_n, dtype=float)
+    gaps = np.asarray(gaps_mm, dtype=float)
+    tol = 1e-12 * max(1.0, float(np.abs(react).max(initial=0.0)))
+    pulling = act & (react < -tol)
+    if pulling.any():
+        act[np.flatnonzero(pulling)[np.argmin(react[pulling])]] = False
+        return act, "leave"
+    pressed = ~act & (gaps < -gap_tol_mm)
+    if pressed.any():
+        act[np.flatnonzero(pressed)[np.argmin(gaps[pressed])]] = True
+        return act, "return"
+    return act, None
+
+
 def _lemke_lcp(m_mat: np.ndarray, q: np.ndarray, where: str, max_pivots: int | None = None):
     """Lemke's complementary pivoting for w = M z + q, w, z ≥ 0, wᵀz = 0 (covering vector 1,
     lexicographic ratio test, revised form with an explicit basis inverse), as
@@ -1713,20 +1740,10 @@ class ContactCompliance:
         f = current._forces(forces_n)
         seen = {tuple(current.ball_active)}
         for _ in range(max_iterations):
-            react = current.ball_reactions(f)
-            gaps = current.ball_gaps_mm(f)
-            tol = 1e-12 * max(1.0, float(np.abs(react).max(initial=0.0)))
-            active = current.ball_active.copy()
-            pulling = active & (react < -tol)
-            if pulling.any():
-                # drop the most tensile first: the others' reactions change with it
-                active[np.flatnonzero(pulling)[np.argmin(react[pulling])]] = False
-            else:
-                pressed = ~active & (gaps < -1e-15)
-                if not pressed.any():
-                    return current
-                active[np.flatnonzero(pressed)[np.argmin(gaps[pressed])]] = True
-            if tuple(active) in seen and not pulling.any():
+            active, change = settle_step(current.ball_active, current.ball_reactions(f), current.ball_gaps_mm(f))
+            if change is None:
+                return current
+            if tuple(active) in seen and change == "return":
                 raise ConvergenceError("ContactCompliance.settle_balls: the ball set cycles")
             seen.add(tuple(active))
             current = current.with_balls(active)

@@ -123,7 +123,10 @@ class TransmissionError:
     /(T/U), the solver's), ``flags`` (None or why the case is beyond the searched points).
     ``points`` and ``cases``: the :class:`~profilegen.contact.points.ContactPoints` and
     :class:`~profilegen.contact.analysis.LoadCase` of each position; ``matrices``: the settled
-    compliance S (mm/N) of each position when asked for (``keep_matrices``), else ().
+    compliance S (mm/N) of each position when asked for (``keep_matrices``), else () — with
+    ``ball_supports="all"`` S with the loaded balls rigid at zero gap: a loaded ball's no-load
+    gap then shifts the teeth's gaps (read them from ``compliances``: each position's
+    :class:`~profilegen.contact.compliance.ContactCompliance`, kept with ``keep_matrices``).
     ``wrap_source``: where the wrap angle that selects the candidate balls came from.
     """
 
@@ -143,11 +146,12 @@ class TransmissionError:
     points: tuple = field(repr=False, default=())
     cases: tuple = field(repr=False, default=())
     matrices: tuple = field(repr=False, default=())
+    compliances: tuple = field(repr=False, default=())
     wrap_source: str = ""
     workers: int = 1
     time_s: float = 0.0
     warnings: tuple[str, ...] = ()
-    ball_supports: str = "window"
+    ball_supports: str = "all"
     hertz_balls: bool = False
 
     def __post_init__(self):
@@ -245,11 +249,11 @@ def _position(inputs, psi: float, opts: dict):
         sol, reaction, _ = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, torque / pts.zones * 1e3,
                                                  bearing=opts["bearing"])
         case, warnings = _load_case(pts, torque, sol, _Balls(comp.ball_angle_rad, reaction))
-        matrix = comp.with_balls(reaction > 0.0).matrix_mm_per_n if opts["keep_matrices"] else None
+        matrix = (comp.with_balls(reaction > 0.0).matrix_mm_per_n, comp) if opts["keep_matrices"] else None
         return pts, case, matrix, tuple(warnings)
     res = solve_contact(inputs, [opts["torque_nm"]], points=pts, compliance=comp)
     case = res.cases[0]
-    matrix = comp.with_balls(case.ball_active).matrix_mm_per_n if opts["keep_matrices"] else None
+    matrix = (comp.with_balls(case.ball_active).matrix_mm_per_n, comp) if opts["keep_matrices"] else None
     return pts, case, matrix, res.warnings
 
 
@@ -288,7 +292,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
                        stations: int = 5, max_gap_mm: float = 0.12, ball_motion: str = "wave_generator",
                        face_width_mm: float | None = None, race_thickness_mm: float | None = None,
                        race_interface: str = "sliding", workers: int | None = None,
-                       keep_matrices: bool = False, ball_supports: str = "window",
+                       keep_matrices: bool = False, ball_supports: str = "all",
                        hertz_balls: bool = False) -> TransmissionError:
     """The loaded transmission error of a design (or a :class:`~profilegen.contact.inputs.
     ContactInput`) at ``torque_nm`` (N·m, > 0, on the whole gear) over ``positions`` (≥ 2)
@@ -297,11 +301,12 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
     +1 the right FS flank loaded, −1 the left. ``ball_motion``: "wave_generator" (balls held
     against the major axis) or "cage" (rolling). ``workers``: processes (default: up to 2,
     one per position; 1 = in this process). ``keep_matrices``: keep each position's settled
-    S. ``ball_supports``: "window" (the balls within the rim's no-load contact angle, rigid,
-    settled as :func:`~profilegen.contact.analysis.solve_contact` settles them; the default) or
-    "all" (every ball a one-sided support at its no-load gap, solved with the teeth:
-    :meth:`~profilegen.contact.compliance.ContactCompliance.solve_unilateral`; ``matrices``
-    then holds S with the loaded balls rigid). ``hertz_balls`` (with "all" only): the balls
+    S and compliance. ``ball_supports``: "all" (every ball a one-sided support at its no-load
+    gap, solved with the teeth: :meth:`~profilegen.contact.compliance.ContactCompliance.
+    solve_unilateral`; ``matrices`` then holds S with the loaded balls rigid; the default, with
+    held and with rolling balls) or "window" (the balls within the rim's no-load contact angle,
+    rigid, settled as :func:`~profilegen.contact.analysis.solve_contact` settles them: over a
+    ball passage it jumps as a ball enters the window — the comparison). ``hertz_balls`` (with "all" only): the balls
     as the bearing's Hertz springs (:class:`~profilegen.contact.chain.BallBearing`, iterated
     to the Hertz law at each ball's reaction). Other keywords as
     :func:`~profilegen.contact.analysis.solve_contact`. See the module docstring."""
@@ -394,7 +399,8 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
         active_balls=np.array([int(np.count_nonzero(c.ball_active)) for c in cases]),
         equilibrium_residual=np.array([c.solution.equilibrium_residual for c in cases]),
         flags=tuple(c.beyond_capacity for c in cases), points=pts, cases=cases,
-        matrices=tuple(o[2] for o in out) if keep_matrices else (), wrap_source=wrap_source, workers=int(workers),
+        matrices=tuple(o[2][0] for o in out) if keep_matrices else (),
+        compliances=tuple(o[2][1] for o in out) if keep_matrices else (), wrap_source=wrap_source, workers=int(workers),
         time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), ball_supports=ball_supports,
         hertz_balls=bool(hertz_balls))
     log.debug("transmission_error: %d positions, %.2f s, %d workers", positions, result.time_s, workers)

@@ -143,7 +143,7 @@ def test_ball_supports_bad_input(inputs, zone):
     with pytest.raises(TransmissionErrorError, match="ball_supports"):
         transmission_error(inputs, 100.0, positions=2, ball_supports="some")
     with pytest.raises(TransmissionErrorError, match="hertz_balls"):
-        transmission_error(inputs, 100.0, positions=2, hertz_balls=True)
+        transmission_error(inputs, 100.0, positions=2, hertz_balls=True, ball_supports="window")
     with pytest.raises(cm.ComplianceError, match="solve_unilateral"):
         comp.settle_balls(sol.force_n)
 

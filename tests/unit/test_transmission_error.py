@@ -42,16 +42,24 @@ def test_equilibrium_and_complementarity_at_every_position(inputs, right):
     torque_nmm = right.torque_nm * 1e3
     waves = inputs.gearset.gear.waves
     assert right.psi_rad.size == len(right.points) == len(right.cases) == len(right.matrices) == 3
-    for pts, case, s in zip(right.points, right.cases, right.matrices):
-        f, phi = case.solution.force_n, case.rotation_rad
+    assert right.ball_supports == "all" and len(right.compliances) == 3  # the default: every ball one-sided
+    for pts, case, comp in zip(right.points, right.cases, right.compliances):
+        f, phi, react = case.solution.force_n, case.rotation_rad, case.ball_reaction_n
         # the whole gear: U zones alike, each Σ r F; together the applied torque
         assert waves * float(pts.lever_mm @ f) == pytest.approx(torque_nmm, rel=1e-10)
-        gap = pts.gap_mm + s @ f - pts.lever_mm * phi  # separation after load, from this position's S
-        scale = float(np.max(np.abs(s @ f)))
-        assert np.all(f >= 0.0)
-        assert gap.min() >= -1e-9 * scale
+        # separation after load of every tooth point and every ball, from this position's raw
+        # flexibility blocks (rim per unit face width, CS) and the balls' no-load gaps
+        b = comp.face_width_mm
+        s_cc = comp._flex_cc / b + comp.cs_matrix_mm_per_n
+        gap = pts.gap_mm + s_cc @ f + comp._flex_cb @ react / b - pts.lever_mm * phi
+        ball_gap = comp.ball_gap_mm + comp._flex_cb.T @ f / b + comp._flex_bb @ react / b
+        scale = float(np.max(np.abs(s_cc @ f)))
+        assert np.all(f >= 0.0) and np.all(react >= 0.0)
+        assert gap.min() >= -1e-9 * scale and ball_gap.min() >= -1e-9 * scale
         assert np.max(np.abs(f * gap)) <= 1e-9 * scale * f.max()
+        assert np.max(np.abs(react * ball_gap)) <= 1e-9 * scale * react.max()
         assert 0 < np.count_nonzero(f) < f.size  # a real contact problem: some points open
+        assert np.count_nonzero(react) > np.count_nonzero(comp.ball_gap_mm == 0.0) - 3  # balls outside the wrap too
     assert np.all(right.equilibrium_residual < 1e-10)
     # the recomputed points differ from position to position (nothing carried over)
     assert not np.allclose(right.points[0].gap_mm[:10], right.points[1].gap_mm[:10])
@@ -72,7 +80,9 @@ def test_one_tooth_passage_repeats_with_the_teeth_relabelled(right):
     the same gaps, the same S, the same rotation; tooth i carries tooth i − 1's force. The
     points are found again at the new ψ (each tooth's closest point to 1e-7 mm of arc
     length, a flat minimum: 4e-8 mm apart here), and S moves by ~1e-6 of itself per 1e-7
-    mm: the repeat holds to that, 1/50 of the error's own variation over the passage."""
+    mm: the repeat holds to that — 1.8e-9 rad (3.4e-9 with the window's balls), 1/42 of the
+    error's own variation over the passage with every ball a support (1/135 with the window,
+    whose mesh is 6x softer and varies 6x more)."""
     p0, p1 = right.points[0], right.points[2]
     c0, c1 = right.cases[0], right.cases[2]
     np.testing.assert_array_equal(p1.tooth - 1, p0.tooth)
@@ -81,8 +91,9 @@ def test_one_tooth_passage_repeats_with_the_teeth_relabelled(right):
     np.testing.assert_allclose(right.matrices[2], right.matrices[0], rtol=0, atol=1e-5 * np.abs(right.matrices[0]).max())
     variation = abs(right.rotation_rad[1] - right.rotation_rad[0])
     assert variation > 1e-4 * right.rotation_rad[0]  # half way the mesh is a different one
-    assert abs(c1.rotation_rad - c0.rotation_rad) < 0.02 * variation
-    np.testing.assert_allclose(c1.tooth_force_n, c0.tooth_force_n, atol=1e-4 * c0.max_tooth_force_n)
+    assert abs(c1.rotation_rad - c0.rotation_rad) < 0.05 * variation
+    # (1.03e-4 of the largest force with every ball a support; < 1e-4 with the window's balls)
+    np.testing.assert_allclose(c1.tooth_force_n, c0.tooth_force_n, atol=2e-4 * c0.max_tooth_force_n)
 
 
 def test_left_flank_is_the_mirror_image(inputs, right, passage_deg):
