@@ -141,7 +141,8 @@ def _solve_at(model, phi: float, s_fs, s_cs, state, *, tol_mm: float, max_iterat
         gap, lever = model.geometry(s_tot, phi)
         q = gap - model.sin_alpha * s_tot[model.slot]
         f, state, p_fs, p_cs = model.respond(q, state)
-        g = np.concatenate([p_fs @ f, p_cs @ f])
+        offset = model.retreat_offset(state) if hasattr(model, "retreat_offset") else 0.0
+        g = np.concatenate([p_fs @ f + offset, p_cs @ f])
         r = g - x
         change = float(np.max(np.abs(r), initial=0.0))
         if change <= tol_mm and model.settled(state):
@@ -191,6 +192,9 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
     then the path ends at the last point (criterion "end of path": no equilibrium was found
     just beyond it — under rotation control the teeth would snap)."""
     m = model.depth_mm.size
+    # the corner rule stands in for a corner normal the model does not follow (DesignClimb's
+    # corner_normal=False); with it, a corner riding over the CS tip round is the geometry's
+    corner_rule = bool(getattr(model, "corner_criterion", True))
     s_fs, s_cs, state = np.zeros(m), np.zeros(m), model.initial_state()
     pts: list[ClimbPoint] = []
     warnings: list[str] = []
@@ -205,7 +209,7 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
         for k, p in enumerate(path):
             if p.margin_mm <= 0.0:
                 return "margin", k
-            if p.corner_share >= 0.5:
+            if corner_rule and p.corner_share >= 0.5:
                 return "corner", k
             if k >= 1 and p.torque_nm < path[k - 1].torque_nm:
                 return "limit point", k
@@ -314,10 +318,10 @@ def tooth_probes(inputs, points, shift_rad: float = 0.0):
 
 
 class _State:
-    __slots__ = ("active", "springs", "done")
+    __slots__ = ("active", "springs", "done", "offset")
 
-    def __init__(self, active, springs, done=False):
-        self.active, self.springs, self.done = active, springs, done
+    def __init__(self, active, springs, done=False, offset=0.0):
+        self.active, self.springs, self.done, self.offset = active, springs, done, offset
 
 
 class DesignClimb:
@@ -334,7 +338,7 @@ class DesignClimb:
 
     def __init__(self, inputs, *, side: int, stations: int, max_gap_mm: float, race_thickness_mm, bearing,
                  ring_factory=None, ring_scale: float = 1.0, spring_tol: float = 1e-3, shift_rad: float = 0.0,
-                 corner_normal: bool = True):
+                 corner_normal: bool = True, width_fraction: float = 1.0, ball_supports: str = "window"):
         from ..kinematics import turn
         from .compliance import ContactCompliance
         from .points import contact_points
@@ -381,6 +385,7 @@ class DesignClimb:
         #: the FS tip-corner stations whose contact normal follows the CS surface (corner_normal):
         #: a second influence column each, along the tip land's outward normal (tooth frame +y)
         self._ci = np.flatnonzero(self.corner) if corner_normal else np.zeros(0, int)
+        self.corner_criterion = not corner_normal
         pose = inputs.motion.pose(pts.phi_rad[self._ci]) if self._ci.size else None
         tip_n = np.zeros((0, 2)) if pose is None else np.column_stack([np.sin(pose.angle), np.cos(pose.angle)])
         self._tn0 = tip_n  # CS space 0's frame, as _n0
@@ -395,7 +400,10 @@ class DesignClimb:
             np.vstack([pts.normal, tip_actual, e_r]),
             np.concatenate([pts.tooth, pts.tooth[self._ci], teeth]),
             np.vstack([pts.cs_point_mm, pts.cs_point_mm[self._ci], cs_probe]),
-            race_thickness_mm=race_thickness_mm, shift_rad=shift_rad)
+            race_thickness_mm=race_thickness_mm, shift_rad=shift_rad, ball_supports=ball_supports)
+        #: each candidate ball's no-load gap to the bore (mm; 0 within the wrap; the window: all 0)
+        gb = self._combined.ball_gap_mm
+        self._g0 = np.zeros(self._combined.ball_angle_rad.size) if gb is None else np.asarray(gb, dtype=float)
         self._nn = self.n + nc  # stations + the corners' tip-land columns
         self.bearing = bearing
         m = teeth.size
@@ -405,7 +413,12 @@ class DesignClimb:
         self._ring = ring[:, :m] + ring[:, m:]
         self._spring_tol = spring_tol
         c = self._combined
-        self._base = 0.5 * (c._flex_cc + c._flex_cc.T) / c.face_width_mm + c.cs_matrix_mm_per_n
+        #: a slice of the face (width_fraction of it): every compliance per unit width over the
+        #: slice's width, the CS ring's likewise, the Hertz springs at the whole face's ball load
+        self._fraction = float(width_fraction)
+        self._width = c.face_width_mm * self._fraction
+        self._ring = self._ring / self._fraction
+        self._base = 0.5 * (c._flex_cc + c._flex_cc.T) / self._width + c.cs_matrix_mm_per_n / self._fraction
 
     # -- the model interface of climb()
     def geometry(self, s, phi: float = 0.0):
@@ -501,22 +514,40 @@ class DesignClimb:
                 block = block + np.diag(springs[act] * b)
             fa = cho_factor(block, lower=True)
             w = solve_triangular(fa[0], c._flex_cb[:, act].T, lower=True)
-            full -= (w.T @ w) / b
+            full -= (w.T @ w) / self._width
         n = self._nn
         return full[:n, :n], full[n:, :n], fa
 
     def _reactions(self, f, active, fa):
-        """Ball reactions (N, > 0 compressed) and the bore's radial gap at every candidate ball."""
+        """Ball reactions (N, > 0 compressed) and the bore's radial gap at every candidate ball
+        (after load, its no-load gap included: an active ball closes its gap)."""
         c = self._combined
-        b = c.face_width_mm
+        b = self._width
         fp = np.zeros(c._flex_cc.shape[0])
         fp[:self._nn] = self._expand(f)
         react = np.zeros(c.ball_angle_rad.size)
         act = np.flatnonzero(active)
         if act.size:
-            react[act] = -cho_solve(fa, c._flex_cb[:, act].T @ fp)
-        gaps = c._flex_cb.T @ (fp / b) + c._flex_bb @ (react / b)
+            react[act] = -cho_solve(fa, c._flex_cb[:, act].T @ fp + b * self._g0[act])
+        gaps = c._flex_cb.T @ (fp / b) + c._flex_bb @ (react / b) + self._g0
         return react, gaps
+
+    def _offset(self, active, fa):
+        """The separations (built columns then probes, mm) that closing the active balls' no-load
+        gaps causes at no tooth load: −C_cb,A (C_bb,A + springs)⁻¹ g_A (0 for the window)."""
+        act = np.flatnonzero(active)
+        out = np.zeros(self._combined._flex_cb.shape[0])
+        if act.size and np.any(self._g0[act] != 0.0):
+            out = -self._combined._flex_cb[:, act] @ cho_solve(fa, self._g0[act])
+        n, ci = self.n, self._ci
+        st = out[:n].copy()
+        if ci.size:
+            st[ci] = self._a * out[ci] + self._b * out[n:self._nn]
+        return st, out[self._nn:]
+
+    def retreat_offset(self, state):
+        """The FS retreat (mm, per tooth) that the active balls' no-load gaps alone cause."""
+        return state.offset
 
     def respond(self, q, state):
         active, springs = state.active.copy(), state.springs
@@ -524,7 +555,8 @@ class DesignClimb:
         for _ in range(4 * active.size + 4):
             full, probe, fa = self._matrices(active, springs)
             s_mat, p_mat, p_cs = self._effective(full, probe)
-            f = solve_lcp(s_mat, q)
+            off_st, off_probe = self._offset(active, fa)
+            f = solve_lcp(s_mat, q + off_st)
             react, gaps = self._reactions(f, active, fa)
             tol = 1e-12 * max(1.0, float(np.abs(react).max(initial=0.0)))
             pulling = active & (react < -tol)
@@ -544,20 +576,40 @@ class DesignClimb:
         done = bool(np.array_equal(active, state.active))
         if self.bearing is not None:
             floor = max(1.0, 1e-3 * float(react.max(initial=0.0)))
-            new = self.bearing.secant_compliance_mm_per_n(react, floor_n=floor)
+            new = self.bearing.secant_compliance_mm_per_n(react / self._fraction, floor_n=floor / self._fraction)
             done = done and springs is not None and bool(np.all(np.abs(new / springs - 1.0) <= self._spring_tol))
             springs = new
-        return f, _State(active, springs, done), p_mat, p_cs
+        return f, _State(active, springs, done, off_probe), p_mat, p_cs
 
     def first_rotation(self, torque_nm: float) -> tuple[float, float]:
         """(θ_min, φ at ``torque_nm`` in the linear contact with rigid balls, no shift)."""
-        from .solvers import solve_lemke
+        from .solvers import ContactError, solve_lemke
 
         gap, lever = self.geometry(np.zeros(self.teeth.size))
-        s_mat = self._effective(*self._matrices(self._combined.ball_active, None)[:2])[0]
-        sol = solve_lemke(s_mat, np.maximum(gap, 0.0) / lever, lever,
-                          torque_nm / self.zones * 1e3)
-        return float(np.min(gap / lever)), float(sol.phi_rad)
+        full, probe, fa = self._matrices(self._combined.ball_active, None)
+        s_mat = self._effective(full, probe)[0]
+        gap = gap + self._offset(self._combined.ball_active, fa)[0]
+        # stations whose normal carries torque; a section overlapping at no load (coning) has
+        # θ < 0: the separations shifted by the smallest (exact, face_load's "Scaling")
+        on = np.flatnonzero(lever > 1e-9)
+        theta = gap[on] / lever[on]
+        shift = min(float(theta.min()), 0.0)
+        try:
+            sol = solve_lemke(s_mat[np.ix_(on, on)], theta - shift, lever[on], torque_nm / self.zones * 1e3)
+            return float(theta.min()), float(sol.phi_rad) + shift
+        except ContactError:  # Lemke's conditioning guard: the same LCP by bisection on φ
+            pass
+
+        def torque(phi):
+            return self.zones * float(lever @ solve_lcp(s_mat, gap - lever * phi)) / 1e3
+
+        lo, hi = float(theta.min()), float(theta.min()) + 1e-4
+        while torque(hi) < torque_nm:
+            lo, hi = hi, hi + 2.0 * (hi - lo)
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if torque(mid) < torque_nm else (lo, mid)
+        return float(theta.min()), 0.5 * (lo + hi)
 
 
 class _Subset:
@@ -576,3 +628,91 @@ class _Subset:
     @property
     def teeth(self):
         return np.unique(self.tooth)
+
+
+# --------------------------------------------------------------------------- across the face
+
+
+class SectionDeformation:
+    """The design's deformation with an axial section's change from the design section added:
+    ω, υ (and their φ-derivatives) = ``base`` + (``section`` − ``reference``) — the gap shift
+    of :mod:`profilegen.contact.face_load` taken into the exact kinematics (the design's own
+    deformation stays the one the CS was generated with; only the change along the face enters)."""
+
+    __slots__ = ("base", "section", "reference")
+
+    def __init__(self, base, section, reference):
+        self.base, self.section, self.reference = base, section, reference
+
+    @property
+    def symmetric(self) -> bool:
+        return all(bool(getattr(d, "symmetric", False)) for d in (self.base, self.section, self.reference))
+
+    def evaluate(self, phi, order: int = 3):
+        (w0, u0), (w1, u1), (w2, u2) = (d.evaluate(phi, order=order) for d in (self.base, self.section, self.reference))
+        return np.asarray(w0) + np.asarray(w1) - np.asarray(w2), np.asarray(u0) + np.asarray(u1) - np.asarray(u2)
+
+
+def section_inputs(inputs, section, reference):
+    """``inputs`` (a ContactInput) with the FS tooth placed by the deformation of an axial
+    section: :class:`SectionDeformation` (``section`` − ``reference`` added to the design's),
+    the CS space, tooth and gear set unchanged."""
+    import dataclasses
+
+    from ..kinematics import HarmonicDriveMotion
+
+    m = inputs.motion
+    motion = HarmonicDriveMotion(SectionDeformation(m.deformation, section, reference), m.neutral_radius_mm,
+                                 m.waves, m.cs_teeth)
+    return dataclasses.replace(inputs, motion=motion)
+
+
+class SlicedClimb:
+    """The climb of N axial slices in parallel (:mod:`profilegen.contact.face_load`'s model:
+    independent slices, each a :class:`DesignClimb` of its section built with
+    ``width_fraction`` = its share of the face, sharing the rotation φ; the torque is their
+    sum). Each slice's teeth retreat by their own forces (no coupling along the face: the
+    rim, the balls and the CS ring of a slice carry only that slice's load — a Winkler
+    foundation, which lets a shallow slice ride out alone; a face held straight would not).
+    With identical slices it is the one-section climb exactly (each slice 1/N of the load)."""
+
+    def __init__(self, models):
+        self.models = tuple(models)
+        if not self.models:
+            raise ConvergenceError("SlicedClimb: no slices")
+        self.zones = self.models[0].zones
+        self._tooth_off = np.cumsum([0] + [m.depth_mm.size for m in self.models])
+        self._pt_off = np.cumsum([0] + [m.n for m in self.models])
+        self.slot = np.concatenate([m.slot + o for m, o in zip(self.models, self._tooth_off)])
+        self.depth_mm = np.concatenate([m.depth_mm for m in self.models])
+        self.corner = np.concatenate([m.corner for m in self.models])
+        self.n = int(self._pt_off[-1])
+        self.corner_criterion = any(getattr(m, "corner_criterion", True) for m in self.models)
+
+    @property
+    def sin_alpha(self):
+        return np.concatenate([m.sin_alpha for m in self.models])
+
+    def _split(self, x, off):
+        return [x[a:b] for a, b in zip(off[:-1], off[1:])]
+
+    def geometry(self, s, phi: float = 0.0):
+        out = [m.geometry(si, phi) for m, si in zip(self.models, self._split(s, self._tooth_off))]
+        return np.concatenate([g for g, _ in out]), np.concatenate([r for _, r in out])
+
+    def initial_state(self):
+        return tuple(m.initial_state() for m in self.models)
+
+    def settled(self, state) -> bool:
+        return all(m.settled(st) for m, st in zip(self.models, state))
+
+    def retreat_offset(self, state):
+        return np.concatenate([np.broadcast_to(m.retreat_offset(st), (m.depth_mm.size,))
+                               for m, st in zip(self.models, state)])
+
+    def respond(self, q, state):
+        from scipy.linalg import block_diag
+
+        out = [m.respond(qi, st) for m, qi, st in zip(self.models, self._split(q, self._pt_off), state)]
+        return (np.concatenate([o[0] for o in out]), tuple(o[1] for o in out),
+                block_diag(*[o[2] for o in out]), block_diag(*[o[3] for o in out]))

@@ -413,7 +413,8 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                       spring_iterations: int = 60, spring_tol: float = 1e-6, climb: bool = True,
                       climb_stations: int = 9, climb_max_gap_mm: float = 0.15,
                       climb_max_torque_nm: float | None = None, climb_ring_scale: float = 1.0,
-                      climb_shift_rad: float = 0.0, climb_corner_normal: bool = True) -> Ratcheting:
+                      climb_shift_rad: float = 0.0, climb_corner_normal: bool = True,
+                      climb_ball_supports: str = "window") -> Ratcheting:
     """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
     by the model of the module docstring.
 
@@ -529,7 +530,9 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                                                   max_torque_nm=climb_max_torque_nm, ring_scale=climb_ring_scale,
                                                   shift_rad=_number("climb_shift_rad", climb_shift_rad, "rad"),
                                                   extrapolated=extrapolated, warnings=warnings,
-                                                  corner_normal=_flag("climb_corner_normal", climb_corner_normal))
+                                                  corner_normal=_flag("climb_corner_normal", climb_corner_normal),
+                                                  ball_supports=checks.choice("climb_ball_supports", climb_ball_supports,
+                                                                              ("window", "all"), error=RatchetingError))
     cat = None if catalogue is None else dict(catalogue)
     if cat is None:
         warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")
@@ -558,7 +561,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
 
 
 def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, max_gap_mm, linear, max_torque_nm,
-           ring_scale, extrapolated, warnings, shift_rad=0.0, corner_normal=True):
+           ring_scale, extrapolated, warnings, shift_rad=0.0, corner_normal=True, ball_supports="window"):
     """The climb's estimate: → (torque, extrapolated, summary dict)."""
     from .climb import DesignClimb, climb
 
@@ -580,7 +583,8 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     with _serial():
         model = DesignClimb(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm,
                             race_thickness_mm=race_thickness_mm, bearing=bearing, ring_factory=factory,
-                            ring_scale=ring_scale, shift_rad=shift_rad, corner_normal=corner_normal)
+                            ring_scale=ring_scale, shift_rad=shift_rad, corner_normal=corner_normal,
+                            ball_supports=ball_supports)
         theta_min, phi_rated = model.first_rotation(rated)
         step = 0.5 * max(phi_rated - theta_min, 1e-9)
         path = climb(model, theta_min + step, step, max_torque_nm=max_torque_nm)
@@ -588,7 +592,7 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     info = {"criterion": path.criterion, "torque_nm": path.torque_nm, "phi_rad": path.phi_rad,
             "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,
             "points": model.n, "teeth": int(model.teeth.size), "ring_scale": ring_scale, "shift_rad": shift_rad,
-            "corner_normal": corner_normal,
+            "corner_normal": corner_normal, "ball_supports": ball_supports,
             "phi_path_rad": path.column("phi_rad").tolist(), "torque_path_nm": path.column("torque_nm").tolist(),
             "mean_retreat_mm": path.column("mean_retreat_mm").tolist(),
             "margin_mm": path.column("margin_mm").tolist(), "pressure_angle_deg": path.column("alpha_deg").tolist(),

@@ -292,3 +292,54 @@ def test_corner_columns_reduce_to_the_flank_when_b_is_zero(corner_model):
     model._a[:] = 0.5
     assert not np.allclose(model._effective(full, probe)[0][model._ci], s_mat[model._ci])
     model.geometry(np.zeros(model.teeth.size))
+
+
+def _respond(model, s, phi):
+    """One response of a climb model at retreat ``s`` and rotation ``phi`` from its initial
+    state: (station forces, the retreat they cause)."""
+    gap, _ = model.geometry(s, phi)
+    state = model.initial_state()
+    q = gap - model.sin_alpha * s[model.slot]
+    f, state, p_fs, p_cs = model.respond(q, state)
+    return f, p_fs @ f + model.retreat_offset(state) + p_cs @ f
+
+
+def test_identical_slices_are_the_one_section_climb(design, corner_model):
+    """N identical axial slices, each a DesignClimb of the same section with a 1/N share of the
+    face (every compliance ×N), sharing φ: each carries 1/N of the one-section forces and
+    the teeth retreat alike — the sliced climb reduces to the 2D one (face_load's limit)."""
+    from profilegen.contact.climb import SlicedClimb
+    from profilegen.contact.inputs import ContactInput
+
+    half = DesignClimb(ContactInput.from_design(design), side=1, stations=5, max_gap_mm=0.08, race_thickness_mm=None,
+                       bearing=None, ring_factory=None, width_fraction=0.5)
+    sliced = SlicedClimb([half, half])
+    theta, phi = corner_model.first_rotation(265.0)
+    s = np.full(corner_model.teeth.size, 2e-3)
+    f1, r1 = _respond(corner_model, s, phi)
+    f2, r2 = _respond(sliced, np.r_[s, s], phi)
+    assert f1.max() > 1.0
+    np.testing.assert_allclose(f2, 0.5 * np.r_[f1, f1], rtol=1e-6, atol=1e-9 * f1.max())
+    np.testing.assert_allclose(r2, np.r_[r1, r1], rtol=1e-6, atol=1e-12)
+
+
+def test_every_ball_one_sided_with_far_balls_is_the_window(design, corner_model):
+    """ball_supports='all' puts every ball of the zone in as a one-sided support at its no-load
+    gap; with the balls outside the wrap moved 1 mm away (never reached) the response is the
+    window model's, and with their own gaps (some close under load) the rim is held more."""
+    from profilegen.contact.inputs import ContactInput
+
+    every = DesignClimb(ContactInput.from_design(design), side=1, stations=5, max_gap_mm=0.08,
+                        race_thickness_mm=None, bearing=None, ring_factory=None, ball_supports="all")
+    assert every._g0.size > corner_model._g0.size and np.all(every._g0 >= 0.0)
+    theta, phi = corner_model.first_rotation(2 * 265.0)
+    s = np.zeros(corner_model.teeth.size)
+    f_win, r_win = _respond(corner_model, s, phi)
+    g0 = every._g0.copy()
+    every._g0 = np.where(g0 > 0.0, g0 + 1.0, 0.0)
+    f_far, r_far = _respond(every, s, phi)
+    np.testing.assert_allclose(f_far, f_win, rtol=1e-6, atol=1e-9 * f_win.max())
+    np.testing.assert_allclose(r_far, r_win, rtol=1e-6, atol=1e-12)
+    every._g0 = g0
+    f_all, _ = _respond(every, s, phi)
+    assert every.zones * f_all @ every.geometry(s, phi)[1] > every.zones * f_win @ corner_model.geometry(s, phi)[1]
