@@ -29,10 +29,23 @@ Check: two opposite radial forces P on a ring: the diameter through them grows b
 0.1488 P R³/EI and the one across shrinks by 0.1366 P R³/EI (Roark's Formulas for Stress
 and Strain, thin circular rings, the two-load case) — ``tests/unit/test_face_load.py``.
 
-What it leaves out: the CS is a free ring here. In a gear it is bolted by its face to a
-housing (component sets) or is part of a housed unit, which restrains the ovalisation: the
-free ring is the upper bound of this compliance, a rigid housing the lower (zero). The
-teeth and the ring inside 1.1 r_p are in the contact model's CS sector already.
+The CS held in its housing (``foundation_radial_n_per_mm2`` k_r, ``foundation_tangential_n_per_mm2``
+k_t, N/mm per mm of circumference): the CS is bolted by its face to a housing (component
+sets) or is part of a housed unit, which restrains the ovalisation. As a ring on an elastic
+(Winkler) foundation — the bolted, clamped face joint and the housing behind it as springs
+per unit length of the ring, radial and tangential — the foundation adds its energy
+½∫(k_r w² + k_t v²) R dθ = ½ π R w_n² (k_r + k_t/n²) to mode n (with v = −w_n/n sin nθ):
+
+    w_n = R⁴ (p_n − t_n/n) / (EI (n² − 1)² + R⁴ (k_r + k_t/n²)),
+    c_n = R³ / (π (EI (n² − 1)² + R⁴ (k_r + k_t/n²))),
+
+and the hoop mode n = 0 becomes w_0 = p_0 / (EA/R² + k_r). k = 0 is the free ring (the upper
+bound of this compliance), k → ∞ a rigid housing (zero). A housing ring of bending stiffness
+EI_h fitted round the CS with no slip bends with it: for mode n that is k_r + k_t/n² =
+EI_h (n² − 1)²/R⁴, i.e. EI → EI + EI_h (:func:`housing_ring_foundation`). A bolted face
+joint: N bolts of lateral stiffness k_b each on the bolt circle R_b smeared round it,
+k_r = k_t = N k_b/(2π R_b) (:func:`bolted_flange_foundation`). The teeth and the ring inside
+1.1 r_p are in the contact model's CS sector already.
 """
 
 from __future__ import annotations
@@ -47,7 +60,7 @@ from .. import checks
 from ..errors import ProfilegenError
 from ..results import json_ready
 
-__all__ = ["CSRing", "CSRingError", "cs_ring_compliance"]
+__all__ = ["CSRing", "CSRingError", "bolted_flange_foundation", "cs_ring_compliance", "housing_ring_foundation"]
 
 
 class CSRingError(ProfilegenError, ValueError):
@@ -68,6 +81,10 @@ class CSRing:
     width_mm: float
     youngs_modulus_mpa: float
     estimates: tuple[str, ...] = ()
+    #: the housing as an elastic foundation of the ring (N/mm per mm of circumference): radial
+    #: and tangential (module docstring); 0: a free ring
+    foundation_radial_n_per_mm2: float = 0.0
+    foundation_tangential_n_per_mm2: float = 0.0
 
     def __post_init__(self):
         ri = _positive("inner_radius_mm", self.inner_radius_mm)
@@ -76,6 +93,18 @@ class CSRing:
             raise CSRingError(f"outer_radius_mm = {ro!r} mm: must be > inner_radius_mm = {ri!r} mm")
         _positive("width_mm", self.width_mm)
         _positive("youngs_modulus_mpa", self.youngs_modulus_mpa, "MPa")
+        for name in ("foundation_radial_n_per_mm2", "foundation_tangential_n_per_mm2"):
+            _positive(name, getattr(self, name), "N/mm²", allow_zero=True)
+
+    def held(self, radial_n_per_mm2: float, tangential_n_per_mm2: float | None = None, note: str = "") -> "CSRing":
+        """This ring on an elastic foundation (the housing, N/mm per mm of circumference;
+        tangential = radial when not given); ``note`` is added to the estimates."""
+        import dataclasses
+
+        kt = radial_n_per_mm2 if tangential_n_per_mm2 is None else tangential_n_per_mm2
+        est = tuple(e for e in self.estimates if e != "a free ring (no housing)") + ((note,) if note else ())
+        return dataclasses.replace(self, foundation_radial_n_per_mm2=float(radial_n_per_mm2),
+                                   foundation_tangential_n_per_mm2=float(kt), estimates=est)
 
     @classmethod
     def from_gearset(cls, gearset, *, inner: str = "root") -> "CSRing":
@@ -123,7 +152,33 @@ class CSRing:
     def to_dict(self) -> dict:
         return json_ready({"inner_radius_mm": self.inner_radius_mm, "outer_radius_mm": self.outer_radius_mm,
                            "width_mm": self.width_mm, "youngs_modulus_mpa": self.youngs_modulus_mpa,
-                           "second_moment_mm4": self.second_moment_mm4, "estimates": list(self.estimates)})
+                           "second_moment_mm4": self.second_moment_mm4,
+                           "foundation_radial_n_per_mm2": self.foundation_radial_n_per_mm2,
+                           "foundation_tangential_n_per_mm2": self.foundation_tangential_n_per_mm2,
+                           "estimates": list(self.estimates)})
+
+
+def bolted_flange_foundation(bolts: int, bolt_lateral_stiffness_n_per_mm: float, bolt_circle_radius_mm: float) -> float:
+    """k_r = k_t (N/mm²) of a face joint of ``bolts`` bolts of lateral stiffness k_b (N/mm, the
+    clamped joint's shear stiffness per bolt, no slip) smeared round the bolt circle:
+    N k_b / (2π R_b)."""
+    n = _whole("bolts", bolts, 1)
+    kb = _positive("bolt_lateral_stiffness_n_per_mm", bolt_lateral_stiffness_n_per_mm, "N/mm")
+    rb = _positive("bolt_circle_radius_mm", bolt_circle_radius_mm)
+    return n * kb / (2.0 * math.pi * rb)
+
+
+def housing_ring_foundation(ring: CSRing, housing_thickness_mm: float, n: int = 2) -> float:
+    """The radial foundation k_r (N/mm², k_t = 0) that stands for a housing ring of radial
+    thickness ``housing_thickness_mm`` (the CS's width and E) fitted round the CS, taken at the
+    CS ring's mean radius R (thin rings), bending with it without slip, in mode ``n`` (the two
+    zones' ovalisation: n = 2): EI_h (n² − 1)² / R⁴ — the same as EI → EI + EI_h for that mode."""
+    if not isinstance(ring, CSRing):
+        raise CSRingError(f"ring: must be a CSRing, got {type(ring).__name__}")
+    th = _positive("housing_thickness_mm", housing_thickness_mm)
+    n = _whole("n", n, 2)
+    ei_h = ring.youngs_modulus_mpa * ring.width_mm * th ** 3 / 12.0
+    return ei_h * (n * n - 1) ** 2 / ring.radius_mm ** 4
 
 
 def cs_ring_compliance(ring: CSRing, points_mm, directions, *, zones: int = 2, harmonics: int = 400) -> np.ndarray:
@@ -146,12 +201,14 @@ def cs_ring_compliance(ring: CSRing, points_mm, directions, *, zones: int = 2, h
     a = np.einsum("ij,ij->i", d, e_r)
     b = np.einsum("ij,ij->i", d, e_t)
     r, ei = ring.radius_mm, ring.youngs_modulus_mpa * ring.second_moment_mm4
+    kr, kt = ring.foundation_radial_n_per_mm2, ring.foundation_tangential_n_per_mm2
     psi = theta[:, None] - theta[None, :]
     aa, bb, ab = np.outer(a, a), np.outer(b, b), np.outer(a, b) - np.outer(b, a)
-    s = u * aa * r / (2.0 * math.pi * ring.youngs_modulus_mpa * ring.area_mm2)  # n = 0, radial (hoop)
+    # n = 0, radial (hoop, on the radial foundation): w_0 = p_0 / (EA/R² + k_r), p_0 = F/(2πR)
+    s = u * aa / (2.0 * math.pi * r * (ring.youngs_modulus_mpa * ring.area_mm2 / r ** 2 + kr))
     for n in range(u, nmax + 1, u):
         if n < 2:
             continue
-        c = u * r ** 3 / (math.pi * ei * (n * n - 1) ** 2)
+        c = u * r ** 3 / (math.pi * (ei * (n * n - 1) ** 2 + r ** 4 * (kr + kt / n ** 2)))
         s = s + c * ((aa + bb / n ** 2) * np.cos(n * psi) + ab * np.sin(n * psi) / n)
     return 0.5 * (s + s.T)
