@@ -550,6 +550,8 @@ class DesignClimb:
         return state.offset
 
     def respond(self, q, state):
+        from .compliance import settle_step
+
         active, springs = state.active.copy(), state.springs
         seen = set()
         for _ in range(4 * active.size + 4):
@@ -558,17 +560,11 @@ class DesignClimb:
             off_st, off_probe = self._offset(active, fa)
             f = solve_lcp(s_mat, q + off_st)
             react, gaps = self._reactions(f, active, fa)
-            tol = 1e-12 * max(1.0, float(np.abs(react).max(initial=0.0)))
-            pulling = active & (react < -tol)
-            if pulling.any():
-                active[np.flatnonzero(pulling)[np.argmin(react[pulling])]] = False
-            else:
-                pressed = ~active & (gaps < -1e-15)
-                if not pressed.any():
-                    break
-                active[np.flatnonzero(pressed)[np.argmin(gaps[pressed])]] = True
+            active, step = settle_step(active, react, gaps)
+            if step is None:
+                break
             key = active.tobytes()
-            if key in seen and not pulling.any():
+            if key in seen and step == "return":
                 raise ConvergenceError("climb: the ball set cycles")
             seen.add(key)
         else:
