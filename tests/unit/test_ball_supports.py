@@ -168,3 +168,129 @@ def test_all_balls_with_hertz_springs_is_the_hertz_law(inputs, zone):
     assert h.min() >= -1e-9 * scale and np.max(np.abs(reaction * h)) <= 1e-9 * scale * reaction.max()
     np.testing.assert_allclose(h, gap_after, atol=1e-9 * scale)
     assert sol.phi_rad > rigid.phi_rad
+
+
+# --------------------------------------------------------------------------- the torsional curve with every ball
+
+
+@pytest.fixture(scope="module")
+def flanks(inputs, zone):
+    """Both flanks with every ball one-sided: the right flank of ``zone``, the left built."""
+    left = contact_points(inputs, side=-1)
+    return {1: (zone[0], zone[1]), -1: (left, _build(inputs, left, ball_supports="all"))}
+
+
+CURVE_TORQUES = [-660.0, -265.0, -54.0, -8.0, 8.0, 54.0, 265.0, 660.0]
+
+
+def test_curve_continuation_keeps_teeth_and_balls_complementary(inputs, flanks):
+    """The continuation solver along the curve (|T| ascending, each from the previous state,
+    Hertz springs): at every torque, recomputed here from the raw flexibility blocks with the
+    springs it converged to — U Σ r F = T; teeth F ≥ 0, g ≥ 0, F g = 0; balls R ≥ 0, h ≥ 0,
+    R h = 0 (h the gap after load, a loaded ball's spring compressed by c R); every loaded
+    ball's spring is the Hertz law at its own reaction, c R = c_H R^{2/3}. The ball set
+    changes along the curve (more balls take load as the torque grows)."""
+    from profilegen.contact.chain import BallBearing, _ReducedZone
+
+    bearing = BallBearing.from_gearset(inputs.gearset)
+    for side, (pts, comp) in flanks.items():
+        zone = _ReducedZone(pts, comp, bearing)
+        s_cc, c_cb, c_bb = _blocks(comp)
+        loaded = np.zeros(pts.count, bool)
+        loaded[int(np.argmin(pts.theta_rad))] = True
+        state, sets = (loaded, np.asarray(comp.ball_active, bool), None), []
+        for m in sorted({abs(t) for t in CURVE_TORQUES}):
+            out = zone.solve(m, state, springs_on=True, max_iterations=80, spring_tol=1e-10)
+            assert out is not None, (side, m)
+            state = (out["loaded"], out["active"], out["log_springs"])
+            f, react, phi, c = out["force"], out["reactions"], out["phi"], np.exp(out["log_springs"])
+            tz = m / pts.zones * 1e3
+            assert inputs.gearset.gear.waves * float(pts.lever_mm @ f) == pytest.approx(2.0 * tz, rel=1e-10)
+            g = pts.lever_mm * (pts.theta_rad - phi) + s_cc @ f + c_cb @ react
+            h = comp.ball_gap_mm + c_cb.T @ f + (c_bb + np.diag(c)) @ react
+            scale = float(np.max(np.abs(s_cc @ f)))
+            assert np.all(f >= 0.0) and np.all(react >= 0.0), (side, m)
+            assert g.min() >= -1e-9 * scale and h.min() >= -1e-9 * scale, (side, m)
+            assert np.max(np.abs(f * g)) <= 1e-9 * scale * f.max(), (side, m)
+            assert np.max(np.abs(react * h)) <= 1e-9 * scale * react.max(), (side, m)
+            on = react > 0.0
+            np.testing.assert_allclose(c[on] * react[on], bearing.approach_mm(react[on]), rtol=1e-8)
+            sets.append(int(on.sum()))
+        assert len(set(sets)) > 1 and max(sets) > np.count_nonzero(comp.ball_gap_mm == 0.0) - 2, sets
+
+
+def test_curve_continuation_against_lemke_from_scratch(inputs, zone, flanks):
+    """The curve by continuation against the reference — Lemke from scratch on teeth and balls
+    at every torque: with rigid balls (the whole curve, both flanks) to rounding and the same
+    loaded balls and teeth; with the Hertz balls (Lemke at every step of the springs' fixed
+    point) at two torques, one per flank, to the springs' tolerance. The rated torque's rigid
+    rotation is ContactCompliance.solve_unilateral's (the public LCP) for the same flank."""
+    from profilegen.contact.chain import BallBearing, _solve_side_unilateral, compliance_chain, torsional_curve
+
+    kw = dict(sides=flanks, breakpoints_nm=(54.0, 196.0), catalogue=None)
+    rigid = compliance_chain(inputs.gearset, bearing=None)
+    fast = torsional_curve(inputs, CURVE_TORQUES, chain=rigid, **kw)
+    ref = torsional_curve(inputs, CURVE_TORQUES, chain=rigid, method="lemke", **kw)
+    np.testing.assert_allclose(fast.mesh_rad, ref.mesh_rad, rtol=1e-12, atol=0.0)
+    assert np.array_equal(fast.active_balls, ref.active_balls)
+    assert np.array_equal(fast.teeth_in_contact, ref.teeth_in_contact)
+    assert fast.mesh_rad[fast.torque_nm == 265.0][0] == pytest.approx(zone[3].phi_rad, rel=1e-12)
+    # odd: the left flank under −T mirrors the right flank under +T
+    np.testing.assert_allclose(fast.mesh_rad[::-1], -fast.mesh_rad, rtol=2e-3)
+    hertz = torsional_curve(inputs, CURVE_TORQUES, spring_tol=1e-10, **kw)
+    bearing = BallBearing.from_gearset(inputs.gearset)
+    for t in (265.0, -54.0):
+        side = 1 if t > 0 else -1
+        pts, comp = flanks[side]
+        _, phi, _, _, balls, _ = _solve_side_unilateral(pts, comp, abs(t), bearing, spring_iterations=60,
+                                                        spring_tol=1e-10)
+        assert side * hertz.mesh_balls_rad[hertz.torque_nm == t][0] == pytest.approx(phi, rel=1e-9)
+        assert hertz.active_balls[hertz.torque_nm == t][0] == int(np.count_nonzero(balls.ball_active))
+
+
+def test_curve_balls_far_away_is_the_window(inputs, flanks):
+    """Limit case: the balls outside the window 1 mm away never touch, and the curve is the
+    window model's — the compliance with only the window's balls (zero gap, settled)."""
+    import dataclasses
+
+    from profilegen.contact.chain import torsional_curve
+
+    far, window = {}, {}
+    for side, (pts, comp) in flanks.items():
+        inside = comp.ball_gap_mm == 0.0
+        far[side] = (pts, dataclasses.replace(comp, ball_gap_mm=np.where(inside, 0.0, 1.0)))
+        keep = np.flatnonzero(inside)
+        window[side] = (pts, cm.ContactCompliance._assemble(
+            flex_cc=comp._flex_cc, flex_cb=comp._flex_cb[:, keep], flex_bb=comp._flex_bb[np.ix_(keep, keep)],
+            cs_flex=comp.cs_matrix_mm_per_n * comp.face_width_mm, face_width_mm=comp.face_width_mm, tooth=comp.tooth,
+            ball_angle_rad=comp.ball_angle_rad[keep], ball_active=np.ones(keep.size, bool),
+            wrap_half_angle_rad=comp.wrap_half_angle_rad, wrap_source=comp.wrap_source, dof=comp.dof,
+            time_s=comp.time_s, mesh=comp.mesh, warnings=()))
+    kw = dict(spring_tol=1e-10, breakpoints_nm=(54.0, 196.0), catalogue=None)
+    a = torsional_curve(inputs, CURVE_TORQUES, sides=far, **kw)
+    b = torsional_curve(inputs, CURVE_TORQUES, sides=window, **kw)
+    np.testing.assert_allclose(a.mesh_rad, b.mesh_rad, rtol=1e-10, atol=0.0)
+    np.testing.assert_allclose(a.mesh_balls_rad, b.mesh_balls_rad, rtol=1e-8, atol=0.0)
+    assert np.array_equal(a.active_balls, b.active_balls)
+    # and the balls the window leaves out make the gear stiffer
+    near = torsional_curve(inputs, CURVE_TORQUES, sides=flanks, **kw)
+    assert np.all(np.abs(near.mesh_balls_rad) < np.abs(a.mesh_balls_rad))
+
+
+def test_ball_passage_without_the_jump(inputs):
+    """Rolling balls (cage) from ψ = 0 to 12°: the ball at 62.6° rolls into the window (57.3°
+    here) on the way. With every ball one-sided (the default) the rotation hardly moves;
+    with the window it jumps by tens of arcsec as the ball enters it."""
+    import dataclasses
+
+    from profilegen.contact.transmission import ARCSEC_PER_RAD, transmission_error
+
+    fixed = dataclasses.replace(inputs, rim_contact_angle_rad=WRAP)
+    rated = inputs.gearset.torque.rated_nm
+    every = transmission_error(fixed, rated, positions=2, span=12.0, ball_motion="cage", workers=1)
+    window = transmission_error(fixed, rated, positions=2, span=12.0, ball_motion="cage", workers=1,
+                                ball_supports="window")
+    assert every.ball_supports == "all"
+    step_all = abs(float(np.diff(every.rotation_rad)[0])) * ARCSEC_PER_RAD
+    step_window = abs(float(np.diff(window.rotation_rad)[0])) * ARCSEC_PER_RAD
+    assert step_window > 20.0 and step_all < 0.1 * step_window, (step_all, step_window)
