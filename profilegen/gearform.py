@@ -297,24 +297,31 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
     surface = PolylineDistance(tooth.surface(n_per_mm=400.0))
     surface_pts = tooth.surface(n_per_mm=search_per_mm)  # to find the candidates
     cs = _local_outline(form) if cs_points is None else np.asarray(cs_points, float)
-    tree = cKDTree(cs)
-    search = _NearestCS(tree, surface_pts, 4 * candidates)
+    tree = cKDTree(cs, leafsize=64, compact_nodes=False, balanced_tree=False)  # faster on dense outlines (measured)
     phis = np.linspace(*phi_range, samples)
     pose = motion.pose(phis)
-    # the candidates of every pose first (the search runs pose by pose: it bounds each query by the
-    # previous pose's), then their exact distances and insideness in one call for all poses
-    local, counts = [], np.empty(samples, dtype=int)
-    for i in range(samples):
-        c, s = np.cos(pose.angle[i]), np.sin(pose.angle[i])
-        placed = np.stack([surface_pts[:, 0] * c + surface_pts[:, 1] * s, surface_pts[:, 1] * c - surface_pts[:, 0] * s], -1) + pose.origin[i]
-        dist, idx = search.pairs(placed)
-        order = idx[np.argsort(dist, kind="stable")]
-        near = np.array(list(dict.fromkeys(order[: 4 * candidates].tolist()))[:candidates])  # nearest first
-        near = np.unique(np.clip(near[:, None] + np.arange(-neighbours, neighbours + 1), 0, len(cs) - 1))  # and neighbours
-        d = cs[near] - pose.origin[i]
-        local.append(np.stack([d[:, 0] * c - d[:, 1] * s, d[:, 0] * s + d[:, 1] * c], -1))  # (d·e_t, d·e_r)
-        counts[i] = len(near)
-    q = np.concatenate(local)
+    cos, sin = np.cos(pose.angle), np.sin(pose.angle)
+    # every pose's candidates at once: the surface points nearest the CS, nearest first
+    # (:func:`_nearest_pairs`), their CS points' first ``candidates`` distinct ones, and
+    # those points' ``neighbours`` on either side, in CS order
+    order = _nearest_pairs(tree, surface_pts, cos, sin, pose.origin, 4 * candidates)
+    srt = np.argsort(order, axis=1, kind="stable")
+    first = np.ones(order.shape, bool)
+    sorted_ = np.take_along_axis(order, srt, axis=1)
+    first[:, 1:] = sorted_[:, 1:] != sorted_[:, :-1]
+    new = np.empty_like(first)
+    np.put_along_axis(new, srt, first, axis=1)  # each CS point's first appearance, in nearness order
+    keep = new & (np.cumsum(new, axis=1) <= candidates)
+    near = np.clip(order[:, :, None] + np.arange(-neighbours, neighbours + 1), 0, len(cs) - 1)
+    near = np.where(keep[:, :, None], near, len(cs)).reshape(samples, -1)  # len(cs): no point
+    near.sort(axis=1)
+    take = near < len(cs)
+    take[:, 1:] &= near[:, 1:] != near[:, :-1]
+    rows, cols = np.nonzero(take)
+    counts = np.count_nonzero(take, axis=1)
+    d = cs[near[rows, cols]] - pose.origin[rows]
+    c, s = cos[rows], sin[rows]
+    q = np.stack([d[:, 0] * c - d[:, 1] * s, d[:, 0] * s + d[:, 1] * c], -1)  # (d·e_t, d·e_r)
     exact = surface.distance(q)  # point by point: the same numbers as pose by pose
     inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
     out = np.minimum.reduceat(np.where(inside, -exact, exact), np.concatenate([[0], np.cumsum(counts)[:-1]]))
@@ -351,58 +358,88 @@ def _deepest_inside(poly, surface, tree, cs: np.ndarray, pose, poses: np.ndarray
     return out
 
 
-class _NearestCS:
-    """For a placed tooth surface: the nearest CS point of each surface point, for the
-    surface points whose nearest CS point is closest — at least ``need`` of them, in the
-    surface's order: exactly the pairs a query of every surface point has within that
-    distance bound, so the first ``need`` pairs by distance are the same.
+def _nearest_pairs(tree, surface_pts: np.ndarray, cos: np.ndarray, sin: np.ndarray, origin: np.ndarray,
+                   need: int, stride: int = 16) -> np.ndarray:
+    """At each pose (rotation ``cos``, ``sin`` and ``origin`` of the placed surface, one row
+    each): the nearest CS point (index into ``tree``) of the ``need`` surface points nearest
+    to the CS, nearest first, ties in the surface's order — what a query of every surface
+    point gives once stably sorted by distance. Returns an (m, min(need, n)) array.
 
-    Most of the surface is far from the CS; the search skips it. Every 16th surface point
-    (the coarse points) is queried first; the distance bound is the (need/16 + 5)-th
-    smallest coarse distance. The nearest-CS distance is 1-Lipschitz along the surface, so a
-    surface point farther than the bound from the CS is known from its coarse anchor
-    (distance − offset > bound) without a query; the rest are queried with the bound. The
-    coarse query itself is bounded by a guess from the previous pose (the tooth moves a few
-    µm per sample), with the unbounded query when the guess is too small.
+    Most of the surface is far from the CS; the search skips it. Every ``stride``-th surface
+    point (the coarse points) is queried first, within a bound that grows ×4 until more
+    than k = need/stride + 4 are found; the pose's bound is the k-th smallest coarse distance
+    (exact: those found within the query's bound are). The nearest-CS distance is
+    1-Lipschitz along the surface, so a surface point farther than the bound from the CS is
+    known from its coarse anchor (distance − offset > bound) without a query; the rest are
+    queried. A pose with fewer than ``need`` within its bound takes 4× the bound, up to three
+    times, then every surface point. All poses query the tree together, in groups of
+    similar bound (a query has one ``distance_upper_bound``).
     """
+    n, m = len(surface_pts), len(cos)
+    coarse = np.arange(0, n, stride)
+    nc = len(coarse)
+    k = min(nc - 1, need // stride + 4)
+    anchor = np.clip(np.rint(np.arange(n) / stride).astype(int), 0, nc - 1)
+    # distance of each surface point to its anchor (rigid motions keep it; 1 nm for rounding)
+    offset = np.hypot(*(surface_pts - surface_pts[coarse[anchor]]).T) + 1e-6
 
-    STRIDE = 16
+    def place(rows, cols):  # surface points cols at poses rows
+        p, c, s = surface_pts[cols], cos[rows], sin[rows]
+        return np.stack([p[:, 0] * c + p[:, 1] * s, p[:, 1] * c - p[:, 0] * s], -1) + origin[rows]
 
-    def __init__(self, tree, surface_pts: np.ndarray, need: int):
-        self.tree, self.need = tree, need
-        n = len(surface_pts)
-        self.coarse = np.arange(0, n, self.STRIDE)
-        self.k = min(len(self.coarse) - 1, need // self.STRIDE + 4)
-        self.anchor = np.clip(np.rint(np.arange(n) / self.STRIDE).astype(int), 0, len(self.coarse) - 1)
-        # distance of each surface point to its anchor (rigid motions keep it; 1 nm for rounding)
-        self.offset = np.hypot(*(surface_pts - surface_pts[self.coarse[self.anchor]]).T) + 1e-6
-        self.guess = math.inf
+    # the coarse points' distances: exact within each pose's last query bound, that bound (a
+    # lower bound) beyond it
+    placed = place(np.repeat(np.arange(m), nc), np.tile(coarse, m)).reshape(m, nc, 2)
+    dc = np.empty((m, nc))
+    pending, limit = np.arange(m), 0.05
+    while pending.size:
+        dist, _ = tree.query(placed[pending].reshape(-1, 2), distance_upper_bound=limit)
+        dist = dist.reshape(-1, nc)
+        dc[pending] = np.where(np.isfinite(dist), dist, limit)
+        pending = pending[np.count_nonzero(np.isfinite(dist), axis=1) <= k]
+        limit = limit * 4.0 if limit < 100.0 else math.inf
+    bound = np.partition(dc, k, axis=1)[:, k]
+    lower = dc[:, anchor] - offset  # ≤ each surface point's distance to the CS
 
-    def pairs(self, placed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        tree = self.tree
-        dc = None
-        if math.isfinite(self.guess):
-            dc, _ = tree.query(placed[self.coarse], distance_upper_bound=self.guess)
-            if np.count_nonzero(np.isfinite(dc)) <= self.k:
-                dc = None
-            else:
-                dc = np.where(np.isfinite(dc), dc, self.guess)  # ≥ guess: a lower bound
-        if dc is None:
-            dc, _ = tree.query(placed[self.coarse])
-        bound = float(np.partition(dc, self.k)[self.k])
-        self.guess = 2.0 * bound + 0.02 if math.isfinite(bound) else math.inf
-        lower = dc[self.anchor] - self.offset  # ≤ each surface point's distance to the CS
-        for _ in range(3):
-            if not bound > 0.0:
-                break
-            b = bound * (1.0 + 1e-9)
-            cand = np.nonzero(lower <= b)[0]
-            dist, idx = tree.query(placed[cand], distance_upper_bound=b)
-            ok = np.isfinite(dist)
-            if ok.sum() >= self.need:  # the `need` smallest distances are all within the bound
-                return dist[ok], idx[ok]
-            bound *= 4.0
-        return tree.query(placed)
+    need_out = min(need, n)
+    out = np.empty((m, need_out), dtype=int)
+    todo = np.flatnonzero(bound > 0.0)
+    full = np.flatnonzero(~(bound > 0.0))
+    for _ in range(3):
+        if not todo.size:
+            break
+        b = bound[todo] * (1.0 + 1e-9)
+        r, cols = np.nonzero(lower[todo] <= b[:, None])  # pose by pose, in the surface's order
+        dist, idx = _query_within(tree, place(todo[r], cols), b[r])
+        ok = dist < b[r]
+        done = np.bincount(r[ok], minlength=todo.size) >= need  # the `need` smallest are all within
+        sel = np.flatnonzero(ok & done[r])
+        rs, ds, js = r[sel], dist[sel], idx[sel]
+        o = np.argsort(ds, kind="stable")
+        o = o[np.argsort(rs[o], kind="stable")]  # by pose, then distance, then surface order
+        rs, js = rs[o], js[o]
+        start = np.searchsorted(rs, rs, side="left")
+        pos = np.arange(rs.size) - start
+        first = pos < need_out
+        out[todo[rs[first]], pos[first]] = js[first]
+        todo = todo[~done]
+        bound[todo] *= 4.0
+    for i in np.concatenate([full, todo]).astype(int):
+        dist, idx = tree.query(place(np.full(n, i), np.arange(n)))
+        out[i] = idx[np.argsort(dist, kind="stable")][:need_out]
+    return out
+
+
+def _query_within(tree, points: np.ndarray, bound: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Nearest tree point of each point, exact where it is within the point's ``bound`` (inf
+    or a larger distance beyond): points of bounds within a factor 2 query together."""
+    dist = np.full(len(points), math.inf)
+    idx = np.full(len(points), tree.n)
+    e = np.frexp(bound)[1]
+    for g in np.unique(e):
+        at = np.flatnonzero(e == g)
+        dist[at], idx[at] = tree.query(points[at], distance_upper_bound=float(bound[at].max()))
+    return dist, idx
 
 
 class PolylineDistance:
