@@ -44,12 +44,12 @@ import numpy as np
 
 from ..contour import Arc, Chain, Line
 from . import cad
-from .export import dxf_document, save_dxf
+from .export import atomic_write, dxf_document, dxf_text
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..pipeline import Design
 
-__all__ = ["write_cs_drawing", "drawing_date", "DIMENSION_LAYER"]
+__all__ = ["write_cs_drawing", "cs_drawing_dxf", "drawing_date", "DIMENSION_LAYER"]
 
 #: The layer of the DIMENSION entities.
 DIMENSION_LAYER = "dimensions"
@@ -212,6 +212,16 @@ def write_cs_drawing(path: str | os.PathLike, design: Design, *, date: _dt.date 
     byte-identical for identical input. An unwritable path raises
     :class:`~profilegen.errors.ExportError` naming it; nothing partial is left.
     """
+    text = cs_drawing_dxf(design, date=date)
+    with atomic_write(path, "w", encoding="utf-8") as f:
+        f.write(text)
+
+
+def cs_drawing_dxf(design: Design, *, date: _dt.date | str | None = None) -> str:
+    """The text of :func:`write_cs_drawing`'s file (DXF R2010, UTF-8 when written): module
+    level and reading only the design's profile, form, gear set and scene name, so a worker
+    process can make it (:func:`profilegen.output.files.write_design` does, while this
+    process writes the other files: ezdxf's import is most of its time)."""
     date_text = drawing_date(date)
     from .. import __version__
 
@@ -262,7 +272,7 @@ def write_cs_drawing(path: str | os.PathLike, design: Design, *, date: _dt.date 
 
     _notes(sheet, notes, (col_x0 + 5.0, notes_top - 4.0))
     _title_block(sheet, design, (x_hi - _TITLE_W, y_lo), date_text, __version__, (s_ring, s_detail))
-    _write(path, sheet, world, -ring_c)
+    return _text(sheet, world, -ring_c)
 
 
 def _travel_sign(space: Chain) -> float:
@@ -773,7 +783,7 @@ def _texts_text(texts, handles, owner: str, t: np.ndarray) -> str:
     return "".join(out)
 
 
-def _write(path, sheet: _Sheet, world: list, shift: np.ndarray) -> None:
+def _text(sheet: _Sheet, world: list, shift: np.ndarray) -> str:
     """The sheet moved by ``shift`` (so the ring's centre is the drawing's origin) and the ring's
     outline as it is; lines, arcs and texts written as DXF text, the dimensions by ezdxf."""
     t = np.asarray(shift, float)
@@ -800,4 +810,4 @@ def _write(path, sheet: _Sheet, world: list, shift: np.ndarray) -> None:
             else:
                 dim = msp.add_radius_dim(moved(k["center"]), mpoint=moved(k["mpoint"]), **common)
             dim.render()
-        save_dxf(doc, path, extents, entities=body)
+        return dxf_text(doc, extents, entities=body)

@@ -396,38 +396,57 @@ def dxf_document(extra_layers=(), *, rename: Mapping[str, str] | None = None):
             ezdxf.options.write_fixed_meta_data_for_testing = saved
 
 
+def _set_extents(doc, extents) -> None:
+    """The modelspace's extents and the view fitted to them, from (lo, hi)."""
+    msp = doc.modelspace()
+    lo, hi = extents
+    msp.dxf.extmin = (float(lo[0]), float(lo[1]), 0.0)
+    msp.dxf.extmax = (float(hi[0]), float(hi[1]), 0.0)
+    size = hi - lo
+    doc.set_modelspace_vport(height=float(max(size[1], size[0] * 0.75, 1e-3) * 1.1),
+                             center=(float(lo[0] + hi[0]) / 2, float(lo[1] + hi[1]) / 2))
+
+
 def save_dxf(doc, path: str | os.PathLike, extents, *, entities: str = "") -> None:
     """Set the drawing extents and view from (lo, hi) (or None) and write the file atomically.
 
     ``entities``: DXF text of modelspace entities made outside ezdxf (their handles reserved
     from ``doc.entitydb.handles`` before any entity added with ezdxf), written first in the
     ENTITIES section."""
-    msp = doc.modelspace()
     if extents is not None:
-        lo, hi = extents
-        msp.dxf.extmin = (float(lo[0]), float(lo[1]), 0.0)
-        msp.dxf.extmax = (float(hi[0]), float(hi[1]), 0.0)
-        size = hi - lo
-        doc.set_modelspace_vport(height=float(max(size[1], size[0] * 0.75, 1e-3) * 1.1),
-                                 center=(float(lo[0] + hi[0]) / 2, float(lo[1] + hi[1]) / 2))
+        _set_extents(doc, extents)
+    with atomic_write(path, "w", encoding=doc.output_encoding) as f:
+        if not entities:
+            _sorted_classes(doc)
+            doc.write(f)
+        else:
+            f.write(dxf_text(doc, None, entities=entities))
+
+
+def _sorted_classes(doc) -> None:
     # ezdxf adds the CLASS entries of the object types in use from a set, so their order
     # followed the string hash (PYTHONHASHSEED): add them now and sort, the same in every process
     doc.classes.add_required_classes(doc.dxfversion)
     doc.classes.classes = type(doc.classes.classes)(sorted(doc.classes.classes.items()))
-    with atomic_write(path, "w", encoding=doc.output_encoding) as f:
-        if not entities:
-            doc.write(f)
-        else:
-            import io
 
-            buffer = io.StringIO()
-            doc.write(buffer)
-            text = buffer.getvalue()
-            marker = "  0\nSECTION\n  2\nENTITIES\n"
-            at = text.index(marker) + len(marker)
-            f.write(text[:at])
-            f.write(entities)
-            f.write(text[at:])
+
+def dxf_text(doc, extents, *, entities: str = "") -> str:
+    """The text :func:`save_dxf` writes (encoded as ``doc.output_encoding``, UTF-8 for R2010),
+    as a string: for a file made in another process. ``extents`` as in :func:`save_dxf`;
+    None leaves the document's as they are."""
+    import io
+
+    if extents is not None:
+        _set_extents(doc, extents)
+    _sorted_classes(doc)
+    buffer = io.StringIO()
+    doc.write(buffer)
+    text = buffer.getvalue()
+    if not entities:
+        return text
+    marker = "  0\nSECTION\n  2\nENTITIES\n"
+    at = text.index(marker) + len(marker)
+    return text[:at] + entities + text[at:]
 
 
 def read_dxf_polylines(path: str | os.PathLike) -> dict[str, list[np.ndarray]]:

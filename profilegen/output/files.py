@@ -20,7 +20,7 @@ from . import face as face_files
 if TYPE_CHECKING:  # pragma: no cover
     from ..pipeline import Design
 
-__all__ = ["OUTPUT_FILES", "figure_workers", "profile_figures", "write_design"]
+__all__ = ["DRAWING", "OUTPUT_FILES", "drawing_jobs", "figure_workers", "profile_figures", "write_design"]
 
 
 #: Every file name :func:`write_design` can write (the output folder may hold only these, see
@@ -45,19 +45,57 @@ def figure_workers(workers: int | None = None, *, draw: bool = True):
     matplotlib)."""
     from . import report
 
+    if not draw:  # the report's two pieces and the drawing: one worker has time for them, beside the stages
+        workers = min(1, report._default_workers() if workers is None else int(workers))
     figures = report.FigureWorkers(workers, matplotlib=draw)
     figures.submit(report.SEED_TABLES_JOB)  # needs no design: the workers fork and start on it now
+    if not draw:  # then ezdxf's import (~0.4 s), before the profile comes and the drawing with it
+        figures.submit({"ezdxf": (_import_ezdxf, ())})
     return figures
+
+
+def _import_ezdxf() -> None:
+    import ezdxf  # noqa: F401
 
 
 def profile_figures(figures, design: Design, *, draw: bool | None = None) -> None:
     """Hand the figures of a design that has its CS profile to ``figures`` (the PNGs of its
-    envelope, fit and rim, and report.html's zoomable CS figure). ``draw``: see :func:`write_design`."""
+    envelope, fit and rim, and report.html's zoomable CS figure) and its dimensioned drawing
+    (:data:`DRAWING`). ``draw``: see :func:`write_design`."""
     from . import report
 
     if _draws(design, draw):
         figures.submit(report.png_jobs(design))
+    figures.submit(drawing_jobs(design))
     figures.submit(report.report_pieces(design))
+
+
+#: The drawing's file, made in a figure worker where there is one (:func:`drawing_jobs`).
+DRAWING = "circular_spline_drawing.dxf"
+
+
+def drawing_jobs(design: Design) -> dict:
+    """``circular_spline_drawing.dxf``'s text as a job for the figure workers (ezdxf's import is
+    most of its time), ``{DRAWING: (function, arguments)}``; the design is sent without what the
+    drawing does not read. Empty when the date field cannot be read (``SOURCE_DATE_EPOCH`` not
+    a number): the drawing is then made in this process, which raises the error."""
+    from dataclasses import replace
+
+    from .drawing import drawing_date
+
+    try:
+        date = drawing_date()
+    except ValueError:
+        return {}
+    slim = replace(design, tooth=None, deformation=None, motion=None, envelope=None, rim=None, contact=None,
+                   stress=None, face=None, torsional=None, ratcheting=None, transmission=None)
+    return {DRAWING: (_drawing_dxf, (slim, date))}
+
+
+def _drawing_dxf(design: Design, date: str) -> str:
+    from .drawing import cs_drawing_dxf
+
+    return cs_drawing_dxf(design, date=date or None)
 
 
 def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True, figures=None,
@@ -105,7 +143,8 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
 
     pieces = report.html_jobs(result) if figure else {}  # last: while the workers draw, collect() makes them here
     draw = figure and _draws(result, draw)
-    jobs = {**(report.png_jobs(result) if draw else {}), **pieces} if figure else {}
+    made = drawing_jobs(result) if figure else {}  # the drawing: in a worker, while the files here are written
+    jobs = {**(report.png_jobs(result) if draw else {}), **made, **pieces} if figure else {}
     own = figures is None or not figure
     workers = report.FigureWorkers(min(report._default_workers(), len(jobs)), matplotlib=draw) if own else figures
     with workers if own else contextlib.nullcontext(workers):
@@ -122,7 +161,8 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
         note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
         cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
         cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
-        drawing.write_cs_drawing(staging / "circular_spline_drawing.dxf", result)  # dated by SOURCE_DATE_EPOCH, else blank
+        if not made:  # dated by SOURCE_DATE_EPOCH, else blank
+            drawing.write_cs_drawing(staging / DRAWING, result)
         fs_tooth = flexspline.write_flexspline_dxfs(staging, result)  # flexspline_tooth.dxf, flexspline.dxf
         face_files.write_face_dxfs(staging, result)  # face_tooth_NN.dxf, one per face section (cup3d tier)
         cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result, fs_tooth), texts=note)
@@ -142,7 +182,10 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
             export.write_json(staging / "stress.json", {"gearset": g.name, "scene": result.scene.name,
                                                         **result.stress.to_dict()})
         if figure:
-            images = workers.collect(jobs, steal=tuple(pieces))
+            images = workers.collect(jobs, steal=(*made, *pieces))
+            if DRAWING in images:
+                with export.atomic_write(staging / DRAWING, "w") as f:
+                    f.write(images.pop(DRAWING))
             if not draw:  # no PNG: each picture's place in the reports says how to draw it
                 images = report.NoFigures(images)
             for name in ("envelope", "contact", "torsional", "stress", "face"):
