@@ -46,7 +46,7 @@ from functools import partial
 from .. import checks
 from ..errors import ProfilegenError
 
-__all__ = ["CHA_SOURCE", "CatalogueError", "RATCHETING_TORQUE_NM", "SOURCE", "STIFFNESS", "catalogue_row"]
+__all__ = ["ACCURACY_LIMITS_ARCMIN", "CHA_SOURCE", "CatalogueError", "RATCHETING_TORQUE_NM", "SOURCE", "STIFFNESS", "catalogue_row"]
 
 
 class CatalogueError(ProfilegenError, ValueError):
@@ -88,6 +88,13 @@ STIFFNESS = {
     (80, 40): {"T1_nm": 54.0, "K1_nm_per_rad": 13e4, "T2_nm": 196.0, "K2_nm_per_rad": 20e4,
                "K3_nm_per_rad": 23e4, "table": f"table 50.4 (CHA-40A), {_CHA_RATIOS}", **_CHA},
 }
+
+#: ratio → upper limits (arcmin) of lost motion and hysteresis loss, sizes 14–58 alike, from the
+#: CHA accuracy tables (1018854 12/2015 V01, p. 50, tables 50.1/50.2, "< 1" for i ≥ 50;
+#: hysteresis "< 3" at i = 30): the actuator's accuracy figures, upper limits, not values.
+ACCURACY_LIMITS_ARCMIN = {30: {"lost_motion_max_arcmin": 1.0, "hysteresis_loss_max_arcmin": 3.0},
+                          50: {"lost_motion_max_arcmin": 1.0, "hysteresis_loss_max_arcmin": 1.0},
+                          80: {"lost_motion_max_arcmin": 1.0, "hysteresis_loss_max_arcmin": 1.0}}
 
 #: (ratio, size) → ratcheting torque (N·m), table 4 "CSF Ratcheting Torque", page 14.
 RATCHETING_TORQUE_NM = {
@@ -132,6 +139,8 @@ def catalogue_row(size: int, ratio: int) -> dict:
         "source": f"{source}, p. {page}, {table}, size {size}",
         "size": size, "ratio": used, "ratio_asked": ratio, "note": note, **row,
         "lost_motion_arcmin": None,
+        **ACCURACY_LIMITS_ARCMIN.get(used, {}),
+        "accuracy_source": f"{CHA_SOURCE}, p. 50, tables 50.1/50.2 (accuracy: upper limits, the actuator's)",
         "ratcheting_torque_nm": RATCHETING_TORQUE_NM.get((ratio, size)),
         "ratcheting_source": f"{SOURCE}, p. 14, table 4 (CSF ratcheting torque)",
         "buckling_torque_nm": BUCKLING_TORQUE_NM.get(size),

@@ -20,7 +20,9 @@ the CS ring (housing_ring_foundation); the bearing's radial internal clearance
 (contact.clearance: c_r/2 added to every ball outside the window; c_r from ISO 5753's deep
 groove groups for the bearing's estimated bore) — all + Hertz only (the window model has no
 ball outside the window); a thinner outer race than the 2.5 %-of-pitch-diameter ESTIMATE
-(``--race``: the section under the raceway groove; a sensitivity) — all + Hertz only. Printed: K1, K2 and the secants T/φ at T1 and T2 (the catalogue's
+(``--race``: the section under the raceway groove; a sensitivity) — all + Hertz only; the race
+and rim bending across the face between the ball at mid-width and the face's ends
+(contact.race_flexure, strip model, in series with each ball's Hertz spring) — all + Hertz only. Printed: K1, K2 and the secants T/φ at T1 and T2 (the catalogue's
 K1/K2 definitions on the elastic rotation) against the catalogue's, and each candidate's
 compliance at T1 and T2 (its added rotation / T, rad per N·m), and the compliance that would
 close each model to the catalogue. CPU times.
@@ -53,6 +55,7 @@ from profilegen.contact.compliance import ContactCompliance, default_race_thickn
 from profilegen.contact.cs_ring import (  # noqa: E402
     CSRing, bolted_flange_foundation, cs_ring_compliance, housing_ring_foundation)
 from profilegen.contact.inputs import ContactInput  # noqa: E402
+from profilegen.contact.race_flexure import race_axial_flexure_compliance_mm_per_n  # noqa: E402
 
 ARCSEC = 180 * 3600 / math.pi
 #: the bolted face joint (ESTIMATES: a CSF-40-class CS on 16 bolts M6–M8; a clamped joint's
@@ -110,12 +113,12 @@ def run(path: Path, clearances_um, races_mm=()) -> None:
             res = solve_contact(inputs, [t1, t2], points=pts, compliance=comp)
         return {t: float(c.rotation_rad) - theta0 for t, c in zip((t1, t2), res.cases)}
 
-    def all_phi(comp):
+    def all_phi(comp, balls=bearing):
         out = {}
         with threadpool_limits(limits=1, user_api="blas"):
             for t in (t1, t2):
                 sol, reaction, _ = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, t / pts.zones * 1e3,
-                                                         bearing=bearing)
+                                                         bearing=balls)
                 out[t] = float(sol.phi_rad) - theta0 + t * series
         return out
 
@@ -167,6 +170,22 @@ def run(path: Path, clearances_um, races_mm=()) -> None:
                                            wrap_half_angle_rad=wrap, ball_supports="all", race_thickness_mm=t_r)
         a = all_phi(thin)
         models["all + Hertz"][0][f"race {t_r:g} mm (model {t_race:g} mm)"] = {t: a[t] - all0[t] for t in (t1, t2)}
+    # the race and rim bending across the face between the ball (mid-width) and the face's ends (strip model)
+    r_race = 0.5 * bearing.pitch_diameter_mm + 0.5 * bearing.ball_diameter_mm + 0.5 * t_race
+    strip = 2.0 * math.pi * r_race / bearing.ball_count
+    c_ax = race_axial_flexure_compliance_mm_per_n(float(gs.cup.face_width_mm), strip, t_race,
+                                                  float(gs.gear.rim_thickness_mm),
+                                                  float(gs.material.youngs_modulus_mpa))
+    print(f"race axial flexure (strip model: b {float(gs.cup.face_width_mm):g} mm, strip = ball pitch {strip:.2f} mm, "
+          f"race {t_race:g} + rim {float(gs.gear.rim_thickness_mm):g} mm sliding): c_ax {c_ax:.3g} mm/N per ball, "
+          f"against the Hertz secant {float(bearing.secant_compliance_mm_per_n(500.0)):.3g} mm/N at 500 N")
+
+    class _Plus:  # the bearing's Hertz secant + the strip's linear compliance, in series at each ball
+        def secant_compliance_mm_per_n(self, q):
+            return np.asarray(bearing.secant_compliance_mm_per_n(q)) + c_ax
+
+    a = all_phi(every, _Plus())
+    models["all + Hertz"][0]["race axial flexure (strip)"] = {t: a[t] - all0[t] for t in (t1, t2)}
     # a combination: the held ring + a Normal-group clearance (its middle)
     mid = 0.5 * sum(groups["Normal"])
     s_ring = cs_ring_compliance(rings["CS ring on the bolted face joint"], pts.cs_point_mm, pts.normal, zones=pts.zones)

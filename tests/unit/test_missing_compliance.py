@@ -103,3 +103,21 @@ def test_catalogue_rows_for_ratio_80_and_above_are_stiffer_and_sourced():
     assert row["note"] is None and (row["K1_nm_per_rad"], row["K2_nm_per_rad"], row["K3_nm_per_rad"]) == (13e4, 20e4, 23e4)
     with pytest.raises(CatalogueError, match="ratio"):
         catalogue_row(40, 20)
+
+
+def test_race_axial_flexure_is_two_cantilevers_under_an_even_load():
+    """c_ax = b³/(320 EI): the load-weighted mean deflection of a beam of length b under an
+    even load Q/b held at mid-length, by integrating M/EI twice (trapezoids), divided by Q."""
+    from profilegen.contact.race_flexure import RaceFlexureError, race_axial_flexure_compliance_mm_per_n
+
+    b, s, hr, hf, nu = 20.0, 12.7, 2.5, 1.45, 0.3
+    ei = E / (1 - nu * nu) * s * (hr ** 3 + hf ** 3) / 12.0
+    q, n = 1.0 / b, 4001  # unit ball load
+    x = np.linspace(0.0, 0.5 * b, n)  # from the ball out to a face end
+    moment = 0.5 * q * (0.5 * b - x) ** 2
+    slope = np.concatenate([[0.0], np.cumsum(0.5 * (moment[1:] + moment[:-1]) * np.diff(x))]) / ei
+    w = np.concatenate([[0.0], np.cumsum(0.5 * (slope[1:] + slope[:-1]) * np.diff(x))])
+    mean = np.sum(0.5 * (w[1:] + w[:-1]) * np.diff(x)) / (0.5 * b)
+    assert race_axial_flexure_compliance_mm_per_n(b, s, hr, hf, E, nu) == pytest.approx(mean, rel=1e-5)
+    with pytest.raises(RaceFlexureError, match="race_thickness_mm"):
+        race_axial_flexure_compliance_mm_per_n(b, s, 0.0, 0.0, E)
