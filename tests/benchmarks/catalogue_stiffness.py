@@ -3,8 +3,8 @@
     python tests/benchmarks/catalogue_stiffness.py [profiles/seed000_csf40.toml profiles/csf32_100.toml]
 
 For each gear set (design scene, no contact or stress in the design run): the catalogue row of
-its size (profilegen.contact.catalogue: Harmonic Drive LLC CSF/CSG catalogue, table 42 — ratio
-1/50, the ratio ≥ 80 table is not in the stored source), the torsional curve of the compliance
+its size and ratio (profilegen.contact.catalogue: for ratio 100 the ratio ≥ 80 row, Harmonic
+Drive AG CHA engineering data table 50.4 — the component set's values), the torsional curve of the compliance
 chain (profilegen.contact.chain.torsional_curve) on the catalogue's T1/T2 → K1, K2 and the
 secants at T1, T2 against the row's; then what each candidate for the missing compliance
 would add, at T1 and T2, on the mesh with rigid balls settled at that torque (the Hertz ball
