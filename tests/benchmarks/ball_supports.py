@@ -10,7 +10,7 @@ secant mesh stiffness T/(φ − θ₀), teeth in contact, balls loaded, for the 
 balls, settled: solve_contact), all balls rigid, all balls with the bearing's Hertz springs
 (chain.BallBearing); the whole gear's K1, K2 (catalogue definitions on the elastic
 rotation) = the mesh plus the chain's series parts (cup wall, cup bottom, CS body:
-chain.compliance_chain), next to chain.torsional_curve (window + Hertz + series) and the
+chain.compliance_chain), next to chain.torsional_curve (window or all, + Hertz + series) and the
 catalogue row (catalogue.catalogue_row(40, 100): the ratio-50 row, with its note); a
 bearing clearance study (every ball outside the window ``--clearance`` µm further away);
 and the rotation over one ball passage with rolling balls (cage), window, all, all + Hertz.
@@ -92,12 +92,13 @@ def run(path: Path, passage: int, clearances) -> None:
             g1, g2 = e1 + T1 * series, e2 + T2 * series
             print(f"  {label:>12}: mesh K1 {T1 / e1:.4g}, K2 {(T2 - T1) / (e2 - e1):.4g}; whole gear K1 {T1 / g1:.4g}, "
                   f"K2 {(T2 - T1) / (g2 - g1):.4g} N·m/rad")
-        t0 = time.process_time()
-        curve = torsional_curve(inputs, [-rated, -T2, -T1, T1, T2, rated])
-        k = curve.k_nm_per_rad
-        print(f"  chain.torsional_curve (window + Hertz + series, {time.process_time() - t0:.1f} s CPU): whole gear K1 "
-              f"{k['total']['positive']['K1']:.4g}, K2 {k['total']['positive']['K2']:.4g}; mesh + balls K1 "
-              f"{k['mesh_balls']['positive']['K1']:.4g}, K2 {k['mesh_balls']['positive']['K2']:.4g}")
+        for supports in ("window", "all"):
+            t0 = time.process_time()
+            curve = torsional_curve(inputs, [-rated, -T2, -T1, T1, T2, rated], ball_supports=supports)
+            k = curve.k_nm_per_rad
+            print(f"  chain.torsional_curve ({supports} + Hertz + series, {time.process_time() - t0:.1f} s CPU): "
+                  f"whole gear K1 {k['total']['positive']['K1']:.4g}, K2 {k['total']['positive']['K2']:.4g}; "
+                  f"mesh + balls K1 {k['mesh_balls']['positive']['K1']:.4g}, K2 {k['mesh_balls']['positive']['K2']:.4g}")
         row = catalogue_row(40, 100)
         print(f"  catalogue: K1 {row['K1_nm_per_rad']:.4g}, K2 {row['K2_nm_per_rad']:.4g} N·m/rad (T1 {row['T1_nm']:g}, "
               f"T2 {row['T2_nm']:g}; ratio-{row['ratio']} row; {row['note']})")
