@@ -35,8 +35,12 @@ i.e. the balls drift against the major axis by −ψ(1 + D/d_m)/2 (``ball_motion
 and d_m from :class:`~profilegen.contact.chain.BallBearing`), a second, slower ripple with
 period 2π/N / ((1 + D/d_m)/2) in ψ (≈ 29° for 23 balls), not periodic over a tooth passage.
 
-Per position the contact is solved as :func:`~profilegen.contact.analysis.solve_contact`
-solves it (Lemke, the balls that pull dropped, rigid ball supports), one zone with T/U.
+Per position the teeth and every ball of the zone are solved together, each ball a rigid
+one-sided support at its no-load gap (``ball_supports="all"``, the default:
+:meth:`~profilegen.contact.compliance.ContactCompliance.solve_unilateral`, Lemke on teeth
+and balls), one zone with T/U; ``ball_supports="window"`` solves it as
+:func:`~profilegen.contact.analysis.solve_contact` does (only the balls within the rim's
+no-load contact angle, the ones that pull dropped).
 The result:
 
 * ``rotation_rad``: φ(ψ), the loaded rotation of the FS against the CS beyond its
@@ -55,8 +59,9 @@ ball loads move with the teeth) and would add to the ripple.
 Positions run in a process pool of ``workers`` (fork: the inputs are inherited, not
 pickled) when there are more than two; each position is independent.
 
-Accuracy and cost (default set, design scene, rated torque, 16 positions over a tooth
-passage, tests/benchmarks/transmission_error.py): 5 or 9 stations per flank, and a search
+Accuracy and cost (measured with the window's balls, before every ball became the default;
+default set, design scene, rated torque, 16 positions over a tooth passage,
+tests/benchmarks/transmission_error.py): 5 or 9 stations per flank, and a search
 depth of 0.12 or 0.2 mm, give the same error to 1e-4 arcsec (the loaded points are each
 tooth's refined closest points). The FE mesh is what moves it: 14 / 24 / 34 columns per
 FS pitch (16 / 28 / 40 per CS space, 4 / 4 / 6 tooth layers) give a peak-to-peak of 0.158
@@ -66,24 +71,18 @@ contact points slide along the flanks with ψ, so ~0.03 arcsec of the curve's de
 mesh's. About 0.7 s CPU per position (0.3 s points, 0.35 s S, the solves ms): 11 s for 16,
 the same CPU in a pool of two.
 
-The balls matter far more than the teeth here. Rolling balls (``ball_motion="cage"``) over
-one ball passage (ψ = 0 … 28.75°, 33 positions) move the default set's loaded rotation
-between 79 and 150 arcsec (70 arcsec peak-to-peak; seed000_csf40 75) against 0.16 arcsec
-over a tooth passage with the balls held: the rotation rises smoothly while the balls drift,
-and drops by ~68 arcsec when a ball enters the candidate window (|θ| ≤ the rim's no-load
-contact angle, 57.7° for the default set) — with Hertz ball springs the same (+36 arcsec,
-the same jump). The window is the compliance model's (ContactCompliance.build): balls
-outside it are never supports, and at the rated torque with the window at 57.7° the bore
-moves 57 µm inward at the 62.6° ball and 103 µm at 78.3°; with the window at 65° / 80°
-those balls carry load and the rotation at ψ = 0 is 63 / 27 arcsec instead of 120. So the
-ball-phase dependence is the window's, not a result: a ball model with every ball a
-unilateral support at its no-load gap would settle both.
-
-``ball_supports="all"`` is that model (:meth:`~profilegen.contact.compliance.ContactCompliance.
-solve_unilateral`; the window stays the default): over the same ball passage (17 positions)
-the rotation moves between 26.85 and 27.61 arcsec (default set; seed000_csf40 22.10–23.04),
-no jump larger than 0.55 arcsec, 7–9 of 11 balls loaded; the secant mesh stiffness is
-~2.0·10⁶ N·m/rad instead of 4.55·10⁵ (tests/benchmarks/ball_supports.py).
+Why every ball: with the window's balls only, rolling balls (``ball_motion="cage"``) over
+one ball passage (ψ = 0 … 28.75°) move the default set's loaded rotation between 80.6 and
+148.8 arcsec (68 arcsec peak-to-peak, seed000_csf40 ~75) against 0.16 arcsec over a tooth
+passage with the balls held: the rotation rises while the balls drift, and drops by ~68
+arcsec when a ball enters the window (|θ| ≤ the rim's no-load contact angle, 57.7° for the
+default set). Balls outside the window are never supports there, and at the rated torque the
+race passes 57 µm through the 62.6° ball and 103 µm through the 78.3° one, whose no-load gaps
+are 0.045 and 0.44 µm (tests/benchmarks/ball_physics.py). With every ball one-sided at its
+gap (the default) the same ball passage (17 positions) moves the rotation between 26.85 and
+27.61 arcsec (default set; seed000_csf40 22.10–23.04), no step larger than 0.55 arcsec, 7–9
+of 11 balls loaded; the secant mesh stiffness is ~2.0·10⁶ N·m/rad instead of 4.55·10⁵
+(tests/benchmarks/ball_supports.py).
 """
 
 from __future__ import annotations
