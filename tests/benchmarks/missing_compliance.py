@@ -22,7 +22,8 @@ groove groups for the bearing's estimated bore) — all + Hertz only (the window
 ball outside the window); a thinner outer race than the 2.5 %-of-pitch-diameter ESTIMATE
 (``--race``: the section under the raceway groove; a sensitivity) — all + Hertz only; the race
 and rim bending across the face between the ball at mid-width and the face's ends
-(contact.race_flexure, strip model, in series with each ball's Hertz spring) — all + Hertz only. Printed: K1, K2 and the secants T/φ at T1 and T2 (the catalogue's
+(contact.race_flexure, strip model, in series with each ball's Hertz spring) — all + Hertz only;
+and, as sensitivities of ESTIMATES rather than missing parts, smaller balls and a looser groove. Printed: K1, K2 and the secants T/φ at T1 and T2 (the catalogue's
 K1/K2 definitions on the elastic rotation) against the catalogue's, and each candidate's
 compliance at T1 and T2 (its added rotation / T, rad per N·m), and the compliance that would
 close each model to the catalogue. CPU times.
@@ -186,6 +187,13 @@ def run(path: Path, clearances_um, races_mm=()) -> None:
 
     a = all_phi(every, _Plus())
     models["all + Hertz"][0]["race axial flexure (strip)"] = {t: a[t] - all0[t] for t in (t1, t2)}
+    # the bearing's ESTIMATED ball size and groove conformity (sensitivity: Hertz at the balls)
+    from profilegen.contact.chain import BallBearing
+
+    for label, kw in (("balls 6 mm (ESTIMATE 0.075 d)", {"ball_diameter_mm": 6.0}),
+                      ("groove conformity 0.54 (ESTIMATE 0.52)", {"groove_conformity": 0.54})):
+        a = all_phi(every, BallBearing.from_gearset(gs, **kw))
+        models["all + Hertz"][0][label] = {t: a[t] - all0[t] for t in (t1, t2)}
     # a combination: the held ring + a Normal-group clearance (its middle)
     mid = 0.5 * sum(groups["Normal"])
     s_ring = cs_ring_compliance(rings["CS ring on the bolted face joint"], pts.cs_point_mm, pts.normal, zones=pts.zones)
