@@ -11,7 +11,7 @@ counter-clockwise from ``start_angle`` to ``end_angle``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -228,6 +228,7 @@ class Chain:
     """Elements joined end to start, in order of travel."""
 
     elements: tuple
+    _packed: dict | None = field(default=None, init=False, repr=False)  # the elements as arrays, made when first used
 
     def __post_init__(self):
         object.__setattr__(self, "elements", tuple(self.elements))
@@ -274,16 +275,78 @@ class Chain:
         return np.vstack(pts)
 
     def distance(self, points: np.ndarray) -> np.ndarray:
-        return np.min([e.distance(points) for e in self.elements], axis=0)
+        return self._each(points, feet=False)[0].min(axis=0)
 
     def nearest(self, points: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Distance of points (n, 2) to the chain and its nearest points (n, 2) (exact for
         lines and arcs)."""
-        found = [e.nearest(points) for e in self.elements]
-        dist = np.stack([d for d, _ in found])
+        dist, feet = self._each(points, feet=True)
         best = np.argmin(dist, axis=0)
         k = np.arange(dist.shape[1])
-        return dist[best, k], np.stack([f for _, f in found])[best, k]
+        return dist[best, k], feet[best, k]
+
+    def _each(self, points, *, feet: bool):
+        """Each element's distances (elements, n) and, with ``feet``, nearest points
+        (elements, n, 2): the lines all at once and the arcs all at once (the contact search
+        calls a chain hundreds of times on a few points; element by element the calls'
+        overhead was most of its time), each with :meth:`Line.nearest`'s and
+        :meth:`Arc.nearest`'s arithmetic, so the numbers are the same."""
+        p = np.atleast_2d(points)
+        pack = self._pack()
+        dist = np.empty((len(self.elements), len(p)))
+        foot = np.empty((len(self.elements), len(p), 2)) if feet else None
+        if pack["lines"]:
+            start, d, dd = pack["line_start"], pack["line_d"], pack["line_dd"]
+            s = np.clip(np.matmul(p[None] - start, d[..., None])[..., 0] / dd, 0.0, 1.0)
+            f = start + s[..., None] * d[:, None, :]
+            r = p[None] - f
+            dist[pack["lines"]] = np.hypot(r[..., 0], r[..., 1])
+            if feet:
+                foot[pack["lines"]] = f
+        if pack["arcs"]:
+            centre, radius, start, end = pack["centre"], pack["radius"], pack["arc_start"], pack["arc_end"]
+            rel = p[None] - centre
+            ang = np.arctan2(rel[..., 1], rel[..., 0])
+            frac = np.mod((ang - pack["start_angle"]) * pack["sense"], 2 * math.pi) / pack["sweep"]
+            on = frac <= 1.0
+            d_circle = np.abs(np.hypot(rel[..., 0], rel[..., 1]) - radius)
+            to_start, to_end = p[None] - start, p[None] - end
+            d_start = np.hypot(to_start[..., 0], to_start[..., 1])
+            d_end = np.hypot(to_end[..., 0], to_end[..., 1])
+            dist[pack["arcs"]] = np.where(on, d_circle, np.minimum(d_start, d_end))
+            if feet:
+                circle_foot = centre + radius[..., None] * np.stack([np.cos(ang), np.sin(ang)], -1)
+                end_foot = np.where((d_start <= d_end)[..., None], start, end)
+                foot[pack["arcs"]] = np.where(on[..., None], circle_foot, end_foot)
+        for i in pack["other"]:
+            if feet:
+                dist[i], foot[i] = self.elements[i].nearest(p)
+            else:
+                dist[i] = self.elements[i].distance(p)
+        return dist, foot
+
+    def _pack(self) -> dict:
+        """The elements' parameters as arrays (kept: a chain does not change)."""
+        pack = getattr(self, "_packed", None)  # None too on a chain pickled before the field existed
+        if pack is not None:
+            return pack
+        els = self.elements
+        lines = [i for i, e in enumerate(els) if isinstance(e, Line)]
+        arcs = [i for i, e in enumerate(els) if isinstance(e, Arc)]
+        pack = {"lines": lines, "arcs": arcs, "other": [i for i, e in enumerate(els) if not isinstance(e, (Line, Arc))]}
+        if lines:
+            start = np.array([els[i].start for i in lines])
+            d = np.array([els[i].end - els[i].start for i in lines])
+            pack.update(line_start=start[:, None, :], line_d=d, line_dd=np.array([x @ x for x in d])[:, None])
+        if arcs:
+            a = [els[i] for i in arcs]
+            pack.update(centre=np.array([e.centre for e in a])[:, None, :], radius=np.array([e.radius for e in a])[:, None],
+                        start_angle=np.array([e.start_angle for e in a])[:, None],
+                        sense=np.array([math.copysign(1.0, e.sweep) for e in a])[:, None],
+                        sweep=np.array([abs(e.sweep) for e in a])[:, None],
+                        arc_start=np.array([e.start for e in a])[:, None, :], arc_end=np.array([e.end for e in a])[:, None, :])
+        object.__setattr__(self, "_packed", pack)
+        return pack
 
     def transformed(self, matrix, offset=(0.0, 0.0)) -> "Chain":
         return Chain(tuple(e.transformed(matrix, offset) for e in self.elements))
