@@ -456,16 +456,24 @@ def _edge_projection(xy_nodes: np.ndarray, line: np.ndarray, points: np.ndarray,
         e = np.where(nearest + shift < 0, 0, e)
         x0, x1, x2 = x[2 * e], x[2 * e + 1], x[2 * e + 2]
         xi = np.full(m, 0.5)
+        # Newton on each point's foot, 30 steps at most; a point whose step leaves it where it is
+        # stays there bit for bit, so it leaves the iteration (the same numbers, fewer operations)
+        act = np.arange(m)
         for _ in range(30):
-            n0, n1, n2 = (1 - xi) * (1 - 2 * xi), 4 * xi * (1 - xi), xi * (2 * xi - 1)
-            d0, d1, d2_ = 4 * xi - 3, 4 - 8 * xi, 4 * xi - 1
-            pos = n0[:, None] * x0 + n1[:, None] * x1 + n2[:, None] * x2
-            der = d0[:, None] * x0 + d1[:, None] * x1 + d2_[:, None] * x2
-            sec = 4 * x0 - 8 * x1 + 4 * x2
-            r = pos - points
+            a0, a1, a2, t = x0[act], x1[act], x2[act], xi[act]
+            n0, n1, n2 = (1 - t) * (1 - 2 * t), 4 * t * (1 - t), t * (2 * t - 1)
+            d0, d1, d2_ = 4 * t - 3, 4 - 8 * t, 4 * t - 1
+            pos = n0[:, None] * a0 + n1[:, None] * a1 + n2[:, None] * a2
+            der = d0[:, None] * a0 + d1[:, None] * a1 + d2_[:, None] * a2
+            sec = 4 * a0 - 8 * a1 + 4 * a2
+            r = pos - points[act]
             g = (der * r).sum(1)
             h = (sec * r).sum(1) + (der * der).sum(1)
-            xi = np.clip(xi - g / np.where(h > 0, h, 1.0), 0.0, 1.0)
+            step = np.clip(t - g / np.where(h > 0, h, 1.0), 0.0, 1.0)
+            xi[act] = step
+            act = act[step != t]
+            if not act.size:
+                break
         n0, n1, n2 = (1 - xi) * (1 - 2 * xi), 4 * xi * (1 - xi), xi * (2 * xi - 1)
         pos = n0[:, None] * x0 + n1[:, None] * x1 + n2[:, None] * x2
         dist = np.linalg.norm(pos - points, axis=1)
