@@ -34,7 +34,7 @@ from .. import checks
 from ..errors import ProfilegenError
 
 __all__ = ["ClearanceError", "ISO5753_DEEP_GROOVE_UM", "clearance_ball_gaps_mm", "iso5753_radial_clearance_um",
-           "radial_load_with_clearance_n"]
+           "radial_load_with_clearance_n", "with_clearance_and_housing"]
 
 
 class ClearanceError(ProfilegenError, ValueError):
@@ -92,3 +92,40 @@ def radial_load_with_clearance_n(radial_displacement_mm, radial_clearance_mm: fl
     delta = dr[..., None] * np.cos(psi) - 0.5 * c
     q = np.where(delta > 0.0, np.clip(delta, 0.0, None) / ch, 0.0) ** 1.5
     return (q * np.cos(psi)).sum(axis=-1), q
+
+
+def with_clearance_and_housing(compliance, points, gearset, *, radial_clearance_mm: float = 0.0,
+                               cs_ring=None):
+    """The contact compliance with the two candidates this module and :mod:`~profilegen.contact.
+    cs_ring` measure, as the chain would take them (docs/catalogue_comparison.md):
+
+    * ``radial_clearance_mm`` c_r: every ball outside the window c_r/2 further away
+      (:func:`clearance_ball_gaps_mm` on ``compliance.ball_gap_mm``) — only with every ball a
+      one-sided support (``ball_supports="all"``; the window has no ball outside it: a
+      ClearanceError if c_r > 0 there);
+    * ``cs_ring``: a :class:`~profilegen.contact.cs_ring.CSRing` (e.g. ``CSRing.from_gearset(gs)
+      .held(k)``) whose ovalisation compliance at the contact points is added to the CS block
+      (parallel to the contact's CS sector), or None.
+
+    ``points``: the :class:`~profilegen.contact.points.ContactPoints` the compliance was built
+    for; ``gearset`` is not read beyond that (kept for the chain's signature). Returns a new
+    compliance (the matrix reassembled with the same active balls)."""
+    import dataclasses
+
+    from .cs_ring import CSRing, cs_ring_compliance
+
+    del gearset
+    c = _positive("radial_clearance_mm", radial_clearance_mm, allow_zero=True)
+    out = compliance
+    if c > 0.0:
+        if getattr(compliance, "ball_supports", "window") != "all":
+            raise ClearanceError(f"radial_clearance_mm = {c!r} mm: needs every ball a one-sided support "
+                                 "(ball_supports='all'); the window's balls have no play to add")
+        gaps = np.zeros(compliance.ball_angle_rad.size) if compliance.ball_gap_mm is None else compliance.ball_gap_mm
+        out = dataclasses.replace(out, ball_gap_mm=clearance_ball_gaps_mm(gaps, c))
+    if cs_ring is not None:
+        if not isinstance(cs_ring, CSRing):
+            raise ClearanceError(f"cs_ring: must be a CSRing or None, got {type(cs_ring).__name__}")
+        s_ring = cs_ring_compliance(cs_ring, points.cs_point_mm, points.normal, zones=points.zones)
+        out = dataclasses.replace(out, cs_matrix_mm_per_n=out.cs_matrix_mm_per_n + s_ring)
+    return out.with_balls(out.ball_active) if out is not compliance else out

@@ -121,3 +121,42 @@ def test_race_axial_flexure_is_two_cantilevers_under_an_even_load():
     assert race_axial_flexure_compliance_mm_per_n(b, s, hr, hf, E, nu) == pytest.approx(mean, rel=1e-5)
     with pytest.raises(RaceFlexureError, match="race_thickness_mm"):
         race_axial_flexure_compliance_mm_per_n(b, s, 0.0, 0.0, E)
+
+
+def test_clearance_and_housing_enter_the_contact_as_the_chain_would_take_them():
+    """with_clearance_and_housing on the default set (sketch design, every ball one-sided):
+    the gaps grow by c_r/2 outside the window only, the CS block by exactly the ring's S; a
+    clearance far larger than any ball travel gives the window's answer (the window model
+    solved by its own settling loop), and each candidate softens the mesh."""
+    import profilegen as pg
+    from profilegen.contact import ContactInput, contact_points
+    from profilegen.contact.analysis import solve_contact
+    from profilegen.contact.clearance import with_clearance_and_housing
+    from profilegen.contact.compliance import ContactCompliance
+
+    gs = pg.load_gearset(pg.default_gearset_path())
+    inputs = ContactInput.from_design(pg.design(gs, scene="sketch", contact=False, stress=False))
+    pts = contact_points(inputs)
+    build = dict(wrap_half_angle_rad=1.0)
+    every = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
+                                    ball_supports="all", **build)
+    window = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm, **build)
+    ring = CSRing.from_gearset(gs).held(500.0)
+    both = with_clearance_and_housing(every, pts, gs, radial_clearance_mm=0.02, cs_ring=ring)
+    np.testing.assert_array_equal(both.ball_gap_mm, np.where(every.ball_gap_mm > 0, every.ball_gap_mm + 0.01, 0.0))
+    s_ring = cs_ring_compliance(ring, pts.cs_point_mm, pts.normal, zones=pts.zones)
+    np.testing.assert_allclose(both.cs_matrix_mm_per_n - every.cs_matrix_mm_per_n, s_ring, rtol=1e-12, atol=1e-18)
+    torque = 100.0
+
+    def phi(comp):
+        return comp.solve_unilateral(pts.theta_rad, pts.lever_mm, torque / pts.zones * 1e3)[0].phi_rad
+
+    loose = with_clearance_and_housing(every, pts, gs, radial_clearance_mm=2.0)
+    ref = solve_contact(inputs, [torque], points=pts, compliance=window).cases[0].rotation_rad
+    assert phi(loose) == pytest.approx(ref, rel=1e-9)
+    p0 = phi(every)
+    p_gap = phi(with_clearance_and_housing(every, pts, gs, radial_clearance_mm=0.02))
+    p_ring = phi(with_clearance_and_housing(every, pts, gs, cs_ring=ring))
+    assert p0 < p_gap < phi(loose) and p0 < p_ring < phi(both)
+    with pytest.raises(ClearanceError, match="radial_clearance_mm"):
+        with_clearance_and_housing(window, pts, gs, radial_clearance_mm=0.01)
