@@ -139,7 +139,9 @@ def _solve_at(model, phi: float, s_fs, s_cs, state, *, tol_mm: float, max_iterat
     for it in range(1, max_iterations + 1):
         s_tot = x[:m] + x[m:]
         gap, lever = model.geometry(s_tot, phi)
-        q = gap - model.sin_alpha * s_tot[model.slot]
+        # the part of the retreat S already holds to first order (a coupled model's own share)
+        held = model.held_retreat(state, s_tot) if hasattr(model, "held_retreat") else s_tot
+        q = gap - model.sin_alpha * held[model.slot]
         f, state, p_fs, p_cs = model.respond(q, state)
         offset = model.retreat_offset(state) if hasattr(model, "retreat_offset") else 0.0
         g = np.concatenate([p_fs @ f + offset, p_cs @ f])
@@ -240,6 +242,7 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
         s_fs, s_cs, state = p.retreat_fs_mm, p.retreat_mm - p.retreat_fs_mm, p.state
         phi += step
         step *= grow
+    found = ended(pts)
     for _ in range(refine):
         hit = ended(pts)
         if hit is None or hit[1] < 2:
@@ -260,6 +263,12 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
         fine.append(pts[k])
         pts = pts[:k - 2] + sorted(fine, key=lambda x: x.phi_rad) + pts[k + 1:]
     hit = ended(pts)
+    if hit is None and found is not None and found[0] == "limit point":
+        # the refinement's finer steps followed T(φ) up where the coarse step had found it
+        # falling (another equilibrium branch past the peak): the peak of the refined path
+        best = max(pts, key=lambda x: x.torque_nm)
+        warnings.append("the limit point's refinement found T(φ) still rising: its largest torque is taken")
+        return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "limit point", tuple(warnings))
     if hit is None and pts and warnings and "no equilibrium just beyond" in warnings[-1]:
         best = max(pts, key=lambda x: x.torque_nm)
         return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "end of path", tuple(warnings))
@@ -439,7 +448,8 @@ class DesignClimb:
             # foot's direction, out of the FS), kept within the corner's cone of normals
             # between the flank's n_f and the tip land's n_t: n = a n_f + b n_t, a, b ≥ 0
             nf, nt = n[ci], turn(self._tn0, self.rotation * phi)
-            v = (foot[ci] - p[ci]) * np.where(inside[ci], -1.0, 1.0)[:, None]
+            v = self._surface_normal(p[ci])
+            v *= np.sign(np.einsum("ij,ij->i", v, nf + nt))[:, None]  # into the CS (the cone's side)
             d = np.linalg.norm(v, axis=1)
             a, b = np.ones(ci.size), np.zeros(ci.size)
             ok = d > 1e-12
@@ -459,6 +469,30 @@ class DesignClimb:
             self.sin_alpha[ci] = a * self._sa_flank[ci] + b * self._sa_tip
         lever = self.rotation * (p[:, 1] * n[:, 0] - p[:, 0] * n[:, 1])
         return gap, lever
+
+    def _surface_normal(self, p):
+        """The CS space's unit normal (either sense) at the nearest point of each of ``p``: of
+        the nearest element, exact for its arcs and lines — not the direction to the foot,
+        which turns over as a point crosses the surface."""
+        from ..contour import Arc, Line
+
+        found = [e.nearest(p) for e in self._space.elements]
+        best = np.argmin(np.stack([d for d, _ in found]), axis=0)
+        out = np.zeros_like(p)
+        for k, e in enumerate(self._space.elements):
+            on = best == k
+            if not on.any():
+                continue
+            foot = found[k][1][on]
+            if isinstance(e, Arc):
+                v = foot - np.asarray(e.centre, dtype=float)
+            elif isinstance(e, Line):
+                t = np.asarray(e.end, dtype=float) - np.asarray(e.start, dtype=float)
+                v = np.broadcast_to(np.array([-t[1], t[0]]), foot.shape).copy()
+            else:  # any other element: the direction to its foot
+                v = foot - p[on]
+            out[on] = v / np.maximum(np.linalg.norm(v, axis=1), 1e-300)[:, None]
+        return out
 
     def _expand(self, f):
         """Station forces → forces on the built columns (the corners split into a n_f + b n_t)."""
@@ -664,18 +698,23 @@ def section_inputs(inputs, section, reference):
 
 
 class SlicedClimb:
-    """The climb of N axial slices in parallel (:mod:`profilegen.contact.face_load`'s model:
-    independent slices, each a :class:`DesignClimb` of its section built with
-    ``width_fraction`` = its share of the face, sharing the rotation φ; the torque is their
-    sum). Each slice's teeth retreat by their own forces (no coupling along the face: the
-    rim, the balls and the CS ring of a slice carry only that slice's load — a Winkler
-    foundation, which lets a shallow slice ride out alone; a face held straight would not).
-    With identical slices it is the one-section climb exactly (each slice 1/N of the load)."""
+    """The climb of N axial slices in parallel, each a :class:`DesignClimb` of its section built
+    with ``width_fraction`` = its share of the face, sharing the rotation φ; the torque is
+    their sum. ``coupled=False`` (:mod:`profilegen.contact.face_load`'s model): each slice's
+    teeth retreat by their own forces — the rim, the balls and the CS ring of a slice carry
+    only that slice's load (a Winkler foundation). ``coupled=True``: the face held straight —
+    a tooth retreats alike along the face, by the mean of the slices' retreats (each slice's
+    P_i F_i is the whole face's retreat under N× its load, so the mean is the whole face's
+    under the sum), while each slice's contact keeps its own local compliance (its S with the
+    own-slice first-order retreat taken out of the gaps, the shared one put in). The radial
+    compliance (balls, CS ring, rim) acts over the face as one; the truth lies between.
+    With identical slices both are the one-section climb exactly (each slice 1/N of the load)."""
 
-    def __init__(self, models):
+    def __init__(self, models, *, coupled: bool = False):
         self.models = tuple(models)
         if not self.models:
             raise ConvergenceError("SlicedClimb: no slices")
+        self.coupled = bool(coupled)
         self.zones = self.models[0].zones
         self._tooth_off = np.cumsum([0] + [m.depth_mm.size for m in self.models])
         self._pt_off = np.cumsum([0] + [m.n for m in self.models])
@@ -684,6 +723,9 @@ class SlicedClimb:
         self.corner = np.concatenate([m.corner for m in self.models])
         self.n = int(self._pt_off[-1])
         self.corner_criterion = any(getattr(m, "corner_criterion", True) for m in self.models)
+        # the averaging of the copies of each tooth over the slices (m_total × m_total)
+        ids = np.concatenate([m.teeth for m in self.models])
+        self._mean = (ids[:, None] == ids[None, :]).astype(float) / len(self.models)
 
     @property
     def sin_alpha(self):
@@ -696,19 +738,35 @@ class SlicedClimb:
         out = [m.geometry(si, phi) for m, si in zip(self.models, self._split(s, self._tooth_off))]
         return np.concatenate([g for g, _ in out]), np.concatenate([r for _, r in out])
 
-    def initial_state(self):
-        return tuple(m.initial_state() for m in self.models)
-
-    def settled(self, state) -> bool:
-        return all(m.settled(st) for m, st in zip(self.models, state))
+    def _own_offset(self, state):
+        return np.concatenate([np.broadcast_to(m.retreat_offset(st), (m.depth_mm.size,))
+                               for m, st in zip(self.models, state[0])])
 
     def retreat_offset(self, state):
-        return np.concatenate([np.broadcast_to(m.retreat_offset(st), (m.depth_mm.size,))
-                               for m, st in zip(self.models, state)])
+        off = self._own_offset(state)
+        return self._mean @ off if self.coupled else off
+
+    def held_retreat(self, state, s):
+        """The retreat the slices' S hold to first order: uncoupled, the retreat itself; coupled,
+        each slice's own P_i F_i (+ its balls' offset) of the last response (s at the first)."""
+        if not self.coupled or state[1] is None:
+            return s
+        return state[1]
+
+    def initial_state(self):
+        return (tuple(m.initial_state() for m in self.models), None)
+
+    def settled(self, state) -> bool:
+        return all(m.settled(st) for m, st in zip(self.models, state[0]))
 
     def respond(self, q, state):
         from scipy.linalg import block_diag
 
-        out = [m.respond(qi, st) for m, qi, st in zip(self.models, self._split(q, self._pt_off), state)]
-        return (np.concatenate([o[0] for o in out]), tuple(o[1] for o in out),
-                block_diag(*[o[2] for o in out]), block_diag(*[o[3] for o in out]))
+        out = [m.respond(qi, st) for m, qi, st in zip(self.models, self._split(q, self._pt_off), state[0])]
+        f = np.concatenate([o[0] for o in out])
+        sub = tuple(o[1] for o in out)
+        p_fs, p_cs = block_diag(*[o[2] for o in out]), block_diag(*[o[3] for o in out])
+        if not self.coupled:
+            return f, (sub, None), p_fs, p_cs
+        own = p_fs @ f + p_cs @ f + self._own_offset((sub, None))
+        return f, (sub, own), self._mean @ p_fs, self._mean @ p_cs

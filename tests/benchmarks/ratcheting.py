@@ -1,6 +1,19 @@
 """Ratcheting torque estimate (issue 16 item 4) and its bad inputs.
 
-    python tests/benchmarks/ratcheting.py [--climb-only] [--ring-scale 2,4,8] [--shift 0.25,0.5,0.75] [profiles/...]
+    python tests/benchmarks/ratcheting.py [--climb-only] [--ring-scale 2,4,8] [--shift 0.25,0.5,0.75]
+        [--positions 8] [--face 2,4] [--parts] [profiles/...]
+
+Studies (engineer P3, issue 16 item 4; each adds its table after the climb):
+``--positions N``: the climb at N wave-generator positions evenly over one tooth passage
+(each tooth at 2πi/z1 − f·2π/z1, f = k/N), and their minimum — the gear running under load
+meets every position. ``--face N1,N2``: the climb at the 3D cup's face-end sections
+(press_cup; each section's change from the design section added to the design's
+deformation, contact.climb.section_inputs), each as if the whole face were that section, and
+over N independent slices sharing the rotation (contact.climb.SlicedClimb). ``--parts``: the
+force-weighted retreat split into the CS ring, the Hertz balls and the FEM (rim, race, tooth)
+along the path, and the climb with rigid balls, without the CS ring, with neither, with every
+ball one-sided at its no-load gap (ball_supports="all"), and with the FS tip-corner normal held
+at the flank's (the model before P3).
 
 The climb (profilegen.contact.climb, the default estimate since helper E2): per set the
 linear estimate (climb=False, E's ladder), the climb's estimate with its path (rotation,
@@ -41,7 +54,133 @@ from profilegen.contact.ratchet import (  # noqa: E402
     BearingFitError, RatchetingError, check_bearing_fits, ratcheting_torque)
 
 SETS = [ROOT / "profiles" / "seed000_csf40.toml", ROOT / "profiles" / "csf32_100.toml", Path(pg.default_gearset_path())]
-ARGS = {"climb_only": False, "ring_scale": [], "shift": []}
+ARGS = {"climb_only": False, "ring_scale": [], "shift": [], "positions": 0, "face": [], "parts": False}
+
+
+def _climb_setup(gs, design, **kw):
+    """A DesignClimb of the design as ratcheting_torque builds it (Hertz balls, the free CS ring)."""
+    import math
+
+    import numpy as np
+
+    from profilegen.contact import ratchet
+    from profilegen.contact.climb import DesignClimb
+    from profilegen.contact.inputs import ContactInput
+
+    inputs = kw.pop("inputs", None) or ContactInput.from_design(design)
+    r_mean, thick, width, _ = ratchet._cs_ring_section(gs, ContactInput.from_design(design))
+
+    def factory(phis):
+        ang = np.concatenate([phis, phis + math.pi])
+        return ratchet.cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
+                                                 youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
+    return DesignClimb(inputs, side=1, stations=9, max_gap_mm=0.15, race_thickness_mm=None,
+                       bearing=BallBearing.from_gearset(gs), ring_factory=factory, **kw)
+
+
+def _follow(model, rated):
+    from threadpoolctl import threadpool_limits
+
+    from profilegen.contact.climb import SlicedClimb, climb
+
+    with threadpool_limits(limits=1, user_api="blas"):
+        parts = model.models if isinstance(model, SlicedClimb) else [model]
+        first = [m.first_rotation(rated) for m in parts]
+        theta, phi = min(f[0] for f in first), max(f[1] for f in first)
+        step = 0.5 * max(phi - theta, 1e-9)
+        return climb(model, theta + step, step, max_torque_nm=20000.0)
+
+
+def positions_run(gs, design) -> None:
+    import math
+
+    import numpy as np
+
+    n = ARGS["positions"]
+    lad = [gs.torque.rated_nm, 2 * gs.torque.rated_nm]
+    print(f"\n-- the climb at {n} wave-generator positions over one tooth passage")
+    out = []
+    for f in np.arange(n) / n:
+        t0 = time.process_time()
+        r = ratcheting_torque(design, torques_nm=lad, climb_shift_rad=-f * 2 * math.pi / gs.gear.flexspline_teeth)
+        out.append(r.torque_nm)
+        print(f"  {f:.3f} of a tooth passage: {r.torque_nm:8.1f} N·m ({r.climb['criterion']}), "
+              f"{time.process_time() - t0:.1f} s CPU")
+    t = np.array(out)
+    print(f"  minimum {t.min():.1f} N·m at {np.argmin(t) / n:.3f}, maximum {t.max():.1f}, minimum / mean {t.min() / t.mean():.3f}")
+
+
+def face_run(gs, design) -> None:
+    import numpy as np
+
+    from profilegen.contact.climb import SlicedClimb, section_inputs
+    from profilegen.contact.face_load import cup_sections, slice_positions
+    from profilegen.contact.inputs import ContactInput
+    from profilegen.rim.cup.contact import press_cup
+
+    inputs = ContactInput.from_design(design)
+    cup = press_cup(gs)
+    b, z0 = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
+    rated = float(gs.torque.rated_nm)
+    print(f"\n-- across the face (3D cup press_cup, face {b:g} mm, design section z0 = {z0:g} mm)")
+    ends = np.array([z0 - 0.5 * b, z0 + 0.5 * b])
+    secs = cup_sections(cup, np.r_[z0, ends])
+    for z, sec in zip(ends, secs[1:]):
+        dw = float(sec.evaluate(np.zeros(1), order=0)[0][0, 0] - secs[0].evaluate(np.zeros(1), order=0)[0][0, 0])
+        t0 = time.process_time()
+        m = _climb_setup(gs, design, inputs=section_inputs(inputs, sec, secs[0]))
+        path = _follow(m, rated)
+        print(f"  section z = {z:g} mm (ω on the major axis {dw * 1e3:+.1f} µm against the design section), the whole "
+              f"face so: {path.torque_nm:.1f} N·m ({path.criterion}); corner depth h̄ {np.mean(m.depth_mm):.3f} mm; "
+              f"{time.process_time() - t0:.1f} s CPU")
+    for n in ARGS["face"]:
+        z = slice_positions(b, n, z0)
+        secs = cup_sections(cup, np.r_[z0, z])
+        t0 = time.process_time()
+        models = [_climb_setup(gs, design, inputs=section_inputs(inputs, sec, secs[0]), width_fraction=1.0 / n)
+                  for sec in secs[1:]]
+        for coupled in (False, True):
+            t1 = time.process_time()
+            sliced = SlicedClimb(models, coupled=coupled)
+            path = _follow(sliced, rated)
+            last = path.points[-1]
+            share = [float(np.sum(last.force_n[a:c])) for a, c in zip(sliced._pt_off[:-1], sliced._pt_off[1:])]
+            margin = [float(np.sum(last.force_n[a:c] * (sliced.depth_mm - last.retreat_mm)[sliced.slot[a:c]])
+                            / max(np.sum(last.force_n[a:c]), 1e-300)) for a, c in zip(sliced._pt_off[:-1], sliced._pt_off[1:])]
+            print(f"  {n} slices at z = {np.round(z, 2).tolist()} mm, "
+                  f"{'the face held straight (coupled)' if coupled else 'independent'}: {path.torque_nm:.1f} N·m "
+                  f"({path.criterion}); at the last point the slices' shares of the normal force "
+                  f"{np.round(np.array(share) / sum(share), 3).tolist()}, their force-weighted margins h − s "
+                  f"{np.round(margin, 3).tolist()} mm; {time.process_time() - t1 + (t1 - t0 if not coupled else 0):.1f} s CPU")
+
+
+def parts_run(gs, design) -> None:
+    import numpy as np
+
+    rated = float(gs.torque.rated_nm)
+    print("\n-- the retreat's parts along the climb (force-weighted over the loaded teeth, µm)")
+    m = _climb_setup(gs, design)
+    path = _follow(m, rated)
+    print(f"  {'T (N·m)':>8} {'retreat':>8} {'CS ring':>8} {'Hertz':>8} {'FEM':>8}  balls")
+    for p in path.points[::2] + (path.points[-1],):
+        st = p.state
+        m.geometry(p.retreat_mm, p.phi_rad)
+        _, pfs_h, pcs = m._effective(*m._matrices(st.active, st.springs)[:2])
+        _, pfs_r, _ = m._effective(*m._matrices(st.active, None)[:2])
+        f = p.force_n
+        w = np.bincount(m.slot, weights=f, minlength=m.teeth.size)
+        w = w / w.sum()
+        ring, hertz, fem = w @ (pcs @ f), w @ ((pfs_h - pfs_r) @ f), w @ (pfs_r @ f)
+        print(f"  {p.torque_nm:8.0f} {w @ p.retreat_mm * 1e3:8.1f} {ring * 1e3:8.1f} {hertz * 1e3:8.1f} {fem * 1e3:8.1f}  "
+              f"{int(st.active.sum())}/{st.active.size}")
+    lad = [rated, 2 * rated]
+    for label, kw in (("rigid balls", {"bearing": None}), ("no CS ring", {"cs_ring": False}),
+                      ("rigid balls, no CS ring", {"bearing": None, "cs_ring": False}),
+                      ("every ball one-sided at its no-load gap", {"climb_ball_supports": "all"}),
+                      ("the FS tip-corner normal held at the flank's", {"climb_corner_normal": False})):
+        t0 = time.process_time()
+        r = ratcheting_torque(design, torques_nm=lad, **kw)
+        print(f"  {label}: {r.torque_nm:.1f} N·m ({r.climb['criterion']}), {time.process_time() - t0:.1f} s CPU")
 
 
 def _catalogue(gs):
@@ -86,6 +225,12 @@ def run(path: Path) -> None:
     design = pg.design(gs, scene="design", contact=False, stress=False)
     print(f"design scene: {time.process_time() - t0:.2f} s CPU")
     climb_run(gs, design)
+    if ARGS["positions"]:
+        positions_run(gs, design)
+    if ARGS["face"]:
+        face_run(gs, design)
+    if ARGS["parts"]:
+        parts_run(gs, design)
     if ARGS["climb_only"]:
         return
     for label, kw in (("whole model (linear)", {"climb": False}), ("no CS ring (linear)", {"cs_ring": False, "climb": False}),
@@ -147,6 +292,17 @@ def main() -> None:
         k = argv.index("--shift")
         ARGS["shift"] = [float(x) for x in argv[k + 1].split(",")]
         del argv[k:k + 2]
+    if "--positions" in argv:
+        k = argv.index("--positions")
+        ARGS["positions"] = int(argv[k + 1])
+        del argv[k:k + 2]
+    if "--face" in argv:
+        k = argv.index("--face")
+        ARGS["face"] = [int(x) for x in argv[k + 1].split(",")]
+        del argv[k:k + 2]
+    if "--parts" in argv:
+        argv.remove("--parts")
+        ARGS["parts"] = True
     for path in [Path(a) for a in argv] or SETS:
         run(path)
 

@@ -321,6 +321,10 @@ def test_identical_slices_are_the_one_section_climb(design, corner_model):
     assert f1.max() > 1.0
     np.testing.assert_allclose(f2, 0.5 * np.r_[f1, f1], rtol=1e-6, atol=1e-9 * f1.max())
     np.testing.assert_allclose(r2, np.r_[r1, r1], rtol=1e-6, atol=1e-12)
+    # the face held straight: every tooth retreats by the mean of its slices' — the same here
+    f3, r3 = _respond(SlicedClimb([half, half], coupled=True), np.r_[s, s], phi)
+    np.testing.assert_allclose(f3, f2, rtol=1e-12, atol=1e-12 * f1.max())
+    np.testing.assert_allclose(r3, r2, rtol=1e-9, atol=1e-12)
 
 
 def test_every_ball_one_sided_with_far_balls_is_the_window(design, corner_model):
