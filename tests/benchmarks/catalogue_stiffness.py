@@ -160,7 +160,7 @@ def run(path: Path) -> list:
           f"{bearing.approach_mm(q) * 1e3:.2f} µm — {squeeze / float(bearing.approach_mm(q)):.1%} of the ball term, "
           "left out")
 
-    rows = [("chain (issue 16 as landed)", phi_total[t1], phi_total[t2])]
+    rows = [("chain, window balls + Hertz + series", phi_total[t1], phi_total[t2])]
     for name, d in extra.items():
         rows.append((f"+ {name}", phi_total[t1] + d[t1], phi_total[t2] + d[t2]))
     def plus(*names):

@@ -6,7 +6,7 @@ For each gear set (default seed000_csf40; design scene): the catalogue row of it
 ratio (profilegen.contact.catalogue.catalogue_row: the CHA table's i > 50 row, the component
 set's values), then the rotation at T1 and T2 of two models of the whole gear —
 
-* **window**: the chain as landed (chain.torsional_curve: window balls, Hertz springs, series
+* **window**: the chain with the window (chain.torsional_curve(ball_supports="window"): window balls, Hertz springs, series
   cup wall + cup bottom + CS body); a candidate's change is added from the rigid-ball window
   mesh (solve_contact with the candidate's compliance, balls re-settled);
 * **all + Hertz**: every ball of the zone a one-sided Hertz support at its no-load gap
@@ -132,7 +132,7 @@ def run(path: Path, clearances_um, races_mm=()) -> None:
         print("chain.torsional_curve(ball_supports='all'): elastic rotation "
               + ", ".join(f"{t:g} N·m {(float(np.asarray(other.rotation_rad)[np.flatnonzero(ot == t)[0]]) - th) * ARCSEC:.2f}″"
                           for t in (t1, t2)) + "; here: " + ", ".join(f"{all0[t] * ARCSEC:.2f}″" for t in (t1, t2)))
-    models = {"window (chain as landed)": ({}, base_window), "all + Hertz": ({}, all0)}
+    models = {"window chain": ({}, base_window), "all + Hertz": ({}, all0)}
 
     # CS ring candidates
     ring = CSRing.from_gearset(gs)
@@ -150,7 +150,7 @@ def run(path: Path, clearances_um, races_mm=()) -> None:
     for name, rg in rings.items():
         s_ring = cs_ring_compliance(rg, pts.cs_point_mm, pts.normal, zones=pts.zones)
         w = window_phi(with_cs(window, s_ring))
-        models["window (chain as landed)"][0][name] = {t: w[t] - window_mesh0[t] for t in (t1, t2)}
+        models["window chain"][0][name] = {t: w[t] - window_mesh0[t] for t in (t1, t2)}
         a = all_phi(dataclasses.replace(every, cs_matrix_mm_per_n=every.cs_matrix_mm_per_n + s_ring))
         models["all + Hertz"][0][name] = {t: a[t] - all0[t] for t in (t1, t2)}
     # bearing clearance
