@@ -23,7 +23,9 @@ ball outside the window); a thinner outer race than the 2.5 %-of-pitch-diameter 
 (``--race``: the section under the raceway groove; a sensitivity) — all + Hertz only; the race
 and rim bending across the face between the ball at mid-width and the face's ends
 (contact.race_flexure, strip model, in series with each ball's Hertz spring) — all + Hertz only;
-and, as sensitivities of ESTIMATES rather than missing parts, smaller balls and a looser groove. Printed: K1, K2 and the secants T/φ at T1 and T2 (the catalogue's
+and, as sensitivities of ESTIMATES rather than missing parts, smaller balls and a looser groove,
+and a cup thinner than the seed's (wall below the tooth ring and bottom at 0.6 of the rim
+thickness: a series term, both models). Printed: K1, K2 and the secants T/φ at T1 and T2 (the catalogue's
 K1/K2 definitions on the elastic rotation) against the catalogue's, and each candidate's
 compliance at T1 and T2 (its added rotation / T, rad per N·m), and the compliance that would
 close each model to the catalogue. CPU times.
@@ -63,6 +65,8 @@ ARCSEC = 180 * 3600 / math.pi
 #: lateral stiffness ~2·10⁵ N/mm per bolt before slip; the bolt circle at 85 % of the way
 #: from the ring's inner to its outer radius)
 BOLTS, BOLT_K_N_PER_MM, BOLT_CIRCLE = 16, 2.0e5, 0.85
+#: a thinner cup than the seed's one thickness (ESTIMATE): wall below the tooth ring and bottom × this
+CUP_FRACTION = 0.6
 
 
 def with_cs(comp: ContactCompliance, extra: np.ndarray) -> ContactCompliance:
@@ -194,6 +198,14 @@ def run(path: Path, clearances_um, races_mm=()) -> None:
                       ("groove conformity 0.54 (ESTIMATE 0.52)", {"groove_conformity": 0.54})):
         a = all_phi(every, BallBearing.from_gearset(gs, **kw))
         models["all + Hertz"][0][label] = {t: a[t] - all0[t] for t in (t1, t2)}
+    # the seed's cup against a thinner one (ESTIMATE of a catalogue cup: wall below the tooth ring 0.6 δ,
+    # bottom 0.6 t): tube and annulus compliances ∝ 1/t, a series term in both models
+    wall, bottom = chain.part("cup_wall"), chain.part("cup_bottom")
+    wp = wall.parameters
+    d_cup = (wall.compliance_rad_per_nm * wp["wall_length_mm"] / wp["effective_length_mm"]
+             + bottom.compliance_rad_per_nm) * (1.0 / CUP_FRACTION - 1.0)
+    for model in models.values():
+        model[0][f"cup wall and bottom {CUP_FRACTION:g}× (ESTIMATE)"] = {t: t * d_cup for t in (t1, t2)}
     # a combination: the held ring + a Normal-group clearance (its middle)
     mid = 0.5 * sum(groups["Normal"])
     s_ring = cs_ring_compliance(rings["CS ring on the bolted face joint"], pts.cs_point_mm, pts.normal, zones=pts.zones)
