@@ -387,15 +387,177 @@ class _Factor:
         return out
 
 
+_BLAS_CONTROLLER: list = []  # threadpoolctl's controller, made once: each threadpool_limits scans the
+# loaded libraries anew (8 ms; 144 calls took 1.2 s of a toothed-rim solve)
+
+
 def _one_blas_thread(on: bool = True):
     """BLAS limited to one thread inside the block when ``on`` (``threadpoolctl``)."""
     import contextlib
 
     if not on:
         return contextlib.nullcontext()
-    from threadpoolctl import threadpool_limits
+    from threadpoolctl import ThreadpoolController
 
-    return threadpool_limits(limits=1, user_api="blas")
+    if not _BLAS_CONTROLLER:
+        _BLAS_CONTROLLER.append(ThreadpoolController())  # numpy's and scipy's BLAS are loaded (module imports)
+    return _BLAS_CONTROLLER[0].limit(limits=1, user_api="blas")
+
+
+#: below this many right-hand sides LAPACK's banded solve (~6 ms a column on the toothed rim) beats
+#: the block substitution (~2.8 ms a column plus ~45 ms a call)
+_FEW_COLUMNS = 16
+#: bore nodes above which solve_ring solves the compliance's columns lazily (lazy_columns=None)
+LAZY_BORE_NODES = 256
+
+
+class _DenseCompliance:
+    """The bore compliance G (n_b, 2, n_k, 2) of the first n_k bore nodes as one solved array
+    (every column condensed up front): what :func:`_contact_set` reads through ``take`` /
+    ``apply`` / ``dense``, the same interface as :class:`_LazyCompliance`."""
+
+    def __init__(self, array):
+        self.array = array
+
+    def take(self, nodes):
+        """G's columns of the kept ``nodes``: (n_b, 2, len(nodes), 2)."""
+        return self.array[:, :, nodes]
+
+    def apply(self, force):
+        """The bore's displacement (n_b, 2) under the forces (n_k, 2) on the kept nodes."""
+        return np.einsum("iajb,jb->ia", self.array, force)
+
+    def dense(self, n_k: int):
+        return self.array
+
+
+class _LazyCompliance:
+    """The bore compliance G = P K⁻¹ Pᵀ (rows: every bore dof; columns: bore node j's x and y)
+    solved column pair by column pair when a contact solve first asks for it, and kept.
+
+    The contact needs G's columns only where a force acts — the active set and the nodes a
+    pivoting step tries (~80–150 of the toothed rim's 1228 kept nodes) — so condensing every
+    kept node (2456 right-hand sides of a 28818-row band, two factors per mesh) was most of
+    the verify tier's rim time. The columns are the same solves as the up-front condensation's
+    (one BLAS thread; :meth:`_Factor.solve_many`, or the banded solve for a few), unsymmetrised (G_ij and G_ji agree to
+    rounding). ``dense(n_k)`` solves every missing column of the first ``n_k`` nodes (the NNLS
+    fallback) and returns the up-front condensation's array, kept block symmetrised."""
+
+    def __init__(self, factor, n_b: int, rhs_rows, out_rows, out_cols, n_free: int):
+        self.factor = factor
+        self.n_b = int(n_b)
+        self._rhs_rows = rhs_rows  # free-dof index of bore dof c (−1: fixed by symmetry, a zero column)
+        self._out_rows, self._out_cols = out_rows, out_cols  # the free bore dofs: rows of the solution, G's rows
+        self._n_free = int(n_free)
+        self._cols = np.zeros((2 * self.n_b, 2 * self.n_b))  # row c: G's column c (untouched pages stay unallocated)
+        self._have = np.zeros(self.n_b, dtype=bool)
+        self.solves = 0  # column pairs solved (for the record)
+
+    def _solve(self, nodes):
+        dofs = (2 * nodes[:, None] + np.arange(2)).ravel()
+        dofs = dofs[self._rhs_rows[dofs] >= 0]
+        if dofs.size:
+            rhs = np.zeros((self._n_free, dofs.size))
+            rhs[self._rhs_rows[dofs], np.arange(dofs.size)] = 1.0
+            with _one_blas_thread():  # LAPACK's banded solve for a few columns, block substitution for many
+                sol = (self.factor.solve if dofs.size < _FEW_COLUMNS else self.factor.solve_many)(rhs)
+            self._cols[np.ix_(dofs, self._out_cols)] = sol[self._out_rows].T
+        self._have[nodes] = True
+        self.solves += int(nodes.size)
+
+    def take(self, nodes):
+        nodes = np.asarray(nodes, dtype=int).ravel()
+        missing = np.unique(nodes[~self._have[nodes]])
+        if missing.size:
+            self._solve(missing)
+        c = (2 * nodes[:, None] + np.arange(2)).ravel()
+        return self._cols[c].T.reshape(self.n_b, 2, nodes.size, 2)
+
+    def apply(self, force):
+        loaded = np.flatnonzero(np.any(force != 0.0, axis=1))
+        if loaded.size == 0:
+            return np.zeros((self.n_b, 2))
+        return np.einsum("iajb,jb->ia", self.take(loaded), force[loaded])
+
+    def dense(self, n_k: int):
+        array = self.take(np.arange(n_k)).copy().reshape(2 * self.n_b, 2 * n_k)
+        kept_block = array[:2 * n_k]
+        kept_block[...] = 0.5 * (kept_block + kept_block.T)
+        return array.reshape(self.n_b, 2, n_k, 2)
+
+
+def _lcp_lazy(normal, compliance, q, max_steps: int, guess=None):
+    """The contact LCP of :func:`_lcp_from_set` (w = Sλ − q ≥ 0, λ ≥ 0, λ·w = 0, S_ij =
+    n_i·G_ij·n_j, SPD) by Lawson–Hanson's active-set method on the equivalent QP
+    min ½λᵀSλ − qᵀλ, λ ≥ 0, one node entering at a time: the most violated free node enters;
+    λ then moves from where it is toward the loaded set's equality solution and stops where
+    a loaded node's λ reaches zero, that node freed (finite: the objective falls at every
+    entry). ``guess``: a set to start from (the last solve's; from λ = 0 its nodes whose
+    equality solution is not positive leave first), else the empty set.
+
+    Only the columns of S of nodes that enter are formed (``compliance``, a
+    :class:`_LazyCompliance`, solves their G columns then). Block principal pivoting
+    (:func:`_lcp_from_set`) swaps every violator in at once — after the toothed rim's first
+    re-linearisation 200–400 free nodes violate by a hair, of which a few stay loaded — so
+    each of those would cost a column pair; here the first entries settle the rest. Returns
+    λ, or None after ``max_steps`` entries or for a singular S_AA (the caller then condenses
+    everything and runs NNLS)."""
+    from scipy.linalg import LinAlgError, cho_factor, cho_solve
+
+    n = q.size
+    tol = 1e-12 * max(float(np.max(np.abs(q), initial=0.0)), 1e-300)
+    lam = np.zeros(n)
+    passive = np.zeros(n, dtype=bool) if guess is None else np.asarray(guess, dtype=bool)[:n].copy()
+    column: dict[int, np.ndarray] = {}
+
+    def columns(idx):
+        new = [j for j in idx.tolist() if j not in column]
+        if new:
+            made = np.einsum("ia,iajb,jb->ij", normal, compliance.take(new)[:n], normal[new])
+            column.update(zip(new, made.T))
+        return np.column_stack([column[j] for j in idx.tolist()])
+
+    def settle() -> bool:
+        """λ on the loaded set from its feasible value toward the set's equality solution,
+        freeing the nodes whose λ reaches zero on the way (each pass frees one at least)."""
+        while passive.any():
+            idx = np.flatnonzero(passive)
+            cols = columns(idx)
+            try:
+                z = cho_solve(cho_factor(cols[idx], lower=True, check_finite=False), q[idx], check_finite=False)
+            except (LinAlgError, ValueError):
+                return False
+            if np.all(z > 0.0):
+                lam[:] = 0.0
+                lam[idx] = z
+                return True
+            old = lam[idx]
+            neg = z <= 0.0
+            den = old[neg] - z[neg]
+            alpha = float(np.min(np.where(den > 0.0, old[neg] / np.where(den > 0.0, den, 1.0), 0.0)))
+            new = old + alpha * (z - old)
+            out = neg & (new <= 1e-15 * max(float(np.max(old, initial=0.0)), 1e-300))
+            out[np.argmin(np.where(neg, new, np.inf))] = True  # at least the one that reached zero
+            new[out] = 0.0
+            lam[:] = 0.0
+            lam[idx] = new
+            passive[idx[out]] = False
+        lam[:] = 0.0
+        return True
+
+    if passive.any() and not settle():
+        return None
+    for _ in range(max_steps):
+        idx = np.flatnonzero(passive)
+        w = (columns(idx) @ lam[idx] - q) if idx.size else -q
+        free_w = np.where(passive, np.inf, w)
+        t = int(np.argmin(free_w))
+        if not free_w[t] < -tol:
+            return lam
+        passive[t] = True
+        if not settle():
+            return None
+    return None
 
 
 class _Widen(Exception):
@@ -422,9 +584,10 @@ def _edge(active, dist, n_k: int):
     return _Widen(n_k if bad.size == 0 else n_k + int(bad[-1]) + 1, " and ".join(why))
 
 
-def _lcp_from_set(normal, compliance4, q, guess, max_pivots: int = 60):
+def _lcp_from_set(normal, compliance, q, guess, max_pivots: int = 60):
     """The solution λ of the contact LCP w = Sλ − q ≥ 0, λ ≥ 0, λ·w = 0 (S_ij = n_i·G_ij·n_j,
-    ``compliance4`` = G (n, 2, n, 2) of the kept nodes) found from a guessed active set, or None.
+    ``compliance`` = G of the kept nodes, a :class:`_DenseCompliance` or :class:`_LazyCompliance`,
+    its rows cut to the n = ``q.size`` kept ones) found from a guessed active set, or None.
 
     S is symmetric positive definite, so the LCP has one solution; a set A whose equations
     S_AA λ_A = q_A give λ_A > 0 and w ≥ 0 off A is it (the same as Lawson–Hanson's NNLS to
@@ -446,7 +609,7 @@ def _lcp_from_set(normal, compliance4, q, guess, max_pivots: int = 60):
             return None
         new = [j for j in idx.tolist() if j not in column]
         if new:  # each S_ij the same 4-term sum whichever columns are formed with it
-            made = np.einsum("ia,iajb,jb->ij", normal, compliance4[:, :, new], normal[new])
+            made = np.einsum("ia,iajb,jb->ij", normal, compliance.take(new)[:q.size], normal[new])
             column.update(zip(new, made.T))
         cols = np.column_stack([column[j] for j in idx.tolist()])
         try:
@@ -474,11 +637,12 @@ def _lcp_from_set(normal, compliance4, q, guess, max_pivots: int = 60):
     return None
 
 
-def _contact_set(compliance4, base, x_now, contour, *, bilateral, gap_tol_mm, max_iterations, where, kept=None,
+def _contact_set(compliance, base, x_now, contour, *, bilateral, gap_tol_mm, max_iterations, where, kept=None,
                  strict=True, warm=None):
     """Contact of the bore nodes (current positions ``x_now``) with ``contour`` for a
-    linear(ised) body whose bore displacement is ``base + G f`` (G = ``compliance4``, f the
-    bore forces, f_j = λ_j n_j).
+    linear(ised) body whose bore displacement is ``base + G f`` (G = ``compliance``, f the
+    bore forces, f_j = λ_j n_j; ``compliance``: a :class:`_DenseCompliance` or, for a large bore,
+    a :class:`_LazyCompliance`, whose columns are solved as the contact asks for them).
 
     With the gap linearised at the current iterate d_k — g_i(d) = g_i(d_k) + n_i·(d − d_k),
     n_i the contour normal at the foot of x_i + d_k — the unilateral contact of *every*
@@ -494,7 +658,7 @@ def _contact_set(compliance4, base, x_now, contour, *, bilateral, gap_tol_mm, ma
     iterations, active-set sizes).
 
     ``kept``: only the first ``kept`` bore nodes (in θ, from the major axis) may carry a
-    force; ``compliance4`` is then (n, 2, kept, 2), the columns of those nodes (every bore
+    force; ``compliance`` then holds the columns of those nodes only (every bore
     node's displacement under forces on the kept ones, exact: the condensation is exact for
     the nodes kept). The iteration converges on the kept nodes; its state is a solution of
     the whole bore's contact when, in addition, no dropped node penetrates the cam (its gap
@@ -523,14 +687,19 @@ def _contact_set(compliance4, base, x_now, contour, *, bilateral, gap_tol_mm, ma
     for iteration in range(1, max_iterations + 1):
         q_all = np.einsum("ij,ij->i", disp - base, normal) - dist
         q = q_all[:n_k]
-        forces = None if guess is None else _lcp_from_set(normal[:n_k], compliance4[:n_k], q, guess)
+        if isinstance(compliance, _LazyCompliance):
+            forces = None if bilateral else _lcp_lazy(normal[:n_k], compliance, q, max_steps=4 * n_k, guess=guess)
+        else:
+            forces = None if guess is None else _lcp_from_set(normal[:n_k], compliance, q, guess)
         try:
             if forces is not None:
                 pass
             elif bilateral:
+                compliance4 = compliance.dense(n_k)
                 schur = np.einsum("ia,iajb,jb->ij", normal[:n_k], compliance4[:n_k], normal[:n_k])
                 forces = np.linalg.solve(schur, q)
             else:
+                compliance4 = compliance.dense(n_k)
                 schur = np.einsum("ia,iajb,jb->ij", normal[:n_k], compliance4[:n_k], normal[:n_k])
                 lower = cholesky(schur, lower=True)
                 forces, _ = nnls(lower.T, solve_triangular(lower, q, lower=True), maxiter=50 * n_k)
@@ -549,7 +718,7 @@ def _contact_set(compliance4, base, x_now, contour, *, bilateral, gap_tol_mm, ma
         history.append(int(active.sum()))
         bore_force = forces[:, None] * normal
         used_normal = normal
-        disp = base + np.einsum("iajb,jb->ia", compliance4, bore_force[:n_k])
+        disp = base + compliance.apply(bore_force[:n_k])
         normal, dist = contour.closest(x_now + disp)[1:]
         closed = np.max(np.abs(dist[active]), initial=0.0) <= gap_tol_mm
         if closed and (bilateral or np.min(dist[:n_k][~active[:n_k]], initial=0.0) >= -gap_tol_mm):
@@ -578,6 +747,7 @@ def solve_ring(
     mesh=None,
     tier: str | None = None,
     condense_within_rad: float | None = None,
+    lazy_columns: bool | None = None,
 ) -> RingResult:
     """Press the flat rim onto ``contour`` and return ω, υ on the neutral line.
 
@@ -606,6 +776,12 @@ def solve_ring(
     every dropped node's linearised gap, from the full displacement of the bore, ≥ 0.
     Otherwise the kept set is widened (logged) and the solve redone from the start. None:
     every bore node (the condensation then dominates the toothed rim's time).
+
+    ``lazy_columns``: solve the compliance's columns only as the contact asks for them
+    (:class:`_LazyCompliance`; the first contact solve by :func:`_lcp_lazy` from the empty
+    set) instead of condensing every kept node up front — the same answer to rounding. None:
+    lazily when the bore has more than :data:`LAZY_BORE_NODES` nodes (the toothed rim's 1601,
+    not the flat rings' 65–129, whose full condensation is cheap).
     """
     start = time.perf_counter()
     from skfem import Basis, ElementQuad2, ElementVector
@@ -676,6 +852,8 @@ def solve_ring(
     rows_free = where[bore_dofs[is_free]]
     cols_free = np.flatnonzero(is_free)
 
+    lazy = n_b > LAZY_BORE_NODES if lazy_columns is None else bool(lazy_columns)
+
     def condense(factor, n_k: int, done=None, chunk: int = 512):
         """The compliance columns of the first ``n_k`` bore nodes, every bore node's rows:
         (n_b, 2, n_k, 2), the kept block symmetrised. ``done``: columns already solved with
@@ -706,9 +884,15 @@ def solve_ring(
         """The contact solve (linear, then Newton) with the compliance of the first ``n_k``
         bore nodes; raises :class:`_Widen` if the contact needs more of them."""
         nonlocal lu_columns
-        compliance4, lu_columns = condense(lu, n_k, done=lu_columns)
+        if lazy:  # one record of the linear factor's columns across widenings (its rows are every bore node's)
+            if lu_columns is None:
+                lu_columns = _LazyCompliance(lu, n_b, where[bore_dofs], rows_free, cols_free, free.size)
+            compliance = lu_columns
+        else:
+            compliance4, lu_columns = condense(lu, n_k, done=lu_columns)
+            compliance = _DenseCompliance(compliance4)
         forces, active, used_normal, dist, bore_force, iterations, history = _contact_set(
-            compliance4, np.zeros((n_b, 2)), x_bore, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
+            compliance, np.zeros((n_b, 2)), x_bore, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
             max_iterations=max_iterations, where=th[bore], kept=n_k, strict=geometry == "linear")
         u = np.zeros(n_dof)
         u[free] = lu.solve(select @ bore_force.ravel())
@@ -724,7 +908,7 @@ def solve_ring(
                     raise ConvergenceError(f"solve_ring (nonlinear): non-finite Newton step at iteration {newton}")
                 x_now = x_bore + np.column_stack([u[ix[bore]], u[iy[bore]]])
                 forces, active, used_normal, dist, bore_force, its, hist = _contact_set(
-                    compliance4, base, x_now, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
+                    compliance, base, x_now, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
                     max_iterations=max_iterations, where=th[bore], kept=n_k, strict=False, warm=active)
                 iterations += its
                 history += hist
@@ -742,7 +926,8 @@ def solve_ring(
                         factor = _Factor(tangent[free][:, free], order=band_order)
                     except RuntimeError as exc:  # splu: "Factor is exactly singular"
                         raise ConvergenceError(f"solve_ring (nonlinear): singular tangent at Newton iteration {newton}") from exc
-                    compliance4 = condense(factor, n_k)[0]
+                    compliance = (_LazyCompliance(factor, n_b, where[bore_dofs], rows_free, cols_free, free.size)
+                                  if lazy else _DenseCompliance(condense(factor, n_k)[0]))
                     newton_steps.append(float("nan"))  # marks the refresh in the record
                     continue
                 u[free] += du

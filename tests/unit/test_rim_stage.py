@@ -147,3 +147,53 @@ def test_bad_condense_angle_is_named(gearset):
 
     with pytest.raises(RingError, match="condense_within_rad"):
         solve_ring(gearset, contour=from_gearset(gearset), layers=2, divisions=16, condense_within_rad=-0.1)
+
+
+def test_lazy_columns_give_the_condensed_answer(gearset, whole_bore):
+    """The toothed rim solves the bore compliance's columns only as the contact asks for them
+    (the first contact solve from the empty set, one node entering at a time): forced on the
+    flat ring, the same ω, υ and contact nodes as condensing every bore node up front."""
+    from profilegen.rim import solve_ring
+    from profilegen.wavegen import from_gearset
+
+    geometry, whole = whole_bore
+    lazy = solve_ring(gearset, contour=from_gearset(gearset), layers=4, divisions=64, geometry=geometry,
+                      lazy_columns=True)
+    assert np.max(np.abs(lazy.omega_mm - whole.omega_mm)) < 1e-11
+    assert np.max(np.abs(lazy.upsilon_mm - whole.upsilon_mm)) < 1e-11
+    assert np.array_equal(lazy.contact_phi_rad, whole.contact_phi_rad)
+    assert lazy.max_penetration_mm <= 1e-9
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_lazy_lcp_solves_the_complementarity_problem(seed):
+    """The active-set LCP solver that forms S's columns only for nodes entering the set: on a
+    random SPD problem (a compliance of 60 nodes, 2 dofs each), from the empty set and from a
+    wrong guess, λ ≥ 0, w = Sλ − q ≥ 0 and λ·w = 0, and it asked for fewer columns than all."""
+    from profilegen.rim.ring import _DenseCompliance, _lcp_lazy
+
+    rng = np.random.default_rng(seed)
+    n = 60
+    a = rng.normal(size=(2 * n, 2 * n))
+    g = a @ a.T / (2 * n) + np.eye(2 * n)
+    asked = set()
+
+    class Counting(_DenseCompliance):
+        def take(self, nodes):
+            asked.update(int(j) for j in np.ravel(nodes))
+            return super().take(nodes)
+
+    comp = Counting(g.reshape(n, 2, n, 2))
+    normal = rng.normal(size=(n, 2))
+    normal /= np.linalg.norm(normal, axis=1)[:, None]
+    q = rng.normal(size=n)
+    s = np.einsum("ia,iajb,jb->ij", normal, g.reshape(n, 2, n, 2), normal)
+    for guess in (None, rng.random(n) < 0.5):
+        asked.clear()
+        lam = _lcp_lazy(normal, comp, q, max_steps=4 * n, guess=guess)
+        w = s @ lam - q
+        assert np.all(lam >= 0.0) and np.all(w >= -1e-10)
+        assert abs(lam @ w) < 1e-10
+        assert 0 < np.count_nonzero(lam) < n
+        if guess is None:
+            assert len(asked) < n
