@@ -391,11 +391,17 @@ def _num(x: float) -> str:
     return repr(float(x) + 0.0)
 
 
-def _svg_colour(aci: int) -> str:
-    import ezdxf.colors
+#: ezdxf's aci2rgb of the standard layers' colours (tests/unit/test_sketch_files.py checks them): the SVG needs no ezdxf import (~0.4 s)
+_ACI_RGB = {1: "#ff0000", 3: "#00ff00", 5: "#0000ff", 8: "#808080"}
 
+
+def _svg_colour(aci: int) -> str:
     if aci == 7:  # ACI 7 is "foreground": black on the white page
         return "#000000"
+    if aci in _ACI_RGB:
+        return _ACI_RGB[aci]
+    import ezdxf.colors
+
     r, g, b = ezdxf.colors.aci2rgb(aci)
     return f"#{r:02x}{g:02x}{b:02x}"
 

@@ -37,6 +37,7 @@ from ..errors import ExportError
 __all__ = [
     "DXF_LAYER_COLORS",
     "atomic_write",
+    "deferred_sync",
     "write_json",
     "write_envelope_csv",
     "write_points_csv",
@@ -103,6 +104,7 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", *, encoding: str = "u
     if mode not in ("w", "wt", "wb"):
         raise ValueError(f"mode must be 'w', 'wt' or 'wb', got {mode!r}")
     path = Path(os.fspath(path))
+    deferred = getattr(_DEFERRED, "paths", None)
     tmp: str | None = None
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -114,10 +116,14 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", *, encoding: str = "u
         with f:
             yield f
             f.flush()
-            os.fsync(f.fileno())
+            if deferred is None:
+                os.fsync(f.fileno())
         os.chmod(tmp, _file_mode())
         os.replace(tmp, path)
         tmp = None
+        if deferred is not None:  # synced with the others when deferred_sync's block ends
+            deferred.append(path)
+            return
     except OSError as exc:
         if isinstance(exc, ExportError):
             raise
@@ -133,6 +139,63 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", *, encoding: str = "u
                 os.fsync(dfd)
             finally:
                 os.close(dfd)
+
+
+_DEFERRED = threading.local()  # .paths: the files deferred_sync's block wrote in this thread
+
+
+@contextlib.contextmanager
+def deferred_sync(*, sync: bool = True) -> Iterator[None]:
+    """Inside the block, :func:`atomic_write` in this thread renames each file into place without
+    waiting for the disk; when the block ends normally every file it wrote is fsynced, all at
+    once in threads (one journal commit can take them together), then each folder — ~7 ms a
+    file one by one on this machine's disk, a few ms for twenty together. For a folder nobody
+    sees until the block has ended (:func:`profilegen.output.folder.replacing`'s staging
+    folder, swapped in after it): there a file is durable before it is visible, as before.
+    An ``OSError`` of the sync is raised as an ExportError naming the file.
+
+    ``sync=False``: the files are never synced (a temporary folder, read back and removed
+    inside the block), also not by an enclosing block."""
+    outer = getattr(_DEFERRED, "paths", None)
+    paths: list[Path] = []
+    _DEFERRED.paths = paths
+    try:
+        yield
+    finally:
+        _DEFERRED.paths = outer
+    if not sync:
+        return
+    if outer is not None:  # nested: the outer block syncs them
+        outer.extend(paths)
+        return
+    _sync_files(paths)
+
+
+def _sync_one(path: Path, directory: bool = False) -> None:
+    fd = os.open(path, os.O_RDONLY | (os.O_DIRECTORY if directory else 0))
+    try:
+        os.fsync(fd)
+    finally:
+        os.close(fd)
+
+
+def _sync_files(paths: list[Path]) -> None:
+    if not paths:
+        return
+    from concurrent.futures import ThreadPoolExecutor
+
+    def sync(path: Path) -> None:
+        try:
+            _sync_one(path)
+        except OSError as exc:
+            raise _export_error(path, exc, None) from exc
+
+    with ThreadPoolExecutor(max_workers=min(16, len(paths))) as pool:
+        list(pool.map(sync, paths))
+    if hasattr(os, "O_DIRECTORY"):  # the renames, best effort as atomic_write's
+        for folder in dict.fromkeys(p.parent for p in paths):
+            with contextlib.suppress(OSError):
+                _sync_one(folder, directory=True)
 
 
 # ----------------------------------------------------------------------------- JSON

@@ -20,7 +20,7 @@ from . import face as face_files
 if TYPE_CHECKING:  # pragma: no cover
     from ..pipeline import Design
 
-__all__ = ["DRAWING", "OUTPUT_FILES", "drawing_jobs", "figure_workers", "profile_figures", "write_design"]
+__all__ = ["OUTPUT_FILES", "WORKER_FILES", "figure_workers", "file_jobs", "profile_figures", "write_design"]
 
 
 #: Every file name :func:`write_design` can write (the output folder may hold only these, see
@@ -60,25 +60,28 @@ def _import_ezdxf() -> None:
 
 def profile_figures(figures, design: Design, *, draw: bool | None = None) -> None:
     """Hand the figures of a design that has its CS profile to ``figures`` (the PNGs of its
-    envelope, fit and rim, and report.html's zoomable CS figure) and its dimensioned drawing
-    (:data:`DRAWING`). ``draw``: see :func:`write_design`."""
+    envelope, fit and rim, and report.html's zoomable CS figure) and the files a worker makes
+    (:func:`file_jobs`). ``draw``: see :func:`write_design`."""
     from . import report
 
     if _draws(design, draw):
         figures.submit(report.png_jobs(design))
-    figures.submit(drawing_jobs(design))
+    figures.submit(file_jobs(design))
     figures.submit(report.report_pieces(design))
 
 
-#: The drawing's file, made in a figure worker where there is one (:func:`drawing_jobs`).
-DRAWING = "circular_spline_drawing.dxf"
+#: The files :func:`file_jobs` makes, by job: the drawing (ezdxf's import is most of its time),
+#: and the flexspline's drawings with the assembly (the assembly poses the flexspline's tooth chain).
+WORKER_FILES = {"files:drawing": ("circular_spline_drawing.dxf",),
+                "files:flexspline": ("flexspline_tooth.dxf", "flexspline.dxf", "assembly.dxf")}
 
 
-def drawing_jobs(design: Design) -> dict:
-    """``circular_spline_drawing.dxf``'s text as a job for the figure workers (ezdxf's import is
-    most of its time), ``{DRAWING: (function, arguments)}``; the design is sent without what the
-    drawing does not read. Empty when the date field cannot be read (``SOURCE_DATE_EPOCH`` not
-    a number): the drawing is then made in this process, which raises the error."""
+def file_jobs(design: Design) -> dict:
+    """The files of :data:`WORKER_FILES` as jobs for the figure workers (made there while this
+    process writes the others), ``{job: (function, arguments)}``; each returns ``{file name:
+    bytes}``. The design goes without what the files do not read. Empty when the drawing's
+    date field cannot be read (``SOURCE_DATE_EPOCH`` not a number): the files are then made in
+    this process, which raises the error where it did."""
     from dataclasses import replace
 
     from .drawing import drawing_date
@@ -87,15 +90,45 @@ def drawing_jobs(design: Design) -> dict:
         date = drawing_date()
     except ValueError:
         return {}
-    slim = replace(design, tooth=None, deformation=None, motion=None, envelope=None, rim=None, contact=None,
-                   stress=None, face=None, torsional=None, ratcheting=None, transmission=None)
-    return {DRAWING: (_drawing_dxf, (slim, date))}
+    slim = replace(design, envelope=None, rim=None, contact=None, stress=None, face=None, torsional=None,
+                   ratcheting=None, transmission=None)
+    drawn = replace(slim, tooth=None, deformation=None, motion=None)  # the drawing reads profile, form, set, scene
+    return {"files:drawing": (_drawing_file, (drawn, date)), "files:flexspline": (_flexspline_files, (slim,))}
 
 
-def _drawing_dxf(design: Design, date: str) -> str:
+def _drawing_file(design: Design, date: str) -> dict[str, bytes]:
     from .drawing import cs_drawing_dxf
 
-    return cs_drawing_dxf(design, date=date or None)
+    return {"circular_spline_drawing.dxf": cs_drawing_dxf(design, date=date or None).encode("utf-8")}
+
+
+def _flexspline_files(design: Design) -> dict[str, bytes]:
+    import tempfile
+
+    from .export import deferred_sync
+
+    # a temporary folder, read back at once: no file there needs to reach the disk
+    with tempfile.TemporaryDirectory(prefix="profilegen-") as tmp, deferred_sync(sync=False):
+        _write_flexspline(Path(tmp), design)
+        return {name: (Path(tmp) / name).read_bytes() for name in WORKER_FILES["files:flexspline"]}
+
+
+def _write_flexspline(folder: Path, result: Design) -> None:
+    """flexspline_tooth.dxf, flexspline.dxf and assembly.dxf into ``folder``."""
+    from . import cad, flexspline
+
+    fs_tooth = flexspline.write_flexspline_dxfs(folder, result)  # flexspline_tooth.dxf, flexspline.dxf
+    cad.write_contours_dxf(folder / "assembly.dxf", _assembly_layers(result, fs_tooth), texts=_note(result))
+
+
+def _note(result: Design) -> list:
+    """The CAD files' note: the gear set and the flank's fit, below the gear."""
+    prof, g = result.profile, result.gearset
+    label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
+             f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
+             f"max deviation {prof.max_error_mm * 1e3:.3f} um")
+    r_out = result.form.root_radius_mm
+    return [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
 
 
 def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True, figures=None,
@@ -121,7 +154,10 @@ def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = T
     """
     from . import folder
 
-    with folder.replacing(out_dir, ours=OUTPUT_FILES) as staging:
+    from .export import deferred_sync
+
+    # the staging folder's files are fsynced together at the end of its block, before it is swapped in
+    with folder.replacing(out_dir, ours=OUTPUT_FILES) as staging, deferred_sync():
         names = _write_files(result, staging, figure=figure, figures=figures, step=step, draw=draw)
     out = Path(out_dir)
     return [out / name for name in names]
@@ -139,11 +175,11 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
     With ``figure`` the pictures are drawn first thing, in worker processes where two CPUs are
     free (:func:`profilegen.output.report.rendering`), while the CAD, CSV and JSON files are written
     here; each is drawn once and the reports embed the same PNG bytes as the files."""
-    from . import cad, drawing, export, flexspline, report
+    from . import cad, drawing, export, report
 
     pieces = report.html_jobs(result) if figure else {}  # last: while the workers draw, collect() makes them here
     draw = figure and _draws(result, draw)
-    made = drawing_jobs(result) if figure else {}  # the drawing: in a worker, while the files here are written
+    made = file_jobs(result) if figure else {}  # in a worker, while the files here are written
     jobs = {**(report.png_jobs(result) if draw else {}), **made, **pieces} if figure else {}
     own = figures is None or not figure
     workers = report.FigureWorkers(min(report._default_workers(), len(jobs)), matplotlib=draw) if own else figures
@@ -154,18 +190,13 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
         prof = result.profile
         circles = [Arc(np.zeros(2), r, 0.0, 2 * np.pi) for r in (result.form.tip_radius_mm, result.form.root_radius_mm)]
         g = result.gearset
-        label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
-                 f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
-                 f"max deviation {prof.max_error_mm * 1e3:.3f} um")
-        r_out = result.form.root_radius_mm
-        note = [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
-        cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles}, texts=note)
+        cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles},
+                               texts=_note(result))
         cad.write_contours_dxf(staging / "tooth_space.dxf", {"CS": [prof.space], "construction": _space_guides(result)})
-        if not made:  # dated by SOURCE_DATE_EPOCH, else blank
-            drawing.write_cs_drawing(staging / DRAWING, result)
-        fs_tooth = flexspline.write_flexspline_dxfs(staging, result)  # flexspline_tooth.dxf, flexspline.dxf
+        if not made:  # the files of WORKER_FILES here; the drawing dated by SOURCE_DATE_EPOCH, else blank
+            drawing.write_cs_drawing(staging / "circular_spline_drawing.dxf", result)
+            _write_flexspline(staging, result)
         face_files.write_face_dxfs(staging, result)  # face_tooth_NN.dxf, one per face section (cup3d tier)
-        cad.write_contours_dxf(staging / "assembly.dxf", _assembly_layers(result, fs_tooth), texts=note)
         cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
         export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
         export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
@@ -183,9 +214,10 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
                                                         **result.stress.to_dict()})
         if figure:
             images = workers.collect(jobs, steal=(*made, *pieces))
-            if DRAWING in images:
-                with export.atomic_write(staging / DRAWING, "w") as f:
-                    f.write(images.pop(DRAWING))
+            for job in made:
+                for name, content in images.pop(job).items():
+                    with export.atomic_write(staging / name, "wb") as f:
+                        f.write(content)
             if not draw:  # no PNG: each picture's place in the reports says how to draw it
                 images = report.NoFigures(images)
             for name in ("envelope", "contact", "torsional", "stress", "face"):
