@@ -294,3 +294,27 @@ def test_ball_passage_without_the_jump(inputs):
     step_all = abs(float(np.diff(every.rotation_rad)[0])) * ARCSEC_PER_RAD
     step_window = abs(float(np.diff(window.rotation_rad)[0])) * ARCSEC_PER_RAD
     assert step_window > 20.0 and step_all < 0.1 * step_window, (step_all, step_window)
+
+
+def test_curve_falls_back_to_lemke_with_every_ball(inputs, flanks, monkeypatch):
+    """A torque whose reduced loop gives up is solved by Lemke from scratch on teeth and balls
+    (_solve_side_unilateral), and the torques after it continue: the same curve."""
+    from profilegen.contact import chain
+
+    kw = dict(sides=flanks, breakpoints_nm=(20.0, 54.0), catalogue=None)
+    torques = [-54.0, 20.0, 54.0]
+    plain = chain.torsional_curve(inputs, torques, **kw)
+    solve = chain._ReducedZone.solve
+    given_up = []
+
+    def flaky(self, magnitude_nm, state, **options):
+        if magnitude_nm == 20.0 and options["springs_on"]:
+            given_up.append(magnitude_nm)
+            return None
+        return solve(self, magnitude_nm, state, **options)
+
+    monkeypatch.setattr(chain._ReducedZone, "solve", flaky)
+    mixed = chain.torsional_curve(inputs, torques, **kw)
+    assert given_up == [20.0, 20.0]  # both flanks
+    np.testing.assert_allclose(mixed.rotation_rad, plain.rotation_rad, rtol=1e-5, atol=0.0)
+    assert np.array_equal(mixed.active_balls, plain.active_balls)
