@@ -25,7 +25,25 @@ stations are at p_j − s_k e_r,k. For a prescribed rigid rotation φ of the FS 
   exactly;
 * the teeth's retreat is then s = P F + s_CS(F) (the CS ring's ovalisation, which S does not
   hold), and the rotation's fixed point in s (and in the ball springs and ball set) is found
-  by successive substitution, warm-started from the previous rotation.
+  by successive substitution, warm-started from the previous rotation;
+* the FS tip corner (engineer P3): a sharp corner's contact normal is the CS surface's at the
+  nearest point, not the flank's — as a corner rides onto the CS tip round it turns from the
+  flank's normal (≤ 46° on the default sets) toward the tip land's (radial), within the
+  corner's cone of normals n = a n_f + b n_t (a, b ≥ 0; outside it the contact is on the flank
+  or the tip land). Each corner station has a second influence column along n_t, and its row
+  and column of S and P are a n_f + b n_t of the two (a congruence: S stays positive
+  definite); its lever arm and sin α (the CS ring's load, the lagged first-order retreat)
+  follow n. ``corner_normal=False``: the flank's normal kept (the model before; then half the
+  load on the corners ends the path, the "corner" rule, which stood in for this).
+
+Across the face (:class:`SlicedClimb`, :func:`section_inputs`): N axial slices of the 3D
+cup's sections (the design's deformation plus each section's change from the design
+section, so the CS stays the one generated), each a DesignClimb with its share of the face
+(``width_fraction``), sharing φ; independent (face_load's Winkler slices) or with the face
+held straight (``coupled``: a tooth retreats alike along the face). Every ball a one-sided
+support at its no-load gap: ``ball_supports="all"`` (the gaps enter the ball reactions, the
+teeth's separations and the retreat; the balls settle by :func:`profilegen.contact.
+compliance.settle_step`, the contact's one rule).
 
 The torque T(φ) = U Σ F_j r_j(s) / 1000 is followed over increasing φ (rotation control
 passes a maximum of T, which torque control cannot). The ratcheting torque is the first of:
@@ -34,9 +52,7 @@ force-weighted margin Σ F_k (h_k − s_k)/Σ F_k reaching 0 (h_k the tooth's de
 tip corner above the CS tip circle); half of the load on the FS tip-corner stations (the
 force-weighted contact at the corner: the next step takes those teeth over the CS tips).
 
-Left out: the contact normal beyond the FS tip corner (a corner station keeps its flank
-normal, ≤ 46° on the default sets, where the CS tip round would turn it radial — so the
-last part of the climb is stiffer here than it is); the change of the influence coefficients
+Left out: the change of the influence coefficients
 of the CS side as its contact moves toward the CS tip (its sector's compliance is kept at
 the no-shift feet); friction. Stations per tooth are limited by the FEM mesh (beyond ~9 on the
 default sets neighbouring stations' influence columns are numerically dependent and S is not
@@ -60,7 +76,8 @@ from scipy.optimize import nnls
 
 from ..errors import ConvergenceError
 
-__all__ = ["ClimbPath", "ClimbPoint", "DesignClimb", "climb", "solve_lcp", "tooth_probes"]
+__all__ = ["ClimbPath", "ClimbPoint", "DesignClimb", "SectionDeformation", "SlicedClimb", "climb", "section_inputs",
+           "solve_lcp", "tooth_probes"]
 
 
 def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.ndarray:

@@ -414,7 +414,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                       climb_stations: int = 9, climb_max_gap_mm: float = 0.15,
                       climb_max_torque_nm: float | None = None, climb_ring_scale: float = 1.0,
                       climb_shift_rad: float = 0.0, climb_corner_normal: bool = True,
-                      climb_ball_supports: str = "window") -> Ratcheting:
+                      climb_ball_supports: str = "window", climb_positions: int = 1) -> Ratcheting:
     """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
     by the model of the module docstring.
 
@@ -431,7 +431,13 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     ``torque_linear_nm``. The default ladder is then rated × (0.5, 1, 2) (the linear part is
     a diagnostic). ``climb_ring_scale``: multiplies the CS ring's compliance in the climb (a
     study of missing radial compliance; 1 = the model); ``climb_shift_rad``: the climb with the
-    wave generator elsewhere in the tooth passage (each tooth at 2πi/z1 + shift, rad)."""
+    wave generator elsewhere in the tooth passage (each tooth at 2πi/z1 + shift, rad);
+    ``climb_positions``: the climb at that many wave-generator positions evenly over one tooth
+    passage from there (shift − k·2π/(z1·N)), the estimate their minimum (the gear running
+    under load meets every position; each in ``climb["positions"]``; N× the time);
+    ``climb_corner_normal``: the FS tip corner's normal follows the CS surface (False: the
+    flank's, the model before); ``climb_ball_supports``: "window" (the contact's candidate
+    balls) or "all" (every ball one-sided at its no-load gap)."""
     from .chain import BallBearing
     from .compliance import ContactCompliance
     from .inputs import ContactInput
@@ -453,6 +459,9 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
         torques = np.unique(torques)
     if side not in (1, -1):
         raise RatchetingError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
+    climb_corner_normal = _flag("climb_corner_normal", climb_corner_normal)
+    checks.choice("climb_ball_supports", climb_ball_supports, ("window", "all"), error=RatchetingError)
+    climb_positions = checks.whole("climb_positions", climb_positions, 1, error=RatchetingError)
     if bearing is True:
         check_bearing_fits(gs, race_thickness_mm=race_thickness_mm)
         bearing = BallBearing.from_gearset(gs, race_thickness_mm=race_thickness_mm)
@@ -530,9 +539,8 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                                                   max_torque_nm=climb_max_torque_nm, ring_scale=climb_ring_scale,
                                                   shift_rad=_number("climb_shift_rad", climb_shift_rad, "rad"),
                                                   extrapolated=extrapolated, warnings=warnings,
-                                                  corner_normal=_flag("climb_corner_normal", climb_corner_normal),
-                                                  ball_supports=checks.choice("climb_ball_supports", climb_ball_supports,
-                                                                              ("window", "all"), error=RatchetingError))
+                                                  corner_normal=climb_corner_normal, ball_supports=climb_ball_supports,
+                                                  positions=climb_positions)
     cat = None if catalogue is None else dict(catalogue)
     if cat is None:
         warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")
@@ -561,7 +569,8 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
 
 
 def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, max_gap_mm, linear, max_torque_nm,
-           ring_scale, extrapolated, warnings, shift_rad=0.0, corner_normal=True, ball_supports="window"):
+           ring_scale, extrapolated, warnings, shift_rad=0.0, corner_normal=True, ball_supports="window",
+           positions=1):
     """The climb's estimate: → (torque, extrapolated, summary dict)."""
     from .climb import DesignClimb, climb
 
@@ -580,14 +589,21 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     else:
         max_torque_nm = _positive("climb_max_torque_nm", max_torque_nm, "N·m")
     ring_scale = _positive("climb_ring_scale", ring_scale, "")
+    passage = 2.0 * math.pi / gs.gear.flexspline_teeth
+    shifts = [shift_rad - k * passage / positions for k in range(positions)]
+    runs = []
     with _serial():
-        model = DesignClimb(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm,
-                            race_thickness_mm=race_thickness_mm, bearing=bearing, ring_factory=factory,
-                            ring_scale=ring_scale, shift_rad=shift_rad, corner_normal=corner_normal,
-                            ball_supports=ball_supports)
-        theta_min, phi_rated = model.first_rotation(rated)
-        step = 0.5 * max(phi_rated - theta_min, 1e-9)
-        path = climb(model, theta_min + step, step, max_torque_nm=max_torque_nm)
+        for sh in shifts:
+            model = DesignClimb(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm,
+                                race_thickness_mm=race_thickness_mm, bearing=bearing, ring_factory=factory,
+                                ring_scale=ring_scale, shift_rad=sh, corner_normal=corner_normal,
+                                ball_supports=ball_supports)
+            theta_min, phi_rated = model.first_rotation(rated)
+            step = 0.5 * max(phi_rated - theta_min, 1e-9)
+            runs.append((climb(model, theta_min + step, step, max_torque_nm=max_torque_nm), model, sh))
+    # the gear running under load meets every position: the lowest estimate of those that ended on a criterion
+    ok = [r for r in runs if r[0].criterion != "none" and math.isfinite(r[0].torque_nm)]
+    path, model, shift_rad = min(ok or runs, key=lambda r: r[0].torque_nm if math.isfinite(r[0].torque_nm) else math.inf)
     warnings += [w if w.startswith("climb") else f"climb: {w}" for w in path.warnings]
     info = {"criterion": path.criterion, "torque_nm": path.torque_nm, "phi_rad": path.phi_rad,
             "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,
@@ -596,7 +612,8 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
             "phi_path_rad": path.column("phi_rad").tolist(), "torque_path_nm": path.column("torque_nm").tolist(),
             "mean_retreat_mm": path.column("mean_retreat_mm").tolist(),
             "margin_mm": path.column("margin_mm").tolist(), "pressure_angle_deg": path.column("alpha_deg").tolist(),
-            "corner_share": path.column("corner_share").tolist(), "time_s": time.perf_counter() - t0}
+            "corner_share": path.column("corner_share").tolist(), "time_s": time.perf_counter() - t0,
+            "positions": [{"shift_rad": sh, "torque_nm": p.torque_nm, "criterion": p.criterion} for p, _, sh in runs]}
     if path.criterion == "none" or not math.isfinite(path.torque_nm):
         warnings.append(f"the climb met no criterion up to {max(info['torque_path_nm'], default=0.0):.4g} N·m: the "
                         f"estimate stays the linear one ({linear:.4g} N·m)")

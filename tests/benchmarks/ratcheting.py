@@ -173,6 +173,13 @@ def parts_run(gs, design) -> None:
         ring, hertz, fem = w @ (pcs @ f), w @ ((pfs_h - pfs_r) @ f), w @ (pfs_r @ f)
         print(f"  {p.torque_nm:8.0f} {w @ p.retreat_mm * 1e3:8.1f} {ring * 1e3:8.1f} {hertz * 1e3:8.1f} {fem * 1e3:8.1f}  "
               f"{int(st.active.sum())}/{st.active.size}")
+    last = path.points[-1]
+    per = np.bincount(m.slot, weights=last.force_n, minlength=m.teeth.size)
+    print(f"  the loaded teeth at the last point ({last.torque_nm:.0f} N·m): tooth, φ (°), corner depth h (mm), retreat s "
+          f"(mm), margin h − s, share of the normal force")
+    for k in np.flatnonzero(per > 0.01 * per.max()):
+        print(f"    {int(m.teeth[k]):4d} {np.degrees(m.phis[k]):7.1f} {m.depth_mm[k]:7.3f} {last.retreat_mm[k]:7.3f} "
+              f"{m.depth_mm[k] - last.retreat_mm[k]:7.3f} {per[k] / per.sum():6.3f}")
     lad = [rated, 2 * rated]
     for label, kw in (("rigid balls", {"bearing": None}), ("no CS ring", {"cs_ring": False}),
                       ("rigid balls, no CS ring", {"bearing": None, "cs_ring": False}),

@@ -112,6 +112,9 @@ def test_flag_and_zero_torque(whole, design):
         ratcheting_torque(design, torques_nm=[0.0, 265.0])
     with pytest.raises(RatchetingError, match="bearing"):
         ratcheting_torque(design, bearing="steel")
+    for name, bad in (("climb_positions", 0), ("climb_ball_supports", "some"), ("climb_corner_normal", "yes")):
+        with pytest.raises(RatchetingError, match=name):
+            ratcheting_torque(design, **{name: bad})
 
 
 def test_bearing_that_does_not_fit():
