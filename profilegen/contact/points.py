@@ -49,7 +49,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ProfilegenError
-from ..kinematics import turn
 from ..results import readonly as _readonly
 from .inputs import ContactInput
 
@@ -200,28 +199,33 @@ def contact_points(inputs: ContactInput, *, side: int = 1, stations: int = 5,
             k = free[np.argmin(np.abs(t[free] - tm))]
             all_t[j, k], moved[j, k] = tm, True
     all_t.sort(axis=1)
-    rows = []
-    for j, i in enumerate(teeth):
-        tj = all_t[j]
-        lj, dpj, _ = tooth.evaluate(tj, side=side)
-        nj = np.column_stack([dpj[:, 1], -dpj[:, 0]]) * side
-        nj /= np.linalg.norm(nj, axis=1)[:, None]
-        c, s = cos[j], sin[j]
-        placed = place(lj, j)
-        normal = np.column_stack([nj[:, 0] * c + nj[:, 1] * s, nj[:, 1] * c - nj[:, 0] * s])
-        gap, foot = space.nearest(placed)
-        keep = np.flatnonzero(gap <= max_gap_mm)
-        if keep.size == 0:
-            continue
-        foot = foot[keep]
-        angle = 2.0 * math.pi * i / z2
-        rows.append((np.full(keep.size, i), np.full(keep.size, phis[j]), tj[keep], lj[keep],
-                     turn(placed[keep], angle), turn(foot, angle), turn(normal[keep], angle), gap[keep]))
-    if not rows:
+    # every tooth's stations at once (the same arithmetic as tooth by tooth, element for element)
+    j_all = np.arange(teeth.size)[:, None]
+    local, dp, _ = tooth.evaluate(all_t, side=side)
+    nrm = np.stack([dp[..., 1], -dp[..., 0]], -1) * side
+    nrm /= np.linalg.norm(nrm, axis=-1)[..., None]
+    c, s = cos[j_all], sin[j_all]
+    placed = place(local, j_all)
+    normal = np.stack([nrm[..., 0] * c + nrm[..., 1] * s, nrm[..., 1] * c - nrm[..., 0] * s], -1)
+    gap, foot = space.nearest(placed.reshape(-1, 2))
+    gap, foot = gap.reshape(all_t.shape), foot.reshape(all_t.shape + (2,))
+    keep = gap <= max_gap_mm
+    if not keep.any():
         raise ContactPointError(
             f"max_gap_mm = {max_gap_mm} mm: no FS flank station comes that close to the CS flank in the engagement zone"
         )
-    tooth_i, phi_i, t_k, local_k, fs_k, cs_k, n_k, gap_k = (np.concatenate(c) for c in zip(*rows))
+    # each tooth's turn into its CS space (cos and sin of the one angle, as kinematics.turn takes them)
+    angle = [2.0 * math.pi * i / z2 for i in teeth]
+    tc = np.array([np.cos(a) for a in angle])[:, None]
+    ts = np.array([np.sin(a) for a in angle])[:, None]
+
+    def turned(p):
+        return np.stack([p[..., 0] * tc + p[..., 1] * ts, -p[..., 0] * ts + p[..., 1] * tc], -1)[keep]
+
+    tooth_i = np.broadcast_to(teeth[:, None], keep.shape)[keep]
+    phi_i = np.broadcast_to(phis[:, None], keep.shape)[keep]
+    t_k, local_k, gap_k = all_t[keep], local[keep], gap[keep]
+    fs_k, cs_k, n_k = turned(placed), turned(foot), turned(normal)
     # lever arm in the package's angle sense: a rotation dα of the FS moves p by dα (p_y, −p_x)
     lever = fs_k[:, 1] * n_k[:, 0] - fs_k[:, 0] * n_k[:, 1]
     rotation = 1 if np.median(lever) > 0 else -1
