@@ -1027,7 +1027,7 @@ class _ReducedZone:
         tz = magnitude_nm / self.points.zones * 1e3
         loaded, active, x = state
         loaded, active = loaded.copy(), active.copy()
-        springs = _SpringIteration(self.c_hertz, spring_tol, x if springs_on else None) if springs_on else None
+        springs = _SpringIteration(self.c_hertz, spring_tol, x) if springs_on else None
         total = 0
         seen = set()
         for _ in range(max_iterations):
