@@ -28,6 +28,49 @@ def default_set():
     return tooth, motion, env
 
 
+@pytest.fixture(scope="session")
+def default_gearset():
+    """The bundled default gear set (profiles/default.toml)."""
+    from profilegen.gearset import default_gearset_path, load_gearset
+
+    return load_gearset(default_gearset_path())
+
+
+# The default set's designs that many modules read, computed once per worker process (session
+# scope: one computation per xdist worker, kept across modules) instead of once per module and
+# worker. Before (2026-11-25) eleven modules each computed the sketch design in a module fixture
+# (0.6 s CPU each, on both workers: ~20 computations), three the sketch with contact (2.2 s),
+# two the design scene (3.6 s). The results are read only (dataclasses; tests that need a
+# variant take dataclasses.replace); the stress=False and contact=False variants the modules
+# used before are these with the later stages' results beside them (the stages before the
+# stresses do not read them).
+@pytest.fixture(scope="session")
+def default_sketch(default_gearset):
+    """``profilegen.design(default set, scene="sketch")``: no loaded contact, stresses from the
+    force estimate."""
+    import profilegen as pg
+
+    return pg.design(default_gearset, scene="sketch")
+
+
+@pytest.fixture(scope="session")
+def default_sketch_contact(default_gearset):
+    """``profilegen.design(default set, scene="sketch", contact=True)``: with the loaded contact
+    (and the stresses from its forces)."""
+    import profilegen as pg
+
+    return pg.design(default_gearset, scene="sketch", contact=True)
+
+
+@pytest.fixture(scope="session")
+def default_design_scene(default_gearset):
+    """``profilegen.design(default set, scene="design")``: the whole design scene (nonlinear rim,
+    Fourier fit, loaded contact, stresses)."""
+    import profilegen as pg
+
+    return pg.design(default_gearset, scene="design")
+
+
 def pytest_collection_modifyitems(config, items):
     """The heavy tests (marked ``slow``) first, in their collected order, then the rest.
 

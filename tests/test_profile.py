@@ -9,8 +9,8 @@ import profilegen as pg
 
 
 @pytest.fixture(scope="module")
-def default_design():
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="design")
+def default_design(default_design_scene):
+    return default_design_scene  # conftest.py: computed once per worker
 
 
 def test_default_profile_is_one_sided_and_closed(default_design):

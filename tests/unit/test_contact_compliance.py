@@ -24,9 +24,9 @@ from profilegen.rim.toothed import ring_sector_mesh
 
 
 @pytest.fixture(scope="module")
-def inputs():
+def inputs(default_sketch):
     """What the contact reads of the default set's sketch design (built as the pipeline does)."""
-    return ContactInput.from_design(pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch"))
+    return ContactInput.from_design(default_sketch)
 
 
 def make_points(inputs, teeth, stations=5):

@@ -5,16 +5,15 @@ import math
 import numpy as np
 import pytest
 
-import profilegen as pg
 from profilegen.contact import ContactInput
 from profilegen.contact.points import ContactPointError, contact_points
 from profilegen.kinematics import turn
 
 
 @pytest.fixture(scope="module")
-def inputs():
+def inputs(default_sketch):
     """What the contact reads of the default set's sketch design (built as the pipeline does)."""
-    return ContactInput.from_design(pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch"))
+    return ContactInput.from_design(default_sketch)
 
 
 def test_points_lie_on_the_placed_fs_flank_and_near_the_cs_flank(inputs):

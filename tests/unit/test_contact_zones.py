@@ -32,7 +32,6 @@ import math
 import numpy as np
 import pytest
 
-import profilegen as pg
 from profilegen.contact import ContactInput, ContactPoints, contact_points, solve_lemke
 from profilegen.contact.analysis import analyse_contact, solve_contact
 from profilegen.contact import compliance as cm
@@ -149,12 +148,11 @@ def _full_ring_fs(inputs, pts, ball_angles, face_width_mm):
 
 
 @pytest.fixture(scope="module")
-def few():
+def few(default_sketch):
     """The default set's sketch design: the points of the 5 teeth nearest first contact, the
     package's compliance for them (no outer race) and its one-zone solve at the rated
     torque, and the full ring's S for them and their images."""
-    inputs = ContactInput.from_design(pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch",
-                                                contact=False, stress=False))
+    inputs = ContactInput.from_design(default_sketch)  # conftest.py: computed once per worker
     pts = contact_points(inputs)
     first = np.argsort([pts.theta_rad[pts.tooth == t].min() for t in pts.teeth])[:5]
     sel = np.flatnonzero(np.isin(pts.tooth, pts.teeth[first]))

@@ -13,10 +13,8 @@ from profilegen.output import interactive, sheet
 
 
 @pytest.fixture(scope="module")
-def sketch():
-    import profilegen as pg
-
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch")
+def sketch(default_sketch):
+    return default_sketch  # conftest.py: computed once per worker
 
 
 @pytest.mark.parametrize("mm, text", [

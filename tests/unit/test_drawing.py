@@ -27,8 +27,8 @@ from profilegen.output.drawing import DIMENSION_LAYER, drawing_date, write_cs_dr
 
 
 @pytest.fixture(scope="module")
-def design():
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch", contact=False, stress=False)
+def design(default_sketch):
+    return default_sketch  # conftest.py: the default set's sketch design, once per worker
 
 
 @pytest.fixture(scope="module")

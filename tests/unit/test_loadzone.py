@@ -16,15 +16,13 @@ import math
 import numpy as np
 import pytest
 
-import profilegen as pg
 from profilegen.contact.analysis import solve_contact
 from profilegen.contact.loadzone import LoadZoneError, ProfileRelief, load_zone, pressure_angle_rad, relief_study
 
 
 @pytest.fixture(scope="module")
-def setup():
-    gs = pg.load_gearset(pg.default_gearset_path())
-    design = pg.design(gs, scene="sketch", contact=False, stress=False)
+def setup(default_gearset, default_sketch):
+    gs, design = default_gearset, default_sketch  # conftest.py: computed once per worker
     res = solve_contact(design, [gs.torque.rated_nm], stations=3)
     return gs, design, res
 

@@ -26,7 +26,6 @@ import pytest
 import profilegen as pg
 from profilegen.output import folder as outfolder
 from profilegen.errors import ExportError
-from profilegen.gearset import default_gearset_path, load_gearset
 from profilegen.output.files import OUTPUT_FILES
 
 OURS = {"a.txt", "b.txt", "c.txt", "d.txt", "design.json"}
@@ -264,9 +263,10 @@ def test_a_second_run_waits_for_the_lock_then_names_the_other_run(old_new, caplo
 
 
 @pytest.fixture(scope="module")
-def sketch_contact():
-    """A sketch design of the default set with the loaded contact (contact.json) and stresses."""
-    return pg.design(load_gearset(default_gearset_path()), scene="sketch", contact=True)
+def sketch_contact(default_sketch_contact):
+    """A sketch design of the default set with the loaded contact (contact.json) and stresses
+    (conftest.py: computed once per worker)."""
+    return default_sketch_contact
 
 
 @pytest.fixture(scope="module")

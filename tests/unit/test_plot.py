@@ -146,12 +146,9 @@ def test_clearance_bad_input_names_the_parameter():
 
 
 @pytest.fixture(scope="module")
-def sketch_stress():
+def sketch_stress(default_sketch):
     """The stresses of a sketch design of the default set (force estimate, no contact)."""
-    import profilegen as pg
-    from profilegen.gearset import default_gearset_path, load_gearset
-
-    return pg.design(load_gearset(default_gearset_path()), scene="sketch").stress
+    return default_sketch.stress  # conftest.py: the sketch design, computed once per worker
 
 
 def _inside(fig, artist) -> bool:

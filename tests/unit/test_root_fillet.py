@@ -28,9 +28,10 @@ RADIUS = 0.125 + 0.02  # the defaults: a 0.25 mm wire and a 0.02 mm spark gap
 
 
 @pytest.fixture(scope="module")
-def sketch():
-    """The default set in the sketch scene, its corners filleted by default (~3 s)."""
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch", contact=False, stress=False)
+def sketch(default_sketch):
+    """The default set in the sketch scene, its corners filleted by default (conftest.py:
+    computed once per worker)."""
+    return default_sketch
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,6 @@ import math
 import numpy as np
 import pytest
 
-import profilegen as pg
 import profilegen.arcfit as arcfit
 from profilegen.arcfit import FitError, swept_depth_function
 from profilegen.contact import ContactError, ContactInput, ContactPointError, contact_points
@@ -25,8 +24,8 @@ from profilegen.teeth import tooth_from_gearset
 
 
 @pytest.fixture(scope="module")
-def sketch():
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch")
+def sketch(default_sketch):
+    return default_sketch  # conftest.py: computed once per worker
 
 
 @pytest.fixture(scope="module")

@@ -13,13 +13,13 @@ from profilegen.stress.stage import root_thickness_mm, tangential_tooth_forces_n
 
 
 @pytest.fixture(scope="module")
-def sketch():
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch")
+def sketch(default_sketch):
+    return default_sketch  # conftest.py: computed once per worker
 
 
 @pytest.fixture(scope="module")
-def loaded():
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch", contact=True)
+def loaded(default_sketch_contact):
+    return default_sketch_contact
 
 
 def test_the_design_carries_its_stresses(sketch):

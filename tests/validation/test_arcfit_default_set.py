@@ -25,15 +25,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-import profilegen as pg
 from profilegen.arcfit import fit_profile, swept_depth_function
 from profilegen.envelope import swept_depth, tooth_curves
 
 
 @pytest.fixture(scope="module")
-def design():
-    gs = pg.load_gearset(pg.default_gearset_path())
-    return pg.design(gs, scene="design")
+def design(default_design_scene):
+    return default_design_scene  # conftest.py: computed once per worker
 
 
 @pytest.fixture(scope="module")

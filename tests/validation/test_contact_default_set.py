@@ -7,14 +7,13 @@ pull); DESIGN.md trap 4 (complementary pivoting, the naive LP fails).
 import numpy as np
 import pytest
 
-import profilegen as pg
 from profilegen.contact import ContactError, ContactInput, solve_lemke, solve_naive_lp, solve_qp_active_set
 from profilegen.contact.analysis import analyse_contact, solve_contact
 
 
 @pytest.fixture(scope="module")
-def design():
-    return pg.design(pg.load_gearset(pg.default_gearset_path()), scene="sketch")
+def design(default_sketch):
+    return default_sketch  # conftest.py: computed once per worker
 
 
 @pytest.fixture(scope="module")
