@@ -49,15 +49,21 @@ The torque T(φ) = U Σ F_j r_j(s) / 1000 is followed over increasing φ (rotati
 passes a maximum of T, which torque control cannot). The ratcheting torque is the first of:
 the limit point max T(φ) (refined by a parabola through the three points around it); the
 force-weighted margin Σ F_k (h_k − s_k)/Σ F_k reaching 0 (h_k the tooth's depth: its loaded
-tip corner above the CS tip circle); half of the load on the FS tip-corner stations (the
-force-weighted contact at the corner: the next step takes those teeth over the CS tips).
+tip corner above the CS tip circle); with ``corner_normal=False`` only, half of the load on the FS tip-corner
+stations (the force-weighted contact at the corner: the next step takes those teeth over the
+CS tips — with the corner normal followed, the corners' ride over the CS tip rounds is in the
+geometry, and at a coned face-end section the corners carry the load from the start).
 
 Left out: the change of the influence coefficients
 of the CS side as its contact moves toward the CS tip (its sector's compliance is kept at
 the no-shift feet); friction. Stations per tooth are limited by the FEM mesh (beyond ~9 on the
 default sets neighbouring stations' influence columns are numerically dependent and S is not
-positive definite); 7 and 9 stations give 5.62 / 5.40 kN·m on seed000_csf40. On the
-default sets the path ends ("end of path") with T(φ) still rising: the fixed point is not
+positive definite); 7 and 9 stations gave 5.62 / 5.40 kN·m on seed000_csf40 with the flank
+normal at the corners. The candidate teeth (``max_gap_mm``, the no-load gap within which a
+tooth is in the model) move it too: 0.15 / 0.25 / 0.4 mm gave 4.59 / 5.11 / 4.94 kN·m on
+seed000_csf40 (61 / 77 / 99 teeth; the corner normal then taken as the direction to the
+foot; with the surface's normal 0.15 gives 4.76). With the flank normal at the corners the
+default sets' path ended ("end of path") with T(φ) still rising: the fixed point is not
 found just beyond φ ≈ 6.1 mrad even with the step halved 4 times. Looked at on seed000_csf40
 0.04 mrad beyond the last point: damped substitution (0.3) with the active stations and balls
 unchanged lets the retreat grow steadily (≈ 0.7 µm per iteration, no decay over 80) while T
@@ -156,9 +162,7 @@ def _solve_at(model, phi: float, s_fs, s_cs, state, *, tol_mm: float, max_iterat
     for it in range(1, max_iterations + 1):
         s_tot = x[:m] + x[m:]
         gap, lever = model.geometry(s_tot, phi)
-        # the part of the retreat S already holds to first order (a coupled model's own share)
-        held = model.held_retreat(state, s_tot) if hasattr(model, "held_retreat") else s_tot
-        q = gap - model.sin_alpha * held[model.slot]
+        q = gap - model.sin_alpha * s_tot[model.slot]
         f, state, p_fs, p_cs = model.respond(q, state)
         offset = model.retreat_offset(state) if hasattr(model, "retreat_offset") else 0.0
         g = np.concatenate([p_fs @ f + offset, p_cs @ f])
@@ -185,6 +189,8 @@ def _solve_at(model, phi: float, s_fs, s_cs, state, *, tol_mm: float, max_iterat
 
 def _point(model, phi, f, s_fs, s_cs, state, lever, iterations) -> ClimbPoint:
     s = s_fs + s_cs
+    if hasattr(model, "shared_retreat"):  # a coupled model iterates on each part's own share
+        s = model.shared_retreat(s)
     per = np.bincount(model.slot, weights=f, minlength=model.depth_mm.size)
     total = float(per.sum())
     torque = model.zones * float(f @ lever) / 1000.0
@@ -195,7 +201,7 @@ def _point(model, phi, f, s_fs, s_cs, state, lever, iterations) -> ClimbPoint:
         corner = float(f[model.corner].sum()) / total
     else:
         margin, mean_s, alpha, corner = float(np.min(model.depth_mm)), 0.0, 0.0, 0.0
-    return ClimbPoint(float(phi), torque, s.copy(), s_fs.copy(), f, margin, alpha, mean_s, corner, iterations, state)
+    return ClimbPoint(float(phi), torque, s_fs + s_cs, s_fs.copy(), f, margin, alpha, mean_s, corner, iterations, state)
 
 
 def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow: float = 1.25,
@@ -751,39 +757,30 @@ class SlicedClimb:
     def _split(self, x, off):
         return [x[a:b] for a, b in zip(off[:-1], off[1:])]
 
+    def shared_retreat(self, s):
+        """The teeth's retreat: each slice's own (uncoupled), or the mean over the slices of each
+        tooth's (the face held straight; the climb iterates on the slices' own shares P_i F_i,
+        which their S hold to first order, and the gaps see the mean)."""
+        return self._mean @ s if self.coupled else s
+
     def geometry(self, s, phi: float = 0.0):
+        s = self.shared_retreat(s)
         out = [m.geometry(si, phi) for m, si in zip(self.models, self._split(s, self._tooth_off))]
         return np.concatenate([g for g, _ in out]), np.concatenate([r for _, r in out])
 
-    def _own_offset(self, state):
-        return np.concatenate([np.broadcast_to(m.retreat_offset(st), (m.depth_mm.size,))
-                               for m, st in zip(self.models, state[0])])
-
     def retreat_offset(self, state):
-        off = self._own_offset(state)
-        return self._mean @ off if self.coupled else off
-
-    def held_retreat(self, state, s):
-        """The retreat the slices' S hold to first order: uncoupled, the retreat itself; coupled,
-        each slice's own P_i F_i (+ its balls' offset) of the last response (s at the first)."""
-        if not self.coupled or state[1] is None:
-            return s
-        return state[1]
+        return np.concatenate([np.broadcast_to(m.retreat_offset(st), (m.depth_mm.size,))
+                               for m, st in zip(self.models, state)])
 
     def initial_state(self):
-        return (tuple(m.initial_state() for m in self.models), None)
+        return tuple(m.initial_state() for m in self.models)
 
     def settled(self, state) -> bool:
-        return all(m.settled(st) for m, st in zip(self.models, state[0]))
+        return all(m.settled(st) for m, st in zip(self.models, state))
 
     def respond(self, q, state):
         from scipy.linalg import block_diag
 
-        out = [m.respond(qi, st) for m, qi, st in zip(self.models, self._split(q, self._pt_off), state[0])]
-        f = np.concatenate([o[0] for o in out])
-        sub = tuple(o[1] for o in out)
-        p_fs, p_cs = block_diag(*[o[2] for o in out]), block_diag(*[o[3] for o in out])
-        if not self.coupled:
-            return f, (sub, None), p_fs, p_cs
-        own = p_fs @ f + p_cs @ f + self._own_offset((sub, None))
-        return f, (sub, own), self._mean @ p_fs, self._mean @ p_cs
+        out = [m.respond(qi, st) for m, qi, st in zip(self.models, self._split(q, self._pt_off), state)]
+        return (np.concatenate([o[0] for o in out]), tuple(o[1] for o in out),
+                block_diag(*[o[2] for o in out]), block_diag(*[o[3] for o in out]))

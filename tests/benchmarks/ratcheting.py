@@ -145,7 +145,8 @@ def face_run(gs, design) -> None:
             path = _follow(sliced, rated)
             last = path.points[-1]
             share = [float(np.sum(last.force_n[a:c])) for a, c in zip(sliced._pt_off[:-1], sliced._pt_off[1:])]
-            margin = [float(np.sum(last.force_n[a:c] * (sliced.depth_mm - last.retreat_mm)[sliced.slot[a:c]])
+            shared = sliced.shared_retreat(last.retreat_mm)
+            margin = [float(np.sum(last.force_n[a:c] * (sliced.depth_mm - shared)[sliced.slot[a:c]])
                             / max(np.sum(last.force_n[a:c]), 1e-300)) for a, c in zip(sliced._pt_off[:-1], sliced._pt_off[1:])]
             print(f"  {n} slices at z = {np.round(z, 2).tolist()} mm, "
                   f"{'the face held straight (coupled)' if coupled else 'independent'}: {path.torque_nm:.1f} N·m "
