@@ -1,0 +1,131 @@
+"""Tooth deviations and eccentricity in the loaded contact (profilegen.contact.tooth_errors,
+issue 16): both zones as one problem on the FS's whole ring.
+
+* zero deviations: each zone carries T/2 (found by the whole gear's balance, not imposed) and
+  the rotation is the one-zone model's — torsional_curve's mesh and mesh + Hertz balls;
+* a uniform tangential offset s on every tooth is a rigid rotation s/r_p: the curve shifts by
+  it, the forces (so the stiffness) do not change;
+* with random deviations and with an eccentric CS: equilibrium (Σ_all r F = T, the loads'
+  resultant carried by the balls), complementarity of teeth and balls; the eccentricity turned
+  by π swaps the two zones;
+* ISO 1328-1:2013 eq. (5)/(8) at one value worked by hand.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from profilegen.contact import contact_points
+from profilegen.contact.chain import compliance_chain, torsional_curve
+from profilegen.contact.inputs import ContactInput
+from profilegen.contact.tooth_errors import (ToothErrorError, TwoZoneContact, draw_deviations,
+                                             eccentricity_offsets_rad, iso1328_tolerances_um)
+
+T1, T2 = 54.0, 196.0
+
+
+@pytest.fixture(scope="module")
+def zones(default_sketch):
+    """The default set's sketch design: torsional_curve at T1, T2 (every ball one-sided, the
+    flanks' points and compliance built there) and both zones of the right flank as one problem."""
+    curve = torsional_curve(default_sketch, [T1, T2], catalogue=None, breakpoints_nm=(T1, T2))
+    pts, comp = curve.sides[1]
+    inputs = ContactInput.from_design(default_sketch)
+    return curve, pts, TwoZoneContact(inputs, pts, comp), compliance_chain(inputs.gearset).bearing
+
+
+def _check_physics(sol, two, torque_nm, theta):
+    """Σ r F = T over both zones, Σ loads = 0 (balls take the resultant), F, R ≥ 0, gaps ≥ 0, F g = 0."""
+    tz = torque_nm * 1e3
+    assert float(two.lever @ sol.force_n) == pytest.approx(tz, rel=1e-10)
+    assert sol.zone_moment_nmm.sum() == pytest.approx(tz, rel=1e-10)
+    x = np.concatenate([sol.force_n, sol.reaction_n])
+    assert np.linalg.norm(two.directions.T @ x) <= 1e-9 * x.max()
+    assert x.min() >= 0.0
+    # the gaps recomputed from the definition, not taken from the solver
+    cmat = two.c.copy()
+    if sol.springs_mm_per_n is not None:
+        cmat[two.n:, two.n:] += np.diag(sol.springs_mm_per_n)
+    w = cmat @ x + np.concatenate([two.lever * theta, two.ball_gap]) - np.concatenate(
+        [two.lever, np.zeros(two.nb)]) * sol.phi_rad + two.directions @ sol.translation_mm
+    scale = float(np.abs(w).max())
+    assert w.min() >= -1e-9 * scale
+    assert float(np.max(np.abs(x * w))) <= 1e-9 * scale * x.max()
+
+
+def test_iso1328_by_hand():
+    """d = 100 mm, m = 0.5 mm, class 5: f_pT = 0.001·100 + 0.4·0.5 + 5 = 5.3 µm, f_fαT = 0.55·0.5 + 5
+    = 5.275 µm; each class is √2 times the one below."""
+    tol = iso1328_tolerances_um(100.0, 0.5, 5)
+    assert tol["f_pt_um"] == pytest.approx(5.3, rel=1e-12)
+    assert tol["f_falpha_um"] == pytest.approx(5.275, rel=1e-12)
+    assert iso1328_tolerances_um(100.0, 0.5, 6)["f_pt_um"] == pytest.approx(5.3 * math.sqrt(2.0), rel=1e-12)
+    assert not tol["extrapolated"] and iso1328_tolerances_um(80.0, 0.4, 5)["extrapolated"]
+    with pytest.raises(ToothErrorError, match="grade"):
+        iso1328_tolerances_um(100.0, 0.5, 12)
+
+
+def test_perfect_gear_is_the_one_zone_model(zones):
+    curve, pts, two, bearing = zones
+    theta0 = float(pts.theta_rad.min())
+    for i, t in enumerate(curve.torque_nm):
+        rigid = two.solve(t)
+        springs = two.solve(t, bearing=bearing)
+        # each zone half the torque: the whole gear's balance finds it
+        np.testing.assert_allclose(rigid.zone_moment_nmm, [t * 1e3 / 2] * 2, rtol=1e-8)
+        assert rigid.phi_rad - theta0 == pytest.approx(curve.mesh_rad[i] - theta0, rel=1e-6)
+        assert springs.phi_rad - theta0 == pytest.approx(curve.mesh_balls_rad[i] - theta0, rel=2e-5)
+        n = pts.count
+        teeth = [np.unique(pts.tooth[springs.force_n[z * n:(z + 1) * n] > 0.0]).size for z in (0, 1)]
+        assert teeth == [int(curve.teeth_in_contact[i])] * 2
+        _check_physics(rigid, two, t, two.theta)
+
+
+def test_uniform_offset_is_a_rigid_rotation(zones):
+    """Every tooth moved by s along the pitch circle: θ_k + s/r_p for every point; the balls do
+    not see a rotation, so φ moves by exactly s/r_p and the forces stay."""
+    _, pts, two, _ = zones
+    r_p = 0.5 * two.gearset.gear.module_mm * two.gearset.gear.flexspline_teeth
+    s = 3e-3  # mm
+    base = two.solve(T1)
+    moved = two.solve(T1, np.full(2 * pts.count, s / r_p))
+    assert moved.phi_rad - base.phi_rad == pytest.approx(s / r_p, rel=1e-9)
+    np.testing.assert_allclose(moved.force_n, base.force_n, atol=1e-9 * base.force_n.max())
+
+
+def test_deviations_equilibrium_and_complementarity(zones):
+    """A grade-6 draw: the zones no longer carry T/2 each, fewer teeth carry load than in the
+    perfect gear, and the solution is still the complementarity problem's."""
+    _, pts, two, bearing = zones
+    gs = two.gearset
+    tol = iso1328_tolerances_um(gs.gear.module_mm * gs.gear.flexspline_teeth, gs.gear.module_mm, 6)
+    off = draw_deviations(pts, gs, np.random.default_rng(3), pitch_sigma_mm=tol["f_pt_um"] / 2e3,
+                          profile_sigma_mm=tol["f_falpha_um"] / 2e3)
+    perfect = two.solve(T1)
+    sol = two.solve(T1, off, bearing=bearing)
+    _check_physics(sol, two, T1, two.theta + off)
+    assert abs(sol.zone_moment_nmm[0] - sol.zone_moment_nmm[1]) > 1e-3 * T1 * 1e3
+    assert sol.teeth_loaded < perfect.teeth_loaded
+
+
+def test_eccentricity_turned_by_pi_swaps_the_zones(zones):
+    _, pts, two, _ = zones
+    n = pts.count
+    e = 0.01
+    a = two.solve(T1, eccentricity_offsets_rad(pts, e, 0.3))
+    b = two.solve(T1, eccentricity_offsets_rad(pts, e, 0.3 + math.pi))
+    _check_physics(a, two, T1, two.theta + eccentricity_offsets_rad(pts, e, 0.3))
+    assert a.phi_rad == pytest.approx(b.phi_rad, rel=1e-9)
+    np.testing.assert_allclose(a.force_n[:n], b.force_n[n:], atol=1e-8 * a.force_n.max())
+    np.testing.assert_allclose(a.zone_moment_nmm, b.zone_moment_nmm[::-1], rtol=1e-8)
+    # the shrunk zone carries more
+    assert abs(a.zone_moment_nmm[0] - a.zone_moment_nmm[1]) > 0.05 * T1 * 1e3
+
+
+def test_bad_offsets(zones):
+    _, pts, two, _ = zones
+    with pytest.raises(ToothErrorError, match="offsets_rad"):
+        two.solve(T1, np.zeros(3))
+    with pytest.raises(ToothErrorError, match="torque_nm"):
+        two.solve(0.0)
