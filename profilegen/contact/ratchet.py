@@ -13,19 +13,44 @@ influence coefficients to first order), the gaps and lever arms of fine material
 the loaded flanks are recomputed on that shifted and turned geometry (so the contact moves up
 the flank onto the FS tip arc and the pressure angle rises), and s is iterated to its fixed
 point. The ratcheting torque is the first of: the limit point max T(φ); the force-weighted
-margin Σ F (h − s)/Σ F reaching 0; half the load on the FS tip corners; the end of the path
-(no equilibrium found just beyond its last point, after the step was halved 4 times). Checked
-by hand on one tooth on a radial spring (tests/unit/test_ratchet.py). Design scene
-(tests/benchmarks/ratcheting.py): seed000_csf40 5.40 kN·m (linear 7.42, catalogue CSF-40-100
-2.10: ×2.57), csf32_100 3.09 kN·m (linear 3.99, catalogue 1.00: ×3.09), default set 5.30 kN·m
-(linear 8.67: ×2.52); all end as "end of path" with T(φ) still rising (tangent ~half the
-initial), retreat ~0.23–0.29 mm, pressure angle ~33°. The force-weighted retreat stays
-≤ 11 µm up to ~1.6 kN·m (the load moves to teeth the rim pushes into mesh), so the climb
-starts late. What would close it: the radial compliance outside the mesh (the free CS ring's)
-× 4.2 (seed000; limit point 2.19 kN·m at × 4) or × 5.4 (csf32) — an extra 3.2–4.4 × the free
-ring's 1.9–2.2e-5 mm/N; the cam as a ring on its shaft gives 0.01–0.26 × (bores 30–70 % of
-its diameter; it would have to be a 5.0 / 3.8 mm ring), a bolted CS goes the other way (ring
-× 0.25: 10.7 kN·m), the wave generator's place in the tooth passage moves it ±2.5 %.
+margin Σ F (h − s)/Σ F reaching 0; the end of the path (no equilibrium found just beyond its
+last point, after the step was halved 4 times); with ``climb_corner_normal=False`` also half
+the load on the FS tip corners. Checked by hand on one tooth on a radial spring
+(tests/unit/test_ratchet.py).
+
+Numbers (design scene, ``python tests/benchmarks/ratcheting.py --climb-only [--positions 8]
+[--face 4] [--parts] [--ring-scale 2]``; engineer P3). With the FS tip corner's normal
+following the CS surface (climb.py): seed000_csf40 4.76 kN·m (limit point; catalogue
+CSF-40-100 2.10: ×2.26), csf32_100 2.66 kN·m (catalogue 1.00: ×2.66), default set 4.52 kN·m —
+against 5.40 / 3.09 / 5.30 with the flank's normal kept at the corners (≤ 46°), which
+``climb_corner_normal=False`` reproduces (5399 N·m). On seed000_csf40:
+
+* while running (the catalogue's definition: the gear meets every wave-generator position):
+  8 positions over one tooth passage give 4.57–4.79 kN·m, minimum 4.57 (×2.17; 2.2 % below
+  the mean); ``climb_positions=N`` takes the minimum of N.
+* across the face (the 3D cup's sections, climb.section_inputs): the diaphragm-end section
+  (ω 60 µm lower on the major axis than the design section, corner depth h̄ 0.456 against
+  0.51 mm) as if it were the whole face 3.87 kN·m (×1.85), the open end 5.40; 4 independent
+  slices 4.69 (their margins h − s at the end 0.345–0.365 mm: no slice rides out first),
+  4 slices with the face held straight (a tooth retreats alike along the face) 4.28 (×2.04;
+  2 slices 4.45). The shallow end skips first only if it stood alone: the deeper slices hold.
+* the radial compliance: at the limit point the force-weighted retreat 0.239 mm is the CS
+  ring's 0.199, the Hertz balls' 0.060 and the FEM's (rim, race, tooth) −0.020 (the rim's own
+  deformation under the tooth forces carries the loaded teeth outward); rigid balls 6.32 kN·m,
+  no CS ring 8.90, neither: no ratcheting (the teeth move in); every ball one-sided at its
+  no-load gap (``climb_ball_supports="all"``) 4.73 (−0.5 %: the balls that join are away from
+  the loaded bands); the CS ring's compliance × 2 gives 3.18 kN·m (×1.51). The cam and inner
+  ring are rigid here (as a ring on its shaft 0.01–0.26 × the CS ring's compliance, helper E2);
+  a bolted CS is stiffer than the free ring (ring × 0.25: 10.7 kN·m with the flank normal).
+* the candidate teeth (``climb_max_gap_mm`` 0.15 / 0.25 / 0.4 mm) move it by up to +11 %
+  (climb.py).
+
+So the factor 1.5 is missed by ~1.45× at best (4.28 / 3.15): the model needs about twice the
+radial compliance it has outside the mesh (an extra ~2e-5 mm/N, the free CS ring's own again)
+to reach it — or an effect it does not hold: the one-zone model is symmetric in the two
+engagement zones, so the eccentric (n = 1) mode of the wave generator and FS against the CS,
+the "dedoidal" state the catalogue names as ratcheting's outcome, cannot occur in it; friction
+is left out.
 
 The linear diagnostics (helper E's estimate, ``torque_linear_nm``)
 ------------------------------------------------------------------
