@@ -60,13 +60,14 @@ def _import_ezdxf() -> None:
 
 def profile_figures(figures, design: Design, *, draw: bool | None = None) -> None:
     """Hand the figures of a design that has its CS profile to ``figures`` (the PNGs of its
-    envelope, fit and rim, and report.html's zoomable CS figure) and the files a worker makes
-    (:func:`file_jobs`). ``draw``: see :func:`write_design`."""
+    envelope, fit and rim, and report.html's zoomable CS figure), or, when it draws no PNG, the
+    files a worker makes (:func:`file_jobs`). ``draw``: see :func:`write_design`."""
     from . import report
 
-    if _draws(design, draw):
+    if _draws(design, draw):  # the PNGs keep the workers busy past the stages: the files are written here
         figures.submit(report.png_jobs(design))
-    figures.submit(file_jobs(design))
+    else:
+        figures.submit(file_jobs(design))
     figures.submit(report.report_pieces(design))
 
 
@@ -174,12 +175,15 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
 
     With ``figure`` the pictures are drawn first thing, in worker processes where two CPUs are
     free (:func:`profilegen.output.report.rendering`), while the CAD, CSV and JSON files are written
-    here; each is drawn once and the reports embed the same PNG bytes as the files."""
+    here; each is drawn once and the reports embed the same PNG bytes as the files. Without PNGs
+    (the sketch scene) a worker makes the drawing, the flexspline's DXFs and the assembly
+    (:func:`file_jobs`) meanwhile, the same bytes as here."""
     from . import cad, drawing, export, report
 
     pieces = report.html_jobs(result) if figure else {}  # last: while the workers draw, collect() makes them here
     draw = figure and _draws(result, draw)
-    made = file_jobs(result) if figure else {}  # in a worker, while the files here are written
+    # without PNGs, a worker makes these while the files here are written (with them, the workers are the slower side)
+    made = file_jobs(result) if figure and not draw else {}
     jobs = {**(report.png_jobs(result) if draw else {}), **made, **pieces} if figure else {}
     own = figures is None or not figure
     workers = report.FigureWorkers(min(report._default_workers(), len(jobs)), matplotlib=draw) if own else figures
