@@ -3,7 +3,7 @@ every example ends in a result whose outputs — in memory and in the files ``wr
 wrote — hold no NaN or infinity, or in a named ProfilegenError; never in another exception,
 a MemoryError under a 4 GB address-space cap, or a run past its time limit.
 
-Six strata (DCTA, involute and point-list teeth, valid — 20, 45, 25 examples — or with a
+Six strata (DCTA, involute and point-list teeth, valid — 20, 30, 20 examples — or with a
 spoiled field — 90 each; every third result is written to files; sized to keep the suite near
 5 minutes on 2 cores: every stratum and its property every run, the volume in the benchmark);
 the gear sets span m
@@ -33,7 +33,13 @@ from tests.property.gearsets import gear_sets
 #: stratum in one process (the "some example reaches a result" check failed; 45 reach some).
 #: The points stratum has 20: with the wire, 3D-cup and face fields in the draws (2026-11-25) its
 #: examples 21-25 reached results and took 22 s more; 15 reached none.
-VALID = {"dcta": 20, "involute": 45, "points": 20}
+#: The involute stratum 45 -> 30 (2026-11-25, the suite's time): its examples 31-45 took 10-17 s
+#: CPU (a third to a half of the stratum) and varied sets already drawn (in one run 11 results of
+#: two sets, m 0.5 z1 260 and m 1 z1 498); in the two runs measured, alone and after the DCTA
+#: stratum, the first result came at example 3 and 5, and 30 examples reached 5 and 9 results.
+#: (Hypothesis mixes constants from the package modules already imported into its draws, so the
+#: sequence depends on what the process ran before: the check below guards the stratum's reach.)
+VALID = {"dcta": 20, "involute": 30, "points": 20}
 SPOILED = 90
 WRITE_EVERY = 3  # write the files of every third result (write_design costs about what the sketch design does)
 TIME_LIMIT_S = 120.0  # per example; the slowest sketch example measured ~10 s on the busy machine
