@@ -223,22 +223,78 @@ def analyse_contact(points, compliance_mm_per_n, torques_nm, *, solver: str = "l
                          tuple(warnings), None)
 
 
+class _Balls:
+    """What :func:`_load_case` reads of the balls: their angles, reactions (N, > 0 the ball
+    compressed) and which are in contact (default: those with a reaction)."""
+
+    __slots__ = ("ball_angle_rad", "ball_active", "_reactions")
+
+    def __init__(self, angles, reactions, active=None):
+        self.ball_angle_rad, self._reactions = angles, np.asarray(reactions, dtype=float)
+        self.ball_active = self._reactions > 0.0 if active is None else np.asarray(active, dtype=bool)
+
+    def ball_reactions(self, forces_n):
+        return self._reactions
+
+
+def _solve_every_ball(points, compliance, torque_nm: float, solver: str, bearing, settle_iterations: int):
+    """One torque with every ball one-sided at its no-load gap → (the teeth's ContactSolution,
+    the balls). "lemke": Lemke's method on teeth and balls together (:meth:`~profilegen.contact.
+    compliance.ContactCompliance.solve_unilateral`, exact). "active_set": an independent
+    solve of the same problem — the ball set settled (:func:`~profilegen.contact.compliance.
+    settle_step`), for each set the teeth by the primal active-set QP on the compliance with
+    those balls closed at their gaps (:class:`~profilegen.contact.chain._ReducedZone`)."""
+    from ..errors import ConvergenceError
+
+    torque_nmm = torque_nm / points.zones * 1e3
+    if solver == "lemke":
+        sol, reactions, _ = compliance.solve_unilateral(points.theta_rad, points.lever_mm, torque_nmm,
+                                                        bearing=bearing)
+        return sol, _Balls(compliance.ball_angle_rad, reactions)
+    from .chain import _ReducedZone, _solution
+
+    t0 = time.perf_counter()
+    zone = _ReducedZone(points, compliance, bearing)
+    state = (np.zeros(points.count, bool), np.asarray(compliance.ball_active, bool), None)
+    out = zone.solve(torque_nm, state, springs_on=bearing is not None, spring_tol=1e-6,
+                     max_iterations=settle_iterations + 2 * compliance.ball_angle_rad.size + 60, teeth="active_set")
+    if out is None:
+        raise ConvergenceError(f"solve_contact: the active-set solve's ball set cycles or does not settle at "
+                               f"{torque_nm:g} N·m")
+    return (_solution(zone, torque_nm, out, t0, method="active set (teeth), balls settled"),
+            _Balls(compliance.ball_angle_rad, out["reactions"], out["active"]))
+
+
 def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: int = 5, max_gap_mm: float = 0.12,
                   solver: str = "lemke", face_width_mm: float | None = None, settle_iterations: int = 20,
                   points=None, compliance=None, race_thickness_mm: float | None = None,
-                  race_interface: str = "sliding") -> ContactResult:
+                  race_interface: str = "sliding", ball_supports: str = "all", bearing=None) -> ContactResult:
     """Loaded contact of a design at each torque (N·m), from its ``inputs`` (a
     :class:`~profilegen.contact.inputs.ContactInput`, or a Design, read by
     :meth:`ContactInput.from_design <profilegen.contact.inputs.ContactInput.from_design>`): the potential contact points
     (:func:`~profilegen.contact.points.contact_points`), the FEM influence coefficients
     (:class:`~profilegen.contact.compliance.ContactCompliance`, built once), then per torque
-    seed 000's loop — solve the contact, drop the balls that pull and take back those the rim
-    moves into, re-solve — until the ball set no longer changes. ``points`` and
-    ``compliance``: those of an earlier result (``result.points``, ``result.compliance``), so
-    that further torques skip the FEM. ``race_thickness_mm``: the wave-generator bearing's
-    outer race under the FS bore and ``race_interface`` its joint to the bore (see
-    :meth:`ContactCompliance.build`; 0 = none; both ignored
-    when ``compliance`` is given)."""
+    the teeth and the wave-generator balls.
+
+    ``ball_supports``: "all" (the default) — every ball of the zone a one-sided support at its
+    no-load gap, teeth and balls in one complementarity problem solved exactly (the bearing
+    model of :func:`~profilegen.contact.chain.torsional_curve` and
+    :func:`~profilegen.contact.transmission.transmission_error`; see
+    :mod:`profilegen.contact.chain`: the window below lets the rim pass 57/103 µm through the
+    balls it leaves out); "window" — only the balls within the rim's no-load contact angle,
+    rigid at zero gap, settled by seed 000's loop (solve the contact, drop the balls that
+    pull, take back those the rim moves into, re-solve until the set no longer changes; at most
+    ``settle_iterations``), kept for comparison. A given ``compliance`` keeps its own.
+    ``solver``: "lemke" (the package's) or "active_set" (the independent cross-check: with
+    every ball, the ball set settled around a primal active-set QP of the teeth).
+    ``bearing``: a :class:`~profilegen.contact.chain.BallBearing` for Hertz springs at the
+    balls (every ball only; default rigid balls).
+
+    ``points`` and ``compliance``: those of an earlier result (``result.points``,
+    ``result.compliance``), so that further torques skip the FEM. ``race_thickness_mm``: the
+    wave-generator bearing's outer race under the FS bore and ``race_interface`` its joint to
+    the bore (see :meth:`ContactCompliance.build`; 0 = none; both ignored when ``compliance``
+    is given)."""
     from threadpoolctl import threadpool_limits
 
     from .compliance import ContactCompliance
@@ -247,17 +303,31 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
     t0 = time.perf_counter()
     inputs = ContactInput.from_design(inputs, name="inputs")  # a ContactInput passes as it is
     torques = _checked_torques(torques_nm, solver)
+    if ball_supports not in ("all", "window"):
+        raise ContactError(f"ball_supports = {ball_supports!r}: must be 'all' (every ball one-sided at its no-load "
+                           "gap) or 'window' (the balls within the rim's no-load contact angle)")
     if (points is None) != (compliance is None):
         raise ContactError("points, compliance: pass both (from an earlier solve_contact result) or neither")
     if points is None:
         points = contact_points(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm)
         compliance = ContactCompliance.build(inputs, points.fs_point_mm, points.normal, points.tooth,
                                              points.cs_point_mm, face_width_mm=face_width_mm,
-                                             race_thickness_mm=race_thickness_mm, race_interface=race_interface)
+                                             race_thickness_mm=race_thickness_mm, race_interface=race_interface,
+                                             ball_supports=ball_supports)
+    every_ball = getattr(compliance, "ball_supports", "window") == "all"
+    if bearing is not None and not every_ball:
+        raise ContactError("bearing: Hertz springs at the balls need ball_supports = 'all' (the window's balls are "
+                           "rigid)")
     solve = _SOLVERS[solver]
     cases, warnings = [], []
     with threadpool_limits(limits=1, user_api="blas"):  # n ≈ 200: threads only add overhead (9 → 1 ms per check)
         for torque in torques:
+            if every_ball:
+                sol, balls = _solve_every_ball(points, compliance, float(torque), solver, bearing, settle_iterations)
+                case, notes = _load_case(points, torque, sol, balls)
+                cases.append(case)
+                warnings += notes
+                continue
             torque_nmm = torque / points.zones * 1e3
 
             def forces_for(matrix, torque_nmm=torque_nmm):
@@ -270,5 +340,6 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
             case, notes = _load_case(points, torque, sol, settled)
             cases.append(case)
             warnings += notes
-    return ContactResult(points, tuple(cases), int(points.zones), solver, compliance.to_dict(),
-                         time.perf_counter() - t0, tuple(warnings), compliance)
+    info = {**compliance.to_dict(), "ball_supports": getattr(compliance, "ball_supports", "window")}
+    return ContactResult(points, tuple(cases), int(points.zones), solver, info, time.perf_counter() - t0,
+                         tuple(warnings), compliance)

@@ -833,6 +833,8 @@ def _solve_side_unilateral(points, compliance, magnitude_nm: float, bearing: Bal
     scratch on the teeth and balls (:meth:`~profilegen.contact.compliance.ContactCompliance.
     solve_unilateral`'s LCP) at rigid balls and at every step of the springs' fixed point
     (:class:`_SpringIteration`). → (φ rigid balls, φ with springs, teeth, balls, springs)."""
+    from .analysis import _Balls
+
     tz = magnitude_nm / points.zones * 1e3
 
     def lcp(springs):
@@ -842,7 +844,7 @@ def _solve_side_unilateral(points, compliance, magnitude_nm: float, bearing: Bal
     sol, react = lcp(None)
     rigid_sol, phi_rigid = sol, float(sol.phi_rad)
     if bearing is None:
-        return phi_rigid, phi_rigid, sol, rigid_sol, _BallShim(compliance.ball_angle_rad, react > 0.0, react), None
+        return phi_rigid, phi_rigid, sol, rigid_sol, _Balls(compliance.ball_angle_rad, react), None
     it = _SpringIteration(bearing.hertz_coefficient(), spring_tol,
                           None if start_springs is None else np.log(start_springs))
     if start_springs is not None:
@@ -854,7 +856,7 @@ def _solve_side_unilateral(points, compliance, magnitude_nm: float, bearing: Bal
     else:
         raise ConvergenceError(f"torsional_curve: the Hertz ball springs did not settle in {spring_iterations} "
                                f"iterations at {magnitude_nm:g} N·m")
-    return phi_rigid, float(sol.phi_rad), sol, rigid_sol, _BallShim(compliance.ball_angle_rad, react > 0.0, react), \
+    return phi_rigid, float(sol.phi_rad), sol, rigid_sol, _Balls(compliance.ball_angle_rad, react), \
         it.springs
 
 
@@ -897,18 +899,6 @@ def _solve_side_window(points, compliance, magnitude_nm: float, bearing: BallBea
                                f"iterations at {magnitude_nm:g} N·m")
     log.debug("torsional_curve: %d spring iterations at %g N·m", iterations, magnitude_nm)
     return phi_rigid, float(sol.phi_rad), sol, rigid_sol, comp, it.springs
-
-
-class _BallShim:
-    """What :func:`~profilegen.contact.analysis._load_case` reads of a compliance: the balls."""
-
-    __slots__ = ("ball_angle_rad", "ball_active", "_reactions")
-
-    def __init__(self, angles, active, reactions):
-        self.ball_angle_rad, self.ball_active, self._reactions = angles, active, reactions
-
-    def ball_reactions(self, forces_n):
-        return self._reactions
 
 
 class _ReducedZone:
@@ -1016,12 +1006,26 @@ class _ReducedZone:
             loaded = new
         return None
 
-    def solve(self, magnitude_nm: float, state, *, springs_on: bool, max_iterations: int, spring_tol: float):
+    def _contact_qp(self, act, w, th, tz, loaded):
+        """:meth:`_contact` by the primal active-set QP on the whole compliance with these balls
+        closed (:func:`~profilegen.contact.solvers.solve_qp_active_set`: an independent
+        algorithm; ``loaded`` unused, the QP starts on its own)."""
+        from .solvers import solve_qp_active_set
+
+        cols = self._columns(act, w, np.arange(self.r.size))
+        shift = float(th.min())  # the QP takes θ ≥ 0: φ measured from the smallest
+        sol = solve_qp_active_set(0.5 * (cols + cols.T), th - shift, self.r, tz)
+        force, phi = np.asarray(sol.force_n, dtype=float), float(sol.phi_rad) + shift
+        return force, phi, self.r * (th - phi) + cols @ force, force > 0.0, sol.iterations
+
+    def solve(self, magnitude_nm: float, state, *, springs_on: bool, max_iterations: int, spring_tol: float,
+              teeth: str = "reduced"):
         """One |T| from ``state`` = (loaded points, active balls, log springs or None), the
         previous torque's: → dict (φ, F, gaps, loaded, ball set, reactions, the balls' gaps
         after load, springs, S's diagonal, iterations) or None (the loop cycled or did not
         end: use the reference). ``springs_on``: with the Hertz springs (from rigid supports
-        when the state has none), else rigid balls."""
+        when the state has none), else rigid balls. ``teeth``: "reduced" (the bordered
+        systems on the loaded points, from the state's) or "active_set" (:meth:`_contact_qp`)."""
         from .compliance import settle_step
 
         tz = magnitude_nm / self.points.zones * 1e3
@@ -1033,7 +1037,7 @@ class _ReducedZone:
         for _ in range(max_iterations):
             c = None if springs is None else springs.springs
             act, w, th, react_gap = self._balls(active, c)
-            out = self._contact(act, w, th, tz, loaded)
+            out = (self._contact_qp if teeth == "active_set" else self._contact)(act, w, th, tz, loaded)
             if out is None:
                 return None
             force, phi, gap, loaded, it = out
@@ -1068,7 +1072,7 @@ class _ReducedZone:
                 "iterations": total}
 
 
-def _solution(zone: _ReducedZone, magnitude_nm: float, out: dict, t0: float):
+def _solution(zone: _ReducedZone, magnitude_nm: float, out: dict, t0: float, *, method: str = "continuation"):
     """A ContactSolution of the reduced solve (the fields and residuals of solvers._finish)."""
     from .solvers import ContactSolution
 
@@ -1089,7 +1093,7 @@ def _solution(zone: _ReducedZone, magnitude_nm: float, out: dict, t0: float):
         warnings.append(f"all {r.size} candidate points are loaded: the torque {tz:.6g} N·mm has used up the contact "
                         "points given; points not in the list (further teeth or flank) would close too")
     return ContactSolution(
-        method="continuation", torque_nmm=tz, force_n=force, moment_nmm=moment, phi_rad=phi, gap_mm=gap,
+        method=method, torque_nmm=tz, force_n=force, moment_nmm=moment, phi_rad=phi, gap_mm=gap,
         loaded=loaded, iterations=iterations, complementarity_residual=comp, equilibrium_residual=equi,
         time_s=time.perf_counter() - t0, all_points_loaded=all_loaded, warnings=tuple(warnings),
         diagnostics={"tau_rad": tau, "theta_min_rad": theta_min, "a0_rad_per_nmm": a0, "points": int(r.size),
@@ -1129,7 +1133,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     compliance.ContactCompliance.build`): "all" (default; every ball of the zone a one-sided
     support at its no-load gap) or "window" (the balls within the rim's no-load contact angle,
     rigid at zero gap, settled). Given ``sides`` keep their own."""
-    from .analysis import _load_case
+    from .analysis import _Balls, _load_case
     from .compliance import ContactCompliance
     from .inputs import ContactInput
     from .points import contact_points
@@ -1228,7 +1232,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
             rigid_state = (rigid["loaded"], rigid["active"], None)
             spring_state, previous = (springs["loaded"], springs["active"], springs["log_springs"]), m
             sol = _solution(zone, m, springs, tm)
-            balls = _BallShim(comp.ball_angle_rad, springs["active"], springs["reactions"])
+            balls = _Balls(comp.ball_angle_rad, springs["reactions"], springs["active"])
             case, notes = _load_case(pts, m, sol, balls)
             cache[(side, m)] = (float(rigid["phi"]), float(springs["phi"]), case, notes)
 

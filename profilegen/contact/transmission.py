@@ -241,33 +241,11 @@ def _position(inputs, psi: float, opts: dict):
                                    face_width_mm=opts["face_width_mm"], race_thickness_mm=opts["race_thickness_mm"],
                                    race_interface=opts["race_interface"], wrap_half_angle_rad=opts["wrap"],
                                    ball_phase_rad=phase, shift_rad=shift, ball_supports=opts["ball_supports"])
-    if opts["ball_supports"] == "all":
-        from .analysis import _load_case
-
-        torque = opts["torque_nm"]
-        sol, reaction, _ = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, torque / pts.zones * 1e3,
-                                                 bearing=opts["bearing"])
-        case, warnings = _load_case(pts, torque, sol, _Balls(comp.ball_angle_rad, reaction))
-        matrix = (comp.with_balls(reaction > 0.0).matrix_mm_per_n, comp) if opts["keep_matrices"] else None
-        return pts, case, matrix, tuple(warnings)
-    res = solve_contact(inputs, [opts["torque_nm"]], points=pts, compliance=comp)
+    res = solve_contact(inputs, [opts["torque_nm"]], points=pts, compliance=comp,
+                        bearing=opts["bearing"] if opts["ball_supports"] == "all" else None)
     case = res.cases[0]
     matrix = (comp.with_balls(case.ball_active).matrix_mm_per_n, comp) if opts["keep_matrices"] else None
     return pts, case, matrix, res.warnings
-
-
-class _Balls:
-    """What :func:`~profilegen.contact.analysis._load_case` reads of the balls: their angles,
-    reactions (N) and which carry load."""
-
-    __slots__ = ("ball_angle_rad", "ball_active", "_reactions")
-
-    def __init__(self, angles, reactions):
-        self.ball_angle_rad, self._reactions = angles, np.asarray(reactions, dtype=float)
-        self.ball_active = self._reactions > 0.0
-
-    def ball_reactions(self, forces_n):
-        return self._reactions
 
 
 def _job_position(psi: float):

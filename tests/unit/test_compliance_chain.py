@@ -211,7 +211,8 @@ def sides(sketch_design):
     inputs = ContactInput.from_design(sketch_design)
     left = contact_points(inputs, side=-1)
     comp = ContactCompliance.build(inputs, left.fs_point_mm, left.normal, left.tooth, left.cs_point_mm,
-                                   wrap_half_angle_rad=right.compliance.wrap_half_angle_rad)
+                                   wrap_half_angle_rad=right.compliance.wrap_half_angle_rad,
+                                   ball_supports=right.compliance.ball_supports)  # the stage's: every ball
     return {1: (right.points, right.compliance), -1: (left, comp)}
 
 
