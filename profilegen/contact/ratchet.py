@@ -27,7 +27,11 @@ against 5.40 / 3.09 / 5.30 with the flank's normal kept at the corners (≤ 46°
 
 * while running (the catalogue's definition: the gear meets every wave-generator position):
   8 positions over one tooth passage give 4.57–4.79 kN·m, minimum 4.57 (×2.17; 2.2 % below
-  the mean); ``climb_positions=N`` takes the minimum of N.
+  the mean); ``climb_positions=N`` takes the minimum of N. The partly engaged teeth do skip
+  first: just past the limit point (4.71 kN·m) the loaded teeth at φ = 30.6…45° (corner depth
+  h 0.57…0.33 mm against 0.83 on the major axis; 25 % of the normal force) have margins
+  h − s of 0.14…0.002 mm, those at |φ| < 25° 0.2…0.67 mm — the limit point is where the
+  shallow band rides out and its load cannot move to the deep teeth fast enough.
 * across the face (the 3D cup's sections, climb.section_inputs): the diaphragm-end section
   (ω 60 µm lower on the major axis than the design section, corner depth h̄ 0.456 against
   0.51 mm) as if it were the whole face 3.87 kN·m (×1.85), the open end 5.40; 4 independent
@@ -47,10 +51,12 @@ against 5.40 / 3.09 / 5.30 with the flank's normal kept at the corners (≤ 46°
 
 So the factor 1.5 is missed by ~1.45× at best (4.28 / 3.15): the model needs about twice the
 radial compliance it has outside the mesh (an extra ~2e-5 mm/N, the free CS ring's own again)
-to reach it — or an effect it does not hold: the one-zone model is symmetric in the two
-engagement zones, so the eccentric (n = 1) mode of the wave generator and FS against the CS,
-the "dedoidal" state the catalogue names as ratcheting's outcome, cannot occur in it; friction
-is left out.
+to reach it. Untested suspects: friction (while running, the teeth entering the mesh slide
+inward along the CS flanks, so friction on them acts outward and tilts their force toward the
+radial — the opposite of a static pull-out, where it holds the teeth in); the one-zone model is
+symmetric in the two engagement zones, so the eccentric (n = 1) mode of the wave generator and
+FS against the CS (the "dedoidal" state the catalogue names as ratcheting's outcome) cannot
+occur in it; the CS ring's real section and mounting.
 
 The linear diagnostics (helper E's estimate, ``torque_linear_nm``)
 ------------------------------------------------------------------
