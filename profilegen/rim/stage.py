@@ -393,6 +393,67 @@ def _solve_named(gearset, tier: RimTier, contour, *, coarse: bool, per_pitch: in
         ) from exc
 
 
+_COARSE_JOB = None  # (gearset, tier, contour, per_pitch, wrap) for the forked worker of _solve_toothed_pair
+
+
+def _coarse_job():
+    gearset, tier, contour, per_pitch, wrap = _COARSE_JOB
+    from .ring import _BLAS_CONTROLLER
+
+    _BLAS_CONTROLLER.clear()  # the parent's controller describes the parent's thread pools
+    with _one_blas_thread():
+        return _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch, wrap_rad=wrap)
+
+
+def _solve_toothed_pair(gearset, tier: RimTier, contour, per_pitch: int, t0: float):
+    """The toothed tier's mesh and its coarse companion (the error estimate), the coarse one in a
+    forked worker process while this process solves the fine one (they share nothing but the
+    flat-ring pass's wrap, solved first): (fine, coarse, the fine one's time in s).
+
+    Both condense onto the bore nodes within that wrap + :data:`WRAP_MARGIN_RAD` (the coarse one
+    had the fine one's wrap before: the kept set only decides which nodes may carry a force, and
+    solve_ring widens it if the contact needs more; the answer is the same to rounding). In this
+    process — a daemonic worker (a sweep's pool) cannot fork, nor can a machine without fork —
+    one after the other."""
+    import multiprocessing
+    import os
+
+    global _COARSE_JOB
+    wrap = _expected_wrap(gearset, tier, contour)
+    pool = None
+    if (os.cpu_count() or 1) > 1 and not multiprocessing.current_process().daemon:
+        from concurrent.futures import ProcessPoolExecutor
+
+        try:
+            _COARSE_JOB = (gearset, tier, contour, per_pitch, wrap)  # inherited by the forked worker
+            pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("fork"))
+            future = pool.submit(_coarse_job)
+        except (ValueError, OSError) as exc:  # no fork here, or no process to spare
+            log.info("rim stage: the coarse toothed mesh solved in this process (%s)", exc)
+            if pool is not None:
+                pool.shutdown(cancel_futures=True)
+            pool = None
+        finally:
+            _COARSE_JOB = None
+    try:
+        fem = _solve_named(gearset, tier, contour, coarse=False, per_pitch=per_pitch, wrap_rad=wrap)
+        fem_time = time.perf_counter() - t0
+        if pool is None:
+            coarse = _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch, wrap_rad=wrap)
+        else:
+            from concurrent.futures.process import BrokenProcessPool
+
+            try:
+                coarse = future.result()
+            except BrokenProcessPool as exc:  # the worker died (killed, out of memory): solve it here
+                log.info("rim stage: the coarse toothed mesh's worker failed (%s): solved in this process", exc)
+                coarse = _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch, wrap_rad=wrap)
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+    return fem, coarse, fem_time
+
+
 def design_section_z(gearset, z_mm: float | None = None) -> float:
     """The section the cup tier gives the kinematics (mm, z from the cup bottom's mid-plane):
     ``z_mm``, else the gear set's ``[face] design_section_z_mm`` where it has one, else the
@@ -504,10 +565,12 @@ def solve_rim(gearset, *, tier: str | RimTier = "design", z_mm: float | None = N
     if per_pitch is not None and per_pitch != tier.per_pitch:
         warnings.append(f"the toothed rim mesh uses {per_pitch} columns per pitch instead of the tier's "
                         f"{tier.per_pitch}: this tooth's pieces need them (its coarse companion needs {per_pitch - 2})")
-    fem = _solve_named(gearset, tier, contour, coarse=False, per_pitch=per_pitch)
-    fem_time = time.perf_counter() - t0
-    coarse = _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch,
-                          wrap_rad=fem.contact_angle_rad if tier.model == "toothed" else None)
+    if tier.model == "toothed":
+        fem, coarse, fem_time = _solve_toothed_pair(gearset, tier, contour, per_pitch, t0)
+    else:
+        fem = _solve_named(gearset, tier, contour, coarse=False, per_pitch=per_pitch)
+        fem_time = time.perf_counter() - t0
+        coarse = _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch)
     d_w, d_u = _mesh_change(fem, coarse)
     error = float(max(d_w, d_u))
     measure = ("max |Δω|, |Δυ| on the neutral line between this mesh and one with half the circumferential "
