@@ -162,6 +162,8 @@ class TwoZoneSolution:
     method: str
     #: the balls' Hertz springs at the fixed point (mm/N, 2 nb) or None (rigid balls)
     springs_mm_per_n: np.ndarray | None = None
+    #: the loaded teeth and balls (bool, 2n + 2 nb): a start for a neighbouring solve
+    _loaded: np.ndarray | None = None
 
     @property
     def teeth_loaded(self) -> int:
@@ -254,28 +256,42 @@ class TwoZoneContact:
         self.face_width_mm = b
 
     def solve(self, torque_nm: float, offsets_rad=None, *, bearing=None, spring_tol: float = 1e-5,
-              spring_iterations: int = 60, start=None) -> TwoZoneSolution:
+              spring_iterations: int = 60, start=None, wave_generator: str = "held") -> TwoZoneSolution:
         """Both zones at the whole gear's torque ``torque_nm`` (> 0), each point's first-contact
         angle θ_k + ``offsets_rad``[k] (2n: zone 1, then the images). ``bearing``: a
         :class:`~profilegen.contact.chain.BallBearing` for the Hertz springs (None: rigid
         balls). ``start``: a loaded set (bool, 2n + 2 nb) to begin from (e.g. the last
-        torque's, ``solution`` attribute ``loaded``)."""
+        torque's, ``solution`` attribute ``loaded``). ``wave_generator``: "held" (the cam fixed
+        to the CS: the balls' gaps see the FS ring's translation only) or "floating" (the cam
+        free to translate radially, as on an Oldham coupling: a second translation c, the
+        balls' gaps h − e_r·c, Σ R e_r = 0 on the cam; so the teeth's resultant vanishes too).
+        ``translation_mm``: t, or (t, c) when floating."""
         from .chain import _SpringIteration
 
         t = float(torque_nm)
         if not (math.isfinite(t) and t > 0.0):
             raise ToothErrorError(f"torque_nm = {torque_nm!r}: must be finite and > 0 (N·m)")
+        if wave_generator not in ("held", "floating"):
+            raise ToothErrorError(f"wave_generator = {wave_generator!r}: must be 'held' (the cam fixed to the CS) or "
+                                  "'floating' (radially free, an Oldham coupling)")
+        dmat = self.directions
+        if wave_generator == "floating":
+            cam = np.zeros_like(dmat)
+            cam[self.n:] = -dmat[self.n:]
+            dmat = np.hstack([dmat, cam])
         theta = self.theta.copy()
         if offsets_rad is not None:
             off = np.asarray(offsets_rad, dtype=float)
             if off.shape != theta.shape or not np.all(np.isfinite(off)):
                 raise ToothErrorError(f"offsets_rad: must be {theta.size} finite angles (rad), got shape {off.shape}")
             theta = theta + off
-        springs = None if bearing is None else _SpringIteration(bearing.hertz_coefficient(), spring_tol)
         loaded = start
+        if loaded is None and wave_generator == "floating":  # a set whose teeth can balance their resultant
+            loaded = self.solve(t, offsets_rad)._loaded
+        springs = None if bearing is None else _SpringIteration(bearing.hertz_coefficient(), spring_tol)
         for _ in range(spring_iterations):
             c = None if springs is None else springs.springs
-            out = self._solve(t * 1e3, theta, c, loaded)
+            out = self._solve(t * 1e3, theta, c, loaded, dmat)
             loaded = out[-1]
             if springs is None or springs.step(out[0][self.n:]):
                 break
@@ -292,10 +308,11 @@ class TwoZoneContact:
         theta_min = float(theta.min())
         scale = tz * (abs(phi - theta_min) + 1e-12)
         comp = float(np.max(np.abs(x * w))) / scale
-        resultant = float(np.linalg.norm(self.directions.T @ x))
-        self._last_loaded = loaded
-        return TwoZoneSolution(force, react, float(phi), tr, np.array([moment[:half].sum(), moment[half:].sum()]),
-                               w[:n], w[n:], abs(float(moment.sum()) - tz) / tz, comp, resultant, method, c)
+        resultant = float(np.linalg.norm(dmat.T @ x))
+        out = TwoZoneSolution(force, react, float(phi), tr, np.array([moment[:half].sum(), moment[half:].sum()]),
+                              w[:n], w[n:], abs(float(moment.sum()) - tz) / tz, comp, resultant, method, c)
+        object.__setattr__(out, "_loaded", loaded)
+        return out
 
     # --- the QP's KKT conditions for given springs
     def _system(self, springs):
@@ -306,12 +323,11 @@ class TwoZoneContact:
             cmat[idx, idx] += springs
         return cmat
 
-    def _solve(self, tz, theta, springs, loaded):
+    def _solve(self, tz, theta, springs, loaded, dmat):
         n = self.n
         cmat = self._system(springs)
         a = np.concatenate([self.lever, np.zeros(self.nb)])
         q = np.concatenate([self.lever * theta, self.ball_gap])
-        dmat = self.directions
         r_bar = float(self.lever.mean())
         c0 = float(np.mean(np.diag(cmat)[:n]))
         force = tz / r_bar
@@ -331,14 +347,14 @@ class TwoZoneContact:
 
     @staticmethod
     def _kkt(ms, qs, as_, dmat, p):
-        k = p.size
-        kkt = np.zeros((k + 3, k + 3))
+        k, nd = p.size, dmat.shape[1]
+        kkt = np.zeros((k + 1 + nd, k + 1 + nd))
         kkt[:k, :k] = ms[np.ix_(p, p)]
         kkt[:k, k] = -as_[p]
         kkt[:k, k + 1:] = dmat[p]
         kkt[k, :k] = as_[p]
         kkt[k + 1:, :k] = dmat[p].T
-        rhs = np.concatenate([-qs[p], [1.0, 0.0, 0.0]])
+        rhs = np.concatenate([-qs[p], [1.0], np.zeros(nd)])
         sol = np.linalg.solve(kkt, rhs)
         x = np.zeros(qs.size)
         x[p] = sol[:k]
@@ -373,17 +389,18 @@ class TwoZoneContact:
 
         m = qs.size
         n = self.n
+        nd = dmat.shape[1]
         theta_min = float(np.min(qs[:n] / as_[:n]))
-        size = m + 5
+        size = m + 1 + 2 * nd
         mm = np.zeros((size, size))
         mm[:m, :m] = ms
         mm[:m, m] = -as_
-        mm[:m, m + 1:m + 3] = dmat
-        mm[:m, m + 3:] = -dmat
+        mm[:m, m + 1:m + 1 + nd] = dmat
+        mm[:m, m + 1 + nd:] = -dmat
         mm[m, :m] = as_
-        mm[m + 1:m + 3, :m] = -dmat.T
-        mm[m + 3:, :m] = dmat.T
-        qq = np.concatenate([qs - as_ * theta_min, [-1.0], np.zeros(4)])
+        mm[m + 1:m + 1 + nd, :m] = -dmat.T
+        mm[m + 1 + nd:, :m] = dmat.T
+        qq = np.concatenate([qs - as_ * theta_min, [-1.0], np.zeros(2 * nd)])
         basic, _ = _lemke_lcp(mm, qq, "TwoZoneContact (Lemke)")
         loaded = np.zeros(m, bool)
         loaded[basic[basic < m]] = True

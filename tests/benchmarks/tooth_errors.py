@@ -13,6 +13,8 @@ Hertz springs, the series parts of the chain), then both engagement zones as one
   fixed: 1000·class + draw), and pitch only for class 5,
 * a CS eccentricity e = 5, 10, 20 µm in the directions 0, 45, 90, 135° from the major axis,
 * class 5 with e = 10 µm in a random direction (``--draws``),
+* class 5 and e = 10, 20 µm with the wave generator floating radially (an Oldham coupling:
+  ``TwoZoneContact.solve(wave_generator="floating")``; the rows above hold the cam on the CS axis),
 
 each as K1 = T1/φ(T1), K2 = (T2 − T1)/(φ(T2) − φ(T1)), the secant at T2 (φ the elastic rotation
 from the first contact of the deviated gear, + T × the chain's series compliance), divided by
@@ -46,6 +48,8 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("profile", nargs="?", default=str(ROOT / "profiles" / "seed000_csf40.toml"))
     ap.add_argument("--draws", type=int, default=20)
+    ap.add_argument("--stations", type=int, default=5, help="contact points per flank (torsional_curve's default 5)")
+    ap.add_argument("--per-pitch", type=int, default=14, help="FS mesh columns per pitch (the build's default 14)")
     args = ap.parse_args()
     gs = pg.load_gearset(args.profile)
     cat = catalogue_for(gs)
@@ -56,24 +60,36 @@ def main() -> None:
           f"T2 {t2:g}, K2 {k2c:.3g} N·m/rad, secant at T2 {sec2c:.4g}")
     t0 = time.process_time()
     design = pg.design(gs, scene="design", contact=False, stress=False)
-    curve = torsional_curve(design, [t1, t2], catalogue=cat)
+    sides = None
+    if args.stations != 5 or args.per_pitch != 14:
+        from profilegen.contact import contact_points
+        from profilegen.contact.compliance import ContactCompliance
+
+        inp = ContactInput.from_design(design)
+        sides = {}
+        for side in (1, -1):
+            p = contact_points(inp, side=side, stations=args.stations, max_gap_mm=0.12)
+            sides[side] = (p, ContactCompliance.build(inp, p.fs_point_mm, p.normal, p.tooth, p.cs_point_mm,
+                                                      per_pitch=args.per_pitch, ball_supports="all"))
+    curve = torsional_curve(design, [t1, t2], catalogue=cat, sides=sides)
+    print(f"stations {args.stations}, FS columns per pitch {args.per_pitch}")
     print(f"design + torsional_curve: {time.process_time() - t0:.1f} s CPU")
     k_ref = curve.k_nm_per_rad["total"]["positive"]
     series = curve.chain.series_compliance_rad_per_nm
     pts, comp = curve.sides[1]
     inputs = ContactInput.from_design(design)
     t0 = time.process_time()
-    two = TwoZoneContact(inputs, pts, comp)
+    two = TwoZoneContact(inputs, pts, comp, per_pitch=args.per_pitch)
     print(f"both zones on the whole ring: {pts.count} points per zone, {two.nb} balls, {time.process_time() - t0:.2f} s "
           "CPU")
     bearing = curve.chain.bearing
     g = gs.gear
     d, m = g.module_mm * g.flexspline_teeth, g.module_mm
 
-    def case(off):
+    def case(off, wave_generator="held"):
         theta0 = float(np.min(two.theta + (0.0 if off is None else off)))
-        s1 = two.solve(t1, off, bearing=bearing)
-        s2 = two.solve(t2, off, bearing=bearing)
+        s1 = two.solve(t1, off, bearing=bearing, wave_generator=wave_generator)
+        s2 = two.solve(t2, off, bearing=bearing, wave_generator=wave_generator)
         e1 = s1.phi_rad - theta0 + t1 * series
         e2 = s2.phi_rad - theta0 + t2 * series
         worst = max(s.equilibrium_residual for s in (s1, s2)), max(s.complementarity_residual for s in (s1, s2))
@@ -119,10 +135,16 @@ def main() -> None:
             rows = [case(draw_deviations(pts, gs, np.random.default_rng(1000 * grade + i), pitch_sigma_mm=0.0,
                                          profile_sigma_mm=sa)) for i in range(args.draws)]
             report("class 5, profile only", rows)
+            rows = [case(draw_deviations(pts, gs, np.random.default_rng(1000 * grade + i), pitch_sigma_mm=sp,
+                                         profile_sigma_mm=sa), "floating") for i in range(args.draws)]
+            report("class 5, wave generator floating", rows)
     for e_um in (5.0, 10.0, 20.0):
         for deg in (0.0, 45.0, 90.0, 135.0):
             report(f"eccentricity {e_um:g} µm at {deg:g}°",
                    [case(eccentricity_offsets_rad(pts, e_um * 1e-3, math.radians(deg)))])
+    for e_um in (10.0, 20.0):
+        report(f"eccentricity {e_um:g} µm at 45°, WG floating",
+               [case(eccentricity_offsets_rad(pts, e_um * 1e-3, math.radians(45.0)), "floating")])
     tol = iso1328_tolerances_um(d, m, 5)
     rows = []
     for i in range(args.draws):

@@ -123,6 +123,23 @@ def test_eccentricity_turned_by_pi_swaps_the_zones(zones):
     assert abs(a.zone_moment_nmm[0] - a.zone_moment_nmm[1]) > 0.05 * T1 * 1e3
 
 
+def test_floating_wave_generator_absorbs_the_eccentricity(zones):
+    """A wave generator free to move radially (an Oldham coupling) follows the CS: FS and cam
+    translate by e together and every gap is the concentric gear's again, up to the
+    linearisation (the FE model's directions are the undeformed tooth's, the gaps' the
+    deformed tooth's normals). Held on the WG axis, the same e moves the split and the rotation."""
+    _, pts, two, _ = zones
+    off = eccentricity_offsets_rad(pts, 0.01, 0.7)
+    perfect = two.solve(T1)
+    held = two.solve(T1, off)
+    floating = two.solve(T1, off, wave_generator="floating")
+    np.testing.assert_allclose(floating.zone_moment_nmm, [T1 * 1e3 / 2] * 2, rtol=2e-3)
+    assert floating.phi_rad == pytest.approx(perfect.phi_rad, rel=2e-3)
+    assert abs(held.phi_rad - perfect.phi_rad) > 0.03 * perfect.phi_rad
+    assert floating.resultant_n <= 1e-9 * floating.force_n.max()
+    assert floating.force_n.min() >= 0.0 and floating.gap_mm.min() >= -1e-12 and floating.ball_gap_mm.min() >= -1e-12
+
+
 def test_bad_offsets(zones):
     _, pts, two, _ = zones
     with pytest.raises(ToothErrorError, match="offsets_rad"):
