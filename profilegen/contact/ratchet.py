@@ -445,7 +445,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                       climb_stations: int = 9, climb_max_gap_mm: float = 0.15,
                       climb_max_torque_nm: float | None = None, climb_ring_scale: float = 1.0,
                       climb_shift_rad: float = 0.0, climb_corner_normal: bool = True,
-                      climb_ball_supports: str = "window", climb_positions: int = 1) -> Ratcheting:
+                      climb_ball_supports: str = "all", climb_positions: int = 1) -> Ratcheting:
     """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
     by the model of the module docstring.
 
@@ -467,8 +467,9 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     passage from there (shift − k·2π/(z1·N)), the estimate their minimum (the gear running
     under load meets every position; each in ``climb["positions"]``; N× the time);
     ``climb_corner_normal``: the FS tip corner's normal follows the CS surface (False: the
-    flank's, the model before); ``climb_ball_supports``: "window" (the contact's candidate
-    balls) or "all" (every ball one-sided at its no-load gap)."""
+    flank's, the model before); ``climb_ball_supports``: "all" (every ball one-sided at its
+    no-load gap, as the contact stage since c4e4c83) or "window" (the balls within the rim's
+    no-load contact angle, settled; the linear diagnostics keep this one)."""
     from .chain import BallBearing
     from .compliance import ContactCompliance
     from .inputs import ContactInput

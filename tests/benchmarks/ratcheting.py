@@ -12,7 +12,8 @@ deformation, contact.climb.section_inputs), each as if the whole face were that 
 over N independent slices sharing the rotation (contact.climb.SlicedClimb). ``--parts``: the
 force-weighted retreat split into the CS ring, the Hertz balls and the FEM (rim, race, tooth)
 along the path, and the climb with rigid balls, without the CS ring, with neither, with every
-ball one-sided at its no-load gap (ball_supports="all"), and with the FS tip-corner normal held
+ball within the wrap only (ball_supports="window"; the default "all": every ball one-sided at
+its no-load gap, as the contact stage), and with the FS tip-corner normal held
 at the flank's (the model before P3).
 
 The climb (profilegen.contact.climb, the default estimate since helper E2): per set the
@@ -74,6 +75,7 @@ def _climb_setup(gs, design, **kw):
         ang = np.concatenate([phis, phis + math.pi])
         return ratchet.cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
                                                  youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
+    kw.setdefault("ball_supports", "all")  # as ratcheting_torque
     return DesignClimb(inputs, side=1, stations=9, max_gap_mm=0.15, race_thickness_mm=None,
                        bearing=BallBearing.from_gearset(gs), ring_factory=factory, **kw)
 
@@ -162,7 +164,7 @@ def parts_run(gs, design) -> None:
     print("\n-- the retreat's parts along the climb (force-weighted over the loaded teeth, µm)")
     m = _climb_setup(gs, design)
     path = _follow(m, rated)
-    print(f"  {'T (N·m)':>8} {'retreat':>8} {'CS ring':>8} {'Hertz':>8} {'FEM':>8}  balls")
+    print(f"  {'T (N·m)':>8} {'retreat':>8} {'CS ring':>8} {'Hertz':>8} {'FEM':>8} {'ball gaps':>9}  balls")
     for p in path.points[::2] + (path.points[-1],):
         st = p.state
         m.geometry(p.retreat_mm, p.phi_rad)
@@ -172,7 +174,9 @@ def parts_run(gs, design) -> None:
         w = np.bincount(m.slot, weights=f, minlength=m.teeth.size)
         w = w / w.sum()
         ring, hertz, fem = w @ (pcs @ f), w @ ((pfs_h - pfs_r) @ f), w @ (pfs_r @ f)
-        print(f"  {p.torque_nm:8.0f} {w @ p.retreat_mm * 1e3:8.1f} {ring * 1e3:8.1f} {hertz * 1e3:8.1f} {fem * 1e3:8.1f}  "
+        gaps = w @ np.broadcast_to(st.offset, w.shape)  # the closed balls' no-load gaps (springs as loaded)
+        print(f"  {p.torque_nm:8.0f} {w @ p.retreat_mm * 1e3:8.1f} {ring * 1e3:8.1f} {hertz * 1e3:8.1f} {fem * 1e3:8.1f} "
+              f"{gaps * 1e3:9.1f}  "
               f"{int(st.active.sum())}/{st.active.size}")
     last = path.points[-1]
     per = np.bincount(m.slot, weights=last.force_n, minlength=m.teeth.size)
@@ -184,7 +188,7 @@ def parts_run(gs, design) -> None:
     lad = [rated, 2 * rated]
     for label, kw in (("rigid balls", {"bearing": None}), ("no CS ring", {"cs_ring": False}),
                       ("rigid balls, no CS ring", {"bearing": None, "cs_ring": False}),
-                      ("every ball one-sided at its no-load gap", {"climb_ball_supports": "all"}),
+                      ("the balls within the wrap only (the window)", {"climb_ball_supports": "window"}),
                       ("the FS tip-corner normal held at the flank's", {"climb_corner_normal": False})):
         t0 = time.process_time()
         r = ratcheting_torque(design, torques_nm=lad, **kw)
