@@ -243,7 +243,7 @@ def _solve_every_ball(points, compliance, torque_nm: float, solver: str, bearing
     compliance.ContactCompliance.solve_unilateral`, exact). "active_set": an independent
     solve of the same problem — the ball set settled (:func:`~profilegen.contact.compliance.
     settle_step`), for each set the teeth by the primal active-set QP on the compliance with
-    those balls closed at their gaps (:class:`~profilegen.contact.chain._ReducedZone`)."""
+    those balls closed at their gaps (:class:`~profilegen.contact.reduced._ReducedZone`)."""
     from ..errors import ConvergenceError
 
     torque_nmm = torque_nm / points.zones * 1e3
@@ -251,7 +251,7 @@ def _solve_every_ball(points, compliance, torque_nm: float, solver: str, bearing
         sol, reactions, _ = compliance.solve_unilateral(points.theta_rad, points.lever_mm, torque_nmm,
                                                         bearing=bearing)
         return sol, _Balls(compliance.ball_angle_rad, reactions)
-    from .chain import _ReducedZone, _solution
+    from .reduced import _ReducedZone, _solution
 
     t0 = time.perf_counter()
     zone = _ReducedZone(points, compliance, bearing)

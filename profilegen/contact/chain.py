@@ -121,6 +121,7 @@ import numpy as np
 from .. import checks
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import json_ready, readonly as _readonly
+from .reduced import _ReducedZone, _solution, _SpringIteration  # noqa: F401 (the continuation's pieces, used here)
 
 __all__ = [
     "ARCMIN_PER_RAD",
@@ -523,13 +524,20 @@ def compliance_chain(gearset, *, cs_sector_radius_mm: float | None = None, cs_he
     r_m, t = float(g.neutral_radius_mm), float(g.rim_thickness_mm)
     length, b, t_b, r0 = float(cup.length_mm), float(cup.face_width_mm), float(cup.bottom_thickness_mm), \
         float(cup.boss_radius_mm)
+    # the wall below the tooth ring: [cup] wall_thickness_mm (same bore, turned thinner outside;
+    # default the rim thickness), its mid-surface at r_bore + t_w/2
+    t_w = getattr(cup, "wall_thickness_mm", None)
+    t_w = t if t_w is None else float(t_w)
+    r_w = r_m - 0.5 * t + 0.5 * t_w
     wall_len = length - 0.5 * b - 0.5 * t_b
     if not wall_len > 0.0:
         raise ChainError(f"cup.length_mm = {length:.6g} mm: the wall must reach below the tooth ring "
                          f"(length > face_width/2 + bottom_thickness/2 = {0.5 * b + 0.5 * t_b:.6g} mm)")
     eff_len = wall_len + b / 3.0
-    k_wall = tube_torsion_stiffness(shear, r_m, t, eff_len) * 1e-3
-    k_bottom = annulus_torsion_stiffness(shear, t_b, r0, r_m) * 1e-3
+    # in series: the wall (t_w at r_w) and b/3 of the tooth ring (δ at r_m); one tube when t_w = δ
+    k_wall = 1e-3 / (1.0 / tube_torsion_stiffness(shear, r_w, t_w, wall_len)
+                     + 1.0 / tube_torsion_stiffness(shear, r_m, t, b / 3.0))
+    k_bottom = annulus_torsion_stiffness(shear, t_b, r0, r_w) * 1e-3
     r_sector = 1.1 * float(g.cs_pitch_radius_mm) if cs_sector_radius_mm is None else \
         _positive("cs_sector_radius_mm", cs_sector_radius_mm)
     est_cs = []
@@ -550,13 +558,15 @@ def compliance_chain(gearset, *, cs_sector_radius_mm: float | None = None, cs_he
     cup_est = tuple(f"cup.{k} (default estimate)" for k in ("length_mm", "face_width_mm", "bottom_thickness_mm",
                                                              "boss_radius_mm"))
     parts = (
-        ChainPart("cup_wall", "thin-walled tube in torsion, wall = rim thickness; the tooth ring as b/3 of tube "
-                  "(torque entering evenly across the face)", "K = G·2π r_m³ δ / (l − b/2 − t_b/2 + b/3)", k_wall,
-                  {"shear_modulus_mpa": shear, "radius_mm": r_m, "thickness_mm": t, "wall_length_mm": wall_len,
-                   "effective_length_mm": eff_len}, cup_est),
+        ChainPart("cup_wall", "thin-walled tube in torsion: the wall below the tooth ring ([cup] wall_thickness_mm, "
+                  "default the rim thickness) in series with the tooth ring as b/3 of tube (torque entering evenly "
+                  "across the face)",
+                  "1/K = (l − b/2 − t_b/2) / (G·2π r_w³ t_w) + (b/3) / (G·2π r_m³ δ), r_w = r_m − δ/2 + t_w/2", k_wall,
+                  {"shear_modulus_mpa": shear, "radius_mm": r_m, "thickness_mm": t, "wall_thickness_mm": t_w,
+                   "wall_radius_mm": r_w, "wall_length_mm": wall_len, "effective_length_mm": eff_len}, cup_est),
         ChainPart("cup_bottom", "annular plate twisted in its plane, boss to the wall's mid-surface",
-                  "K = 4π G t_b / (1/r0² − 1/r_m²)", k_bottom,
-                  {"shear_modulus_mpa": shear, "thickness_mm": t_b, "inner_radius_mm": r0, "outer_radius_mm": r_m},
+                  "K = 4π G t_b / (1/r0² − 1/r_w²)", k_bottom,
+                  {"shear_modulus_mpa": shear, "thickness_mm": t_b, "inner_radius_mm": r0, "outer_radius_mm": r_w},
                   cup_est),
         ChainPart("cs_body", "annulus in torsion from the compliance model's fixed CS edge to where the CS is held",
                   "K = 4π G w / (1/r_s² − 1/r_h²)", k_cs,
@@ -776,46 +786,6 @@ def _checked_signed_torques(torques_nm) -> np.ndarray:
     return t
 
 
-class _SpringIteration:
-    """The Hertz ball springs' secant fixed point, in log c: c = c_H R(c)^(−1/3) per ball.
-
-    Plain steps contract by ~1/3 (12 steps to 1e-6 on the default set); a per-ball secant
-    estimate q of the map's slope (Steffensen) takes x + (g − x)/(1 − q) instead, and a start
-    from a neighbouring torque's springs leaves a few steps. A reaction is held ≥ max(1 N,
-    1e-3 × the largest) in the secant (the secant is infinite at no load; the spring of a
-    ball that carries nothing does not enter the solve). ``x``: the current log springs (None:
-    rigid balls so far, the first step takes the secants at their reactions)."""
-
-    __slots__ = ("c_hertz", "tol", "x", "x_prev", "g_prev")
-
-    def __init__(self, c_hertz: float, tol: float, x=None):
-        self.c_hertz, self.tol, self.x = float(c_hertz), float(tol), x
-        self.x_prev = self.g_prev = None
-
-    def step(self, reactions_n) -> bool:
-        """True when the springs ``x`` reproduce themselves at these reactions to ``tol``
-        (relative); else ``x`` moves to the next iterate and False."""
-        react = np.asarray(reactions_n, dtype=float)
-        floor = max(1.0, 1e-3 * float(react.max(initial=0.0)))
-        g = np.log(self.c_hertz * np.maximum(react, floor) ** (-1.0 / 3.0))
-        x = self.x
-        if x is not None and np.all(np.abs(np.expm1(g - x)) <= self.tol):
-            return True
-        step = g
-        if x is not None and self.x_prev is not None:
-            dx, dg = x - self.x_prev, g - self.g_prev
-            q = np.clip(np.divide(dg, dx, out=np.zeros_like(dx), where=np.abs(dx) > 1e-14), -0.9, 0.5)
-            step = x + (g - x) / (1.0 - q)
-        if x is not None:
-            self.x_prev, self.g_prev = x, g
-        self.x = step
-        return False
-
-    @property
-    def springs(self):
-        return None if self.x is None else np.exp(self.x)
-
-
 def _solve_side(points, compliance, magnitude_nm: float, bearing: BallBearing | None, *, settle_iterations: int,
                 spring_iterations: int, spring_tol: float, start_springs=None):
     """The reference for one flank at |T|: the window's balls (:func:`_solve_side_window`) or
@@ -901,205 +871,6 @@ def _solve_side_window(points, compliance, magnitude_nm: float, bearing: BallBea
     return phi_rigid, float(sol.phi_rad), sol, rigid_sol, comp, it.springs
 
 
-class _ReducedZone:
-    """One flank's contact, ball settling and Hertz springs solved on reduced systems.
-
-    The same problem as :func:`_solve_side` (whose answer is unique: the contact's QP is
-    strictly convex for given springs), solved without assembling the n × n compliance or
-    running Lemke's method from scratch. For a ball set B (the balls in contact) with springs
-    c, each ball of B closed at its no-load gap γ_B (0 for the window's balls), the ball
-    reactions are R_B = −W F − b (F_BB + diag(c b))⁻¹ γ_B with W = (F_BB + diag(c b))⁻¹ F_cBᵀ
-    (a |B| × |B| Cholesky factor), so the teeth see the compliance S[:, P] = S_CS[:, P] +
-    (F_cc[:, P] − F_cB W[:, P]) / b at the loaded points P and an initial separation r_k θ_k
-    − (Wᵀ γ_B)_k (the closed balls' gaps pull the rim in: an offset of each point's first
-    contact angle). Equilibrium and closed gaps on P are a (|P| + 1) bordered system; P
-    follows the primal–dual active-set rule (keep the loaded points with F > 0, take in the
-    points with a negative gap) from the previous torque's P, B and springs — continuation in
-    T —, B the ball-settling rule (:func:`~profilegen.contact.compliance.settle_step`: the
-    most tensile ball leaves, else the ball the rim moves into most, past its gap, comes
-    back), the springs their secant fixed point (:class:`_SpringIteration`), all in one loop.
-    At its end teeth and balls are both complementary: F ≥ 0, g ≥ 0, F g = 0 and R ≥ 0,
-    h ≥ 0, R h = 0 (h the balls' gaps after load). A loop that cycles or does not end falls
-    back to the reference (Lemke from scratch) for that torque.
-    """
-
-    def __init__(self, points, compliance, bearing):
-        self.points, self.compliance, self.bearing = points, compliance, bearing
-        self.theta = np.asarray(points.theta_rad, dtype=float)
-        self.r = np.asarray(points.lever_mm, dtype=float)
-        self.b = float(compliance.face_width_mm)
-        cc = np.asarray(compliance._flex_cc, dtype=float)
-        self.cc = 0.5 * (cc + cc.T)
-        self.cs = np.asarray(compliance.cs_matrix_mm_per_n, dtype=float)
-        self.cb = np.asarray(compliance._flex_cb, dtype=float)
-        self.bb = np.asarray(compliance._flex_bb, dtype=float)
-        nb = self.bb.shape[0]
-        gap = getattr(compliance, "ball_gap_mm", None)
-        self.gap = np.zeros(nb) if gap is None else np.asarray(gap, dtype=float)
-        self.base_diag = np.diag(self.cs) + np.diag(self.cc) / self.b
-        self.c_hertz = None if bearing is None else bearing.hertz_coefficient()
-
-    # --- the pieces for one ball set
-    def _balls(self, active, springs):
-        """→ (the active balls, W, the teeth's first-contact angles with the balls' gaps closed,
-        the reactions' part from the gaps (N))."""
-        from scipy.linalg import cho_factor, cho_solve
-
-        act = np.flatnonzero(active)
-        if act.size == 0:
-            return act, np.zeros((0, self.r.size)), self.theta, np.zeros(0)
-        block = self.bb[np.ix_(act, act)]
-        if springs is not None:
-            block = block + np.diag(springs[act] * self.b)
-        factor = cho_factor(block)
-        w = cho_solve(factor, self.cb[:, act].T)
-        gap = self.gap[act]
-        if not np.any(gap):
-            return act, w, self.theta, np.zeros(act.size)
-        u = cho_solve(factor, gap)
-        return act, w, self.theta - (self.cb[:, act] @ u) / self.r, -self.b * u
-
-    def _columns(self, act, w, cols):
-        out = self.cs[:, cols] + self.cc[:, cols] / self.b
-        if act.size:
-            out -= (self.cb[:, act] @ w[:, cols]) / self.b
-        return out
-
-    def _contact(self, act, w, th, tz, loaded):
-        """Contact for fixed balls from the loaded set ``loaded`` (bool), ``th`` the points'
-        first-contact angles (with the closed balls' gaps): → (F, φ, gaps, loaded,
-        iterations) or None when the active-set rule cycles."""
-        r = self.r
-        seen = set()
-        for it in range(1, 4 * r.size + 20):
-            key = loaded.tobytes()
-            if key in seen:
-                return None
-            seen.add(key)
-            p = np.flatnonzero(loaded)
-            if p.size == 0:
-                p = np.array([int(np.argmin(th))])
-                loaded = np.zeros(r.size, bool)
-                loaded[p] = True
-            cols = self._columns(act, w, p)
-            spp = 0.5 * (cols[p] + cols[p].T)
-            # scaled as the solvers are (moments m = rF/T, angles over τ = a0 T)
-            a0 = float(np.mean(np.diag(spp) / r[p] ** 2))
-            tau = a0 * tz
-            tmin = float(th[p].min())
-            k = p.size
-            kkt = np.zeros((k + 1, k + 1))
-            kkt[:k, :k] = spp / np.outer(r[p], r[p]) / a0
-            kkt[:k, k] = -1.0
-            kkt[k, :k] = 1.0
-            rhs = np.concatenate([-(th[p] - tmin) / tau, [1.0]])
-            sol = np.linalg.solve(kkt, rhs)
-            force = np.zeros(r.size)
-            force[p] = tz * sol[:k] / r[p]
-            phi = tmin + tau * float(sol[k])
-            gap = r * (th - phi) + cols @ force[p]
-            ghat = gap / (r * tau)
-            tol = 1e-10 * (1.0 + abs(float(sol[k])))
-            new = (loaded & (force > 0.0)) | (~loaded & (ghat < -tol))
-            if np.array_equal(new, loaded):
-                return force, phi, gap, loaded, it
-            loaded = new
-        return None
-
-    def _contact_qp(self, act, w, th, tz, loaded):
-        """:meth:`_contact` by the primal active-set QP on the whole compliance with these balls
-        closed (:func:`~profilegen.contact.solvers.solve_qp_active_set`: an independent
-        algorithm; ``loaded`` unused, the QP starts on its own)."""
-        from .solvers import solve_qp_active_set
-
-        cols = self._columns(act, w, np.arange(self.r.size))
-        shift = float(th.min())  # the QP takes θ ≥ 0: φ measured from the smallest
-        sol = solve_qp_active_set(0.5 * (cols + cols.T), th - shift, self.r, tz)
-        force, phi = np.asarray(sol.force_n, dtype=float), float(sol.phi_rad) + shift
-        return force, phi, self.r * (th - phi) + cols @ force, force > 0.0, sol.iterations
-
-    def solve(self, magnitude_nm: float, state, *, springs_on: bool, max_iterations: int, spring_tol: float,
-              teeth: str = "reduced"):
-        """One |T| from ``state`` = (loaded points, active balls, log springs or None), the
-        previous torque's: → dict (φ, F, gaps, loaded, ball set, reactions, the balls' gaps
-        after load, springs, S's diagonal, iterations) or None (the loop cycled or did not
-        end: use the reference). ``springs_on``: with the Hertz springs (from rigid supports
-        when the state has none), else rigid balls. ``teeth``: "reduced" (the bordered
-        systems on the loaded points, from the state's) or "active_set" (:meth:`_contact_qp`)."""
-        from .compliance import settle_step
-
-        tz = magnitude_nm / self.points.zones * 1e3
-        loaded, active, x = state
-        loaded, active = loaded.copy(), active.copy()
-        springs = _SpringIteration(self.c_hertz, spring_tol, x) if springs_on else None
-        total = 0
-        seen = set()
-        for _ in range(max_iterations):
-            c = None if springs is None else springs.springs
-            act, w, th, react_gap = self._balls(active, c)
-            out = (self._contact_qp if teeth == "active_set" else self._contact)(act, w, th, tz, loaded)
-            if out is None:
-                return None
-            force, phi, gap, loaded, it = out
-            total += it
-            react = np.zeros(active.size)
-            if act.size:
-                react[act] = react_gap - w @ force
-            # the balls' gaps after load (an active ball's: its spring's compression, ~0)
-            ball_gap = self.gap + self.cb.T @ (force / self.b) + self.bb[:, act] @ (react[act] / self.b)
-            if c is not None:
-                ball_gap += c * react
-            active_new, change = settle_step(active, react, ball_gap)
-            if change == "leave":
-                active = active_new
-                continue
-            if change == "return":
-                key = (active.tobytes(), None if springs is None or springs.x is None else springs.x.tobytes())
-                if key in seen:
-                    return None
-                seen.add(key)
-                active = active_new
-                continue
-            if springs is None or springs.step(react):
-                break
-        else:
-            return None
-        diag = self.base_diag.copy()
-        if act.size:
-            diag -= np.einsum("ij,ji->i", self.cb[:, act], w) / self.b
-        return {"phi": phi, "force": force, "gap": gap, "loaded": loaded, "active": active, "reactions": react,
-                "ball_gap": ball_gap, "log_springs": None if springs is None else springs.x, "diag": diag,
-                "iterations": total}
-
-
-def _solution(zone: _ReducedZone, magnitude_nm: float, out: dict, t0: float, *, method: str = "continuation"):
-    """A ContactSolution of the reduced solve (the fields and residuals of solvers._finish)."""
-    from .solvers import ContactSolution
-
-    tz = magnitude_nm / zone.points.zones * 1e3
-    r = zone.r
-    force, phi, gap, loaded, iterations = out["force"], out["phi"], out["gap"], out["loaded"], out["iterations"]
-    moment = r * force
-    theta_min = float(zone.theta.min())
-    a0 = float(np.mean(out["diag"] / r ** 2))
-    tau = a0 * tz
-    # teeth and balls on one scale (as ContactCompliance.solve_unilateral's residual)
-    comp = max(float(np.max(np.abs(force * gap))), float(np.max(np.abs(out["reactions"] * out["ball_gap"]),
-                                                                initial=0.0))) / (tz * (abs(phi - theta_min) + tau))
-    equi = abs(float(np.sum(moment)) - tz) / tz
-    warnings = []
-    all_loaded = bool(np.all(loaded))
-    if all_loaded:
-        warnings.append(f"all {r.size} candidate points are loaded: the torque {tz:.6g} N·mm has used up the contact "
-                        "points given; points not in the list (further teeth or flank) would close too")
-    return ContactSolution(
-        method=method, torque_nmm=tz, force_n=force, moment_nmm=moment, phi_rad=phi, gap_mm=gap,
-        loaded=loaded, iterations=iterations, complementarity_residual=comp, equilibrium_residual=equi,
-        time_s=time.perf_counter() - t0, all_points_loaded=all_loaded, warnings=tuple(warnings),
-        diagnostics={"tau_rad": tau, "theta_min_rad": theta_min, "a0_rad_per_nmm": a0, "points": int(r.size),
-                     "balls_loaded": int(np.count_nonzero(out["reactions"] > 0.0))})
-
-
 def _stiffnesses(phi_of, theta0: float, t1: float, t2: float, t3: float) -> dict:
     """The catalogue's K1, K2, K3 on the elastic rotation, and the secants T/φ at T1 and T2."""
     e1, e2, e3 = phi_of(t1) - theta0, phi_of(t2) - theta0, phi_of(t3) - theta0
@@ -1109,7 +880,7 @@ def _stiffnesses(phi_of, theta0: float, t1: float, t2: float, t3: float) -> dict
 
 def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None, sides: dict | None = None,
                     breakpoints_nm: tuple[float, float] | None = None, lost_motion_fraction: float = 0.03,
-                    catalogue: dict | None = CATALOGUE_SIZE40_RATIO50, stations: int = 5, max_gap_mm: float = 0.12,
+                    catalogue: dict | None | bool = True, stations: int = 5, max_gap_mm: float = 0.12,
                     settle_iterations: int = 20, spring_iterations: int = 60,
                     spring_tol: float = 1e-5, method: str = "continuation",
                     ball_supports: str = "all") -> TorsionalCurve:
@@ -1120,7 +891,9 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     design's gear set). ``sides``: {+1: (points, compliance), −1: (…)} from an earlier call
     (``result`` of :func:`~profilegen.contact.analysis.solve_contact` with ``side=±1``) to
     skip building them. ``breakpoints_nm``: (T1, T2) (default the catalogue's); K3 runs from
-    T2 to the set's peak torque. ``lost_motion_fraction``: f of the rated torque.
+    T2 to the set's peak torque. ``catalogue``: True (default) for the row of the set's size and
+    ratio (:func:`catalogue_for`, from :func:`profilegen.contact.catalogue.catalogue_row`), a
+    table, or None. ``lost_motion_fraction``: f of the rated torque.
 
     ``method``: ``"continuation"`` (default) solves each flank's torques in increasing |T|,
     each from the previous one's loaded points, ball set and springs, on reduced systems
@@ -1151,10 +924,15 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     inputs = ContactInput.from_design(design, name="design")
     gs = inputs.gearset
     chain = compliance_chain(gs) if chain is None else chain
+    if catalogue is True:
+        catalogue = catalogue_for(gs)
+    elif catalogue is False:
+        catalogue = None
     source = "given"
     if breakpoints_nm is None:
         if catalogue is None:
-            raise ChainError("breakpoints_nm: give (T1, T2) in N·m when no catalogue is given")
+            raise ChainError("breakpoints_nm: give (T1, T2) in N·m when no catalogue is given or the set's size has "
+                             "no catalogue row")
         breakpoints_nm, source = (catalogue["T1_nm"], catalogue["T2_nm"]), "catalogue"
     t1 = _positive("breakpoints_nm[0]", breakpoints_nm[0], "N·m")
     t2 = _number("breakpoints_nm[1]", breakpoints_nm[1], "N·m", t1)

@@ -90,6 +90,19 @@ def test_cup_formulas_against_the_body_of_revolution(gearset):
     assert abs(formulas_s / cup_torsion_fem(short, element_mm=2.0) - 1.0) < 0.03
 
 
+def test_a_thinner_cup_wall_is_read(gearset):
+    """[cup] wall_thickness_mm below the tooth ring (same bore, 0.6 δ): the chain's cup (wall
+    and tooth ring in series, bottom to the wall's mid-surface) against the cup's n = 0
+    harmonic in scikit-fem with that wall; softer than the one-thickness cup."""
+    t = gearset.gear.rim_thickness_mm
+    thin = dataclasses.replace(gearset, cup=dataclasses.replace(gearset.cup, wall_thickness_mm=0.6 * t))
+    one, two = compliance_chain(gearset), compliance_chain(thin)
+    assert two.part("cup_wall").parameters["wall_thickness_mm"] == pytest.approx(0.6 * t)
+    assert two.part("cup_wall").compliance_rad_per_nm > 1.4 * one.part("cup_wall").compliance_rad_per_nm
+    formulas = 1.0 / (two.part("cup_wall").compliance_rad_per_nm + two.part("cup_bottom").compliance_rad_per_nm)
+    assert abs(formulas / cup_torsion_fem(thin, element_mm=2.0) - 1.0) < 0.03
+
+
 def test_series_sum_and_parts(gearset):
     chain = compliance_chain(gearset)
     c = sum(1.0 / p.stiffness_nm_per_rad for p in chain.parts)
