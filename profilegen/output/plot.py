@@ -349,11 +349,12 @@ CATALOG_SIZE40_RATIO50 = {"T1_nm": 54.0, "K1_nm_per_rad": 10e4, "T2_nm": 196.0, 
 
 
 def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | None = None,
-                   catalog: dict | None = None, ratio: float | None = None) -> "Figure":
+                   catalog: dict | None = None, ratio: float | None = None, size: int | None = None) -> "Figure":
     """Load sharing along the engagement (force per tooth vs φ, one line per torque), the
     torsional curve (torque vs rotation in arcmin, the catalog's bilinear curve for comparison)
-    and the ball reactions after settling. ``ratio``: the gear set's, named beside the catalog
-    curve's own (ratio 50) so the two are not confused."""
+    and the ball reactions. ``catalog`` None: the catalogue row of ``size`` (default 40) and
+    ``ratio`` (default 50) (:func:`profilegen.contact.catalogue.catalogue_row`); ``ratio``: the
+    gear set's, named beside the catalog row's own so the two are not confused."""
     fig, (ax1, ax2, ax3) = fixed_figure((14.0, 4.0), 1, 3, left=0.62, right=0.45, bottom=0.5,
                                         top=0.32 if title else 0.12, wgap=0.78)
     for case in result.cases:
@@ -367,15 +368,23 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
     rot = (result.rotations_rad - phi0) * 180 * 60 / math.pi
     ax2.plot(np.concatenate([[0.0], rot]), np.concatenate([[0.0], result.torques_nm]), "o-", ms=3,
              label="this model (mesh only, no clearance)")
-    cat = CATALOG_SIZE40_RATIO50 if catalog is None else catalog
+    cat = catalog
+    if catalog is None:
+        from ..contact.catalogue import CatalogueError, catalogue_row
+
+        try:
+            cat = catalogue_row(40 if size is None else size, 50 if ratio is None else int(round(ratio)))
+        except CatalogueError:
+            cat = None
     if cat:
         t1, t2 = cat["T1_nm"], cat["T2_nm"]
         a1 = t1 / cat["K1_nm_per_rad"]
         a2 = a1 + (t2 - t1) / cat["K2_nm_per_rad"]
         k = 180 * 60 / math.pi
+        row = cat.get("ratio", 50)
         ax2.plot([0.0, a1 * k, a2 * k], [0.0, t1, t2], "k--", lw=1,
-                 label="catalog, size 40, ratio 50 (whole gear, K1/K2)"
-                       + ("" if ratio is None or ratio == 50 else f"; this set: ratio {ratio:g}"))
+                 label=f"catalog, size {cat.get('size', 40)}, ratio {row:g}{'+' if row == 80 else ''} (whole gear, "
+                       "K1/K2)" + ("" if ratio is None or ratio == row else f"; this set: ratio {ratio:g}"))
     ax2.set_xlabel("elastic rotation of the FS against the CS (arcmin)")
     ax2.set_ylabel("torque (N·m)")
     ax2.legend(fontsize=7, loc="lower right")  # the curves rise from the origin: the lower right stays clear
@@ -389,7 +398,7 @@ def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | No
     ax3.axhline(0.0, color="0.5", lw=0.6)
     ax3.set_xlabel("ball position from the major axis (deg)")
     ax3.set_ylabel("ball reaction on the rim (N)")
-    ax3.legend(fontsize=7, title="> 0 compressed; dropped balls carry 0", title_fontsize=7)
+    ax3.legend(fontsize=7, title="> 0 compressed; a ball not touching carries 0", title_fontsize=7)
     _tidy(ax3)
     if title:
         fig.suptitle(title, fontsize=9, y=1 - 0.06 / 4.0, va="top")

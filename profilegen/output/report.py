@@ -389,11 +389,13 @@ def _contact_section(design, png: bytes | None = None) -> str:
         f"<td>{case.max_tooth_force_n:.0f}</td><td>{ki:.3g}</td>"
         f"<td class=text>{html.escape(case.beyond_capacity or 'within the searched zone')}</td></tr>"
         for case, ki in zip(c.cases, k))
-    uri = _png_uri(png) if png is not None else figure_png(plot.contact_figure(c, title="", ratio=design.gearset.ratio), dpi=100)
+    uri = _png_uri(png) if png is not None else figure_png(plot.contact_figure(c, title="", ratio=design.gearset.ratio, size=_catalogue_size(design.gearset)), dpi=100)
     return f"""<h2>Loaded contact</h2>
 <p>{c.points.count} candidate points on {c.points.teeth.size} teeth per zone, {c.zones} zones; FEM influence
 coefficients (face width {c.compliance_info.get('face_width_mm', float('nan')):.4g} mm), Lemke's complementary
-pivoting. The stiffness is the mesh's only (no ball Hertz, inner ring, cam or cup wind-up).</p>
+pivoting on the teeth and {'every wave-generator ball (each a rigid one-sided support at its no-load gap)'
+if c.compliance_info.get('ball_supports') == 'all' else 'the balls within the rim’s no-load contact angle'}.
+The stiffness is the mesh's only (no ball Hertz, inner ring, cam or cup wind-up).</p>
 <table><tr><th>torque (N·m)</th><th>teeth in contact per zone</th><th>rotation (arcmin)</th>
 <th>max tooth force (N)</th><th>secant stiffness (N·m/rad)</th><th>capacity</th></tr>{rows}</table>
 <img src="{uri}" alt="loaded contact">"""
@@ -631,10 +633,16 @@ def _envelope_png(env, tooth, motion, title: str) -> bytes:
     return envelope_png(env, tooth, motion, title=title)
 
 
-def _contact_png(contact, title: str, ratio: float | None = None) -> bytes:
+def _catalogue_size(gearset) -> int | None:
+    from ..contact.chain import catalogue_size
+
+    return catalogue_size(gearset)
+
+
+def _contact_png(contact, title: str, ratio: float | None = None, size: int | None = None) -> bytes:
     from .plot import contact_figure, png_bytes
 
-    return png_bytes(contact_figure(contact, title=title, ratio=ratio), 130)
+    return png_bytes(contact_figure(contact, title=title, ratio=ratio, size=size), 130)
 
 
 def _torsional_png(curve, title: str, ratio: float | None = None) -> bytes:
@@ -666,7 +674,8 @@ def png_jobs(design) -> dict[str, tuple[Callable[..., bytes], tuple]]:
     if design.contact is not None:
         c = design.contact
         jobs["contact"] = (_contact_png, (c, f"{g.name}: loaded contact, {c.zones} zones, "
-                                             f"{c.points.count} candidate points per zone", g.ratio))
+                                             f"{c.points.count} candidate points per zone", g.ratio,
+                                             _catalogue_size(g)))
     if getattr(design, "torsional", None) is not None:
         jobs["torsional"] = (_torsional_png, (design.torsional, f"{g.name}: the whole gear in torsion, wave "
                                                                 "generator locked", g.ratio))
