@@ -42,7 +42,7 @@ The wave-generator bearing (not a series term)
 ----------------------------------------------
 The balls carry the rim radially. Every ball of the zone is a one-sided support at its
 no-load gap (``ball_supports="all"`` of :meth:`~profilegen.contact.compliance.
-ContactCompliance.build`, the curve's default): the inner race sits on the cam, each ball
+ContactCompliance.build`, the curve's default and the contact stage's): the inner race sits on the cam, each ball
 floats between the races, loose by the bore's distance to the wave generator's contour
 (0 within the rim's no-load contact angle, sub-micron to ~1 µm outside it on the bundled
 sets), and takes load once the outer race (meshed under the bore) moves in by more than
@@ -98,9 +98,9 @@ with the same answer: rigid balls to 4e-14, the springs to their tolerance.
 In a design run
 ---------------
 :func:`whole_gear_curve` is what the contact stage runs (profilegen.pipeline): the right
-flank's points taken from the stage's own contact (its compliance too when it holds every
-ball; the stage's window compliance is rebuilt with every ball, ~0.1 s with the cached FE
-pitches), the left built, the
+flank's points and compliance taken from the stage's own contact (it holds every ball, as
+the curve; a contact solved on the window has its compliance rebuilt with every ball), the
+left built, the
 torques of :func:`curve_torques_nm` (32 on the default set, to ± the momentary torque), K1–K3
 on the breakpoints of the catalogue row for the set's size and ratio (:func:`catalogue_for`,
 from :mod:`profilegen.contact.catalogue`). Its result goes to ``contact.json["torsional"]``
@@ -1112,7 +1112,7 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
             comp = ContactCompliance.build(inputs, left.fs_point_mm, left.normal, left.tooth, left.cs_point_mm,
                                            wrap_half_angle_rad=wrap, ball_supports=supports)
             right = contact.compliance
-            if right.ball_supports != supports:  # the contact stage's balls are the window's: the right flank again
+            if right.ball_supports != supports:  # a contact solved with other balls: the right flank again
                 right = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
                                                 wrap_half_angle_rad=wrap, ball_supports=supports)
             sides = {1: (pts, right), -1: (left, comp)}

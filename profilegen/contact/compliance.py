@@ -59,9 +59,10 @@ Model (small displacements about the undeformed bodies; linear, plane stress)
   dropping a ball that pulls (seed 000 steps 4–6: :meth:`ContactCompliance.settle_balls`)
   needs no new factorisation. The no-load ball preload is left out (seed 000's rule: a
   ball is dropped when the tooth loads alone pull on it).
-  ``ball_supports="all"`` (the default of the torsional curve and the transmission error,
-  :mod:`profilegen.contact.chain`, :mod:`profilegen.contact.transmission`; here the window
-  above stays the default, as :func:`~profilegen.contact.analysis.solve_contact` needs it): every ball of the
+  ``ball_supports="all"`` (the default of the contact stage, :func:`~profilegen.contact.analysis.
+  solve_contact`, of the torsional curve and of the transmission error, :mod:`profilegen.contact.
+  chain`, :mod:`profilegen.contact.transmission`; :meth:`ContactCompliance.build` keeps the window
+  above as its own default for the callers that build one explicitly): every ball of the
   zone (|θ| < π/2) a one-sided support at its no-load gap (:func:`no_load_ball_gap_mm`: the
   design's no-load bore against the wave generator's contour, 0 within the wrap), the
   teeth and the balls in one complementarity problem (:meth:`ContactCompliance.

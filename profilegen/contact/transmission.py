@@ -38,9 +38,9 @@ period 2π/N / ((1 + D/d_m)/2) in ψ (≈ 29° for 23 balls), not periodic over 
 Per position the teeth and every ball of the zone are solved together, each ball a rigid
 one-sided support at its no-load gap (``ball_supports="all"``, the default:
 :meth:`~profilegen.contact.compliance.ContactCompliance.solve_unilateral`, Lemke on teeth
-and balls), one zone with T/U; ``ball_supports="window"`` solves it as
-:func:`~profilegen.contact.analysis.solve_contact` does (only the balls within the rim's
-no-load contact angle, the ones that pull dropped).
+and balls, through :func:`~profilegen.contact.analysis.solve_contact`, as the contact stage
+does), one zone with T/U; ``ball_supports="window"`` solves it with only the balls within the
+rim's no-load contact angle, the ones that pull dropped (``solve_contact``'s window option).
 The result:
 
 * ``rotation_rad``: φ(ψ), the loaded rotation of the FS against the CS beyond its
@@ -53,7 +53,7 @@ The result:
 
 The series compliances of :mod:`profilegen.contact.chain` (cup, CS body) add a rotation
 T/K that is the same at every ψ: they move the mean, not the error. The Hertz ball springs
-are left out (rigid balls, as ``solve_contact``): their compliance does depend on ψ (the
+are left out by default (rigid balls, as the contact stage; ``hertz_balls=True`` adds them): their compliance does depend on ψ (the
 ball loads move with the teeth) and would add to the ripple.
 
 Positions run in a process pool of ``workers`` (fork: the inputs are inherited, not
