@@ -255,6 +255,40 @@ class TwoZoneContact:
         self.ball_gap = np.concatenate([gap, gap])
         self.face_width_mm = b
 
+    def _translations(self, wave_generator: str) -> np.ndarray:
+        if wave_generator not in ("held", "floating"):
+            raise ToothErrorError(f"wave_generator = {wave_generator!r}: must be 'held' (the cam fixed to the CS) or "
+                                  "'floating' (radially free, an Oldham coupling)")
+        dmat = self.directions
+        if wave_generator == "floating":
+            cam = np.zeros_like(dmat)
+            cam[self.n:] = -dmat[self.n:]
+            dmat = np.hstack([dmat, cam])
+        return dmat
+
+    def first_contact_rad(self, offsets_rad=None, *, wave_generator: str = "held") -> float:
+        """The rotation at which the rigid gear first takes torque (the curve's zero, the
+        backlash's end): the largest φ the FS can turn, translating freely, with every gap ≥ 0
+        — max φ s.t. r_k (θ_k − φ) + (D t)_k ≥ 0 for the teeth and gap_b + (D t)_b ≥ 0 for the
+        balls (a linear program, scipy's HiGHS). With the cam held and the balls of both
+        zones at zero gap round the major axes, t = 0 and this is min θ_k; with the cam
+        floating the FS and cam shift together, so an eccentricity moves it by nothing."""
+        from scipy.optimize import linprog
+
+        dmat = self._translations(wave_generator)
+        theta = self.theta if offsets_rad is None else self.theta + np.asarray(offsets_rad, dtype=float)
+        n, nd = self.n, dmat.shape[1]
+        a = np.concatenate([self.lever, np.zeros(self.nb)])
+        q = np.concatenate([self.lever * theta, self.ball_gap])
+        scale = float(self.lever.mean())
+        # variables (ψ = φ r̄, t): a ψ / r̄ − D t ≤ q
+        res = linprog(np.concatenate([[-1.0], np.zeros(nd)]), A_ub=np.column_stack([a / scale, -dmat]), b_ub=q,
+                      bounds=[(None, None)] * (1 + nd), method="highs")
+        if res.status != 0:
+            raise ConvergenceError(f"TwoZoneContact.first_contact_rad: the linear program ended with status "
+                                   f"{res.status} ({res.message})")
+        return float(res.x[0]) / scale
+
     def solve(self, torque_nm: float, offsets_rad=None, *, bearing=None, spring_tol: float = 1e-5,
               spring_iterations: int = 60, start=None, wave_generator: str = "held") -> TwoZoneSolution:
         """Both zones at the whole gear's torque ``torque_nm`` (> 0), each point's first-contact
@@ -271,14 +305,7 @@ class TwoZoneContact:
         t = float(torque_nm)
         if not (math.isfinite(t) and t > 0.0):
             raise ToothErrorError(f"torque_nm = {torque_nm!r}: must be finite and > 0 (N·m)")
-        if wave_generator not in ("held", "floating"):
-            raise ToothErrorError(f"wave_generator = {wave_generator!r}: must be 'held' (the cam fixed to the CS) or "
-                                  "'floating' (radially free, an Oldham coupling)")
-        dmat = self.directions
-        if wave_generator == "floating":
-            cam = np.zeros_like(dmat)
-            cam[self.n:] = -dmat[self.n:]
-            dmat = np.hstack([dmat, cam])
+        dmat = self._translations(wave_generator)
         theta = self.theta.copy()
         if offsets_rad is not None:
             off = np.asarray(offsets_rad, dtype=float)

@@ -17,7 +17,8 @@ Hertz springs, the series parts of the chain), then both engagement zones as one
   ``TwoZoneContact.solve(wave_generator="floating")``; the rows above hold the cam on the CS axis),
 
 each as K1 = T1/φ(T1), K2 = (T2 − T1)/(φ(T2) − φ(T1)), the secant at T2 (φ the elastic rotation
-from the first contact of the deviated gear, + T × the chain's series compliance), divided by
+from the first contact of the deviated gear — TwoZoneContact.first_contact_rad, the rigid gear's
+largest free rotation —, + T × the chain's series compliance), divided by
 the catalogue's; the mean, standard deviation and range over the draws, the loaded teeth at
 T1 (both zones) and the zones' moment split at T1. CPU times.
 """
@@ -87,7 +88,7 @@ def main() -> None:
     d, m = g.module_mm * g.flexspline_teeth, g.module_mm
 
     def case(off, wave_generator="held"):
-        theta0 = float(np.min(two.theta + (0.0 if off is None else off)))
+        theta0 = two.first_contact_rad(off, wave_generator=wave_generator)
         s1 = two.solve(t1, off, bearing=bearing, wave_generator=wave_generator)
         s2 = two.solve(t2, off, bearing=bearing, wave_generator=wave_generator)
         e1 = s1.phi_rad - theta0 + t1 * series

@@ -136,6 +136,11 @@ def test_floating_wave_generator_absorbs_the_eccentricity(zones):
     np.testing.assert_allclose(floating.zone_moment_nmm, [T1 * 1e3 / 2] * 2, rtol=2e-3)
     assert floating.phi_rad == pytest.approx(perfect.phi_rad, rel=2e-3)
     assert abs(held.phi_rad - perfect.phi_rad) > 0.03 * perfect.phi_rad
+    # the curve's zero: the rigid gear's first contact, held = min θ, floating = the concentric gear's
+    theta0 = float(pts.theta_rad.min())
+    assert two.first_contact_rad() == pytest.approx(theta0, rel=1e-9)
+    assert two.first_contact_rad(off) == pytest.approx(float(np.min(two.theta + off)), rel=1e-9)
+    assert two.first_contact_rad(off, wave_generator="floating") == pytest.approx(theta0, rel=2e-3)
     assert floating.resultant_n <= 1e-9 * floating.force_n.max()
     assert floating.force_n.min() >= 0.0 and floating.gap_mm.min() >= -1e-12 and floating.ball_gap_mm.min() >= -1e-12
 
