@@ -574,20 +574,18 @@ def _whole_gear_extras(result: Design, contact, notes: list) -> tuple:
     inputs = ContactInput.from_design(result)
     if inputs.rim_contact_angle_rad is None and contact.compliance is not None:
         inputs = replace(inputs, rim_contact_angle_rad=float(contact.compliance.wrap_half_angle_rad))
+    pool = future = None
     if getattr(scene, "ratcheting", False):
         from .contact.chain import catalogue_for
-        from .contact.ratchet import ratcheting_torque
 
         row = catalogue_for(gs)
         cat = None if row is None or row.get("ratcheting_torque_nm") is None else {
             "torque_nm": row["ratcheting_torque_nm"], "source": row.get("ratcheting_source"),
             "size": row.get("size"), "ratio": row.get("ratio_asked", row.get("ratio"))}
-        try:
-            ratchet = ratcheting_torque(inputs, catalogue=cat)
-        except ProfilegenError as exc:
-            notes.append(f"ratcheting estimate failed, skipped: {exc}")
-        else:
-            notes += [f"ratcheting: {w}" for w in ratchet.warnings]
+        if getattr(scene, "transmission_error", False):  # both: the ratcheting in a forked worker meanwhile
+            pool, future = _start_ratcheting(inputs, cat)
+        if future is None:
+            ratchet = _ratcheting(inputs, cat, notes)
     if getattr(scene, "transmission_error", False):
         from .contact.transmission import transmission_error
 
@@ -597,7 +595,60 @@ def _whole_gear_extras(result: Design, contact, notes: list) -> tuple:
             notes.append(f"transmission error failed, skipped: {exc}")
         else:
             notes += [f"transmission error: {w}" for w in transmission.warnings]
+    if future is not None:
+        from concurrent.futures.process import BrokenProcessPool
+
+        try:
+            ratchet, more = future.result()
+            notes += more
+        except BrokenProcessPool:  # the worker died: here after all
+            ratchet = _ratcheting(inputs, cat, notes)
+        finally:
+            pool.shutdown()
     return ratchet, transmission
+
+
+_RATCHET_JOB = None  # (inputs, catalogue) for the forked worker of _start_ratcheting
+
+
+def _ratcheting(inputs, cat, notes: list):
+    from .contact.ratchet import ratcheting_torque
+
+    try:
+        ratchet = ratcheting_torque(inputs, catalogue=cat)
+    except ProfilegenError as exc:
+        notes.append(f"ratcheting estimate failed, skipped: {exc}")
+        return None
+    notes += [f"ratcheting: {w}" for w in ratchet.warnings]
+    return ratchet
+
+
+def _ratcheting_job():
+    notes: list = []
+    return _ratcheting(*_RATCHET_JOB, notes), notes
+
+
+def _start_ratcheting(inputs, cat):
+    """The ratcheting estimate in a forked worker process (while this one runs the transmission
+    error): (pool, future), or (None, None) where it cannot fork (a daemonic sweep worker, no fork)."""
+    import multiprocessing
+
+    global _RATCHET_JOB
+    if (os.cpu_count() or 1) < 2 or multiprocessing.current_process().daemon:
+        return None, None
+    from concurrent.futures import ProcessPoolExecutor
+
+    pool = None
+    try:
+        _RATCHET_JOB = (inputs, cat)  # inherited by the forked worker
+        pool = ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("fork"))
+        return pool, pool.submit(_ratcheting_job)
+    except (ValueError, OSError):
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
+        return None, None
+    finally:
+        _RATCHET_JOB = None
 
 
 def _half(diameter_mm: float | None) -> float | None:
