@@ -77,7 +77,13 @@ def pytest_collection_modifyitems(config, items):
     With two xdist workers (``--dist loadgroup``) the run ends when the later worker ends: a
     20–40 s test handed out last keeps one worker busy while the other waits. Handing the heavy
     ones out first leaves the hundreds of sub-second tests to fill in at the end. The order is
-    the same in every worker (xdist requires identical collections)."""
+    the same in every worker (xdist requires identical collections).
+
+    Modules whose module-scoped fixtures cost seconds carry an ``xdist_group`` mark of their own
+    (``pytestmark``): one worker runs the module and computes its fixtures once, where the
+    module's tests dealt to both workers computed them on each (test_face.py's three face
+    studies: 2 x 3 setups, ~7 s each on the busy machine). xdist hands the groups out first,
+    the largest first (--loadscope-reorder, its default), then the single tests in this order."""
     items.sort(key=lambda item: item.get_closest_marker("slow") is None)
 
 

@@ -194,6 +194,11 @@ def test_exact_arc_line_arc_is_recovered(name, method):
 # ----------------------------------------------------------------------------- minimax, one-sided
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_arcfit")
+
+
 @pytest.fixture(scope="module")
 def noisy_fits():
     pts, _ = _noisy()

@@ -33,10 +33,14 @@ def gearset():
 
 
 @pytest.fixture(scope="session")
-def design_scene(gearset):
-    from profilegen.pipeline import design
+def design_scene(default_design_scene):
+    """The design scene without the loaded contact and the stresses (what the studies take: the
+    stress study's force estimate), from conftest.py's design scene, which test_profile.py and
+    test_arcfit_default_set.py read on this worker too (the stages before the contact do not
+    read it)."""
+    from dataclasses import replace
 
-    return design(gearset, scene="design", contact=False, stress=False)
+    return replace(default_design_scene, contact=None, stress=None)
 
 
 @pytest.fixture(scope="session")

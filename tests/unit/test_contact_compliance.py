@@ -23,6 +23,11 @@ from profilegen.kinematics import turn
 from profilegen.rim.toothed import ring_sector_mesh
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_contact_compliance")
+
+
 @pytest.fixture(scope="module")
 def inputs(default_sketch):
     """What the contact reads of the default set's sketch design (built as the pipeline does)."""

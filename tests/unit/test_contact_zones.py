@@ -147,6 +147,11 @@ def _full_ring_fs(inputs, pts, ball_angles, face_width_mm):
     return 0.5 * (s2d + s2d.T) / face_width_mm
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_contact_zones")
+
+
 @pytest.fixture(scope="module")
 def few(default_sketch):
     """The default set's sketch design: the points of the 5 teeth nearest first contact, the

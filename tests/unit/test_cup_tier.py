@@ -38,6 +38,11 @@ CHEAP = RimTier("cup3d", "cup", geometry="nonlinear", layers=2, divisions=0, max
 E, NU, R_M, T = 209000.0, 0.295, 48.95, 0.9
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_cup_tier")
+
+
 @pytest.fixture(scope="module")
 def default_data():
     return tomllib.loads(Path(default_gearset_path()).read_text())

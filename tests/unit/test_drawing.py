@@ -26,6 +26,11 @@ from profilegen.output import cad
 from profilegen.output.drawing import DIMENSION_LAYER, drawing_date, write_cs_drawing
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_drawing")
+
+
 @pytest.fixture(scope="module")
 def design(default_sketch):
     return default_sketch  # conftest.py: the default set's sketch design, once per worker

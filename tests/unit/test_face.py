@@ -41,6 +41,11 @@ class RingAlongFace:
         return -0.5 * self.w(np.asarray(z, float)) * np.sin(2 * np.asarray(phi, float))
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_face")
+
+
 @pytest.fixture(scope="module")
 def gearset():
     return load_gearset("profiles/default.toml")

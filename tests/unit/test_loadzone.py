@@ -20,6 +20,11 @@ from profilegen.contact.analysis import solve_contact
 from profilegen.contact.loadzone import LoadZoneError, ProfileRelief, load_zone, pressure_angle_rad, relief_study
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_loadzone")
+
+
 @pytest.fixture(scope="module")
 def setup(default_gearset, default_sketch):
     gs, design = default_gearset, default_sketch  # conftest.py: computed once per worker

@@ -40,6 +40,11 @@ def _hypervolume(front, ref=(1.0, 1.0)):
     return area
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_optimize")
+
+
 @pytest.fixture(scope="module")
 def pool():
     with ProcessPoolExecutor(max_workers=2, initializer=_init_worker) as ex:

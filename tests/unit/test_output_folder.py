@@ -262,6 +262,11 @@ def test_a_second_run_waits_for_the_lock_then_names_the_other_run(old_new, caplo
 # ----------------------------------------------------------------------------- write_design
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_output_folder")
+
+
 @pytest.fixture(scope="module")
 def sketch_contact(default_sketch_contact):
     """A sketch design of the default set with the loaded contact (contact.json) and stresses

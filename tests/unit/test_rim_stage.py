@@ -11,6 +11,11 @@ from profilegen.gearset import default_gearset_path, load_gearset
 from profilegen.rim import RIM_TIERS, solve_rim
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_rim_stage")
+
+
 @pytest.fixture(scope="module")
 def gearset():
     return load_gearset(default_gearset_path())

@@ -27,6 +27,11 @@ from profilegen.rootfillet import INSIDE, OUTSIDE, filleted_cs_chain, max_kink_d
 RADIUS = 0.125 + 0.02  # the defaults: a 0.25 mm wire and a 0.02 mm spark gap
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_root_fillet")
+
+
 @pytest.fixture(scope="module")
 def sketch(default_sketch):
     """The default set in the sketch scene, its corners filleted by default (conftest.py:

@@ -196,6 +196,11 @@ def cs_standin(chain: Chain, *, outer_diameter_mm=D_OUT, root_radius_mm=R_SLOT +
                            form=SimpleNamespace(root_radius_mm=root_radius_mm))
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_step")
+
+
 @pytest.fixture(scope="module", params=[1000, 30], ids=["one cap face", "cap sectors"])
 def cs_case(request, tmp_path_factory):
     """The slot gear's ring with its caps as one face each, and cut into sectors of <= 30 edges

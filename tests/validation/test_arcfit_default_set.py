@@ -29,6 +29,11 @@ from profilegen.arcfit import fit_profile, swept_depth_function
 from profilegen.envelope import swept_depth, tooth_curves
 
 
+# on the worker of test_bench_stages.py (its xdist group): the three modules read the design scene of
+# the default set (conftest.py: default_design_scene, 3.6 s CPU), computed there once
+pytestmark = pytest.mark.xdist_group("bench_stages")
+
+
 @pytest.fixture(scope="module")
 def design(default_design_scene):
     return default_design_scene  # conftest.py: computed once per worker

@@ -70,6 +70,11 @@ def _region(tooth, w0):
     return swept_region(tooth, _motion(w0), cs_teeth=Z2, waves=U, n_phi=N_PHI_BRUTE)
 
 
+# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
+# otherwise be computed on both workers, each running a share of its tests (conftest.py)
+pytestmark = pytest.mark.xdist_group("test_envelope")
+
+
 @pytest.fixture(scope="module")
 def dcta():
     return dcta_tooth(**GEAR)
