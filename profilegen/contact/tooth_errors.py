@@ -98,12 +98,26 @@ def iso1328_tolerances_um(reference_diameter_mm: float, module_mm: float, grade:
     }
 
 
+def _flanks(points) -> list:
+    """One :class:`~profilegen.contact.points.ContactPoints` or a sequence of them (flanks)."""
+    return [points] if hasattr(points, "tooth") else list(points)
+
+
+def _zones(parts) -> np.ndarray:
+    """[(zone 1, zone 2) per flank] → zone 1 of every flank, then zone 2 of every flank."""
+    return np.concatenate([p[0] for p in parts] + [p[1] for p in parts])
+
+
 def draw_deviations(points, gearset, rng, *, pitch_sigma_mm: float, profile_sigma_mm: float) -> np.ndarray:
     """One random draw of the first-contact angle offsets (rad) of ``points`` (one zone's
     :class:`~profilegen.contact.points.ContactPoints`) and their images: (2n,), zone 1 then
     zone 2. Every FS tooth and CS space a tangential position deviation ~ N(0, σ_p) at the
     pitch circle, every FS and CS flank a smooth profile deviation along the normal (see the
-    module docstring). ``rng``: a numpy Generator."""
+    module docstring). ``rng``: a numpy Generator. ``points`` may be a sequence of flanks
+    (the layout of :class:`TwoZoneContact` with them: zone 1 of every flank, then zone 2).
+    The same generator state gives the same tooth positions on both flanks (a tooth turned
+    by β opens one flank by what it closes on the other: the sign is each point's own,
+    −(ẑ × p)·n / r_k) and independent profiles (each flank its own draw)."""
     for name, v in (("pitch_sigma_mm", pitch_sigma_mm), ("profile_sigma_mm", profile_sigma_mm)):
         if not (math.isfinite(float(v)) and float(v) >= 0.0):
             raise ToothErrorError(f"{name} = {v!r} mm: must be finite and ≥ 0")
@@ -112,33 +126,45 @@ def draw_deviations(points, gearset, rng, *, pitch_sigma_mm: float, profile_sigm
     r_p = 0.5 * g.module_mm * z1
     fs_pos = rng.normal(0.0, pitch_sigma_mm, z1)
     cs_pos = rng.normal(0.0, pitch_sigma_mm, z2)
-    fs_prof = rng.normal(0.0, 1.0, (z1, 2))
-    cs_prof = rng.normal(0.0, 1.0, (z2, 2))
-    t = np.asarray(points.t_mm, dtype=float)
-    span = float(t.max() - t.min())
-    xi = np.zeros_like(t) if span <= 0.0 else 2.0 * (t - t.min()) / span - 1.0
-    shape = np.column_stack([xi, 0.5 * (3.0 * xi * xi - 1.0)])
-    out = []
-    for fs_tooth, cs_space in ((points.tooth % z1, points.tooth % z2),
-                               ((points.tooth + z1 // 2) % z1, (points.tooth + z2 // 2) % z2)):
-        pitch = (fs_pos[fs_tooth] - cs_pos[cs_space]) / r_p
-        profile = profile_sigma_mm * (np.einsum("ij,ij->i", shape, fs_prof[fs_tooth])
-                                      + np.einsum("ij,ij->i", shape, cs_prof[cs_space]))
-        out.append(pitch + profile / points.lever_mm)
-    return np.concatenate(out)
+    fs_prof_all = rng.normal(0.0, 1.0, (2, z1, 2))
+    cs_prof_all = rng.normal(0.0, 1.0, (2, z2, 2))
+    parts = []
+    for pts in _flanks(points):
+        flank = 0 if pts.side > 0 else 1
+        fs_prof, cs_prof = fs_prof_all[flank], cs_prof_all[flank]
+        t = np.asarray(pts.t_mm, dtype=float)
+        span = float(t.max() - t.min())
+        xi = np.zeros_like(t) if span <= 0.0 else 2.0 * (t - t.min()) / span - 1.0
+        shape = np.column_stack([xi, 0.5 * (3.0 * xi * xi - 1.0)])
+        # the gap change per unit turn of the FS tooth about the centre (ẑ × p = (p_y, −p_x) in
+        # the package's angle sense, +y toward +x), over the lever: ±1 up to the point's geometry
+        p, nrm = np.asarray(pts.fs_point_mm, float), np.asarray(pts.normal, float)
+        sense = -(p[:, 1] * nrm[:, 0] - p[:, 0] * nrm[:, 1]) / np.asarray(pts.lever_mm, float)
+        out = []
+        for fs_tooth, cs_space in ((pts.tooth % z1, pts.tooth % z2),
+                                   ((pts.tooth + z1 // 2) % z1, (pts.tooth + z2 // 2) % z2)):
+            pitch = sense * (fs_pos[fs_tooth] - cs_pos[cs_space]) / r_p
+            profile = profile_sigma_mm * (np.einsum("ij,ij->i", shape, fs_prof[fs_tooth])
+                                          + np.einsum("ij,ij->i", shape, cs_prof[cs_space]))
+            out.append(pitch + profile / pts.lever_mm)
+        parts.append(out)
+    return _zones(parts)
 
 
 def eccentricity_offsets_rad(points, eccentricity_mm: float, direction_rad: float = 0.0) -> np.ndarray:
     """The first-contact angle offsets (rad, (2n,), zone 1 then its images) of the CS axis
     shifted by e = ``eccentricity_mm`` in the direction ``direction_rad`` (from the major axis
     +y toward +x, the package's frame): Δθ_k = n_k·e / r_k in zone 1, −n_k·e / r_k in the
-    image zone."""
+    image zone; ``points`` may be a sequence of flanks, as in :func:`draw_deviations`."""
     e = float(eccentricity_mm)
     if not math.isfinite(e):
         raise ToothErrorError(f"eccentricity_mm = {eccentricity_mm!r}: must be finite (mm)")
     vec = e * np.array([math.sin(direction_rad), math.cos(direction_rad)])
-    d = (np.asarray(points.normal, dtype=float) @ vec) / np.asarray(points.lever_mm, dtype=float)
-    return np.concatenate([d, -d])
+    parts = []
+    for pts in _flanks(points):
+        d = (np.asarray(pts.normal, dtype=float) @ vec) / np.asarray(pts.lever_mm, dtype=float)
+        parts.append((d, -d))
+    return _zones(parts)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -188,6 +214,18 @@ class TwoZoneContact:
         if compliance.ball_supports != "all":
             raise ToothErrorError(f"compliance.ball_supports = {compliance.ball_supports!r}: must be 'all' (every "
                                   "ball one-sided at its no-load gap)")
+        from types import SimpleNamespace
+
+        flanks = _flanks(points)
+        # the flanks' points as one set; sign: +1 where the first flank's loaded rotation closes the gap
+        points = SimpleNamespace(**{f: np.concatenate([np.asarray(getattr(p, f)) for p in flanks])
+                                    for f in ("tooth", "fs_point_mm", "normal", "lever_mm", "theta_rad")})
+        points.count = int(points.tooth.size)
+        sign = np.concatenate([np.full(p.count, float(p.rotation * flanks[0].rotation)) for p in flanks])
+        if compliance.count != points.count:
+            raise ToothErrorError(f"compliance: built for {compliance.count} points, the flanks have {points.count} "
+                                  "(build it for their points concatenated in the same order)")
+        self.flanks = tuple(flanks)
         gs = inputs.gearset
         g = gs.gear
         z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
@@ -250,6 +288,8 @@ class TwoZoneContact:
         self.c = 0.5 * (cmat + cmat.T)
         self.directions = np.vstack([d_c, e_r])
         self.lever = np.concatenate([points.lever_mm, points.lever_mm])
+        #: +1 for the points the positive rotation closes (the first flank's), −1 for the other flank's
+        self.sign = np.concatenate([sign, sign])
         self.theta = np.concatenate([points.theta_rad, points.theta_rad])
         gap = np.zeros(nb) if compliance.ball_gap_mm is None else np.asarray(compliance.ball_gap_mm, float)
         self.ball_gap = np.concatenate([gap, gap])
@@ -277,7 +317,10 @@ class TwoZoneContact:
 
         dmat = self._translations(wave_generator)
         theta = self.theta if offsets_rad is None else self.theta + np.asarray(offsets_rad, dtype=float)
-        n, nd = self.n, dmat.shape[1]
+        nd = dmat.shape[1]
+        if len(self.flanks) > 1:
+            raise ToothErrorError("first_contact_rad: with both flanks the curve's zero is the solve at a vanishing "
+                                  "torque (zero_rad), not the first contact of one flank")
         a = np.concatenate([self.lever, np.zeros(self.nb)])
         q = np.concatenate([self.lever * theta, self.ball_gap])
         scale = float(self.lever.mean())
@@ -289,9 +332,19 @@ class TwoZoneContact:
                                    f"{res.status} ({res.message})")
         return float(res.x[0]) / scale
 
+    def zero_rad(self, offsets_rad=None, *, bearing=None, wave_generator: str = "held",
+                 torque_nm: float = 1e-3) -> float:
+        """The curve's zero: one flank, :meth:`first_contact_rad`; both flanks, the rotation at
+        a vanishing torque ``torque_nm`` (the preloaded rest position where the deviations make
+        the flanks interfere, the first contact of the loaded flank where they leave backlash)."""
+        if len(self.flanks) == 1:
+            return self.first_contact_rad(offsets_rad, wave_generator=wave_generator)
+        return self.solve(torque_nm, offsets_rad, bearing=bearing, wave_generator=wave_generator).phi_rad
+
     def solve(self, torque_nm: float, offsets_rad=None, *, bearing=None, spring_tol: float = 1e-5,
               spring_iterations: int = 60, start=None, wave_generator: str = "held") -> TwoZoneSolution:
-        """Both zones at the whole gear's torque ``torque_nm`` (> 0), each point's first-contact
+        """Both zones at the whole gear's torque ``torque_nm`` (> 0; either sign with both flanks:
+        positive loads the first flank), each point's first-contact
         angle θ_k + ``offsets_rad``[k] (2n: zone 1, then the images). ``bearing``: a
         :class:`~profilegen.contact.chain.BallBearing` for the Hertz springs (None: rigid
         balls). ``start``: a loaded set (bool, 2n + 2 nb) to begin from (e.g. the last
@@ -303,8 +356,9 @@ class TwoZoneContact:
         from .chain import _SpringIteration
 
         t = float(torque_nm)
-        if not (math.isfinite(t) and t > 0.0):
-            raise ToothErrorError(f"torque_nm = {torque_nm!r}: must be finite and > 0 (N·m)")
+        two_flanks = len(self.flanks) > 1
+        if not (math.isfinite(t) and (t > 0.0 or (two_flanks and t != 0.0))):
+            raise ToothErrorError(f"torque_nm = {torque_nm!r}: must be finite and > 0 (N·m; ≠ 0 with both flanks)")
         dmat = self._translations(wave_generator)
         theta = self.theta.copy()
         if offsets_rad is not None:
@@ -330,14 +384,14 @@ class TwoZoneContact:
         n = self.n
         force, react = x[:n], x[n:]
         tz = t * 1e3
-        moment = self.lever * force
+        moment = self.sign * self.lever * force
         half = n // 2
-        theta_min = float(theta.min())
-        scale = tz * (abs(phi - theta_min) + 1e-12)
+        theta_min = float(theta[self.sign > 0].min())
+        scale = abs(tz) * (abs(phi - theta_min) + 1e-12)
         comp = float(np.max(np.abs(x * w))) / scale
         resultant = float(np.linalg.norm(dmat.T @ x))
         out = TwoZoneSolution(force, react, float(phi), tr, np.array([moment[:half].sum(), moment[half:].sum()]),
-                              w[:n], w[n:], abs(float(moment.sum()) - tz) / tz, comp, resultant, method, c)
+                              w[:n], w[n:], abs(float(moment.sum()) - tz) / abs(tz), comp, resultant, method, c)
         object.__setattr__(out, "_loaded", loaded)
         return out
 
@@ -353,16 +407,19 @@ class TwoZoneContact:
     def _solve(self, tz, theta, springs, loaded, dmat):
         n = self.n
         cmat = self._system(springs)
-        a = np.concatenate([self.lever, np.zeros(self.nb)])
+        flip = 1.0 if tz > 0.0 else -1.0  # a negative torque: the other flank's problem, φ → −φ
+        a = np.concatenate([flip * self.sign * self.lever, np.zeros(self.nb)])
         q = np.concatenate([self.lever * theta, self.ball_gap])
         r_bar = float(self.lever.mean())
         c0 = float(np.mean(np.diag(cmat)[:n]))
-        force = tz / r_bar
+        force = abs(tz) / r_bar
         length = c0 * force
         ms, qs, as_ = cmat / c0, q / length, a / r_bar  # scaled: x̂ = x/X, lengths / L, φ̂ = φ r̄ / L
         if loaded is None:
             loaded = np.zeros(n + self.nb, bool)
-            loaded[int(np.argmin(theta))] = True
+            first = np.flatnonzero(a[:n] > 0.0)
+            loaded[first[int(np.argmin(theta[first]))]] = True
+            loaded[:n] |= theta < 0.0  # interference: loaded at rest
             loaded[n:] = self.ball_gap <= 0.0
         out = self._active_set(ms, qs, as_, dmat, loaded)
         method = "active set"
@@ -370,7 +427,7 @@ class TwoZoneContact:
             out = self._lemke(ms, qs, as_, dmat)
             method = "lemke"
         xs, phis, ts, ws, loaded = out
-        return xs * force, phis * length / r_bar, ts * length, ws * length, method, loaded
+        return xs * force, flip * phis * length / r_bar, ts * length, ws * length, method, loaded
 
     @staticmethod
     def _kkt(ms, qs, as_, dmat, p):
@@ -417,7 +474,8 @@ class TwoZoneContact:
         m = qs.size
         n = self.n
         nd = dmat.shape[1]
-        theta_min = float(np.min(qs[:n] / as_[:n]))
+        pos = np.flatnonzero(as_[:n] > 0.0)
+        theta_min = float(np.min(qs[pos] / as_[pos]))
         size = m + 1 + 2 * nd
         mm = np.zeros((size, size))
         mm[:m, :m] = ms

@@ -38,7 +38,7 @@ def zones(default_sketch):
 def _check_physics(sol, two, torque_nm, theta):
     """Σ r F = T over both zones, Σ loads = 0 (balls take the resultant), F, R ≥ 0, gaps ≥ 0, F g = 0."""
     tz = torque_nm * 1e3
-    assert float(two.lever @ sol.force_n) == pytest.approx(tz, rel=1e-10)
+    assert float((two.sign * two.lever) @ sol.force_n) == pytest.approx(tz, rel=1e-10)
     assert sol.zone_moment_nmm.sum() == pytest.approx(tz, rel=1e-10)
     x = np.concatenate([sol.force_n, sol.reaction_n])
     assert np.linalg.norm(two.directions.T @ x) <= 1e-9 * x.max()
@@ -48,7 +48,7 @@ def _check_physics(sol, two, torque_nm, theta):
     if sol.springs_mm_per_n is not None:
         cmat[two.n:, two.n:] += np.diag(sol.springs_mm_per_n)
     w = cmat @ x + np.concatenate([two.lever * theta, two.ball_gap]) - np.concatenate(
-        [two.lever, np.zeros(two.nb)]) * sol.phi_rad + two.directions @ sol.translation_mm
+        [two.sign * two.lever, np.zeros(two.nb)]) * sol.phi_rad + two.directions @ sol.translation_mm
     scale = float(np.abs(w).max())
     assert w.min() >= -1e-9 * scale
     assert float(np.max(np.abs(x * w))) <= 1e-9 * scale * x.max()
