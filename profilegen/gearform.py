@@ -358,6 +358,10 @@ def _deepest_inside(poly, surface, tree, cs: np.ndarray, pose, poses: np.ndarray
     return out
 
 
+#: the clearance map's reference poses for the coarse distances: every this many poses
+_POSE_STRIDE = 4
+
+
 def _nearest_pairs(tree, surface_pts: np.ndarray, cos: np.ndarray, sin: np.ndarray, origin: np.ndarray,
                    need: int, stride: int = 16) -> np.ndarray:
     """At each pose (rotation ``cos``, ``sin`` and ``origin`` of the placed surface, one row
@@ -387,17 +391,40 @@ def _nearest_pairs(tree, surface_pts: np.ndarray, cos: np.ndarray, sin: np.ndarr
         p, c, s = surface_pts[cols], cos[rows], sin[rows]
         return np.stack([p[:, 0] * c + p[:, 1] * s, p[:, 1] * c - p[:, 0] * s], -1) + origin[rows]
 
-    # the coarse points' distances: exact within each pose's last query bound, that bound (a
-    # lower bound) beyond it
+    # the coarse points' distances: exact, or a lower bound where they cannot be among the k + 1
+    # smallest. Every ``_POSE_STRIDE``-th pose (and the last) queries them within a bound that
+    # grows ×4 (exact within the query's last bound, that bound beyond it). A pose between takes
+    # bounds from the reference pose before it: a point moved by δ from there lies within δ of
+    # that distance (1-Lipschitz; 1 nm for rounding), so with U the k-th smallest upper bound only
+    # the points whose lower bound is ≤ U are queried (within U: the k + 1 smallest are all there)
     placed = place(np.repeat(np.arange(m), nc), np.tile(coarse, m)).reshape(m, nc, 2)
     dc = np.empty((m, nc))
-    pending, limit = np.arange(m), 0.05
+    exact = np.zeros((m, nc), bool)
+    refs = np.unique(np.append(np.arange(0, m, _POSE_STRIDE), m - 1))
+    pending, limit = refs, 0.05
     while pending.size:
         dist, _ = tree.query(placed[pending].reshape(-1, 2), distance_upper_bound=limit)
         dist = dist.reshape(-1, nc)
-        dc[pending] = np.where(np.isfinite(dist), dist, limit)
-        pending = pending[np.count_nonzero(np.isfinite(dist), axis=1) <= k]
+        found = np.isfinite(dist)
+        dc[pending], exact[pending] = np.where(found, dist, limit), found
+        pending = pending[np.count_nonzero(found, axis=1) <= k]
         limit = limit * 4.0 if limit < 100.0 else math.inf
+    rest = np.setdiff1d(np.arange(m), refs)
+    if rest.size:
+        ref = refs[np.searchsorted(refs, rest) - 1]
+        move = placed[rest] - placed[ref]
+        delta = np.hypot(move[..., 0], move[..., 1]) + 1e-6
+        low = np.maximum(dc[ref] - delta, 0.0)
+        up = np.where(exact[ref], dc[ref] + delta, math.inf)
+        cap = np.partition(up, k, axis=1)[:, k]  # ≥ the pose's k + 1 smallest distances
+        ok = np.isfinite(cap)
+        dc[rest] = low
+        r, c = np.nonzero((low <= cap[:, None]) & ok[:, None])
+        if r.size:
+            dist, _ = _query_within(tree, placed[rest[r], c], cap[r])
+            dc[rest[r], c] = np.where(dist <= cap[r], dist, np.maximum(low[r, c], cap[r]))
+        for i in rest[~ok]:  # no upper bound: every coarse point, unbounded
+            dc[i] = tree.query(placed[i])[0]
     bound = np.partition(dc, k, axis=1)[:, k]
     lower = dc[:, anchor] - offset  # ≤ each surface point's distance to the CS
 
@@ -463,7 +490,9 @@ class PolylineDistance:
         self.spacing = float(np.median(positive)) if positive.size else 1.0
         per = np.maximum(np.ceil(lengths / self.spacing).astype(int), 1) + 1  # points per segment, ends included
         seg = np.repeat(np.arange(len(lengths)), per)
-        f = np.concatenate([np.linspace(0.0, 1.0, n) for n in per])
+        # np.linspace(0, 1, n) of each segment, all at once (i · 1/(n − 1), the end exactly 1)
+        f = (np.arange(per.sum()) - np.repeat(np.cumsum(per) - per, per)) * (1.0 / (per - 1))[seg]
+        f[np.cumsum(per) - 1] = 1.0
         self.h = float(np.max(lengths / (per - 1)))
         self.label = seg
         self.k = int(min(k, len(seg)))
