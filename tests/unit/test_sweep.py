@@ -34,6 +34,20 @@ FIELD = "wave_generator.deflection_coefficient"
 SPEC = {"name": "t", "gearset": "default", "scene": "sketch", "grid": {FIELD: [0.8, -1.0, 0.9, 1.0]}}
 
 
+_DESIGNS: dict = {}
+
+
+def _design_once(gs, *, scene):
+    """``design(gs, scene=scene)`` of this module's default-set points, computed once per (ω*,
+    scene) here: the journal tests count and check the designer's calls and the rows, not the
+    design, and ran the same sketch design up to three times (0.8: in both tests below; a
+    resumed point again). The results are read only."""
+    key = (gs.name, gs.wave_generator.deflection_coefficient, getattr(scene, "name", scene))
+    if key not in _DESIGNS:
+        _DESIGNS[key] = design(gs, scene=scene)
+    return _DESIGNS[key]
+
+
 def _without_times(rows):
     return [{k: v for k, v in r.items() if not k.startswith("time_")} for r in rows]
 
@@ -200,7 +214,7 @@ def test_sweep_resumes_without_recomputing_finished_points(tmp_path):
         def designer(gs, *, scene):
             with lock:
                 calls[run].append(gs.wave_generator.deflection_coefficient)
-            return design(gs, scene=scene)
+            return _design_once(gs, scene=scene)
 
         return designer
 
@@ -319,7 +333,7 @@ def test_a_design_that_raises_is_recorded_with_its_type(tmp_path):
     def flaky(gs, *, scene):
         if gs.wave_generator.deflection_coefficient > 0.85:
             raise GearSetError("tooth.addendum_mm = 9 mm: must be in (0, 2]")
-        return design(gs, scene=scene)
+        return _design_once(gs, scene=scene)
 
     with ThreadPoolExecutor(max_workers=2) as ex:
         res = run_sweep(spec, tmp_path / "s", executor=ex, designer=flaky, figure=False)
