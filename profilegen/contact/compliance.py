@@ -1820,7 +1820,11 @@ class ContactCompliance:
         t0 = time.perf_counter()
         b = self.face_width_mm
         s_cc = 0.5 * (self._flex_cc + self._flex_cc.T) / b + self.cs_matrix_mm_per_n
-        p = _prepare(s_cc, theta_rad, lever_mm, torque_nmm)  # checks θ, r, T and S (named errors)
+        # checks θ, r, T and S (named errors) on the teeth's S with the balls at zero gap held, as the
+        # window's solve checks it: S_cc alone (the rim free of every ball) is worse conditioned by the
+        # ring's near-rigid modes (rcond 9.6e-13 at 13 stations per flank on the default set), which
+        # the ball rows of the LCP below hold
+        p = _prepare(self.matrix_mm_per_n, theta_rad, lever_mm, torque_nmm)
         theta, r, torque = p.theta, p.r, p.T
         n, nb = theta.size, self.ball_angle_rad.size
         c_bb = self._flex_bb / b

@@ -282,7 +282,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
     gap, solved with the teeth: :meth:`~profilegen.contact.compliance.ContactCompliance.
     solve_unilateral`; ``matrices`` then holds S with the loaded balls rigid; the default, with
     held and with rolling balls) or "window" (the balls within the rim's no-load contact angle,
-    rigid, settled as :func:`~profilegen.contact.analysis.solve_contact` settles them: over a
+    rigid, settled as :func:`~profilegen.contact.analysis.solve_contact`'s window option settles them: over a
     ball passage it jumps as a ball enters the window — the comparison). ``hertz_balls`` (with "all" only): the balls
     as the bearing's Hertz springs (:class:`~profilegen.contact.chain.BallBearing`, iterated
     to the Hertz law at each ball's reaction). Other keywords as
