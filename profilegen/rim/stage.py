@@ -405,10 +405,11 @@ def _coarse_job():
         return _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch, wrap_rad=wrap)
 
 
-def _solve_toothed_pair(gearset, tier: RimTier, contour, per_pitch: int, t0: float):
+def _solve_toothed_pair(gearset, tier: RimTier, contour, per_pitch: int, t0: float, then):
     """The toothed tier's mesh and its coarse companion (the error estimate), the coarse one in a
     forked worker process while this process solves the fine one (they share nothing but the
-    flat-ring pass's wrap, solved first): (fine, coarse, the fine one's time in s).
+    flat-ring pass's wrap, solved first) and then calls ``then(fine)``: (fine, coarse, the fine
+    one's time in s, what ``then`` returned).
 
     Both condense onto the bore nodes within that wrap + :data:`WRAP_MARGIN_RAD` (the coarse one
     had the fine one's wrap before: the kept set only decides which nodes may carry a force, and
@@ -438,6 +439,7 @@ def _solve_toothed_pair(gearset, tier: RimTier, contour, per_pitch: int, t0: flo
     try:
         fem = _solve_named(gearset, tier, contour, coarse=False, per_pitch=per_pitch, wrap_rad=wrap)
         fem_time = time.perf_counter() - t0
+        after = then(fem)
         if pool is None:
             coarse = _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch, wrap_rad=wrap)
         else:
@@ -451,7 +453,7 @@ def _solve_toothed_pair(gearset, tier: RimTier, contour, per_pitch: int, t0: flo
     finally:
         if pool is not None:
             pool.shutdown(cancel_futures=True)
-    return fem, coarse, fem_time
+    return fem, coarse, fem_time, after
 
 
 def design_section_z(gearset, z_mm: float | None = None) -> float:
@@ -565,33 +567,39 @@ def solve_rim(gearset, *, tier: str | RimTier = "design", z_mm: float | None = N
     if per_pitch is not None and per_pitch != tier.per_pitch:
         warnings.append(f"the toothed rim mesh uses {per_pitch} columns per pitch instead of the tier's "
                         f"{tier.per_pitch}: this tooth's pieces need them (its coarse companion needs {per_pitch - 2})")
-    if tier.model == "toothed":
-        fem, coarse, fem_time = _solve_toothed_pair(gearset, tier, contour, per_pitch, t0)
+
+    def fits(fem):
+        """The fine mesh's samples fitted: (Fourier fit, general sine fit or None, time in s)."""
+        t0 = time.perf_counter()
+        phi, w, u = one_period(fem)
+        # the fits on one BLAS thread: their matrices are thin (the general sine fit's QR of
+        # 6401 × 6, ~3000 times), and OpenBLAS's threads only spin against each other — on a busy
+        # 2-core machine 19.7 s CPU (55 s wall) against 1.5 s (4.0 s) for the toothed tier's two
+        # sine fits called outside design() (which limits BLAS itself), the same numbers
+        with _one_blas_thread():
+            fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
+            sine = None
+            if tier.sine_fit:
+                from ..series import GeneralSineDeformation, fit_sine_series
+
+                sine = GeneralSineDeformation(fit_sine_series(phi, w, terms=3), fit_sine_series(phi, u, terms=3),
+                                              waves=waves, tier=tier.name)
+        return fit, sine, time.perf_counter() - t0
+
+    if tier.model == "toothed":  # the fits made while the coarse mesh's worker still solves
+        fem, coarse, fem_time, (fit, sine, fit_time) = _solve_toothed_pair(gearset, tier, contour, per_pitch, t0,
+                                                                           fits)
     else:
         fem = _solve_named(gearset, tier, contour, coarse=False, per_pitch=per_pitch)
         fem_time = time.perf_counter() - t0
         coarse = _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch)
+        fit, sine, fit_time = fits(fem)
     d_w, d_u = _mesh_change(fem, coarse)
     error = float(max(d_w, d_u))
     measure = ("max |Δω|, |Δυ| on the neutral line between this mesh and one with half the circumferential "
                "divisions (mm; an upper estimate of this mesh's discretisation error)" if tier.model == "flat" else
                f"max |Δω|, |Δυ| on the neutral line between {per_pitch} and {per_pitch - 2} element columns per "
                "tooth pitch (mm)")
-    t0 = time.perf_counter()
-    phi, w, u = one_period(fem)
-    # the fits on one BLAS thread: their matrices are thin (the general sine fit's QR of
-    # 6401 × 6, ~3000 times), and OpenBLAS's threads only spin against each other — on a busy
-    # 2-core machine 19.7 s CPU (55 s wall) against 1.5 s (4.0 s) for the toothed tier's two
-    # sine fits, the same numbers
-    with _one_blas_thread():
-        fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
-        sine = None
-        if tier.sine_fit:
-            from ..series import GeneralSineDeformation, fit_sine_series
-
-            sine = GeneralSineDeformation(fit_sine_series(phi, w, terms=3), fit_sine_series(phi, u, terms=3),
-                                          waves=waves, tier=tier.name)
-    fit_time = time.perf_counter() - t0
     # "order picked = max_order": the wrap edge (a jump of ω'') holds every harmonic; the fit
     # residual is reported as the fit stage's error instead of as a warning
     warnings += [w_ for w_ in fem.warnings if w_ != WRAP_WARNING]
