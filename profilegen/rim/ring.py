@@ -34,9 +34,12 @@ Model
   toothed rim) condenses onto the bore nodes of the wrap + a margin only — the columns of
   K⁻¹ for those nodes give every bore node's displacement, so the gaps of the dropped nodes
   are checked from the full displacement; a converged contact that needs a dropped node (or
-  loads the outermost kept one) widens the kept set and solves again (logged). Its columns
-  are solved by block substitution on the band factor (BLAS 3, single-threaded): 1601 bore
-  nodes of the default toothed rim, 1228 of them kept (θ ≤ 69°).
+  loads the outermost kept one) widens the kept set and solves again (logged). 1601 bore
+  nodes of the default toothed rim, 1228 of them kept (θ ≤ 69°). A bore of more than
+  :data:`LAZY_BORE_NODES` nodes (the toothed rim) is not condensed up front: G's columns are
+  solved as the contact solve asks for them (:class:`_LazyCompliance`; the LCP by
+  Lawson–Hanson's active-set method, :func:`_lcp_lazy`, one node entering at a time, warm
+  from the last set) — ~80–150 nodes' columns per factor instead of all 1228.
 * Geometry: ``"linear"`` (small strain, ``linear_elasticity``) or ``"nonlinear"`` (total
   Lagrangian St Venant–Kirchhoff, :mod:`profilegen.rim.nonlinear`): modified Newton from
   the linear solution with the linear factorisation and compliance; a step that shrinks by

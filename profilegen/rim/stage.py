@@ -33,12 +33,14 @@ cannot be halved: 14 is the fewest the default tooth takes). The FEM
 models need two symmetry planes (U = 2); other wave counts fall back to ring theory with
 a warning. The contour comes from :func:`profilegen.wavegen.from_gearset`.
 
-The toothed tier condenses the rim only onto the bore nodes within the wrap + 10°
-(:data:`WRAP_MARGIN_RAD`): the wrap of a cheap flat-ring pass (2 × 32) for the tier's mesh,
-that of the tier's mesh for its coarse companion. ``solve_ring`` checks that the converged
-contact needs no dropped node and widens the set otherwise (a log line says so); the
-answer is the whole bore's to the contact's 1e-9 mm gap tolerance (``python tests/
-benchmarks/toothed_rim.py``).
+The toothed tier lets only the bore nodes within the wrap + 10° (:data:`WRAP_MARGIN_RAD`)
+carry a contact force: the wrap of a cheap flat-ring pass (2 × 32), for the tier's mesh and
+its coarse companion alike. ``solve_ring`` checks that the converged contact needs no
+dropped node and widens the set otherwise (a log line says so); the answer is the whole
+bore's to the contact's 1e-9 mm gap tolerance (``python tests/benchmarks/toothed_rim.py``).
+Its bore compliance is solved column by column as the contact asks for it (~80–150 of the
+1228 kept nodes per factor, ``solve_ring(lazy_columns=...)``), and the coarse companion is
+solved in a forked worker process while this one solves the fine mesh and fits it.
 """
 
 from __future__ import annotations
