@@ -8,6 +8,10 @@ issue 16): both zones as one problem on the FS's whole ring.
 * with random deviations and with an eccentric CS: equilibrium (Σ_all r F = T, the loads'
   resultant carried by the balls), complementarity of teeth and balls; the eccentricity turned
   by π swaps the two zones;
+* both flanks in one problem: the perfect gear is each flank's own curve (the other flank
+  stays open); a backlash allowance wider than the load's reach is a rigid shift of the
+  one-flank answer; an interference preloads the gear (both flanks loaded at rest) and
+  makes it stiffer;
 * ISO 1328-1:2013 eq. (5)/(8) at one value worked by hand.
 """
 
@@ -18,6 +22,7 @@ import pytest
 
 from profilegen.contact import contact_points
 from profilegen.contact.chain import compliance_chain, torsional_curve
+from profilegen.contact.compliance import ContactCompliance
 from profilegen.contact.inputs import ContactInput
 from profilegen.contact.tooth_errors import (ToothErrorError, TwoZoneContact, draw_deviations,
                                              eccentricity_offsets_rad, iso1328_tolerances_um)
@@ -29,7 +34,7 @@ T1, T2 = 54.0, 196.0
 def zones(default_sketch):
     """The default set's sketch design: torsional_curve at T1, T2 (every ball one-sided, the
     flanks' points and compliance built there) and both zones of the right flank as one problem."""
-    curve = torsional_curve(default_sketch, [T1, T2], catalogue=None, breakpoints_nm=(T1, T2))
+    curve = torsional_curve(default_sketch, [-T1, T1, T2], catalogue=None, breakpoints_nm=(T1, T2))
     pts, comp = curve.sides[1]
     inputs = ContactInput.from_design(default_sketch)
     return curve, pts, TwoZoneContact(inputs, pts, comp), compliance_chain(inputs.gearset).bearing
@@ -70,6 +75,8 @@ def test_perfect_gear_is_the_one_zone_model(zones):
     curve, pts, two, bearing = zones
     theta0 = float(pts.theta_rad.min())
     for i, t in enumerate(curve.torque_nm):
+        if t < 0:
+            continue
         rigid = two.solve(t)
         springs = two.solve(t, bearing=bearing)
         # each zone half the torque: the whole gear's balance finds it
@@ -151,3 +158,59 @@ def test_bad_offsets(zones):
         two.solve(T1, np.zeros(3))
     with pytest.raises(ToothErrorError, match="torque_nm"):
         two.solve(0.0)
+
+
+@pytest.fixture(scope="module")
+def flanks(default_sketch, zones):
+    """Both flanks of both zones as one problem (the compliance built for their points together)."""
+    curve, pts, _, bearing = zones
+    left = curve.sides[-1][0]
+    inputs = ContactInput.from_design(default_sketch)
+
+    def cat(f):
+        return np.concatenate([getattr(pts, f), getattr(left, f)])
+
+    comp = ContactCompliance.build(inputs, cat("fs_point_mm"), cat("normal"), cat("tooth"), cat("cs_point_mm"),
+                                   ball_supports="all")
+    return curve, pts, left, TwoZoneContact(inputs, [pts, left], comp), bearing
+
+
+def test_both_flanks_perfect_gear_and_backlash(flanks, zones):
+    curve, right, left, both, bearing = flanks
+    one = zones[2]
+    r_p = 0.5 * both.gearset.gear.module_mm * both.gearset.gear.flexspline_teeth
+    for t in (T1, -T1):
+        sol = both.solve(t, bearing=bearing)
+        ref = curve.mesh_balls_rad[list(curve.torque_nm).index(t)]
+        assert sol.phi_rad == pytest.approx(ref, rel=2e-5)
+        # only the loaded flank carries: the other's points stay open
+        n = right.count + left.count
+        on_right = np.concatenate([np.arange(right.count), n + np.arange(right.count)])
+        carried = sol.force_n[on_right].sum() if t > 0 else sol.force_n.sum() - sol.force_n[on_right].sum()
+        assert carried == pytest.approx(sol.force_n.sum(), rel=1e-12)
+        _check_physics(sol, both, t, both.theta)
+    # a backlash allowance j (j/2 on each flank) wider than the load's reach: the one-flank answer, shifted by j/2r_p
+    j = 0.04
+    shift = 0.5 * j / r_p
+    wide = both.solve(T1, np.full(both.theta.size, shift))
+    assert wide.phi_rad - one.solve(T1).phi_rad == pytest.approx(shift, rel=1e-7)
+
+
+def test_interference_preloads_both_flanks(flanks):
+    """Every tooth 1 µm too thick (j = −2 µm): at rest both flanks press (the right flank's
+    moment equals the left's), the loaded gear is stiffer than the perfect one, and the
+    solution is complementary with both flanks."""
+    _, right, left, both, bearing = flanks
+    r_p = 0.5 * both.gearset.gear.module_mm * both.gearset.gear.flexspline_teeth
+    off = np.full(both.theta.size, -1e-3 / r_p)
+    rest = both.solve(1e-3, off)
+    n = right.count + left.count
+    moment = both.sign * both.lever * rest.force_n
+    on_right = np.zeros(both.n, bool)
+    on_right[:right.count] = on_right[n:n + right.count] = True
+    assert moment[on_right].sum() > 100.0 * 1e-3 * 1e3  # a preload ≫ the applied 1 N·mm
+    assert moment[on_right].sum() + moment[~on_right].sum() == pytest.approx(1.0, rel=1e-6)
+    loaded = both.solve(T1, off)
+    perfect = both.solve(T1)
+    assert loaded.phi_rad - rest.phi_rad < 0.9 * (perfect.phi_rad - float(right.theta_rad.min()))
+    _check_physics(loaded, both, T1, both.theta + off)
