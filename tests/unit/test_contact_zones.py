@@ -24,7 +24,10 @@ would pass them. Here the expected numbers come from the whole gear instead:
   transmission error use) must give each zone's forces and the same rotation; with T on
   each zone it gives twice the forces and a rotation far off. Without the outer race
   (``race_thickness_mm=0``, balls on the bore: the sliding race's extra dofs are not
-  rebuilt here).
+  rebuilt here). Every ball of the zone one-sided at its no-load gap, as the contact stage:
+  the balls the one-zone solve loads are held at their gaps on the full ring (a known
+  displacement in the saddle solve), the others free, and the full ring's ball reactions and
+  free balls' gaps are checked for complementarity.
 """
 
 import math
@@ -93,11 +96,14 @@ def test_two_points_per_zone_by_hand():
     assert zones * (r1 * forces[0] + r2 * forces[1]) == pytest.approx(big * 1e3, rel=1e-12)
 
 
-def _full_ring_fs(inputs, pts, ball_angles, face_width_mm):
-    """The FS compliance (mm/N) of the whole ring for ``pts`` (one zone) and their images
-    (tooth i + z1/2, the same tooth-frame point), rigid balls at ``ball_angles`` and + π:
+def _full_ring(inputs, pts, ball_angles, active, gaps_mm, face_width_mm):
+    """The FS of the whole ring for ``pts`` (one zone) and their images (tooth i + z1/2, the
+    same tooth-frame point), on every ball of the zone at ``ball_angles`` and its image at + π:
     the package's one-pitch substructure (14 columns, 2 rim + 4 tooth layers, its defaults)
-    chained round the full circle. → (2n × 2n)."""
+    chained round the full circle. The ``active`` balls (and images) are held at their no-load
+    gaps ``gaps_mm`` (the bore moves in by the gap there), the others free.
+    → (S (2n × 2n, mm/N), the teeth's separation offset from the held balls' gaps (2n, mm),
+    balls(F) → (the active balls' reactions (N), the free balls' gaps after load (mm)))."""
     gs = inputs.gearset
     g = gs.gear
     z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
@@ -138,25 +144,36 @@ def _full_ring_fs(inputs, pts, ball_angles, face_width_mm):
     flex, _ = cm._chain_flex([pitch], kinds, [loads], [(on, np.arange(on.size))], cyclic=True, fixed_cut=held,
                              gauge=([c], [rot]), where="FS full ring")
     m = d_c.shape[0]
-    # the balls (rigid, radial) with the translation t free: the pinned solution plus t, ball
-    # gaps closed, the loads' resultant carried by the balls (Σ λ e_r + Σ F d = 0)
+    # the held balls (rigid, radial) with the translation t free: the pinned solution plus t,
+    # each held ball's bore point moved in by its gap (u_b + e_r·t = −gap), the loads' resultant
+    # carried by the balls (Σ λ e_r + Σ F d = 0)
+    b = face_width_mm
+    act = np.flatnonzero(np.concatenate([active, active]))
+    free = np.flatnonzero(~np.concatenate([active, active]))
+    gap = np.concatenate([gaps_mm, gaps_mm])
     g_cc, g_cb, g_bb = flex[:m, :m], flex[:m, m:], flex[m:, m:]
-    saddle = np.block([[g_bb, e_r], [e_r.T, np.zeros((2, 2))]])
-    coupling = np.hstack([g_cb, d_c])
+    e_a = e_r[act]
+    saddle = np.block([[g_bb[np.ix_(act, act)], e_a], [e_a.T, np.zeros((2, 2))]])
+    coupling = np.hstack([g_cb[:, act], d_c])
     s2d = g_cc - coupling @ np.linalg.solve(saddle, coupling.T)
-    return 0.5 * (s2d + s2d.T) / face_width_mm
+    held_gap = np.concatenate([gap[act], [0.0, 0.0]])
+    offset = -coupling @ np.linalg.solve(saddle, held_gap)
 
+    def balls(force_n):
+        lam_t = -np.linalg.solve(saddle, coupling.T @ (force_n / b) + held_gap)  # λ (N/mm) and t (mm)
+        lam, t = lam_t[:act.size], lam_t[act.size:]
+        h = gap[free] + g_cb[:, free].T @ (force_n / b) + g_bb[np.ix_(free, act)] @ lam + e_r[free] @ t
+        return lam * b, h
 
-# one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
-# otherwise be computed on both workers, each running a share of its tests (conftest.py)
-pytestmark = pytest.mark.xdist_group("test_contact_zones")
+    return 0.5 * (s2d + s2d.T) / b, offset, balls
 
 
 @pytest.fixture(scope="module")
 def few(default_sketch):
     """The default set's sketch design: the points of the 5 teeth nearest first contact, the
-    package's compliance for them (no outer race) and its one-zone solve at the rated
-    torque, and the full ring's S for them and their images."""
+    package's compliance for them (no outer race, every ball of the zone one-sided at its
+    no-load gap, as the contact stage) and its one-zone solve at the rated torque, and the full
+    ring for them and their images on the balls that solve loads (held at their gaps)."""
     inputs = ContactInput.from_design(default_sketch)  # conftest.py: computed once per worker
     pts = contact_points(inputs)
     first = np.argsort([pts.theta_rad[pts.tooth == t].min() for t in pts.teeth])[:5]
@@ -165,21 +182,22 @@ def few(default_sketch):
                                                          "cs_point_mm", "normal", "gap_mm", "lever_mm")),
                         pts.side, pts.rotation, pts.zones, pts.stations, pts.max_gap_mm)
     comp = ContactCompliance.build(inputs, sub.fs_point_mm, sub.normal, sub.tooth, sub.cs_point_mm,
-                                   race_thickness_mm=0.0)
+                                   race_thickness_mm=0.0, ball_supports="all")
     case = solve_contact(inputs, [inputs.gearset.torque.rated_nm], points=sub, compliance=comp).cases[0]
     s_zone = comp.with_balls(case.ball_active).matrix_mm_per_n
     n = sub.count
     cs = comp.cs_matrix_mm_per_n
-    s_full = _full_ring_fs(inputs, sub, comp.ball_angle_rad[case.ball_active], comp.face_width_mm) + np.block(
-        [[cs, np.zeros((n, n))], [np.zeros((n, n)), cs]])
-    return inputs, sub, s_zone, case, s_full
+    fs_full, offset, balls = _full_ring(inputs, sub, comp.ball_angle_rad, case.ball_active, comp.ball_gap_mm,
+                                        comp.face_width_mm)
+    s_full = fs_full + np.block([[cs, np.zeros((n, n))], [np.zeros((n, n)), cs]])
+    return inputs, sub, s_zone, case, s_full, offset, balls, comp
 
 
 def test_the_zone_matrix_is_the_full_ring_with_its_images(few):
     """S (one zone, half ring with the tie) = A + B of the full ring: each load stands for
     itself and its image. B is not small (the other zone's loads turn the whole rim): a
     zone solved with A alone would be far too stiff."""
-    _, pts, s_zone, _, s_full = few
+    _, pts, s_zone, _, s_full = few[:5]
     n = pts.count
     a, b = s_full[:n, :n], s_full[:n, n:]
     np.testing.assert_allclose(s_full[n:, n:], a, rtol=0, atol=1e-9 * np.abs(a).max())  # the zones alike
@@ -188,25 +206,38 @@ def test_the_zone_matrix_is_the_full_ring_with_its_images(few):
 
 
 def test_full_ring_split_and_rotation(few):
-    inputs, pts, s_zone, case, s_full = few
+    """The whole torque on both zones of the full ring, its held balls at their gaps: each zone
+    half the torque, the package's one-zone forces, rotation and ball reactions, and every
+    ball complementary on the full ring (held balls push, free balls clear of the rim)."""
+    inputs, pts, s_zone, case, s_full, offset, balls, comp = few
     zones = inputs.gearset.gear.waves
     assert zones == 2 and pts.zones == zones
     torque_nmm = inputs.gearset.torque.rated_nm * 1e3
-    theta = np.concatenate([pts.theta_rad, pts.theta_rad])
     lever = np.concatenate([pts.lever_mm, pts.lever_mm])
-    full = solve_lemke(s_full, theta, lever, torque_nmm)  # the whole torque, both zones, no T/U
+    # the held balls' gaps pull the rim in: each point's first-contact angle moves by offset / r
+    theta = np.concatenate([pts.theta_rad, pts.theta_rad]) + offset / lever
+    shift = float(theta.min())
+    full = solve_lemke(s_full, theta - shift, lever, torque_nmm)  # the whole torque, both zones, no T/U
+    phi = full.phi_rad + shift
     n = pts.count
     zone_moment = [float(pts.lever_mm @ full.force_n[:n]), float(pts.lever_mm @ full.force_n[n:])]
     # the load split: each zone half the torque, found by the full solve, not imposed
     np.testing.assert_allclose(zone_moment, [torque_nmm / zones] * 2, rtol=1e-6)
     np.testing.assert_allclose(full.force_n[:n], full.force_n[n:], atol=1e-6 * full.max_force_n)
-    # the one-zone solve of the package: each zone's forces and the absolute rotation
+    # the one-zone solve of the package: each zone's forces, the absolute rotation, the balls
     f = case.solution.force_n
     assert 1 < np.count_nonzero(f) < f.size
     np.testing.assert_allclose(f, full.force_n[:n], atol=1e-6 * full.max_force_n)
-    assert case.rotation_rad == pytest.approx(full.phi_rad, rel=1e-6)
+    assert case.rotation_rad == pytest.approx(phi, rel=1e-6)
+    react, free_gap = balls(full.force_n)
+    k = int(np.count_nonzero(case.ball_active))
+    np.testing.assert_allclose(react[:k], react[k:], rtol=1e-6)  # the zones' balls alike
+    np.testing.assert_allclose(react[:k], case.ball_reaction_n[case.ball_active], rtol=1e-5)
+    assert react.min() > 0.0 and free_gap.min() > -1e-9 * np.abs(comp.ball_gap_mm).max()
+    # the balls outside the rim's no-load contact angle: some take load, from their gaps
+    assert np.any(case.ball_active & (comp.ball_gap_mm > 0.0))
     # and the rotation is not the first contact's alone: the load moved it by most of itself
-    assert full.phi_rad > 1.5 * float(pts.theta_rad.min())
+    assert phi > 1.5 * float(pts.theta_rad.min())
     # a zone that carried T instead: twice the moment, a rotation far from the full ring's
-    wrong = solve_lemke(s_zone, pts.theta_rad, pts.lever_mm, torque_nmm)
-    assert abs(wrong.phi_rad - full.phi_rad) > 0.3 * (full.phi_rad - float(pts.theta_rad.min()))
+    wrong = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, torque_nmm)[0]
+    assert abs(wrong.phi_rad - phi) > 0.3 * (phi - float(pts.theta_rad.min()))
