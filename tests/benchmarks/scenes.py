@@ -37,10 +37,31 @@ import numpy as np
 __all__ = ["scene_benchmark", "write_scene_benchmark"]
 
 
+_DENSIFY = 20  # steps per segment: shapely.hausdorff_distance(..., densify=0.05)
+
+
 def _hausdorff_mm(a: np.ndarray, b: np.ndarray) -> float:
+    """``shapely.hausdorff_distance(LineString(a), LineString(b), densify=0.05)``: GEOS's discrete
+    Hausdorff distance — the largest distance from a point of either line (its vertices and the
+    20 equal steps along each segment, p0 + i·(p1 − p0)/20) to the other line — with the
+    distances from an STR tree of the other line's segments; GEOS measures every point against
+    every segment (4 pairs of lines of ~10^3-10^4 vertices: 19 of `profilegen bench --quick`'s
+    40 s on a busy machine). Same points, same point-to-segment distances."""
+    return max(_oriented_mm(np.asarray(a, float), np.asarray(b, float)),
+               _oriented_mm(np.asarray(b, float), np.asarray(a, float)))
+
+
+def _oriented_mm(p: np.ndarray, q: np.ndarray) -> float:
     import shapely
 
-    return float(shapely.hausdorff_distance(shapely.LineString(a), shapely.LineString(b), densify=0.05))
+    steps = np.arange(_DENSIFY, dtype=float)[None, :, None]
+    start, delta = p[:-1, None, :], ((p[1:] - p[:-1]) / _DENSIFY)[:, None, :]
+    points = np.vstack([(start + steps * delta).reshape(-1, 2), p[-1:]])
+    if len(q) == 1:
+        return float(np.max(np.hypot(*(points - q[0]).T)))
+    tree = shapely.STRtree(shapely.linestrings(np.stack([q[:-1], q[1:]], axis=1)))
+    _, dist = tree.query_nearest(shapely.points(points), return_distance=True, all_matches=False)
+    return float(dist.max())
 
 
 def _rel(value, reference) -> float | None:
