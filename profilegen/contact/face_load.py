@@ -401,7 +401,8 @@ def face_load(inputs, torque_nm: float, *, slices: int = 8, cup=None, coning: st
     analytic z/z_0 scaling of the design's deformation) or "none" (identical slices).
     ``points``, ``compliance``: a :class:`~profilegen.contact.compliance.ContactCompliance` and its
     points from an earlier solve, else built; the compliance's balls are settled at this
-    torque on the 2D solve first (seed 000's loop) and then held."""
+    torque on the 2D solve first (every ball one-sided at its no-load gap, the contact stage's
+    model, or the window's loop) and then held (at their gaps)."""
     from .analysis import solve_contact
     from .inputs import ContactInput
 
@@ -429,6 +430,13 @@ def face_load(inputs, torque_nm: float, *, slices: int = 8, cup=None, coning: st
         else:
             secs = [motion.deformation] + semi_membrane_sections(motion.deformation, z, z0)
         shifts = np.array([gap_shift_mm(pts, motion, sec, secs[0]) for sec in secs[1:]])
+    if getattr(comp, "ball_supports", "window") == "all":
+        # every ball one-sided at its no-load gap (the contact stage's model): the balls the 2D solve
+        # loads are held at their gaps, which moves each point's separation alike on every slice
+        from .reduced import _ReducedZone
+
+        _, _, theta, _ = _ReducedZone(pts, comp, None)._balls(np.asarray(res.cases[0].ball_active), None)
+        pts = dataclasses.replace(pts, gap_mm=pts.lever_mm * theta)
     return solve_face(pts, settled.matrix_mm_per_n, shifts, torque_nm, coupling_length_mm=coupling_length_mm,
                       face_width_mm=b, z_mm=z)
 

@@ -249,3 +249,28 @@ def test_two_flanks_reduce_to_the_one_flank_solve_when_the_other_stays_open():
     assert np.all(res.force_n[:, 6:] == 0.0)
     assert res.rotation_rad == pytest.approx(float(ref.phi_rad), rel=1e-9)
     assert res.complementarity_residual < 1e-9
+
+
+def test_face_load_on_every_ball_reproduces_the_contact_stage(default_sketch):
+    """face_load builds the contact stage's compliance (every ball one-sided at its no-load
+    gap): with identical slices (coning "none") its slices are the 2D contact, the balls the 2D
+    solve loads held at their gaps — each slice 1/N of the stage's forces, the same rotation.
+    Holding them at zero gap instead (the gaps left out) misses the rotation."""
+    from profilegen.contact import ContactInput
+    from profilegen.contact.analysis import solve_contact
+    from profilegen.contact.face_load import face_load
+
+    inputs = ContactInput.from_design(default_sketch)
+    torque = inputs.gearset.torque.rated_nm
+    stage = solve_contact(inputs, [torque])
+    case = stage.cases[0]
+    assert stage.compliance.ball_supports == "all"
+    assert np.any(case.ball_active & (stage.compliance.ball_gap_mm > 0.0))
+    face = face_load(inputs, torque, slices=3, coning="none", points=stage.points, compliance=stage.compliance)
+    f = case.solution.force_n
+    np.testing.assert_allclose(face.force_n * 3, np.broadcast_to(f, face.force_n.shape), rtol=0,
+                               atol=1e-8 * f.max())
+    assert face.rotation_rad == pytest.approx(case.rotation_rad, rel=1e-9)
+    held = stage.compliance.with_balls(case.ball_active).matrix_mm_per_n
+    zero_gap = solve_lemke(held, stage.points.theta_rad, stage.points.lever_mm, case.zone_torque_nm * 1e3)
+    assert abs(zero_gap.phi_rad / case.rotation_rad - 1.0) > 1e-3
