@@ -515,11 +515,22 @@ def _with_contact(result: Design, step) -> Design:
         return replace(result, warnings=result.warnings + (note,))
     step("contact")
     from .contact import ContactInput
-    from .contact.analysis import solve_contact
 
     t0 = time.perf_counter()
     torques = [t for t in (gearset.torque.rated_nm, gearset.torque.peak_nm, gearset.torque.momentary_nm) if t is not None]
     inputs = ContactInput.from_design(result)
+    early = _start_ratcheting_early(result, inputs)  # the verify scene's ratcheting, beside the contact solves
+    try:
+        return _with_contact_solved(result, stages, torques, inputs, t0, early)
+    except BaseException:
+        if early is not None:
+            early[0].shutdown(wait=False, cancel_futures=True)
+        raise
+
+
+def _with_contact_solved(result: Design, stages, torques, inputs, t0, early) -> Design:
+    from .contact.analysis import solve_contact
+
     contact = solve_contact(inputs, torques)  # teeth and every wave-generator ball (one-sided at its no-load gap)
     rated = contact.cases[0]
     pts = contact.points
@@ -544,7 +555,7 @@ def _with_contact(result: Design, step) -> Design:
         f"{torsional.k_nm_per_rad['total']['positive']['K2']:.3g}/"
         f"{torsional.k_nm_per_rad['total']['positive']['K3']:.3g} N·m/rad, lost motion "
         f"{torsional.lost_motion_rad['total'] * 10800 / np.pi:.3f} arcmin")
-    ratchet, transmission = _whole_gear_extras(result, contact, notes)
+    ratchet, transmission = _whole_gear_extras(result, contact, notes, early=early)
     if ratchet is not None:
         whole += f"; ratcheting ≈ {ratchet.torque_nm:.4g} N·m"
     if transmission is not None:
@@ -560,11 +571,12 @@ def _with_contact(result: Design, step) -> Design:
                    torsional=torsional, ratcheting=ratchet, transmission=transmission)
 
 
-def _whole_gear_extras(result: Design, contact, notes: list) -> tuple:
+def _whole_gear_extras(result: Design, contact, notes: list, early=None) -> tuple:
     """The ratcheting estimate and the loaded transmission error at the rated torque (16
     positions over a tooth passage), each when the scene asks (seconds each); a failure is a
     note, not an error. Each reports its own time in its result. Both read the design's contact
-    inputs with the contact's wrap angle (without a rim FEM each would solve a flat ring for it)."""
+    inputs with the contact's wrap angle (without a rim FEM each would solve a flat ring for it).
+    ``early``: (pool, future, catalogue) of a ratcheting already started (:func:`_start_ratcheting_early`)."""
     ratchet = transmission = None
     scene, gs = result.scene, result.gearset
     if not (getattr(scene, "ratcheting", False) or getattr(scene, "transmission_error", False)):
@@ -574,14 +586,9 @@ def _whole_gear_extras(result: Design, contact, notes: list) -> tuple:
     inputs = ContactInput.from_design(result)
     if inputs.rim_contact_angle_rad is None and contact.compliance is not None:
         inputs = replace(inputs, rim_contact_angle_rad=float(contact.compliance.wrap_half_angle_rad))
-    pool = future = None
-    if getattr(scene, "ratcheting", False):
-        from .contact.chain import catalogue_for
-
-        row = catalogue_for(gs)
-        cat = None if row is None or row.get("ratcheting_torque_nm") is None else {
-            "torque_nm": row["ratcheting_torque_nm"], "source": row.get("ratcheting_source"),
-            "size": row.get("size"), "ratio": row.get("ratio_asked", row.get("ratio"))}
+    pool, future, cat = early if early is not None else (None, None, None)
+    if getattr(scene, "ratcheting", False) and future is None:
+        cat = _ratcheting_catalogue(gs)
         if getattr(scene, "transmission_error", False):  # both: the ratcheting in a forked worker meanwhile
             pool, future = _start_ratcheting(inputs, cat)
         if future is None:
@@ -609,6 +616,28 @@ def _whole_gear_extras(result: Design, contact, notes: list) -> tuple:
 
 
 _RATCHET_JOB = None  # (inputs, catalogue) for the forked worker of _start_ratcheting
+
+
+def _ratcheting_catalogue(gs):
+    from .contact.chain import catalogue_for
+
+    row = catalogue_for(gs)
+    return None if row is None or row.get("ratcheting_torque_nm") is None else {
+        "torque_nm": row["ratcheting_torque_nm"], "source": row.get("ratcheting_source"),
+        "size": row.get("size"), "ratio": row.get("ratio_asked", row.get("ratio"))}
+
+
+def _start_ratcheting_early(result: Design, inputs):
+    """(pool, future, catalogue) of the ratcheting started in a forked worker before the contact
+    solves, when the scene asks for it and the transmission error and the inputs already hold
+    the rim's contact angle (a rim FEM: the extras would read the same inputs); else None."""
+    scene = result.scene
+    if not (getattr(scene, "ratcheting", False) and getattr(scene, "transmission_error", False)
+            and inputs.rim_contact_angle_rad is not None):
+        return None
+    cat = _ratcheting_catalogue(result.gearset)
+    pool, future = _start_ratcheting(inputs, cat)
+    return None if future is None else (pool, future, cat)
 
 
 def _ratcheting(inputs, cat, notes: list):
