@@ -304,13 +304,19 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
     # every pose's candidates at once: the surface points nearest the CS, nearest first
     # (:func:`_nearest_pairs`), their CS points' first ``candidates`` distinct ones, and
     # those points' ``neighbours`` on either side, in CS order
-    order = _nearest_pairs(tree, surface_pts, cos, sin, pose.origin, 4 * candidates)
-    srt = np.argsort(order, axis=1, kind="stable")
-    first = np.ones(order.shape, bool)
-    sorted_ = np.take_along_axis(order, srt, axis=1)
-    first[:, 1:] = sorted_[:, 1:] != sorted_[:, :-1]
-    new = np.empty_like(first)
-    np.put_along_axis(new, srt, first, axis=1)  # each CS point's first appearance, in nearness order
+    # of the 4 × candidates nearest pairs: the first pairs alone hold the first ``candidates``
+    # distinct CS points wherever they hold that many (most poses: ~40 pairs for 32); the other
+    # poses take all the pairs
+    need = 4 * candidates
+    few = min(need, candidates + candidates // 4)
+    order = _nearest_pairs(tree, surface_pts, cos, sin, pose.origin, few)
+    new = _first_appearances(order)
+    short = np.flatnonzero(new.sum(axis=1) < candidates) if few < need else np.empty(0, int)
+    if short.size:
+        more = _nearest_pairs(tree, surface_pts, cos[short], sin[short], pose.origin[short], need)
+        order = np.concatenate([order, np.full((samples, more.shape[1] - order.shape[1]), -1)], axis=1)
+        order[short] = more
+        new = _first_appearances(order)
     keep = new & (np.cumsum(new, axis=1) <= candidates)
     near = np.clip(order[:, :, None] + np.arange(-neighbours, neighbours + 1), 0, len(cs) - 1)
     near = np.where(keep[:, :, None], near, len(cs)).reshape(samples, -1)  # len(cs): no point
@@ -356,6 +362,17 @@ def _deepest_inside(poly, surface, tree, cs: np.ndarray, pose, poses: np.ndarray
         if len(loc):
             out[k] = min(out[k], -float(np.max(surface.distance(loc))))
     return out
+
+
+def _first_appearances(order: np.ndarray) -> np.ndarray:
+    """True at each row's first appearance of a CS point (−1: no point), in the row's order."""
+    srt = np.argsort(order, axis=1, kind="stable")
+    sorted_ = np.take_along_axis(order, srt, axis=1)
+    first = np.ones(order.shape, bool)
+    first[:, 1:] = sorted_[:, 1:] != sorted_[:, :-1]
+    new = np.empty_like(first)
+    np.put_along_axis(new, srt, first, axis=1)
+    return new & (order >= 0)
 
 
 #: the clearance map's reference poses for the coarse distances: every this many poses
