@@ -31,6 +31,18 @@ Model
   active set cycles. The Hertz ball springs: the chain's secant fixed point
   (:class:`~profilegen.contact.chain._SpringIteration`). With no deviations the two zones
   carry T/2 each and reproduce the one-zone model (tests/unit/test_tooth_errors.py).
+* **One flank or both.** Given one flank's points, the other flank never touches (a gear
+  whose backlash allowance exceeds its deviations); the curve's zero is the rigid gear's
+  first contact (:meth:`TwoZoneContact.first_contact_rad`). Given both flanks (a sequence of
+  :class:`~profilegen.contact.points.ContactPoints` and a compliance built for their points
+  concatenated), the other flank's points resist the rotation (a = −r_k) and either torque
+  sign is solved; deviations that make the flanks interfere preload the gear at rest, and
+  the curve's zero is the rest position at a vanishing torque (:meth:`TwoZoneContact.zero_rad`).
+  A backlash allowance j is an offset j/(2 r_p) on every point of both flanks. The model's
+  conjugate tooth has none (5e-5 arcmin): with it, deviations stiffen the gear.
+* **Wave generator** held on the CS axis (the balls' gaps see the FS ring's translation) or
+  floating radially (``wave_generator="floating"``: an Oldham coupling; the cam's translation
+  free, Σ R e_r = 0 on it; an eccentricity is then absorbed).
 * **Deviations as gap offsets.** A tooth turned about the gear centre by β (a tangential
   position deviation s = β r_p at the pitch circle) moves each of its contact points along
   the common normal by r_k β: its first-contact angle θ_k = e_k / r_k grows by β. A profile
@@ -50,6 +62,9 @@ Model
   σ_α (a ξ + b (3ξ² − 1)/2), a, b ~ N(0, 1), ξ ∈ [−1, 1] over the stations' arc length,
   σ_α = f_fαT/2. Cumulative pitch deviation (long-wave) is the eccentricity's family and
   is not drawn.
+
+Numbers and what they mean: docs/catalogue_comparison.md, "Tooth deviations and eccentricity"
+(tests/benchmarks/tooth_errors.py).
 
 Left out: the deviations' effect on the compliance (the points stay where the perfect gear
 puts them), helix deviations across the face, the FS's own run-out under the wave generator.
