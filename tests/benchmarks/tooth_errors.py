@@ -139,8 +139,9 @@ def main() -> None:
             return f"{v.mean():.2f} ± {v.std(ddof=1) if v.size > 1 else 0.0:.2f} ({v.min():.2f}–{v.max():.2f})"
 
         lm = "" if np.isnan(a["LM"]).all() else f"; LM {a['LM'].mean():.2f} (max {a['LM'].max():.2f})′"
-        print(f"  {label:30s} K1 {ms(a['K1'])}  K2 {ms(a['K2'])}  secT2 {ms(a['S2'])} | +C {(a['C1'].mean() - base['C1']) * 1e6:+.2f}"
-              f"/{(a['C2'].mean() - base['C2']) * 1e6:+.2f}e-6; pts {a['pts1'].mean():.1f}; zone "
+        added = (a["C1"].mean() - base["C1"]) * 1e6, (a["C2"].mean() - base["C2"]) * 1e6
+        print(f"  {label:30s} K1 {ms(a['K1'])}  K2 {ms(a['K2'])}  secT2 {ms(a['S2'])} | +C {added[0]:+.2f}"
+              f"/{added[1]:+.2f}e-6; pts {a['pts1'].mean():.1f}; zone "
               f"{a['split'].mean():.2f}{lm}; res ≤ {max(r['res'][0] for r in rows):.0e}/"
               f"{max(r['res'][1] for r in rows):.0e}")
 
@@ -160,7 +161,6 @@ def main() -> None:
         draws = [draw_deviations([pr, pl], gs, np.random.default_rng(1000 * grade + i), pitch_sigma_mm=sp,
                                  profile_sigma_mm=sa) for i in range(args.draws)]
         for model in models:
-            t0 = time.process_time()
             report(name(model), [case(o, model) for o in draws])
         if grade == 5:
             for label, kw in (("pitch only", {"pitch_sigma_mm": sp, "profile_sigma_mm": 0.0}),

@@ -20,7 +20,6 @@ import math
 import numpy as np
 import pytest
 
-from profilegen.contact import contact_points
 from profilegen.contact.chain import compliance_chain, torsional_curve
 from profilegen.contact.compliance import ContactCompliance
 from profilegen.contact.inputs import ContactInput
