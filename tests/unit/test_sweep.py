@@ -202,6 +202,7 @@ def test_outputs_are_tolerant_of_missing_parts():
     assert set(out) == set(OUTPUT_COLUMNS) and all(v is None for v in out.values())
 
 
+@pytest.mark.xdist_group("test_sweep_designs")  # one worker: _design_once's designs are its process's
 def test_sweep_resumes_without_recomputing_finished_points(tmp_path):
     """Interrupted after 2 of 4 points (KeyboardInterrupt from the progress callback), a rerun
     computes only the other 2; a line cut short by a kill is dropped and recomputed."""
@@ -327,6 +328,7 @@ def test_sweep_command_writes_the_table(tmp_path, capsys):
     assert sorted(p.name for p in out.iterdir()) == ["journal.csv", "results.csv", "sweep.png"]
 
 
+@pytest.mark.xdist_group("test_sweep_designs")  # one worker: _design_once's designs are its process's
 def test_a_design_that_raises_is_recorded_with_its_type(tmp_path):
     spec = parse_sweep_spec({**SPEC, "grid": {FIELD: [0.8, 0.9]}})
 
