@@ -83,6 +83,19 @@ def test_cs_chain_closes_exactly_from_any_g1_flank(form_default):
     assert shapely.Polygon(outline.sample(1e-3)).is_valid
 
 
+class _SegmentTree:
+    """Distances of points to a polyline as shapely.distance to its LineString gives them (the
+    least point-to-segment distance, bit for bit), from an STR tree of its segments: shapely
+    tries every segment for every point (the brute-force test's 37 poses took ~10 s)."""
+
+    def __init__(self, xy):
+        xy = np.asarray(xy, float)
+        self.tree = shapely.STRtree(shapely.linestrings(np.stack([xy[:-1], xy[1:]], axis=1)))
+
+    def distance(self, points):
+        return self.tree.query_nearest(shapely.points(points), return_distance=True, all_matches=False)[1]
+
+
 def test_clearance_map_equals_brute_force_distance(form_default, default_set):
     """At every sampled pose the map equals the brute-force signed distance of all CS outline
     points around the space to the tooth's real surface (shapely, no candidate search):
@@ -93,11 +106,11 @@ def test_clearance_map_equals_brute_force_distance(form_default, default_set):
     tooth, motion, env = default_set
     cmap = clearance_map(form_default, tooth, motion, phi_range=env.phi_range, samples=37)
     cs = _local_outline(form_default)
-    surface = shapely.LineString(tooth.surface(n_per_mm=400.0))
+    surface = _SegmentTree(tooth.surface(n_per_mm=400.0))
     poly = shapely.Polygon(tooth.outline(n_per_mm=400.0))
     for phi, value in zip(cmap.phi, cmap.clearance_mm):
         q = motion.pose(np.array([phi])).to_tooth(cs)
-        d = shapely.distance(shapely.points(q), surface)
+        d = surface.distance(q)
         inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
         truth = np.min(np.where(inside, -d, d))
         if truth < 0.01:
@@ -153,13 +166,13 @@ def test_clearance_map_finds_the_deepest_point_of_a_dense_interfering_outline(fo
     dense = dense * (1.0 - 5e-3 / np.hypot(*dense.T))[:, None]  # 5 µm towards the centre
     phis = (env.phi_range[0] + 0.45 * np.ptp(env.phi_range), env.phi_range[0] + 0.5 * np.ptp(env.phi_range))
     cmap = clearance_map(form_default, tooth, motion, phi_range=phis, samples=5, cs_points=dense)
-    surface = shapely.LineString(tooth.surface(n_per_mm=400.0))
+    surface = _SegmentTree(tooth.surface(n_per_mm=400.0))
     poly = shapely.Polygon(tooth.outline(n_per_mm=400.0))
     truths = []
     for phi, value in zip(cmap.phi, cmap.clearance_mm):
         q = motion.pose(np.array([phi])).to_tooth(dense)
         inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
-        truth = -float(np.max(shapely.distance(shapely.points(q[inside]), surface))) if inside.any() else None
+        truth = -float(np.max(surface.distance(q[inside]))) if inside.any() else None
         truths.append(truth)
         if truth is not None and truth < -1e-4:
             assert value == pytest.approx(truth, abs=2e-6), np.degrees(phi)
