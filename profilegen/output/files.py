@@ -48,9 +48,12 @@ def figure_workers(workers: int | None = None, *, draw: bool = True):
     if not draw:  # the report's two pieces and the drawing: one worker has time for them, beside the stages
         workers = min(1, report._default_workers() if workers is None else int(workers))
     figures = report.FigureWorkers(workers, matplotlib=draw)
-    figures.submit(report.SEED_TABLES_JOB)  # needs no design: the workers fork and start on it now
-    if not draw:  # then ezdxf's import (~0.4 s), before the profile comes and the drawing with it
+    if not draw:  # the workers fork now, start on the seed tables (no design needed) and ezdxf's import (~0.4 s)
+        figures.submit(report.SEED_TABLES_JOB)
         figures.submit({"ezdxf": (_import_ezdxf, ())})
+    # with the PNGs the workers fork when the profile comes (profile_figures): they then inherit the
+    # stage modules and scipy the parent has loaded by then (~0.6 s CPU each to import for unpickling
+    # the jobs, when forked at the start)
     return figures
 
 
