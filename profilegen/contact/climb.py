@@ -268,10 +268,25 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
                 step *= 0.5
                 phi = pts[-1].phi_rad + step
                 continue
-            # no equilibrium found just past the last point: the path ends there
-            warnings.append(f"{exc} (after {halvings} step halvings): no equilibrium just beyond "
-                            f"φ = {pts[-1].phi_rad if pts else phi:.6g} rad")
-            break
+            # no fixed point just past the last point: look beyond (1, 2, 4 × the step before
+            # the halvings) — a band where the substitution cycles between contact or ball
+            # sets is passed; only where none is found does the path end
+            p = None
+            nominal = step * 2.0 ** halvings
+            for j in (1.0, 2.0, 4.0) if pts else ():
+                try:
+                    p = run(pts[-1].phi_rad + j * nominal, s_fs, s_cs, state)
+                    break
+                except ConvergenceError:
+                    continue
+            if p is None:
+                warnings.append(f"{exc} (after {halvings} step halvings): no equilibrium just beyond "
+                                f"φ = {pts[-1].phi_rad if pts else phi:.6g} rad")
+                break
+            warnings.append(f"no fixed point found between φ = {pts[-1].phi_rad:.6g} and {p.phi_rad:.6g} rad "
+                            f"({exc}); the path continued beyond")
+            step = nominal
+        halvings = 0
         pts.append(p)
         if ended(pts):
             break
