@@ -215,8 +215,11 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
     ``settled(state)``, ``initial_state()``, and arrays ``slot``, ``sin_alpha``, ``depth_mm``,
     ``corner`` and ``zones``. The path stops past ``max_torque_nm`` (N·m). A rotation whose
     fixed point is not found is tried again with the step halved (``max_halvings`` times);
-    then the path ends at the last point (criterion "end of path": no equilibrium was found
-    just beyond it — under rotation control the teeth would snap).
+    then rotations 1, 2 and 4 steps beyond (the step before the halvings, at least
+    ``phi_step``) are tried from the last point — the substitution can cycle between contact
+    or ball sets in a narrow band of φ with equilibria past it (a warning names the band) —
+    and only if none converges does the path end at the last point (criterion "end of path":
+    no equilibrium was found just beyond it — under rotation control the teeth would snap).
 
     Step control (engineer P3b): a step whose force-weighted mean retreat grows by more than
     ``max_retreat_step_mm`` is not taken but tried again halved (down to ``min_step_fraction``
@@ -272,7 +275,7 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
             # the halvings) — a band where the substitution cycles between contact or ball
             # sets is passed; only where none is found does the path end
             p = None
-            nominal = step * 2.0 ** halvings
+            nominal = max(step * 2.0 ** halvings, float(phi_step))
             for j in (1.0, 2.0, 4.0) if pts else ():
                 try:
                     p = run(pts[-1].phi_rad + j * nominal, s_fs, s_cs, state)
@@ -285,8 +288,7 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
                 break
             warnings.append(f"no fixed point found between φ = {pts[-1].phi_rad:.6g} and {p.phi_rad:.6g} rad "
                             f"({exc}); the path continued beyond")
-            step = nominal
-        halvings = 0
+            step, halvings = nominal, 0
         pts.append(p)
         if ended(pts):
             break

@@ -350,3 +350,45 @@ def test_every_ball_one_sided_with_far_balls_is_the_window(design, corner_model)
     every._g0 = g0
     f_all, _ = _respond(every, s, phi)
     assert every.zones * f_all @ every.geometry(s, phi)[1] > every.zones * f_win @ corner_model.geometry(s, phi)[1]
+
+
+class _Shifted(DesignClimb):
+    """The CS flank moved by ``delta_mm`` along its normal (every gap grows by it)."""
+
+    delta_mm = 0.0
+
+    def geometry(self, s, phi: float = 0.0):
+        gap, lever = super().geometry(s, phi)
+        return gap + self.delta_mm, lever
+
+
+def test_climb_estimate_is_continuous_in_a_nanometre_of_the_flank(design):
+    """A nanometre of the CS flank (and the 1 % shift of the step grid such a change makes
+    through the first rotation) must move the ratcheting estimate by far less than 1 %: the
+    path resolves the peak of T(φ) (steps capped in retreat) and passes a band where the
+    fixed point cycles. Before (engineer P3b), on this design the estimate went 4304 → 4365
+    N·m (+1.4 %) with the step ×1.01, and to 1979 N·m with ×1.02 (a spurious end of path)."""
+    from profilegen.contact.inputs import ContactInput
+    from threadpoolctl import threadpool_limits
+
+    from profilegen.contact.ratchet import _cs_ring_section
+
+    inputs = ContactInput.from_design(design)
+    gs = inputs.gearset
+    r_mean, thick, width, _ = _cs_ring_section(gs, inputs)
+
+    def ring(phis):
+        return cs_ring_radial_compliance(np.concatenate([phis, phis + math.pi]), phis, mean_radius_mm=r_mean,
+                                         thickness_mm=thick, width_mm=width,
+                                         youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
+
+    model = _Shifted(inputs, side=1, stations=5, max_gap_mm=0.08, race_thickness_mm=None,
+                     bearing=BallBearing.from_gearset(gs), ring_factory=ring, ball_supports="all")
+    theta, phi_rated = model.first_rotation(float(gs.torque.rated_nm))
+    step = 0.5 * (phi_rated - theta)
+    with threadpool_limits(limits=1, user_api="blas"):  # as ratcheting_torque runs it
+        base = climb(model, theta + step, step)
+        model.delta_mm = 1e-6
+        moved = climb(model, theta + 1.01 * step, 1.01 * step)
+    assert base.criterion in ("limit point", "end of path") and base.torque_nm > 2.0 * gs.torque.rated_nm
+    assert moved.torque_nm == pytest.approx(base.torque_nm, rel=0.01)
