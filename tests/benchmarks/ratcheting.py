@@ -1,7 +1,7 @@
 """Ratcheting torque estimate (issue 16 item 4) and its bad inputs.
 
     python tests/benchmarks/ratcheting.py [--climb-only] [--ring-scale 2,4,8] [--shift 0.25,0.5,0.75]
-        [--positions 8] [--face 2,4] [--parts] [profiles/...]
+        [--positions 8] [--face 2,4] [--parts] [--perturb 1,-1,100,-100] [profiles/...]
 
 Studies (engineer P3, issue 16 item 4; each adds its table after the climb):
 ``--positions N``: the climb at N wave-generator positions evenly over one tooth passage
@@ -14,7 +14,10 @@ force-weighted retreat split into the CS ring, the Hertz balls and the FEM (rim,
 along the path, and the climb with rigid balls, without the CS ring, with neither, with every
 ball within the wrap only (ball_supports="window"; the default "all": every ball one-sided at
 its no-load gap, as the contact stage), and with the FS tip-corner normal held
-at the flank's (the model before P3).
+at the flank's (the model before P3). ``--perturb D1,D2`` (nm; engineer P3b): the climb again
+with the CS flank moved by each D along its normal (every gap + D; the first rotation and the
+step grid move with it) and the step grid alone ×(1 ± 1 %), each estimate's change from the
+unperturbed one — the estimate must be continuous in the geometry.
 
 The climb (profilegen.contact.climb, the default estimate since helper E2): per set the
 linear estimate (climb=False, E's ladder), the climb's estimate with its path (rotation,
@@ -55,7 +58,7 @@ from profilegen.contact.ratchet import (  # noqa: E402
     BearingFitError, RatchetingError, check_bearing_fits, ratcheting_torque)
 
 SETS = [ROOT / "profiles" / "seed000_csf40.toml", ROOT / "profiles" / "csf32_100.toml", Path(pg.default_gearset_path())]
-ARGS = {"climb_only": False, "ring_scale": [], "shift": [], "positions": 0, "face": [], "parts": False}
+ARGS = {"climb_only": False, "ring_scale": [], "shift": [], "positions": 0, "face": [], "parts": False, "perturb": []}
 
 
 def _climb_setup(gs, design, **kw):
@@ -229,6 +232,34 @@ def climb_run(gs, design) -> None:
                 print("  warning:", w)
 
 
+def perturb_run(gs, design) -> None:
+    """The estimate's change for the CS flank moved by each --perturb (nm), and for the step grid ×(1 ± 1 %)."""
+    import profilegen.contact.climb as climb_module
+
+    geometry, follow = climb_module.DesignClimb.geometry, climb_module.climb
+    shift = {"gap": 0.0, "grid": 1.0}
+
+    def moved_geometry(self, s, phi=0.0):
+        gap, lever = geometry(self, s, phi)
+        return gap + shift["gap"], lever
+
+    def scaled_climb(model, phi_start, phi_step, **kw):
+        return follow(model, phi_start * shift["grid"], phi_step * shift["grid"], **kw)
+
+    climb_module.DesignClimb.geometry, climb_module.climb = moved_geometry, scaled_climb
+    try:
+        base = ratcheting_torque(design).torque_nm
+        print(f"\n-- perturbations: unperturbed {base:.2f} N·m")
+        cases = [(d, 1.0) for d in ARGS["perturb"]] + [(0.0, 0.99), (0.0, 1.01)]
+        for d, g in cases:
+            shift["gap"], shift["grid"] = d * 1e-6, g
+            r = ratcheting_torque(design)
+            print(f"  flank {d:+g} nm, step x{g:g}: {r.torque_nm:.2f} N·m ({100 * (r.torque_nm / base - 1):+.3f} %), "
+                  f"{r.climb['criterion']}")
+    finally:
+        climb_module.DesignClimb.geometry, climb_module.climb = geometry, follow
+
+
 def run(path: Path) -> None:
     gs = pg.load_gearset(path)
     print(f"\n=== {gs.name} ({path.name}): rated {gs.torque.rated_nm:g}, peak {gs.torque.peak_nm:g}, "
@@ -243,6 +274,8 @@ def run(path: Path) -> None:
         face_run(gs, design)
     if ARGS["parts"]:
         parts_run(gs, design)
+    if ARGS["perturb"]:
+        perturb_run(gs, design)
     if ARGS["climb_only"]:
         return
     for label, kw in (("whole model (linear)", {"climb": False}), ("no CS ring (linear)", {"cs_ring": False, "climb": False}),
@@ -311,6 +344,10 @@ def main() -> None:
     if "--face" in argv:
         k = argv.index("--face")
         ARGS["face"] = [int(x) for x in argv[k + 1].split(",")]
+        del argv[k:k + 2]
+    if "--perturb" in argv:
+        k = argv.index("--perturb")
+        ARGS["perturb"] = [float(x) for x in argv[k + 1].split(",")]
         del argv[k:k + 2]
     if "--parts" in argv:
         argv.remove("--parts")
