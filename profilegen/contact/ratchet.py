@@ -14,9 +14,25 @@ the loaded flanks are recomputed on that shifted and turned geometry (so the con
 the flank onto the FS tip arc and the pressure angle rises), and s is iterated to its fixed
 point. The ratcheting torque is the first of: the limit point max T(φ); the force-weighted
 margin Σ F (h − s)/Σ F reaching 0; the end of the path (no equilibrium found just beyond its
-last point, after the step was halved 4 times); with ``climb_corner_normal=False`` also half
-the load on the FS tip corners. Checked by hand on one tooth on a radial spring
-(tests/unit/test_ratchet.py).
+last point, after the step was halved 4 times and 1, 2, 4 steps beyond were tried); with
+``climb_corner_normal=False`` also half the load on the FS tip corners. Checked by hand on one
+tooth on a radial spring (tests/unit/test_ratchet.py).
+
+Well-posed (engineer P3b): the estimate must not move with a nanometre of the geometry. It
+did (S3: 4594 against 5452 N·m in the verify scene of seed000_csf40 for ~1 nm of the fitted
+CS flank) because the path's ×1.25 steps could jump over the peak of T(φ) onto its falling
+branch, and a band of φ where the retreat's substitution cycles between contact or ball sets
+ended the path early — which of these happened depended on where the step grid fell. The
+climb now halves a step whose mean retreat grows by more than 0.02 mm (the peak is resolved)
+and passes such bands; the estimate is still the path's peak (limit point) or its last point
+(end of path, T still rising there: the estimate is then low by at most the last step's rise).
+Measured on the verify scene's contact inputs (seed000_csf40, --rim toothed), the step grid
+×(1 ± 0.1…2 %) (what a change of the geometry does to it): every ball 4727–4755 N·m before,
+4757–4763 after; ball window 4596–4762 before (4597 at ×1: the falling branch), 4768–4770
+after; the flank ±1 nm: ≤ 0.01 N·m, ±100 nm ≤ 0.04 % (``tests/benchmarks/ratcheting.py
+--climb-only --perturb 1,-1,100,-100``; design scene 4749 N·m, was 4732). The sketch default
+set with 5 stations went 1979–4365 N·m over the step grid ×(1 ± 1–2 %) before, 4348–4378
+after (the unit test's case); the climb costs ~7 s CPU instead of ~5.5 (more, shorter steps).
 
 Numbers (design scene, ``python tests/benchmarks/ratcheting.py --climb-only [--positions 8]
 [--face 4] [--parts] [--ring-scale 2]``; engineer P3). With the FS tip corner's normal
@@ -654,7 +670,7 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
         return linear, extrapolated, info
     if path.criterion == "end of path":
         warnings.append(f"the climb's path ends at {path.torque_nm:.4g} N·m (no equilibrium found just beyond, "
-                        "step halved 4 times): taken as the ratcheting torque (on seed000_csf40 the retreat "
+                        "step halved 4 times, 1, 2, 4 steps beyond tried): taken as the ratcheting torque (on seed000_csf40 the retreat "
                         "runs away there with the contact set unchanged: a snap-through)")
     return float(path.torque_nm), False, info
 
