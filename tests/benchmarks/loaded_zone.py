@@ -3,8 +3,8 @@
     python tests/benchmarks/loaded_zone.py [profiles/seed000_csf40.toml ...]
 
 For each gear set (default: the default set and seed000_csf40; design scene): the contact at
-the rated torque (profilegen.contact.analysis.solve_contact, 5 stations, rigid balls, ball
-settling), per FS tooth of one zone its force, force-weighted pressure angle α = asin(n·e_r),
+the rated torque (profilegen.contact.analysis.solve_contact, 5 stations, rigid balls, every
+ball a one-sided support at its no-load gap), per FS tooth of one zone its force, force-weighted pressure angle α = asin(n·e_r),
 contact position along the FS flank and its smallest no-load gap; the bands of loaded teeth;
 then the same torque with reliefs (profilegen.contact.loadzone.ProfileRelief: an FS tip
 relief, and a wave-generator flattening near the major axis) on the same compliance: largest
