@@ -324,35 +324,25 @@ def run(path: Path) -> None:
 
 
 def main() -> None:
+    import argparse
+
     resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, 4_000_000_000))
-    argv = sys.argv[1:]
-    if "--climb-only" in argv:
-        argv.remove("--climb-only")
-        ARGS["climb_only"] = True
-    if "--ring-scale" in argv:
-        k = argv.index("--ring-scale")
-        ARGS["ring_scale"] = [float(x) for x in argv[k + 1].split(",")]
-        del argv[k:k + 2]
-    if "--shift" in argv:
-        k = argv.index("--shift")
-        ARGS["shift"] = [float(x) for x in argv[k + 1].split(",")]
-        del argv[k:k + 2]
-    if "--positions" in argv:
-        k = argv.index("--positions")
-        ARGS["positions"] = int(argv[k + 1])
-        del argv[k:k + 2]
-    if "--face" in argv:
-        k = argv.index("--face")
-        ARGS["face"] = [int(x) for x in argv[k + 1].split(",")]
-        del argv[k:k + 2]
-    if "--perturb" in argv:
-        k = argv.index("--perturb")
-        ARGS["perturb"] = [float(x) for x in argv[k + 1].split(",")]
-        del argv[k:k + 2]
-    if "--parts" in argv:
-        argv.remove("--parts")
-        ARGS["parts"] = True
-    for path in [Path(a) for a in argv] or SETS:
+
+    def floats(text):
+        return [float(x) for x in text.split(",")]
+
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("sets", nargs="*", type=Path, help="gear-set TOML files (default: seed000_csf40, csf32_100, default)")
+    ap.add_argument("--climb-only", action="store_true")
+    ap.add_argument("--ring-scale", type=floats, default=[], help="CS ring compliance factors, e.g. 2,4")
+    ap.add_argument("--shift", type=floats, default=[])
+    ap.add_argument("--positions", type=int, default=0, help="wave-generator positions over a tooth passage")
+    ap.add_argument("--face", type=lambda t: [int(x) for x in t.split(",")], default=[], help="face slice counts")
+    ap.add_argument("--perturb", type=floats, default=[], help="flank offsets in nm, e.g. 1,-1,100,-100")
+    ap.add_argument("--parts", action="store_true")
+    args = ap.parse_args()
+    ARGS.update({k: v for k, v in vars(args).items() if k != "sets"})
+    for path in args.sets or SETS:
         run(path)
 
 
