@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
+from .blas import one_blas_thread
 from .envelope import Envelope, envelope_of
 from .errors import ConvergenceError, GearSetError, ProfilegenError
 from .gearform import CircularSplineForm, circular_spline_form, clearance_map
@@ -313,9 +314,8 @@ def design(
     stage 7–13× slower (0.21 s → 1.5–2.9 s measured), the contact's blocks 8×.
     """
     import scipy.linalg  # noqa: F401 — scipy's own OpenBLAS must be loaded for the limit to reach it
-    from threadpoolctl import threadpool_limits
 
-    with threadpool_limits(limits=1, user_api="blas"):
+    with one_blas_thread():
         return _design(gearset, scene=scene, fit_method=fit_method, progress=progress, contact=contact,
                        stress=stress, on_profile=on_profile)
 

@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..blas import one_blas_thread
 from .inputs import ContactInput
 from .solvers import ContactError, ContactSolution, solve_lemke, solve_qp_active_set
 from ..results import readonly as _readonly
@@ -295,7 +296,6 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
     wave-generator bearing's outer race under the FS bore and ``race_interface`` its joint to
     the bore (see :meth:`ContactCompliance.build`; 0 = none; both ignored when ``compliance``
     is given)."""
-    from threadpoolctl import threadpool_limits
 
     from .compliance import ContactCompliance
     from .points import contact_points
@@ -320,7 +320,7 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
                            "rigid)")
     solve = _SOLVERS[solver]
     cases, warnings = [], []
-    with threadpool_limits(limits=1, user_api="blas"):  # n ≈ 200: threads only add overhead (9 → 1 ms per check)
+    with one_blas_thread():  # n ≈ 200: threads only add overhead (9 → 1 ms per check)
         for torque in torques:
             if every_ball:
                 sol, balls = _solve_every_ball(points, compliance, float(torque), solver, bearing, settle_iterations)

@@ -119,6 +119,7 @@ from functools import partial
 import numpy as np
 
 from .. import checks
+from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import json_ready, readonly as _readonly
 from .reduced import _ReducedZone, _solution, _SpringIteration  # noqa: F401 (the continuation's pieces, used here)
@@ -1014,9 +1015,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
             case, notes = _load_case(pts, m, sol, balls)
             cache[(side, m)] = (float(rigid["phi"]), float(springs["phi"]), case, notes)
 
-    from threadpoolctl import threadpool_limits
-
-    with threadpool_limits(limits=1, user_api="blas"):
+    with one_blas_thread():
         if method == "continuation":
             needed = {s: {t1, t2, t3, t_lm} for s in (1, -1)}
             needed[1].add(rated)

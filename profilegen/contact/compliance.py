@@ -154,6 +154,7 @@ import numpy as np
 import scipy.sparse as sp
 
 from .. import checks
+from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 from .inputs import ContactInput
@@ -217,15 +218,6 @@ def _half_ring_tie(ring, n_nodes: int) -> tuple[np.ndarray, np.ndarray, np.ndarr
 
 
 # --------------------------------------------------------------------------- linear algebra
-
-
-def _serial_blas():
-    """BLAS single-threaded inside the block (``threadpoolctl``): the factorisation works on
-    dense blocks of ~200 rows, too small for threads to pay, and with another process on the
-    machine OpenBLAS's spinning threads made it ~8× slower (10.8 s against 1.3 s measured)."""
-    from threadpoolctl import threadpool_limits
-
-    return threadpool_limits(limits=1, user_api="blas")
 
 
 #: the condensed substructures reused across calls (see :func:`_cached`): key → (owners, value)
@@ -1619,7 +1611,7 @@ class ContactCompliance:
             balls = np.sort(theta[(theta >= -0.5 * math.pi) & (theta < 0.5 * math.pi)])
             ball_gap = np.where(np.abs(balls) <= wrap + 1e-12, 0.0, no_load_ball_gap_mm(inputs, balls))
 
-        with _serial_blas():
+        with one_blas_thread():
             fs = _fs_flex(inputs.tooth, gearset, local, local_n, tooth_index, balls - shift, margin=margin,
                           toothed_teeth=toothed_teeth, per_pitch=_whole("per_pitch", per_pitch, 2),
                           flat_per_pitch=_whole("flat_per_pitch", flat_per_pitch, 1),

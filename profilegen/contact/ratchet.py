@@ -149,6 +149,7 @@ from functools import partial
 import numpy as np
 
 from .. import checks
+from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import json_ready, readonly as _readonly
 from .climb import tooth_probes as _probes
@@ -551,7 +552,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     rows, flags, warnings, every = [], [], [], []
     from .analysis import _load_case
 
-    with _serial():
+    with one_blas_thread():
         for t in torques:
             sol, settled = _solve(points, comp, float(t), bearing, settle_iterations=settle_iterations,
                                   spring_iterations=spring_iterations, spring_tol=spring_tol)
@@ -642,7 +643,7 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     passage = 2.0 * math.pi / gs.gear.flexspline_teeth
     shifts = [shift_rad - k * passage / positions for k in range(positions)]
     runs = []
-    with _serial():
+    with one_blas_thread():
         for sh in shifts:
             model = DesignClimb(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm,
                                 race_thickness_mm=race_thickness_mm, bearing=bearing, ring_factory=factory,
@@ -673,12 +674,6 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
                         "step halved 4 times, 1, 2, 4 steps beyond tried): taken as the ratcheting torque (on seed000_csf40 the retreat "
                         "runs away there with the contact set unchanged: a snap-through)")
     return float(path.torque_nm), False, info
-
-
-def _serial():
-    from threadpoolctl import threadpool_limits
-
-    return threadpool_limits(limits=1, user_api="blas")
 
 
 def _criterion(torques, depth, sep, valid, warnings):

@@ -78,6 +78,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
+from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 
 __all__ = ["ToothErrorError", "TwoZoneContact", "TwoZoneSolution", "draw_deviations", "eccentricity_offsets_rad",
@@ -290,7 +291,7 @@ class TwoZoneContact:
         # translation comes back as the free unknown t
         n_cut = pitch.n_cut
         held = list(gauges) + [gauges[0] + 1, (z1 // 2) * n_cut + gauges[0]]
-        with cm._serial_blas():  # as the package's build: BLAS threads spin against each other on these sizes
+        with one_blas_thread():  # as the package's build: BLAS threads spin against each other on these sizes
             flex, _ = cm._chain_flex([pitch], kinds, [loads], [(on, np.arange(on.size))], cyclic=True,
                                      fixed_cut=held, gauge=([c], [rot]), where="FS full ring (cuts)")
         b = float(compliance.face_width_mm)

@@ -95,6 +95,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..blas import one_blas_thread
 from ..errors import ProfilegenError
 from ..results import json_ready, readonly as _readonly
 from .inputs import ContactInput
@@ -288,7 +289,6 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
     to the Hertz law at each ball's reaction). Other keywords as
     :func:`~profilegen.contact.analysis.solve_contact`. See the module docstring."""
     global _JOB
-    from threadpoolctl import threadpool_limits
 
     from .compliance import _wrap_half_angle
 
@@ -335,7 +335,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
         bearing = BallBearing.from_gearset(inputs.gearset, race_thickness_mm=race_thickness_mm)
         if ball_motion == "cage":
             cage_rate = 0.5 * (1.0 + bearing.ball_diameter_mm / bearing.pitch_diameter_mm)
-    with threadpool_limits(limits=1, user_api="blas"):  # the flat-ring solve's BLAS threads only contend
+    with one_blas_thread():  # the flat-ring solve's BLAS threads only contend
         wrap, wrap_source = _wrap_half_angle(inputs.rim_contact_angle_rad, inputs.gearset)  # once: ψ-invariant
     opts = dict(side=side, stations=stations, max_gap_mm=max_gap_mm, ball_motion=ball_motion, cage_rate=cage_rate,
                 face_width_mm=face_width_mm, race_thickness_mm=race_thickness_mm, race_interface=race_interface,
@@ -358,7 +358,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
             _JOB = None
     else:
         workers = 1
-        with threadpool_limits(limits=1, user_api="blas"):
+        with one_blas_thread():
             out = [_position(inputs, float(p), opts) for p in psi]
 
     pts = tuple(o[0] for o in out)

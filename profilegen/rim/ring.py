@@ -67,6 +67,7 @@ import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
 from .. import checks, series
+from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 
@@ -390,23 +391,6 @@ class _Factor:
         return out
 
 
-_BLAS_CONTROLLER: list = []  # threadpoolctl's controller, made once: each threadpool_limits scans the
-# loaded libraries anew (8 ms; 144 calls took 1.2 s of a toothed-rim solve)
-
-
-def _one_blas_thread(on: bool = True):
-    """BLAS limited to one thread inside the block when ``on`` (``threadpoolctl``)."""
-    import contextlib
-
-    if not on:
-        return contextlib.nullcontext()
-    from threadpoolctl import ThreadpoolController
-
-    if not _BLAS_CONTROLLER:
-        _BLAS_CONTROLLER.append(ThreadpoolController())  # numpy's and scipy's BLAS are loaded (module imports)
-    return _BLAS_CONTROLLER[0].limit(limits=1, user_api="blas")
-
-
 #: below this many right-hand sides LAPACK's banded solve (~6 ms a column on the toothed rim) beats
 #: the block substitution (~2.8 ms a column plus ~45 ms a call)
 _FEW_COLUMNS = 16
@@ -462,7 +446,7 @@ class _LazyCompliance:
         if dofs.size:
             rhs = np.zeros((self._n_free, dofs.size))
             rhs[self._rhs_rows[dofs], np.arange(dofs.size)] = 1.0
-            with _one_blas_thread():  # LAPACK's banded solve for a few columns, block substitution for many
+            with one_blas_thread():  # LAPACK's banded solve for a few columns, block substitution for many
                 sol = (self.factor.solve if dofs.size < _FEW_COLUMNS else self.factor.solve_many)(rhs)
             self._cols[np.ix_(dofs, self._out_cols)] = sol[self._out_rows].T
         self._have[nodes] = True
@@ -839,7 +823,7 @@ def solve_ring(
     # BLAS single-threaded: OpenBLAS's threaded banded Cholesky took 14 s against 0.14 s on one
     # thread for the default toothed rim (28818 dof, band 81) on a busy 2-core machine, and 5.7 s
     # CPU for the 2 × 32 flat ring of the verify tier's wrap pass at load 10 (0.18 s on one thread)
-    with _one_blas_thread():
+    with one_blas_thread():
         lu = _Factor(stiffness[free][:, free], order=band_order)
 
     bore = np.flatnonzero(np.abs(r - params.bore_radius_mm) < tol_r)
@@ -870,7 +854,7 @@ def solve_ring(
         # the wrap mode solves its columns by block substitution, single-threaded (BLAS 3 on
         # bandwidth-row blocks; threads only contend on a busy machine); the whole-bore mode as before
         solve = factor.solve if condense_within_rad is None else factor.solve_many
-        with _one_blas_thread():
+        with one_blas_thread():
             for start_col in range(0, todo.size, chunk):
                 cols = todo[start_col:start_col + chunk]
                 rhs = np.zeros((free.size, cols.size))
@@ -960,7 +944,7 @@ def solve_ring(
     lu_columns = None  # the linear factor's raw columns, kept across widenings
     while True:
         try:
-            with _one_blas_thread():
+            with one_blas_thread():
                 result = _press(n_kept)
             break
         except _Widen as exc:

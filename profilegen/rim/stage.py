@@ -55,7 +55,8 @@ import numpy as np
 
 from .. import series
 from ..deformation import ring_theory
-from .ring import WRAP_WARNING, RingResult, _one_blas_thread, solve_ring
+from ..blas import forget_blas_controller, one_blas_thread
+from .ring import WRAP_WARNING, RingResult, solve_ring
 
 __all__ = ["RIM_TIERS", "CupSection", "RimDeformation", "RimTier", "design_section_z", "one_period", "solve_rim"]
 
@@ -400,10 +401,8 @@ _COARSE_JOB = None  # (gearset, tier, contour, per_pitch, wrap) for the forked w
 
 def _coarse_job():
     gearset, tier, contour, per_pitch, wrap = _COARSE_JOB
-    from .ring import _BLAS_CONTROLLER
-
-    _BLAS_CONTROLLER.clear()  # the parent's controller describes the parent's thread pools
-    with _one_blas_thread():
+    forget_blas_controller()  # the parent's controller describes the parent's thread pools
+    with one_blas_thread():
         return _solve_named(gearset, tier, contour, coarse=True, per_pitch=per_pitch, wrap_rad=wrap)
 
 
@@ -482,7 +481,7 @@ def _section_fits(tier: RimTier, contact, z_mm: float, waves: int, *, section: C
         section = CupSection.of(contact, z_mm, samples=4 * tier.max_order + 1, tier=tier.name)
     t0 = time.perf_counter()
     phi, w, u = one_period(section)
-    with _one_blas_thread():  # see solve_rim
+    with one_blas_thread():  # see solve_rim
         fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
         sine = None
         if tier.sine_fit:
@@ -578,7 +577,7 @@ def solve_rim(gearset, *, tier: str | RimTier = "design", z_mm: float | None = N
         # 6401 × 6, ~3000 times), and OpenBLAS's threads only spin against each other — on a busy
         # 2-core machine 19.7 s CPU (55 s wall) against 1.5 s (4.0 s) for the toothed tier's two
         # sine fits called outside design() (which limits BLAS itself), the same numbers
-        with _one_blas_thread():
+        with one_blas_thread():
             fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
             sine = None
             if tier.sine_fit:

@@ -173,7 +173,7 @@ def press_cup(
     from scipy.linalg import LinAlgError, cholesky, solve_triangular
     from scipy.optimize import nnls
 
-    from ..ring import _one_blas_thread
+    from ...blas import one_blas_thread
     from .fourier import _factor
 
     start = time.perf_counter()
@@ -389,7 +389,7 @@ def press_cup(
         return x[:, iu[band]].T @ a_cos, x[:, iv[band]].T @ a_sin
 
     t0 = time.perf_counter()
-    with _one_blas_thread(True):
+    with one_blas_thread(True):
         x, mu, dist, iterations, newton_steps, body = _solve(
             contact, response, solve_field, at_band, state, hb, orders, nonlinear, max_iterations, newton_tol_mm, m,
             angles)

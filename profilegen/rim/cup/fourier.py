@@ -342,9 +342,10 @@ def _factor(matrix):
     clamped): the rim stage's banded Cholesky after reverse Cuthill–McKee (a meridional mesh is
     a long strip, bandwidth ~ 3 × the nodes across it), SuperLU with COLAMD if it is not
     positive definite. One thread: the solves are small and the machine is shared."""
-    from ..ring import _Factor, _one_blas_thread
+    from ...blas import one_blas_thread
+    from ..ring import _Factor
 
-    with _one_blas_thread(True):
+    with one_blas_thread(True):
         return _Factor(matrix)
 
 
