@@ -490,7 +490,8 @@ LEFT_OUT = (
     "the bearing's inner ring bending and its fit on the cam; the cam's own compliance",
     "the CS ring's ovalisation under the two zones' radial forces (the sector is held at 1.1 r_p) and its bolted joint",
     "the sector model's fixed radial cuts (the CS ring between the zones taken rigid)",
-    "coning of the cup (the load is taken even across the face) and the cup's bending under the tooth forces",
+    "coning of the cup (the load is taken even across the face; torsional_curve(face_slices=N) takes it, "
+    "contact.face_curve) and the cup's bending under the tooth forces",
     "the balls' preload from pinching the rim (lightly loaded balls come out softer)",
     "friction: no hysteresis, loading and unloading give one curve",
 )
@@ -804,12 +805,19 @@ def _solve_side_unilateral(points, compliance, magnitude_nm: float, bearing: Bal
     scratch on the teeth and balls (:meth:`~profilegen.contact.compliance.ContactCompliance.
     solve_unilateral`'s LCP) at rigid balls and at every step of the springs' fixed point
     (:class:`_SpringIteration`). → (φ rigid balls, φ with springs, teeth, balls, springs)."""
+    from dataclasses import replace
+
     from .analysis import _Balls
 
     tz = magnitude_nm / points.zones * 1e3
+    # across the face (face_slices) coning can close a slice's gap below zero: the LCP takes the
+    # separations from the smallest (φ moves by that, nothing else) and φ gets it back
+    shift = min(0.0, float(np.min(points.theta_rad)))
 
     def lcp(springs):
-        sol, react, _ = compliance._solve_unilateral(points.theta_rad, points.lever_mm, tz, springs)
+        sol, react, _ = compliance._solve_unilateral(points.theta_rad - shift, points.lever_mm, tz, springs)
+        if shift:
+            sol = replace(sol, phi_rad=float(sol.phi_rad) + shift)
         return sol, react
 
     sol, react = lcp(None)
@@ -884,7 +892,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
                     catalogue: dict | None | bool = True, stations: int = 5, max_gap_mm: float = 0.12,
                     settle_iterations: int = 20, spring_iterations: int = 60,
                     spring_tol: float = 1e-5, method: str = "continuation",
-                    ball_supports: str = "all") -> TorsionalCurve:
+                    ball_supports: str = "all", face_slices=None) -> TorsionalCurve:
     """Rotation against signed torque (N·m; ≠ 0) for a design (or a :class:`~profilegen.
     contact.inputs.ContactInput`), both flanks (see the module docstring).
 
@@ -906,7 +914,14 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     ``ball_supports``: how the flanks built here hold the rim (:meth:`~profilegen.contact.
     compliance.ContactCompliance.build`): "all" (default; every ball of the zone a one-sided
     support at its no-load gap) or "window" (the balls within the rim's no-load contact angle,
-    rigid at zero gap, settled). Given ``sides`` keep their own."""
+    rigid at zero gap, settled). Given ``sides`` keep their own.
+
+    ``face_slices``: None (default: one section, the load even across the face) or N ≥ 1 / a
+    :class:`~profilegen.contact.face_curve.FaceSlices`: each flank as N axial slices sharing the
+    rotation, each with its own no-load gaps from the cup's coning (and the FS tooth's
+    modification along the face, if given), every ball one-sided with its Hertz spring in every
+    slice, the tooth ring's twist in the slices (:mod:`profilegen.contact.face_curve`). One
+    slice is the 2D curve; the result's ``sides`` stay the 2D flanks."""
     from .analysis import _Balls, _load_case
     from .compliance import ContactCompliance
     from .inputs import ContactInput
@@ -958,6 +973,12 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     # the direction of rotation that loads each flank, in the package's angle sense
     rot_pos, rot_neg = sides[1][0].rotation, sides[-1][0].rotation
     warnings: list[str] = []
+    sides_2d = sides
+    if face_slices is not None:  # each flank as N axial slices (contact.face_curve)
+        from .face_curve import FaceSlices
+
+        sides, chain, notes = FaceSlices.of(face_slices).apply(inputs, sides, chain)
+        warnings += notes
     if rot_pos == rot_neg:
         warnings.append("both flanks are loaded by the same direction of rotation: the two sides are not opposite")
 
@@ -1064,7 +1085,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
         breakpoints_nm={"T1": t1, "T2": t2, "T3": t3}, k_nm_per_rad=k, lost_motion_rad=lost,
         lost_motion_torque_nm=t_lm, compliances_at_rated=compliances, chain=chain,
         catalogue=None if catalogue is None else dict(catalogue), odd_symmetry_defect=float(defect),
-        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), sides=dict(sides),
+        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), sides=dict(sides_2d),
         breakpoints_source=source)
 
 

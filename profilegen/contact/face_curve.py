@@ -1,0 +1,322 @@
+"""The torsional curve across the face: N axial slices in parallel, each with its own no-load gaps.
+
+:func:`~profilegen.contact.chain.torsional_curve` solves one 2D section and spreads its load
+evenly over the face (S = S_2D/b, every axial position with the design section's gaps). The
+cup cones: its deformation ω(φ, z), υ(φ, z) grows from the diaphragm end toward the open end,
+so each axial position of a tooth stands a little differently in its CS space
+(:mod:`profilegen.contact.face_load`, :func:`~profilegen.contact.face_load.gap_shift_mm`). At
+low torque only part of the face may carry load. This module turns one flank's 2D contact
+(its points and :class:`~profilegen.contact.compliance.ContactCompliance`) into the same
+problem on N slices, which the curve's own solvers (the continuation of
+:class:`~profilegen.contact.reduced._ReducedZone` and the Lemke reference) solve unchanged:
+
+* **Slice i** (width Δz = b/N, mid-plane z_i = z_0 − b/2 + (i + ½)Δz, slice 0 at the diaphragm
+  end) is the 2D section at width Δz: the FS rim's and the CS sector's compliances ×N
+  (the 2D flexibilities are per unit width), its points' initial separations e_k + Δe_ik
+  (Δe from the section at z_i against the design section z_0), its own copy of every
+  wave-generator ball as a one-sided support at the ball's no-load gap. The slices share the
+  rotation φ and nothing else (a Winkler foundation along the face, as face_load's slices;
+  neighbouring slices' coupling through the tooth and the rim would make a load that varies
+  along the face meet a stiffer structure, so the independent slices are the *soft* bound of
+  what partial face contact does to the rotation).
+* **The balls.** A ball is one body; here each slice carries its share of it with the
+  ball's own per-width stiffness: the share of slice i approaches by c_H (N R_i)^{2/3} under
+  its reaction R_i (as if the whole ball carried N R_i) — its secant c_H N^{2/3} R_i^{−1/3},
+  i.e. the bearing's Hertz coefficient × N^{2/3} on slices of width b/N. With equal slices
+  (R_i = R/N) that is the 2D ball exactly. It is the curve's model (every ball a one-sided
+  Hertz support) slice by slice; it lets one end of a ball carry more than the other, which a
+  stiff race spreads — the same Winkler bound as above.
+* **The tooth ring's own twist** (``ring_twist=True``). The curve takes the cup wall and the
+  tooth ring as series terms, the ring as b/3 of tube (the torque entering evenly over the
+  face). Here the ring's twist goes into the slices: a tooth at z lags the cup bottom by the
+  wall's twist plus ∫ T(z′)/(G J) dz′ over the ring up to z, so slice i's gaps open by
+  r_k U Σ_j C_ij T_j, T_j slice j's zone torque, U the zones (the cup carries both zones' torque),
+  C_ij = ⟨min(ζ, ζ′)⟩/(G J) averaged over ζ in slice i and ζ′ in slice j (ζ from the ring's
+  diaphragm-end edge, J = 2π r_m³ δ): ζ_i + Δz/2 for i < j (the lower slice's mid-plane), ζ_i +
+  Δz/3 on the diagonal (ζ_i the slice's lower edge). An even load gives Σ C_ij/N² = b/(3GJ), the
+  curve's term; the series part keeps only the wall below the ring. With one slice the ring
+  is a rank-one term r rᵀ U C₁₁ that shifts φ by exactly T·b/(3GJ): the 2D curve to rounding. With
+  N > 1 the ring makes even identical slices load unevenly (the diaphragm end, which lags
+  less, more): ``ring_twist=False`` keeps the curve's b/3 series term instead, and identical
+  slices are then the 2D curve exactly.
+
+What it leaves out: the cup's deformation under the tooth forces (the sections are the cup
+pressed onto the cam at no torque); the opposite flank where coning makes a slice's gap
+negative (one flank, as the curve: such a slice is preloaded at no torque and its first
+contact is the curve's zero); coupling between slices other than the ring's twist.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+from functools import partial
+
+import numpy as np
+
+from .. import checks
+from ..errors import ProfilegenError
+
+__all__ = [
+    "FaceCurveError",
+    "FaceSlices",
+    "SliceBearing",
+    "flank_offset_gap_mm",
+    "ring_twist_kernel",
+    "slice_chain",
+    "slice_gap_shifts",
+    "stack_slices",
+]
+
+
+class FaceCurveError(ProfilegenError, ValueError):
+    """Bad input to the across-the-face curve; names the parameter, its value, unit and range."""
+
+
+_whole = partial(checks.whole, error=FaceCurveError)
+_positive = partial(checks.positive, error=FaceCurveError)
+
+CONINGS = ("cup", "semi_membrane", "none")
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class SliceBearing:
+    """The wave-generator bearing as seen by one of N slices: each slice's share of a ball
+    approaches by c_H (N R)^{2/3} under its reaction R, i.e. the Hertz coefficient × N^{2/3}
+    (module docstring). ``bearing``: the whole bearing (:class:`~profilegen.contact.chain.BallBearing`)."""
+
+    bearing: object
+    slices: int
+
+    def hertz_coefficient(self) -> float:
+        return float(self.bearing.hertz_coefficient()) * self.slices ** (2.0 / 3.0)
+
+    def to_dict(self) -> dict:
+        out = dict(self.bearing.to_dict())
+        out["slices"] = self.slices
+        out["slice_hertz_coefficient_mm_per_n2_3"] = self.hertz_coefficient()
+        return out
+
+
+def ring_twist_kernel(slices: int, face_width_mm: float) -> np.ndarray:
+    """L (N × N, mm): ⟨min(ζ, ζ′)⟩ over ζ in slice i and ζ′ in slice j of a face b wide cut in N
+    equal slices, ζ from the face's diaphragm-end edge — the tooth ring's twist at slice i per
+    unit torque entering (evenly) over slice j, times G J. Diagonal ζ_i + Δz/3, off-diagonal the
+    lower slice's mid-plane; Σ_ij L_ij / N² = b/3 (an even load)."""
+    n = _whole("slices", slices, 1)
+    b = _positive("face_width_mm", face_width_mm)
+    dz = b / n
+    mid = (np.arange(n) + 0.5) * dz
+    out = np.minimum.outer(mid, mid)
+    out[np.diag_indices(n)] = np.arange(n) * dz + dz / 3.0
+    return out
+
+
+def flank_offset_gap_mm(points, motion, thickness_change_mm) -> np.ndarray:
+    """Δe_k (mm) of a change Δs of the FS tooth thickness (both flanks, Δs/2 each, along the
+    tooth's tangent e_t; > 0 thicker), as :func:`profilegen.face.modification.modified_tooth`
+    makes it: each point's flank (the sign of its tooth-frame x) moves by ±Δs/2 e_t(Φ), its
+    separation by −n_k · that (turned into CS space 0's frame as
+    :func:`~profilegen.contact.face_load.gap_shift_mm`). ``thickness_change_mm``: one number
+    or one per point."""
+    local = np.asarray(points.local_mm, dtype=float)
+    ds = np.broadcast_to(np.asarray(thickness_change_mm, dtype=float), (local.shape[0],))
+    move = np.column_stack([0.5 * ds * np.sign(local[:, 0]), np.zeros(local.shape[0])])
+    pose = motion.pose(np.asarray(points.phi_rad, dtype=float))
+    d = pose.to_cs(local + move) - pose.to_cs(local)
+    angle = 2.0 * math.pi * np.asarray(points.tooth, dtype=float) / motion.cs_teeth
+    c, s = np.cos(angle), np.sin(angle)
+    d_turned = np.column_stack([d[:, 0] * c + d[:, 1] * s, d[:, 1] * c - d[:, 0] * s])
+    return -np.einsum("ij,ij->i", np.asarray(points.normal, dtype=float), d_turned)
+
+
+def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=None, design_z_mm: float | None = None,
+                     modification=None) -> tuple[np.ndarray, np.ndarray]:
+    """(z_i (N,) mm, Δe (N, n) mm): the slices' mid-planes and each point's change of initial
+    separation in each slice (:func:`~profilegen.contact.face_load.gap_shift_mm`) for ``coning``
+    "cup" (the 3D cup's sections, :func:`~profilegen.contact.face_load.cup_sections`; ``cup`` a
+    CupContact / CupDeformation, default :func:`~profilegen.rim.cup.contact.press_cup` of the
+    set), "semi_membrane" (the design deformation × z/z_d) or "none" (zeros).
+
+    ``design_z_mm``: the section the CS is conjugate to (default the cup's ``length_mm``, the
+    mid-face: the design scene's 2D section; the verify scene's is its face stage's
+    ``design_section_z_mm``). The slices are centred on the face (the cup's ``length_mm``)
+    whatever it is. ``modification``: the FS tooth's thickness change along the face — a
+    (taper_mm_per_mm, crowning_mm) pair or an object with those fields (the face stage's
+    :class:`~profilegen.face.modification.ToothModification`) — applied per slice at its
+    mid-plane (:func:`profilegen.face.modification.thickness_change`,
+    :func:`flank_offset_gap_mm`); None: straight teeth."""
+    from ..face.modification import thickness_change
+    from .face_load import cup_sections, gap_shift_mm, semi_membrane_sections, slice_positions
+    from .inputs import ContactInput
+
+    inputs = ContactInput.from_design(inputs, name="inputs")
+    n = _whole("slices", slices, 1)
+    checks.choice("coning", coning, CONINGS, error=FaceCurveError)
+    gs = inputs.gearset
+    if gs.cup is None:
+        raise FaceCurveError("inputs.gearset.cup: the cup is needed for the face width and the design section")
+    b, zc = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
+    zd = zc if design_z_mm is None else checks.number("design_z_mm", design_z_mm, "mm", zc - 0.5 * b, zc + 0.5 * b,
+                                                        low_open=False, high_open=False, error=FaceCurveError)
+    z = slice_positions(b, n, zc)
+    motion = inputs.motion
+    if coning == "none":
+        out = np.zeros((n, points.count))
+    else:
+        if coning == "cup":
+            if cup is None:
+                from ..rim.cup.contact import press_cup
+
+                cup = press_cup(gs)
+            secs = cup_sections(cup, np.r_[zd, z])
+        else:
+            secs = [motion.deformation] + semi_membrane_sections(motion.deformation, z, zd)
+        out = np.array([gap_shift_mm(points, motion, s, secs[0]) for s in secs[1:]])
+    if modification is not None:
+        if isinstance(modification, tuple | list):
+            taper, crown = (float(v) for v in modification)
+        else:
+            taper, crown = float(modification.taper_mm_per_mm), float(modification.crowning_mm)
+        ds = thickness_change(z, taper_mm_per_mm=taper, crowning_mm=crown, design_z_mm=zd,
+                              ring_span_mm=(zc - 0.5 * b, zc + 0.5 * b))
+        unit = flank_offset_gap_mm(points, motion, 1.0)  # linear in Δs
+        out = out + ds[:, None] * unit[None, :]
+    return z, out
+
+
+@dataclass(frozen=True, slots=True)
+class FaceSlices:
+    """The torsional curve's ``face_slices`` option (:func:`~profilegen.contact.chain.torsional_curve`):
+    ``slices`` N, ``coning`` ("cup", "semi_membrane", "none"), ``cup`` (the 3D cup; default
+    press_cup of the set, built once for both flanks), ``design_z_mm`` (the CS's section;
+    default mid-face), ``modification`` (the FS tooth's taper and crowning; default straight),
+    ``ring_twist`` (the tooth ring's twist in the slices, module docstring)."""
+
+    slices: int = 4
+    coning: str = "cup"
+    cup: object = None
+    design_z_mm: float | None = None
+    modification: object = None
+    ring_twist: bool = True
+
+    def __post_init__(self):
+        _whole("face_slices", self.slices, 1)
+        checks.choice("coning", self.coning, CONINGS, error=FaceCurveError)
+
+    @classmethod
+    def of(cls, value) -> "FaceSlices":
+        """An int N → the defaults with N slices; a FaceSlices as it is."""
+        if isinstance(value, FaceSlices):
+            return value
+        if isinstance(value, bool) or not isinstance(value, int | np.integer):
+            raise FaceCurveError(f"face_slices = {value!r}: must be a whole number ≥ 1 of slices or a FaceSlices")
+        return cls(int(value))
+
+    def apply(self, inputs, sides: dict, chain) -> tuple[dict, object, list[str]]:
+        """The flanks ``sides`` {±1: (points, compliance)} as N slices each, and the chain for
+        them (:func:`slice_chain`) → (sides, chain, warnings): a warning per slice whose two
+        flanks' first contacts overlap (coning makes the tooth interfere at no load there; the
+        one-flank curve reads the overlap as rotation, where both flanks would preload)."""
+        from .inputs import ContactInput
+
+        inputs = ContactInput.from_design(inputs, name="inputs")
+        gs = inputs.gearset
+        cup = self.cup
+        if cup is None and self.coning == "cup":
+            from ..rim.cup.contact import press_cup
+
+            cup = press_cup(gs)
+        b = float(gs.cup.face_width_mm)
+        new_chain, c_ring = slice_chain(chain, self.slices, b, ring_twist=self.ring_twist)
+        out, first = {}, {}
+        for s, (pts, comp) in sides.items():
+            z, de = slice_gap_shifts(inputs, pts, self.slices, coning=self.coning, cup=cup,
+                                     design_z_mm=self.design_z_mm, modification=self.modification)
+            out[s] = stack_slices(pts, comp, de, ring_compliance_rad_per_nmm=c_ring)
+            first[s] = ((pts.gap_mm[None, :] + de) / pts.lever_mm[None, :]).min(axis=1)
+        warnings = []
+        play = first[1] + first[-1]
+        if np.any(play < 0.0):
+            i = int(np.argmin(play))
+            warnings.append(f"across the face ({self.slices} slices, {self.coning} coning): the two flanks overlap at no "
+                            f"load in {int(np.count_nonzero(play < 0.0))} slice(s), most at z = {z[i]:.4g} mm "
+                            f"({play[i] * 180.0 * 60.0 / math.pi:.3g} arcmin): the teeth interfere there (a tooth "
+                            "modification along the face is needed); the one-flank curve counts the overlap as "
+                            "rotation, where both flanks would be preloaded")
+        return out, new_chain, warnings
+
+
+def stack_slices(points, compliance, gap_shift, *, ring_compliance_rad_per_nmm: float = 0.0):
+    """One flank's 2D contact (``points``, ``compliance``: every ball one-sided, ``ball_supports``
+    "all") as N slices (``gap_shift`` (N, n) mm, Δe per slice and point) in one problem of the
+    same types: (points, compliance) with N·n points and N·n_b balls, slice-major. The
+    compliance is the slices' block diagonal (each slice the 2D section at width b/N) plus,
+    when ``ring_compliance_rad_per_nmm`` = 1/(G J) of the tooth ring (rad per N·mm² … per unit
+    length, i.e. rad/(N·mm) per mm) is > 0, the ring's twist r_k r_l U (1/(GJ)) L_ij
+    (:func:`ring_twist_kernel`). Solve it with the curve's solvers and the bearing
+    :class:`SliceBearing` (module docstring)."""
+    if getattr(compliance, "ball_supports", "window") != "all":
+        raise FaceCurveError(f"compliance.ball_supports = {compliance.ball_supports!r}: the slices need every ball "
+                             "one-sided at its no-load gap ('all')")
+    de = np.atleast_2d(np.asarray(gap_shift, dtype=float))
+    n = points.count
+    if de.ndim != 2 or de.shape[1] != n or not np.all(np.isfinite(de)):
+        raise FaceCurveError(f"gap_shift: shape {de.shape} must be (slices, {n}) finite mm")
+    ns = de.shape[0]
+    b = float(compliance.face_width_mm)
+    c_ring = checks.positive("ring_compliance_rad_per_nmm", ring_compliance_rad_per_nmm, "rad/(N·mm²)",
+                             allow_zero=True, error=FaceCurveError)
+    eye = np.eye(ns)
+
+    def tile(a):
+        a = np.asarray(a)
+        return np.concatenate([a] * ns, axis=0)
+
+    r = np.asarray(points.lever_mm, dtype=float)
+    gap = tile(points.gap_mm) + de.ravel()
+    pts = dataclasses.replace(
+        points, tooth=tile(points.tooth), phi_rad=tile(points.phi_rad), t_mm=tile(points.t_mm),
+        local_mm=tile(points.local_mm), fs_point_mm=tile(points.fs_point_mm), cs_point_mm=tile(points.cs_point_mm),
+        normal=tile(points.normal), gap_mm=gap, lever_mm=tile(r))
+    cs = np.kron(eye, ns * np.asarray(compliance.cs_matrix_mm_per_n, dtype=float))
+    if c_ring > 0.0:
+        rr = np.tile(r, ns)
+        cs = cs + np.kron(ring_twist_kernel(ns, b), np.ones((n, n))) * np.outer(rr, rr) * (c_ring * points.zones)
+    fs = np.kron(eye, ns * np.asarray(compliance.fs_matrix_mm_per_n, dtype=float))
+    gaps_b = None if compliance.ball_gap_mm is None else tile(compliance.ball_gap_mm)
+    springs = None if compliance.ball_compliance_mm_per_n is None else \
+        tile(compliance.ball_compliance_mm_per_n) * ns ** (2.0 / 3.0)
+    comp = dataclasses.replace(
+        compliance, matrix_mm_per_n=fs + cs, fs_matrix_mm_per_n=fs, cs_matrix_mm_per_n=cs,
+        face_width_mm=b / ns, tooth=tile(compliance.tooth), ball_angle_rad=tile(compliance.ball_angle_rad),
+        ball_active=tile(compliance.ball_active), _flex_cc=np.kron(eye, compliance._flex_cc),
+        _flex_cb=np.kron(eye, compliance._flex_cb), _flex_bb=np.kron(eye, compliance._flex_bb),
+        ball_gap_mm=gaps_b, ball_compliance_mm_per_n=springs)
+    return pts, comp
+
+
+def slice_chain(chain, slices: int, face_width_mm: float, *, ring_twist: bool = True):
+    """The compliance chain for N slices: the bearing as :class:`SliceBearing`; with
+    ``ring_twist`` the cup wall's series part without its b/3 of tooth ring (which the slices
+    carry) — returns (chain, 1/(G J) of the ring in rad/(N·mm²), 0 without ``ring_twist``)."""
+    from .chain import ChainPart, ComplianceChain
+
+    n = _whole("slices", slices, 1)
+    b = _positive("face_width_mm", face_width_mm)
+    bearing = None if chain.bearing is None else SliceBearing(chain.bearing, n)
+    parts = list(chain.parts)
+    c_ring = 0.0
+    if ring_twist:
+        wall = chain.part("cup_wall")
+        p = wall.parameters
+        gj = float(p["shear_modulus_mpa"]) * 2.0 * math.pi * float(p["radius_mm"]) ** 3 * float(p["thickness_mm"])
+        c_ring = 1.0 / gj
+        # the wall below the ring alone: 1/K_wall − (b/3)/(GJ) (N·m/rad ← N·mm/rad: × 1e3)
+        k_below = 1.0 / (wall.compliance_rad_per_nm - b / 3.0 * c_ring * 1e3)
+        parts[parts.index(wall)] = ChainPart(
+            "cup_wall", wall.model + "; the tooth ring's twist in the slices (contact.face_curve)",
+            wall.formula + " — here without the (b/3) ring term", k_below,
+            {**p, "ring_in_slices": True, "ring_compliance_rad_per_nmm2": c_ring}, wall.estimates)
+    return ComplianceChain(tuple(parts), bearing, chain.left_out), c_ring

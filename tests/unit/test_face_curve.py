@@ -1,0 +1,242 @@
+"""The torsional curve across the face (profilegen.contact.face_curve, torsional_curve(face_slices=N)).
+
+Checked against what the slice model does not compute itself: the 2D curve (identical slices,
+and one slice with the ring's twist, must reproduce it), a two-slice one-point case and the
+ring's twist solved by hand, the ring kernel against its defining double integral, the
+thickness offset against a rigid tangential move, Lemke from scratch on the stacked problem, and
+equilibrium and complementarity of teeth and balls in every slice recomputed from the 2D
+compliance's own matrices."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+import profilegen as pg
+from profilegen.contact.chain import compliance_chain, torsional_curve
+from profilegen.contact.compliance import ContactCompliance
+from profilegen.contact.face_curve import (
+    FaceCurveError, FaceSlices, SliceBearing, flank_offset_gap_mm, ring_twist_kernel, slice_chain, slice_gap_shifts,
+    stack_slices)
+from profilegen.contact.inputs import ContactInput
+from profilegen.contact.points import ContactPoints
+from profilegen.contact.reduced import _ReducedZone
+
+TORQUES = [-196.0, -54.0, 54.0, 196.0]
+
+
+# --------------------------------------------------------------------------- by hand
+
+
+def _one_point(s_mm_per_n=2e-6, lever=45.0, gap=1e-3, zones=2, b=10.0):
+    """One tooth point on a compliance s (whole face), one ball far away and uncoupled."""
+    pts = ContactPoints(tooth=np.array([0]), phi_rad=np.zeros(1), t_mm=np.zeros(1), local_mm=np.array([[0.3, 1.0]]),
+                        fs_point_mm=np.zeros((1, 2)), cs_point_mm=np.zeros((1, 2)), normal=np.array([[1.0, 0.0]]),
+                        gap_mm=np.array([gap]), lever_mm=np.array([lever]), side=1, rotation=1, zones=zones,
+                        stations=1, max_gap_mm=0.12)
+    m = np.array([[s_mm_per_n]])
+    comp = ContactCompliance(
+        matrix_mm_per_n=m, fs_matrix_mm_per_n=m, cs_matrix_mm_per_n=np.zeros((1, 1)), face_width_mm=b,
+        tooth=np.array([0]), ball_angle_rad=np.array([1.0]), ball_active=np.array([False]), wrap_half_angle_rad=0.5,
+        wrap_source="test", dof={}, time_s={}, mesh={}, _flex_cc=m * b, _flex_cb=np.zeros((1, 1)),
+        _flex_bb=np.array([[1.0]]), ball_supports="all", ball_gap_mm=np.array([1.0]))
+    return pts, comp
+
+
+def _solve(pts, comp, torque_nm, bearing=None):
+    zone = _ReducedZone(pts, comp, bearing)
+    loaded = np.zeros(pts.count, bool)
+    loaded[int(np.argmin(pts.theta_rad))] = True
+    out = zone.solve(torque_nm, (loaded, np.asarray(comp.ball_active, bool), None), springs_on=bearing is not None,
+                     max_iterations=200, spring_tol=1e-10)
+    assert out is not None
+    return out
+
+
+def test_two_slices_with_a_gap_offset_by_hand():
+    # slice i (width b/2): 2 s F_i = r (φ − θ) − Δ_i ≥ 0; slice 0 closes first, slice 1 once 2 s F_0 = Δ
+    s, r, e, delta, zones = 2e-6, 45.0, 1e-3, 4e-3, 2
+    pts, comp = _one_point(s, r, e, zones)
+    spts, scomp = stack_slices(pts, comp, [[0.0], [delta]])
+    onset_nm = zones * r * delta / (2.0 * s) * 1e-3  # T* = U r F_0, F_0 = Δ/(2s)
+    below = _solve(spts, scomp, 0.5 * onset_nm)
+    f0 = 0.5 * onset_nm * 1e3 / zones / r
+    np.testing.assert_allclose(below["force"], [f0, 0.0], rtol=1e-12, atol=1e-12 * f0)
+    assert below["phi"] == pytest.approx(e / r + 2.0 * s * f0 / r, rel=1e-12)
+    above = _solve(spts, scomp, 2.0 * onset_nm)
+    tz = 2.0 * onset_nm * 1e3 / zones
+    psi = (tz / r + delta / (2.0 * s)) * s / r  # F_0 + F_1 = tz/r, 2s F_0 = rψ, 2s F_1 = rψ − Δ
+    assert above["phi"] == pytest.approx(e / r + psi, rel=1e-12)
+    np.testing.assert_allclose(above["force"], [r * psi / (2 * s), (r * psi - delta) / (2 * s)], rtol=1e-12)
+
+
+def test_ring_twist_by_hand():
+    s, r, e, zones, b = 2e-6, 45.0, 1e-3, 2, 12.0
+    c_ring = 3e-10  # rad per N·mm per mm (small enough that both slices stay loaded)
+    pts, comp = _one_point(s, r, e, zones, b)
+    tz = 40e3
+    # one slice: the 2D rotation shifted by T b / (3 G J), T = U tz the gear's torque
+    one = _solve(*stack_slices(pts, comp, [[0.0]], ring_compliance_rad_per_nmm=c_ring), tz * zones * 1e-3)
+    assert one["phi"] == pytest.approx(e / r + s * tz / r ** 2 + zones * tz * c_ring * b / 3.0, rel=1e-12)
+    # two identical slices: 2 s F_i + r² U c Σ_j L_ij F_j = r ψ, L = [[b/6, b/4], [b/4, b/2 + b/6]]
+    two = _solve(*stack_slices(pts, comp, [[0.0], [0.0]], ring_compliance_rad_per_nmm=c_ring), tz * zones * 1e-3)
+    lmat = np.array([[b / 6.0, b / 4.0], [b / 4.0, b / 2.0 + b / 6.0]])
+    a = 2.0 * s * np.eye(2) + r * r * zones * c_ring * lmat
+    unit = np.linalg.solve(a, np.ones(2))  # F per unit rψ
+    assert np.all(unit > 0.0)
+    psi = tz / r / unit.sum() / r
+    assert two["phi"] == pytest.approx(e / r + psi, rel=1e-12)
+    np.testing.assert_allclose(two["force"], r * psi * unit, rtol=1e-12)
+    assert two["force"][0] > two["force"][1]  # the diaphragm end lags less: it carries more
+
+
+def test_ring_kernel_is_its_double_integral():
+    b, n = 18.0, 3
+    kern = ring_twist_kernel(n, b)
+    dz = b / n
+    g = (np.arange(400) + 0.5) / 400  # midpoint rule on each slice, exact to O(h²) for min(ζ, ζ′)
+    for i in range(n):
+        for j in range(n):
+            zi, zj = (i + g) * dz, (j + g) * dz
+            assert kern[i, j] == pytest.approx(np.minimum.outer(zi, zj).mean(), rel=1e-5)
+    assert kern.sum() / n ** 2 == pytest.approx(b / 3.0, rel=1e-14)  # an even load: the curve's b/3
+    with pytest.raises(FaceCurveError, match="slices"):
+        ring_twist_kernel(0, b)
+
+
+def test_slice_bearing_is_the_ball_shared_evenly():
+    gs = pg.load_gearset(pg.default_gearset_path())
+    from profilegen.contact.chain import BallBearing
+
+    ball = BallBearing.from_gearset(gs)
+    sb = SliceBearing(ball, 4)
+    # a quarter of the load on a quarter of the ball: the same approach as the whole ball's
+    q = 800.0
+    assert sb.hertz_coefficient() * (q / 4) ** (2 / 3) == pytest.approx(ball.approach_mm(q), rel=1e-12)
+
+
+# --------------------------------------------------------------------------- on a design
+
+
+@pytest.fixture(scope="module")
+def design():
+    gs = pg.load_gearset(pg.default_gearset_path())
+    return pg.design(gs, scene="sketch", contact=False, stress=False)
+
+
+@pytest.fixture(scope="module")
+def curve_2d(design):
+    return torsional_curve(design, TORQUES, stations=3)
+
+
+def test_identical_slices_are_the_2d_curve(design, curve_2d):
+    chain = compliance_chain(design.gearset)
+    _, c_ring = slice_chain(chain, 1, float(design.gearset.cup.face_width_mm))
+    ring = float(design.gearset.cup.face_width_mm) / 3.0 * c_ring * 1e3  # rad per N·m: the curve's b/3 of ring
+    for spec, ring_in_mesh in ((FaceSlices(3, "none", ring_twist=False), 0.0), (FaceSlices(1, "none"), ring)):
+        c = torsional_curve(design, TORQUES, sides=curve_2d.sides, face_slices=spec)
+        # rigid balls: exact (one slice with the ring: the ring's series term moved into the mesh)
+        np.testing.assert_allclose(c.mesh_rad, curve_2d.mesh_rad + ring_in_mesh * np.asarray(TORQUES), rtol=1e-9)
+        # the springs' fixed point to its tolerance (1e-5 on each spring)
+        np.testing.assert_allclose(c.rotation_rad, curve_2d.rotation_rad, rtol=2e-6)
+        assert c.lost_motion_rad["total"] == pytest.approx(curve_2d.lost_motion_rad["total"], rel=2e-6)
+        assert c.warnings == curve_2d.warnings
+
+
+def test_thickness_offset_is_a_tangential_move(design, curve_2d):
+    pts = curve_2d.sides[1][0]
+    motion = ContactInput.from_design(design).motion
+    # thicker by Δs: each loaded-flank point's first-contact angle falls by ≈ Δs/2 / r_pitch ... exactly −n·(Δs/2 e_t)
+    d = flank_offset_gap_mm(pts, motion, 2e-3)
+    assert np.all(d < 0.0)
+    np.testing.assert_allclose(flank_offset_gap_mm(pts, motion, -2e-3), -d, rtol=1e-9)
+    # the normal's component along e_t bounds it: |Δe| ≤ Δs/2
+    assert np.all(np.abs(d) <= 1e-3 * (1 + 1e-12))
+    # the modification enters as Δs(z) per slice, linear in Δs
+    _, de = slice_gap_shifts(design, pts, 2, coning="none", modification=(1e-4, 0.0))
+    b = float(design.gearset.cup.face_width_mm)
+    np.testing.assert_allclose(de, np.outer(1e-4 * np.array([-b / 4, b / 4]), flank_offset_gap_mm(pts, motion, 1.0)),
+                               rtol=1e-9, atol=1e-15)
+
+
+@pytest.fixture(scope="module")
+def coned(design, curve_2d):
+    """Two slices with semi-membrane coning, stacked, and the per-slice solve at 100 N·m."""
+    spec = FaceSlices(2, "semi_membrane")
+    gs = design.gearset
+    chain = compliance_chain(gs)
+    sides, new_chain, _ = spec.apply(design, curve_2d.sides, chain)
+    pts, comp = sides[1]
+    out = _solve(pts, comp, 100.0, new_chain.bearing)
+    return spec, sides, new_chain, out
+
+
+def test_equilibrium_and_complementarity_in_every_slice(design, curve_2d, coned):
+    spec, sides, chain, out = coned
+    pts2, comp2 = curve_2d.sides[1]
+    _, de = slice_gap_shifts(design, pts2, 2, coning="semi_membrane")
+    n, nb, ns = pts2.count, comp2.ball_angle_rad.size, 2
+    b = float(comp2.face_width_mm) / ns
+    tz = 100.0e3 / pts2.zones
+    force, react, phi = out["force"].reshape(ns, n), out["reactions"].reshape(ns, nb), out["phi"]
+    springs = np.exp(out["log_springs"]).reshape(ns, nb)
+    r = np.asarray(pts2.lever_mm)
+    c_ring = chain.part("cup_wall").parameters["ring_compliance_rad_per_nmm2"]
+    kern = ring_twist_kernel(ns, float(comp2.face_width_mm))
+    moment = force @ r
+    gap_b = np.asarray(comp2.ball_gap_mm)
+    cc = 0.5 * (comp2._flex_cc + comp2._flex_cc.T)
+    assert moment.sum() == pytest.approx(tz, rel=1e-12)
+    assert np.all(moment > 0.0)  # both slices carry at 100 N·m
+    for i in range(ns):
+        # from the 2D compliance's own blocks, slice width b: teeth, balls, CS ×N, the ring's twist
+        twist = pts2.zones * c_ring * float(kern[i] @ moment)
+        g = r * ((pts2.gap_mm + de[i]) / r - phi + twist) + cc @ force[i] / b \
+            + ns * comp2.cs_matrix_mm_per_n @ force[i] + comp2._flex_cb @ react[i] / b
+        act = react[i] > 0.0
+        h = gap_b + comp2._flex_cb.T @ force[i] / b + comp2._flex_bb @ react[i] / b + np.where(act, springs[i], 0) * react[i]
+        scale = float(np.abs(g).max())
+        assert np.all(force[i] >= 0.0) and np.all(react[i] >= 0.0)
+        assert g.min() >= -1e-9 * scale and np.abs(force[i] * g).max() <= 1e-9 * scale * force.max()
+        assert h.min() >= -1e-9 * scale and np.abs(react[i] * h).max() <= 1e-9 * scale * react.max()
+        # each loaded ball's spring is the Hertz secant at its reaction on its share of the ball
+        q = react[i][act]
+        np.testing.assert_allclose(springs[i][act], chain.bearing.hertz_coefficient() * q ** (-1 / 3), rtol=2e-5)
+
+
+def test_continuation_against_lemke_with_coning(design, curve_2d, coned):
+    spec, sides, chain, out = coned
+    pts, comp = sides[1]
+    shift = float(pts.theta_rad.min())
+    assert shift < 0.0  # semi-membrane coning closes some slice gaps below zero
+    tz = 100.0e3 / pts.zones
+    # Lemke from scratch on the stacked teeth and balls, at the continuation's converged springs
+    sol, react, _ = comp._solve_unilateral(pts.theta_rad - shift, pts.lever_mm, tz, np.exp(out["log_springs"]))
+    assert float(sol.phi_rad) + shift == pytest.approx(out["phi"], rel=1e-9)
+    np.testing.assert_allclose(sol.force_n, out["force"], rtol=1e-7, atol=1e-7 * out["force"].max())
+    np.testing.assert_allclose(react, out["reactions"], rtol=1e-7, atol=1e-7 * out["reactions"].max())
+    # rigid balls: the continuation's own rigid solve against Lemke
+    rigid = _solve(pts, comp, 100.0)
+    sol, _, _ = comp._solve_unilateral(pts.theta_rad - shift, pts.lever_mm, tz, None)
+    assert float(sol.phi_rad) + shift == pytest.approx(rigid["phi"], rel=1e-9)
+    # coning spreads the first contacts: softer at T1 than the even spread
+    c = torsional_curve(design, TORQUES, sides=curve_2d.sides, face_slices=spec)
+    assert c.k_nm_per_rad["total"]["positive"]["K1"] < curve_2d.k_nm_per_rad["total"]["positive"]["K1"]
+
+
+def test_bad_input_named():
+    with pytest.raises(FaceCurveError, match="face_slices"):
+        FaceSlices.of(0)
+    with pytest.raises(FaceCurveError, match="face_slices"):
+        FaceSlices.of(2.5)
+    with pytest.raises(FaceCurveError, match="coning"):
+        FaceSlices(2, "conical")
+    pts, comp = _one_point()
+    with pytest.raises(FaceCurveError, match="ball_supports"):
+        stack_slices(pts, dataclasses.replace(comp, ball_supports="window"), [[0.0]])
+    with pytest.raises(FaceCurveError, match="gap_shift"):
+        stack_slices(pts, comp, [[0.0, 1.0]])
+    with pytest.raises(FaceCurveError, match="face_width_mm"):
+        slice_chain(compliance_chain(pg.load_gearset(pg.default_gearset_path())), 2, -1.0)
