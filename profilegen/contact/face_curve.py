@@ -65,6 +65,7 @@ __all__ = [
     "flank_offset_gap_mm",
     "ring_twist_kernel",
     "slice_chain",
+    "slice_layout",
     "slice_gap_shifts",
     "stack_slices",
 ]
@@ -80,36 +81,68 @@ _positive = partial(checks.positive, error=FaceCurveError)
 CONINGS = ("cup", "semi_membrane", "none")
 
 
+NODES = ("midpoint", "ends")
+
+
+def slice_layout(face_width_mm: float, slices: int, nodes: str = "midpoint") -> tuple[np.ndarray, np.ndarray]:
+    """(ζ_i, w_i) (mm): where each of N slices takes its section, measured from the face's
+    diaphragm-end edge, and the width it stands for. ``nodes`` "midpoint": N equal slices, each
+    at its mid-plane (the midpoint rule); "ends": N ≥ 2 nodes spaced h = b/(N − 1) from one face
+    end to the other, the end ones standing for h/2 (the trapezoid rule; it puts a node on a
+    face end, where the face stage's design section may lie and the first contact then is).
+    The cells tile the face: Σ w_i = b."""
+    b = _positive("face_width_mm", face_width_mm)
+    n = _whole("slices", slices, 1)
+    checks.choice("nodes", nodes, NODES, error=FaceCurveError)
+    if nodes == "midpoint" or n == 1:
+        h = b / n
+        return (np.arange(n) + 0.5) * h, np.full(n, h)
+    h = b / (n - 1)
+    w = np.full(n, h)
+    w[[0, -1]] = 0.5 * h
+    return np.arange(n) * h, w
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class SliceBearing:
-    """The wave-generator bearing as seen by one of N slices: each slice's share of a ball
-    approaches by c_H (N R)^{2/3} under its reaction R, i.e. the Hertz coefficient × N^{2/3}
-    (module docstring). ``bearing``: the whole bearing (:class:`~profilegen.contact.chain.BallBearing`)."""
+    """The wave-generator bearing as the slices see it: a slice standing for the width w_i
+    carries its share of each ball, which approaches by c_H (R_i b/w_i)^{2/3} under its reaction
+    R_i (the whole ball under b/w_i times that load: the ball's per-width stiffness), so its
+    Hertz coefficient is c_H (b/w_i)^{2/3} (module docstring). ``bearing``: the whole bearing
+    (:class:`~profilegen.contact.chain.BallBearing`); ``width_ratio`` (N,): b/w_i;
+    ``balls``: candidate balls per slice (the stacked balls are slice-major)."""
 
     bearing: object
-    slices: int
+    width_ratio: tuple
+    balls: int
 
-    def hertz_coefficient(self) -> float:
-        return float(self.bearing.hertz_coefficient()) * self.slices ** (2.0 / 3.0)
+    def hertz_coefficient(self):
+        """c_H (b/w_i)^{2/3}: one number when the slices are equal, else one per stacked ball."""
+        c = float(self.bearing.hertz_coefficient())
+        ratio = np.asarray(self.width_ratio, dtype=float)
+        if np.all(ratio == ratio[0]):
+            return c * float(ratio[0]) ** (2.0 / 3.0)
+        return c * np.repeat(ratio ** (2.0 / 3.0), self.balls)
 
     def to_dict(self) -> dict:
         out = dict(self.bearing.to_dict())
-        out["slices"] = self.slices
-        out["slice_hertz_coefficient_mm_per_n2_3"] = self.hertz_coefficient()
+        out["slice_width_ratio"] = [float(r) for r in self.width_ratio]
         return out
 
 
-def ring_twist_kernel(slices: int, face_width_mm: float) -> np.ndarray:
-    """L (N × N, mm): ⟨min(ζ, ζ′)⟩ over ζ in slice i and ζ′ in slice j of a face b wide cut in N
-    equal slices, ζ from the face's diaphragm-end edge — the tooth ring's twist at slice i per
-    unit torque entering (evenly) over slice j, times G J. Diagonal ζ_i + Δz/3, off-diagonal the
-    lower slice's mid-plane; Σ_ij L_ij / N² = b/3 (an even load)."""
-    n = _whole("slices", slices, 1)
-    b = _positive("face_width_mm", face_width_mm)
-    dz = b / n
-    mid = (np.arange(n) + 0.5) * dz
+def ring_twist_kernel(widths_mm) -> np.ndarray:
+    """L (N × N, mm): ⟨min(ζ, ζ′)⟩ over ζ in slice i and ζ′ in slice j, the slices the cells of
+    widths ``widths_mm`` laid from the face's diaphragm-end edge (ζ = 0) in order — the tooth
+    ring's twist at slice i per unit torque entering evenly over slice j, times G J. Diagonal
+    a_i + w_i/3 (a_i the cell's lower edge), off-diagonal the lower cell's middle a_i + w_i/2;
+    Σ_ij w_i w_j L_ij / b² = b/3 (an even load)."""
+    w = np.atleast_1d(np.asarray(widths_mm, dtype=float))
+    if w.ndim != 1 or w.size == 0 or not np.all(np.isfinite(w)) or np.any(w <= 0.0):
+        raise FaceCurveError(f"widths_mm: must be one or more slice widths > 0 (mm), got shape {w.shape}")
+    lo = np.r_[0.0, np.cumsum(w)[:-1]]
+    mid = lo + 0.5 * w
     out = np.minimum.outer(mid, mid)
-    out[np.diag_indices(n)] = np.arange(n) * dz + dz / 3.0
+    out[np.diag_indices(w.size)] = lo + w / 3.0
     return out
 
 
@@ -132,9 +165,9 @@ def flank_offset_gap_mm(points, motion, thickness_change_mm) -> np.ndarray:
 
 
 def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=None, design_z_mm: float | None = None,
-                     modification=None) -> tuple[np.ndarray, np.ndarray]:
-    """(z_i (N,) mm, Δe (N, n) mm): the slices' mid-planes and each point's change of initial
-    separation in each slice (:func:`~profilegen.contact.face_load.gap_shift_mm`) for ``coning``
+                     modification=None, nodes: str = "midpoint") -> tuple[np.ndarray, np.ndarray]:
+    """(z_i (N,) mm, Δe (N, n) mm): the slices' sections (:func:`slice_layout` with ``nodes``,
+    from the cup bottom) and each point's change of initial separation in each slice (:func:`~profilegen.contact.face_load.gap_shift_mm`) for ``coning``
     "cup" (the 3D cup's sections, :func:`~profilegen.contact.face_load.cup_sections`; ``cup`` a
     CupContact / CupDeformation, default :func:`~profilegen.rim.cup.contact.press_cup` of the
     set), "semi_membrane" (the design deformation × z/z_d) or "none" (zeros).
@@ -148,7 +181,7 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
     mid-plane (:func:`profilegen.face.modification.thickness_change`,
     :func:`flank_offset_gap_mm`); None: straight teeth."""
     from ..face.modification import thickness_change
-    from .face_load import cup_sections, gap_shift_mm, semi_membrane_sections, slice_positions
+    from .face_load import cup_sections, gap_shift_mm, semi_membrane_sections
     from .inputs import ContactInput
 
     inputs = ContactInput.from_design(inputs, name="inputs")
@@ -160,7 +193,7 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
     b, zc = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
     zd = zc if design_z_mm is None else checks.number("design_z_mm", design_z_mm, "mm", zc - 0.5 * b, zc + 0.5 * b,
                                                         low_open=False, high_open=False, error=FaceCurveError)
-    z = slice_positions(b, n, zc)
+    z = zc - 0.5 * b + slice_layout(b, n, nodes)[0]
     motion = inputs.motion
     if coning == "none":
         out = np.zeros((n, points.count))
@@ -192,7 +225,8 @@ class FaceSlices:
     ``slices`` N, ``coning`` ("cup", "semi_membrane", "none"), ``cup`` (the 3D cup; default
     press_cup of the set, built once for both flanks), ``design_z_mm`` (the CS's section;
     default mid-face), ``modification`` (the FS tooth's taper and crowning; default straight),
-    ``ring_twist`` (the tooth ring's twist in the slices, module docstring)."""
+    ``ring_twist`` (the tooth ring's twist in the slices, module docstring), ``nodes``
+    (:func:`slice_layout`: "midpoint" or "ends")."""
 
     slices: int = 4
     coning: str = "cup"
@@ -200,10 +234,12 @@ class FaceSlices:
     design_z_mm: float | None = None
     modification: object = None
     ring_twist: bool = True
+    nodes: str = "midpoint"
 
     def __post_init__(self):
         _whole("face_slices", self.slices, 1)
         checks.choice("coning", self.coning, CONINGS, error=FaceCurveError)
+        checks.choice("nodes", self.nodes, NODES, error=FaceCurveError)
 
     @classmethod
     def of(cls, value) -> "FaceSlices":
@@ -216,9 +252,9 @@ class FaceSlices:
 
     def apply(self, inputs, sides: dict, chain) -> tuple[dict, object, list[str]]:
         """The flanks ``sides`` {±1: (points, compliance)} as N slices each, and the chain for
-        them (:func:`slice_chain`) → (sides, chain, warnings): a warning per slice whose two
+        them (:func:`slice_chain`) → (sides, chain, warnings): a warning when some slice's two
         flanks' first contacts overlap (coning makes the tooth interfere at no load there; the
-        one-flank curve reads the overlap as rotation, where both flanks would preload)."""
+        one-flank curve reads the overlap as rotation, where both flanks would be preloaded)."""
         from .inputs import ContactInput
 
         inputs = ContactInput.from_design(inputs, name="inputs")
@@ -229,12 +265,16 @@ class FaceSlices:
 
             cup = press_cup(gs)
         b = float(gs.cup.face_width_mm)
-        new_chain, c_ring = slice_chain(chain, self.slices, b, ring_twist=self.ring_twist)
+        _, widths = slice_layout(b, self.slices, self.nodes)
+        balls = {comp.ball_angle_rad.size for _, comp in sides.values()}
+        if len(balls) != 1:
+            raise FaceCurveError(f"sides: the two flanks have {sorted(balls)} candidate balls; they must share the bearing")
+        new_chain, c_ring = slice_chain(chain, widths, b, balls=balls.pop(), ring_twist=self.ring_twist)
         out, first = {}, {}
         for s, (pts, comp) in sides.items():
-            z, de = slice_gap_shifts(inputs, pts, self.slices, coning=self.coning, cup=cup,
+            z, de = slice_gap_shifts(inputs, pts, self.slices, coning=self.coning, cup=cup, nodes=self.nodes,
                                      design_z_mm=self.design_z_mm, modification=self.modification)
-            out[s] = stack_slices(pts, comp, de, ring_compliance_rad_per_nmm=c_ring)
+            out[s] = stack_slices(pts, comp, de, widths_mm=widths, ring_compliance_rad_per_nmm=c_ring)
             first[s] = ((pts.gap_mm[None, :] + de) / pts.lever_mm[None, :]).min(axis=1)
         warnings = []
         play = first[1] + first[-1]
@@ -248,14 +288,16 @@ class FaceSlices:
         return out, new_chain, warnings
 
 
-def stack_slices(points, compliance, gap_shift, *, ring_compliance_rad_per_nmm: float = 0.0):
+def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_compliance_rad_per_nmm: float = 0.0):
     """One flank's 2D contact (``points``, ``compliance``: every ball one-sided, ``ball_supports``
-    "all") as N slices (``gap_shift`` (N, n) mm, Δe per slice and point) in one problem of the
-    same types: (points, compliance) with N·n points and N·n_b balls, slice-major. The
-    compliance is the slices' block diagonal (each slice the 2D section at width b/N) plus,
-    when ``ring_compliance_rad_per_nmm`` = 1/(G J) of the tooth ring (rad per N·mm² … per unit
-    length, i.e. rad/(N·mm) per mm) is > 0, the ring's twist r_k r_l U (1/(GJ)) L_ij
-    (:func:`ring_twist_kernel`). Solve it with the curve's solvers and the bearing
+    "all") as N slices (``gap_shift`` (N, n) mm, Δe per slice and point; ``widths_mm`` (N,) the
+    width each slice stands for, Σ = the face width b; default b/N each) in one problem of the
+    same types: (points, compliance) with N·n points and N·n_b balls, slice-major. Slice i is
+    the 2D section at width w_i: its FS and CS flexibility blocks × b/w_i (the compliance keeps
+    the face width b, so the curve's solvers, which divide the rim's per-width flexibility by
+    it, see each slice at its own width); when ``ring_compliance_rad_per_nmm`` = 1/(G J) of the
+    tooth ring (rad per N·mm per mm) is > 0, the ring's twist r_k r_l U (1/(GJ)) L_ij
+    (:func:`ring_twist_kernel`) is added. Solve it with the curve's solvers and the bearing
     :class:`SliceBearing` (module docstring)."""
     if getattr(compliance, "ball_supports", "window") != "all":
         raise FaceCurveError(f"compliance.ball_supports = {compliance.ball_supports!r}: the slices need every ball "
@@ -266,9 +308,12 @@ def stack_slices(points, compliance, gap_shift, *, ring_compliance_rad_per_nmm: 
         raise FaceCurveError(f"gap_shift: shape {de.shape} must be (slices, {n}) finite mm")
     ns = de.shape[0]
     b = float(compliance.face_width_mm)
+    w = np.full(ns, b / ns) if widths_mm is None else np.asarray(widths_mm, dtype=float)
+    if w.shape != (ns,) or not np.all(np.isfinite(w)) or np.any(w <= 0.0) or abs(w.sum() - b) > 1e-9 * b:
+        raise FaceCurveError(f"widths_mm: must be {ns} widths > 0 (mm) that sum to the face width {b:g} mm")
     c_ring = checks.positive("ring_compliance_rad_per_nmm", ring_compliance_rad_per_nmm, "rad/(N·mm²)",
                              allow_zero=True, error=FaceCurveError)
-    eye = np.eye(ns)
+    scale = np.diag(b / w)
 
     def tile(a):
         a = np.asarray(a)
@@ -280,32 +325,38 @@ def stack_slices(points, compliance, gap_shift, *, ring_compliance_rad_per_nmm: 
         points, tooth=tile(points.tooth), phi_rad=tile(points.phi_rad), t_mm=tile(points.t_mm),
         local_mm=tile(points.local_mm), fs_point_mm=tile(points.fs_point_mm), cs_point_mm=tile(points.cs_point_mm),
         normal=tile(points.normal), gap_mm=gap, lever_mm=tile(r))
-    cs = np.kron(eye, ns * np.asarray(compliance.cs_matrix_mm_per_n, dtype=float))
+    cs = np.kron(scale, np.asarray(compliance.cs_matrix_mm_per_n, dtype=float))
     if c_ring > 0.0:
         rr = np.tile(r, ns)
-        cs = cs + np.kron(ring_twist_kernel(ns, b), np.ones((n, n))) * np.outer(rr, rr) * (c_ring * points.zones)
-    fs = np.kron(eye, ns * np.asarray(compliance.fs_matrix_mm_per_n, dtype=float))
+        cs = cs + np.kron(ring_twist_kernel(w), np.ones((n, n))) * np.outer(rr, rr) * (c_ring * points.zones)
+    fs = np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n, dtype=float))
     gaps_b = None if compliance.ball_gap_mm is None else tile(compliance.ball_gap_mm)
+    nb = compliance.ball_angle_rad.size
+    # a given linear spring c per ball (mm/N): a slice standing for w_i carries w_i/b of its stiffness
     springs = None if compliance.ball_compliance_mm_per_n is None else \
-        tile(compliance.ball_compliance_mm_per_n) * ns ** (2.0 / 3.0)
+        tile(np.broadcast_to(compliance.ball_compliance_mm_per_n, (nb,))) * np.repeat(b / w, nb)
     comp = dataclasses.replace(
         compliance, matrix_mm_per_n=fs + cs, fs_matrix_mm_per_n=fs, cs_matrix_mm_per_n=cs,
-        face_width_mm=b / ns, tooth=tile(compliance.tooth), ball_angle_rad=tile(compliance.ball_angle_rad),
-        ball_active=tile(compliance.ball_active), _flex_cc=np.kron(eye, compliance._flex_cc),
-        _flex_cb=np.kron(eye, compliance._flex_cb), _flex_bb=np.kron(eye, compliance._flex_bb),
+        face_width_mm=b, tooth=tile(compliance.tooth), ball_angle_rad=tile(compliance.ball_angle_rad),
+        ball_active=tile(compliance.ball_active), _flex_cc=np.kron(scale, compliance._flex_cc),
+        _flex_cb=np.kron(scale, compliance._flex_cb), _flex_bb=np.kron(scale, compliance._flex_bb),
         ball_gap_mm=gaps_b, ball_compliance_mm_per_n=springs)
     return pts, comp
 
 
-def slice_chain(chain, slices: int, face_width_mm: float, *, ring_twist: bool = True):
-    """The compliance chain for N slices: the bearing as :class:`SliceBearing`; with
-    ``ring_twist`` the cup wall's series part without its b/3 of tooth ring (which the slices
-    carry) — returns (chain, 1/(G J) of the ring in rad/(N·mm²), 0 without ``ring_twist``)."""
+def slice_chain(chain, widths_mm, face_width_mm: float, *, balls: int, ring_twist: bool = True):
+    """The compliance chain for slices of widths ``widths_mm``: the bearing as
+    :class:`SliceBearing` (``balls`` candidate balls per slice); with ``ring_twist`` the cup
+    wall's series part without its b/3 of tooth ring (which the slices carry) — returns
+    (chain, 1/(G J) of the ring in rad/(N·mm·mm), 0 without ``ring_twist``)."""
     from .chain import ChainPart, ComplianceChain
 
-    n = _whole("slices", slices, 1)
     b = _positive("face_width_mm", face_width_mm)
-    bearing = None if chain.bearing is None else SliceBearing(chain.bearing, n)
+    w = np.atleast_1d(np.asarray(widths_mm, dtype=float))
+    if w.ndim != 1 or not np.all(np.isfinite(w)) or np.any(w <= 0.0) or abs(w.sum() - b) > 1e-9 * b:
+        raise FaceCurveError(f"widths_mm: must be widths > 0 (mm) that sum to the face width {b:g} mm")
+    nb = _whole("balls", balls, 0)
+    bearing = None if chain.bearing is None else SliceBearing(chain.bearing, tuple(b / w), nb)
     parts = list(chain.parts)
     c_ring = 0.0
     if ring_twist:

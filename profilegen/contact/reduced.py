@@ -27,7 +27,8 @@ class _SpringIteration:
     __slots__ = ("c_hertz", "tol", "x", "x_prev", "g_prev")
 
     def __init__(self, c_hertz: float, tol: float, x=None):
-        self.c_hertz, self.tol, self.x = float(c_hertz), float(tol), x
+        self.c_hertz = float(c_hertz) if np.ndim(c_hertz) == 0 else np.asarray(c_hertz, dtype=float)  # one per ball
+        self.tol, self.x = float(tol), x
         self.x_prev = self.g_prev = None
 
     def step(self, reactions_n) -> bool:

@@ -19,7 +19,7 @@ from profilegen.contact.chain import compliance_chain, torsional_curve
 from profilegen.contact.compliance import ContactCompliance
 from profilegen.contact.face_curve import (
     FaceCurveError, FaceSlices, SliceBearing, flank_offset_gap_mm, ring_twist_kernel, slice_chain, slice_gap_shifts,
-    stack_slices)
+    slice_layout, stack_slices)
 from profilegen.contact.inputs import ContactInput
 from profilegen.contact.points import ContactPoints
 from profilegen.contact.reduced import _ReducedZone
@@ -70,6 +70,12 @@ def test_two_slices_with_a_gap_offset_by_hand():
     psi = (tz / r + delta / (2.0 * s)) * s / r  # F_0 + F_1 = tz/r, 2s F_0 = rψ, 2s F_1 = rψ − Δ
     assert above["phi"] == pytest.approx(e / r + psi, rel=1e-12)
     np.testing.assert_allclose(above["force"], [r * psi / (2 * s), (r * psi - delta) / (2 * s)], rtol=1e-12)
+    # unequal widths, equal gaps: slice i is b/w_i times as compliant, so it carries w_i/b of the load
+    spts, scomp = stack_slices(pts, comp, [[0.0], [0.0]], widths_mm=[2.5, 7.5])
+    out = _solve(spts, scomp, onset_nm)
+    total = onset_nm * 1e3 / zones / r
+    np.testing.assert_allclose(out["force"], [0.25 * total, 0.75 * total], rtol=1e-12)
+    assert out["phi"] == pytest.approx(e / r + s * total / r, rel=1e-12)
 
 
 def test_ring_twist_by_hand():
@@ -93,17 +99,24 @@ def test_ring_twist_by_hand():
 
 
 def test_ring_kernel_is_its_double_integral():
-    b, n = 18.0, 3
-    kern = ring_twist_kernel(n, b)
-    dz = b / n
-    g = (np.arange(400) + 0.5) / 400  # midpoint rule on each slice, exact to O(h²) for min(ζ, ζ′)
-    for i in range(n):
-        for j in range(n):
-            zi, zj = (i + g) * dz, (j + g) * dz
-            assert kern[i, j] == pytest.approx(np.minimum.outer(zi, zj).mean(), rel=1e-5)
-    assert kern.sum() / n ** 2 == pytest.approx(b / 3.0, rel=1e-14)  # an even load: the curve's b/3
-    with pytest.raises(FaceCurveError, match="slices"):
-        ring_twist_kernel(0, b)
+    b = 18.0
+    g = (np.arange(400) + 0.5) / 400  # midpoint rule on each cell, exact to O(h²) for min(ζ, ζ′)
+    for nodes, n in (("midpoint", 3), ("ends", 4)):
+        zeta, w = slice_layout(b, n, nodes)
+        assert w.sum() == pytest.approx(b, rel=1e-14)
+        lo = np.r_[0.0, np.cumsum(w)[:-1]]
+        assert np.all((zeta >= lo - 1e-12) & (zeta <= lo + w + 1e-12))  # each node inside its cell
+        kern = ring_twist_kernel(w)
+        for i in range(n):
+            for j in range(n):
+                zi, zj = lo[i] + g * w[i], lo[j] + g * w[j]
+                assert kern[i, j] == pytest.approx(np.minimum.outer(zi, zj).mean(), rel=1e-5)
+        assert w @ kern @ w / b ** 2 == pytest.approx(b / 3.0, rel=1e-14)  # an even load: the curve's b/3
+    np.testing.assert_allclose(slice_layout(b, 4, "ends")[0], [0.0, 6.0, 12.0, 18.0])
+    with pytest.raises(FaceCurveError, match="widths_mm"):
+        ring_twist_kernel([1.0, 0.0])
+    with pytest.raises(FaceCurveError, match="nodes"):
+        slice_layout(b, 3, "gauss")
 
 
 def test_slice_bearing_is_the_ball_shared_evenly():
@@ -111,7 +124,7 @@ def test_slice_bearing_is_the_ball_shared_evenly():
     from profilegen.contact.chain import BallBearing
 
     ball = BallBearing.from_gearset(gs)
-    sb = SliceBearing(ball, 4)
+    sb = SliceBearing(ball, (4.0, 4.0), 11)
     # a quarter of the load on a quarter of the ball: the same approach as the whole ball's
     q = 800.0
     assert sb.hertz_coefficient() * (q / 4) ** (2 / 3) == pytest.approx(ball.approach_mm(q), rel=1e-12)
@@ -133,9 +146,11 @@ def curve_2d(design):
 
 def test_identical_slices_are_the_2d_curve(design, curve_2d):
     chain = compliance_chain(design.gearset)
-    _, c_ring = slice_chain(chain, 1, float(design.gearset.cup.face_width_mm))
+    b_face = float(design.gearset.cup.face_width_mm)
+    _, c_ring = slice_chain(chain, [b_face], b_face, balls=1)
     ring = float(design.gearset.cup.face_width_mm) / 3.0 * c_ring * 1e3  # rad per N·m: the curve's b/3 of ring
-    for spec, ring_in_mesh in ((FaceSlices(3, "none", ring_twist=False), 0.0), (FaceSlices(1, "none"), ring)):
+    for spec, ring_in_mesh in ((FaceSlices(3, "none", ring_twist=False), 0.0), (FaceSlices(1, "none"), ring),
+                               (FaceSlices(3, "none", ring_twist=False, nodes="ends"), 0.0)):
         c = torsional_curve(design, TORQUES, sides=curve_2d.sides, face_slices=spec)
         # rigid balls: exact (one slice with the ring: the ring's series term moved into the mesh)
         np.testing.assert_allclose(c.mesh_rad, curve_2d.mesh_rad + ring_in_mesh * np.asarray(TORQUES), rtol=1e-9)
@@ -184,7 +199,7 @@ def test_equilibrium_and_complementarity_in_every_slice(design, curve_2d, coned)
     springs = np.exp(out["log_springs"]).reshape(ns, nb)
     r = np.asarray(pts2.lever_mm)
     c_ring = chain.part("cup_wall").parameters["ring_compliance_rad_per_nmm2"]
-    kern = ring_twist_kernel(ns, float(comp2.face_width_mm))
+    kern = ring_twist_kernel(np.full(ns, float(comp2.face_width_mm) / ns))
     moment = force @ r
     gap_b = np.asarray(comp2.ball_gap_mm)
     cc = 0.5 * (comp2._flex_cc + comp2._flex_cc.T)
@@ -239,4 +254,6 @@ def test_bad_input_named():
     with pytest.raises(FaceCurveError, match="gap_shift"):
         stack_slices(pts, comp, [[0.0, 1.0]])
     with pytest.raises(FaceCurveError, match="face_width_mm"):
-        slice_chain(compliance_chain(pg.load_gearset(pg.default_gearset_path())), 2, -1.0)
+        slice_chain(compliance_chain(pg.load_gearset(pg.default_gearset_path())), [1.0], -1.0, balls=11)
+    with pytest.raises(FaceCurveError, match="widths_mm"):
+        stack_slices(pts, comp, [[0.0], [0.0]], widths_mm=[5.0, 4.0])

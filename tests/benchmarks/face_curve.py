@@ -1,0 +1,179 @@
+"""The torsional curve across the face (issue 16 items 1 and 5): does the cup's coning soften the whole gear?
+
+    python tests/benchmarks/face_curve.py [profiles/seed000_csf40.toml ...] [--slices 1 2 4 8] [--verify-slices 1 2 4 8 16]
+                                          [--ends-slices 2 3 5 9 17] [--no-verify] [--timing]
+
+For each gear set (default seed000_csf40) and the catalogue row of its size and ratio
+(contact.chain.catalogue_for; T1, T2 its breakpoints, T3 the set's peak torque):
+
+* **design scene** (the 2D section at mid-face, the CS conjugate to it, straight teeth — the
+  curve the design run reports): the 2D curve (torsional_curve, every ball a one-sided Hertz
+  support, series cup wall + bottom + CS body), then the same curve on N slices
+  (torsional_curve(face_slices=FaceSlices(N, coning))) for the 3D cup's sections
+  (press_cup of the set, defaults) and for semi-membrane coning (ω, υ ∝ z);
+* **verify scene** (the gear as the package makes it: the 3D cup tier, the face stage's design
+  section and its FS tooth taper/crowning — design.face): its 2D curve (the design section's
+  contact), the slices with the face stage's modification for both conings, and without it;
+  then the same with the slices' sections on the face ends (FaceSlices(nodes="ends"), the
+  trapezoid rule: the face stage's design section is often a face end, where the first
+  contact then is — N − 1 = 1, 2, 4, 8, 16 intervals).
+
+Printed per case: the whole gear's rotation (elastic, from the loaded flank's first contact —
+the curve's own zero, the smallest first contact over every slice) at T1, T2, T3 and the
+rotation at ±3 % of the rated torque, K1 = T1/φ(T1), K2 = (T2 − T1)/(φ(T2) − φ(T1)), the
+secant T2/φ(T2), each against the catalogue, the lost motion (φ(+3 %) − φ(−3 %), backlash
+included), the backlash, the smallest two-flank play of any slice (negative: the teeth
+interfere there at no load, and the one-flank curve is not the gear), the compliance the
+slices add to the 2D curve's at T1 and T2 (secants, rad/(N·m)), and CPU seconds. With
+``--timing``: the design run's whole curve (curve_torques_nm, ≥ 32 torques both ways) with
+the flanks reused, median of 3, for each N.
+"""
+
+from __future__ import annotations
+
+import argparse
+import resource
+import statistics
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, 4_000_000_000))
+
+import numpy as np  # noqa: E402
+
+import profilegen as pg  # noqa: E402
+from profilegen.contact.chain import (  # noqa: E402
+    ARCMIN_PER_RAD, catalogue_for, compliance_chain, curve_torques_nm, torsional_curve)
+from profilegen.contact.face_curve import FaceSlices  # noqa: E402
+from profilegen.contact.inputs import ContactInput  # noqa: E402
+
+
+def _catalogue_secant_t2(cat) -> float:
+    t1, t2, k1, k2 = cat["T1_nm"], cat["T2_nm"], cat["K1_nm_per_rad"], cat["K2_nm_per_rad"]
+    return t2 / (t1 / k1 + (t2 - t1) / k2)
+
+
+def _row(label, curve, cat, base, t1, t2, t3, t_lm, play_arcmin, cpu):
+    k = curve.k_nm_per_rad["total"]["positive"]
+    th0 = curve.first_contact_rad["positive"]
+    phi = {t: curve.rotation_at(t) - th0 for t in (t1, t2, t3)}
+    add = "" if base is None else (
+        f" | added C(T1) {(phi[t1] - base[t1]) / t1:+.3e} C(T2) {(phi[t2] - base[t2]) / t2:+.3e} rad/(N·m)")
+    lm = curve.lost_motion_rad["total"] * ARCMIN_PER_RAD
+    print(f"  {label:34s} φ(T1,T2,T3) {phi[t1] * ARCMIN_PER_RAD:6.3f} {phi[t2] * ARCMIN_PER_RAD:6.3f} "
+          f"{phi[t3] * ARCMIN_PER_RAD:6.3f}′  φ(±3%) {curve.rotation_at(t_lm) * ARCMIN_PER_RAD:+.4f} "
+          f"{curve.rotation_at(-t_lm) * ARCMIN_PER_RAD:+.4f}′ | K1 {k['K1']:.4g} ({k['K1'] / cat['K1_nm_per_rad']:.2f}×) "
+          f"K2 {k['K2']:.4g} ({k['K2'] / cat['K2_nm_per_rad']:.2f}×) sec T2 {k['secant_T2']:.4g} "
+          f"({k['secant_T2'] / _catalogue_secant_t2(cat):.2f}×) | LM {lm:.3f}′ backlash "
+          f"{curve.backlash_rad * ARCMIN_PER_RAD:+.3f}′ least slice play {play_arcmin:+.3f}′{add} | {cpu:.2f} s CPU")
+    return phi
+
+
+def _play(inputs, sides, spec) -> float:
+    """The smallest two-flank play of any slice (arcmin): min θ(+) + min θ(−) per slice."""
+    from profilegen.contact.face_curve import slice_gap_shifts
+
+    first = {}
+    for s, (pts, _) in sides.items():
+        _, de = slice_gap_shifts(inputs, pts, spec.slices, coning=spec.coning, cup=spec.cup,
+                                 design_z_mm=spec.design_z_mm, modification=spec.modification)
+        first[s] = ((pts.gap_mm[None, :] + de) / pts.lever_mm[None, :]).min(axis=1)
+    return float((first[1] + first[-1]).min()) * ARCMIN_PER_RAD
+
+
+def _cases(label, inputs, cat, cup, design_z, modification, slices, conings, timing, nodes="midpoint"):
+    gs = inputs.gearset
+    t1, t2, t3 = float(cat["T1_nm"]), float(cat["T2_nm"]), float(gs.torque.peak_nm)
+    t_lm = 0.03 * float(gs.torque.rated_nm)
+    torques = [s * t for t in (t_lm, t1, t2, t3) for s in (1.0, -1.0)]
+    chain = compliance_chain(gs)
+    c0 = time.process_time()
+    base_curve = torsional_curve(inputs, torques, chain=chain, catalogue=cat, breakpoints_nm=(t1, t2))
+    mod_text = "none (straight teeth)" if modification is None else \
+        f"taper {modification.taper_mm_per_mm * 1e3:.4g} µm/mm, crowning {modification.crowning_mm * 1e3:.4g} µm"
+    print(f"--- {label}: design section z = {design_z if design_z is not None else gs.cup.length_mm:g} mm, "
+          f"tooth modification {mod_text}")
+    base = _row("2D (even spread)", base_curve, cat, None, t1, t2, t3, t_lm, base_curve.backlash_rad * ARCMIN_PER_RAD,
+                time.process_time() - c0)
+    sides = base_curve.sides
+    for coning, mods in conings:
+        for mod in mods:
+            for n in slices:
+                spec = FaceSlices(n, coning, cup, design_z, mod, nodes=nodes)
+                c0 = time.process_time()
+                curve = torsional_curve(inputs, torques, chain=chain, catalogue=cat, breakpoints_nm=(t1, t2),
+                                        sides=sides, face_slices=spec)
+                cpu = time.process_time() - c0
+                tag = f"{coning} N={n}" + ("" if nodes == "midpoint" else f" {nodes}") + ("" if mod is None or mod is modification else " unmodified") + \
+                    ("" if mod is not None or modification is None else " straight")
+                _row(tag, curve, cat, base, t1, t2, t3, t_lm, _play(inputs, sides, spec), cpu)
+    if timing:
+        all_t = curve_torques_nm(gs, (t1, t2))
+        for n in slices:
+            spec = FaceSlices(n, conings[0][0], cup, design_z, conings[0][1][0])
+            runs = []
+            for _ in range(3):
+                c0 = time.process_time()
+                torsional_curve(inputs, all_t, chain=chain, catalogue=cat, breakpoints_nm=(t1, t2), sides=sides,
+                                face_slices=spec)
+                runs.append(time.process_time() - c0)
+            print(f"  whole curve ({all_t.size} torques) with face_slices={n}: {statistics.median(runs):.2f} s CPU "
+                  f"(median of 3; flanks reused, the cup's sections and slices built each time)")
+
+
+def run(path: Path, slices, verify_slices, ends_slices, verify: bool, timing: bool) -> None:
+    from profilegen.rim.cup.contact import press_cup
+
+    gs = pg.load_gearset(path)
+    cat = catalogue_for(gs)
+    print(f"\n=== {gs.name} ({path.name}): catalogue {cat['source']}: T1 {cat['T1_nm']:g}, K1 {cat['K1_nm_per_rad']:.3g}, "
+          f"T2 {cat['T2_nm']:g}, K2 {cat['K2_nm_per_rad']:.3g} N·m/rad; face {gs.cup.face_width_mm:g} mm, "
+          f"mid-face z = {gs.cup.length_mm:g} mm")
+    c0 = time.process_time()
+    design = pg.design(gs, scene="design", contact=False, stress=False)
+    cup = press_cup(gs)
+    print(f"design scene + press_cup: {time.process_time() - c0:.1f} s CPU")
+    _cases("design scene (CS at mid-face, straight teeth)", ContactInput.from_design(design), cat, cup, None, None,
+           slices, (("cup", (None,)), ("semi_membrane", (None,))), timing)
+    if not verify:
+        return
+    c0 = time.process_time()
+    vd = pg.design(gs, scene="verify", contact=False, stress=False)
+    face = vd.face
+    mod = face.modification
+    print(f"verify scene design (3D cup, face stage): {time.process_time() - c0:.1f} s CPU; design section "
+          f"{face.design_section_z_mm:g} mm ({face.design_choice}); modification taper "
+          f"{0 if mod is None else mod.taper_mm_per_mm * 1e3:.4g} µm/mm, crowning "
+          f"{0 if mod is None else mod.crowning_mm * 1e3:.4g} µm, largest backlash "
+          f"{float('nan') if mod is None else mod.max_backlash_mm * 1e3:.3g} µm")
+    conings = (("cup", (mod, None) if mod is not None else (None,)), ("semi_membrane", (mod,)))
+    vin = ContactInput.from_design(vd)
+    _cases("verify scene (as made)", vin, cat, vd.rim.cup, face.design_section_z_mm, mod, verify_slices, conings, False)
+    if ends_slices:
+        _cases("verify scene (as made), nodes on the face ends (trapezoid rule)", vin, cat, vd.rim.cup,
+               face.design_section_z_mm, mod, ends_slices, (("cup", (mod,)),), False, nodes="ends")
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("sets", nargs="*", type=Path, default=[ROOT / "profiles" / "seed000_csf40.toml"])
+    ap.add_argument("--slices", nargs="+", type=int, default=[1, 2, 4, 8])
+    ap.add_argument("--verify-slices", nargs="+", type=int, default=[1, 2, 4, 8, 16])
+    ap.add_argument("--ends-slices", nargs="*", type=int, default=[2, 3, 5, 9, 17],
+                    help="the verify scene again with nodes on the face ends (FaceSlices(nodes='ends')); none: skip")
+    ap.add_argument("--no-verify", action="store_true", help="the design scene only")
+    ap.add_argument("--timing", action="store_true", help="the whole curve's CPU time for each N")
+    args = ap.parse_args()
+    from profilegen.blas import one_blas_thread
+
+    with one_blas_thread():
+        for path in args.sets:
+            run(path, args.slices, args.verify_slices, args.ends_slices, not args.no_verify, args.timing)
+
+
+if __name__ == "__main__":
+    main()
