@@ -51,9 +51,11 @@ def figure_workers(workers: int | None = None, *, draw: bool = True):
     if not draw:  # the workers fork now, start on the seed tables (no design needed) and ezdxf's import (~0.4 s)
         figures.submit(report.SEED_TABLES_JOB)
         figures.submit({"ezdxf": (_import_ezdxf, ())})
-    # with the PNGs the workers fork when the profile comes (profile_figures): they then inherit the
-    # stage modules and scipy the parent has loaded by then (~0.6 s CPU each to import for unpickling
-    # the jobs, when forked at the start)
+    elif figures.workers >= 2:  # with the PNGs one server process forks now and imports matplotlib and the
+        # stage modules the jobs name, once, on the CPU the stages leave free; its workers fork from it
+        # (report._pool). One worker forks when the profile comes (profile_figures), inheriting the stage
+        # modules the parent has loaded by then (~0.6 s CPU to import for unpickling the jobs)
+        figures.submit(report.SEED_TABLES_JOB)
     return figures
 
 

@@ -28,6 +28,7 @@ from collections.abc import Callable, Iterator
 import numpy as np
 
 from ..pools import stop_pool
+from .forkserver import die_with as _die_with
 from .interactive import figure_html
 from ..pipeline import interference_tol_mm
 from .sheet import format_clearance, sheet_html
@@ -795,29 +796,6 @@ def _signals_blocked() -> Iterator[None]:
             signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
-def _die_with(parent: int) -> None:
-    """This worker ends when ``parent`` does (a killed run leaves no worker waiting for work):
-    PR_SET_PDEATHSIG on Linux, else a thread that watches the parent id."""
-    try:
-        import ctypes
-
-        libc = ctypes.CDLL(None, use_errno=True)
-        if libc.prctl(1, int(signal.SIGKILL), 0, 0, 0) != 0:  # PR_SET_PDEATHSIG = 1
-            raise OSError(ctypes.get_errno(), "prctl")
-    except (OSError, AttributeError):
-        import threading
-        import time
-
-        def watch() -> None:
-            while os.getppid() == parent:
-                time.sleep(0.5)
-            os._exit(1)
-
-        threading.Thread(target=watch, name="profilegen-figure-parent-watch", daemon=True).start()
-    if os.getppid() != parent:  # the parent died before the watch began
-        os._exit(1)
-
-
 def _init_worker(parent: int, matplotlib: bool = True) -> None:
     """A figure worker: ignores SIGINT (a Ctrl-C reaches the whole process group; the parent
     decides and ends the workers), dies on SIGTERM and with its parent, and imports matplotlib
@@ -834,11 +812,26 @@ def _init_worker(parent: int, matplotlib: bool = True) -> None:
     import matplotlib.figure  # noqa: F401
 
 
+#: What the figure server imports before it forks its workers (:func:`_pool`): matplotlib, and the
+#: modules the jobs' pickles name (the design's pieces), which each worker would otherwise import to
+#: unpickle its first job.
+PRELOAD = ("matplotlib.figure", "matplotlib.backends.backend_agg", "profilegen.output.plot", "profilegen.output.report",
+           "profilegen.arcfit", "profilegen.rootfillet", "profilegen.rim.stage", "profilegen.contact.analysis",
+           "profilegen.contact.chain", "profilegen.stress.stage")
+
+
 def _pool(workers: int, matplotlib: bool = True):
-    """A fork-based process pool of ``workers`` figure workers (ValueError where fork is not available)."""
+    """``workers`` figure workers (ValueError where fork is not available): with ``matplotlib`` and two
+    or more, a :class:`~profilegen.output.forkserver.ServerPool` — one server process imports
+    matplotlib and :data:`PRELOAD` once and forks the workers from itself; else a fork-based
+    process pool whose workers import matplotlib each."""
     import multiprocessing
     from concurrent.futures import ProcessPoolExecutor
 
+    if matplotlib and workers >= 2:  # one worker: forked from here when the profile comes, nothing to share
+        from .forkserver import ServerPool
+
+        return ServerPool(workers, preload=PRELOAD)
     ctx = multiprocessing.get_context("fork")  # a fork shares the loaded modules; spawn would re-import all
     return ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_init_worker,
                                initargs=(os.getpid(), matplotlib))
@@ -928,10 +921,12 @@ class FigureWorkers:
         if executor is None:
             return
         with _signals_blocked():
-            if error:
-                stop_pool(executor, what="figures")
-            else:
+            if not error:
                 executor.shutdown(wait=True, cancel_futures=True)
+            elif hasattr(executor, "stop"):  # a forkserver.ServerPool
+                executor.stop()
+            else:
+                stop_pool(executor, what="figures")
 
 
 @contextlib.contextmanager
