@@ -54,9 +54,48 @@ stations (the force-weighted contact at the corner: the next step takes those te
 CS tips — with the corner normal followed, the corners' ride over the CS tip rounds is in the
 geometry, and at a coned face-end section the corners carry the load from the start).
 
+Friction (engineer D; ``DesignClimb(friction_coefficient=μ, friction_sliding=…)``, default
+none): Coulomb friction on the tooth contacts, μ = tan ρ, sliding (no stick). The force on
+the CS per unit normal force is d = n + μσ t, t the unit tangent of the flank out of the CS
+space (t ⊥ n, t·e_r < 0: toward the CS tip; :func:`sliding_tangent`) and σ = +1 where the FS
+slides out of its space relative to the CS, −1 where it slides in — the force tilted by the
+friction angle ρ against the sliding (n' = n cos ρ ± t sin ρ, scaled by 1/cos ρ so that N
+stays the normal force). The gap is still measured along n: the complementarity is on N and
+the normal gap, and the matrix S' = Rᵀ C D (rows along the normals n, columns along the forces
+d) is not symmetric — a non-associated contact, solved by Lemke's method
+(:func:`solve_lcp_lemke`; S' is a P-matrix, so the solution is unique and Lemke reaches it,
+while its symmetric part is positive definite — checked at the end of the path by
+``tests/benchmarks/ratcheting.py --friction``). The lever arms are d's, the CS ring is loaded
+by d's radial part (sin α + μσ t·e_r) and the FS retreat is P d. ``friction_sliding``:
+
+* "static": σ = +1 everywhere — the pull-out this climb models (the teeth ride out of their
+  spaces: friction holds them in, the radial part falls to N (sin α − μ cos α) and T rises);
+* "forward": the gear running with the wave generator driving the load. σ per station from
+  the kinematics: its velocity relative to its CS space, −rotation · d/dφ of its place (the FS
+  turns against the CS the way the CS's forces push it, so φ falls for rotation +1). On
+  seed000_csf40 the teeth at φ > 0 — the loaded side — move out into their spaces (entering:
+  σ = −1, the force tilted toward the radial, T falls for them), those at φ < 0 leave (σ = +1);
+  the wave generator then puts power in through the loaded teeth's radial motion, as it must
+  (tests/unit/test_ratchet.py);
+* "backward": running with the load driving (σ of "forward" reversed): the loaded teeth leave.
+
+The sliding is the rigid kinematics': the teeth's elastic retreat s(φ) changes along the zone
+too (it is stationary in the wave generator's frame, so a tooth running through it moves by
+ds/dφ); where that is comparable with the kinematic sliding speed (near the major axis, where
+the latter vanishes) the sense could differ — the benchmark reports the load share it would
+reverse. The friction force's FEM influence: "probe" (default) puts each flank station's
+tangential force as t = x n + y e_r on its own normal's column and the radial column of its
+tooth's probe (the FS tip-land centre against the CS root; the tip corners' tangents are
+exact in their n_f, n_t columns); "exact" builds a tangent column at every flank station
+(a second direction at each point: on the design scene's 9 stations per tooth the build's S
+is then not positive definite — the stations are too close — so it serves the check: sketch
+default set, 5 stations, μ = 0.1: 9637 / 8239 / 9586 N·m (probe) against 9660 / 8239 / 9587
+(exact) static / forward / backward, no CS ring).
+
 Left out: the change of the influence coefficients
 of the CS side as its contact moves toward the CS tip (its sector's compliance is kept at
-the no-shift feet); friction. Stations per tooth are limited by the FEM mesh (beyond ~9 on the
+the no-shift feet); stick (friction is always sliding, at μ); friction at the balls.
+Stations per tooth are limited by the FEM mesh (beyond ~9 on the
 default sets neighbouring stations' influence columns are numerically dependent and S is not
 positive definite); 7 and 9 stations gave 5.62 / 5.40 kN·m on seed000_csf40 with the flank
 normal at the corners. The candidate teeth (``max_gap_mm``, the no-load gap within which a
@@ -80,10 +119,10 @@ import numpy as np
 from scipy.linalg import cho_factor, cho_solve, solve_triangular
 from scipy.optimize import nnls
 
-from ..errors import ConvergenceError
+from ..errors import ConvergenceError, ProfilegenError
 
-__all__ = ["ClimbPath", "ClimbPoint", "DesignClimb", "SectionDeformation", "SlicedClimb", "climb", "section_inputs",
-           "solve_lcp", "tooth_probes"]
+__all__ = ["SLIDING", "ClimbError", "ClimbPath", "ClimbPoint", "DesignClimb", "SectionDeformation", "SlicedClimb",
+           "climb", "section_inputs", "sliding_tangent", "solve_lcp", "solve_lcp_lemke", "tooth_probes"]
 
 
 def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.ndarray:
@@ -112,6 +151,70 @@ def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.n
             return f
         cand |= bad
     raise ConvergenceError("climb.solve_lcp: the candidate set did not settle")
+
+
+#: the friction's sliding senses (DesignClimb ``friction_sliding``)
+SLIDING = ("static", "forward", "backward")
+
+
+class ClimbError(ProfilegenError, ValueError):
+    """Bad input to a climb model (names the parameter, its value and allowed range)."""
+
+
+def solve_lcp_lemke(m: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.ndarray:
+    """F ≥ 0 with w = M F + q ≥ 0 and F·w = 0 for a general square M — the climb with
+    friction, whose M is not symmetric (the force tilted off the normal its gap is measured
+    along: a non-associated contact). Lemke's complementary pivoting
+    (:func:`profilegen.contact.compliance._lemke_lcp`, lexicographic ratio test) on the
+    candidates (q_j < 0 first; a point whose w comes out below −tol joins and the problem is
+    solved again, as :func:`solve_lcp`), on M and q scaled to O(1), the forces then from the
+    active set's own equations. Lemke's method ends at the solution when M is a P-matrix
+    (every principal minor > 0; Cottle, Pang & Stone, The Linear Complementarity Problem, §4.4),
+    which it is when its symmetric part is positive definite (S + μ·(tangential coupling)
+    for small μ); the result is checked (F ≥ 0, w ≥ 0 to ``tol``), a failure raises
+    :class:`ConvergenceError`."""
+    from .compliance import _lemke_lcp
+
+    n = q.size
+    f = np.zeros(n)
+    if n == 0:
+        return f
+    scale = float(np.max(np.abs(q))) or 1.0
+    tol = 1e-12 * scale if tol is None else tol
+    d = float(np.mean(np.abs(np.diag(m)))) or 1.0
+    cand = q < 0.0
+    for _ in range(n + 1):
+        idx = np.flatnonzero(cand)
+        f[:] = 0.0
+        if idx.size:
+            sub = m[np.ix_(idx, idx)]
+            act, _ = _lemke_lcp(sub / d, q[idx] / scale, "climb.solve_lcp_lemke")
+            if act.size:
+                f[idx[act]] = np.linalg.solve(sub[np.ix_(act, act)], -q[idx[act]])
+        w = m @ f + q
+        if f.min() < -1e-9 * max(float(f.max()), 1e-300) or w[idx].min(initial=0.0) < -1e3 * tol:
+            raise ConvergenceError(f"climb.solve_lcp_lemke: Lemke's basis is not a solution (min F {f.min():.3g} N, "
+                                   f"min w {w[idx].min(initial=0.0):.3g} mm): M is not a P-matrix here")
+        np.maximum(f, 0.0, out=f)
+        bad = (~cand) & (w < -tol)
+        if not bad.any():
+            return f
+        cand |= bad
+    raise ConvergenceError("climb.solve_lcp_lemke: the candidate set did not settle")
+
+
+def sliding_tangent(normal: np.ndarray, e_r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(sense, t): the unit tangent t = sense · (−n_y, n_x) of each contact normal n (out of
+    the FS) with t·e_r < 0 — the direction along the CS flank out of the CS space (toward the
+    CS tip, radially in: e_r points out of the gear centre, into the CS). A station whose FS
+    point slides that way relative to the CS (the teeth climbing out, or leaving the mesh)
+    takes the friction force μN along +t on the CS (−t on the FS): the force on the CS is
+    N (n + μ t), its radial part N (sin α − μ cos α) — friction holds the tooth in. Sliding
+    into the space (entering): N (n − μ t)."""
+    n = np.asarray(normal, dtype=float)
+    perp = np.column_stack([-n[:, 1], n[:, 0]])
+    sense = np.where(np.einsum("ij,ij->i", perp, np.asarray(e_r, dtype=float)) > 0.0, -1.0, 1.0)
+    return sense, sense[:, None] * perp
 
 
 @dataclass(frozen=True, slots=True)
@@ -404,7 +507,9 @@ class DesignClimb:
 
     def __init__(self, inputs, *, side: int, stations: int, max_gap_mm: float, race_thickness_mm, bearing,
                  ring_factory=None, ring_scale: float = 1.0, spring_tol: float = 1e-3, shift_rad: float = 0.0,
-                 corner_normal: bool = True, width_fraction: float = 1.0, ball_supports: str = "window"):
+                 corner_normal: bool = True, width_fraction: float = 1.0, ball_supports: str = "window",
+                 friction_coefficient: float = 0.0, friction_sliding: str | None = None,
+                 friction_tangents: str = "probe"):
         from ..kinematics import turn
         from .compliance import ContactCompliance
         from .points import contact_points
@@ -461,16 +566,22 @@ class DesignClimb:
         self._sa_tip = np.einsum("ij,ij->i", tip_actual, e_pts[self._ci])
         nc = self._ci.size
         self._a, self._b = np.ones(nc), np.zeros(nc)
+        self._setup_friction(inputs, pts, e_pts, tip_actual, friction_coefficient, friction_sliding,
+                             friction_tangents, e_r[self.slot])
+        # "exact": a tangent column at every flank station (a corner's tangent is a combination
+        # of its n_f and n_t columns: a third direction at one point is singular)
+        fi = self._fi if self._friction and self._tangents == "exact" else np.zeros(0, int)
+        nt = fi.size
         self._combined = ContactCompliance.build(
-            inputs, np.vstack([pts.fs_point_mm, pts.fs_point_mm[self._ci], fs_probe]),
-            np.vstack([pts.normal, tip_actual, e_r]),
-            np.concatenate([pts.tooth, pts.tooth[self._ci], teeth]),
-            np.vstack([pts.cs_point_mm, pts.cs_point_mm[self._ci], cs_probe]),
+            inputs, np.vstack([pts.fs_point_mm, pts.fs_point_mm[self._ci], pts.fs_point_mm[fi], fs_probe]),
+            np.vstack([pts.normal, tip_actual, self._tf[fi] if nt else np.zeros((0, 2)), e_r]),
+            np.concatenate([pts.tooth, pts.tooth[self._ci], pts.tooth[fi], teeth]),
+            np.vstack([pts.cs_point_mm, pts.cs_point_mm[self._ci], pts.cs_point_mm[fi], cs_probe]),
             race_thickness_mm=race_thickness_mm, shift_rad=shift_rad, ball_supports=ball_supports)
         #: each candidate ball's no-load gap to the bore (mm; 0 within the wrap; the window: all 0)
         gb = self._combined.ball_gap_mm
         self._g0 = np.zeros(self._combined.ball_angle_rad.size) if gb is None else np.asarray(gb, dtype=float)
-        self._nn = self.n + nc  # stations + the corners' tip-land columns
+        self._nn = self.n + nc + nt  # stations + the corners' tip-land columns (+ the stations' tangents)
         self.bearing = bearing
         m = teeth.size
         ring = np.zeros((m, 2 * m)) if ring_factory is None else ring_scale * ring_factory(phis)
@@ -524,8 +635,85 @@ class DesignClimb:
             n[ci] = a[:, None] * nf + b[:, None] * nt
             self.sin_alpha = self._sa_flank.copy()
             self.sin_alpha[ci] = a * self._sa_flank[ci] + b * self._sa_tip
+        if self._friction:
+            # the force on the CS per unit normal force: n + μσ t (t = the tangent out of the
+            # space, σ = +1 sliding out, −1 in); its radial part for the CS ring and its lever
+            ms = self._mu * self._sigma
+            te = self._js * self._tp_flank
+            if ci.size:
+                te[ci] = self._js[ci] * (self._a * self._tp_flank[ci] + self._b * self._tp_tip)
+            self._rad = self.sin_alpha + ms * te
+            n = n + ms[:, None] * (self._js[:, None] * np.column_stack([-n[:, 1], n[:, 0]]))
         lever = self.rotation * (p[:, 1] * n[:, 0] - p[:, 0] * n[:, 1])
         return gap, lever
+
+    def _setup_friction(self, inputs, pts, e_pts, tip_actual, mu, sliding, tangents, e_probe):
+        """Coulomb friction on the stations (module docstring, "Friction"): the tangents out
+        of the spaces, their radial parts, the corners' tangents in the built columns, and the
+        sliding sense σ of every station (+1: the FS slides out of the space along the flank)."""
+        from ..kinematics import turn
+
+        self._friction = sliding is not None
+        self._mu = float(mu)
+        if not self._friction:
+            if self._mu != 0.0:
+                raise ClimbError(f"friction_coefficient = {mu!r}: needs friction_sliding (one of {SLIDING})")
+            return
+        if sliding not in SLIDING:
+            raise ClimbError(f"friction_sliding must be one of {', '.join(map(repr, SLIDING))}, got {sliding!r}")
+        if not (math.isfinite(self._mu) and 0.0 <= self._mu < 1.0):
+            raise ClimbError(f"friction_coefficient = {mu!r}: must be in [0, 1)")
+        if tangents not in ("probe", "exact"):
+            raise ClimbError(f"friction_tangents must be 'probe' or 'exact', got {tangents!r}")
+        self._tangents = tangents
+        self.friction_sliding = sliding
+        self._js, self._tf = sliding_tangent(pts.normal, e_pts)  # the built tangent columns (actual frame)
+        perp = np.column_stack([-pts.normal[:, 1], pts.normal[:, 0]])
+        self._tp_flank = np.einsum("ij,ij->i", perp, e_pts)
+        ci = self._ci
+        perp_t = np.column_stack([-tip_actual[:, 1], tip_actual[:, 0]])
+        self._tp_tip = np.einsum("ij,ij->i", perp_t, e_pts[ci])
+        self._fi = np.setdiff1d(np.arange(pts.count), ci)
+        # a corner's tangent t = J(a n_f + b n_t), J = the quarter turn out of the space, in its
+        # built columns n_f, n_t: J n_f = e1 n_f + e2 n_t, J n_t = g1 n_f + g2 n_t
+        nf, nt = pts.normal[ci], tip_actual
+        det = nf[:, 0] * nt[:, 1] - nf[:, 1] * nt[:, 0]
+
+        def split(u):
+            return (u[:, 0] * nt[:, 1] - u[:, 1] * nt[:, 0]) / det, (nf[:, 0] * u[:, 1] - nf[:, 1] * u[:, 0]) / det
+
+        self._e1, self._e2 = split(self._js[ci, None] * perp[ci])
+        self._g1, self._g2 = split(self._js[ci, None] * perp_t)
+        # "probe": a flank station's tangent t = x n + y e_r, its own normal's column and the
+        # radial column of its tooth's probe (the FS tip-land centre against the CS root):
+        # the friction force's radial part moved from the flank to the tooth's probe point
+        fi = self._fi
+        nn_, ee = pts.normal[fi], e_probe[fi]
+        dd = nn_[:, 0] * ee[:, 1] - nn_[:, 1] * ee[:, 0]
+        tt = self._tf[fi]
+        self._tx = (tt[:, 0] * ee[:, 1] - tt[:, 1] * ee[:, 0]) / dd
+        self._ty = (nn_[:, 0] * tt[:, 1] - nn_[:, 1] * tt[:, 0]) / dd
+        self._rad = self.sin_alpha.copy()
+        if sliding == "static":
+            self._sigma = np.ones(pts.count)
+            self.sliding_speed = self.sliding_velocity = None
+            return
+        # running: the station's motion relative to its CS space as the tooth goes through the
+        # mesh, d/dφ of its place (space 0's frame); the gear running forward (the wave
+        # generator driving the load) turns the FS against the CS the way the CS's forces
+        # push it — against the rotation that loads the flank — so φ falls for rotation +1
+        h = 1e-6
+        pose_p, pose_m = inputs.motion.pose(pts.phi_rad + h), inputs.motion.pose(pts.phi_rad - h)
+        v = (pose_p.to_cs(pts.local_mm) - pose_m.to_cs(pts.local_mm)) / (2.0 * h)
+        v *= -self.rotation * (1.0 if sliding == "forward" else -1.0)
+        #: the stations' velocity relative to their CS spaces (space 0's frame, mm per rad of |φ|)
+        self.sliding_velocity = v
+        back = -2.0 * math.pi * pts.tooth / inputs.gearset.gear.circular_spline_teeth
+        t0 = np.vstack([turn(self._tf[k:k + 1], a) for k, a in enumerate(back)])
+        #: the stations' sliding speed out of their spaces along the flank (mm per rad of φ,
+        #: < 0: into the space)
+        self.sliding_speed = np.einsum("ij,ij->i", v, t0)
+        self._sigma = np.sign(self.sliding_speed)
 
     def _surface_normal(self, p):
         """The CS space's unit normal (either sense) at the nearest point of each of ``p``: of
@@ -553,6 +741,14 @@ class DesignClimb:
 
     def _expand(self, f):
         """Station forces → forces on the built columns (the corners split into a n_f + b n_t)."""
+        if self._friction:  # the built columns and the probes
+            out = np.zeros(self._combined._flex_cc.shape[0])
+            cf, cb, ct = self._friction_columns()
+            n, nc = self.n, self._ci.size
+            out[:n] = cf * f
+            out[n:n + nc] = cb * f[self._ci]
+            np.add.at(out, self._tangent_columns(), ct * f[self._fi])
+            return out
         out = np.zeros(self._nn)
         out[:self.n] = f
         if self._ci.size:
@@ -560,11 +756,33 @@ class DesignClimb:
             out[self.n:] = self._b * f[self._ci]
         return out
 
+    def _friction_columns(self):
+        """The force n + μσ t of every station in the built columns: (its n_f column's factor
+        (every station), the corners' n_t columns' factors, the flank stations' t columns')."""
+        ms = self._mu * self._sigma
+        cf = np.ones(self.n)
+        ci, a, b, fi = self._ci, self._a, self._b, self._fi
+        cb = b + ms[ci] * (a * self._e2 + b * self._g2)
+        cf[ci] = a + ms[ci] * (a * self._e1 + b * self._g1)
+        if self._tangents == "exact":
+            return cf, cb, ms[fi]
+        cf[fi] = 1.0 + ms[fi] * self._tx
+        return cf, cb, ms[fi] * self._ty
+
+    def _tangent_columns(self):
+        """The columns (of the built ones and the probes) the flank stations' friction goes to."""
+        n, nc, fi = self.n, self._ci.size, self._fi
+        if self._tangents == "exact":
+            return n + nc + np.arange(fi.size)
+        return self._nn + self.slot[fi]
+
     def _effective(self, full, probe):
         """(S, P_fs, P_cs) of the stations from the built columns: the corners' columns and rows
         combined with the current (a, b) (a congruence: S stays positive definite), and the CS
         ring's part with the current sin α."""
         n, ci = self.n, self._ci
+        if self._friction:
+            return self._effective_friction(full, probe)
         if ci.size:
             cols = full[:, :n].copy()
             cols[:, ci] = self._a * full[:, ci] + self._b * full[:, n:]
@@ -577,6 +795,28 @@ class DesignClimb:
         p_cs = self._ring[:, self.slot] * self.sin_alpha[None, :]
         s_ring = self.sin_alpha[:, None] * p_cs[self.slot]
         s_mat += 0.5 * (s_ring + s_ring.T)
+        return s_mat, p_fs, p_cs
+
+    def _effective_friction(self, full, probe):
+        """(S, P_fs, P_cs) with friction: the gaps measured along the normals n (rows as
+        without friction), the forces along n + μσ t (columns): S is not symmetric."""
+        n, ci, nc, fi = self.n, self._ci, self._ci.size, self._fi
+        cf, cb, ct = self._friction_columns()
+        tang = self._tangent_columns()
+        cols = full[:, :n] * cf
+        p_fs = probe[:, :n] * cf
+        cols[:, fi] += full[:, tang] * ct
+        p_fs[:, fi] += probe[:, tang] * ct
+        if nc:
+            cols[:, ci] += full[:, n:n + nc] * cb
+            p_fs[:, ci] += probe[:, n:n + nc] * cb
+        s_mat = cols[:n].copy()
+        if nc:
+            s_mat[ci] = self._a[:, None] * cols[ci] + self._b[:, None] * cols[n:n + nc]
+        ring = self._ring[:, self.slot]
+        p_cs = ring * self._rad[None, :]
+        s_ring = self.sin_alpha[:, None] * (ring * self.sin_alpha[None, :])[self.slot]
+        s_mat += 0.5 * (s_ring + s_ring.T) + self.sin_alpha[:, None] * (ring * (self._rad - self.sin_alpha))[self.slot]
         return s_mat, p_fs, p_cs
 
     def station_matrix(self, state) -> np.ndarray:
@@ -607,6 +847,8 @@ class DesignClimb:
             w = solve_triangular(fa[0], c._flex_cb[:, act].T, lower=True)
             full -= (w.T @ w) / self._width
         n = self._nn
+        if self._friction:  # the probes' columns too (the friction's radial parts, "probe")
+            return full[:n], full[n:], fa
         return full[:n, :n], full[n:, :n], fa
 
     def _reactions(self, f, active, fa):
@@ -615,7 +857,8 @@ class DesignClimb:
         c = self._combined
         b = self._width
         fp = np.zeros(c._flex_cc.shape[0])
-        fp[:self._nn] = self._expand(f)
+        e = self._expand(f)
+        fp[:e.size] = e
         react = np.zeros(c.ball_angle_rad.size)
         act = np.flatnonzero(active)
         if act.size:
@@ -633,7 +876,7 @@ class DesignClimb:
         n, ci = self.n, self._ci
         st = out[:n].copy()
         if ci.size:
-            st[ci] = self._a * out[ci] + self._b * out[n:self._nn]
+            st[ci] = self._a * out[ci] + self._b * out[n:n + ci.size]
         return st, out[self._nn:]
 
     def retreat_offset(self, state):
@@ -649,7 +892,7 @@ class DesignClimb:
             full, probe, fa = self._matrices(active, springs)
             s_mat, p_mat, p_cs = self._effective(full, probe)
             off_st, off_probe = self._offset(active, fa)
-            f = solve_lcp(s_mat, q + off_st)
+            f = (solve_lcp_lemke if self._friction else solve_lcp)(s_mat, q + off_st)
             react, gaps = self._reactions(f, active, fa)
             active, step = settle_step(active, react, gaps)
             if step is None:
@@ -669,7 +912,17 @@ class DesignClimb:
         return f, _State(active, springs, done, off_probe), p_mat, p_cs
 
     def first_rotation(self, torque_nm: float) -> tuple[float, float]:
-        """(θ_min, φ at ``torque_nm`` in the linear contact with rigid balls, no shift)."""
+        """(θ_min, φ at ``torque_nm`` in the linear contact with rigid balls, no shift;
+        without friction: only the path's first rotation and step come from it)."""
+        if self._friction:
+            mu, self._mu = self._mu, 0.0
+            try:
+                return self._first_rotation(torque_nm)
+            finally:
+                self._mu = mu
+        return self._first_rotation(torque_nm)
+
+    def _first_rotation(self, torque_nm: float) -> tuple[float, float]:
         from .solvers import ContactError, solve_lemke
 
         gap, lever = self.geometry(np.zeros(self.teeth.size))

@@ -464,7 +464,8 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                       climb_stations: int = 9, climb_max_gap_mm: float = 0.15,
                       climb_max_torque_nm: float | None = None, climb_ring_scale: float = 1.0,
                       climb_shift_rad: float = 0.0, climb_corner_normal: bool = True,
-                      climb_ball_supports: str = "all", climb_positions: int = 1) -> Ratcheting:
+                      climb_ball_supports: str = "all", climb_positions: int = 1, climb_friction: float = 0.0,
+                      climb_sliding: str = "static") -> Ratcheting:
     """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
     by the model of the module docstring.
 
@@ -488,7 +489,13 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     ``climb_corner_normal``: the FS tip corner's normal follows the CS surface (False: the
     flank's, the model before); ``climb_ball_supports``: "all" (every ball one-sided at its
     no-load gap, as the contact stage since c4e4c83) or "window" (the balls within the rim's
-    no-load contact angle, settled; the linear diagnostics keep this one)."""
+    no-load contact angle, settled; the linear diagnostics keep this one); ``climb_friction``: the
+    Coulomb coefficient μ on the tooth contacts (0, the default: no friction, the estimate as
+    before; lubricated steel 0.05–0.15), ``climb_sliding`` the sense of the teeth's sliding it
+    opposes: "static" (the pull-out the climb models, every tooth sliding out of its space),
+    "forward" (running, the wave generator driving the load: per station from the kinematics,
+    the entering teeth slide into their spaces) or "backward" (running, the load driving) —
+    see :mod:`profilegen.contact.climb`, "Friction"."""
     from .chain import BallBearing
     from .compliance import ContactCompliance
     from .inputs import ContactInput
@@ -513,6 +520,11 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     climb_corner_normal = _flag("climb_corner_normal", climb_corner_normal)
     checks.choice("climb_ball_supports", climb_ball_supports, ("window", "all"), error=RatchetingError)
     climb_positions = checks.whole("climb_positions", climb_positions, 1, error=RatchetingError)
+    climb_friction = checks.number("climb_friction", climb_friction, "", 0.0, 1.0, low_open=False,
+                                   error=RatchetingError)
+    from .climb import SLIDING
+
+    checks.choice("climb_sliding", climb_sliding, SLIDING, error=RatchetingError)
     if bearing is True:
         check_bearing_fits(gs, race_thickness_mm=race_thickness_mm)
         bearing = BallBearing.from_gearset(gs, race_thickness_mm=race_thickness_mm)
@@ -591,7 +603,8 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                                                   shift_rad=_number("climb_shift_rad", climb_shift_rad, "rad"),
                                                   extrapolated=extrapolated, warnings=warnings,
                                                   corner_normal=climb_corner_normal, ball_supports=climb_ball_supports,
-                                                  positions=climb_positions)
+                                                  positions=climb_positions, friction=climb_friction,
+                                                  sliding=climb_sliding)
     cat = None if catalogue is None else dict(catalogue)
     if cat is None:
         warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")
@@ -621,7 +634,7 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
 
 def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, max_gap_mm, linear, max_torque_nm,
            ring_scale, extrapolated, warnings, shift_rad=0.0, corner_normal=True, ball_supports="window",
-           positions=1):
+           positions=1, friction=0.0, sliding="static"):
     """The climb's estimate: → (torque, extrapolated, summary dict)."""
     from .climb import DesignClimb, climb
 
@@ -648,7 +661,8 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
             model = DesignClimb(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm,
                                 race_thickness_mm=race_thickness_mm, bearing=bearing, ring_factory=factory,
                                 ring_scale=ring_scale, shift_rad=sh, corner_normal=corner_normal,
-                                ball_supports=ball_supports)
+                                ball_supports=ball_supports, friction_coefficient=friction,
+                                friction_sliding=sliding if friction > 0.0 else None)
             theta_min, phi_rated = model.first_rotation(rated)
             step = 0.5 * max(phi_rated - theta_min, 1e-9)
             runs.append((climb(model, theta_min + step, step, max_torque_nm=max_torque_nm), model, sh))
@@ -660,6 +674,7 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
             "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,
             "points": model.n, "teeth": int(model.teeth.size), "ring_scale": ring_scale, "shift_rad": shift_rad,
             "corner_normal": corner_normal, "ball_supports": ball_supports,
+            "friction": {"coefficient": friction, "sliding": sliding if friction > 0.0 else None},
             "phi_path_rad": path.column("phi_rad").tolist(), "torque_path_nm": path.column("torque_nm").tolist(),
             "mean_retreat_mm": path.column("mean_retreat_mm").tolist(),
             "margin_mm": path.column("margin_mm").tolist(), "pressure_angle_deg": path.column("alpha_deg").tolist(),

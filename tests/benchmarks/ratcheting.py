@@ -1,7 +1,8 @@
 """Ratcheting torque estimate (issue 16 item 4) and its bad inputs.
 
     python tests/benchmarks/ratcheting.py [--climb-only] [--ring-scale 2,4,8] [--shift 0.25,0.5,0.75]
-        [--positions 8] [--face 2,4] [--parts] [--perturb 1,-1,100,-100] [profiles/...]
+        [--positions 8] [--face 2,4] [--parts] [--perturb 1,-1,100,-100]
+        [--friction 0,0.05,0.1,0.15 [--sliding static,forward,backward] [--friction-only]] [profiles/...]
 
 Studies (engineer P3, issue 16 item 4; each adds its table after the climb):
 ``--positions N``: the climb at N wave-generator positions evenly over one tooth passage
@@ -17,7 +18,16 @@ its no-load gap, as the contact stage), and with the FS tip-corner normal held
 at the flank's (the model before P3). ``--perturb D1,D2`` (nm; engineer P3b): the climb again
 with the CS flank moved by each D along its normal (every gap + D; the first rotation and the
 step grid move with it) and the step grid alone ×(1 ± 1 %), each estimate's change from the
-unperturbed one — the estimate must be continuous in the geometry.
+unperturbed one — the estimate must be continuous in the geometry. ``--friction M1,M2``
+(engineer D): the climb with Coulomb friction μ on the tooth contacts for each ``--sliding``
+sense (static pull-out: every tooth sliding out of its space; forward: running with the wave
+generator driving the load, the sense per station from the kinematics; backward: the load
+driving), each estimate against the frictionless one and the catalogue; then, for the largest
+μ running forward, at the path's last point: the load share of the stations sliding into /
+out of their spaces, the share whose sliding the teeth's elastic retreat s(φ) (as the tooth
+runs through the loaded zone) would reverse (the kinematic sense is an assumption), and the
+smallest eigenvalue of the symmetric part of S on the loaded stations (> 0: S is a P-matrix
+there, Lemke's method has the one solution). ``--friction-only``: only that.
 
 The climb (profilegen.contact.climb, the default estimate since helper E2): per set the
 linear estimate (climb=False, E's ladder), the climb's estimate with its path (rotation,
@@ -58,7 +68,8 @@ from profilegen.contact.ratchet import (  # noqa: E402
     BearingFitError, RatchetingError, check_bearing_fits, ratcheting_torque)
 
 SETS = [ROOT / "profiles" / "seed000_csf40.toml", ROOT / "profiles" / "csf32_100.toml", Path(pg.default_gearset_path())]
-ARGS = {"climb_only": False, "ring_scale": [], "shift": [], "positions": 0, "face": [], "parts": False, "perturb": []}
+ARGS = {"climb_only": False, "ring_scale": [], "shift": [], "positions": 0, "face": [], "parts": False, "perturb": [],
+        "friction": [], "sliding": ["static", "forward", "backward"], "friction_only": False}
 
 
 def _climb_setup(gs, design, **kw):
@@ -260,6 +271,66 @@ def perturb_run(gs, design) -> None:
         climb_module.DesignClimb.geometry, climb_module.climb = geometry, follow
 
 
+def friction_run(gs, design) -> None:
+    """The climb with Coulomb friction (--friction, --sliding): the estimate per μ and sense."""
+    cat = _catalogue(gs)
+    lad = [gs.torque.rated_nm, 2 * gs.torque.rated_nm]
+    print("\n-- friction on the tooth contacts (Coulomb μ; the force on the CS along n + μσt, the gap along n)")
+    print(f"  {'μ':>5} {'sliding':>9} {'T (N·m)':>9} {'/ μ = 0':>8} {'/ catalogue':>11} {'criterion':>12} {'α end °':>7} "
+          f"{'CPU s':>6}")
+    base = None
+    for mu in ARGS["friction"]:
+        for sliding in (["static"] if mu == 0.0 else ARGS["sliding"]):
+            t0 = time.process_time()
+            r = ratcheting_torque(design, torques_nm=lad, catalogue=cat, climb_friction=mu, climb_sliding=sliding)
+            cpu = time.process_time() - t0
+            base = r.torque_nm if mu == 0.0 else base
+            rel = "—" if base is None else f"{r.torque_nm / base:.3f}"
+            ratio = "—" if r.ratio_to_catalogue is None else f"{r.ratio_to_catalogue:.2f}"
+            print(f"  {mu:5.3g} {sliding if mu else '—':>9} {r.torque_nm:9.1f} {rel:>8} {ratio:>11} "
+                  f"{r.climb['criterion']:>12} {r.climb['pressure_angle_deg'][-1]:7.1f} {cpu:6.1f}", flush=True)
+    mu = max(ARGS["friction"], default=0.0)
+    if mu > 0.0 and "forward" in ARGS["sliding"]:
+        friction_check(gs, design, mu)
+
+
+def friction_check(gs, design, mu) -> None:
+    """At the last point of the forward-running climb with μ: who slides which way, whether
+    the elastic retreat's change along the zone would reverse it, and the P-matrix check."""
+    import numpy as np
+
+    m = _climb_setup(gs, design, friction_coefficient=mu, friction_sliding="forward")
+    path = _follow(m, float(gs.torque.rated_nm))
+    last = path.points[-1]
+    f = last.force_n
+    m.geometry(last.retreat_mm, last.phi_rad)
+    s_mat = m.station_matrix(last.state)
+    on = np.flatnonzero(f > 1e-9 * f.max())
+    sub = s_mat[np.ix_(on, on)]
+    eig = np.linalg.eigvalsh(0.5 * (sub + sub.T))
+    asym = np.abs(sub - sub.T).max() / np.abs(sub).max()
+    share = f / f.sum()
+    into = m.sliding_speed < 0.0
+    # the elastic part of the sliding as the tooth runs through the zone (forward: φ falls for
+    # rotation +1): the FS stands −s(φ) e_r from its place, so it moves by rotation·ds/dφ·e_r per
+    # unit of −rotation·φ; along the tangent out of the space: rotation · ds/dφ · (e_r·t)
+    ds = np.gradient(last.retreat_mm, m.phis)[m.slot]
+    elastic = m.rotation * ds * (m._js * m._tp_flank)
+    flips = np.sign(m.sliding_speed + elastic) != np.sign(m.sliding_speed)
+    print(f"\n-- forward running with μ = {mu:g}, the last point of the path ({last.torque_nm:.1f} N·m, "
+          f"{path.criterion}): {on.size} loaded stations on {np.unique(m.slot[on]).size} teeth")
+    print(f"  load share sliding into the spaces (entering teeth) {share[into].sum():.3f}, out of them "
+          f"{share[~into].sum():.3f}; loaded teeth at φ = {np.degrees(m.phis[m.slot[on]]).min():.1f} … "
+          f"{np.degrees(m.phis[m.slot[on]]).max():.1f}°")
+    print(f"  kinematic sliding speed on the loaded stations |v_t| {np.abs(m.sliding_speed[on]).min():.3f} … "
+          f"{np.abs(m.sliding_speed[on]).max():.3f} mm/rad of φ; the retreat's change along the zone "
+          f"|ds/dφ·(e_r·t)| up to {np.abs(elastic[on]).max():.3f} mm/rad; the load share whose sense it would "
+          f"reverse {share[flips].sum():.3f}")
+    print(f"  S on the loaded stations: asymmetry max|S − Sᵀ|/max|S| {asym:.3g}; symmetric part's eigenvalues "
+          f"{eig.min():.3g} … {eig.max():.3g} mm/N "
+          f"({'positive definite: a P-matrix' if eig.min() > 0 else 'NOT positive definite'})")
+
+
 def run(path: Path) -> None:
     gs = pg.load_gearset(path)
     print(f"\n=== {gs.name} ({path.name}): rated {gs.torque.rated_nm:g}, peak {gs.torque.peak_nm:g}, "
@@ -267,6 +338,10 @@ def run(path: Path) -> None:
     t0 = time.process_time()
     design = pg.design(gs, scene="design", contact=False, stress=False)
     print(f"design scene: {time.process_time() - t0:.2f} s CPU")
+    if ARGS["friction"]:
+        friction_run(gs, design)
+        if ARGS["friction_only"]:
+            return
     climb_run(gs, design)
     if ARGS["positions"]:
         positions_run(gs, design)
@@ -340,6 +415,10 @@ def main() -> None:
     ap.add_argument("--face", type=lambda t: [int(x) for x in t.split(",")], default=[], help="face slice counts")
     ap.add_argument("--perturb", type=floats, default=[], help="flank offsets in nm, e.g. 1,-1,100,-100")
     ap.add_argument("--parts", action="store_true")
+    ap.add_argument("--friction", type=floats, default=[], help="Coulomb coefficients on the teeth, e.g. 0,0.05,0.1")
+    ap.add_argument("--sliding", type=lambda t: t.split(","), default=["static", "forward", "backward"],
+                    help="the senses of sliding friction opposes: static,forward,backward")
+    ap.add_argument("--friction-only", action="store_true", help="with --friction: only the friction study")
     args = ap.parse_args()
     ARGS.update({k: v for k, v in vars(args).items() if k != "sets"})
     for path in args.sets or SETS:

@@ -14,6 +14,16 @@ pressure angle α retreats s = T tan α /(k R), so it reaches the depth h at T =
 an FS tip arc (ρ1) on a CS arc (ρ2) has sin β = sin β0 + s/(ρ1 + ρ2) and
 T(s) = k R s cot β(s), whose maximum is the limit point; on the sketch design, the climb's
 first rotations against the package's linear contact (Lemke, same S) at the same torque.
+
+Friction (Coulomb μ = tan ρ, the force on the CS N (n + μσt), t the flank's tangent out of
+the space, σ = +1 when the FS slides out, −1 in): by hand, the one tooth's force has the
+tangential part N cos(α − σρ)/cos ρ and the radial part N sin(α − σρ)/cos ρ, so
+T = k R s cot(α − σρ) — the straight flank reaches h at k R h cot(α − σρ), the two arcs'
+limit point is max_s k R s cot(β(s) − σρ); the nonsymmetric LCP's Lemke solve against
+enumeration; on the sketch design μ = 0 through the friction path is the frictionless climb,
+and the running sense: the gear driven forward puts power in through the loaded teeth's
+radial motion (the wave generator pushes them into their spaces) and turns the FS the way
+the CS's forces push it.
 """
 
 from __future__ import annotations
@@ -27,7 +37,7 @@ import pytest
 
 import profilegen as pg
 from profilegen.contact.chain import BallBearing
-from profilegen.contact.climb import DesignClimb, climb, solve_lcp
+from profilegen.contact.climb import DesignClimb, climb, sliding_tangent, solve_lcp, solve_lcp_lemke
 from profilegen.contact.ratchet import (
     BearingFitError,
     RatchetingError,
@@ -112,7 +122,8 @@ def test_flag_and_zero_torque(whole, design):
         ratcheting_torque(design, torques_nm=[0.0, 265.0])
     with pytest.raises(RatchetingError, match="bearing"):
         ratcheting_torque(design, bearing="steel")
-    for name, bad in (("climb_positions", 0), ("climb_ball_supports", "some"), ("climb_corner_normal", "yes")):
+    for name, bad in (("climb_positions", 0), ("climb_ball_supports", "some"), ("climb_corner_normal", "yes"),
+                      ("climb_friction", -0.1), ("climb_friction", 1.0), ("climb_sliding", "sideways")):
         with pytest.raises(RatchetingError, match=name):
             ratcheting_torque(design, **{name: bad})
 
@@ -165,7 +176,7 @@ class _OneTooth:
     zones = 1
 
     def __init__(self, *, straight=False, k=2000.0, r=50.0, c=2e-5, rho1=0.6, rho2=0.8, beta0=math.radians(15),
-                 n=80, depth=0.8):
+                 n=80, depth=0.8, mu=0.0, sigma=1.0):
         self.k, self.r, self.straight = k, r, straight
         beta = np.full(n, beta0) if straight else np.linspace(math.radians(5), math.radians(60), n)
         self.normal = np.column_stack([np.cos(beta), np.sin(beta)])
@@ -178,13 +189,17 @@ class _OneTooth:
         self.sin_alpha = self.normal[:, 1].copy()
         self.slot, self.corner = np.zeros(n, int), np.zeros(n, bool)
         self.depth_mm = np.array([depth])
-        self.s = c * np.eye(n) + np.outer(self.sin_alpha, self.sin_alpha) / k
-        self.p = (self.sin_alpha / k)[None, :]
+        # the force on the CS per unit normal force: n + μσt (t ⊥ n, out of the space: t·e_r < 0);
+        # the spring takes its radial part, the local compliance c its normal part (n·t = 0)
+        self.mu = mu
+        self.force = self.normal + mu * sigma * sliding_tangent(self.normal, np.array([[0.0, 1.0]] * n))[1]
+        self.s = c * np.eye(n) + np.outer(self.sin_alpha, self.force[:, 1]) / k
+        self.p = (self.force[:, 1] / k)[None, :]
 
     def geometry(self, s, phi=0.0):
         p = self.p0 + np.array([self.r * phi, -s[0]])
         gap = -(p @ self.normal[0]) if self.straight else np.linalg.norm(p - self.c2, axis=1) - self.rho2
-        return gap, self.r * self.normal[:, 0]
+        return gap, self.r * self.force[:, 0]
 
     def initial_state(self):
         return None
@@ -193,7 +208,7 @@ class _OneTooth:
         return True
 
     def respond(self, q, state):
-        return solve_lcp(self.s, q), None, self.p, np.zeros_like(self.p)
+        return (solve_lcp_lemke if self.mu else solve_lcp)(self.s, q), None, self.p, np.zeros_like(self.p)
 
 
 def test_climb_straight_flank_reaches_the_depth_at_k_r_h_cot_alpha():
@@ -220,6 +235,60 @@ def test_climb_two_arcs_limit_point():
     # the pressure angle rose from 15° on the way; a constant 15° would carry 4× more to the same depth
     assert path.points[-1].alpha_deg > 35.0
     assert path.torque_nm < 0.25 * model.k * model.r * model.depth_mm[0] / math.tan(beta0) / 1e3
+
+
+@pytest.mark.parametrize("sigma", [1.0, -1.0])
+def test_climb_straight_flank_with_friction_reaches_the_depth_at_k_r_h_cot_alpha_less_rho(sigma):
+    """Sliding out (σ = +1, the pull-out): friction holds the tooth in, T = k R h cot(α − ρ);
+    sliding in (σ = −1, an entering tooth): T = k R h cot(α + ρ). μ = 0.1, α = 20°."""
+    alpha, h, mu = math.radians(20), 0.3, 0.1
+    rho = math.atan(mu)
+    model = _OneTooth(straight=True, beta0=alpha, depth=h, n=5, mu=mu, sigma=sigma)  # parallel: degenerate, few
+    path = climb(model, 1e-6, 2e-4)
+    assert path.criterion == "margin"
+    assert path.torque_nm == pytest.approx(model.k * model.r * h / math.tan(alpha - sigma * rho) / 1e3, rel=1e-6)
+    for p in path.points:
+        assert p.retreat_mm[0] == pytest.approx(p.torque_nm * 1e3 * math.tan(alpha - sigma * rho)
+                                                / (model.k * model.r), rel=1e-6)
+
+
+@pytest.mark.parametrize("sigma", [1.0, -1.0])
+def test_climb_two_arcs_limit_point_with_friction(sigma):
+    """The two arcs' limit point with the force tilted by ρ: max_s k R s cot(β(s) − σρ)."""
+    rho, beta0, mu = 1.4, math.radians(15), 0.1
+    model = _OneTooth(mu=mu, sigma=sigma)
+    path = climb(model, 1e-6, 2e-4, refine=4)
+    s = np.linspace(0.0, 1.0, 100001)
+    sb = math.sin(beta0) + s / rho
+    ok = sb < math.sin(math.radians(60))
+    beta = np.arcsin(sb[ok])
+    exact = np.max(model.k * model.r * s[ok] / np.tan(beta - sigma * math.atan(mu))) / 1e3
+    assert path.criterion == "limit point"
+    assert path.torque_nm == pytest.approx(exact, rel=1e-2)
+    frictionless = np.max(model.k * model.r * s[ok] / np.tan(beta)) / 1e3
+    assert (path.torque_nm - frictionless) * sigma > 0.05 * frictionless  # the shift is resolved, its sign right
+
+
+def test_nonsymmetric_lcp_against_enumeration():
+    """Lemke on S + (a nonsymmetric coupling) — a P-matrix — against the one complementary
+    active set found by enumeration."""
+    rng = np.random.default_rng(5)
+    for _ in range(5):
+        a = rng.normal(size=(6, 6))
+        s = a @ a.T + 0.5 * np.eye(6) + 0.3 * rng.normal(size=(6, 6))
+        assert np.linalg.eigvalsh(0.5 * (s + s.T)).min() > 0.0
+        q = rng.normal(size=6)
+        f = solve_lcp_lemke(s, q)
+        found = []
+        for mask in range(64):
+            idx = [k for k in range(6) if mask >> k & 1]
+            g = np.zeros(6)
+            if idx:
+                g[idx] = np.linalg.solve(s[np.ix_(idx, idx)], -q[idx])
+            if np.all(g >= -1e-12) and np.all(s @ g + q >= -1e-12):
+                found.append(g)
+        assert len(found) == 1
+        np.testing.assert_allclose(f, found[0], atol=1e-10)
 
 
 def test_climb_starts_as_the_linear_contact(design):
@@ -392,3 +461,61 @@ def test_climb_estimate_is_continuous_in_a_nanometre_of_the_flank(design):
         moved = climb(model, theta + 1.01 * step, 1.01 * step)
     assert base.criterion in ("limit point", "end of path") and base.torque_nm > 2.0 * gs.torque.rated_nm
     assert moved.torque_nm == pytest.approx(base.torque_nm, rel=0.01)
+
+
+# --------------------------------------------------------------------------- friction on the design
+
+
+@pytest.fixture(scope="module")
+def running(design):
+    from profilegen.contact.inputs import ContactInput
+
+    return DesignClimb(ContactInput.from_design(design), side=1, stations=5, max_gap_mm=0.08, race_thickness_mm=None,
+                       bearing=None, ring_factory=None, friction_coefficient=0.1, friction_sliding="forward")
+
+
+def test_friction_zero_is_the_frictionless_climb(design, corner_model):
+    """μ = 0 through the friction path (the nonsymmetric solve, the forces spread over the
+    built and probe columns) follows the frictionless climb's path."""
+    from profilegen.contact.inputs import ContactInput
+
+    zero = DesignClimb(ContactInput.from_design(design), side=1, stations=5, max_gap_mm=0.08, race_thickness_mm=None,
+                       bearing=None, ring_factory=None, friction_sliding="static")
+    corner_model.geometry(np.zeros(corner_model.teeth.size))  # its corners as built (another test moves them)
+    theta, phi = corner_model.first_rotation(265.0)
+    assert zero.first_rotation(265.0) == (theta, phi)
+    step = 0.5 * (phi - theta)
+    a = climb(corner_model, theta + step, step, max_steps=4, refine=0)
+    b = climb(zero, theta + step, step, max_steps=4, refine=0)
+    assert len(a.points) == len(b.points) == 4
+    for p, q in zip(a.points, b.points):
+        assert q.torque_nm == pytest.approx(p.torque_nm, rel=1e-9)
+        np.testing.assert_allclose(q.retreat_mm, p.retreat_mm, rtol=0, atol=1e-12)
+
+
+def test_running_forward_the_wave_generator_pushes_the_loaded_teeth_in(running):
+    """The gear driven forward takes its power in through the wave generator: the loaded teeth
+    move radially out, into their CS spaces, against the radial parts of their forces
+    (Σ F sin α v_r > 0, the input power), and the FS turns the way the CS's forces push it
+    (the load brakes it). So most of the load slides into the spaces (σ = −1: a tooth just
+    past the major axis leaves), and friction tilts those forces toward the radial."""
+    m = running
+    theta, phi = m.first_rotation(265.0)
+    f, _ = _respond(m, np.zeros(m.teeth.size), phi)
+    on = f > 1e-6 * f.max()
+    assert on.sum() >= 5
+    e_r = m._e0[m.slot]
+    v = m.sliding_velocity
+    v_r = np.einsum("ij,ij->i", v, e_r)
+    assert f @ (m.sin_alpha * v_r) > 0.0
+    assert f[v_r > 0.0].sum() > 0.8 * f.sum()
+    # the FS turns (package angle sense: a turn dα moves p by dα (p_y, −p_x)) with the moment
+    # of the CS's forces on it, −rotation Σ F lever (the forces on the FS are −F n)
+    p = m._p0
+    omega = np.einsum("ij,ij->i", v, np.column_stack([p[:, 1], -p[:, 0]])) / np.einsum("ij,ij->i", p, p)
+    assert np.sign(f @ omega) == -m.rotation
+    into = m._sigma == -1.0
+    clear = on & (np.abs(v_r) > 0.02)  # moving radially: the sense along the flank is the radial one
+    assert f[into].sum() > 0.8 * f.sum() and np.all(np.sign(v_r[clear]) == -m._sigma[clear])
+    # so the radial part of the force on the CS grows with μ on them (sin α + μ cos α), falls on the others
+    assert np.all(m._rad[on & into] > m.sin_alpha[on & into]) and np.all(m._rad[on & ~into] < m.sin_alpha[on & ~into])
