@@ -62,7 +62,7 @@ from scipy.linalg import cho_factor, cho_solve
 from ..errors import ConvergenceError, ProfilegenError
 from .climb import solve_lcp
 
-__all__ = ["DedoidalError", "TwoZoneClimb", "TwoZoneState", "n1_stiffness"]
+__all__ = ["DedoidalError", "TwoZoneClimb", "TwoZoneState", "n1_stiffness", "stability_limit"]
 
 
 class DedoidalError(ProfilegenError, ValueError):
@@ -364,6 +364,9 @@ class TwoZoneClimb:
         """Newton ascent on the concave dual h(τ) = min_{x≥0} ½xᵀMx + (q + Dτ)ᵀx − ½(τ−τ₀)ᵀk(τ−τ₀)
         + Pᵀτ, whose gradient is the translations' balance Dᵀx − k (τ − τ₀) + P."""
         tau = np.asarray(tau, dtype=float).copy()
+        if not tau.size:  # nothing free: the plain LCP
+            x = solve_lcp(m_mat, q)
+            return x, tau, x > 0.0
 
         def at(t):
             x = solve_lcp(m_mat, q + df @ t)
@@ -398,33 +401,68 @@ class TwoZoneClimb:
         return np.array([f[:n] @ lever[:n], f[n:] @ lever[n:]]) / 1e3
 
 
-def n1_stiffness(model: TwoZoneClimb, point, *, delta_mm: float = 1e-3, tol_mm: float = 1e-5,
+def n1_stiffness(model: TwoZoneClimb, point, *, delta_mm: float = 1e-3, tol_mm: float = 1e-6,
                  max_iterations: int = 80) -> np.ndarray:
     """The eccentric mode's stiffness at a point of the climb (N/mm, 2 × 2, x then y): the FS
-    ring's translation prescribed ±``delta_mm`` along x and y at the point's rotation, the
-    retreat's fixed point found again from the point's, K[:, j] = −Δ(Σ loads on the FS)/(2δ).
-    Positive definite: the path is stable against going off-centre (with a free FS; a cup
-    spring k adds k·I). The loads on the FS: every tooth force and ball reaction (the cam's
-    balance makes the balls' sum vanish when it floats)."""
+    ring's translation prescribed at the point's ±``delta_mm`` along x and along y at the
+    point's rotation, the retreat's fixed point found again from the point's (the climb's
+    Anderson iteration to ``tol_mm``; ×10, ×100 if it does not settle), and
+    K[:, j] = −Δ(Σ contact loads on the FS)/(2δ) — the cup's spring not included. The path
+    is stable against going off-centre while K + k_c·I has no eigenvalue ≤ 0."""
     from .climb import _solve_at
 
     delta = _positive("delta_mm", delta_mm, "mm")
     k = np.zeros((2, 2))
-    m = model.m_zone
-    base = point.state.translation_mm[:2] if point.state is not None else np.zeros(2)
+    base = np.asarray(point.state.translation_mm[:2], dtype=float)
     for j in range(2):
         nets = []
         for sign in (1.0, -1.0):
             tr = base.copy()
             tr[j] += sign * delta
             probe = model.with_translation(tr)
-            s_tot = point.retreat_mm
-            s_fs = point.retreat_fs_mm
             state = copy.copy(point.state)
             state.loaded = None
-            out = _solve_at(probe, point.phi_rad, s_fs.copy(), (s_tot - s_fs).copy(), state, tol_mm=tol_mm,
-                            max_iterations=max_iterations)
+            for tol in (tol_mm, 10.0 * tol_mm, 100.0 * tol_mm):
+                try:
+                    out = _solve_at(probe, point.phi_rad, point.retreat_fs_mm.copy(),
+                                    (point.retreat_mm - point.retreat_fs_mm).copy(), state, tol_mm=tol,
+                                    max_iterations=max_iterations)
+                    break
+                except ConvergenceError:
+                    if tol == 100.0 * tol_mm:
+                        raise
             nets.append(out[3].net_force_n)
         k[:, j] = -(nets[0] - nets[1]) / (2.0 * delta)
-    del m
     return k
+
+
+def stability_limit(model: TwoZoneClimb, path, *, cup_stiffness_n_per_mm: float = 0.0, delta_mm: float = 1e-3,
+                    tol_mm: float = 1e-6, max_iterations: int = 80) -> dict:
+    """The climb's path checked point by point in the eccentric mode: the smallest real part
+    of the eigenvalues of K + k_c·I (:func:`n1_stiffness`; N/mm) at every point, and the first
+    torque where it reaches 0 (linear in the torque between the last stable point and the
+    first unstable one) — under rotation control the FS/WG assembly then goes off-centre
+    and the loaded zone skips (a stable path's largest torque ends earlier only at its own
+    limit). → {"torque_nm": the limit (the path's own when it stays stable), "criterion":
+    "eccentric mode" or the path's, "points": [(T, λ_min, K)…], "failed": [T…] (points where
+    the probe's fixed point did not settle)}."""
+    k_cup = _positive("cup_stiffness_n_per_mm", cup_stiffness_n_per_mm, "N/mm", allow_zero=True)
+    rows, failed = [], []
+    prev = None
+    for p in path.points:
+        try:
+            k = n1_stiffness(model, p, delta_mm=delta_mm, tol_mm=tol_mm, max_iterations=max_iterations)
+        except ConvergenceError:
+            failed.append(float(p.torque_nm))
+            continue
+        lam = float(np.min(np.linalg.eigvals(k + k_cup * np.eye(2)).real))
+        rows.append((float(p.torque_nm), lam, k))
+        if lam <= 0.0:
+            if prev is None:
+                t = float(p.torque_nm)
+            else:
+                (t0, l0), t1 = prev, float(p.torque_nm)
+                t = t0 + l0 / (l0 - lam) * (t1 - t0)
+            return {"torque_nm": t, "criterion": "eccentric mode", "points": rows, "failed": failed}
+        prev = (float(p.torque_nm), lam)
+    return {"torque_nm": float(path.torque_nm), "criterion": path.criterion, "points": rows, "failed": failed}
