@@ -234,6 +234,21 @@ class TwoZoneClimb:
         out._fixed = None if translation_mm is None else np.asarray(translation_mm, dtype=float).reshape(2)
         return out
 
+    def with_imperfection(self, *, external_force_n=None, eccentricity_mm: float = 0.0,
+                          eccentricity_direction_rad: float = 0.0) -> "TwoZoneClimb":
+        """A copy (the matrices shared) with another radial load on the FS/WG assembly (N, 2)
+        and eccentricity (mm, the cup's rest position; acts only through a cup spring)."""
+        ecc = float(eccentricity_mm)
+        if not math.isfinite(ecc):
+            raise DedoidalError(f"eccentricity_mm = {eccentricity_mm!r}: must be finite (mm)")
+        out = self.with_translation(self._fixed)
+        out._load = np.zeros_like(self._load)
+        if external_force_n is not None:
+            out._load[:2] = np.asarray(external_force_n, dtype=float).reshape(2)
+        out._rest = np.zeros_like(self._rest)
+        out._rest[:2] = ecc * np.array([math.sin(eccentricity_direction_rad), math.cos(eccentricity_direction_rad)])
+        return out
+
     # ------------------------------------------------------------------ climb's interface
     def initial_state(self) -> TwoZoneState:
         return TwoZoneState(None, np.zeros(self.nb), np.zeros(self._trans.shape[1]), None)

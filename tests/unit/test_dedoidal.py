@@ -153,3 +153,73 @@ def test_bad_options():
         _toy(eccentricity_mm=math.nan)
     with pytest.raises(DedoidalError, match="compliance_mm_per_n"):  # a floating cam needs balls
         _toy(wave_generator="floating")
+
+
+# --------------------------------------------------------------------------- a design
+
+
+@pytest.fixture(scope="module")
+def design_zones(default_sketch):
+    """The default set's sketch design: its one-zone climb (4 stations, teeth within 0.05 mm,
+    Hertz balls, the free CS ring, as ratcheting_torque builds it) and the two-zone model."""
+    from profilegen.contact import ratchet
+    from profilegen.contact.chain import BallBearing
+    from profilegen.contact.climb import DesignClimb
+    from profilegen.contact.inputs import ContactInput
+
+    inputs = ContactInput.from_design(default_sketch)
+    gs = inputs.gearset
+    r_mean, thick, width, _ = ratchet._cs_ring_section(gs, inputs)
+
+    def factory(phis):
+        ang = np.concatenate([phis, phis + math.pi])
+        return ratchet.cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
+                                                 youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
+    bearing = BallBearing.from_gearset(gs)
+    zone = DesignClimb(inputs, side=1, stations=4, max_gap_mm=0.05, race_thickness_mm=None, bearing=bearing,
+                       ring_factory=factory, ball_supports="all")
+    two = TwoZoneClimb.from_design(inputs, zone, bearing=bearing, ring=(r_mean, thick, width))
+    theta, phi = zone.first_rotation(float(gs.torque.rated_nm))
+    return inputs, zone, two, bearing, (r_mean, thick, width), theta, phi
+
+
+def test_design_symmetric_two_zone_is_the_one_zone_climb(design_zones):
+    """No imperfection: the whole ring with the FS/WG free gives the one-zone climb's torque at
+    the same rotations (up to 4 × the rated rotation, the climb's lagged geometry included),
+    each zone half of it, and no eccentricity."""
+    _, zone, two, _, _, theta, phi = design_zones
+    step = 2.0 * (phi - theta)
+    one = climb(zone, theta + step, step, max_steps=3, grow=1.0)
+    both = climb(two, theta + step, step, max_steps=3, grow=1.0)
+    for a, b in zip(one.points, both.points):
+        assert b.phi_rad == a.phi_rad
+        assert b.torque_nm == pytest.approx(a.torque_nm, rel=1e-6)
+        zt = two.zone_torques_nm(b)  # (the levers at the final retreat: the torque's are the last iterate's)
+        assert zt[0] == pytest.approx(zt[1], rel=1e-9)
+        assert zt.sum() == pytest.approx(b.torque_nm, rel=1e-5)
+        assert abs(b.state.translation_mm[0]) < 1e-9  # across the major axis: nothing (the y part is the gauge)
+
+
+def test_design_floating_body_equilibrium(design_zones):
+    """A radial load P on the FS/WG assembly: the contact loads on the FS balance it
+    (Σ x d = −P), the balls' reactions on the floating cam balance each other (Σ R e_r = 0),
+    x ≥ 0, w ≥ 0, x·w = 0 from the matrices; the loaded zone (the load pushes the assembly
+    toward zone 1) carries more torque; an eccentricity of the CS is absorbed by the free
+    assembly (the same torque)."""
+    _, _, two, _, _, theta, phi = design_zones
+    load = np.array([0.0, 200.0])
+    model = two.with_imperfection(external_force_n=load)
+    path = climb(model, phi, phi - theta, max_steps=1)
+    p = path.points[-1]
+    st = p.state
+    model.geometry(p.retreat_mm, p.phi_rad)  # the corner cones at the point
+    m_mat, _, d, _, _ = model.matrices(st.springs)
+    x = np.concatenate([p.force_n, st.reaction_n])
+    np.testing.assert_allclose(d[:, :2].T @ x, -load, atol=1e-8 * load[1])
+    np.testing.assert_allclose(d[model.n:, 2:].T @ st.reaction_n, 0.0, atol=1e-8 * st.reaction_n.max())
+    assert x.min() >= 0.0
+    zt = model.zone_torques_nm(p)
+    assert zt[0] > zt[1]
+    t_e = climb(two.with_imperfection(eccentricity_mm=0.01), phi, phi - theta, max_steps=1).points[-1].torque_nm
+    t_0 = climb(two, phi, phi - theta, max_steps=1).points[-1].torque_nm
+    assert t_e == pytest.approx(t_0, rel=1e-12)
