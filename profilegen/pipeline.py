@@ -293,6 +293,7 @@ def design(
     contact: bool | None = None,
     stress: bool = True,
     on_profile: Callable[[Design], None] | None = None,
+    on_stage: Callable[[Design], None] | None = None,
 ) -> Design:
     """Run every stage for one gear set (see the module docstring).
 
@@ -309,6 +310,12 @@ def design(
     contact, no stresses yet), before the load stages run: the CLI's figure workers start
     drawing the profile's figures then (:class:`profilegen.output.report.FigureWorkers`).
 
+    ``on_stage``: called with the design as it stands each time the load stages add a result the
+    files draw: once the contact is solved and checked (with its stresses, which need only the
+    contact's tooth forces and are computed then, before the contact's torsional curve), and
+    once the torsional curve is there. The stage reports, warnings and numbers are
+    those of the contact stage followed by the stress stage either way.
+
     BLAS runs single-threaded inside (``threadpoolctl``): every matrix here is small, and
     with another process on this 2-core machine OpenBLAS's spinning threads made the rim
     stage 7–13× slower (0.21 s → 1.5–2.9 s measured), the contact's blocks 8×.
@@ -317,7 +324,7 @@ def design(
 
     with one_blas_thread():
         return _design(gearset, scene=scene, fit_method=fit_method, progress=progress, contact=contact,
-                       stress=stress, on_profile=on_profile)
+                       stress=stress, on_profile=on_profile, on_stage=on_stage)
 
 
 def check_gearset(gearset: GearSet) -> None:
@@ -346,7 +353,8 @@ def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None 
     return tuple(names)
 
 
-def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, on_profile=None) -> Design:
+def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, on_profile=None,
+            on_stage=None) -> Design:
     scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
     step = progress or (lambda name: None)
     warnings: list[str] = list(gearset.warnings)
@@ -441,16 +449,43 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
                     face=face)
     if on_profile is not None:
         on_profile(result)
+    # with a callback the stresses are computed as soon as the contact is solved (they read only its
+    # tooth forces), so that their figure can be drawn while the contact stage goes on
+    early = _EarlyStress(stress, on_stage) if on_stage is not None else None
     if contact:
-        result = _with_contact(result, step)
+        result = _with_contact(result, step, early)
     elif contact is None and scene.contact:
         # the scene's default: a contact model that cannot take this design leaves the profile
         # and files standing, with the reason in the warnings (asked for explicitly, it raises)
         try:
-            result = _with_contact(result, step)
+            result = _with_contact(result, step, early)
         except ProfilegenError as exc:
             result = replace(result, warnings=result.warnings + (f"loaded contact failed, skipped: {exc}",))
-    return _with_stress(result, step) if stress else result
+            if early is not None:  # (not reached once the stresses ran early: nothing after them raises this)
+                early.solved = None
+    return _with_stress(result, step, None if early is None else early.solved) if stress else result
+
+
+class _EarlyStress:
+    """The stresses solved inside the contact stage, right after the contact solve (``on_stage``
+    of :func:`design`), kept for the stress stage's report; a callback for each partial design."""
+
+    def __init__(self, stress: bool, on_stage: Callable[[Design], None]):
+        self.stress, self.on_stage, self.solved = stress, on_stage, None
+
+    def contact_solved(self, partial: Design) -> Design:
+        """``partial``: the design with its contact (no torsional curve yet); returns it with its
+        stresses (when they run), after handing it to the callback."""
+        if self.stress:
+            from .stress.stage import unsupported
+
+            if not unsupported(partial.gearset):
+                from .stress import StressInput, solve_stress
+
+                self.solved = solve_stress(StressInput.from_design(partial))
+                partial = replace(partial, stress=self.solved)
+        self.on_stage(partial)
+        return partial
 
 
 def _with_face(gearset: GearSet, rim, step):
@@ -487,7 +522,9 @@ def _with_face(gearset: GearSet, rim, step):
     return rim, face, report
 
 
-def _with_stress(result: Design, step) -> Design:
+def _with_stress(result: Design, step, solved=None) -> Design:
+    """The stress stage; ``solved``: its result computed already (:class:`_EarlyStress`), from the
+    same contact forces, reported here."""
     from .stress import StressInput, solve_stress
     from .stress.stage import unsupported
 
@@ -496,7 +533,7 @@ def _with_stress(result: Design, step) -> Design:
         return replace(result, warnings=result.warnings + (f"stresses skipped: {reason}",))
     step("stress")
 
-    res = solve_stress(StressInput.from_design(result))
+    res = solve_stress(StressInput.from_design(result)) if solved is None else solved
     worst = res.min_safety
     head = "" if worst is None else f"; lowest safety factor {worst.value:.2f} ({worst.name})"
     report = StageReport(
@@ -507,7 +544,7 @@ def _with_stress(result: Design, step) -> Design:
     return replace(result, stages=result.stages + (report,), warnings=result.warnings + res.warnings, stress=res)
 
 
-def _with_contact(result: Design, step) -> Design:
+def _with_contact(result: Design, step, early: "_EarlyStress | None" = None) -> Design:
     gearset, stages = result.gearset, list(result.stages)
     g = gearset.gear
     if g.waves != 2:
@@ -519,16 +556,16 @@ def _with_contact(result: Design, step) -> Design:
     t0 = time.perf_counter()
     torques = [t for t in (gearset.torque.rated_nm, gearset.torque.peak_nm, gearset.torque.momentary_nm) if t is not None]
     inputs = ContactInput.from_design(result)
-    early = _start_ratcheting_early(result, inputs)  # the verify scene's ratcheting, beside the contact solves
+    ratchet = _start_ratcheting_early(result, inputs)  # the verify scene's ratcheting, beside the contact solves
     try:
-        return _with_contact_solved(result, stages, torques, inputs, t0, early)
+        return _with_contact_solved(result, stages, torques, inputs, t0, ratchet, early)
     except BaseException:
-        if early is not None:
-            early[0].shutdown(wait=False, cancel_futures=True)
+        if ratchet is not None:
+            ratchet[0].shutdown(wait=False, cancel_futures=True)
         raise
 
 
-def _with_contact_solved(result: Design, stages, torques, inputs, t0, early) -> Design:
+def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, stages_early=None) -> Design:
     from .contact.analysis import solve_contact
 
     contact = solve_contact(inputs, torques)  # teeth and every wave-generator ball (one-sided at its no-load gap)
@@ -538,6 +575,12 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early) -> 
     check = solve_contact(inputs, [rated.torque_nm], points=pts, compliance=contact.compliance,
                           solver="active_set").cases[0].solution
     diff = float(np.max(np.abs(check.force_n - rated.solution.force_n)) / max(rated.solution.max_force_n, 1e-300))
+    partial = None
+    if stages_early is not None:  # the stresses and the contact's figure, before the torsional curve below
+        # (after the error estimate: nothing that follows can drop the contact, so neither is redone)
+        t_stress = time.perf_counter()
+        partial = stages_early.contact_solved(replace(result, contact=contact))
+        t0 += time.perf_counter() - t_stress  # the contact stage's time without the stresses and the callback
     dof = int(sum(contact.compliance.dof.values()))
     # the whole gear in torsion: both flanks (the left one built here), the compliance chain, K1–K3
     from .contact.chain import whole_gear_curve
@@ -550,6 +593,10 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early) -> 
         notes.append(f"torsional curve (both directions, compliance chain) failed, skipped: {exc}")
     else:
         notes += [f"torsional curve: {w}" for w in torsional.warnings]
+        if partial is not None:
+            t_call = time.perf_counter()
+            stages_early.on_stage(replace(partial, torsional=torsional))
+            t0 += time.perf_counter() - t_call
     whole = "" if torsional is None else (
         f"; whole gear K1/K2/K3 {torsional.k_nm_per_rad['total']['positive']['K1']:.3g}/"
         f"{torsional.k_nm_per_rad['total']['positive']['K2']:.3g}/"

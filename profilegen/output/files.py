@@ -20,7 +20,8 @@ from . import face as face_files
 if TYPE_CHECKING:  # pragma: no cover
     from ..pipeline import Design
 
-__all__ = ["OUTPUT_FILES", "WORKER_FILES", "figure_workers", "file_jobs", "profile_figures", "write_design"]
+__all__ = ["OUTPUT_FILES", "WORKER_FILES", "figure_workers", "file_jobs", "profile_figures", "stage_figures",
+           "write_design"]
 
 
 #: Every file name :func:`write_design` can write (the output folder may hold only these, see
@@ -69,11 +70,23 @@ def profile_figures(figures, design: Design, *, draw: bool | None = None) -> Non
     files a worker makes (:func:`file_jobs`). ``draw``: see :func:`write_design`."""
     from . import report
 
-    if _draws(design, draw):  # the PNGs keep the workers busy past the stages: the files are written here
+    if _draws(design, draw):
         figures.submit(report.png_jobs(design))
+        if figures.workers >= 2:  # the drawing and the flexspline's files too, while the load stages run
+            figures.submit(file_jobs(design))  # (one worker is the slower side: they are written here then)
     else:
         figures.submit(file_jobs(design))
     figures.submit(report.report_pieces(design))
+
+
+def stage_figures(figures, design: Design, *, draw: bool | None = None) -> None:
+    """Hand the figures of the load stages' results a design has so far (contact, stresses,
+    torsional curve: :func:`profilegen.pipeline.design`'s ``on_stage``) to ``figures``, when the
+    run draws PNGs (``draw``: see :func:`write_design`)."""
+    from . import report
+
+    if _draws(design, draw):
+        figures.submit(report.png_jobs(design))
 
 
 #: The files :func:`file_jobs` makes, by job: the drawing (ezdxf's import is most of its time),
@@ -187,8 +200,11 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
 
     pieces = report.html_jobs(result) if figure else {}  # last: while the workers draw, collect() makes them here
     draw = figure and _draws(result, draw)
-    # without PNGs, a worker makes these while the files here are written (with them, the workers are the slower side)
-    made = file_jobs(result) if figure and not draw else {}
+    # without PNGs, a worker makes these while the files here are written; with them, when they were handed
+    # to the workers with the profile (profile_figures, two workers or more; one is the slower side)
+    made = file_jobs(result) if figure else {}
+    if draw and made:
+        made = {name: job for name, job in made.items() if figures is not None and figures.has(name)}
     jobs = {**(report.png_jobs(result) if draw else {}), **made, **pieces} if figure else {}
     own = figures is None or not figure
     workers = report.FigureWorkers(min(report._default_workers(), len(jobs)), matplotlib=draw) if own else figures

@@ -817,7 +817,8 @@ def _init_worker(parent: int, matplotlib: bool = True) -> None:
 #: unpickle its first job.
 PRELOAD = ("matplotlib.figure", "matplotlib.backends.backend_agg", "profilegen.output.plot", "profilegen.output.report",
            "profilegen.arcfit", "profilegen.rootfillet", "profilegen.rim.stage", "profilegen.contact.analysis",
-           "profilegen.contact.chain", "profilegen.stress.stage")
+           "profilegen.contact.chain", "profilegen.stress.stage",
+           "ezdxf", "profilegen.output.drawing", "profilegen.output.flexspline")  # the files of files.file_jobs
 
 
 def _pool(workers: int, matplotlib: bool = True):
@@ -878,6 +879,10 @@ class FigureWorkers:
             future = self._submit(job)
             if future is not None:
                 self._futures[name] = future
+
+    def has(self, name: str) -> bool:
+        """Whether a job of this name has been handed over (to a worker, or to be made here)."""
+        return name in self._jobs
 
     def _submit(self, job: tuple[Callable, tuple]):
         if self._no_pool:
