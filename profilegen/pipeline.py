@@ -310,8 +310,9 @@ def design(
     contact, no stresses yet), before the load stages run: the CLI's figure workers start
     drawing the profile's figures then (:class:`profilegen.output.report.FigureWorkers`).
 
-    ``on_stage``: called with the design as it stands each time the load stages add a result the
-    files draw: once the contact is solved and checked (with its stresses, which need only the
+    ``on_stage``: called with the design as it stands each time a stage adds a result the files
+    draw: once the envelope is traced (no CS form yet: ``form`` is None), once the contact is
+    solved and checked (with its stresses, which need only the
     contact's tooth forces and are computed then, before the contact's torsional curve), and
     once the torsional curve is there. The stage reports, warnings and numbers are
     those of the contact stage followed by the stress stage either way.
@@ -408,6 +409,9 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
                               env.time_s, scene.chord_tol_mm, "chord error of the traced envelope (mm)"))
     if env.flank.get("chains", 1) > 1:
         warnings.append(f"the swept boundary is in {env.flank['chains']} pieces; the CS outline uses the longest")
+    if on_stage is not None:  # the rim's and the envelope's figures can be drawn from here on
+        on_stage(Design(gearset, scene, tooth, deformation, motion, env, None, tuple(stages), tuple(warnings),
+                        rim=rim, face=face))
 
     step("gearform")
     t0 = time.perf_counter()

@@ -80,9 +80,9 @@ def profile_figures(figures, design: Design, *, draw: bool | None = None) -> Non
 
 
 def stage_figures(figures, design: Design, *, draw: bool | None = None) -> None:
-    """Hand the figures of the load stages' results a design has so far (contact, stresses,
-    torsional curve: :func:`profilegen.pipeline.design`'s ``on_stage``) to ``figures``, when the
-    run draws PNGs (``draw``: see :func:`write_design`)."""
+    """Hand the figures of the stage results a design has so far (the rim and envelope, then the
+    contact, stresses and torsional curve: :func:`profilegen.pipeline.design`'s ``on_stage``) to
+    ``figures``, when the run draws PNGs (``draw``: see :func:`write_design`)."""
     from . import report
 
     if _draws(design, draw):

@@ -1,5 +1,5 @@
-"""design(on_stage=...): the load stages hand their results over as they come (the contact with
-its stresses, then the torsional curve), and the design is the one computed without the callback
+"""design(on_stage=...): the stages hand their results over as they come (the envelope, the
+contact with its stresses, then the torsional curve), and the design is the one computed without the callback
 (the stresses solved early are the same numbers, reported after the contact as before)."""
 
 from __future__ import annotations
@@ -40,10 +40,11 @@ def _same(a, b, where=""):
 def test_load_stages_handed_over_as_they_come(default_gearset, default_sketch_contact):
     seen = []
     result = pg.design(default_gearset, scene="sketch", contact=True, on_stage=seen.append)
-    assert [(p.contact is not None, p.stress is not None, p.torsional is not None) for p in seen] == [
-        (True, True, False), (True, True, True)]
-    assert seen[0].stress is seen[1].stress is result.stress  # solved once, early, and reported
-    assert seen[1].torsional is result.torsional and seen[0].contact is result.contact
+    assert [(p.form is not None, p.contact is not None, p.stress is not None, p.torsional is not None)
+            for p in seen] == [(False, False, False, False), (True, True, True, False), (True, True, True, True)]
+    assert seen[0].envelope is result.envelope and seen[0].rim is result.rim  # the envelope's figure from here
+    assert seen[1].stress is seen[2].stress is result.stress  # solved once, early, and reported
+    assert seen[2].torsional is result.torsional and seen[1].contact is result.contact
     assert [s.stage for s in result.stages] == [s.stage for s in default_sketch_contact.stages]  # contact, then stress
     assert result.warnings == default_sketch_contact.warnings
     _same(_timeless(result.to_dict()), _timeless(default_sketch_contact.to_dict()))
