@@ -26,7 +26,7 @@ included), the backlash, the smallest two-flank play of any slice (negative: the
 interfere there at no load, and the one-flank curve is not the gear), the compliance the
 slices add to the 2D curve's at T1 and T2 (secants, rad/(N·m)), and CPU seconds. With
 ``--timing``: the design run's whole curve (curve_torques_nm, ≥ 32 torques both ways) with
-the flanks reused, median of 3, for each N.
+the flanks reused, median of 3, for each N (design scene, and the verify scene's face-end nodes).
 """
 
 from __future__ import annotations
@@ -79,10 +79,48 @@ def _play(inputs, sides, spec) -> float:
 
     first = {}
     for s, (pts, _) in sides.items():
-        _, de = slice_gap_shifts(inputs, pts, spec.slices, coning=spec.coning, cup=spec.cup,
+        _, de = slice_gap_shifts(inputs, pts, spec.slices, coning=spec.coning, cup=spec.cup, nodes=spec.nodes,
                                  design_z_mm=spec.design_z_mm, modification=spec.modification)
         first[s] = ((pts.gap_mm[None, :] + de) / pts.lever_mm[None, :]).min(axis=1)
     return float((first[1] + first[-1]).min()) * ARCMIN_PER_RAD
+
+
+def _face_load(inputs, sides, chain, spec, torque_nm) -> None:
+    """The load per slice at ``torque_nm`` on the loaded flank (the curve's model: every ball one-sided
+    with its Hertz spring in every slice), against the 2D solve spread evenly (S_2D/b)."""
+    from profilegen.contact.face_curve import slice_layout
+    from profilegen.contact.reduced import _ReducedZone
+
+    def solve(pts, comp, bearing):
+        zone = _ReducedZone(pts, comp, bearing)
+        loaded = np.zeros(pts.count, bool)
+        loaded[int(np.argmin(pts.theta_rad))] = True
+        out = zone.solve(torque_nm, (loaded, np.asarray(comp.ball_active, bool), None), springs_on=True,
+                         max_iterations=400, spring_tol=1e-5)
+        if out is None:
+            raise RuntimeError("face_curve benchmark: the reduced solve did not settle")
+        return out
+
+    pts2, comp2 = sides[1]
+    flat = solve(pts2, comp2, chain.bearing)
+    stacked, new_chain, _ = spec.apply(inputs, sides, chain)
+    pts, comp = stacked[1]
+    out = solve(pts, comp, new_chain.bearing)
+    b = float(comp2.face_width_mm)
+    zeta, w = slice_layout(b, spec.slices, spec.nodes)
+    f = out["force"].reshape(spec.slices, pts2.count)
+    teeth, slot = np.unique(pts2.tooth, return_inverse=True)
+    per_tooth = np.array([np.bincount(slot, weights=fi, minlength=teeth.size) for fi in f])
+    flat_tooth = np.bincount(slot, weights=flat["force"], minlength=teeth.size)
+    line = f.sum(axis=1) / w
+    peak = float((per_tooth / w[:, None]).max())
+    uniform = float(flat_tooth.max()) / b
+    print(f"  load across the face at {torque_nm:g} N·m ({spec.slices} slices, {spec.nodes}): line load per slice "
+          f"(N/mm, from the diaphragm end) " + " ".join(f"{v:.0f}" for v in line)
+          + f"; even spread {flat['force'].sum() / b:.0f}; peak line load of one tooth {peak:.1f} N/mm against "
+          f"max F_2D/b {uniform:.1f} (×{peak / uniform:.2f}); teeth loaded per slice "
+          + " ".join(str(int(np.count_nonzero(pt > 0))) for pt in per_tooth)
+          + f" (2D {int(np.count_nonzero(flat_tooth > 0))})")
 
 
 def _cases(label, inputs, cat, cup, design_z, modification, slices, conings, timing, nodes="midpoint"):
@@ -111,17 +149,20 @@ def _cases(label, inputs, cat, cup, design_z, modification, slices, conings, tim
                 tag = f"{coning} N={n}" + ("" if nodes == "midpoint" else f" {nodes}") + ("" if mod is None or mod is modification else " unmodified") + \
                     ("" if mod is not None or modification is None else " straight")
                 _row(tag, curve, cat, base, t1, t2, t3, t_lm, _play(inputs, sides, spec), cpu)
+    if nodes == "ends" and conings:
+        _face_load(inputs, sides, chain, FaceSlices(max(slices), conings[0][0], cup, design_z, conings[0][1][0],
+                                                    nodes=nodes), float(gs.torque.rated_nm))
     if timing:
         all_t = curve_torques_nm(gs, (t1, t2))
         for n in slices:
-            spec = FaceSlices(n, conings[0][0], cup, design_z, conings[0][1][0])
+            spec = FaceSlices(n, conings[0][0], cup, design_z, conings[0][1][0], nodes=nodes)
             runs = []
             for _ in range(3):
                 c0 = time.process_time()
                 torsional_curve(inputs, all_t, chain=chain, catalogue=cat, breakpoints_nm=(t1, t2), sides=sides,
                                 face_slices=spec)
                 runs.append(time.process_time() - c0)
-            print(f"  whole curve ({all_t.size} torques) with face_slices={n}: {statistics.median(runs):.2f} s CPU "
+            print(f"  whole curve ({all_t.size} torques) with face_slices={n} ({nodes}): {statistics.median(runs):.2f} s CPU "
                   f"(median of 3; flanks reused, the cup's sections and slices built each time)")
 
 
@@ -155,7 +196,7 @@ def run(path: Path, slices, verify_slices, ends_slices, verify: bool, timing: bo
     _cases("verify scene (as made)", vin, cat, vd.rim.cup, face.design_section_z_mm, mod, verify_slices, conings, False)
     if ends_slices:
         _cases("verify scene (as made), nodes on the face ends (trapezoid rule)", vin, cat, vd.rim.cup,
-               face.design_section_z_mm, mod, ends_slices, (("cup", (mod,)),), False, nodes="ends")
+               face.design_section_z_mm, mod, ends_slices, (("cup", (mod,)),), timing, nodes="ends")
 
 
 def main() -> None:
