@@ -153,8 +153,12 @@ def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.n
     raise ConvergenceError("climb.solve_lcp: the candidate set did not settle")
 
 
+#: the sliding speed (mm per rad of φ) over which the "-elastic" senses' friction turns from
+#: −μN to +μN (a regularised Coulomb law; the kinematic sliding speeds are 0.02–1 mm/rad)
+SLIP_SPEED = 0.01
+
 #: the friction's sliding senses (DesignClimb ``friction_sliding``)
-SLIDING = ("static", "forward", "backward")
+SLIDING = ("static", "unloading", "forward", "backward", "forward-elastic", "backward-elastic")
 
 
 class ClimbError(ProfilegenError, ValueError):
@@ -638,6 +642,11 @@ class DesignClimb:
         if self._friction:
             # the force on the CS per unit normal force: n + μσ t (t = the tangent out of the
             # space, σ = +1 sliding out, −1 in); its radial part for the CS ring and its lever
+            if self._elastic and self.teeth.size > 1:
+                ds = np.gradient(np.asarray(s, dtype=float), self.phis)
+                # Coulomb's sign regularised over ±SLIP_SPEED (a station whose sliding stops
+                # in the iteration must not flip its force back and forth)
+                self._sigma = np.clip((self.sliding_speed + ds[self.slot] * self._er_t) / SLIP_SPEED, -1.0, 1.0)
             ms = self._mu * self._sigma
             te = self._js * self._tp_flank
             if ci.size:
@@ -655,6 +664,7 @@ class DesignClimb:
 
         self._friction = sliding is not None
         self._mu = float(mu)
+        self._elastic = False
         if not self._friction:
             if self._mu != 0.0:
                 raise ClimbError(f"friction_coefficient = {mu!r}: needs friction_sliding (one of {SLIDING})")
@@ -694,8 +704,8 @@ class DesignClimb:
         self._tx = (tt[:, 0] * ee[:, 1] - tt[:, 1] * ee[:, 0]) / dd
         self._ty = (nn_[:, 0] * tt[:, 1] - nn_[:, 1] * tt[:, 0]) / dd
         self._rad = self.sin_alpha.copy()
-        if sliding == "static":
-            self._sigma = np.ones(pts.count)
+        if sliding in ("static", "unloading"):  # every tooth sliding out of its space / back in
+            self._sigma = np.full(pts.count, 1.0 if sliding == "static" else -1.0)
             self.sliding_speed = self.sliding_velocity = None
             return
         # running: the station's motion relative to its CS space as the tooth goes through the
@@ -705,7 +715,8 @@ class DesignClimb:
         h = 1e-6
         pose_p, pose_m = inputs.motion.pose(pts.phi_rad + h), inputs.motion.pose(pts.phi_rad - h)
         v = (pose_p.to_cs(pts.local_mm) - pose_m.to_cs(pts.local_mm)) / (2.0 * h)
-        v *= -self.rotation * (1.0 if sliding == "forward" else -1.0)
+        way = 1.0 if sliding.startswith("forward") else -1.0
+        v *= -self.rotation * way
         #: the stations' velocity relative to their CS spaces (space 0's frame, mm per rad of |φ|)
         self.sliding_velocity = v
         back = -2.0 * math.pi * pts.tooth / inputs.gearset.gear.circular_spline_teeth
@@ -714,6 +725,12 @@ class DesignClimb:
         #: < 0: into the space)
         self.sliding_speed = np.einsum("ij,ij->i", v, t0)
         self._sigma = np.sign(self.sliding_speed)
+        # "-elastic": the teeth's retreat s(φ) is stationary in the wave generator's frame, so a
+        # tooth running through the zone also moves by −ds/dφ e_r per unit of φ: along t
+        # (forward, φ falling for rotation +1) rotation · ds/dφ · (e_r·t) — σ from the sum,
+        # with s the fixed point's current iterate (geometry)
+        self._elastic = sliding.endswith("-elastic")
+        self._er_t = way * self.rotation * np.einsum("ij,ij->i", self._e0[self.slot], t0)
 
     def _surface_normal(self, p):
         """The CS space's unit normal (either sense) at the nearest point of each of ``p``: of

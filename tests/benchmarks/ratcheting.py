@@ -22,12 +22,16 @@ unperturbed one — the estimate must be continuous in the geometry. ``--frictio
 (engineer D): the climb with Coulomb friction μ on the tooth contacts for each ``--sliding``
 sense (static pull-out: every tooth sliding out of its space; forward: running with the wave
 generator driving the load, the sense per station from the kinematics; backward: the load
-driving), each estimate against the frictionless one and the catalogue; then, for the largest
+driving; forward-elastic / backward-elastic: the same with the change of the teeth's retreat
+along the zone added to the sliding), each estimate against the frictionless one and the
+catalogue; then, for the largest
 μ running forward, at the path's last point: the load share of the stations sliding into /
 out of their spaces, the share whose sliding the teeth's elastic retreat s(φ) (as the tooth
 runs through the loaded zone) would reverse (the kinematic sense is an assumption), and the
 smallest eigenvalue of the symmetric part of S on the loaded stations (> 0: S is a P-matrix
-there, Lemke's method has the one solution). ``--friction-only``: only that.
+there, Lemke's method has the one solution). ``--hysteresis M1,M2``: the mesh's φ(T) loading
+(teeth sliding out) and unloading (sliding in) with friction μ, the loop's width at T1, T2
+and the rated torque. ``--friction-only``: only the friction studies.
 
 The climb (profilegen.contact.climb, the default estimate since helper E2): per set the
 linear estimate (climb=False, E's ladder), the climb's estimate with its path (rotation,
@@ -69,7 +73,8 @@ from profilegen.contact.ratchet import (  # noqa: E402
 
 SETS = [ROOT / "profiles" / "seed000_csf40.toml", ROOT / "profiles" / "csf32_100.toml", Path(pg.default_gearset_path())]
 ARGS = {"climb_only": False, "ring_scale": [], "shift": [], "positions": 0, "face": [], "parts": False, "perturb": [],
-        "friction": [], "sliding": ["static", "forward", "backward"], "friction_only": False}
+        "friction": [], "sliding": ["static", "forward", "backward", "forward-elastic", "backward-elastic"],
+        "friction_only": False, "hysteresis": []}
 
 
 def _climb_setup(gs, design, **kw):
@@ -294,6 +299,46 @@ def friction_run(gs, design) -> None:
         friction_check(gs, design, mu)
 
 
+def hysteresis_run(gs, design) -> None:
+    """--hysteresis M1,M2: the mesh's rotation φ(T) loading (every tooth sliding out of its
+    space: "static") and unloading (sliding back in: "unloading") with friction μ, and the
+    loop's width at T1, T2 and the rated torque (the climb's φ: mesh, balls, CS ring — no cup,
+    no chain). Sliding without stick: at T → 0 every contact opens and the loop closes."""
+    import math
+
+    import numpy as np
+    from threadpoolctl import threadpool_limits
+
+    from profilegen.contact.chain import catalogue_for
+    from profilegen.contact.climb import climb
+
+    rated = float(gs.torque.rated_nm)
+    row = catalogue_for(gs) or {}
+    marks = [row.get("T1_nm") or 0.2 * rated, row.get("T2_nm") or 0.74 * rated, rated]
+    arcmin = 180.0 * 60.0 / math.pi
+    print(f"\n-- hysteresis of the mesh from friction: φ(T) loading − unloading at T = {marks} N·m (arcmin)")
+    base = _climb_setup(gs, design)
+    theta, phi = base.first_rotation(rated)
+    step = 0.125 * (phi - theta)
+
+    def curve(model):
+        with threadpool_limits(limits=1, user_api="blas"):
+            path = climb(model, theta + 2.0 * step, step, grow=1.0, max_steps=60, refine=0, max_torque_nm=1.05 * rated)
+        t, f = path.column("torque_nm"), path.column("phi_rad")
+        if t.max() < max(marks):
+            raise RuntimeError(f"hysteresis: the path reached only {t.max():.4g} N·m ({path.criterion})")
+        return np.interp(marks, t, f)
+
+    ref = curve(base)
+    print(f"  μ = 0: φ = {np.round(ref * arcmin, 4).tolist()} arcmin")
+    for mu in ARGS["hysteresis"]:
+        t0 = time.process_time()
+        up = curve(_climb_setup(gs, design, friction_coefficient=mu, friction_sliding="static"))
+        down = curve(_climb_setup(gs, design, friction_coefficient=mu, friction_sliding="unloading"))
+        print(f"  μ = {mu:g}: loading {np.round(up * arcmin, 4).tolist()}, unloading {np.round(down * arcmin, 4).tolist()}; "
+              f"width {np.round((down - up) * arcmin, 4).tolist()} arcmin ({time.process_time() - t0:.1f} s CPU)")
+
+
 def friction_check(gs, design, mu) -> None:
     """At the last point of the forward-running climb with μ: who slides which way, whether
     the elastic retreat's change along the zone would reverse it, and the P-matrix check."""
@@ -338,10 +383,12 @@ def run(path: Path) -> None:
     t0 = time.process_time()
     design = pg.design(gs, scene="design", contact=False, stress=False)
     print(f"design scene: {time.process_time() - t0:.2f} s CPU")
+    if ARGS["hysteresis"]:
+        hysteresis_run(gs, design)
     if ARGS["friction"]:
         friction_run(gs, design)
-        if ARGS["friction_only"]:
-            return
+    if ARGS["friction_only"]:
+        return
     climb_run(gs, design)
     if ARGS["positions"]:
         positions_run(gs, design)
@@ -416,9 +463,10 @@ def main() -> None:
     ap.add_argument("--perturb", type=floats, default=[], help="flank offsets in nm, e.g. 1,-1,100,-100")
     ap.add_argument("--parts", action="store_true")
     ap.add_argument("--friction", type=floats, default=[], help="Coulomb coefficients on the teeth, e.g. 0,0.05,0.1")
-    ap.add_argument("--sliding", type=lambda t: t.split(","), default=["static", "forward", "backward"],
-                    help="the senses of sliding friction opposes: static,forward,backward")
-    ap.add_argument("--friction-only", action="store_true", help="with --friction: only the friction study")
+    ap.add_argument("--sliding", type=lambda t: t.split(","), default=ARGS["sliding"],
+                    help="the senses of sliding friction opposes: " + ",".join(ARGS["sliding"]))
+    ap.add_argument("--friction-only", action="store_true", help="only the friction studies (--friction, --hysteresis)")
+    ap.add_argument("--hysteresis", type=floats, default=[], help="μ for the loading/unloading width, e.g. 0.1")
     args = ap.parse_args()
     ARGS.update({k: v for k, v in vars(args).items() if k != "sets"})
     for path in args.sets or SETS:

@@ -471,7 +471,7 @@ def running(design):
     from profilegen.contact.inputs import ContactInput
 
     return DesignClimb(ContactInput.from_design(design), side=1, stations=5, max_gap_mm=0.08, race_thickness_mm=None,
-                       bearing=None, ring_factory=None, friction_coefficient=0.1, friction_sliding="forward")
+                       bearing=None, ring_factory=None, friction_coefficient=0.1, friction_sliding="forward-elastic")
 
 
 def test_friction_zero_is_the_frictionless_climb(design, corner_model):
@@ -501,7 +501,7 @@ def test_running_forward_the_wave_generator_pushes_the_loaded_teeth_in(running):
     past the major axis leaves), and friction tilts those forces toward the radial."""
     m = running
     theta, phi = m.first_rotation(265.0)
-    f, _ = _respond(m, np.zeros(m.teeth.size), phi)
+    f, _ = _respond(m, np.zeros(m.teeth.size), phi)  # no retreat: the kinematic sense
     on = f > 1e-6 * f.max()
     assert on.sum() >= 5
     e_r = m._e0[m.slot]
@@ -514,8 +514,36 @@ def test_running_forward_the_wave_generator_pushes_the_loaded_teeth_in(running):
     p = m._p0
     omega = np.einsum("ij,ij->i", v, np.column_stack([p[:, 1], -p[:, 0]])) / np.einsum("ij,ij->i", p, p)
     assert np.sign(f @ omega) == -m.rotation
-    into = m._sigma == -1.0
+    into = m._sigma < 0.0
     clear = on & (np.abs(v_r) > 0.02)  # moving radially: the sense along the flank is the radial one
-    assert f[into].sum() > 0.8 * f.sum() and np.all(np.sign(v_r[clear]) == -m._sigma[clear])
+    assert f[into].sum() > 0.8 * f.sum() and np.all(np.sign(v_r[clear]) == -np.sign(m._sigma[clear]))
     # so the radial part of the force on the CS grows with μ on them (sin α + μ cos α), falls on the others
     assert np.all(m._rad[on & into] > m.sin_alpha[on & into]) and np.all(m._rad[on & ~into] < m.sin_alpha[on & ~into])
+
+
+def test_running_sense_follows_the_retreat_along_the_zone(running, design):
+    """"-elastic": the retreat s(φ) is stationary in the wave generator's frame, so a tooth
+    running through the zone moves by −ds/dφ e_r besides its kinematic motion. A retreat that
+    grows twice as fast as the tooth's kinematic radial place r(φ) (its tip-land centre, from
+    the kinematics here) reverses every tooth's radial motion: the stations that slide mostly
+    radially change sense; a uniform retreat changes none."""
+    from profilegen.contact.inputs import ContactInput
+
+    m = running
+    inputs = ContactInput.from_design(design)
+    tip = np.array([0.0, float(inputs.tooth.tip_point[1])])
+    r = np.hypot(*inputs.motion.pose(m.phis).to_cs(np.broadcast_to(tip, (m.phis.size, 2)).copy()).T)
+    m.geometry(np.zeros(m.teeth.size))
+    kinematic = m._sigma.copy()
+    m.geometry(np.full(m.teeth.size, 0.05))
+    np.testing.assert_array_equal(m._sigma, kinematic)
+    m.geometry(2.0 * (r - r.max()))
+    # the stations whose sliding along the flank is mostly their radial motion's
+    e_r = m._e0[m.slot]
+    t = m._js[:, None] * np.column_stack([-m._n0[:, 1], m._n0[:, 0]])
+    v_r = np.einsum("ij,ij->i", m.sliding_velocity, e_r) * np.einsum("ij,ij->i", e_r, t)
+    radial = (np.abs(v_r) > 3.0 * np.abs(m.sliding_speed - v_r)) & (np.abs(v_r) > 0.05)
+    radial[np.isin(m.slot, [0, m.teeth.size - 1])] = False  # ds/dφ one-sided at the ends
+    assert radial.sum() > 20
+    np.testing.assert_array_equal(np.sign(m._sigma[radial]), -np.sign(kinematic[radial]))
+    m.geometry(np.zeros(m.teeth.size))
