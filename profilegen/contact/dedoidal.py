@@ -25,11 +25,16 @@ Model (:class:`TwoZoneClimb`, a model for :func:`profilegen.contact.climb.climb`
 * **The translation** of the FS ring against the CS, τ (2 components, mm), and of the cam, c:
   every load's separation changes by d·τ (d its direction on the FS; the balls' by e_r·(τ − c)).
   The cam floats (``wave_generator="floating"``: Σ R e_r = 0 on it) or is held on the CS axis
-  ("held"). The FS ring is free (``cup_stiffness_n_per_mm`` = 0: Σ loads on it = 0) or held
-  by the cup's lateral spring k toward the output bearing's axis, which stands ``e`` (the
-  assembly eccentricity, ``eccentricity_mm`` along ``eccentricity_direction_rad`` from the major
-  axis) off the CS axis: Σ loads = k (τ − e). With k = 0 an eccentricity is absorbed exactly
-  (the whole FS/WG assembly shifts by it). ``translation_mm`` prescribes τ (the n = 1 stiffness).
+  ("held"). The FS ring is free (``cup_stiffness_n_per_mm`` = 0: Σ loads on it + P = 0, P an
+  ``external_force_n`` on the assembly) or held by the cup's lateral spring k toward the output
+  bearing's axis, which stands ``e`` (the assembly eccentricity, ``eccentricity_mm`` along
+  ``eccentricity_direction_rad`` from the major axis) off the CS axis: Σ loads + P = k (τ − e).
+  With k = 0 an eccentricity is absorbed exactly (the whole FS/WG assembly shifts by it).
+  :meth:`TwoZoneClimb.from_design` takes k = 0 only: the whole ring's τ is gauged at its bore
+  on the major axis (TwoZoneContact's held node; under the symmetric load it moves 92 µm at
+  seed000_csf40's limit), not at the ring's centre, which a spring would need; an eccentricity
+  held by the cup enters there as the load P = k_c e. ``translation_mm`` prescribes τ (the
+  n = 1 stiffness; gauge-free where it vanishes).
 * **The retreat** of tooth k is its probe's separation: the FS side (the ring's and balls'
   response to every load of both zones) plus −e_r,k·τ (a translation toward the tooth pushes
   it into its space) plus the CS ring's: s = P x + D_probe τ + s_CS. The geometry is evaluated
@@ -42,6 +47,17 @@ system from the last loaded set, else by Newton ascent on the concave dual in th
 with the climb's NNLS solve inside; the retreat's fixed point by the climb's Anderson
 iteration. Left out: the translation's tangential part enters the gaps linearly (its normal
 is the station's at no shift); the cup's tilt; the CS's own n = 1 (held by the housing).
+
+Numbers (design scene, ``python tests/benchmarks/dedoidal.py``; catalogue CSF-40-100 2100 N·m):
+seed000_csf40's two-zone climb with no imperfection is the one-zone climb, 4749.0 N·m both
+(zones 2374.5 each). Along it the eccentric mode's smallest stiffness eigenvalue is 2–5·10⁴ N/mm
+(K_xx ~ 10⁶) up to ~3800 N·m, falls to ~1·10⁴ above ~4100 N·m and is negative at isolated path
+points (4290.6 N·m: −7·10⁴ for δ = 0.25…10 µm; 4722 N·m), stable again between them: the first
+crossing, 4128 N·m (×1.97), is the lowest the n = 1 mode gives here. A radial load on the FS/WG
+(100 N: the path's own check gives way at 4589 N·m; 1225 / 2451 N, an eccentricity of 5 / 10 µm
+held by an upper-bound cup stiffness 2.45·10⁵ N/mm: paths end at 4425 / 4855 N·m, stable
+throughout). So the n = 1 mode moves the estimate by −13 … +2 %: it is not what puts the model
+at ×2.26 of the catalogue.
 
 The n = 1 stiffness (:func:`n1_stiffness`): on a path point, τ prescribed ± δ along x and y,
 the retreat's fixed point solved again, K = −∂(Σ loads on the FS)/∂τ (2 × 2, N/mm); the
@@ -194,6 +210,11 @@ class TwoZoneClimb:
 
         if getattr(zone, "_ci", None) is None or not hasattr(zone, "points"):
             raise DedoidalError(f"zone = {zone!r}: must be a profilegen.contact.climb.DesignClimb")
+        if float(options.get("cup_stiffness_n_per_mm", 0.0)) != 0.0:
+            raise DedoidalError(f"cup_stiffness_n_per_mm = {options['cup_stiffness_n_per_mm']!r} N/mm: must be 0 here "
+                                "— the whole ring's translation is gauged at its bore on the major axis, not at its "
+                                "centre, so a spring on it would act on the ring's own deformation; give the load the "
+                                "cup puts on the assembly as external_force_n (k_c e for an eccentricity e)")
         pts = zone.points
         gs = inputs.gearset
         z2 = gs.gear.circular_spline_teeth
