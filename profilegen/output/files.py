@@ -49,6 +49,17 @@ def figure_workers(workers: int | None = None, *, draw: bool = True):
     if not draw:  # the report's two pieces and the drawing: one worker has time for them, beside the stages
         workers = min(1, report._default_workers() if workers is None else int(workers))
     figures = report.FigureWorkers(workers, matplotlib=draw)
+    try:
+        _start(figures, draw)
+    except BaseException:  # a Ctrl-C here, before the caller's with-block owns them: end them now
+        figures.close(error=True)
+        raise
+    return figures
+
+
+def _start(figures, draw: bool) -> None:
+    from . import report
+
     if not draw:  # the workers fork now, start on the seed tables (no design needed) and ezdxf's import (~0.4 s)
         figures.submit(report.SEED_TABLES_JOB)
         figures.submit({"ezdxf": (_import_ezdxf, ())})
@@ -57,7 +68,6 @@ def figure_workers(workers: int | None = None, *, draw: bool = True):
         # (report._pool). One worker forks when the profile comes (profile_figures), inheriting the stage
         # modules the parent has loaded by then (~0.6 s CPU to import for unpickling the jobs)
         figures.submit(report.SEED_TABLES_JOB)
-    return figures
 
 
 def _import_ezdxf() -> None:

@@ -28,6 +28,7 @@ import importlib
 import logging
 import os
 import pickle
+import queue
 import signal
 import threading
 from collections.abc import Callable, Sequence
@@ -141,6 +142,13 @@ def _serve(conn, other_end, parent: int, workers: int, preload: Sequence[str], n
             conn.close()
 
 
+def _end_at_exit(proc) -> None:
+    if proc.exitcode is None:
+        with contextlib.suppress(OSError, ValueError, AttributeError):
+            proc.kill()  # its workers die with it
+        proc.join(2.0)
+
+
 class _Job(Future):
     """A job's Future in the caller; ``cancel()`` asks the server (True while no worker has it)."""
 
@@ -168,13 +176,33 @@ class ServerPool:
                                  args=(theirs, self._conn, os.getpid(), int(workers), tuple(preload), int(nice)))
         self._proc.start()
         theirs.close()
+        # at exit, before multiprocessing joins its children: a server nobody closed (the caller
+        # stopped between forking it and taking it) is ended, not waited for
+        from multiprocessing import util
+
+        util.Finalize(self, _end_at_exit, args=(self._proc,), exitpriority=100)
         self._lock = threading.Lock()  # the sends, the tables below
         self._jobs: dict[int, _Job] = {}
         self._answers: dict[int, list] = {}
         self._next = 0
         self._broken = False
+        # the messages go out from a thread of their own: a send blocks while the pipe is full, i.e.
+        # while the server is still importing (the jobs given with the envelope come before it is done)
+        self._outbox: queue.SimpleQueue = queue.SimpleQueue()
+        self._sender = threading.Thread(target=self._send, name="profilegen-figures-sender", daemon=True)
+        self._sender.start()
         self._reader = threading.Thread(target=self._read, name="profilegen-figures-reader", daemon=True)
         self._reader.start()
+
+    def _send(self) -> None:
+        while True:
+            msg = self._outbox.get()
+            try:
+                self._conn.send(msg)
+            except (OSError, ValueError):  # the server has ended: the reader fails the jobs still out
+                return
+            if msg is None:
+                return
 
     def submit(self, func: Callable, *args) -> Future:
         with self._lock:
@@ -189,11 +217,7 @@ class ServerPool:
                 job.set_exception(exc)
                 return job
             self._jobs[jid] = job
-            try:
-                self._conn.send(("job", jid, payload))
-            except (OSError, ValueError) as exc:
-                del self._jobs[jid]
-                job.set_exception(BrokenProcessPool(f"the figure server cannot be reached ({exc})"))
+            self._outbox.put(("job", jid, payload))
         return job
 
     def _cancel(self, jid: int) -> bool:
@@ -202,11 +226,7 @@ class ServerPool:
             if self._broken or jid not in self._jobs:
                 return False
             self._answers[jid] = answer
-            try:
-                self._conn.send(("cancel", jid))
-            except (OSError, ValueError):
-                self._answers.pop(jid, None)
-                return False
+            self._outbox.put(("cancel", jid))
         answer[0].wait(30.0)
         with self._lock:
             self._answers.pop(jid, None)
@@ -254,9 +274,9 @@ class ServerPool:
     def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
         """Tell the server to stop once its workers have finished what they run (jobs no worker
         has started are dropped), and wait for it with ``wait``."""
-        with self._lock, contextlib.suppress(OSError, ValueError):
-            self._conn.send(None)
+        self._outbox.put(None)
         if wait:
+            self._sender.join()
             self._proc.join()
             self._reader.join(5.0)
             with contextlib.suppress(OSError):
@@ -271,8 +291,11 @@ class ServerPool:
             with contextlib.suppress(OSError, ValueError, AttributeError):
                 self._proc.kill()
             self._proc.join(grace_s)
-        with contextlib.suppress(OSError):
-            self._conn.close()
+        self._outbox.put(None)  # the sender ends: its send fails on the closed pipe, or it sends this
+        self._sender.join(grace_s)
+        if not self._sender.is_alive():  # (never close a descriptor another thread may still write to)
+            with contextlib.suppress(OSError):
+                self._conn.close()
         self._reader.join(grace_s)
         if self._proc.exitcode is None:
             log.warning("figures: the server process %s did not stop", self._proc.pid)

@@ -83,3 +83,27 @@ def test_stop_ends_the_server_and_its_workers():
     while _alive(first) and time.monotonic() < end:  # the worker dies with the server (PR_SET_PDEATHSIG)
         time.sleep(0.05)
     assert not _alive(first) and not _alive(pool._proc.pid)
+
+
+def test_a_ctrl_c_while_the_figure_workers_start_ends_the_server(monkeypatch):
+    """figure_workers() forks the server and hands it its first job before the caller's with-block
+    owns it: an interrupt there ends the server (else the run's exit would wait for it forever)."""
+    from profilegen.output import files, report
+
+    made = []
+    real = report._pool
+
+    def pool(workers, matplotlib=True):
+        made.append(real(workers, matplotlib))
+        return made[-1]
+
+    def interrupted(self, jobs):
+        self._submit(next(iter(jobs.values())))  # the pool forks, then the Ctrl-C
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(report, "_pool", pool)
+    monkeypatch.setattr(report.FigureWorkers, "submit", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        files.figure_workers(2, draw=True)
+    assert len(made) == 1 and isinstance(made[0], ServerPool)
+    assert made[0]._proc.exitcode is not None  # ended, not left waiting for work
