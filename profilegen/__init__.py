@@ -30,15 +30,7 @@ True
 True
 """
 
-from .deformation import HarmonicDeformation, ring_theory
-from .envelope import Envelope, envelope_of
 from .errors import ConvergenceError, EnvelopeError, ExportError, GearSetError, ProfilegenError, ToothError
-from .gearform import CircularSplineForm, circular_spline_form, clearance_map
-from .gearset import GearSet, default_gearset_path, list_profiles, load_gearset, parse_gearset, resolve_gearset
-from .kinematics import HarmonicDriveMotion, RackMotion
-from .pipeline import Design, design
-from .scenes import SCENES, Scene
-from .teeth import ToothProfile, dcta_tooth, involute_tooth, points_tooth, tooth_from_gearset
 
 __all__ = [
     "CircularSplineForm",
@@ -82,9 +74,22 @@ __all__ = [
 
 __version__ = "0.1.0"
 
-# the rim FEM and the series fitters pull in scipy's solvers (~0.3 s), the output layer its writers: loaded on first use
+# every name but the errors is loaded on first use: the rim FEM and the series fitters pull in scipy's
+# solvers (~0.3 s), the output layer its writers, the stages numpy, scipy.spatial and shapely. The
+# command line (``python -m profilegen``, the ``profilegen`` script) imports only the package and its
+# cli before main() starts, so a Ctrl-C during the imports that follow ends it like one during the
+# stages (exit 130, one line), not with a traceback out of the package's import.
 _LAZY = {"write_design": "output.files", "RimDeformation": "rim", "solve_rim": "rim", "solve_ring": "rim", "fit_fourier": "series",
-         "fit_sine_series": "series"}
+         "fit_sine_series": "series",
+         **dict.fromkeys(("HarmonicDeformation", "ring_theory"), "deformation"),
+         **dict.fromkeys(("Envelope", "envelope_of"), "envelope"),
+         **dict.fromkeys(("CircularSplineForm", "circular_spline_form", "clearance_map"), "gearform"),
+         **dict.fromkeys(("GearSet", "default_gearset_path", "list_profiles", "load_gearset", "parse_gearset",
+                          "resolve_gearset"), "gearset"),
+         **dict.fromkeys(("HarmonicDriveMotion", "RackMotion"), "kinematics"),
+         **dict.fromkeys(("Design", "design"), "pipeline"),
+         **dict.fromkeys(("SCENES", "Scene"), "scenes"),
+         **dict.fromkeys(("ToothProfile", "dcta_tooth", "involute_tooth", "points_tooth", "tooth_from_gearset"), "teeth")}
 
 
 def __getattr__(name):
@@ -98,4 +103,14 @@ def __getattr__(name):
         value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
         globals()[name] = value
         return value
+    if not name.startswith("_"):  # a submodule not imported yet (profilegen.kinematics.turn, as when the package imported it)
+        import importlib
+        import importlib.util
+
+        if importlib.util.find_spec(f"{__name__}.{name}") is not None:
+            return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))
