@@ -472,6 +472,22 @@ def n1_stiffness(model: TwoZoneClimb, point, *, delta_mm: float = 1e-3, tol_mm: 
     return k
 
 
+def _falling(model, point, *, tol_mm: float, max_iterations: int, fraction: float = 1e-3) -> bool:
+    """Whether ``point`` lies on a stretch where T(φ) falls: the path solved again a little
+    before it (φ (1 − ``fraction``), from the point's state) carries more torque."""
+    from .climb import _point, _solve_at
+
+    phi = point.phi_rad * (1.0 - fraction)
+    state = copy.copy(point.state)
+    try:
+        f, s_fs, s_cs, st, lever, it = _solve_at(model, phi, point.retreat_fs_mm.copy(),
+                                                 (point.retreat_mm - point.retreat_fs_mm).copy(), state,
+                                                 tol_mm=tol_mm, max_iterations=max_iterations)
+    except ConvergenceError:
+        return False
+    return _point(model, phi, f, s_fs, s_cs, st, lever, it).torque_nm > point.torque_nm
+
+
 def stability_limit(model: TwoZoneClimb, path, *, cup_stiffness_n_per_mm: float = 0.0, delta_mm: float = 1e-3,
                     tol_mm: float = 1e-6, max_iterations: int = 80) -> dict:
     """The climb's path checked point by point in the eccentric mode: the smallest real part
@@ -479,11 +495,15 @@ def stability_limit(model: TwoZoneClimb, path, *, cup_stiffness_n_per_mm: float 
     torque where it reaches 0 (linear in the torque between the last stable point and the
     first unstable one) — under rotation control the FS/WG assembly then goes off-centre
     and the loaded zone skips (a stable path's largest torque ends earlier only at its own
-    limit). → {"torque_nm": the limit (the path's own when it stays stable), "criterion":
-    "eccentric mode" or the path's, "points": [(T, λ_min, K)…], "failed": [T…] (points where
-    the probe's fixed point did not settle)}."""
+    limit). A point on a stretch where T(φ) falls (solved again 0.1 % of φ before it: more
+    torque there) is a snap of the discrete contact — a tooth's load moving to the next
+    station, T dropping by a few N·m on seed000_csf40 — unstable in every mode; its stiffness
+    is reported (``falling``) but it is not taken as the eccentric mode's bifurcation.
+    → {"torque_nm": the limit (the path's own when it stays stable), "criterion":
+    "eccentric mode" or the path's, "points": [(T, λ_min, K)…], "falling": [T…],
+    "failed": [T…] (points where the probe's fixed point did not settle)}."""
     k_cup = _positive("cup_stiffness_n_per_mm", cup_stiffness_n_per_mm, "N/mm", allow_zero=True)
-    rows, failed = [], []
+    rows, failed, falling = [], [], []
     prev = None
     for p in path.points:
         try:
@@ -494,11 +514,16 @@ def stability_limit(model: TwoZoneClimb, path, *, cup_stiffness_n_per_mm: float 
         lam = float(np.min(np.linalg.eigvals(k + k_cup * np.eye(2)).real))
         rows.append((float(p.torque_nm), lam, k))
         if lam <= 0.0:
+            if _falling(model, p, tol_mm=tol_mm, max_iterations=max_iterations):
+                falling.append(float(p.torque_nm))
+                continue
             if prev is None:
                 t = float(p.torque_nm)
             else:
                 (t0, l0), t1 = prev, float(p.torque_nm)
                 t = t0 + l0 / (l0 - lam) * (t1 - t0)
-            return {"torque_nm": t, "criterion": "eccentric mode", "points": rows, "failed": failed}
+            return {"torque_nm": t, "criterion": "eccentric mode", "points": rows, "falling": falling,
+                    "failed": failed}
         prev = (float(p.torque_nm), lam)
-    return {"torque_nm": float(path.torque_nm), "criterion": path.criterion, "points": rows, "failed": failed}
+    return {"torque_nm": float(path.torque_nm), "criterion": path.criterion, "points": rows, "falling": falling,
+            "failed": failed}

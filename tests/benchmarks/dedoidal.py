@@ -103,6 +103,9 @@ def _scan(model, path, label):
     for t, lam, k in out["points"]:
         print(f"    T {t:8.1f}  λ_min {lam:10.4g} N/mm  K = [[{k[0, 0]:.4g}, {k[0, 1]:.4g}], [{k[1, 0]:.4g}, "
               f"{k[1, 1]:.4g}]]")
+    if out["falling"]:
+        print(f"    λ_min ≤ 0 on a falling stretch of T(φ) (a snap of the discrete contact, not counted) at T = "
+              f"{[round(t, 1) for t in out['falling']]}")
     if out["failed"]:
         print(f"    no fixed point for the prescribed translation at T = {out['failed']}")
     print(f"  → limit {out['torque_nm']:.1f} N·m ({out['criterion']})")
