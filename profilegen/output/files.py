@@ -20,8 +20,8 @@ from . import face as face_files
 if TYPE_CHECKING:  # pragma: no cover
     from ..pipeline import Design
 
-__all__ = ["OUTPUT_FILES", "WORKER_FILES", "figure_workers", "file_jobs", "profile_figures", "stage_figures",
-           "write_design"]
+__all__ = ["OUTPUT_FILES", "WORKER_FILES", "figure_workers", "file_jobs", "flexspline_jobs", "profile_figures",
+           "stage_figures", "write_design"]
 
 
 #: Every file name :func:`write_design` can write (the output folder may hold only these, see
@@ -92,19 +92,24 @@ def profile_figures(figures, design: Design, *, draw: bool | None = None) -> Non
 def stage_figures(figures, design: Design, *, draw: bool | None = None) -> None:
     """Hand the figures of the stage results a design has so far (the rim and envelope, then the
     contact, stresses and torsional curve: :func:`profilegen.pipeline.design`'s ``on_stage``) to
-    ``figures``, when the run draws PNGs (``draw``: see :func:`write_design`)."""
+    ``figures``, when the run draws PNGs (``draw``: see :func:`write_design`); with the envelope,
+    also the flexspline's drawings (:func:`flexspline_jobs`) where a worker makes the files."""
     from . import report
 
     # before the profile only to a figure server, which has imported what the jobs need: one worker
     # forked now would import the modules of the later jobs' pickles itself (~0.6 s CPU), not inherit them
     if _draws(design, draw) and (design.profile is not None or figures.workers >= 2):
         figures.submit(report.png_jobs(design))
+    if design.profile is None and (not _draws(design, draw) or figures.workers >= 2):
+        figures.submit(flexspline_jobs(design))  # the flexspline's drawings need only the tooth
 
 
-#: The files :func:`file_jobs` makes, by job: the drawing (ezdxf's import is most of its time),
-#: and the flexspline's drawings with the assembly (the assembly poses the flexspline's tooth chain).
+#: The files :func:`file_jobs` makes, by job: the drawing (ezdxf's import is most of its time), the
+#: flexspline's drawings (the tooth alone: handed over with the envelope, :func:`stage_figures`) and
+#: the assembly (it poses the flexspline's tooth chain).
 WORKER_FILES = {"files:drawing": ("circular_spline_drawing.dxf",),
-                "files:flexspline": ("flexspline_tooth.dxf", "flexspline.dxf", "assembly.dxf")}
+                "files:flexspline": ("flexspline_tooth.dxf", "flexspline.dxf"),
+                "files:assembly": ("assembly.dxf",)}
 
 
 def file_jobs(design: Design) -> dict:
@@ -124,7 +129,19 @@ def file_jobs(design: Design) -> dict:
     slim = replace(design, envelope=None, rim=None, contact=None, stress=None, face=None, torsional=None,
                    ratcheting=None, transmission=None)
     drawn = replace(slim, tooth=None, deformation=None, motion=None)  # the drawing reads profile, form, set, scene
-    return {"files:drawing": (_drawing_file, (drawn, date)), "files:flexspline": (_flexspline_files, (slim,))}
+    return {"files:drawing": (_drawing_file, (drawn, date)), **flexspline_jobs(design),
+            "files:assembly": (_assembly_file, (slim,))}
+
+
+def flexspline_jobs(design: Design) -> dict:
+    """The flexspline's two drawings (:data:`WORKER_FILES`) as a job: they read only the tooth and
+    the gear set, so a design without its profile gives the same bytes."""
+    from dataclasses import replace
+
+    tooth_only = replace(design, envelope=None, rim=None, contact=None, stress=None, face=None, torsional=None,
+                         ratcheting=None, transmission=None, deformation=None, motion=None, form=None, profile=None,
+                         stages=(), warnings=())
+    return {"files:flexspline": (_flexspline_files, (tooth_only,))}
 
 
 def _drawing_file(design: Design, date: str) -> dict[str, bytes]:
@@ -138,17 +155,39 @@ def _flexspline_files(design: Design) -> dict[str, bytes]:
 
     from .export import deferred_sync
 
+    from . import flexspline
+
     # a temporary folder, read back at once: no file there needs to reach the disk
     with tempfile.TemporaryDirectory(prefix="profilegen-") as tmp, deferred_sync(sync=False):
-        _write_flexspline(Path(tmp), design)
+        flexspline.write_flexspline_dxfs(Path(tmp), design)
         return {name: (Path(tmp) / name).read_bytes() for name in WORKER_FILES["files:flexspline"]}
+
+
+def _assembly_file(design: Design) -> dict[str, bytes]:
+    import tempfile
+
+    from ..fsform import flexspline_tooth_chain
+    from . import flexspline
+    from .export import deferred_sync
+
+    # the tooth chain write_flexspline_dxfs makes (the same call): the flexspline's drawings are another job
+    fs_tooth, _ = flexspline_tooth_chain(design.tooth, design.gearset.gear, tol_mm=flexspline.FIT_TOL_MM)
+    with tempfile.TemporaryDirectory(prefix="profilegen-") as tmp, deferred_sync(sync=False):
+        _write_assembly(Path(tmp), design, fs_tooth)
+        return {name: (Path(tmp) / name).read_bytes() for name in WORKER_FILES["files:assembly"]}
 
 
 def _write_flexspline(folder: Path, result: Design) -> None:
     """flexspline_tooth.dxf, flexspline.dxf and assembly.dxf into ``folder``."""
-    from . import cad, flexspline
+    from . import flexspline
 
     fs_tooth = flexspline.write_flexspline_dxfs(folder, result)  # flexspline_tooth.dxf, flexspline.dxf
+    _write_assembly(folder, result, fs_tooth)
+
+
+def _write_assembly(folder: Path, result: Design, fs_tooth) -> None:
+    from . import cad
+
     cad.write_contours_dxf(folder / "assembly.dxf", _assembly_layers(result, fs_tooth), texts=_note(result))
 
 
