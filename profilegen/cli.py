@@ -421,6 +421,11 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     except KeyboardInterrupt:  # Ctrl-C: one line, no traceback; an output folder holds its old or new set
         print(f"\nprofilegen: {args.command} interrupted", file=sys.stderr)
+        # CPython 3.11 marks a KeyboardInterrupt raised inside exec() of a string as unhandled even
+        # when it is caught (dataclasses define their methods so, at import: a Ctrl-C during the
+        # first second often lands there), and then ends the process by SIGINT after this returns;
+        # the next exec() of a string clears that mark, so the exit status is 130 either way
+        exec("None")  # noqa: S102 — a constant, see above
         return 130
     except BrokenPipeError:  # output piped into e.g. `head`: not an error of ours
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
