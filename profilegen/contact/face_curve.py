@@ -43,7 +43,9 @@ problem on N slices, which the curve's own solvers (the continuation of
 What it leaves out: the cup's deformation under the tooth forces (the sections are the cup
 pressed onto the cam at no torque); the opposite flank where coning makes a slice's gap
 negative (one flank, as the curve: such a slice is preloaded at no torque and its first
-contact is the curve's zero); coupling between slices other than the ring's twist.
+contact is the curve's zero); coupling between slices other than the ring's twist, unless
+``coupling_length_mm`` > 0 couples the whole section along the face (a Pasternak foundation:
+the stiff side of what the tooth and the rim spread, :func:`slice_coupling_matrix`).
 """
 
 from __future__ import annotations
@@ -65,6 +67,7 @@ __all__ = [
     "flank_offset_gap_mm",
     "ring_twist_kernel",
     "slice_chain",
+    "slice_coupling_matrix",
     "slice_layout",
     "slice_gap_shifts",
     "stack_slices",
@@ -226,7 +229,9 @@ class FaceSlices:
     press_cup of the set, built once for both flanks), ``design_z_mm`` (the CS's section;
     default mid-face), ``modification`` (the FS tooth's taper and crowning; default straight),
     ``ring_twist`` (the tooth ring's twist in the slices, module docstring), ``nodes``
-    (:func:`slice_layout`: "midpoint" or "ends")."""
+    (:func:`slice_layout`: "midpoint" or "ends"), ``coupling_length_mm`` (0: independent slices,
+    the soft bound; λ > 0 a Pasternak coupling of the whole section along the face,
+    :func:`slice_coupling_matrix`)."""
 
     slices: int = 4
     coning: str = "cup"
@@ -235,6 +240,7 @@ class FaceSlices:
     modification: object = None
     ring_twist: bool = True
     nodes: str = "midpoint"
+    coupling_length_mm: float = 0.0
 
     def __post_init__(self):
         _whole("face_slices", self.slices, 1)
@@ -265,7 +271,7 @@ class FaceSlices:
 
             cup = press_cup(gs)
         b = float(gs.cup.face_width_mm)
-        _, widths = slice_layout(b, self.slices, self.nodes)
+        zeta, widths = slice_layout(b, self.slices, self.nodes)
         balls = {comp.ball_angle_rad.size for _, comp in sides.values()}
         if len(balls) != 1:
             raise FaceCurveError(f"sides: the two flanks have {sorted(balls)} candidate balls; they must share the bearing")
@@ -274,7 +280,8 @@ class FaceSlices:
         for s, (pts, comp) in sides.items():
             z, de = slice_gap_shifts(inputs, pts, self.slices, coning=self.coning, cup=cup, nodes=self.nodes,
                                      design_z_mm=self.design_z_mm, modification=self.modification)
-            out[s] = stack_slices(pts, comp, de, widths_mm=widths, ring_compliance_rad_per_nmm=c_ring)
+            out[s] = stack_slices(pts, comp, de, widths_mm=widths, ring_compliance_rad_per_nmm=c_ring,
+                                  coupling_length_mm=self.coupling_length_mm, positions_mm=zeta)
             first[s] = ((pts.gap_mm[None, :] + de) / pts.lever_mm[None, :]).min(axis=1)
         warnings = []
         play = first[1] + first[-1]
@@ -288,7 +295,28 @@ class FaceSlices:
         return out, new_chain, warnings
 
 
-def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_compliance_rad_per_nmm: float = 0.0):
+def slice_coupling_matrix(positions_mm, widths_mm, coupling_length_mm: float = 0.0) -> np.ndarray:
+    """K (N × N): slice i's deflection is Σ_j K_ij S F_j (S the 2D compliance for the whole face
+    b). Independent slices (λ = 0): K = diag(b/w_i). λ > 0 (``coupling_length_mm``): a Pasternak
+    foundation along the face, k (w_i u_i + λ² Σ_j (u_i − u_j)/h_ij) = P_i between neighbouring
+    nodes h_ij apart, so K = b (W + λ² L_h)⁻¹ — face_load's slice_coupling on unequal cells. An
+    even line load (P ∝ w) deflects every slice alike, as the 2D section: (W + λ² L_h) 1 = w."""
+    z = np.atleast_1d(np.asarray(positions_mm, dtype=float))
+    w = np.atleast_1d(np.asarray(widths_mm, dtype=float))
+    lam = checks.positive("coupling_length_mm", coupling_length_mm, "mm", allow_zero=True, error=FaceCurveError)
+    if z.shape != w.shape or z.ndim != 1 or np.any(w <= 0.0) or np.any(np.diff(z) <= 0.0):
+        raise FaceCurveError("positions_mm, widths_mm: must be N increasing positions and N widths > 0 (mm)")
+    b = float(w.sum())
+    if lam == 0.0 or z.size == 1:
+        return np.diag(b / w)
+    edge = 1.0 / np.diff(z)
+    lap = np.diag(np.r_[edge, 0.0] + np.r_[0.0, edge]) - np.diag(edge, 1) - np.diag(edge, -1)
+    k = b * np.linalg.inv(np.diag(w) + lam * lam * lap)
+    return 0.5 * (k + k.T)
+
+
+def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_compliance_rad_per_nmm: float = 0.0,
+                 coupling_length_mm: float = 0.0, positions_mm=None):
     """One flank's 2D contact (``points``, ``compliance``: every ball one-sided, ``ball_supports``
     "all") as N slices (``gap_shift`` (N, n) mm, Δe per slice and point; ``widths_mm`` (N,) the
     width each slice stands for, Σ = the face width b; default b/N each) in one problem of the
@@ -297,8 +325,12 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
     the face width b, so the curve's solvers, which divide the rim's per-width flexibility by
     it, see each slice at its own width); when ``ring_compliance_rad_per_nmm`` = 1/(G J) of the
     tooth ring (rad per N·mm per mm) is > 0, the ring's twist r_k r_l U (1/(GJ)) L_ij
-    (:func:`ring_twist_kernel`) is added. Solve it with the curve's solvers and the bearing
-    :class:`SliceBearing` (module docstring)."""
+    (:func:`ring_twist_kernel`) is added. ``coupling_length_mm`` λ > 0 couples the slices' whole
+    section (rim, teeth, balls' seats, CS) along the face as a Pasternak foundation
+    (:func:`slice_coupling_matrix`; ``positions_mm`` the slices' sections, default the cells'
+    middles): an upper bound on the coupling, since the tooth's and the contact's local compliance
+    do not spread. Solve it with the curve's solvers and the bearing :class:`SliceBearing`
+    (module docstring)."""
     if getattr(compliance, "ball_supports", "window") != "all":
         raise FaceCurveError(f"compliance.ball_supports = {compliance.ball_supports!r}: the slices need every ball "
                              "one-sided at its no-load gap ('all')")
@@ -313,7 +345,8 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
         raise FaceCurveError(f"widths_mm: must be {ns} widths > 0 (mm) that sum to the face width {b:g} mm")
     c_ring = checks.positive("ring_compliance_rad_per_nmm", ring_compliance_rad_per_nmm, "rad/(N·mm²)",
                              allow_zero=True, error=FaceCurveError)
-    scale = np.diag(b / w)
+    zeta = np.r_[0.0, np.cumsum(w)[:-1]] + 0.5 * w if positions_mm is None else positions_mm
+    scale = slice_coupling_matrix(zeta, w, coupling_length_mm)
 
     def tile(a):
         a = np.asarray(a)

@@ -16,14 +16,18 @@ For each gear set (default seed000_csf40) and the catalogue row of its size and 
   contact), the slices with the face stage's modification for both conings, and without it;
   then the same with the slices' sections on the face ends (FaceSlices(nodes="ends"), the
   trapezoid rule: the face stage's design section is often a face end, where the first
-  contact then is — N − 1 = 1, 2, 4, 8, 16 intervals).
+  contact then is — N − 1 = 1, 2, 4, 8, 16 intervals); at N = 9 also with the slices' whole
+  section coupled along the face (FaceSlices(coupling_length_mm=λ), a Pasternak foundation) for
+  λ = 1 mm (about the tooth height) and λ = √(r_m δ) (the rim as a cylindrical shell), the stiff
+  side of what the independent slices leave out.
 
 Printed per case: the whole gear's rotation (elastic, from the loaded flank's first contact —
 the curve's own zero, the smallest first contact over every slice) at T1, T2, T3 and the
 rotation at ±3 % of the rated torque, K1 = T1/φ(T1), K2 = (T2 − T1)/(φ(T2) − φ(T1)), the
 secant T2/φ(T2), each against the catalogue, the lost motion (φ(+3 %) − φ(−3 %), backlash
 included), the backlash, the smallest two-flank play of any slice (negative: the teeth
-interfere there at no load, and the one-flank curve is not the gear), the compliance the
+interfere there at no load, and the one-flank curve is not the gear), the range of the loaded
+flank's gap shifts Δe, the compliance the
 slices add to the 2D curve's at T1 and T2 (secants, rad/(N·m)), and CPU seconds. With
 ``--timing``: the design run's whole curve (curve_torques_nm, ≥ 32 torques both ways) with
 the flanks reused, median of 3, for each N (design scene, and the verify scene's face-end nodes).
@@ -32,6 +36,7 @@ the flanks reused, median of 3, for each N (design scene, and the verify scene's
 from __future__ import annotations
 
 import argparse
+import math
 import resource
 import statistics
 import sys
@@ -57,7 +62,7 @@ def _catalogue_secant_t2(cat) -> float:
     return t2 / (t1 / k1 + (t2 - t1) / k2)
 
 
-def _row(label, curve, cat, base, t1, t2, t3, t_lm, play_arcmin, cpu):
+def _row(label, curve, cat, base, t1, t2, t3, t_lm, play, cpu):
     k = curve.k_nm_per_rad["total"]["positive"]
     th0 = curve.first_contact_rad["positive"]
     phi = {t: curve.rotation_at(t) - th0 for t in (t1, t2, t3)}
@@ -69,20 +74,24 @@ def _row(label, curve, cat, base, t1, t2, t3, t_lm, play_arcmin, cpu):
           f"{curve.rotation_at(-t_lm) * ARCMIN_PER_RAD:+.4f}′ | K1 {k['K1']:.4g} ({k['K1'] / cat['K1_nm_per_rad']:.2f}×) "
           f"K2 {k['K2']:.4g} ({k['K2'] / cat['K2_nm_per_rad']:.2f}×) sec T2 {k['secant_T2']:.4g} "
           f"({k['secant_T2'] / _catalogue_secant_t2(cat):.2f}×) | LM {lm:.3f}′ backlash "
-          f"{curve.backlash_rad * ARCMIN_PER_RAD:+.3f}′ least slice play {play_arcmin:+.3f}′{add} | {cpu:.2f} s CPU")
+          f"{curve.backlash_rad * ARCMIN_PER_RAD:+.3f}′ least slice play {play[0]:+.3f}′"
+          + ("" if len(play) == 1 else f" Δe {play[1]:+.1f}…{play[2]:+.1f} µm") + f"{add} | {cpu:.2f} s CPU")
     return phi
 
 
-def _play(inputs, sides, spec) -> float:
-    """The smallest two-flank play of any slice (arcmin): min θ(+) + min θ(−) per slice."""
+def _play(inputs, sides, spec) -> tuple[float, float, float]:
+    """The smallest two-flank play of any slice (arcmin): min θ(+) + min θ(−) per slice; and the
+    range of the loaded flank's gap shifts Δe (µm)."""
     from profilegen.contact.face_curve import slice_gap_shifts
 
-    first = {}
+    first, shifts = {}, None
     for s, (pts, _) in sides.items():
         _, de = slice_gap_shifts(inputs, pts, spec.slices, coning=spec.coning, cup=spec.cup, nodes=spec.nodes,
                                  design_z_mm=spec.design_z_mm, modification=spec.modification)
         first[s] = ((pts.gap_mm[None, :] + de) / pts.lever_mm[None, :]).min(axis=1)
-    return float((first[1] + first[-1]).min()) * ARCMIN_PER_RAD
+        if s == 1:
+            shifts = (float(de.min()) * 1e3, float(de.max()) * 1e3)
+    return (float((first[1] + first[-1]).min()) * ARCMIN_PER_RAD,) + shifts
 
 
 def _face_load(inputs, sides, chain, spec, torque_nm) -> None:
@@ -123,7 +132,37 @@ def _face_load(inputs, sides, chain, spec, torque_nm) -> None:
           + f" (2D {int(np.count_nonzero(flat_tooth > 0))})")
 
 
-def _cases(label, inputs, cat, cup, design_z, modification, slices, conings, timing, nodes="midpoint"):
+def _check_face_stage(inputs, vd, face, mod) -> None:
+    """The slices' first-order gaps against the face stage's exact clearance maps at its own sections:
+    the two-flank play of each section (min θ(+) + min θ(−), µm at the pitch circle) beside the face
+    stage's least clearance and largest backlash there, unmodified and with its modification."""
+    from profilegen.contact.face_curve import slice_gap_shifts
+
+    sections = np.array([sec.z_mm for sec in face.sections])
+    gs = inputs.gearset
+    b, zc = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
+    nodes = np.linspace(zc - 0.5 * b, zc + 0.5 * b, sections.size)
+    if not np.allclose(nodes, sections):
+        print(f"  (the face stage's sections {sections} are not the face-end nodes: no check)")
+        return
+    curve = torsional_curve(inputs, [-1.0, 1.0])
+    rp = float(gs.gear.pitch_radius_mm)
+    for label, m, table in (("unmodified", None, face.table), ("modified", mod, None if mod is None else mod.table)):
+        if table is None:
+            continue
+        first = {}
+        for s, (pts, _) in curve.sides.items():
+            _, de = slice_gap_shifts(inputs, pts, sections.size, coning="cup", cup=vd.rim.cup, nodes="ends",
+                                     design_z_mm=face.design_section_z_mm, modification=m)
+            first[s] = ((pts.gap_mm[None, :] + de) / pts.lever_mm[None, :]).min(axis=1)
+        play = (first[1] + first[-1]) * rp * 1e3
+        print(f"  face stage check, {label}: z (mm) / face stage least clearance, largest backlash (µm) / slices' "
+              "two-flank play (µm at the pitch circle): " + "; ".join(
+                  f"{r.z_mm:g}: {r.min_clearance_mm * 1e3:+.2f}, {r.max_backlash_mm * 1e3:.2f} / {p:+.2f}"
+                  for r, p in zip(table, play)))
+
+
+def _cases(label, inputs, cat, cup, design_z, modification, slices, conings, timing, nodes="midpoint", couplings=()):
     gs = inputs.gearset
     t1, t2, t3 = float(cat["T1_nm"]), float(cat["T2_nm"]), float(gs.torque.peak_nm)
     t_lm = 0.03 * float(gs.torque.rated_nm)
@@ -135,7 +174,7 @@ def _cases(label, inputs, cat, cup, design_z, modification, slices, conings, tim
         f"taper {modification.taper_mm_per_mm * 1e3:.4g} µm/mm, crowning {modification.crowning_mm * 1e3:.4g} µm"
     print(f"--- {label}: design section z = {design_z if design_z is not None else gs.cup.length_mm:g} mm, "
           f"tooth modification {mod_text}")
-    base = _row("2D (even spread)", base_curve, cat, None, t1, t2, t3, t_lm, base_curve.backlash_rad * ARCMIN_PER_RAD,
+    base = _row("2D (even spread)", base_curve, cat, None, t1, t2, t3, t_lm, (base_curve.backlash_rad * ARCMIN_PER_RAD,),
                 time.process_time() - c0)
     sides = base_curve.sides
     for coning, mods in conings:
@@ -149,6 +188,16 @@ def _cases(label, inputs, cat, cup, design_z, modification, slices, conings, tim
                 tag = f"{coning} N={n}" + ("" if nodes == "midpoint" else f" {nodes}") + ("" if mod is None or mod is modification else " unmodified") + \
                     ("" if mod is not None or modification is None else " straight")
                 _row(tag, curve, cat, base, t1, t2, t3, t_lm, _play(inputs, sides, spec), cpu)
+    if nodes == "ends" and conings and couplings:
+        # the soft bound (independent slices) against the slices coupled along the face (Pasternak)
+        n = max(n for n in slices if n <= 9)
+        for lam in couplings:
+            spec = FaceSlices(n, conings[0][0], cup, design_z, conings[0][1][0], nodes=nodes, coupling_length_mm=lam)
+            c0 = time.process_time()
+            curve = torsional_curve(inputs, torques, chain=chain, catalogue=cat, breakpoints_nm=(t1, t2), sides=sides,
+                                    face_slices=spec)
+            _row(f"{conings[0][0]} N={n} {nodes} λ={lam:.3g} mm", curve, cat, base, t1, t2, t3, t_lm,
+                 _play(inputs, sides, spec), time.process_time() - c0)
     if nodes == "ends" and conings:
         _face_load(inputs, sides, chain, FaceSlices(max(slices), conings[0][0], cup, design_z, conings[0][1][0],
                                                     nodes=nodes), float(gs.torque.rated_nm))
@@ -193,10 +242,12 @@ def run(path: Path, slices, verify_slices, ends_slices, verify: bool, timing: bo
           f"{float('nan') if mod is None else mod.max_backlash_mm * 1e3:.3g} µm")
     conings = (("cup", (mod, None) if mod is not None else (None,)), ("semi_membrane", (mod,)))
     vin = ContactInput.from_design(vd)
+    _check_face_stage(vin, vd, face, mod)
     _cases("verify scene (as made)", vin, cat, vd.rim.cup, face.design_section_z_mm, mod, verify_slices, conings, False)
     if ends_slices:
         _cases("verify scene (as made), nodes on the face ends (trapezoid rule)", vin, cat, vd.rim.cup,
-               face.design_section_z_mm, mod, ends_slices, (("cup", (mod,)),), timing, nodes="ends")
+               face.design_section_z_mm, mod, ends_slices, (("cup", (mod,)),), timing, nodes="ends",
+               couplings=(1.0, math.sqrt(float(gs.gear.neutral_radius_mm) * float(gs.gear.rim_thickness_mm))))
 
 
 def main() -> None:

@@ -18,8 +18,9 @@ import profilegen as pg
 from profilegen.contact.chain import compliance_chain, torsional_curve
 from profilegen.contact.compliance import ContactCompliance
 from profilegen.contact.face_curve import (
-    FaceCurveError, FaceSlices, SliceBearing, flank_offset_gap_mm, ring_twist_kernel, slice_chain, slice_gap_shifts,
-    slice_layout, stack_slices)
+    FaceCurveError, FaceSlices, SliceBearing, flank_offset_gap_mm, ring_twist_kernel, slice_chain,
+    slice_coupling_matrix, slice_gap_shifts, slice_layout, stack_slices)
+from profilegen.contact.face_load import slice_coupling
 from profilegen.contact.inputs import ContactInput
 from profilegen.contact.points import ContactPoints
 from profilegen.contact.reduced import _ReducedZone
@@ -119,6 +120,21 @@ def test_ring_kernel_is_its_double_integral():
         slice_layout(b, 3, "gauss")
 
 
+def test_coupling_matrix_against_face_load_and_an_even_load():
+    b, lam = 20.0, 3.0
+    zeta, w = slice_layout(b, 5)
+    # equal cells: face_load's kernel (its own implementation), N (I + (λ/Δz)² L)⁻¹
+    np.testing.assert_allclose(slice_coupling_matrix(zeta, w, lam), slice_coupling(5, lam, b / 5), rtol=1e-12)
+    np.testing.assert_allclose(slice_coupling_matrix(zeta, w), np.diag(b / w), rtol=1e-15)
+    # face-end cells: an even line load (P ∝ w) deflects every slice alike, as the whole face under the total
+    zeta, w = slice_layout(b, 6, "ends")
+    k = slice_coupling_matrix(zeta, w, lam)
+    np.testing.assert_allclose(k @ (w / b), np.ones(6), rtol=1e-12)
+    assert np.all(np.linalg.eigvalsh(k) > 0.0)
+    with pytest.raises(FaceCurveError, match="coupling_length_mm"):
+        slice_coupling_matrix(zeta, w, -1.0)
+
+
 def test_slice_bearing_is_the_ball_shared_evenly():
     gs = pg.load_gearset(pg.default_gearset_path())
     from profilegen.contact.chain import BallBearing
@@ -150,7 +166,7 @@ def test_identical_slices_are_the_2d_curve(design, curve_2d):
     _, c_ring = slice_chain(chain, [b_face], b_face, balls=1)
     ring = float(design.gearset.cup.face_width_mm) / 3.0 * c_ring * 1e3  # rad per N·m: the curve's b/3 of ring
     for spec, ring_in_mesh in ((FaceSlices(3, "none", ring_twist=False), 0.0), (FaceSlices(1, "none"), ring),
-                               (FaceSlices(3, "none", ring_twist=False, nodes="ends"), 0.0)):
+                               (FaceSlices(3, "none", ring_twist=False, nodes="ends", coupling_length_mm=4.0), 0.0)):
         c = torsional_curve(design, TORQUES, sides=curve_2d.sides, face_slices=spec)
         # rigid balls: exact (one slice with the ring: the ring's series term moved into the mesh)
         np.testing.assert_allclose(c.mesh_rad, curve_2d.mesh_rad + ring_in_mesh * np.asarray(TORQUES), rtol=1e-9)
