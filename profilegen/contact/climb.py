@@ -65,25 +65,49 @@ the normal gap, and the matrix S' = Rᵀ C D (rows along the normals n, columns 
 d) is not symmetric — a non-associated contact, solved by Lemke's method
 (:func:`solve_lcp_lemke`; S' is a P-matrix, so the solution is unique and Lemke reaches it,
 while its symmetric part is positive definite — checked at the end of the path by
-``tests/benchmarks/ratcheting.py --friction``). The lever arms are d's, the CS ring is loaded
+``tests/benchmarks/ratcheting.py --friction``: μ = 0.15, forward, on the loaded stations
+max|S' − S'ᵀ|/max|S'| = 0.10 and the symmetric part's eigenvalues 1.7e-6 … 2.4e-4 mm/N on
+seed000_csf40, 2.2e-6 … 2.8e-4 on csf32_100; a basis that is not a solution raises). The lever arms are d's, the CS ring is loaded
 by d's radial part (sin α + μσ t·e_r) and the FS retreat is P d. ``friction_sliding``:
 
 * "static": σ = +1 everywhere — the pull-out this climb models (the teeth ride out of their
   spaces: friction holds them in, the radial part falls to N (sin α − μ cos α) and T rises);
+  "unloading": σ = −1 everywhere (the teeth sliding back in as the torque falls: the other
+  branch of a loading/unloading loop);
 * "forward": the gear running with the wave generator driving the load. σ per station from
   the kinematics: its velocity relative to its CS space, −rotation · d/dφ of its place (the FS
   turns against the CS the way the CS's forces push it, so φ falls for rotation +1). On
-  seed000_csf40 the teeth at φ > 0 — the loaded side — move out into their spaces (entering:
-  σ = −1, the force tilted toward the radial, T falls for them), those at φ < 0 leave (σ = +1);
-  the wave generator then puts power in through the loaded teeth's radial motion, as it must
+  seed000_csf40 the teeth at φ > 0 move out into their spaces (entering: σ = −1, the force
+  tilted toward the radial, T falls for them), those at φ < 0 leave (σ = +1); the wave
+  generator then puts power in through the loaded teeth's radial motion, as it must
   (tests/unit/test_ratchet.py);
-* "backward": running with the load driving (σ of "forward" reversed): the loaded teeth leave.
+* "backward": running with the load driving (σ of "forward" reversed);
+* "forward-elastic", "backward-elastic": the same with the teeth's elastic retreat added to
+  the sliding. The retreat s(φ) is stationary in the wave generator's frame, so a tooth
+  running through the zone moves by −(ds/dφ) e_r besides its kinematic motion; σ from the sum,
+  s the fixed point's current iterate, the sign regularised over ±``SLIP_SPEED``.
 
-The sliding is the rigid kinematics': the teeth's elastic retreat s(φ) changes along the zone
-too (it is stationary in the wave generator's frame, so a tooth running through it moves by
-ds/dφ); where that is comparable with the kinematic sliding speed (near the major axis, where
-the latter vanishes) the sense could differ — the benchmark reports the load share it would
-reverse. The friction force's FEM influence: "probe" (default) puts each flank station's
+Why the elastic part matters: near the limit the loaded zone spans both sides of the major
+axis (seed000_csf40 at 4.9 kN·m, forward μ = 0.15: 43 teeth at φ = −32…47°, half the load at
+φ < 0, where the kinematic sense is "leaving"), and the retreat's change along the zone,
+|ds/dφ (e_r·t)| up to 1.46 mm/rad, exceeds the kinematic sliding (0.02–1.08 mm/rad): it
+reverses the sense of those teeth (51 % of the load) — with it every loaded tooth slides into
+its space while the wave generator drives (tests/benchmarks/ratcheting.py --friction). The
+kinematic-only "forward" is kept for the comparison; "forward-elastic" is the running model.
+"backward-elastic" is fragile: its senses switch along the path (seed000_csf40, μ = 0.15: no
+fixed point between φ = 1.49 and 3.09 mrad, the path jumped over it and ended on a spurious
+limit point at 3.77 kN·m); at μ ≤ 0.1 every loaded tooth slides out and it equals "static".
+
+A loading/unloading loop from it ("static" up, "unloading" down; ``ratcheting.py --hysteresis
+0.05,0.1,0.15``, the climb's φ: mesh, Hertz balls, CS ring, no cup or chain): the loop's
+width at T1 / T2 / rated is 0.034 / 0.10 / 0.13, 0.068 / 0.20 / 0.26, 0.10 / 0.30 / 0.38
+arcmin on seed000_csf40 (csf32_100 within 5 % of it) for μ = 0.05 / 0.1 / 0.15, the mean of the
+two branches within 0.6 % of the frictionless φ (friction is not the missing compliance of
+the torsional curve). Sliding without stick and no preload in the mesh: every contact opens as
+T → 0 and the loop closes there — the catalogue's hysteresis loss (the width at zero torque)
+needs stick (tangential compliance, a path-dependent contact) or the bearing's friction.
+
+The friction force's FEM influence: "probe" (default) puts each flank station's
 tangential force as t = x n + y e_r on its own normal's column and the radial column of its
 tooth's probe (the FS tip-land centre against the CS root; the tip corners' tangents are
 exact in their n_f, n_t columns); "exact" builds a tangent column at every flank station

@@ -69,12 +69,45 @@ reproduces 5399 N·m). On seed000_csf40:
 
 So the factor 1.5 is missed, by 1.32× at best (4.15 / 3.15, the shallow end alone; 1.50× at
 the design section): the model needs about twice the radial compliance it has outside the
-mesh (an extra ~2e-5 mm/N, the free CS ring's own again, gives ×1.36) to reach it. Untested suspects: friction (while running, the teeth entering the mesh slide
-inward along the CS flanks, so friction on them acts outward and tilts their force toward the
-radial — the opposite of a static pull-out, where it holds the teeth in); the one-zone model is
-symmetric in the two engagement zones, so the eccentric (n = 1) mode of the wave generator and
-FS against the CS (the "dedoidal" state the catalogue names as ratcheting's outcome) cannot
-occur in it; the CS ring's real section and mounting.
+mesh (an extra ~2e-5 mm/N, the free CS ring's own again, gives ×1.36) to reach it. Untested
+suspects: the one-zone model is symmetric in the two engagement zones, so the eccentric
+(n = 1) mode of the wave generator and FS against the CS (the "dedoidal" state the catalogue
+names as ratcheting's outcome) cannot occur in it; the CS ring's real section and mounting.
+
+Friction (engineer D; ``climb_friction`` = μ, ``climb_sliding``; default μ = 0, the estimate
+above): Coulomb friction on the tooth contacts, the force on the CS N (n + μσt) with t the
+flank's tangent out of the space and σ = ±1 against each station's sliding, the gap along n
+(a nonsymmetric LCP, Lemke; :mod:`profilegen.contact.climb`, "Friction"). μ = 0.05–0.15:
+lubricated steel on steel (grease/oil, boundary to mixed film); the tables reached list greased
+metal pairs at 0.05–0.2 (cast iron on cast iron 0.07, iron on iron 0.15–0.20, cast iron on
+steel 0.133 kinetic; Engineering ToolBox's friction table as reproduced in
+ecampusontario.pressbooks.pub/physicsfundamentals, appendix A). ``python tests/benchmarks/
+ratcheting.py --friction 0,0.05,0.1,0.15 --friction-only [set]``, design scene, N·m
+(× catalogue), μ = 0.05 / 0.1 / 0.15:
+
+=====================  ==========================  ==========================
+sliding                seed000_csf40 (μ=0: 4749)   csf32_100 (μ=0: 2531)
+=====================  ==========================  ==========================
+static (pull-out)      5343 / 6030 / 6847          2831 / 3231 / 3680
+forward, kinematic     4707 / 4737 / 4875          2487 / 2479 / 2511
+forward-elastic        4240 / 3784 / 3376          2255 / 1997 / 1788
+                       (×2.02 / 1.80 / 1.61)       (×2.26 / 2.00 / 1.79)
+=====================  ==========================  ==========================
+
+The static pull-out (every tooth sliding out, friction holding it in) raises the estimate by
+12–44 %. While running forward (the wave generator driving the load — the lower, so the
+governing, of the two running senses; the catalogue's value is a running one) the loaded
+teeth slide into their spaces and friction tilts their force toward the radial: with the
+sliding from the rigid kinematics alone the estimate hardly moves (near the limit half the
+load is on teeth at φ < 0, kinematically leaving), but the teeth's elastic retreat s(φ),
+stationary in the wave generator's frame, reverses those teeth's sliding (|ds/dφ| up to 1.5
+mm/rad against 0.02–1.1 kinematic), and with it ("forward-elastic", every loaded tooth sliding
+in) the estimate falls by 11 / 20 / 29 % on both sets — the hand case's cot(α + ρ)/cot α at
+α ≈ 32°, the pressure angle at the limit (0.81 for μ = 0.1) — at the same retreat at the limit
+(0.28 mm on seed000_csf40). So friction alone does not bring the estimate within 1.5× (1.61×
+at μ = 0.15); with the other suspects it could. Not the default: μ is no gear-set field yet
+(an ESTIMATE would have to be named), and the backward sense with the elastic retreat is
+fragile (its senses switch along the path).
 
 The linear diagnostics (helper E's estimate, ``torque_linear_nm``)
 ------------------------------------------------------------------
@@ -129,8 +162,7 @@ Left out (stated): the growth of α_k as the contact climbs onto the tip arcs (w
 the radial force and makes the real ratcheting torque lower); the inner ring and the cam's
 compliance; the cup's bending under the radial forces; the balls beyond the no-load wrap
 (the contact model's candidate balls are those within it); the CS's bolted joint (the ring
-is taken free); friction (it adds μ F_k to the force that resists sliding up the flank and
-raises the torque).
+is taken free); friction (the climb's option above).
 
 Bad input: a zero or non-finite torque is a :class:`RatchetingError`; a wave-generator
 bearing that does not fit (:func:`check_bearing_fits`) is a :class:`BearingFitError` naming

@@ -295,8 +295,9 @@ def friction_run(gs, design) -> None:
             print(f"  {mu:5.3g} {sliding if mu else '—':>9} {r.torque_nm:9.1f} {rel:>8} {ratio:>11} "
                   f"{r.climb['criterion']:>12} {r.climb['pressure_angle_deg'][-1]:7.1f} {cpu:6.1f}", flush=True)
     mu = max(ARGS["friction"], default=0.0)
-    if mu > 0.0 and "forward" in ARGS["sliding"]:
-        friction_check(gs, design, mu)
+    for sliding in ("forward", "forward-elastic"):
+        if mu > 0.0 and sliding in ARGS["sliding"]:
+            friction_check(gs, design, mu, sliding)
 
 
 def hysteresis_run(gs, design) -> None:
@@ -339,12 +340,13 @@ def hysteresis_run(gs, design) -> None:
               f"width {np.round((down - up) * arcmin, 4).tolist()} arcmin ({time.process_time() - t0:.1f} s CPU)")
 
 
-def friction_check(gs, design, mu) -> None:
+def friction_check(gs, design, mu, sliding="forward") -> None:
     """At the last point of the forward-running climb with μ: who slides which way, whether
-    the elastic retreat's change along the zone would reverse it, and the P-matrix check."""
+    the elastic retreat's change along the zone would reverse it (the kinematic sense), and the
+    P-matrix check."""
     import numpy as np
 
-    m = _climb_setup(gs, design, friction_coefficient=mu, friction_sliding="forward")
+    m = _climb_setup(gs, design, friction_coefficient=mu, friction_sliding=sliding)
     path = _follow(m, float(gs.torque.rated_nm))
     last = path.points[-1]
     f = last.force_n
@@ -355,14 +357,14 @@ def friction_check(gs, design, mu) -> None:
     eig = np.linalg.eigvalsh(0.5 * (sub + sub.T))
     asym = np.abs(sub - sub.T).max() / np.abs(sub).max()
     share = f / f.sum()
-    into = m.sliding_speed < 0.0
+    into = m._sigma < 0.0
     # the elastic part of the sliding as the tooth runs through the zone (forward: φ falls for
     # rotation +1): the FS stands −s(φ) e_r from its place, so it moves by rotation·ds/dφ·e_r per
     # unit of −rotation·φ; along the tangent out of the space: rotation · ds/dφ · (e_r·t)
     ds = np.gradient(last.retreat_mm, m.phis)[m.slot]
     elastic = m.rotation * ds * (m._js * m._tp_flank)
     flips = np.sign(m.sliding_speed + elastic) != np.sign(m.sliding_speed)
-    print(f"\n-- forward running with μ = {mu:g}, the last point of the path ({last.torque_nm:.1f} N·m, "
+    print(f"\n-- {sliding} running with μ = {mu:g}, the last point of the path ({last.torque_nm:.1f} N·m, "
           f"{path.criterion}): {on.size} loaded stations on {np.unique(m.slot[on]).size} teeth")
     print(f"  load share sliding into the spaces (entering teeth) {share[into].sum():.3f}, out of them "
           f"{share[~into].sum():.3f}; loaded teeth at φ = {np.degrees(m.phis[m.slot[on]]).min():.1f} … "
