@@ -1,6 +1,6 @@
 """Dedoidal ratcheting (issue 16 item 4): does the eccentric (n = 1) mode lower the ratcheting torque?
 
-    python tests/benchmarks/dedoidal.py [--loads 100,1000] [--ecc 5,10] [--no-scan] [profiles/...]
+    python tests/benchmarks/dedoidal.py [--loads 100,1000] [--ecc 5,10] [--no-scan] [--fine T0,STEP,N] [profiles/...]
 
 Per gear set (default: seed000_csf40 and csf32_100; design scene, no contact or stress in the
 design run), the climb built as ``ratcheting_torque`` builds it (9 stations, teeth within
@@ -23,6 +23,9 @@ design run), the climb built as ``ratcheting_torque`` builds it (9 stations, tee
    this is the lower end. The full ring's translation gauge is the bore at the major axis,
    not the ring's centre, so a cup spring on it would be wrong by the ring's own deformation.)
 5. ``--loads`` (N): the same with a radial load P on the assembly given directly.
+6. ``--fine T0,STEP,N``: the symmetric two-zone path followed again from its last point below
+   T0 (N·m) in N rotation steps of STEP (mrad), each point's torque, mean retreat, the eccentric
+   mode's smallest eigenvalue and whether T(φ) falls there (a snap of the discrete contact).
 
 Prints per set the torques against the catalogue's (CSF table 4: CSF-40-100 2100 N·m,
 CSF-32-100 1000 N·m) and CPU times.
@@ -112,6 +115,30 @@ def _scan(model, path, label):
     return out
 
 
+def _fine(model, path, t0_nm, step_mrad, count):
+    """The symmetric path again at fine rotation steps from its last point below ``t0_nm``."""
+    from profilegen.contact.climb import _point, _solve_at
+    from profilegen.contact.dedoidal import _falling, n1_stiffness
+    from profilegen.errors import ConvergenceError
+
+    start = [p for p in path.points if p.torque_nm < t0_nm][-1]
+    print(f"\n  the symmetric path from T = {start.torque_nm:.1f} N·m in steps of {step_mrad:g} mrad:")
+    s_fs, s_cs, state, phi = start.retreat_fs_mm, start.retreat_mm - start.retreat_fs_mm, start.state, start.phi_rad
+    for _ in range(int(count)):
+        phi += step_mrad * 1e-3
+        try:
+            f, s_fs, s_cs, state, lever, it = _solve_at(model, phi, s_fs, s_cs, state, tol_mm=1e-6, max_iterations=80)
+        except ConvergenceError:
+            print(f"    φ {phi * 1e3:.4f} mrad: no fixed point")
+            break
+        p = _point(model, phi, f, s_fs, s_cs, state, lever, it)
+        k = n1_stiffness(model, p, delta_mm=1e-3)
+        lam = float(np.min(np.linalg.eigvals(k).real))
+        fall = _falling(model, p, tol_mm=1e-6, max_iterations=80)
+        print(f"    φ {phi * 1e3:.4f} mrad  T {p.torque_nm:8.1f}  s̄ {p.mean_retreat_mm * 1e3:6.1f} µm  λ_min "
+              f"{lam:10.4g} N/mm{'  (T falls here)' if fall else ''}")
+
+
 def run(path, args):
     from threadpoolctl import threadpool_limits
 
@@ -144,9 +171,11 @@ def run(path, args):
             if args.scan:
                 out = _scan(model, p, label)
                 rows.append((label + ", eccentric-mode check", out["torque_nm"], out["criterion"]))
-            return p
+            return p, model
 
-        two("two-zone, e = 0 (free FS/WG, cam floating)")
+        sym, sym_model = two("two-zone, e = 0 (free FS/WG, cam floating)")
+        if args.fine:
+            _fine(sym_model, sym, *args.fine)
         k_c = cup_lateral_stiffness_n_per_mm(gs)
         print(f"\ncup lateral stiffness (ESTIMATE, upper bound: rigid bottom) k_c = {k_c:.4g} N/mm")
         for e_um in args.ecc:
@@ -170,6 +199,8 @@ def main() -> None:
     parser.add_argument("--loads", type=lambda s: [float(x) for x in s.split(",") if x], default=[],
                         help="radial loads on the FS/WG assembly (N)")
     parser.add_argument("--no-scan", dest="scan", action="store_false", help="skip the eccentric-mode check")
+    parser.add_argument("--fine", type=lambda s: [float(x) for x in s.split(",")], default=None,
+                        help="T0,STEP,N: the symmetric path from below T0 (N·m) in N steps of STEP (mrad)")
     args = parser.parse_args()
     for path in args.sets:
         run(path, args)
