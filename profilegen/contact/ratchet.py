@@ -651,7 +651,11 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
         model = ("the climb (profilegen.contact.climb): material stations on the loaded flanks, gaps and lever arms "
                  "recomputed on the geometry with each tooth shifted out of its space by its computed retreat and the FS "
                  "turned by φ (rotation control), the contact's influence coefficients + Hertz ball springs + the CS "
-                 "ring; the retreat's fixed point per φ. Linear diagnostics: " + model)
+                 "ring; the retreat's fixed point per φ"
+                 + (f"; Coulomb friction μ = {climb_friction:g} on the tooth contacts against the teeth's sliding "
+                    f"({climb_sliding}; the force on the CS N (n + μσt), the gap along n: Lemke on the nonsymmetric S)"
+                    if climb_friction > 0.0 else "; no friction")
+                 + ". Linear diagnostics: " + model)
         criterion = ("the first of: the limit point max T(φ); the force-weighted margin Σ F (h − s)/Σ F = 0; half the load "
                      "on the FS tip corners; the end of the path (no equilibrium found just beyond its last point). "
                      "Linear diagnostics: " + criterion)
