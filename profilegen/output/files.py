@@ -104,12 +104,12 @@ def stage_figures(figures, design: Design, *, draw: bool | None = None) -> None:
         figures.submit(flexspline_jobs(design))  # the flexspline's drawings need only the tooth
 
 
-#: The files :func:`file_jobs` makes, by job: the drawing (ezdxf's import is most of its time), the
-#: flexspline's drawings (the tooth alone: handed over with the envelope, :func:`stage_figures`) and
-#: the assembly (it poses the flexspline's tooth chain).
-WORKER_FILES = {"files:drawing": ("circular_spline_drawing.dxf",),
-                "files:flexspline": ("flexspline_tooth.dxf", "flexspline.dxf"),
-                "files:assembly": ("assembly.dxf",)}
+#: The files :func:`file_jobs` makes, by job: the CS drawing (ezdxf's import is most of its time) with
+#: the assembly (it poses the flexspline's tooth chain; one job: the CS outline both draw is pickled
+#: once, ~50 ms of the main process's CPU a pickle), and the flexspline's drawings (the tooth alone:
+#: handed over with the envelope, :func:`stage_figures`).
+WORKER_FILES = {"files:drawing": ("circular_spline_drawing.dxf", "assembly.dxf"),
+                "files:flexspline": ("flexspline_tooth.dxf", "flexspline.dxf")}
 
 
 def file_jobs(design: Design) -> dict:
@@ -126,11 +126,12 @@ def file_jobs(design: Design) -> dict:
         date = drawing_date()
     except ValueError:
         return {}
+    # the files read the form's radii and tooth count, not its polygon outline of the whole CS (4 MB:
+    # ~60 ms to pickle per job, on the main process's path)
+    form = None if design.form is None else replace(design.form, outline=None)
     slim = replace(design, envelope=None, rim=None, contact=None, stress=None, face=None, torsional=None,
-                   ratcheting=None, transmission=None)
-    drawn = replace(slim, tooth=None, deformation=None, motion=None)  # the drawing reads profile, form, set, scene
-    return {"files:drawing": (_drawing_file, (drawn, date)), **flexspline_jobs(design),
-            "files:assembly": (_assembly_file, (slim,))}
+                   ratcheting=None, transmission=None, form=form)
+    return {"files:drawing": (_drawing_files, (slim, date)), **flexspline_jobs(design)}
 
 
 def flexspline_jobs(design: Design) -> dict:
@@ -144,10 +145,12 @@ def flexspline_jobs(design: Design) -> dict:
     return {"files:flexspline": (_flexspline_files, (tooth_only,))}
 
 
-def _drawing_file(design: Design, date: str) -> dict[str, bytes]:
+def _drawing_files(design: Design, date: str) -> dict[str, bytes]:
+    """The CS drawing (it reads the profile, form, gear set and scene) and the assembly."""
     from .drawing import cs_drawing_dxf
 
-    return {"circular_spline_drawing.dxf": cs_drawing_dxf(design, date=date or None).encode("utf-8")}
+    return {"circular_spline_drawing.dxf": cs_drawing_dxf(design, date=date or None).encode("utf-8"),
+            **_assembly_file(design)}
 
 
 def _flexspline_files(design: Design) -> dict[str, bytes]:
@@ -174,7 +177,7 @@ def _assembly_file(design: Design) -> dict[str, bytes]:
     fs_tooth, _ = flexspline_tooth_chain(design.tooth, design.gearset.gear, tol_mm=flexspline.FIT_TOL_MM)
     with tempfile.TemporaryDirectory(prefix="profilegen-") as tmp, deferred_sync(sync=False):
         _write_assembly(Path(tmp), design, fs_tooth)
-        return {name: (Path(tmp) / name).read_bytes() for name in WORKER_FILES["files:assembly"]}
+        return {"assembly.dxf": (Path(tmp) / "assembly.dxf").read_bytes()}
 
 
 def _write_flexspline(folder: Path, result: Design) -> None:
