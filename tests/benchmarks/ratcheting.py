@@ -7,7 +7,7 @@
 Studies (engineer P3, issue 16 item 4; each adds its table after the climb):
 ``--positions N``: the climb at N wave-generator positions evenly over one tooth passage
 (each tooth at 2πi/z1 − f·2π/z1, f = k/N), and their minimum — the gear running under load
-meets every position. ``--face N1,N2``: the climb at the 3D cup's face-end sections
+meets every position (``--positions-friction μ --positions-sliding S``: with friction). ``--face N1,N2``: the climb at the 3D cup's face-end sections
 (press_cup; each section's change from the design section added to the design's
 deformation, contact.climb.section_inputs), each as if the whole face were that section, and
 over N independent slices sharing the rotation (contact.climb.SlicedClimb). ``--parts``: the
@@ -74,7 +74,7 @@ from profilegen.contact.ratchet import (  # noqa: E402
 SETS = [ROOT / "profiles" / "seed000_csf40.toml", ROOT / "profiles" / "csf32_100.toml", Path(pg.default_gearset_path())]
 ARGS = {"climb_only": False, "ring_scale": [], "shift": [], "positions": 0, "face": [], "parts": False, "perturb": [],
         "friction": [], "sliding": ["static", "forward", "backward", "forward-elastic", "backward-elastic"],
-        "friction_only": False, "hysteresis": []}
+        "friction_only": False, "hysteresis": [], "positions_friction": 0.0, "positions_sliding": "forward-elastic"}
 
 
 def _climb_setup(gs, design, **kw):
@@ -119,11 +119,14 @@ def positions_run(gs, design) -> None:
 
     n = ARGS["positions"]
     lad = [gs.torque.rated_nm, 2 * gs.torque.rated_nm]
-    print(f"\n-- the climb at {n} wave-generator positions over one tooth passage")
+    mu, sliding = ARGS["positions_friction"], ARGS["positions_sliding"]
+    print(f"\n-- the climb at {n} wave-generator positions over one tooth passage"
+          + (f", friction μ = {mu:g} ({sliding})" if mu else ""))
     out = []
     for f in np.arange(n) / n:
         t0 = time.process_time()
-        r = ratcheting_torque(design, torques_nm=lad, climb_shift_rad=-f * 2 * math.pi / gs.gear.flexspline_teeth)
+        r = ratcheting_torque(design, torques_nm=lad, climb_shift_rad=-f * 2 * math.pi / gs.gear.flexspline_teeth,
+                              climb_friction=mu, climb_sliding=sliding)
         out.append(r.torque_nm)
         print(f"  {f:.3f} of a tooth passage: {r.torque_nm:8.1f} N·m ({r.climb['criterion']}), "
               f"{time.process_time() - t0:.1f} s CPU")
@@ -390,6 +393,8 @@ def run(path: Path) -> None:
     if ARGS["friction"]:
         friction_run(gs, design)
     if ARGS["friction_only"]:
+        if ARGS["positions"]:
+            positions_run(gs, design)
         return
     climb_run(gs, design)
     if ARGS["positions"]:
@@ -469,6 +474,8 @@ def main() -> None:
                     help="the senses of sliding friction opposes: " + ",".join(ARGS["sliding"]))
     ap.add_argument("--friction-only", action="store_true", help="only the friction studies (--friction, --hysteresis)")
     ap.add_argument("--hysteresis", type=floats, default=[], help="μ for the loading/unloading width, e.g. 0.1")
+    ap.add_argument("--positions-friction", type=float, default=0.0, help="μ for --positions (default 0)")
+    ap.add_argument("--positions-sliding", default="forward-elastic", help="the sliding sense for --positions")
     args = ap.parse_args()
     ARGS.update({k: v for k, v in vars(args).items() if k != "sets"})
     for path in args.sets or SETS:
