@@ -16,7 +16,7 @@ For each gear set (default seed000_csf40) and the catalogue row of its size and 
   contact), the slices with the face stage's modification for both conings, and without it;
   then the same with the slices' sections on the face ends (FaceSlices(nodes="ends"), the
   trapezoid rule: the face stage's design section is often a face end, where the first
-  contact then is — N − 1 = 1, 2, 4, 8, 16 intervals); at N = 9 also with the slices' whole
+  contact then is — N − 1 = 1, 2, 4, 8, 16 intervals); at N = 5 also with the slices' whole
   section coupled along the face (FaceSlices(coupling_length_mm=λ), a Pasternak foundation) for
   λ = 1 mm (about the tooth height) and λ = √(r_m δ) (the rim as a cylindrical shell), the stiff
   side of what the independent slices leave out.
@@ -190,7 +190,7 @@ def _cases(label, inputs, cat, cup, design_z, modification, slices, conings, tim
                 _row(tag, curve, cat, base, t1, t2, t3, t_lm, _play(inputs, sides, spec), cpu)
     if nodes == "ends" and conings and couplings:
         # the soft bound (independent slices) against the slices coupled along the face (Pasternak)
-        n = max(n for n in slices if n <= 9)
+        n = max(n for n in slices if n <= 5)
         for lam in couplings:
             spec = FaceSlices(n, conings[0][0], cup, design_z, conings[0][1][0], nodes=nodes, coupling_length_mm=lam)
             c0 = time.process_time()
