@@ -382,8 +382,7 @@ def slice_chain(chain, widths_mm, face_width_mm: float, *, balls: int, ring_twis
     :class:`SliceBearing` (``balls`` candidate balls per slice); with ``ring_twist`` the cup
     wall's series part without its b/3 of tooth ring (which the slices carry) — returns
     (chain, 1/(G J) of the ring in rad/(N·mm·mm), 0 without ``ring_twist``)."""
-    from .chain import ChainPart, ComplianceChain
-
+    # the chain's own types (contact.chain imports this module: no import back)
     b = _positive("face_width_mm", face_width_mm)
     w = np.atleast_1d(np.asarray(widths_mm, dtype=float))
     if w.ndim != 1 or not np.all(np.isfinite(w)) or np.any(w <= 0.0) or abs(w.sum() - b) > 1e-9 * b:
@@ -399,8 +398,8 @@ def slice_chain(chain, widths_mm, face_width_mm: float, *, balls: int, ring_twis
         c_ring = 1.0 / gj
         # the wall below the ring alone: 1/K_wall − (b/3)/(GJ) (N·m/rad ← N·mm/rad: × 1e3)
         k_below = 1.0 / (wall.compliance_rad_per_nm - b / 3.0 * c_ring * 1e3)
-        parts[parts.index(wall)] = ChainPart(
+        parts[parts.index(wall)] = type(wall)(
             "cup_wall", wall.model + "; the tooth ring's twist in the slices (contact.face_curve)",
             wall.formula + " — here without the (b/3) ring term", k_below,
             {**p, "ring_in_slices": True, "ring_compliance_rad_per_nmm2": c_ring}, wall.estimates)
-    return ComplianceChain(tuple(parts), bearing, chain.left_out), c_ring
+    return type(chain)(tuple(parts), bearing, chain.left_out), c_ring
