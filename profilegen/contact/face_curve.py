@@ -170,9 +170,10 @@ def flank_offset_gap_mm(points, motion, thickness_change_mm) -> np.ndarray:
 def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=None, design_z_mm: float | None = None,
                      modification=None, nodes: str = "midpoint") -> tuple[np.ndarray, np.ndarray]:
     """(z_i (N,) mm, Δe (N, n) mm): the slices' sections (:func:`slice_layout` with ``nodes``,
-    from the cup bottom) and each point's change of initial separation in each slice (:func:`~profilegen.contact.face_load.gap_shift_mm`) for ``coning``
-    "cup" (the 3D cup's sections, :func:`~profilegen.contact.face_load.cup_sections`; ``cup`` a
-    CupContact / CupDeformation, default :func:`~profilegen.rim.cup.contact.press_cup` of the
+    from the cup bottom) and each point's change of initial separation in each slice
+    (:func:`~profilegen.contact.face_load.gap_shift_mm`) for ``coning`` "cup" (the 3D cup's
+    sections, :func:`~profilegen.contact.face_load.cup_sections`; ``cup`` a CupContact /
+    CupDeformation, default :func:`~profilegen.rim.cup.contact.press_cup` of the
     set), "semi_membrane" (the design deformation × z/z_d) or "none" (zeros).
 
     ``design_z_mm``: the section the CS is conjugate to (default the cup's ``length_mm``, the
@@ -274,7 +275,8 @@ class FaceSlices:
         zeta, widths = slice_layout(b, self.slices, self.nodes)
         balls = {comp.ball_angle_rad.size for _, comp in sides.values()}
         if len(balls) != 1:
-            raise FaceCurveError(f"sides: the two flanks have {sorted(balls)} candidate balls; they must share the bearing")
+            raise FaceCurveError(f"sides: the two flanks have {sorted(balls)} candidate balls; they must share the "
+                                 "bearing")
         new_chain, c_ring = slice_chain(chain, widths, b, balls=balls.pop(), ring_twist=self.ring_twist)
         out, first = {}, {}
         for s, (pts, comp) in sides.items():
@@ -287,8 +289,8 @@ class FaceSlices:
         play = first[1] + first[-1]
         if np.any(play < 0.0):
             i = int(np.argmin(play))
-            warnings.append(f"across the face ({self.slices} slices, {self.coning} coning): the two flanks overlap at no "
-                            f"load in {int(np.count_nonzero(play < 0.0))} slice(s), most at z = {z[i]:.4g} mm "
+            warnings.append(f"across the face ({self.slices} slices, {self.coning} coning): the two flanks overlap "
+                            f"at no load in {int(np.count_nonzero(play < 0.0))} slice(s), most at z = {z[i]:.4g} mm "
                             f"({play[i] * 180.0 * 60.0 / math.pi:.3g} arcmin): the teeth interfere there (a tooth "
                             "modification along the face is needed); the one-flank curve counts the overlap as "
                             "rotation, where both flanks would be preloaded")
