@@ -48,16 +48,21 @@ with the climb's NNLS solve inside; the retreat's fixed point by the climb's And
 iteration. Left out: the translation's tangential part enters the gaps linearly (its normal
 is the station's at no shift); the cup's tilt; the CS's own n = 1 (held by the housing).
 
-Numbers (design scene, ``python tests/benchmarks/dedoidal.py``; catalogue CSF-40-100 2100 N·m):
-seed000_csf40's two-zone climb with no imperfection is the one-zone climb, 4749.0 N·m both
-(zones 2374.5 each). Along it the eccentric mode's smallest stiffness eigenvalue is 2–5·10⁴ N/mm
-(K_xx ~ 10⁶) up to ~3800 N·m, falls to ~1·10⁴ above ~4100 N·m and is negative at isolated path
-points (4290.6 N·m: −7·10⁴ for δ = 0.25…10 µm; 4722 N·m), stable again between them: the first
-crossing, 4128 N·m (×1.97), is the lowest the n = 1 mode gives here. A radial load on the FS/WG
-(100 N: the path's own check gives way at 4589 N·m; 1225 / 2451 N, an eccentricity of 5 / 10 µm
-held by an upper-bound cup stiffness 2.45·10⁵ N/mm: paths end at 4425 / 4855 N·m, stable
-throughout). So the n = 1 mode moves the estimate by −13 … +2 %: it is not what puts the model
-at ×2.26 of the catalogue.
+Numbers (design scene, ``python tests/benchmarks/dedoidal.py [--fine T0,STEP,N]``; catalogue
+CSF-40-100 2100, CSF-32-100 1000 N·m). With no imperfection the two-zone climb is the one-zone
+climb: seed000_csf40 4749.0 N·m (zones 2374.5 each), csf32_100 2531.2. Along it the eccentric
+mode's smallest stiffness eigenvalue is 2–5·10⁴ N/mm mid-path (K_xx ~ 10⁶) and 1.2–2.1·10⁴
+(seed000, above 4100 N·m) / 0.9–2·10⁴ (csf32, above 2000 N·m) near the end; it is negative only
+at isolated points at the discrete contact's snaps (T(φ) dropping a few N·m as a tooth's load
+moves to the next station, or just after one): seed000 4290.6 and 4722.1 N·m (falling),
+csf32 2429.9 (the fine scan: 2378.9 falling, 2431.2 just after, 1.4–1.7·10⁴ between). No
+smooth crossing before the symmetric end: the check gives 4749.0 (×2.26) and 2394.7 (×2.39, at
+that isolated point). With a radial load on the FS/WG: 100 N, seed000 4705.8 (its check 4589.1),
+csf32 2199.9 (path ends; check 2111.3, ×2.11); an eccentricity of 5 / 10 µm as the load of an
+upper-bound cup stiffness (2.45·10⁵ / 1.96·10⁵ N/mm): seed000 4424.9 / 4854.8, csf32
+2596.2 / 2742.9 (the deeper zone carries more). With a free assembly an eccentricity is absorbed
+(the same torque). So the n = 1 mode moves the estimate by −17 … +8 %: it is not what puts
+the model at ×2.3–2.5 of the catalogue.
 
 The n = 1 stiffness (:func:`n1_stiffness`): on a path point, τ prescribed ± δ along x and y,
 the retreat's fixed point solved again, K = −∂(Σ loads on the FS)/∂τ (2 × 2, N/mm); the
