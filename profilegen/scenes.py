@@ -66,6 +66,7 @@ _KEYS: dict[str, tuple[str, bool, tuple[float, float] | None]] = {
     "figures": ("choice", False, ("all", "none")),
     "ratcheting": ("bool", False, None),
     "transmission_error": ("bool", False, None),
+    "face_slices": ("count", False, (0, 33)),
 }
 @dataclass(frozen=True, slots=True)
 class Scene:
@@ -85,6 +86,9 @@ class Scene:
     figures: str = "all"  # the PNG figures of the files and reports: "all", or "none" (`--figures` draws them)
     ratcheting: bool = False  # with the contact: the ratcheting torque estimate (contact.ratchet; seconds)
     transmission_error: bool = False  # with the contact: the loaded transmission error at 16 positions (~10 s)
+    #: with the contact and the face stage (tier cup3d): the torsional curve as this many axial
+    #: slices, nodes on both face ends (contact.face_curve); 0: one section, the load even across the face
+    face_slices: int = 0
 
     @property
     def rim_tier(self) -> str:

@@ -676,6 +676,9 @@ class TorsionalCurve:
     breakpoints_source: str = "catalogue"
     #: {+1: (points, compliance), −1: (…)}: pass as ``sides`` to skip building them again
     sides: dict = field(default_factory=dict, repr=False)
+    #: across the face (:func:`whole_gear_curve` with the scene's ``face_slices``): the slices'
+    #: settings and the one-section curve's headline beside them; None for one section
+    face: dict | None = None
 
     def __post_init__(self):
         for name in ("torque_nm", "mesh_rad", "mesh_balls_rad", "rotation_rad"):
@@ -741,6 +744,8 @@ class TorsionalCurve:
             "catalogue_source": None if cmp is None else cmp.get("source"),
             "model_over_catalogue": None if cmp is None else
             {n: v["model_over_catalogue"] for n, v in cmp["compared"].items()},
+            "face_slices": None if self.face is None else self.face["slices"],
+            "one_section": None if self.face is None else self.face["one_section"],
         })
 
     def to_dict(self) -> dict:
@@ -769,6 +774,7 @@ class TorsionalCurve:
             "chain": self.chain.to_dict(),
             "catalogue": self.catalogue_comparison(),
             "odd_symmetry_defect": self.odd_symmetry_defect,
+            "face": self.face,
             "time_s": self.time_s,
             "warnings": list(self.warnings),
         })
@@ -1105,7 +1111,16 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
     asked for, "all" by default), the left flank is built.
     ``catalogue``: True for :func:`catalogue_for`, or a table, or None. The result keeps no
     flanks (``sides`` empty: it is small enough to pickle and keep in a Design).
-    ``options``: :func:`torsional_curve`'s."""
+    ``options``: :func:`torsional_curve`'s.
+
+    Across the face: when the design's scene asks for ``face_slices`` = N > 0 and the design
+    has a face stage (the cup3d tier: the 3D cup's sections, the CS's design section and the
+    FS tooth modification the files are made with) and ``options`` give no ``face_slices``,
+    the curve is solved as N axial slices with nodes on both face ends (:class:`~profilegen.
+    contact.face_curve.FaceSlices`: independent slices, the soft bound; coning of the cup
+    pressed on the wave generator), and the one-section curve's headline is kept beside it
+    (``face["one_section"]``). A scene that asks for slices on a run without a face stage gets
+    the one-section curve and a warning saying so."""
     from dataclasses import replace
 
     from .compliance import ContactCompliance
@@ -1136,6 +1151,45 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
                 right = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
                                                 wrap_half_angle_rad=wrap, ball_supports=supports)
             sides = {1: (pts, right), -1: (left, comp)}
-    curve = torsional_curve(inputs, curve_torques_nm(gs, bp, count=count), sides=sides, breakpoints_nm=bp,
-                            catalogue=cat, **options)
-    return replace(curve, sides={}, breakpoints_source=source)
+    torques = curve_torques_nm(gs, bp, count=count)
+    spec, note = _scene_face_slices(design, options)
+    if spec is None:
+        curve = torsional_curve(inputs, torques, sides=sides, breakpoints_nm=bp, catalogue=cat, **options)
+        return replace(curve, sides={}, breakpoints_source=source,
+                       warnings=curve.warnings + ((note,) if note else ()))
+    t0 = time.perf_counter()
+    one = torsional_curve(inputs, torques, sides=sides, breakpoints_nm=bp, catalogue=cat, **options)
+    one = replace(one, breakpoints_source=source)
+    sliced = torsional_curve(inputs, torques, sides=one.sides, breakpoints_nm=bp, catalogue=cat, face_slices=spec,
+                             **options)
+    mod = spec.modification
+    face = {
+        "slices": spec.slices, "nodes": spec.nodes, "coning": spec.coning,
+        "coupling_length_mm": spec.coupling_length_mm,
+        "design_section_z_mm": spec.design_z_mm,
+        "taper_um_per_mm": None if mod is None else float(mod.taper_mm_per_mm) * 1e3,
+        "crowning_um": None if mod is None else float(mod.crowning_mm) * 1e3,
+        "model": ("independent axial slices (the soft bound; the face held straight is the one-section curve), "
+                  "each with the 3D cup's coning and the face stage's tooth modification, sharing the rotation; "
+                  "every ball one-sided with its Hertz spring in every slice (contact.face_curve)"),
+        "one_section": one.headline(),
+    }
+    return replace(sliced, sides={}, breakpoints_source=source, face=json_ready(face),
+                   time_s=time.perf_counter() - t0)
+
+
+def _scene_face_slices(design, options: dict):
+    """(FaceSlices or None, a warning or None) for :func:`whole_gear_curve`: the scene's
+    ``face_slices`` on a design with a face stage, unless ``options`` already name them."""
+    n = int(getattr(getattr(design, "scene", None), "face_slices", 0) or 0)
+    if n <= 0 or "face_slices" in options:
+        return None, None
+    face = getattr(design, "face", None)
+    cup = getattr(getattr(design, "rim", None), "cup", None)
+    if face is None or cup is None:
+        tier = getattr(getattr(design, "rim", None), "tier", "?")
+        return None, (f"the scene asks for face_slices = {n}, but this run has no face stage (rim tier {tier}; "
+                      "the face stage runs on the cup3d tier): one section, the load even across the face")
+    from .face_curve import FaceSlices
+
+    return FaceSlices(n, "cup", cup, float(face.design_section_z_mm), face.modification, nodes="ends"), None

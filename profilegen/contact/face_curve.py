@@ -119,6 +119,11 @@ class SliceBearing:
     width_ratio: tuple
     balls: int
 
+    @property
+    def estimates(self) -> tuple[str, ...]:
+        """The whole bearing's estimated fields (the report lists them)."""
+        return tuple(getattr(self.bearing, "estimates", ()))
+
     def hertz_coefficient(self):
         """c_H (b/w_i)^{2/3}: one number when the slices are equal, else one per stacked ball."""
         c = float(self.bearing.hertz_coefficient())
@@ -404,4 +409,12 @@ def slice_chain(chain, widths_mm, face_width_mm: float, *, balls: int, ring_twis
             "cup_wall", wall.model + "; the tooth ring's twist in the slices (contact.face_curve)",
             wall.formula + " — here without the (b/3) ring term", k_below,
             {**p, "ring_in_slices": True, "ring_compliance_rad_per_nmm2": c_ring}, wall.estimates)
-    return type(chain)(tuple(parts), bearing, chain.left_out), c_ring
+    # the slices take the cup's coning: the chain's left-out list says so instead of leaving it out
+    left_out = tuple(SLICED_CONING if item.startswith("coning of the cup") else item for item in chain.left_out)
+    return type(chain)(tuple(parts), bearing, left_out), c_ring
+
+
+#: what the sliced curve still leaves out of the face (replaces the chain's "coning" item)
+SLICED_CONING = ("across the face: the slices are independent (the soft bound; coupled along the face they are "
+                 "stiffer) and their no-load gaps are the cup's coning pressed on the wave generator, not its bending "
+                 "under the tooth forces")

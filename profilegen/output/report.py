@@ -442,6 +442,14 @@ def _quantity(value, key: str) -> str:
     return f"{float(value):.3f}"
 
 
+def _free_play(arcmin: float) -> str:
+    """The backlash at zero torque in words: a negative one is an overlap of the two flanks."""
+    if arcmin < 0.0:
+        return (f"at zero torque the two flanks overlap by {-arcmin:.3g} arcmin (the teeth interfere at no load, "
+                "see the notes: the gear is preloaded there, which this one-flank curve counts as rotation)")
+    return f"the free play at zero torque is {arcmin:.3g} arcmin"
+
+
 def _torsional_section(design, png: bytes | None = None) -> str:
     """The whole gear in torsion, in plain words, against the catalogue (issue 16); then the
     ratcheting estimate and the transmission error when the scene ran them."""
@@ -495,6 +503,23 @@ def _torsional_section(design, png: bytes | None = None) -> str:
         against = (f"<p>Compared with {html.escape(str(cmp.get('source')))}."
                    f"{' ' + html.escape(cmp['note'][:1].upper() + cmp['note'][1:]) + '.' if cmp.get('note') else ''}{verdict}</p>")
     flagged = [f"{t:g}" for t, f in zip(curve.torque_nm, curve.flags) if f is not None]
+    face = getattr(curve, "face", None)
+    across = ""
+    if face is not None:  # the curve across the face (the scene's face_slices)
+        one = face["one_section"]
+        ratios = one.get("model_over_catalogue") or {}
+        mod = ("straight FS teeth" if face.get("taper_um_per_mm") is None else
+               f"the FS teeth modified as made (taper {face['taper_um_per_mm']:.3g} µm/mm, "
+               f"crowning {face['crowning_um']:.3g} µm)")
+        across = (f"<p>Across the face: the curve is solved as {face['slices']} axial slices sharing the rotation, "
+                  f"nodes on both face ends, each with the 3D cup's coning (the CS cut at z = "
+                  f"{face['design_section_z_mm']:g} mm) and {html.escape(mod)}; the slices are independent, the soft "
+                  "bound (the face held straight gives the one-section curve). With one section, the load even "
+                  f"across the face, K1, K2, K3 would be "
+                  f"{', '.join(_quantity(one[n], '_nm_per_rad') for n in ('k1_nm_per_rad', 'k2_nm_per_rad', 'k3_nm_per_rad'))}"
+                  f" N·m/rad and lost motion {one['lost_motion_arcmin']:.3g} arcmin"
+                  + (f" (model / catalogue: K1 {ratios['K1_nm_per_rad']:.2f}, K2 {ratios['K2_nm_per_rad']:.2f})"
+                     if "K1_nm_per_rad" in ratios and "K2_nm_per_rad" in ratios else "") + ".</p>")
     uri = _png_uri(png) if png is not None else None
     img = "" if uri is None else f'<img src="{uri}" alt="torsional curve">'
     return f"""<h2>The whole gear in torsion</h2>
@@ -504,11 +529,11 @@ adds up from the tooth mesh (both flanks solved, each for its own direction), th
 bearing, the cup wall and bottom, and the CS ring. The catalogue's stiffnesses are read off this curve the
 catalogue's way: K1 = T1/φ(T1), K2 = (T2 − T1)/(φ(T2) − φ(T1)), K3 from T2 to the peak torque, with
 T1 = {bp['T1']:g} N·m, T2 = {bp['T2']:g} N·m ({curve.breakpoints_source}), T3 = {bp['T3']:g} N·m. Lost motion is
-the rotation between ±{curve.lost_motion_torque_nm:.3g} N·m (3 % of the rated torque); the free play at zero
-torque is {curve.backlash_rad * arcmin:.3g} arcmin. No friction is modelled, so there is no hysteresis:
+the rotation between ±{curve.lost_motion_torque_nm:.3g} N·m (3 % of the rated torque); {_free_play(curve.backlash_rad * arcmin)}. No friction is modelled, so there is no hysteresis:
 loading and unloading give one curve. In the other direction K1, K2, K3 are
 {', '.join(_quantity(k['negative'][n], '_nm_per_rad') for n in ('K1', 'K2', 'K3'))} N·m/rad.</p>
 {against}
+{across}
 <table><tr><th>whole gear</th><th>this model</th><th>catalogue</th><th>model / catalogue</th></tr>{rows}</table>
 <p>Where the twist comes from at the rated torque ({float(design.gearset.torque.rated_nm):g} N·m):</p>
 <table><tr><th>part</th><th>compliance (10⁻⁶ rad/N·m)</th><th>share</th><th>model</th></tr>{comp_rows}</table>

@@ -429,3 +429,29 @@ def test_continuation_falls_back_to_the_reference(curve, sketch_design, monkeypa
     assert given_up == [20.0, 20.0]  # both flanks
     assert np.allclose(mixed.rotation_rad, plain.rotation_rad, rtol=1e-5, atol=0.0)
     assert np.array_equal(mixed.teeth_in_contact, plain.teeth_in_contact)
+
+
+def test_the_scene_asks_for_face_slices_only_where_there_is_a_face_stage():
+    """whole_gear_curve's choice (chain._scene_face_slices): the scene's face_slices = N on a
+    design with a face stage → N slices with nodes on both face ends, at the face stage's design
+    section and tooth modification; without one → the one-section curve and a warning naming the
+    tier; N = 0, or face_slices given by the caller → the scene is not consulted."""
+    from types import SimpleNamespace
+
+    from profilegen.contact.chain import _scene_face_slices
+
+    mod = SimpleNamespace(taper_mm_per_mm=1.2e-3, crowning_mm=0.0)
+    with_face = SimpleNamespace(scene=SimpleNamespace(face_slices=5), rim=SimpleNamespace(tier="cup3d", cup="CUP"),
+                                face=SimpleNamespace(design_section_z_mm=70.0, modification=mod))
+    spec, note = _scene_face_slices(with_face, {})
+    assert note is None
+    assert (spec.slices, spec.nodes, spec.coning, spec.cup, spec.design_z_mm, spec.modification) == \
+        (5, "ends", "cup", "CUP", 70.0, mod)
+    assert spec.coupling_length_mm == 0.0  # independent slices: the soft bound
+    assert _scene_face_slices(with_face, {"face_slices": 3}) == (None, None)
+    flat = SimpleNamespace(scene=SimpleNamespace(face_slices=5), rim=SimpleNamespace(tier="toothed", cup=None),
+                           face=None)
+    spec, note = _scene_face_slices(flat, {})
+    assert spec is None and "face_slices = 5" in note and "toothed" in note
+    off = SimpleNamespace(scene=SimpleNamespace(face_slices=0), rim=with_face.rim, face=with_face.face)
+    assert _scene_face_slices(off, {}) == (None, None)

@@ -22,7 +22,8 @@ PRESETS = {
                     "the default: 1 nm envelope, classified, loaded contact", 721, True),
     "verify": Scene("verify", "3D cup FEM (nonlinear)", 1e-7, 192, 481, 721, True,  # rim: the 3D cup (issue 15)
                     "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001, True, tier="cup3d",
-                    ratcheting=True, transmission_error=True),  # the whole gear's extras (issue 16)
+                    ratcheting=True, transmission_error=True,  # the whole gear's extras (issue 16)
+                    face_slices=5),  # the torsional curve across the face (contact.face_curve)
 }
 
 
@@ -57,6 +58,8 @@ def test_the_bundled_file_holds_the_presets_unchanged():
         (_sketch_table(n_t=48.0), "n_t", "must be an integer"),
         (_sketch_table(n_t=True), "n_t", "must be an integer"),
         (_sketch_table(n_phi=5), "n_phi", "[11, 100000]"),
+        (_sketch_table(face_slices=-1), "face_slices", "[0, 33]"),
+        (_sketch_table(face_slices=2.0), "face_slices", "must be an integer"),
         (_sketch_table(chord_tol_mm=0.0), "chord_tol_mm", "(0, 0.01] mm"),
         (_sketch_table(chord_tol_mm=float("nan")), "chord_tol_mm", "must be a number"),
         (_sketch_table(brute_force_check=1), "brute_force_check", "true or false"),
