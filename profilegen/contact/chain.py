@@ -1119,8 +1119,10 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
     the curve is solved as N axial slices with nodes on both face ends (:class:`~profilegen.
     contact.face_curve.FaceSlices`: independent slices, the soft bound; coning of the cup
     pressed on the wave generator), and the one-section curve's headline is kept beside it
-    (``face["one_section"]``). A scene that asks for slices on a run without a face stage gets
-    the one-section curve and a warning saying so."""
+    (``face["one_section"]``). Where a slice's coning moves its loaded zone to the edge of the
+    teeth searched for the section (a torque flagged "edge tooth"), the slices are solved again on
+    both flanks searched twice as deep (``face["max_gap_mm"]``). A scene that asks for slices on a
+    run without a face stage gets the one-section curve and a warning saying so."""
     from dataclasses import replace
 
     from .compliance import ContactCompliance
@@ -1162,6 +1164,11 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
     one = replace(one, breakpoints_source=source)
     sliced = torsional_curve(inputs, torques, sides=one.sides, breakpoints_nm=bp, catalogue=cat, face_slices=spec,
                              **options)
+    if any(f is not None and "edge tooth" in f for f in sliced.flags):
+        # a slice's coning moved its loaded zone to the edge of the teeth searched for the section:
+        # search twice as deep (both flanks built again) and solve the slices once more
+        deeper = {**options, "max_gap_mm": 2.0 * float(max_gap)}
+        sliced = torsional_curve(inputs, torques, breakpoints_nm=bp, catalogue=cat, face_slices=spec, **deeper)
     mod = spec.modification
     face = {
         "slices": spec.slices, "nodes": spec.nodes, "coning": spec.coning,
@@ -1173,6 +1180,7 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
                   "each with the 3D cup's coning and the face stage's tooth modification, sharing the rotation; "
                   "every ball one-sided with its Hertz spring in every slice (contact.face_curve)"),
         "one_section": one.headline(),
+        "max_gap_mm": float(sliced.sides[1][0].max_gap_mm) if sliced.sides else float(max_gap),
     }
     return replace(sliced, sides={}, breakpoints_source=source, face=json_ready(face),
                    time_s=time.perf_counter() - t0)
