@@ -127,7 +127,6 @@ from .reduced import _ReducedZone, _solution, _SpringIteration  # noqa: F401 (th
 __all__ = [
     "ARCMIN_PER_RAD",
     "BallBearing",
-    "CATALOGUE_SIZE40_RATIO50",
     "ChainError",
     "ChainPart",
     "ComplianceChain",
@@ -150,25 +149,6 @@ log = logging.getLogger(__name__)
 
 ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi
 
-#: Harmonic Drive LLC, CSF/CSG catalogue, table 42 "Torsional Stiffness for Ratio 1/50", size 40:
-#: T1, T2 (N·m) and K1 (0…T1), K2 (T1…T2) in N·m/rad — the values the README and
-#: profilegen.output.plot (CATALOG_SIZE40_RATIO50) already use. K3 and the ratio ≥ 80 table
-#: (table 43; ours are ratio 100, listed stiffer) are not in the repository: None.
-CATALOGUE_SIZE40_RATIO50 = {
-    "source": "Harmonic Drive LLC CSF/CSG catalogue, table 42 (ratio 1/50), size 40",
-    "ratio": 50,
-    "T1_nm": 54.0, "K1_nm_per_rad": 10e4,
-    "T2_nm": 196.0, "K2_nm_per_rad": 14e4,
-    "K3_nm_per_rad": None,
-    "lost_motion_arcmin": None,
-}
-
-
-#: Catalogue sizes (the size number ≈ the pitch diameter in tenths of an inch) whose stiffness
-#: table the repository holds, by size.
-_CATALOGUES = {40: CATALOGUE_SIZE40_RATIO50}
-
-
 #: The catalogue's sizes (CSF/CSG/SHF series): the nominal pitch diameter in tenths of an inch
 CATALOGUE_SIZES = (8, 11, 14, 17, 20, 25, 32, 40, 45, 50, 58, 65, 80, 90, 100)
 
@@ -187,7 +167,8 @@ def catalogue_for(gearset) -> dict | None:
     """The catalogue values the gear set is compared with, or None: the row of
     :func:`profilegen.contact.catalogue.catalogue_row` for its size (:func:`catalogue_size`)
     and ratio — with its ``source``, the ``ratio`` of the table used and a ``note`` when that
-    is not the set's, the ratcheting torque — else the repository's own size-40 table."""
+    is not the set's, the ratcheting torque — None when the catalogue module has no row for the
+    size at or below the ratio (one source of truth: :mod:`profilegen.contact.catalogue`)."""
     from .catalogue import catalogue_row
 
     size = catalogue_size(gearset)
@@ -196,10 +177,8 @@ def catalogue_for(gearset) -> dict | None:
     ratio = float(gearset.ratio)
     try:
         out = dict(catalogue_row(size, int(round(ratio))))
-    except ValueError:
-        if size not in _CATALOGUES:
-            return None
-        out = dict(_CATALOGUES[size])
+    except ValueError:  # no row for this size, or none at or below this ratio
+        return None
     out["size"] = size
     if out.get("ratio") is not None and float(out["ratio"]) != ratio and not out.get("note"):
         out["note"] = (f"the catalogue's table is for ratio {float(out['ratio']):g}, this set's ratio is {ratio:g} "

@@ -365,12 +365,6 @@ def clearance(phi_rad: Any, clearance_mm: Any, ax: "Axes | None" = None) -> "Axe
     return ax
 
 
-#: Torsional stiffness of a size-40 cup-type gear from the Harmonic Drive LLC CSF/CSG
-#: catalog, table 42 (ratio 1/50): limit torques T1, T2 (N·m) and stiffnesses K1 (0…T1),
-#: K2 (T1…T2) in N·m/rad. Ratios ≥ 80 (ours: 100) are listed stiffer in the same catalog.
-CATALOG_SIZE40_RATIO50 = {"T1_nm": 54.0, "K1_nm_per_rad": 10e4, "T2_nm": 196.0, "K2_nm_per_rad": 14e4}
-
-
 def contact_figure(result: Any, *, title: str = "", path: str | os.PathLike | None = None,
                    catalog: dict | None = None, ratio: float | None = None, size: int | None = None) -> "Figure":
     """Load sharing along the engagement (force per tooth vs φ, one line per torque), the

@@ -34,7 +34,7 @@ sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
 from profilegen.contact.chain import (  # noqa: E402
-    ARCMIN_PER_RAD, CATALOGUE_SIZE40_RATIO50, catalogue_for, compliance_chain, cup_torsion_fem, curve_torques_nm,
+    ARCMIN_PER_RAD, catalogue_for, compliance_chain, cup_torsion_fem, curve_torques_nm,
     torsional_curve, whole_gear_curve)
 
 TORQUES_NM = [-1200, -660, -265, -196, -100, -54, -8, 8, 54, 100, 196, 265, 660, 1200]
@@ -51,7 +51,9 @@ def _catalogue_rotation_rad(torque: float, cat: dict) -> float:
 
 def run(path: Path) -> None:
     gs = pg.load_gearset(path)
-    cat = catalogue_for(gs) or CATALOGUE_SIZE40_RATIO50  # the row for the set's size (and its ratio's note)
+    cat = catalogue_for(gs)  # the row for the set's size (and its ratio's note); None: no row
+    if cat is None:
+        raise SystemExit(f"{path}: no catalogue row for this set's size and ratio (profilegen/contact/catalogue.py)")
     print(f"\n=== {gs.name} ({path.name}): ratio {gs.gear.flexspline_teeth // 2}, rated {gs.torque.rated_nm:g}, "
           f"peak {gs.torque.peak_nm:g}, momentary {gs.torque.momentary_nm:g} N·m")
     chain = compliance_chain(gs)

@@ -455,3 +455,22 @@ def test_the_scene_asks_for_face_slices_only_where_there_is_a_face_stage():
     assert spec is None and "face_slices = 5" in note and "toothed" in note
     off = SimpleNamespace(scene=SimpleNamespace(face_slices=0), rim=with_face.rim, face=with_face.face)
     assert _scene_face_slices(off, {}) == (None, None)
+
+
+def test_catalogue_for_reads_the_catalogue_module_only():
+    """One source of truth: a size-40 set of ratio 100 gets the ratio >= 80 row (CHA table 50.4:
+    K1 13e4, K2 20e4 N.m/rad), ratio 50 the ratio-50 row (LLC table 42: K1 10e4); a ratio below
+    every tabulated one gets no row (it used to fall back to a private copy of the ratio-50
+    table), and a size the module has no row for gets none."""
+    from types import SimpleNamespace
+
+    from profilegen.contact.chain import catalogue_for
+
+    def gs(ratio, teeth=200):
+        return SimpleNamespace(gear=SimpleNamespace(module_mm=0.5, flexspline_teeth=teeth), ratio=ratio)
+
+    r100 = catalogue_for(gs(100))
+    assert (r100["size"], r100["K1_nm_per_rad"], r100["K2_nm_per_rad"]) == (40, 13e4, 20e4)
+    assert catalogue_for(gs(50))["K1_nm_per_rad"] == 10e4
+    assert catalogue_for(gs(20)) is None
+    assert catalogue_for(gs(100, teeth=400)) is None  # 200 mm is size 80: no row for it here
