@@ -190,7 +190,7 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
     mid-plane (:func:`profilegen.face.modification.thickness_change`,
     :func:`flank_offset_gap_mm`); None: straight teeth."""
     from ..face.modification import thickness_change
-    from .face_load import cup_sections, gap_shift_mm, semi_membrane_sections
+    from .face_load import coning_gap_shifts
     from .inputs import ContactInput
 
     inputs = ContactInput.from_design(inputs, name="inputs")
@@ -204,18 +204,7 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
                                                         low_open=False, high_open=False, error=FaceCurveError)
     z = zc - 0.5 * b + slice_layout(b, n, nodes)[0]
     motion = inputs.motion
-    if coning == "none":
-        out = np.zeros((n, points.count))
-    else:
-        if coning == "cup":
-            if cup is None:
-                from ..rim.cup.contact import press_cup
-
-                cup = press_cup(gs)
-            secs = cup_sections(cup, np.r_[zd, z])
-        else:
-            secs = [motion.deformation] + semi_membrane_sections(motion.deformation, z, zd)
-        out = np.array([gap_shift_mm(points, motion, s, secs[0]) for s in secs[1:]])
+    out = coning_gap_shifts(points, motion, gs, zd, z, coning=coning, cup=cup)
     if modification is not None:
         if isinstance(modification, tuple | list):
             taper, crown = (float(v) for v in modification)

@@ -107,6 +107,7 @@ __all__ = [
     "FaceLoad",
     "FaceLoadError",
     "TwoFlankFace",
+    "coning_gap_shifts",
     "cup_sections",
     "face_load",
     "face_two_flanks",
@@ -345,6 +346,26 @@ class FaceLoad:
         })
 
 
+def coning_gap_shifts(points, motion: HarmonicDriveMotion, gearset, reference_z_mm: float, z_mm, *,
+                      coning: str = "cup", cup=None) -> np.ndarray:
+    """Δe (len(z_mm), points.count, mm): each point's separation change (:func:`gap_shift_mm`)
+    when the section at each z replaces the one at ``reference_z_mm`` — the 3D cup's sections
+    (``coning="cup"``: :func:`cup_sections` of ``cup``, default press_cup of the set), the
+    semi-membrane check (:func:`semi_membrane_sections`), or none (zeros)."""
+    z_mm = np.asarray(z_mm, dtype=float)
+    if coning == "none":
+        return np.zeros((z_mm.size, points.count))
+    if coning == "cup":
+        if cup is None:
+            from ..rim.cup.contact import press_cup
+
+            cup = press_cup(gearset)
+        secs = cup_sections(cup, np.r_[reference_z_mm, z_mm])
+    else:
+        secs = [motion.deformation] + semi_membrane_sections(motion.deformation, z_mm, reference_z_mm)
+    return np.array([gap_shift_mm(points, motion, sec, secs[0]) for sec in secs[1:]])
+
+
 def _solve_slices(compliance, theta, lever, torque_nmm, coupling):
     """Lemke on the stacked slices; θ may be negative (shifted by its minimum, exact)."""
     from .solvers import solve_lemke
@@ -429,19 +450,7 @@ def face_load(inputs, torque_nm: float, *, slices: int = 8, cup=None, coning: st
     res = solve_contact(inputs, [torque_nm], side=side, points=points, compliance=compliance)
     pts, comp = res.points, res.compliance
     settled = comp.with_balls(res.cases[0].ball_active)
-    motion = inputs.motion
-    if coning == "none":
-        shifts = np.zeros((z.size, pts.count))
-    else:
-        if coning == "cup":
-            if cup is None:
-                from ..rim.cup.contact import press_cup
-
-                cup = press_cup(gs)
-            secs = cup_sections(cup, np.r_[z0, z])
-        else:
-            secs = [motion.deformation] + semi_membrane_sections(motion.deformation, z, z0)
-        shifts = np.array([gap_shift_mm(pts, motion, sec, secs[0]) for sec in secs[1:]])
+    shifts = coning_gap_shifts(pts, inputs.motion, gs, z0, z, coning=coning, cup=cup)
     if getattr(comp, "ball_supports", "window") == "all":
         # every ball one-sided at its no-load gap (the contact stage's model): the balls the 2D solve
         # loads are held at their gaps, which moves each point's separation alike on every slice
