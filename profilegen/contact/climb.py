@@ -149,11 +149,10 @@ __all__ = ["SLIDING", "ClimbError", "ClimbPath", "ClimbPoint", "DesignClimb", "S
            "climb", "section_inputs", "sliding_tangent", "solve_lcp", "solve_lcp_lemke", "tooth_probes"]
 
 
-def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.ndarray:
-    """F ≥ 0 with w = S F + q ≥ 0 and F·w = 0, for S symmetric positive definite: the
-    minimum of ½FᵀSF + qᵀF over F ≥ 0, as a non-negative least-squares problem on the
-    Cholesky factor of S restricted to the candidates (q_j < 0 first; a point whose w comes
-    out below −tol joins and the problem is solved again). Exact for SPD S."""
+def _candidate_set(m: np.ndarray, q: np.ndarray, tol: float | None, solve_candidates, where: str) -> np.ndarray:
+    """The climb's LCP loop: F ≥ 0, w = M F + q ≥ 0, F·w = 0 solved on a candidate set — the
+    points with q_j < 0 first; ``solve_candidates(idx, tol)`` gives F on the candidates (zero
+    elsewhere); a point outside whose w comes out below −tol joins and the set is solved again."""
     n = q.size
     f = np.zeros(n)
     if n == 0:
@@ -165,16 +164,27 @@ def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.n
         idx = np.flatnonzero(cand)
         f[:] = 0.0
         if idx.size:
-            sub = s[np.ix_(idx, idx)]
-            low = np.linalg.cholesky(sub)
-            rhs = -solve_triangular(low, q[idx], lower=True)
-            f[idx] = nnls(low.T, rhs, maxiter=50 * idx.size)[0]
-        w = s @ f + q
+            f[idx] = solve_candidates(idx, tol)
+        w = m @ f + q
         bad = (~cand) & (w < -tol)
         if not bad.any():
             return f
         cand |= bad
-    raise ConvergenceError("climb.solve_lcp: the candidate set did not settle")
+    raise ConvergenceError(f"{where}: the candidate set did not settle")
+
+
+def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.ndarray:
+    """F ≥ 0 with w = S F + q ≥ 0 and F·w = 0, for S symmetric positive definite: the
+    minimum of ½FᵀSF + qᵀF over F ≥ 0, as a non-negative least-squares problem on the
+    Cholesky factor of S restricted to the candidates (q_j < 0 first; a point whose w comes
+    out below −tol joins and the problem is solved again). Exact for SPD S."""
+
+    def on_candidates(idx, _tol):
+        low = np.linalg.cholesky(s[np.ix_(idx, idx)])
+        rhs = -solve_triangular(low, q[idx], lower=True)
+        return nnls(low.T, rhs, maxiter=50 * idx.size)[0]
+
+    return _candidate_set(s, q, tol, on_candidates, "climb.solve_lcp")
 
 
 #: the sliding speed (mm per rad of φ) over which the "-elastic" senses' friction turns from
@@ -203,32 +213,23 @@ def solve_lcp_lemke(m: np.ndarray, q: np.ndarray, *, tol: float | None = None) -
     :class:`ConvergenceError`."""
     from .compliance import _lemke_lcp
 
-    n = q.size
-    f = np.zeros(n)
-    if n == 0:
-        return f
-    scale = float(np.max(np.abs(q))) or 1.0
-    tol = 1e-12 * scale if tol is None else tol
-    d = float(np.mean(np.abs(np.diag(m)))) or 1.0
-    cand = q < 0.0
-    for _ in range(n + 1):
-        idx = np.flatnonzero(cand)
-        f[:] = 0.0
-        if idx.size:
-            sub = m[np.ix_(idx, idx)]
-            act, _ = _lemke_lcp(sub / d, q[idx] / scale, "climb.solve_lcp_lemke")
-            if act.size:
-                f[idx[act]] = np.linalg.solve(sub[np.ix_(act, act)], -q[idx[act]])
-        w = m @ f + q
-        if f.min() < -1e-9 * max(float(f.max()), 1e-300) or w[idx].min(initial=0.0) < -1e3 * tol:
+    scale = float(np.max(np.abs(q))) if q.size else 1.0
+    scale = scale or 1.0
+    d = float(np.mean(np.abs(np.diag(m)))) if q.size else 1.0
+    d = d or 1.0
+
+    def on_candidates(idx, tol_):
+        sub, f = m[np.ix_(idx, idx)], np.zeros(idx.size)
+        act, _ = _lemke_lcp(sub / d, q[idx] / scale, "climb.solve_lcp_lemke")
+        if act.size:
+            f[act] = np.linalg.solve(sub[np.ix_(act, act)], -q[idx[act]])
+        w = sub @ f + q[idx]  # = (M F + q) on the candidates: F is zero elsewhere
+        if f.min() < -1e-9 * max(float(f.max()), 1e-300) or w.min(initial=0.0) < -1e3 * tol_:
             raise ConvergenceError(f"climb.solve_lcp_lemke: Lemke's basis is not a solution (min F {f.min():.3g} N, "
-                                   f"min w {w[idx].min(initial=0.0):.3g} mm): M is not a P-matrix here")
-        np.maximum(f, 0.0, out=f)
-        bad = (~cand) & (w < -tol)
-        if not bad.any():
-            return f
-        cand |= bad
-    raise ConvergenceError("climb.solve_lcp_lemke: the candidate set did not settle")
+                                   f"min w {w.min(initial=0.0):.3g} mm): M is not a P-matrix here")
+        return np.maximum(f, 0.0)
+
+    return _candidate_set(m, q, tol, on_candidates, "climb.solve_lcp_lemke")
 
 
 def sliding_tangent(normal: np.ndarray, e_r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
