@@ -107,7 +107,7 @@ def test_a_contact_that_cannot_take_the_design_leaves_a_warning(monkeypatch):
     import profilegen.pipeline as pipeline
     from profilegen.contact.compliance import ComplianceError
 
-    def broken(result, step):
+    def broken(result, step, early=None):
         raise ComplianceError("cs_points: point 3 is 0.2 mm off the fitted CS surface")
 
     monkeypatch.setattr(pipeline, "_with_contact", broken)
