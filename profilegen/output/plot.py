@@ -441,8 +441,10 @@ def torsional_figure(curve: Any, *, title: str = "", ratio: float | None = None,
     cat = curve.catalogue
     t2 = float(curve.breakpoints_nm["T2"])
     zoom = np.abs(t) <= 1.25 * t2
+    face = getattr(curve, "face", None)  # solved across the face (the scene's face_slices)
+    across = "" if face is None else f", {face['slices']} face slices"
     for ax, pick in ((ax1, np.ones(t.size, bool)), (ax2, zoom)):
-        for rot, style, label in ((curve.rotation_rad, "o-", "whole gear (mesh + balls + cup + CS body)"),
+        for rot, style, label in ((curve.rotation_rad, "o-", f"whole gear (mesh + balls + cup + CS body{across})"),
                                   (curve.mesh_balls_rad, "s--", "mesh + Hertz ball springs"),
                                   (curve.mesh_rad, "^:", "mesh only (rigid balls)")):
             ax.plot(t[pick], np.asarray(rot)[pick] * k, style, ms=3, lw=1, label=label)
