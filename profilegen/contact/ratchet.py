@@ -624,10 +624,14 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
     valid = np.array([fl is None for fl in flags])
     rated = float(gs.torque.rated_nm)
     mean_h, mean_sep = (np.array(c) for c in zip(*every))
+    first_linear = len(warnings)
     torque, extrapolated, exponent, fitted, proportional = _criterion(torques, mean_h, mean_sep, valid, warnings)
     linear = float(torque)
     climb_info = None
     if climb:
+        # the climb gives the estimate: the linear criterion's words are its diagnostics, not the estimate
+        warnings[first_linear:] = [f"linear diagnostics (torque_linear_nm, not the estimate): {w}"
+                                   for w in warnings[first_linear:]]
         torque, extrapolated, climb_info = _climb(inputs, gs, side=side, bearing=bearing, cs_ring=cs_ring,
                                                   race_thickness_mm=race_thickness_mm, stations=climb_stations,
                                                   max_gap_mm=climb_max_gap_mm, linear=linear,
