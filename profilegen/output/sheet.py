@@ -217,8 +217,11 @@ def _geometry_rows(design) -> str:
 
 
 def _stiffness_scope(design) -> str:
-    if getattr(design, "torsional", None) is not None:
-        return "secant; mesh, balls, cup and CS body, wave generator locked"
+    curve = getattr(design, "torsional", None)
+    if curve is not None:
+        face = getattr(curve, "face", None)
+        across = "" if face is None else f", {face['slices']} face slices"
+        return f"secant; mesh, balls, cup and CS body{across}, wave generator locked"
     return "mesh only: no bearing, cam or cup wind-up"
 
 
@@ -257,6 +260,7 @@ SHEET_STYLE = """<style>
 .ds table{border-collapse:collapse;width:100%;margin:0}
 .ds td,.ds th{padding:1px 5px;border:0;border-bottom:1px solid #e4e4e4;text-align:left;vertical-align:top;white-space:nowrap}
 .ds th{font-weight:normal;color:#333}.ds td.num{text-align:right}.ds td.note{color:#555;white-space:normal}
+.ds td.wrap{white-space:normal}
 .ds thead th{font-weight:bold;color:#111}
 .ds .pass{color:#1a7f1a;font-weight:bold}.ds .fail{color:#c00;font-weight:bold}.ds .skip{color:#777}
 .ds .fig{min-height:300px;position:sticky;top:0}
@@ -271,7 +275,7 @@ def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> 
     g = design.gearset
     v = design.verdict
     check_rows = "".join(
-        f"<tr><th>{html.escape(c.name)}</th><td>{html.escape(c.where)}</td><td class=num>{html.escape(c.value)}</td>"
+        f"<tr><th>{html.escape(c.name)}</th><td>{html.escape(c.where)}</td><td class='num wrap'>{html.escape(c.value)}</td>"
         f"<td>{html.escape(c.required)}</td><td class=num>{c.margin}</td><td>{_badge(c.passed)}</td></tr>"
         for c in checks(design, interference_tol_mm))
     gear = (f"ratio {g.ratio:g}, deflection ω* = {g.wave_generator.deflection_coefficient:g}, "
