@@ -617,21 +617,12 @@ def face_two_flanks(inputs, torque_nm: float, *, slices: int = 8, coning: str = 
     pos, neg, comp = two_flank_sides(inputs) if sides is None else sides
     b, z0 = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
     z = slice_positions(b, slices, z0)
-    n = pos.count + neg.count
-    if coning == "none":
-        shifts = np.zeros((z.size, n))
-    else:
-        motion = inputs.motion
-        if coning == "cup":
-            if cup is None:
-                from ..rim.cup.contact import press_cup
+    if coning == "cup" and cup is None:
+        from ..rim.cup.contact import press_cup
 
-                cup = press_cup(gs)
-            secs = cup_sections(cup, np.r_[z0, z])
-        else:
-            secs = [motion.deformation] + semi_membrane_sections(motion.deformation, z, z0)
-        shifts = np.array([np.r_[gap_shift_mm(pos, motion, sec, secs[0]), gap_shift_mm(neg, motion, sec, secs[0])]
-                           for sec in secs[1:]])
+        cup = press_cup(gs)  # once, for both flanks
+    shifts = np.hstack([coning_gap_shifts(flank, inputs.motion, gs, z0, z, coning=coning, cup=cup)
+                        for flank in (pos, neg)])
     gap = np.r_[pos.gap_mm, neg.gap_mm]
     lever = np.r_[pos.lever_mm, neg.lever_mm]
     sense = np.r_[np.ones(pos.count), -np.ones(neg.count)]
