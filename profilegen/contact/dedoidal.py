@@ -381,25 +381,19 @@ class TwoZoneClimb:
         return x, sol[kp:]
 
     def _active_set(self, m_mat, q, df, k, rest, load, loaded):
-        seen = set()
-        loaded = loaded.copy()
-        scale = float(np.max(np.abs(q))) or 1.0
-        for _ in range(4 * q.size + 20):
-            key = loaded.tobytes()
-            if key in seen:
-                return None
-            seen.add(key)
-            p = np.flatnonzero(loaded)
-            try:
-                x, tau = self._bordered(m_mat, q, df, k, rest, load, p)
-            except np.linalg.LinAlgError:
-                return None
-            w = m_mat @ x + q + df @ tau
-            new = (loaded & (x > 0.0)) | (~loaded & (w < -1e-12 * scale))
-            if np.array_equal(new, loaded):
-                return x, tau, loaded
-            loaded = new
-        return None
+        from .solvers import active_set_loop
+
+        tol = 1e-12 * (float(np.max(np.abs(q))) or 1.0)
+
+        def solve(p):
+            x, tau = self._bordered(m_mat, q, df, k, rest, load, p)
+            return x, m_mat @ x + q + df @ tau, tol, tau
+
+        out = active_set_loop(loaded, solve, max_iter=4 * q.size + 20)
+        if out is None:
+            return None
+        x, _, loaded, tau = out
+        return x, tau, loaded
 
     def _newton(self, m_mat, q, df, k, rest, load, tau):
         """Newton ascent on the concave dual h(τ) = min_{x≥0} ½xᵀMx + (q + Dτ)ᵀx − ½(τ−τ₀)ᵀk(τ−τ₀)

@@ -123,12 +123,40 @@ from ..results import json_ready as _json, readonly as _readonly
 __all__ = [
     "ContactError",
     "ContactSolution",
+    "active_set_loop",
     "solve_lemke",
     "solve_naive_lp",
     "solve_qp_active_set",
 ]
 
 log = logging.getLogger(__name__)
+
+
+def active_set_loop(loaded, solve, *, max_iter: int):
+    """The primal–dual active-set rule for an LCP with bordered equality unknowns (the whole-ring
+    contact of :mod:`profilegen.contact.tooth_errors` and the two-zone climb of
+    :mod:`profilegen.contact.dedoidal`): ``solve(p)`` solves the system with the loads ``p``
+    (indices) active and the others zero → (x, w, tol, extra) — the loads, the gaps, the gap
+    tolerance and whatever else the caller needs; a load stays active while x > 0 and an inactive
+    one joins where w < −tol. Returns (x, w, loaded, extra) once the set repeats itself, or None
+    when a set recurs (cycling), the system is singular, or ``max_iter`` sets have been tried —
+    the caller then falls back to a pivoting method."""
+    seen = set()
+    loaded = np.array(loaded, dtype=bool)
+    for _ in range(max_iter):
+        key = loaded.tobytes()
+        if key in seen:
+            return None
+        seen.add(key)
+        try:
+            x, w, tol, extra = solve(np.flatnonzero(loaded))
+        except np.linalg.LinAlgError:
+            return None
+        new = (loaded & (x > 0.0)) | (~loaded & (w < -tol))
+        if np.array_equal(new, loaded):
+            return x, w, loaded, extra
+        loaded = new
+    return None
 
 #: reciprocal condition number of the scaled compliance below which it counts as singular
 _RCOND_MIN = 1e-12

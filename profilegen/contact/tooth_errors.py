@@ -463,25 +463,18 @@ class TwoZoneContact:
         return x, phi, t, w
 
     def _active_set(self, ms, qs, as_, dmat, loaded):
-        seen = set()
-        loaded = loaded.copy()
-        for _ in range(4 * qs.size + 20):
-            key = loaded.tobytes()
-            if key in seen:
-                return None
-            seen.add(key)
-            p = np.flatnonzero(loaded)
-            try:
-                x, phi, t, w = self._kkt(ms, qs, as_, dmat, p)
-            except np.linalg.LinAlgError:
-                return None
-            tol = 1e-10 * (1.0 + abs(phi))
-            new = (loaded & (x > 0.0)) | (~loaded & (w < -tol))
-            if np.array_equal(new, loaded):
-                w[loaded] = 0.0
-                return x, phi, t, w, loaded
-            loaded = new
-        return None
+        from .solvers import active_set_loop
+
+        def solve(p):
+            x, phi, t, w = self._kkt(ms, qs, as_, dmat, p)
+            return x, w, 1e-10 * (1.0 + abs(phi)), (phi, t)
+
+        out = active_set_loop(loaded, solve, max_iter=4 * qs.size + 20)
+        if out is None:
+            return None
+        x, w, loaded, (phi, t) = out
+        w[loaded] = 0.0
+        return x, phi, t, w, loaded
 
     def _lemke(self, ms, qs, as_, dmat):
         """Lemke on (x, ψ = φ − θ̂_min, t⁺, t⁻); the final loaded set re-solved by :meth:`_kkt`."""
