@@ -64,6 +64,7 @@ from .sections import (
     WaveGenerator,
     check_cup_geometry,
 )
+from .requirements import _REQUIREMENTS_KEYS, NOT_REQUIRED, REQUIREMENT_FIELDS, Requirements
 
 
 _NAME_RE = re.compile(r"[a-z0-9_-]+")
@@ -178,6 +179,8 @@ def read_toml(path: Path, error: type[Exception], what: str, *, limit: int = MAX
     FIFO, over ``limit`` bytes, unreadable, malformed, not UTF-8) is an ``error`` naming
     the file, the line and ``what`` it should be, never quoting the file."""
     text = _decode_utf8(read_limited(path, limit, error, what), path, error, what)
+    if text.startswith("\ufeff"):  # a UTF-8 byte-order mark (Excel, Windows editors): not content
+        text = text[1:]
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
@@ -425,6 +428,7 @@ class _Reader:
         )
         cup = self.read_cup(self.section(data, "cup", required=False), gear)
         face = self.read_face(self.section(data, "face", required=False), cup)
+        requirements = self.read_requirements(self.section(data, "requirements", required=False))
         rim = gear_raw.get("rim_thickness_mm")
         if None not in (rim, m, wave_generator):
             w0 = wave_generator.deflection_coefficient * m
@@ -449,6 +453,7 @@ class _Reader:
             circular_spline=circular_spline,
             cup=cup,
             face=face,
+            requirements=requirements,
         )
 
     def read_gear(self, t: Mapping | None) -> dict[str, Any]:
@@ -1016,3 +1021,26 @@ class _Reader:
         for k in auto:
             self.given.add(f"{p}.{k}")
         return Face(**{**v, **auto})
+
+    def read_requirements(self, t: Mapping | None) -> Requirements | None:
+        """The ``[requirements]`` table (:mod:`profilegen.gearset.requirements`): every key
+        optional, a number in its range or ``"none"`` (not required)."""
+        if t is None:
+            return Requirements()
+        p = "requirements"
+        self.unknown_keys(t, p, _REQUIREMENTS_KEYS)
+        v, ok = {}, True
+        for f in REQUIREMENT_FIELDS:
+            if isinstance(t.get(f.key), str):
+                self.given.add(f"{p}.{f.key}")
+                v[f.key] = None
+                if t[f.key] != NOT_REQUIRED:
+                    self.problem(f"{p}.{f.key} = {_show(t[f.key])}: must be a number{' in ' + f.unit if f.unit else ''} "
+                                 f'or "{NOT_REQUIRED}" (not required)')
+                    ok = False
+                continue
+            note = f'or "{NOT_REQUIRED}": not required'
+            v[f.key] = self.number(t, p, f.key, unit=f.unit, rng=_Range(f.lo, f.hi, lo_open=f.lo_open, note=note),
+                                   default=f.default)
+            ok &= not (f.key in t and v[f.key] is None)
+        return Requirements(**v) if ok else None

@@ -17,6 +17,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..errors import GearSetError
+from .requirements import _REQUIREMENTS_KEYS, Requirements  # the [requirements] table (the verdict's)
 
 
 SCENE_NAMES = ("sketch", "design", "verify")
@@ -38,7 +39,7 @@ _DCTA_DEFAULTS = {
 }
 
 _TOP_KEYS = ("name", "description", "source", "scene")
-_SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline", "cup", "face")
+_SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline", "cup", "face", "requirements")
 _GEAR_KEYS = (
     "module_mm",
     "flexspline_teeth",
@@ -147,6 +148,7 @@ _SECTION_KEYS = {
     "circular_spline": _CIRCULAR_SPLINE_KEYS,
     "cup": _CUP_KEYS,
     "face": _FACE_KEYS,
+    "requirements": _REQUIREMENTS_KEYS,
 }
 
 
@@ -474,6 +476,7 @@ _SECTION_TYPES = {
     "circular_spline": CircularSpline,
     "cup": Cup,
     "face": Face,
+    "requirements": Requirements,
 }
 
 

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..errors import GearSetError
 from .reader import _fmt, _Reader, read_toml
+from .requirements import Requirements
 from .sections import (
     _CIRCULAR_SPLINE_KEYS,
     _CUP_KEYS,
@@ -59,6 +60,7 @@ __all__ = [
     "Torque",
     "CircularSpline",
     "Cup",
+    "Requirements",
     "load_gearset",
     "parse_gearset",
 ]
@@ -128,6 +130,7 @@ class GearSet:
     circular_spline: CircularSpline
     cup: Cup
     face: Face = field(default_factory=Face)
+    requirements: Requirements = field(default_factory=Requirements)
     origin: str = field(default="<dict>", repr=False)
     given: frozenset[str] | None = field(default=None, repr=False)
 
@@ -255,6 +258,7 @@ class GearSet:
             "cup": {key: _json_value(getattr(cup, key)) for key in _CUP_KEYS},
             "face": {key: ("auto" if getattr(self.face, key) is None else _json_value(getattr(self.face, key)))
                      for key in _FACE_KEYS},
+            "requirements": self.requirements.to_dict(),
         }
         if include_defaults or self.given is None:
             return out
@@ -268,7 +272,7 @@ class GearSet:
                     for k, v in value.items()
                     if f"{key}.{k}" in given or f"{key}.{k}" in keep_always
                 }
-                if section or key not in ("circular_spline", "cup", "face"):
+                if section or key not in ("circular_spline", "cup", "face", "requirements"):
                     explicit[key] = section
             elif key in given or key in keep_always:
                 explicit[key] = value

@@ -30,7 +30,10 @@ Safety factors (the package's criteria, stated here once):
   wave turns with the wave generator (σ_a = the assembly von Mises maximum) on the torque's
   steady shear (σ_m = √3 τ_load at the boss); the diaphragm: seed 000's shear Goodman
   (τ_-1 and τ_u = 0.577 σ_u).
-* A check passes when n ≥ ``required_safety`` (default 1.0).
+* A check passes when n ≥ its required safety: ``required_safety`` (one number for every check,
+  or a mapping check name → number), by default the gear set's ``[requirements]``
+  (``tooth_ring_yield_safety``, ... :mod:`profilegen.gearset.requirements`; 1.5 unless the set
+  says otherwise). A check whose requirement is "none" (not required) is not made.
 
 Fatigue needs the material's endurance limits and ultimate strength; ``fatigue=None``
 (default) runs it when they are in the gear set and reports the checks as skipped
@@ -53,7 +56,7 @@ from ..series import DeformationFit
 from ..teeth import ToothProfile
 from .diaphragm import DiaphragmStress, diaphragm_stress, goodman_safety_factor as _goodman
 from .plate import CupBottomStress, cup_bottom_stress, edge_displacement
-from .tooth_ring import ToothRingStress, tangential_force_estimate_n, tooth_ring_stress
+from .tooth_ring import ToothRingStress, section_curvature, tangential_force_estimate_n, tooth_ring_stress
 
 __all__ = ["SafetyCheck", "StressInput", "StressResult", "solve_stress"]
 
@@ -232,7 +235,35 @@ def unsupported(gearset) -> str:
                                   f"ellipse): they need gear.waves = 2, got {waves}")
 
 
-def solve_stress(inputs: StressInput, *, fatigue: bool | None = None, required_safety: float = 1.0) -> StressResult:
+CHECK_NAMES = ("tooth ring yield", "cup bottom yield", "tooth ring fatigue", "cup bottom fatigue", "diaphragm fatigue")
+
+
+def _required_safety(required_safety, gearset) -> dict:
+    """check name → the required safety factor (None: not required): ``required_safety`` one
+    number for all, a mapping by check name, or None for the gear set's ``[requirements]``."""
+    def number(name, value):
+        if value is None:
+            return None
+        if isinstance(value, bool) or not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+            raise StressError(f"{name} = {value!r}: must be a finite number > 0")
+        return float(value)
+
+    if required_safety is None:
+        req = getattr(gearset, "requirements", None)  # a stand-in gear set without one: 1.0, as before
+        return {n: 1.0 if req is None else req.safety(n) for n in CHECK_NAMES}
+    if isinstance(required_safety, dict):
+        unknown = sorted(set(required_safety) - set(CHECK_NAMES))
+        if unknown:
+            raise StressError(f"required_safety[{unknown[0]!r}]: no such check (checks: {', '.join(CHECK_NAMES)})")
+        base = _required_safety(None, gearset)
+        return {n: number(f"required_safety[{n!r}]", required_safety[n]) if n in required_safety else base[n]
+                for n in CHECK_NAMES}
+    value = number("required_safety", required_safety)
+    return {n: value for n in CHECK_NAMES}
+
+
+def solve_stress(inputs: StressInput, *, fatigue: bool | None = None,
+                 required_safety: float | dict | None = None) -> StressResult:
     """The stresses of a design at its gear set's torques, and the safety checks (see the
     module docstring). ``inputs``: a :class:`StressInput`, or a Design (read by
     :meth:`StressInput.from_design`)."""
@@ -240,8 +271,7 @@ def solve_stress(inputs: StressInput, *, fatigue: bool | None = None, required_s
     inputs = StressInput.from_design(inputs, name="inputs")  # a StressInput passes as it is
     gs = inputs.gearset
     g, cup, mat = gs.gear, gs.cup, gs.material
-    if not (isinstance(required_safety, (int, float)) and math.isfinite(required_safety) and required_safety > 0):
-        raise StressError(f"required_safety = {required_safety!r}: must be a finite number > 0")
+    required = _required_safety(required_safety, gs)
     reason = unsupported(gs)
     if reason:
         raise StressError(f"stress: {reason}")
@@ -277,7 +307,8 @@ def solve_stress(inputs: StressInput, *, fatigue: bool | None = None, required_s
         neutral_radius_mm=r_m, rim_thickness_mm=g.rim_thickness_mm, deflection_mm=rho_a - r_m,
         root_thickness_mm=s_f, fillet_radius_mm=cup.root_fillet_radius_mm, pitch_mm=math.pi * g.module_mm,
         tooth_height_mm=h, equivalent_tooth_height_mm=0.5 * h, face_width_mm=cup.face_width_mm,
-        youngs_modulus_mpa=mat.youngs_modulus_mpa, tangential_force_n=f, minor_semi_axis_mm=rho_b)
+        youngs_modulus_mpa=mat.youngs_modulus_mpa, tangential_force_n=f, minor_semi_axis_mm=rho_b,
+        curvature=section_curvature(model, r_m))  # the design section's own κ, not the ellipse's (issue 28)
         for f in forces)
 
     edge = edge_displacement(radial, mean_radius_mm=r_m, length_mm=cup.length_mm)
@@ -299,24 +330,27 @@ def solve_stress(inputs: StressInput, *, fatigue: bool | None = None, required_s
     for name, stress, what in (("tooth ring yield", ring[i_mom].total_stress_mpa, "σ_ass + σ_load at the tooth root"),
                                ("cup bottom yield", bottom[i_mom].max_von_mises_mpa, "largest von Mises stress")):
         checks.append(SafetyCheck(name, f"σ_y / σ ({what})", torques[i_mom], None if y is None else y / stress,
-                                  required_safety, "" if y is not None else "no material.yield_strength_mpa"))
+                                  required[name], "" if y is not None else "no material.yield_strength_mpa"))
     if fatigue:
         r = ring[i_rated]
         amp, mean = r.assembly_stress_mpa + 0.5 * r.load_stress_mpa, 0.5 * r.load_stress_mpa
         checks.append(SafetyCheck(
             "tooth ring fatigue", "Goodman, σ_a = σ_ass + σ_load/2, σ_m = σ_load/2", torques[i_rated],
-            _goodman(amp, mean, mat.bending_endurance_limit_mpa, mat.ultimate_strength_mpa), required_safety))
+            _goodman(amp, mean, mat.bending_endurance_limit_mpa, mat.ultimate_strength_mpa),
+            required["tooth ring fatigue"]))
         tau_m = float(bottom[i_rated].tau_load_mpa[0])
         checks.append(SafetyCheck(
             "cup bottom fatigue", "Goodman, σ_a = assembly von Mises max, σ_m = √3 τ_load at the boss",
             torques[i_rated], _goodman(assembly.max_von_mises_mpa, math.sqrt(3.0) * tau_m,
-                                       mat.bending_endurance_limit_mpa, mat.ultimate_strength_mpa), required_safety))
+                                       mat.bending_endurance_limit_mpa, mat.ultimate_strength_mpa),
+            required["cup bottom fatigue"]))
         checks.append(SafetyCheck(
             "diaphragm fatigue", "Goodman in shear (seed 000), τ_u = 0.577 σ_u", torques[i_rated],
-            diaphragm[i_rated].safety_factor, required_safety))
+            diaphragm[i_rated].safety_factor, required["diaphragm fatigue"]))
     else:
         for name in ("tooth ring fatigue", "cup bottom fatigue", "diaphragm fatigue"):
-            checks.append(SafetyCheck(name, "Goodman", torques[i_rated], None, required_safety, "skipped: no limits"))
+            checks.append(SafetyCheck(name, "Goodman", torques[i_rated], None, required[name], "skipped: no limits"))
+    checks = [c for c in checks if c.required is not None]  # "none" in [requirements]: not required, not made
     for part in (*ring, *bottom, *diaphragm):
         warnings += [w for w in getattr(part, "warnings", ()) if w not in warnings]
     return StressResult(torques, tuple(forces), source, ring, bottom, diaphragm, tuple(checks), s_f,
