@@ -75,10 +75,9 @@ def test_stop_ends_the_server_and_its_workers():
     first = pool.submit(_sleep, 0.0).result(30)  # a worker is up
     running = pool.submit(_sleep, 60.0)
     time.sleep(0.3)
-    t0 = time.perf_counter()
-    pool.stop()
-    assert time.perf_counter() - t0 < 10
-    assert running.exception(10) is not None  # the job failed (the pool is gone)
+    pool.stop()  # how long it takes: tests/benchmarks/stop_latency.py
+    assert pool._proc.exitcode is not None  # the server has ended when stop() returns
+    assert running.exception(30) is not None  # the job failed (the pool is gone), not finished
     end = time.monotonic() + 5
     while _alive(first) and time.monotonic() < end:  # the worker dies with the server (PR_SET_PDEATHSIG)
         time.sleep(0.05)

@@ -4,8 +4,10 @@ running points), say so in one line on stderr with the conventional exit status 
 signal), leave a journal of complete lines and no process behind; run again, it resumes.
 
 One point of the grid (``SLOW``) sleeps ten minutes in the worker that runs it (the
-designer is wrapped in the child process, before the pool forks): a sweep that waits for
-its running points instead of ending its workers cannot stop within the wait below.
+designer is wrapped in the child process, before the pool forks) and marks its end: a sweep
+that waits for its running points instead of ending its workers leaves that mark (and cannot
+exit before the hang guard below, a fifth of the sleep, runs out). No wall-time assertion: how
+fast the command stops is tests/benchmarks/sweep_interrupt.py's measurement.
 """
 
 from __future__ import annotations
@@ -27,7 +29,7 @@ pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="si
 FIELD = "wave_generator.deflection_coefficient"
 SLOW = 0.95  # the point that sleeps; it is first, so a worker is in it when the others finish
 FAST = [0.8, 1.0]  # designs that pass (at ω* = 1.05 the 0.25 mm wire's root fillet enters the FS tooth's swept region: FilletError)
-STOP_WITHIN_S = 5.0  # a hang guard: the slow point sleeps 600 s
+STOP_WITHIN_S = 120.0  # a hang guard only (the slow point sleeps 600 s); the stop's speed is a benchmark
 START_WITHIN_S = 90.0  # start-up and the first point, on a busy machine
 
 # `profilegen sweep ...` (the CLI's main) with the designer wrapped: the SLOW point marks
@@ -41,6 +43,7 @@ def design(gearset, **kw):
     if abs(gearset.wave_generator.deflection_coefficient - {SLOW}) < 1e-9:
         open(os.environ["SLOW_MARK"], "w").close()
         time.sleep(600)
+        open(os.environ["SLOW_MARK"] + ".end", "w").close()
     return _design(gearset, **kw)
 pipeline.design = design
 from profilegen.cli import main
@@ -136,7 +139,7 @@ def _interrupt(tmp_path: Path, spec: Path, out: Path, sig: int, *, group: bool, 
             os.killpg(proc.pid, signal.SIGKILL)
             proc.communicate()
             pytest.fail(f"{signal.Signals(sig).name} to the {'group' if group else 'main process'}: "
-                        f"the sweep did not stop within {STOP_WITHIN_S} s")
+                        f"the sweep did not stop within {STOP_WITHIN_S} s (the hang guard)")
     finally:
         if proc.poll() is None:
             os.killpg(proc.pid, signal.SIGKILL)
@@ -146,6 +149,7 @@ def _interrupt(tmp_path: Path, spec: Path, out: Path, sig: int, *, group: bool, 
     assert "Traceback" not in err, err
     lines = err.splitlines()
     assert len(lines) == 1 and signal.Signals(sig).name in lines[0] and "journal.csv" in lines[0], err
+    assert not Path(str(mark) + ".end").exists(), "the sweep waited for its running point"
     assert _group_alive(proc.pid) == [], "processes of the sweep are left"
     assert not any(w.is_running() and w.status() != "zombie" for w in workers), "workers are left"
     return _journal_rows(out / "journal.csv")
