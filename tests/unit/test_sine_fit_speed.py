@@ -91,6 +91,18 @@ def test_lm_through_leastsq_is_least_squares_lm():
     assert cost == ref.cost and nfev == ref.nfev and converged == (ref.status > 0)
 
 
+def _parameter_sd(fit, sigma_mm: float) -> np.ndarray:
+    """Standard deviations (terms × [amplitude, frequency, phase]) of a sine series' parameters
+    fitted to data with independent noise of ``sigma_mm``: σ²(JᵀJ)⁻¹ with J of Σ a sin(bφ + c)."""
+    a, b, c = fit.amplitude_mm, fit.frequency_per_rad, fit.phase_rad
+    cols = []
+    for k in range(a.size):
+        arg = b[k] * PHI + c[k]
+        cols += [np.sin(arg), a[k] * PHI * np.cos(arg), a[k] * np.cos(arg)]
+    J = np.array(cols).T
+    return np.sqrt(np.diag(np.linalg.inv(J.T @ J)) * sigma_mm**2).reshape(a.size, 3)
+
+
 @pytest.fixture(scope="module")
 def fits():
     """Old (finite differences, lstsq) and new fitters on exact and on noisy known data."""
@@ -115,8 +127,15 @@ def test_new_fitter_matches_the_old_algorithm(fits, label):
     """Same parameters as the old algorithm (to 1e-9), the same fitted curve and SSE; noisy
     data (1e-5 mm): the optimum is not the generating series, but both fitters find it."""
     old, new = fits[label]
-    for key in ("amplitude_mm", "frequency_per_rad", "phase_rad"):
-        assert np.max(np.abs(getattr(new, key) - getattr(old, key))) <= 1e-9, key
+    for key, sigma in zip(("amplitude_mm", "frequency_per_rad", "phase_rad"), _parameter_sd(new, 1e-5).T):
+        # exact data: both reach the generating series, to round-off. Noisy data: the old
+        # fitter's forward-difference Jacobian (relative error ~ √eps) moves its stationary
+        # point by a round-off-dependent amount (1.4e-9 /rad on a frequency with OpenBLAS's
+        # Prescott kernel, 3.5e-10 with Haswell): what the fitters must share is the optimum
+        # to far below what the data determine, 1e-4 of each parameter's standard deviation
+        # under the 1e-5 mm noise (Gauss–Newton covariance σ²(JᵀJ)⁻¹, 1.2e-6 … 9e-4)
+        tol = 1e-9 if label == "exact" else 1e-4 * sigma
+        assert np.all(np.abs(getattr(new, key) - getattr(old, key)) <= tol), key
     assert np.max(np.abs(new.evaluate(PHI, 0)[0] - old.evaluate(PHI, 0)[0])) <= 1e-11
     assert new.stats.sse_mm2 == pytest.approx(old.stats.sse_mm2, rel=1e-9, abs=1e-26)
     assert new.n_starts == old.n_starts and new.n_at_best == old.n_at_best
