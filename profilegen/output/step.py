@@ -70,11 +70,31 @@ _HEADER = {"timestamp": "2000-01-01T00:00:00", "author": "profilegen", "system":
 # ----------------------------------------------------------------------------- the kernel
 
 
+#: the one line a user without the kernel gets from ``--step`` / :func:`write_step`
+MISSING_KERNEL = ("STEP needs OpenCASCADE, an optional extra of profilegen: pip install 'profilegen[step]' "
+                  "(in a checkout: pip install -e '.[step]')")
+
+
+def available() -> bool:
+    """Whether the B-rep kernel (``cadquery-ocp-novtk``, the ``step`` extra) is installed, without importing it."""
+    import importlib.util
+
+    return importlib.util.find_spec("OCP") is not None
+
+
+def require() -> None:
+    """Raise :class:`ExportError` naming the ``step`` extra when the kernel is not installed: the
+    CLI calls it before any stage runs, so ``--step`` fails in its first second, not after the design."""
+    if not available():
+        raise ExportError(MISSING_KERNEL)
+
+
 @functools.cache
 def _occ() -> Any:
     """The OCP modules used here, imported on first use (the import takes seconds)."""
     from types import SimpleNamespace
 
+    require()
     from OCP import BRepAlgoAPI, BRepBuilderAPI, BRepPrimAPI, STEPControl, TopAbs, TopExp, TopoDS
     from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
     from OCP.BOPAlgo import BOPAlgo_GlueEnum
