@@ -188,12 +188,19 @@ def test_user_files_are_refused_and_nothing_is_changed(old_new):
     assert _fingerprint(out) == {**old, "drawings": "folder"}
 
 
-def test_files_of_the_folders_own_design_json_and_os_metadata_are_replaced(old_new):
-    """A name the folder's design.json lists (a newer version's file) and .DS_Store are not the user's."""
-    out, _, new = old_new
+def test_os_metadata_and_temporary_files_are_replaced_but_a_name_design_json_lists_is_not_enough(old_new):
+    """.DS_Store and a killed atomic_write's temporary file are not the user's; a name the folder's
+    design.json lists that profilegen does not write (a planted listing) is: refused, untouched."""
+    out, old, new = old_new
     listed = json.loads((out / "design.json").read_text())
     (out / "later.json").write_text("{}")
     (out / "design.json").write_text(json.dumps({**listed, "files": listed["files"] + ["later.json"]}))
+    before = _fingerprint(out)
+    with pytest.raises(ExportError, match="later.json") as info:
+        _write_set(out, "new", ("a.txt", "b.txt", "d.txt"))
+    assert str(out) in str(info.value) and "\n" not in str(info.value)
+    assert _fingerprint(out) == before and _beside(out) == []
+    os.unlink(out / "later.json")
     (out / ".DS_Store").write_bytes(b"\0")
     (out / ".b.txt.k2j3h4.tmp").write_text("a temporary file of a killed atomic_write")
     _write_set(out, "new", ("a.txt", "b.txt", "d.txt"))
