@@ -27,6 +27,21 @@ Sources:
   component set's values, not the actuator's with its output bearing (an inference from that
   equality; the page does not say it in words).
 
+Sizes 14–58 (all three ratio columns where the CHA tables print them): the CHA tables 50.3/50.4
+give every (size, ratio) cell of T1, T2, K1, K2, K3 for sizes 14, 17, 20, 25, 32 at i = 30, 50,
+> 50 and sizes 40, 50, 58 at i = 50, > 50 (the i = 30 cell of size 40 is printed "-"; sizes 50
+and 58 have no i = 30 column). The rows that the LLC tables 41/42 also give keep the LLC source
+(the values are equal); the others cite the CHA table. Accuracy (tables 50.1/50.2, the same
+columns): transmission accuracy, hysteresis loss and lost motion, each an upper limit
+("< x arcmin"), per size and ratio column (:data:`ACCURACY_ARCMIN`).
+
+Missing here (no value, never a guess): the rating table (rated, peak and momentary torques
+per size and ratio: not in the sources available to this project — the gear sets' torques are
+their own ESTIMATES); ratcheting and buckling torques of sizes other than 25, 32, 40 (the stored
+page 14 lists those three); K1/K2/K3 of size 40 at ratio 30 and of sizes 50/58 at ratio 30 (not
+printed); the LLC catalogue's table 43 (ratio ≥ 80, cut off in the stored copy: the CHA i > 50
+column stands for it); the CHA tables' repeatability (< ±0.1 arcmin, the actuator's, not kept).
+
 Definitions (catalogue, p. 50): the curve is approximated by three lines, K1 from 0 to T1,
 K2 from T1 to T2, K3 above T2 (the rotation at T1 is φ1 = T1/K1, at T2 φ2 = φ1 + (T2 − T1)/K2),
 measured at the output with the wave generator locked.
@@ -46,7 +61,8 @@ from functools import partial
 from .. import checks
 from ..errors import ProfilegenError
 
-__all__ = ["ACCURACY_LIMITS_ARCMIN", "CHA_SOURCE", "CatalogueError", "RATCHETING_TORQUE_NM", "SOURCE", "STIFFNESS", "catalogue_row"]
+__all__ = ["ACCURACY_ARCMIN", "ACCURACY_LIMITS_ARCMIN", "BUCKLING_TORQUE_NM", "CHA_SOURCE", "CatalogueError",
+           "RATCHETING_TORQUE_NM", "SOURCE", "STIFFNESS", "catalogue_row", "torsion_angle_rad"]
 
 
 class CatalogueError(ProfilegenError, ValueError):
@@ -81,6 +97,33 @@ STIFFNESS = {
     (50, 40): {"T1_nm": 54.0, "K1_nm_per_rad": 10e4, "T2_nm": 196.0, "K2_nm_per_rad": 14e4,
                "K3_nm_per_rad": 18e4, "K3_source": f"{CHA_SOURCE}, table 50.4, i = 50",
                "table": "table 42 (ratio 1/50)", **_LLC},
+    # sizes the LLC tables in the stored copy do not give: the CHA tables (T1/T2 one row per size)
+    (30, 14): {"T1_nm": 2.0, "K1_nm_per_rad": 1.9e3, "T2_nm": 6.9, "K2_nm_per_rad": 2.4e3,
+               "K3_nm_per_rad": 3.4e3, "table": "table 50.3 (CHA-14A), i = 30", **_CHA},
+    (50, 14): {"T1_nm": 2.0, "K1_nm_per_rad": 3.4e3, "T2_nm": 6.9, "K2_nm_per_rad": 4.7e3,
+               "K3_nm_per_rad": 5.7e3, "table": "table 50.3 (CHA-14A), i = 50", **_CHA},
+    (80, 14): {"T1_nm": 2.0, "K1_nm_per_rad": 4.7e3, "T2_nm": 6.9, "K2_nm_per_rad": 6.1e3,
+               "K3_nm_per_rad": 7.1e3, "table": f"table 50.3 (CHA-14A), {_CHA_RATIOS}", **_CHA},
+    (30, 17): {"T1_nm": 3.9, "K1_nm_per_rad": 3.4e3, "T2_nm": 12.0, "K2_nm_per_rad": 4.4e3,
+               "K3_nm_per_rad": 6.7e3, "table": "table 50.3 (CHA-17A), i = 30", **_CHA},
+    (50, 17): {"T1_nm": 3.9, "K1_nm_per_rad": 8.1e3, "T2_nm": 12.0, "K2_nm_per_rad": 11e3,
+               "K3_nm_per_rad": 13e3, "table": "table 50.3 (CHA-17A), i = 50", **_CHA},
+    (80, 17): {"T1_nm": 3.9, "K1_nm_per_rad": 10e3, "T2_nm": 12.0, "K2_nm_per_rad": 14e3,
+               "K3_nm_per_rad": 16e3, "table": f"table 50.3 (CHA-17A), {_CHA_RATIOS}", **_CHA},
+    (30, 20): {"T1_nm": 7.0, "K1_nm_per_rad": 5.7e3, "T2_nm": 25.0, "K2_nm_per_rad": 7.1e3,
+               "K3_nm_per_rad": 11e3, "table": "table 50.3 (CHA-20A), i = 30", **_CHA},
+    (50, 20): {"T1_nm": 7.0, "K1_nm_per_rad": 13e3, "T2_nm": 25.0, "K2_nm_per_rad": 18e3,
+               "K3_nm_per_rad": 23e3, "table": "table 50.3 (CHA-20A), i = 50", **_CHA},
+    (80, 20): {"T1_nm": 7.0, "K1_nm_per_rad": 16e3, "T2_nm": 25.0, "K2_nm_per_rad": 25e3,
+               "K3_nm_per_rad": 29e3, "table": f"table 50.3 (CHA-20A), {_CHA_RATIOS}", **_CHA},
+    (50, 50): {"T1_nm": 108.0, "K1_nm_per_rad": 200e3, "T2_nm": 382.0, "K2_nm_per_rad": 280e3,
+               "K3_nm_per_rad": 340e3, "table": "table 50.4 (CHA-50A), i = 50", **_CHA},
+    (80, 50): {"T1_nm": 108.0, "K1_nm_per_rad": 250e3, "T2_nm": 382.0, "K2_nm_per_rad": 400e3,
+               "K3_nm_per_rad": 440e3, "table": f"table 50.4 (CHA-50A), {_CHA_RATIOS}", **_CHA},
+    (50, 58): {"T1_nm": 168.0, "K1_nm_per_rad": 310e3, "T2_nm": 598.0, "K2_nm_per_rad": 440e3,
+               "K3_nm_per_rad": 540e3, "table": "table 50.4 (CHA-58A), i = 50", **_CHA},
+    (80, 58): {"T1_nm": 168.0, "K1_nm_per_rad": 400e3, "T2_nm": 598.0, "K2_nm_per_rad": 610e3,
+               "K3_nm_per_rad": 710e3, "table": f"table 50.4 (CHA-58A), {_CHA_RATIOS}", **_CHA},
     (80, 25): {"T1_nm": 14.0, "K1_nm_per_rad": 3.1e4, "T2_nm": 48.0, "K2_nm_per_rad": 5.0e4,
                "K3_nm_per_rad": 5.7e4, "table": f"table 50.3 (CHA-25A), {_CHA_RATIOS}", **_CHA},
     (80, 32): {"T1_nm": 29.0, "K1_nm_per_rad": 6.7e4, "T2_nm": 108.0, "K2_nm_per_rad": 11e4,
@@ -95,6 +138,28 @@ STIFFNESS = {
 ACCURACY_LIMITS_ARCMIN = {30: {"lost_motion_max_arcmin": 1.0, "hysteresis_loss_max_arcmin": 3.0},
                           50: {"lost_motion_max_arcmin": 1.0, "hysteresis_loss_max_arcmin": 1.0},
                           80: {"lost_motion_max_arcmin": 1.0, "hysteresis_loss_max_arcmin": 1.0}}
+
+_ACC_SOURCE = (f"{CHA_SOURCE}, p. 50, tables 50.1 (sizes 14-25) / 50.2 (sizes 32-58); the same values in 1018854 "
+               "8/2018 V03, p. 54, tables 54.1/54.2 (manualshive.com/en/manual/harmonic-drive/cha-14a-e/3973040?page=54)")
+
+
+def _acc(transmission: float, hysteresis: float) -> dict:
+    return {"transmission_accuracy_max_arcmin": transmission, "hysteresis_loss_max_arcmin": hysteresis,
+            "lost_motion_max_arcmin": 1.0}
+
+
+#: (ratio, size) → accuracy upper limits (arcmin) of the CHA tables 50.1/50.2 (:data:`_ACC_SOURCE`), ratio 80
+#: the "> 50" column; every cell printed "< x". Lost motion "< 1" at every size and ratio.
+ACCURACY_ARCMIN = {
+    (30, 14): _acc(2.0, 3.0), (50, 14): _acc(1.2, 1.0), (80, 14): _acc(1.0, 1.0),
+    (30, 17): _acc(2.0, 3.0), (50, 17): _acc(1.2, 1.0), (80, 17): _acc(1.0, 1.0),
+    (30, 20): _acc(1.5, 3.0), (50, 20): _acc(1.0, 1.0), (80, 20): _acc(0.8, 1.0),
+    (30, 25): _acc(1.5, 3.0), (50, 25): _acc(1.0, 1.0), (80, 25): _acc(0.8, 1.0),
+    (30, 32): _acc(1.5, 3.0), (50, 32): _acc(1.0, 1.0), (80, 32): _acc(0.8, 1.0),
+    (50, 40): _acc(0.7, 1.0), (80, 40): _acc(0.5, 1.0),
+    (50, 50): _acc(0.7, 1.0), (80, 50): _acc(0.5, 1.0),
+    (50, 58): _acc(0.7, 1.0), (80, 58): _acc(0.5, 1.0),
+}
 
 #: (ratio, size) → ratcheting torque (N·m), table 4 "CSF Ratcheting Torque", page 14.
 RATCHETING_TORQUE_NM = {
@@ -140,8 +205,26 @@ def catalogue_row(size: int, ratio: int) -> dict:
         "size": size, "ratio": used, "ratio_asked": ratio, "note": note, **row,
         "lost_motion_arcmin": None,
         **ACCURACY_LIMITS_ARCMIN.get(used, {}),
-        "accuracy_source": f"{CHA_SOURCE}, p. 50, tables 50.1/50.2 (accuracy: upper limits, the actuator's)",
+        **ACCURACY_ARCMIN.get((used, size), {}),
+        "accuracy_source": f"{_ACC_SOURCE} (accuracy: upper limits, the actuator's)",
         "ratcheting_torque_nm": RATCHETING_TORQUE_NM.get((ratio, size)),
         "ratcheting_source": f"{SOURCE}, p. 14, table 4 (CSF ratcheting torque)",
         "buckling_torque_nm": BUCKLING_TORQUE_NM.get(size),
     }
+
+
+def torsion_angle_rad(row: dict, torque_nm: float) -> float:
+    """The catalogue's torsion angle (rad) at ``torque_nm`` (≥ 0) from a stiffness row
+    (``T1_nm``, ``K1_nm_per_rad``, ``T2_nm``, ``K2_nm_per_rad``, ``K3_nm_per_rad``: a
+    :data:`STIFFNESS` entry or :func:`catalogue_row`), by the catalogue's three lines — CHA
+    manual 1018854 12/2015 V01, p. 68, section 4.2 "Calculation of the Torsion Angle", equations
+    68.1-68.3: φ = T/K1 (T ≤ T1); T1/K1 + (T − T1)/K2 (T1 < T ≤ T2); T1/K1 + (T2 − T1)/K2 +
+    (T − T2)/K3 (T > T2)."""
+    t = checks.positive("torque_nm", torque_nm, "N·m", allow_zero=True, error=CatalogueError)
+    t1, t2 = float(row["T1_nm"]), float(row["T2_nm"])
+    k1, k2, k3 = float(row["K1_nm_per_rad"]), float(row["K2_nm_per_rad"]), float(row["K3_nm_per_rad"])
+    if t <= t1:
+        return t / k1
+    if t <= t2:
+        return t1 / k1 + (t - t1) / k2
+    return t1 / k1 + (t2 - t1) / k2 + (t - t2) / k3
