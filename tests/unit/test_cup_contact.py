@@ -175,17 +175,34 @@ def test_a_rigid_cam_stops_the_minor_axis_at_its_radius_whatever_the_cup_length(
     assert floor > -0.557 + 0.05
 
 
-def test_seed_004_printed_omega_extremes_are_its_own_middle_section_fit():
-    """Seed 004's printed sine-series fits (the rim's middle cross-section, by its text) have the
-    extremes 0.554 / −0.555 mm — its printed 0.553 / −0.557 to its fitting error — and a υ
-    amplitude of 0.296 mm: the three numbers describe the middle section, not the open end."""
-    phi = np.linspace(0.0, 2 * math.pi, 20001)
-    w = sum(a * np.sin(b * phi + c) for a, b, c in ((0.5272, 1.987, 1.611), (0.02677, 5.965, 1.694),
-                                                    (0.007596, 4.033, -9.533)))
-    u = sum(a * np.sin(b * phi + c) for a, b, c in ((0.2956, 2.013, 3.090), (0.01807, 0.2032, -1.919),
-                                                    (0.01897, 4.067, -1.909)))
+SEED004_OMEGA = ((0.5272, 1.987, 1.611), (0.02677, 5.965, 1.694), (0.007596, 4.033, -9.533))
+SEED004_UPSILON = ((0.2956, 2.013, 3.090), (0.01807, 0.2032, -1.919), (0.01897, 4.067, -1.909))
+
+
+def test_seed_004_printed_series_are_recovered_by_the_package_fit_and_give_its_extremes():
+    """Seed 004's printed sine-series fits (the rim's middle cross-section, by its text), sampled
+    over a turn and fitted again by the package's seed-004 fitter (series.fit_sine_series, 3
+    terms): a noise-free sum of three sines is recovered term by term (amplitudes, frequencies),
+    and the fit's extremes are 0.554 / −0.555 mm — the seed's printed 0.553 / −0.557 to its
+    fitting error — with a υ amplitude of 0.2965 mm over the half turn: the three printed numbers
+    describe the middle section, not the open end. (Replaces a check of the printed series alone,
+    which called no package code.)"""
+    from profilegen.series import fit_sine_series
+
+    phi = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
+    dense = np.linspace(0.0, 2 * math.pi, 20001)
+    got = {}
+    for name, terms in (("omega", SEED004_OMEGA), ("upsilon", SEED004_UPSILON)):
+        y = sum(a * np.sin(b * phi + c) for a, b, c in terms)
+        fit = fit_sine_series(phi, y, terms=3, starts=8)
+        order = np.argsort([-a for a, _, _ in terms])
+        np.testing.assert_allclose(fit.amplitude_mm, [terms[k][0] for k in order], rtol=1e-6)
+        np.testing.assert_allclose(fit.frequency_per_rad, [terms[k][1] for k in order], rtol=1e-6)
+        assert fit.stats.max_error_mm < 1e-9
+        got[name] = fit.evaluate(dense, order=0)[0]
+    w, u = got["omega"], got["upsilon"]
     assert w.max() == pytest.approx(0.553, abs=2e-3) and w.min() == pytest.approx(-0.557, abs=3e-3)
-    half = phi <= math.pi
+    half = dense <= math.pi
     assert np.abs(u[half]).max() == pytest.approx(0.2965, abs=5e-4)
 
 
