@@ -182,10 +182,10 @@ def test_modified_tooth_moves_each_flank_by_half_the_thickness_change(gearset):
     np.testing.assert_allclose(ds, [0.01 - 0.02, 0.0, -0.01 - 0.02], atol=1e-15)
 
 
-def test_when_the_lp_finds_nothing_a_bisection_on_the_exact_maps_does(gearset, twisted, monkeypatch):
+def test_when_the_lp_finds_nothing_a_search_on_the_exact_maps_does(gearset, twisted, monkeypatch):
     """The LP linearises the clearance in the thickness change; where the nearest contact changes
     with it (three bundled sets in the verify scene) it can declare an interference-free taper
-    infeasible. The fallback bisects along the taper on the exact maps: on the twisted face,
+    infeasible. The fallback searches along the taper on the exact maps (regula falsi): on the twisted face,
     with the LP made to fail, it finds the LP's own taper to its resolution (1/512 of the field's
     0.01 mm/mm range), interference-free, and says which path it took."""
     import scipy.optimize
@@ -197,7 +197,7 @@ def test_when_the_lp_finds_nothing_a_bisection_on_the_exact_maps_does(gearset, t
 
     monkeypatch.setattr(scipy.optimize, "linprog", lambda *a, **k: Failed())
     mod = solve_modification(gearset, TwistAlongFace(gearset.deflection_mm, TWIST), twisted, crowning=False)
-    assert any("bisection" in w for w in mod.warnings)
+    assert any("regula falsi" in w for w in mod.warnings)
     assert mod.max_interference_mm <= 0.1 * twisted.interference_tol_mm
     assert mod.taper_mm_per_mm == pytest.approx(lp.taper_mm_per_mm, abs=0.01 / 512 + 1e-9)
     assert mod.crowning_mm == 0.0
