@@ -228,6 +228,12 @@ def circular_spline_form(
     return form
 
 
+class UnresolvedBoundaryError(EnvelopeError):
+    """The swept boundary has a stretch the trace did not resolve above the CS tip circle (a
+    grazing crossing between two grid lines). A finer chord resolves it: the pipeline retraces
+    the envelope itself (:func:`profilegen.pipeline.traced_form`) before this reaches a user."""
+
+
 def _unresolved(envelope, tip_r: float, r_mid: float) -> list[str]:
     """What the envelope's unresolved stretches (``diagnostics["unresolved"]``) mean for the CS.
 
@@ -248,7 +254,7 @@ def _unresolved(envelope, tip_r: float, r_mid: float) -> list[str]:
     above = [f for f in found if f["radius_mm"] >= tip_r]
     if above:
         f = max(above, key=lambda f: f["depth_mm"])
-        raise EnvelopeError(
+        raise UnresolvedBoundaryError(
             f"gearform: the swept boundary is not resolved above the CS tip circle r_a2 = {tip_r:.4f} mm: {f['what']} "
             f"at ({f['point_mm'][0]:.4f}, {f['point_mm'][1]:.4f}) mm, r = {f['radius_mm']:.4f} mm, "
             f"{1e3 * f['depth_mm']:.3g} µm deep (a grazing crossing the trace missed); a finer chord_tol_mm or a "
