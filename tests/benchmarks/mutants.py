@@ -1,0 +1,385 @@
+"""A mutation check of the suite (issue 27 item 4): plant each mutant of the list below, one at a
+time, in a temporary copy of the repository, run only the tests that cover it there, and print
+whether they caught it. Not collected by pytest (tests/benchmarks is ignored by addopts).
+
+    python tests/benchmarks/mutants.py                 # every mutant, the table and the totals
+    python tests/benchmarks/mutants.py --only NAME ... # some of them (names as --list prints)
+    python tests/benchmarks/mutants.py --list          # the list: name, file, covering tests, why
+    python tests/benchmarks/mutants.py --worktree      # the working tree's uncommitted files too
+
+The copy is ``git archive HEAD`` (what is committed: the table names the commit), with
+``--worktree`` overlaid by the working tree's modified and untracked files (others' work in
+progress included: a baseline below catches a tree that is red on its own). Each mutant is one
+exact snippet of a file replaced by another; a snippet that does not occur exactly once in the
+copy is reported **stale** (the source moved on: update the mutant), never skipped silently.
+For every set of covering tests the unmutated copy is run first (the **baseline**); a mutant
+whose baseline is red is reported **baseline-red**, not caught. A mutant is **caught** when its
+tests fail (or time out: a hang the suite would notice), **missed** when they pass.
+
+Runs: ``python -m pytest -q -n 0 -x -p no:cacheprovider <tests>`` in the copy, PYTHONPATH at the
+copy (so ``import profilegen`` and the ``profilegen`` command's interpreter load the copy, not
+the editable install), at nice +10, address space capped (``--memory-gb``, default 4) and a
+timeout per run (``--timeout``, default 600 s). Keep the list growing with each new module: a
+mutant per planted-bug kind of the issue (a unit constant, a catalogue cell, an endpoint counted
+twice, swapped section dimensions, a removed warning, a removed fsync, a checksum, an untested
+branch) in every module added.
+
+Last run (see the bottom of this docstring, RESULTS).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@dataclass(frozen=True)
+class Mutant:
+    name: str
+    file: str
+    original: str
+    replacement: str
+    tests: tuple[str, ...]
+    why: str
+
+
+U = "tests/unit/"
+
+MUTANTS: tuple[Mutant, ...] = (
+    # ------------------------------------------------------------------ contact: unit constants
+    Mutant("arcsec-is-arcmin", "profilegen/contact/transmission.py",
+           "ARCSEC_PER_RAD = 180.0 * 3600.0 / math.pi", "ARCSEC_PER_RAD = 180.0 * 60.0 / math.pi",
+           (U + "test_unit_constants.py", U + "test_sampling_grids.py"),
+           "unit constant: the transmission error in arcmin labelled arcsec (the issue's planted kind)"),
+    Mutant("chain-arcmin-is-arcsec", "profilegen/contact/chain.py",
+           "ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi", "ARCMIN_PER_RAD = 180.0 * 3600.0 / math.pi",
+           (U + "test_unit_constants.py",), "unit constant: the torsional curve's arcmin off by 60"),
+    Mutant("analysis-arcmin-degrees", "profilegen/contact/analysis.py",
+           "ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi", "ARCMIN_PER_RAD = 180.0 / math.pi",
+           (U + "test_unit_constants.py",), "unit constant: load-case rotations in degrees labelled arcmin"),
+    Mutant("loadzone-arcmin", "profilegen/contact/loadzone.py",
+           "ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi", "ARCMIN_PER_RAD = 180.0 * 60.0 / 3.1416",
+           (U + "test_unit_constants.py",), "unit constant: a rounded π (1e-5 relative)"),
+    Mutant("contact-torque-in-nm", "profilegen/contact/analysis.py",
+           "sol = _SOLVERS[solver](s, points.theta_rad, points.lever_mm, torque / points.zones * 1e3)",
+           "sol = _SOLVERS[solver](s, points.theta_rad, points.lever_mm, torque / points.zones)",
+           (U + "test_unit_constants.py",), "unit: N·m handed to a solver that balances N·mm"),
+    Mutant("face-load-torque-one-zone", "profilegen/contact/face_load.py",
+           "    tz = torque / points.zones * 1e3\n    theta = (e[None, :] + de) / r[None, :]",
+           "    tz = torque * 1e3\n    theta = (e[None, :] + de) / r[None, :]",
+           (U + "test_warnings_fire.py", U + "test_face_load.py"), "the zone's torque is T/U, not T"),
+    Mutant("climb-torque-unit", "profilegen/contact/climb.py",
+           "torque = model.zones * float(f @ lever) / 1000.0", "torque = model.zones * float(f @ lever) / 100.0",
+           (U + "test_warnings_fire.py", U + "test_ratchet_ring.py"), "unit: the climb's N·mm → N·m off by 10"),
+    # ------------------------------------------------------------------ contact: sampling grids
+    Mutant("te-endpoint-twice", "profilegen/contact/transmission.py",
+           "psi = passage * np.arange(positions) / positions",
+           "psi = passage * np.arange(positions) / (positions - 1)",
+           (U + "test_sampling_grids.py",), "endpoint counted twice: ψ = 2π/z2 is ψ = 0 again"),
+    Mutant("te-shift-ratio", "profilegen/contact/transmission.py",
+           "shift_rad=-psi * g.circular_spline_teeth / g.flexspline_teeth,",
+           "shift_rad=-psi * g.flexspline_teeth / g.circular_spline_teeth,",
+           (U + "test_sampling_grids.py",), "the teeth's shift δ = −ψ z2/z1 with the ratio inverted"),
+    Mutant("climb-positions-endpoint", "profilegen/contact/ratchet.py",
+           "shifts = [shift_rad - k * passage / positions for k in range(positions)]",
+           "shifts = [shift_rad - k * passage / max(positions - 1, 1) for k in range(positions)]",
+           (U + "test_sampling_grids.py",), "endpoint counted twice: the last position is the first"),
+    Mutant("face-slices-left-ends", "profilegen/contact/face_load.py",
+           "return z0 - 0.5 * b + (np.arange(n) + 0.5) * b / n", "return z0 - 0.5 * b + np.arange(n) * b / n",
+           (U + "test_sampling_grids.py", U + "test_face_load.py"), "slices at their left edges, not mid-planes"),
+    Mutant("face-curve-ends-weight", "profilegen/contact/face_curve.py",
+           "w[[0, -1]] = 0.5 * h", "w[[0, -1]] = h",
+           (U + "test_sampling_grids.py", U + "test_face_curve.py"), "trapezoid's end nodes counted whole: Σw > b"),
+    Mutant("balls-endpoint-twice", "profilegen/contact/clearance.py",
+           "psi = float(phase_rad) + 2.0 * math.pi * np.arange(z) / z",
+           "psi = float(phase_rad) + 2.0 * math.pi * np.arange(z) / (z - 1)",
+           (U + "test_sampling_grids.py",), "endpoint counted twice: the last ball on the first"),
+    # ------------------------------------------------------------------ ratcheting
+    Mutant("ratchet-climb-section-swapped", "profilegen/contact/ratchet.py",
+           "return cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,",
+           "return cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=width, width_mm=thick,",
+           (U + "test_ratchet_ring.py",), "the issue's planted swap: +55 % on the estimate, 81 tests passed"),
+    Mutant("ratchet-linear-section-swapped", "profilegen/contact/ratchet.py",
+           "ring = cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,",
+           "ring = cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=width, width_mm=thick,",
+           (U + "test_ratchet_ring.py",), "swapped section in the linear diagnostics"),
+    Mutant("ratchet-section-return-swapped", "profilegen/contact/ratchet.py",
+           "return 0.5 * (r_root + r_out), r_out - r_root, width, estimates",
+           "return 0.5 * (r_root + r_out), width, r_out - r_root, estimates",
+           (U + "test_ratchet_ring.py",), "swapped section where it is measured"),
+    Mutant("ring-inertia-swapped", "profilegen/contact/ratchet.py",
+           "area, inertia = w * h, w * h ** 3 / 12.0", "area, inertia = w * h, h * w ** 3 / 12.0",
+           (U + "test_ratchet_ring.py",), "I = b h³/12 with b and h swapped"),
+    Mutant("ring-hoop-term", "profilegen/contact/ratchet.py",
+           "return bending + r / (e * area) / (2.0 * math.pi)", "return bending + r / (e * area) / math.pi",
+           (U + "test_ratchet_ring.py",), "the n = 0 (hoop) term doubled"),
+    Mutant("csring-inertia-swapped", "profilegen/contact/cs_ring.py",
+           "return self.width_mm * self.thickness_mm ** 3 / 12.0",
+           "return self.thickness_mm * self.width_mm ** 3 / 12.0",
+           (U + "test_ratchet_ring.py",), "swapped section in the CS ring module"),
+    Mutant("ratchet-positions-max", "profilegen/contact/ratchet.py",
+           "path, model, shift_rad = min(ok or runs,", "path, model, shift_rad = max(ok or runs,",
+           (U + "test_sampling_grids.py",), "the running gear meets every position: the minimum, not the maximum"),
+    Mutant("ratchet-interpolation", "profilegen/contact/ratchet.py",
+           "return float(t[k - 1] + m0 / (m0 - m1) * (t[k] - t[k - 1])), False, None, None, None",
+           "return float(t[k - 1] + m1 / (m0 - m1) * (t[k] - t[k - 1])), False, None, None, None",
+           (U + "test_warnings_fire.py",), "the margin's zero interpolated from the wrong end"),
+    Mutant("ratchet-no-end-of-path-warning", "profilegen/contact/ratchet.py",
+           '    if path.criterion == "end of path":\n        warnings.append(',
+           '    if False:\n        warnings.append(',
+           (U + "test_warnings_fire.py",), "a removed warning (the path's end taken as the estimate)"),
+    Mutant("ratchet-no-catalogue-warning", "profilegen/contact/ratchet.py",
+           'warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")',
+           'pass',
+           (U + "test_warnings_fire.py",), "a removed warning"),
+    Mutant("ratchet-no-growth-warning", "profilegen/contact/ratchet.py",
+           "if p is None or p <= 0.0:", "if p is None:",
+           (U + "test_warnings_fire.py",), "a removed warning (Δr̄ falling: the proportional bound)"),
+    Mutant("climb-no-cap-warning", "profilegen/contact/climb.py",
+           'warnings.append(f"the path stopped at {p.torque_nm:.4g}',
+           'print(f"the path stopped at {p.torque_nm:.4g}',
+           (U + "test_warnings_fire.py",), "a removed warning (the torque cap reached)"),
+    Mutant("climb-no-first-rotation-warning", "profilegen/contact/climb.py",
+           'warnings.append(f"the first rotation already meets the {crit} criterion")', "pass",
+           (U + "test_warnings_fire.py",), "a removed warning"),
+    Mutant("dedoidal-eccentricity-ignored", "profilegen/contact/dedoidal.py",
+           "        self._rest[:2] = ecc * np.array(", "        self._rest[:2] = 0.0 * np.array(",
+           (U + "test_dedoidal.py::test_eccentricity_is_the_cup_springs_load",),
+           "the eccentricity dropped (the old test compared two runs that could not differ)"),
+    Mutant("face-load-no-coning-warning", "profilegen/contact/face_load.py",
+           "if np.any(theta < 0.0):", "if np.any(theta < -1.0):",
+           (U + "test_warnings_fire.py", U + "test_face_load.py"), "a removed warning (preloaded slices)"),
+    # ------------------------------------------------------------------ cup (profilegen/rim/cup)
+    Mutant("cup-bore-load-endpoint", "profilegen/rim/cup/fourier.py",
+           "    phi = 2.0 * math.pi * np.arange(samples) / samples\n    values = np.asarray(contour.radius(phi)",
+           "    phi = 2.0 * math.pi * np.arange(samples) / (samples - 1)\n    values = np.asarray(contour.radius(phi)",
+           (U + "test_cup3d.py",), "endpoint counted twice in the cam's cosine series"),
+    Mutant("cup-nonlinear-samples-endpoint", "profilegen/rim/cup/nonlinear.py",
+           "phi = 2.0 * math.pi * np.arange(self.samples) / self.samples",
+           "phi = 2.0 * math.pi * np.arange(self.samples) / (self.samples - 1)",
+           (U + "test_cup_contact.py",), "endpoint counted twice in the trapezoid rule's samples"),
+    Mutant("cup-contact-orders", "profilegen/rim/cup/contact.py",
+           "orders = 2 * np.arange(angles)", "orders = 2 * np.arange(angles - 1)",
+           (U + "test_cup_contact.py",), "one harmonic fewer than contact angles"),
+    Mutant("cup-wall-layers", "profilegen/rim/cup/geometry.py",
+           "r_wall = np.linspace(r_in, r_out, layers + 1)", "r_wall = np.linspace(r_in, 0.5 * (r_in + r_out), layers + 1)",
+           (U + "test_cup3d.py",), "the wall meshed half as thick"),
+    # ------------------------------------------------------------------ face (profilegen/face)
+    Mutant("face-parabola-sign", "profilegen/face/clearance.py",
+           "return float(c[i] - b * b / (4 * a)), float(phi[i] + x * h)",
+           "return float(c[i] + b * b / (4 * a)), float(phi[i] + x * h)",
+           (U + "test_face.py",), "the refined minimum above the sample"),
+    Mutant("face-engaged-strict", "profilegen/face/clearance.py",
+           "return np.asarray(clearance_mm) <= ENGAGED_MM", "return np.asarray(clearance_mm) <= 0.0",
+           (U + "test_face.py",), "the engaged zone without its tolerance"),
+    Mutant("face-section-endpoint", "profilegen/face/sections.py",
+           "phi = period * np.arange(samples) / samples", "phi = period * np.arange(samples) / (samples - 1)",
+           (U + "test_face.py",), "endpoint counted twice in a section's Fourier fit samples"),
+    # ------------------------------------------------------------------ fillet (rootfillet)
+    Mutant("fillet-no-kept-sharp-warning", "profilegen/rootfillet.py",
+           "            log.warning(msg)\n            warnings.append(msg)\n    done = [d for d in done",
+           "            log.warning(msg)\n    done = [d for d in done",
+           (U + "test_root_fillet.py",), "a removed warning (a kink kept sharp)"),
+    Mutant("fillet-no-shrink-warning", "profilegen/rootfillet.py",
+           "elif arc.radius < radius_mm * (1 - 1e-12):", "elif arc.radius < 0.0:",
+           (U + "test_root_fillet.py",), "a removed warning (the tip round shrunk)"),
+    Mutant("fillet-wrong-side", "profilegen/rootfillet.py",
+           "side = math.copysign(1.0, _cross(ta, tb))", "side = -math.copysign(1.0, _cross(ta, tb))",
+           (U + "test_root_fillet.py",), "the fillet on the outside of the turn"),
+    # ------------------------------------------------------------------ STEP (output/step.py)
+    Mutant("step-half-revolution", "profilegen/output/step.py",
+           "BRepPrimAPI_MakeRevol(face, axis, 2.0 * math.pi)", "BRepPrimAPI_MakeRevol(face, axis, math.pi)",
+           (U + "test_step.py",), "the FS cup revolved half a turn"),
+    Mutant("step-open-chain-accepted", "profilegen/output/step.py",
+           "if gap.max() > _CLOSE_TOL_MM:", "if gap.max() > 1e9:",
+           (U + "test_step.py",), "an untested branch? an open chain accepted"),
+    Mutant("step-wall-check", "profilegen/output/step.py",
+           "if not d_out >= 2.0 * (r_max + wall):", "if not d_out >= 2.0 * r_max:",
+           (U + "test_step.py",), "the CS's minimum wall not checked (only the root circle)"),
+    # ------------------------------------------------------------------ drawing (output/drawing.py)
+    Mutant("drawing-diameter-is-radius", "profilegen/output/drawing.py",
+           'text=f"%%c{_fmt(2.0 * r)}{note}"', 'text=f"%%c{_fmt(r)}{note}"',
+           (U + "test_drawing.py",), "a diameter labelled with its radius"),
+    Mutant("drawing-projection", "profilegen/output/drawing.py",
+           '(1, 100, 180, "PROJECTION", "first angle"),', '(1, 100, 180, "PROJECTION", "third angle"),',
+           (U + "test_drawing.py",), "the title block's projection"),
+    Mutant("drawing-pair-label", "profilegen/output/drawing.py",
+           'text = ("2x " if len(g) == 2 else "")', 'text = ("" if len(g) == 2 else "")',
+           (U + "test_drawing.py",), "a mirrored pair of arcs dimensioned as one"),
+    # ------------------------------------------------------------------ optimize
+    Mutant("optimize-violation-sign", "profilegen/optimize/search.py",
+           "v = max(v, self.lo - value)", "v = max(v, value - self.lo)",
+           (U + "test_optimize.py",), "a lower bound's violation with the sign flipped"),
+    Mutant("optimize-max-not-negated", "profilegen/optimize/search.py",
+           'return 1.0 if self.sense == "min" else -1.0', "return 1.0",
+           (U + "test_optimize.py",), "a max objective minimised"),
+    Mutant("optimize-equal-rows-last", "profilegen/optimize/search.py",
+           "earlier_equal = np.triu(equal, k=1).any(axis=0)", "earlier_equal = np.tril(equal, k=-1).any(axis=0)",
+           (U + "test_optimize.py",), "of equal rows the last kept, not the first"),
+    # ------------------------------------------------------------------ sweep
+    Mutant("sweep-journal-no-checksum", "profilegen/sweep.py",
+           'if f"{zlib.crc32(chr(31).join(texts).encode()):08x}" != rec[-1]:', "if False:",
+           (U + "test_sweep.py", U + "test_output_folder.py"), "the journal's checksum not checked on reading"),
+    Mutant("sweep-reruns-journal-points", "profilegen/sweep.py",
+           "if pid not in done and pid not in todo:", "if pid not in todo:",
+           (U + "test_sweep.py",), "points in the journal run again"),
+    Mutant("sweep-int-sample-endpoint", "profilegen/sweep.py",
+           "point[f] = int(min(lo + math.floor(x * (hi - lo + 1)), hi))",
+           "point[f] = int(min(lo + math.floor(x * (hi - lo)), hi))",
+           (U + "test_sweep.py",), "an integer field's upper bound never drawn"),
+    # ------------------------------------------------------------------ output folder
+    Mutant("folder-no-parent-fsync", "profilegen/output/folder.py",
+           "            _fsync_dir(self.out.parent)\n", "            pass\n",
+           (U + "test_output_folder.py",), "the parent folder's fsync after the swap removed (the issue's kind)"),
+    Mutant("folder-fsync-dir-noop", "profilegen/output/folder.py",
+           "                os.fsync(fd)\n", "                pass\n",
+           (U + "test_output_folder.py",), "_fsync_dir opens the folder but syncs nothing"),
+    Mutant("folder-no-restore", "profilegen/output/folder.py",
+           "        os.rename(parked, out)\n        raise", "        raise",
+           (U + "test_output_folder.py",), "a failed two-rename swap leaves the old set parked"),
+)
+
+
+# --------------------------------------------------------------------------- the copy
+
+
+def _copy_tree(dest: Path, worktree: bool) -> str:
+    """HEAD's files into ``dest`` (+ the working tree's uncommitted ones); returns the commit."""
+    commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True,
+                            check=True).stdout.strip()
+    archive = subprocess.run(["git", "archive", "HEAD"], cwd=ROOT, capture_output=True, check=True).stdout
+    subprocess.run(["tar", "-x", "-C", str(dest)], input=archive, check=True)
+    if worktree:
+        listed = subprocess.run(["git", "ls-files", "-m", "-o", "--exclude-standard", "-z"], cwd=ROOT,
+                                capture_output=True, check=True).stdout.decode().split("\0")
+        for rel in filter(None, listed):
+            src = ROOT / rel
+            if rel.startswith("export/") or not src.is_file():
+                continue
+            (dest / rel).parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, dest / rel)
+        commit += "+worktree"
+    return commit
+
+
+def _limits(memory_gb: float):
+    def apply():
+        cap = int(memory_gb * 1024 ** 3)
+        resource.setrlimit(resource.RLIMIT_AS, (cap, cap))
+        os.nice(10)
+    return apply
+
+
+def _pytest(copy: Path, tests, timeout: float, memory_gb: float) -> tuple[str, float, str]:
+    """('pass' | 'fail' | 'timeout', seconds, the last line of the output)."""
+    env = {**os.environ, "PYTHONPATH": str(copy), "PYTHONDONTWRITEBYTECODE": "1"}
+    cmd = [sys.executable, "-m", "pytest", "-q", "-n", "0", "-x", "-p", "no:cacheprovider", *tests]
+    t0 = time.perf_counter()
+    try:
+        out = subprocess.run(cmd, cwd=copy, env=env, capture_output=True, text=True, timeout=timeout,
+                             preexec_fn=_limits(memory_gb), start_new_session=True)
+    except subprocess.TimeoutExpired:
+        return "timeout", time.perf_counter() - t0, f"timeout after {timeout:g} s"
+    lines = [ln for ln in out.stdout.splitlines() if ln.strip()]
+    last = lines[-1] if lines else out.stderr.strip()[-200:]
+    return ("pass" if out.returncode == 0 else "fail"), time.perf_counter() - t0, last
+
+
+def _check_copy_imports_itself(copy: Path) -> None:
+    env = {**os.environ, "PYTHONPATH": str(copy)}
+    where = subprocess.run([sys.executable, "-c", "import profilegen; print(profilegen.__file__)"], cwd=copy,
+                           env=env, capture_output=True, text=True, check=True).stdout.strip()
+    if not Path(where).resolve().is_relative_to(copy.resolve()):
+        raise SystemExit(f"the copy imports profilegen from {where}, not from {copy}: mutants would not be tested")
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="Plant each mutant in a copy of the repository and run its tests.")
+    ap.add_argument("--only", nargs="+", metavar="NAME", help="run only these mutants")
+    ap.add_argument("--list", action="store_true", help="list the mutants and exit")
+    ap.add_argument("--worktree", action="store_true", help="overlay the working tree's uncommitted files")
+    ap.add_argument("--timeout", type=float, default=600.0, help="seconds per pytest run (default 600)")
+    ap.add_argument("--memory-gb", type=float, default=4.0, help="address-space cap per run (default 4)")
+    args = ap.parse_args(argv)
+
+    names = [m.name for m in MUTANTS]
+    dupes = {n for n in names if names.count(n) > 1}
+    if dupes:
+        raise SystemExit(f"duplicate mutant names: {sorted(dupes)}")
+    chosen = list(MUTANTS)
+    if args.only:
+        unknown = set(args.only) - set(names)
+        if unknown:
+            raise SystemExit(f"unknown mutants: {', '.join(sorted(unknown))} (see --list)")
+        chosen = [m for m in MUTANTS if m.name in args.only]
+    if args.list:
+        for m in chosen:
+            print(f"{m.name:34s} {m.file:38s} {' '.join(t.removeprefix(U) for t in m.tests)}\n{'':34s} {m.why}")
+        print(f"{len(chosen)} mutants")
+        return 0
+
+    with tempfile.TemporaryDirectory(prefix="profilegen-mutants-") as tmp:
+        copy = Path(tmp) / "repo"
+        copy.mkdir()
+        commit = _copy_tree(copy, args.worktree)
+        _check_copy_imports_itself(copy)
+        print(f"profilegen mutants at {commit}, {time.strftime('%Y-%m-%d %H:%M UTC', time.gmtime())}, "
+              f"{len(chosen)} mutants", flush=True)
+        baselines: dict[tuple[str, ...], tuple[str, float, str]] = {}
+        rows = []
+        for m in chosen:
+            path = copy / m.file
+            text = path.read_text(encoding="utf-8") if path.exists() else ""
+            count = text.count(m.original)
+            if count != 1:
+                rows.append((m, "stale", 0.0, f"snippet found {count} times in {m.file}"))
+                print(f"{m.name:34s} stale ({count} matches)", flush=True)
+                continue
+            if m.tests not in baselines:
+                baselines[m.tests] = _pytest(copy, m.tests, args.timeout, args.memory_gb)
+                if baselines[m.tests][0] != "pass":
+                    print(f"  baseline red for {' '.join(m.tests)}: {baselines[m.tests][2]}", flush=True)
+            if baselines[m.tests][0] != "pass":
+                rows.append((m, "baseline-red", 0.0, baselines[m.tests][2]))
+                print(f"{m.name:34s} baseline-red", flush=True)
+                continue
+            path.write_text(text.replace(m.original, m.replacement), encoding="utf-8")
+            try:
+                status, secs, last = _pytest(copy, m.tests, args.timeout, args.memory_gb)
+            finally:
+                path.write_text(text, encoding="utf-8")
+            verdict = {"fail": "caught", "timeout": "caught (timeout)", "pass": "MISSED"}[status]
+            rows.append((m, verdict, secs, last))
+            print(f"{m.name:34s} {verdict:16s} {secs:6.1f} s  {last[:90]}", flush=True)
+
+    print()
+    print(f"| mutant | file | tests | result |")
+    print(f"|---|---|---|---|")
+    for m, verdict, secs, last in rows:
+        print(f"| {m.name} | {m.file.removeprefix('profilegen/')} | {', '.join(t.removeprefix(U) for t in m.tests)} "
+              f"| {verdict} |")
+    judged = [r for r in rows if r[1] in ("caught", "caught (timeout)", "MISSED")]
+    caught = sum(r[1].startswith("caught") for r in judged)
+    stale = sum(r[1] == "stale" for r in rows)
+    red = sum(r[1] == "baseline-red" for r in rows)
+    share = 100.0 * caught / len(judged) if judged else 0.0
+    print(f"\ncaught {caught} of {len(judged)} judged ({share:.1f} %); missed {len(judged) - caught}; "
+          f"stale {stale}; baseline-red {red}; {len(rows)} mutants")
+    for m, verdict, _, _ in rows:
+        if verdict == "MISSED":
+            print(f"  missed: {m.name} — {m.why}")
+    return 0 if not (len(judged) - caught) and not stale and not red else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())
