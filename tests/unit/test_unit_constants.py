@@ -52,6 +52,18 @@ def test_load_cases_balance_the_torque_in_n_mm(default_sketch_contact):
         np.testing.assert_allclose(d["rotations_arcmin"], np.asarray(res.rotations_rad) / ARCMIN, rtol=1e-14)
 
 
+def test_fixed_compliance_analysis_balances_the_torque_in_n_mm(default_sketch_contact):
+    """analyse_contact (one zone, S held fixed): the same moment balance, Σ F r = T/U × 1000 N·mm."""
+    from profilegen.contact.analysis import analyse_contact
+
+    res = default_sketch_contact.contact
+    out = analyse_contact(res.points, res.compliance.matrix_mm_per_n, [265.0, 530.0])
+    for case in out.cases:
+        assert float(case.solution.force_n @ res.points.lever_mm) == pytest.approx(case.torque_nm / 2 * 1000.0,
+                                                                                  rel=1e-6)
+    assert out.cases[1].rotation_rad > out.cases[0].rotation_rad > 0.0
+
+
 def test_torsional_curve_in_arcmin(default_sketch_contact):
     curve = default_sketch_contact.torsional
     if curve is None:
