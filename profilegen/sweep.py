@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import errno
 import hashlib
 import io
 import itertools
@@ -42,6 +43,7 @@ import math
 import os
 import re
 import signal
+import stat
 import threading
 import time
 import zlib
@@ -83,11 +85,16 @@ __all__ = [
     "run_sweep",
     "sample_points",
     "write_table",
+    "csv_text",
+    "SWEEP_FILES",
 ]
 
 log = logging.getLogger(__name__)
 
 SAMPLE_METHODS = ("lhs", "random")
+JOURNAL = "journal.csv"
+#: every file a sweep writes into its folder (:mod:`profilegen.output.folder`: it may hold only these)
+SWEEP_FILES = frozenset({JOURNAL, "results.csv", "sweep.png", ".profilegen.json"})
 MAX_POINTS = 100_000
 DEFAULT_PLOT = "profile_max_error_mm"
 _NAME_RE = re.compile(r"[A-Za-z0-9_.-]+")
@@ -135,6 +142,17 @@ def _min_safety_name(d: Design):
     return min(safety, key=safety.get) if safety else None
 
 
+def _verdict(d: Design) -> str | None:
+    """The design's verdict: PASS, FAIL or INCOMPLETE (older Verdicts: PASS/FAIL by ``passed``)."""
+    v = d.verdict.to_dict()
+    return v.get("status") or ("PASS" if v.get("passed") else "FAIL")
+
+
+def _failed_checks(d: Design) -> str | None:
+    """The verdict's failed checks, '; '-separated (None: none failed)."""
+    return "; ".join(" ".join(str(f).split()) for f in d.verdict.to_dict().get("failures") or ()) or None
+
+
 _STAGES = ("tooth", "rim", "deformation fit", "envelope", "gearform", "arcfit", "contact", "stress")
 
 #: (column, type, getter): the headline outputs of a design, one column each. A getter
@@ -170,6 +188,8 @@ OUTPUTS: tuple[tuple[str, type, Callable[[Design], Any]], ...] = (
     ("stress_min_safety", float, _min_safety),
     ("stress_min_safety_check", str, _min_safety_name),
     ("stress_passed", bool, lambda d: d.stress.passed),
+    ("verdict", str, _verdict),
+    ("failed_checks", str, _failed_checks),
     ("warnings", int, lambda d: len(d.warnings)),
     *((f"time_{s.replace(' ', '_')}_s", float, _stage_time(s)) for s in _STAGES),
     ("time_design_s", float, lambda d: None),  # the worker's wall time around design(), filled in by it
@@ -674,6 +694,7 @@ def run_sweep(
     designer: Callable[..., Design] | None = None,
     table: str | os.PathLike | None = None,
     figure: bool = True,
+    lock_wait_s: float | None = None,
 ) -> SweepResult:
     """Run every point of ``spec`` not yet in ``out_dir/journal.csv``; write the table.
 
@@ -688,14 +709,33 @@ def run_sweep(
     it cancels what has not started, ends its own pool's workers at once (the points they
     were running are lost and run again on resuming) and re-raises; the journal keeps every
     finished point. A given executor's futures are cancelled; it is not shut down.
+
+    The folder follows :mod:`profilegen.output.folder`'s rules: it must be absent, empty or a
+    sweep's own (its ``.profilegen.json`` marker lists each file; anything else is an
+    ExportError naming it, before a point runs); it is locked for the whole run (a second sweep
+    into it waits ``lock_wait_s``, default 120 s, then stops with an ExportError — and finding
+    the journal complete, computes nothing); the journal is appended in place, and the new
+    results.csv and sweep.png arrive with it as one set (a whole-folder swap), so a run killed
+    while writing them leaves the old set.
     """
+    from .output import folder
+
     t0 = time.perf_counter()
-    out = Path(out_dir)
     if table is not None and str(table).endswith(".parquet"):
         _require_pyarrow(table)
     if workers is not None and not (_is_int(workers) and workers >= 1):
         raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
-    journal = _Journal(out / "journal.csv", ("point_id", *spec.fields, *OUTPUT_COLUMNS, *STATUS_COLUMNS))
+    wait = folder.LOCK_WAIT_S if lock_wait_s is None else lock_wait_s
+    with folder.owning(out_dir, ours=SWEEP_FILES, marker=folder.MARKER, command="sweep", lock_wait_s=wait) as owned:
+        return _run_sweep(spec, Path(out_dir), owned, executor, workers, progress, designer, table, figure, t0)
+
+
+def _run_sweep(spec: SweepSpec, out: Path, owned, executor, workers, progress, designer, table, figure,
+               t0: float) -> SweepResult:
+    from .output import folder
+
+    live = owned.begin([JOURNAL])
+    journal = _Journal(live / JOURNAL, ("point_id", *spec.fields, *OUTPUT_COLUMNS, *STATUS_COLUMNS))
     wanted = set(spec.ids)
     done: dict[str, dict] = {pid: row for pid, row in journal.read().items() if pid in wanted}
     reused = len(done)
@@ -744,12 +784,16 @@ def run_sweep(
                 fut.cancel()
         raise
     rows = tuple(_table_row(i, pid, spec, done[pid]) for i, pid in enumerate(spec.ids))
-    files = [write_table(rows, _columns(spec), out / "results.csv")]
-    if table is not None:
-        files.append(write_table(rows, _columns(spec), table))
     result = SweepResult(spec, rows, len(todo), reused, 0.0)
-    if figure:
-        files.append(plot_sweep(result, path=out / "sweep.png"))
+    names = ["results.csv", *(["sweep.png"] if figure else [])]
+    with owned.stage(keep=(JOURNAL,)) as staging:  # the new set and the journal, swapped in as one
+        write_table(rows, _columns(spec), staging / "results.csv")
+        if figure:
+            plot_sweep(result, path=staging / "sweep.png")
+        folder.write_marker(staging, "sweep", [*names, JOURNAL])
+    files = [out / n for n in names]
+    if table is not None:
+        files.insert(1, write_table(rows, _columns(spec), table))
     return SweepResult(spec, rows, len(todo), reused, time.perf_counter() - t0, tuple(files))
 
 
@@ -818,12 +862,12 @@ class _Journal:
 
     def read(self) -> dict[str, dict[str, str]]:
         """{point id: cells} of the complete lines; repairs a cut last line and an old header."""
-        if not self.path.exists():
-            return {}
         try:
-            raw = self.path.read_bytes()
+            raw = _read_nofollow(self.path)
+        except FileNotFoundError:
+            return {}
         except OSError as exc:
-            raise ExportError(f"cannot read the sweep journal {self.path}: {exc.strerror or exc}") from exc
+            raise ExportError(f"cannot read the sweep journal {self.path}: {_why(exc)}") from exc
         cut = not raw.endswith(b"\n")
         text = raw.decode("utf-8", errors="replace")
         records = list(csv.reader(io.StringIO(text)))
@@ -859,18 +903,41 @@ class _Journal:
 
     def append(self, cells: Mapping[str, Any]) -> None:
         try:
-            if not self.path.exists():
+            if not os.path.lexists(self.path):
                 self._rewrite({})
             data = self._line(self.encode_cells(cells)).encode()
-            fd = os.open(self.path, os.O_WRONLY | os.O_APPEND)
+            fd = os.open(self.path, os.O_WRONLY | os.O_APPEND | _O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0))
             try:
+                if not stat.S_ISREG(os.fstat(fd).st_mode):
+                    raise OSError(errno.EINVAL, "not a regular file")
                 written = os.write(fd, data)
             finally:
                 os.close(fd)
         except OSError as exc:
-            raise ExportError(f"cannot write the sweep journal {self.path}: {exc.strerror or exc}") from exc
+            raise ExportError(f"cannot write the sweep journal {self.path}: {_why(exc)}") from exc
         if written != len(data):
             raise ExportError(f"cannot write the sweep journal {self.path}: short write ({written} of {len(data)} bytes)")
+
+
+_O_NOFOLLOW = getattr(os, "O_NOFOLLOW", 0)
+
+
+def _why(exc: OSError) -> str:
+    if exc.errno == errno.ELOOP:
+        return "it is a symbolic link (a journal is never one; remove the link)"
+    return exc.strerror or str(exc)
+
+
+def _read_nofollow(path: Path) -> bytes:
+    """A regular file's bytes, never through a link (ELOOP)."""
+    fd = os.open(path, os.O_RDONLY | _O_NOFOLLOW | getattr(os, "O_CLOEXEC", 0))
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise OSError(errno.EINVAL, "not a regular file", os.fspath(path))
+        with os.fdopen(fd, "rb", closefd=False) as f:
+            return f.read()
+    finally:
+        os.close(fd)
 
 
 # ----------------------------------------------------------------------------- files
@@ -901,10 +968,26 @@ def write_table(rows: Sequence[Mapping], columns: Sequence[str], path: str | os.
         return path
     with atomic_write(path) as f:
         w = csv.writer(f, lineterminator="\n")
-        w.writerow(columns)
+        w.writerow([csv_text(c) for c in columns])
         for r in rows:
-            w.writerow([_cell(r.get(c)) for c in columns])
+            w.writerow([csv_text(r.get(c)) for c in columns])
     return path
+
+
+_FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+_NUMBER_RE = re.compile(r"[+-]?(?:\d+\.?\d*|\.\d+)(?:[eE][+-]?\d+)?")
+
+
+def csv_text(value) -> str:
+    """A value as a CSV cell a spreadsheet shows as written: a text that starts with ``=``,
+    ``+``, ``-``, ``@``, a tab or a carriage return (a formula to Excel, LibreOffice and Google
+    Sheets: ``=HYPERLINK(...)``) gets a leading ``'``, which they show as text; numbers (also
+    negative ones, and a text that is a plain number) are written unchanged."""
+    text = _cell(value)
+    if text.startswith(_FORMULA_START) and not (isinstance(value, (int, float, np.number))
+                                                 or _NUMBER_RE.fullmatch(text)):
+        return "'" + text
+    return text
 
 
 def plot_sweep(result: SweepResult, output: str | None = None, *, ax: Axes | None = None,

@@ -12,7 +12,16 @@ Files in the output folder (default ``export/optimize/<name>/``):
   starting design, its gear-set file; the first row is the starting design;
 * ``front.png``, ``report.html``, ``summary.json``;
 * ``designs/<name>_pareto_NN.toml``: one gear set per front design; ``profilegen design``
-  on it runs the confirm scene and gives the ``confirm_*`` values.
+  on it runs the confirm scene and gives the ``confirm_*`` values; its ``name`` is the spec's
+  name made a gear-set name (lower case, other characters ``_``), its header comment one line
+  per item (control characters shown as ``?``), so ``profilegen check`` accepts it;
+* ``.profilegen.json``: the marker (which files the run wrote).
+
+The folder follows :mod:`profilegen.output.folder`'s rules: absent, empty or an optimize run's
+own (anything else is an ExportError naming it, before a design runs); locked for the run; the
+journals are appended in place, and the other files arrive together in one whole-folder swap
+(a run killed while writing them leaves the old set; a smaller front leaves no older
+``*_pareto_NN.toml``).
 """
 
 from __future__ import annotations
@@ -20,6 +29,7 @@ from __future__ import annotations
 import json
 import logging
 import os
+import re
 import time
 from collections.abc import Callable
 from concurrent.futures import Executor
@@ -37,6 +47,12 @@ from .spec import OptimizeSpec, load_optimize_spec
 __all__ = ["OptimizeResult", "optimize", "problem_of"]
 
 log = logging.getLogger(__name__)
+
+JOURNALS = ("journal.csv", "confirm_journal.csv")
+#: every file an optimisation writes into its folder, and the front designs' names (a pattern)
+OPTIMIZE_FILES = frozenset({*JOURNALS, "evaluations.csv", "front.csv", "front.png", "report.html", "summary.json",
+                            ".profilegen.json"})
+DESIGN_PATTERN = r"designs/[A-Za-z0-9_.-]+_pareto_[0-9]{2,}\.toml"
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -70,7 +86,8 @@ def problem_of(spec: OptimizeSpec, scene=None) -> Problem:
 
 def optimize(spec: OptimizeSpec | str | os.PathLike, out_dir: str | os.PathLike | None = None, *,
              executor: Executor | None = None, workers: int | None = None,
-             progress: Callable[[int, int], None] | None = None, figure: bool = True) -> OptimizeResult:
+             progress: Callable[[int, int], None] | None = None, figure: bool = True,
+             lock_wait_s: float | None = None) -> OptimizeResult:
     """Run the optimisation of ``spec`` (an :class:`OptimizeSpec` or a spec file).
 
     ``executor``: where designs run (not shut down here), default a process pool of
@@ -85,25 +102,30 @@ def optimize(spec: OptimizeSpec | str | os.PathLike, out_dir: str | os.PathLike 
     if workers is not None and not (isinstance(workers, int) and not isinstance(workers, bool) and workers >= 1):
         raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
     out = Path(out_dir) if out_dir is not None else Path("export") / "optimize" / spec.name
-    own = executor is None
-    if own:
-        from concurrent.futures import ProcessPoolExecutor
+    from ..output import folder
 
-        with _signals_deferred():
-            executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, initializer=_init_worker)
-    try:
-        result = _run(spec, out, executor, progress, figure, t0)
+    with folder.owning(out, ours=OPTIMIZE_FILES, patterns=(DESIGN_PATTERN,), marker=folder.MARKER,
+                       command="optimize", lock_wait_s=folder.LOCK_WAIT_S if lock_wait_s is None else lock_wait_s) as owned:
+        owned.begin(JOURNALS)
+        own = executor is None
         if own:
-            executor.shutdown(wait=True)
-        return result
-    except BaseException:
-        if own:
+            from concurrent.futures import ProcessPoolExecutor
+
             with _signals_deferred():
-                stop_pool(executor, what="optimize")
-        raise
+                executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, initializer=_init_worker)
+        try:
+            result = _run(spec, out, owned, executor, progress, figure, t0)
+            if own:
+                executor.shutdown(wait=True)
+            return result
+        except BaseException:
+            if own:
+                with _signals_deferred():
+                    stop_pool(executor, what="optimize")
+            raise
 
 
-def _run(spec: OptimizeSpec, out: Path, executor: Executor, progress, figure: bool, t0: float) -> OptimizeResult:
+def _run(spec: OptimizeSpec, out: Path, owned, executor: Executor, progress, figure: bool, t0: float) -> OptimizeResult:
     cheap = problem_of(spec)
     names = cheap.names
     total = [spec.population * spec.generations + 1 + (1 if spec.confirm_scene is not None else 0)]
@@ -117,7 +139,7 @@ def _run(spec: OptimizeSpec, out: Path, executor: Executor, progress, figure: bo
     if progress:
         progress(0, total[0])
     start_values = {v.name: s for v, s in zip(spec.variables, spec.start) if s is not None}
-    journal, confirm_journal = out / "journal.csv", out / "confirm_journal.csv"
+    journal, confirm_journal = (owned.out / j for j in JOURNALS)
     (start_row,), _ = evaluate_points([start_values], variables=names, outputs=DESIGN_OUTPUTS,
                                       evaluator=evaluate_design, context=cheap.context, journal=journal,
                                       executor=executor, on_done=on_done)
@@ -158,10 +180,27 @@ def _run(spec: OptimizeSpec, out: Path, executor: Executor, progress, figure: bo
         "start_feasible": start.get("confirm_feasible", start["feasible"]),
         **disagreement,
     }
-    files = _write(spec, out, res, front_rows, start, summary, figure)
+    from ..output import folder
+
+    with owned.stage(keep=JOURNALS) as staging:  # the new set with the journals, swapped in as one
+        names = [p.relative_to(staging).as_posix() for p in _write(spec, staging, res, front_rows, start, summary,
+                                                                   figure)]
+        folder.write_marker(staging, "optimize", [*names, *(j for j in JOURNALS if (owned.out / j).is_file())])
+    files = tuple(out / n for n in names)
     log.info("optimize %s: %d candidates (%d run), front of %d, %d dominate the start", spec.name, len(res.rows),
              res.computed, len(front_rows), summary["dominating_start"])
     return OptimizeResult(spec, res, tuple(front_rows), start, summary, files, time.perf_counter() - t0)
+
+
+def gearset_name(name: str, suffix: str = "") -> str:
+    """``name`` + ``suffix`` as a gear-set name ``profilegen check`` accepts: lower case letters,
+    digits, ``_`` and ``-`` (every other character ``_``), at most 100 characters."""
+    from ..gearset.reader import MAX_NAME_CHARS
+
+    text = re.sub(r"[^a-z0-9_-]", "_", (name + suffix).lower())
+    if len(text) > MAX_NAME_CHARS:
+        text = text[:MAX_NAME_CHARS - len(suffix)] + suffix
+    return text or "optimize"
 
 
 def _objectives(problem: Problem, row: dict, prefix: str) -> np.ndarray | None:
@@ -210,7 +249,7 @@ def _write(spec: OptimizeSpec, out: Path, res: SearchResult, front: list[dict], 
     for k, r in enumerate(front):
         gs = spec.gearset.with_values({n: r[n] for n in names})
         data = gs.to_dict()
-        data["name"] = f"{spec.name}_pareto_{k + 1:02d}"
+        data["name"] = gearset_name(spec.name, f"_pareto_{k + 1:02d}")
         data["description"] = f"Pareto design {k + 1} of optimisation {spec.name!r} (base: {spec.gearset.name})"
         data["scene"] = scene_name if scene_name in ("sketch", "design", "verify") else gs.scene
         header = [f"profilegen optimize {spec.origin}: Pareto design {k + 1} of {len(front)}",

@@ -11,6 +11,7 @@ import html
 import json
 import math
 import os
+import re
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 
@@ -37,10 +38,17 @@ def _toml_value(value) -> str:
     raise TypeError(f"cannot write a {type(value).__name__} as a TOML value")
 
 
+def comment_text(text) -> str:
+    """A text for one TOML comment line: control characters shown as '?'."""
+    return re.sub(r"[\x00-\x1f\x7f\x85\u2028\u2029]", "?", str(text))
+
+
 def gearset_toml(data: Mapping, *, header: Sequence[str] = ()) -> str:
     """A gear set's dict (:meth:`GearSet.to_dict`: top-level keys, then one table per section)
-    as TOML text; values None are left out (their defaults apply). ``header``: comment lines."""
-    lines = [f"# {h}" for h in header]
+    as TOML text; values None are left out (their defaults apply). ``header``: comment lines,
+    each kept on its line (a control character — a line break would end the comment and start
+    TOML — is written as ``?``)."""
+    lines = [f"# {comment_text(h)}" for h in header]
     scalars = {k: v for k, v in data.items() if not isinstance(v, Mapping)}
     tables = {k: v for k, v in data.items() if isinstance(v, Mapping)}
     for key, value in scalars.items():

@@ -658,7 +658,8 @@ def plot_tooth_ring_study(study: ToothRingStudy, axes=None):
 
 def sweep_figure(rows, fields, output: str, *, title: str, ax=None, path=None):
     """One panel per swept field: ``output`` of the rows whose ``status`` is ok against the
-    field, failed points as red crosses on the axis (the sweep's figure; see
+    field, marked by the design's ``verdict`` (PASS filled, INCOMPLETE open, FAIL open red: an
+    infeasible point), failed points as red crosses on the axis (the sweep's figure; see
     :func:`profilegen.sweep.plot_sweep`). Returns the Axes of the first panel, or ``path``
     when given (PNG, written atomically)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
@@ -678,10 +679,14 @@ def sweep_figure(rows, fields, output: str, *, title: str, ax=None, path=None):
             pos = {lab: k for k, lab in enumerate(labels)}
             xs = [pos[str(x)] for x in xs]
             a.set_xticks(range(len(labels)), labels)
-        ok = [(x, r[output]) for x, r in zip(xs, rows) if r["status"] == "ok" and r[output] is not None]
+        ran = [(x, r[output], r.get("verdict")) for x, r in zip(xs, rows) if r["status"] == "ok" and r[output] is not None]
         bad = [x for x, r in zip(xs, rows) if r["status"] != "ok"]
-        if ok:
-            a.plot(*zip(*ok), "o", color="#1f5fbf", markersize=4, label=f"ok ({len(ok)})")
+        for verdict, style, label in ((None, dict(color="#1f5fbf"), "ok"), ("PASS", dict(color="#1f5fbf"), "PASS"),
+                                      ("INCOMPLETE", dict(color="#1f5fbf", mfc="none"), "INCOMPLETE (not all checked)"),
+                                      ("FAIL", dict(color="#d62728", mfc="none", markersize=7), "FAIL (infeasible)")):
+            pts = [(x, y) for x, y, v in ran if v == verdict]  # each point as its design's verdict judged it
+            if pts:
+                a.plot(*zip(*pts), "o", **{"markersize": 4, **style}, label=f"{label} ({len(pts)})")
         if bad:
             a.plot(bad, [0.0] * len(bad), "x", color="#d62728", markersize=6, transform=a.get_xaxis_transform(),
                    clip_on=False, label=f"failed ({len(bad)})")

@@ -4,6 +4,7 @@ failed points, and the same table from a process pool and a Dask cluster."""
 from __future__ import annotations
 
 import csv
+import json
 import math
 import sys
 import threading
@@ -325,7 +326,8 @@ def test_sweep_command_writes_the_table(tmp_path, capsys):
         rows = list(csv.DictReader(f))
     assert [r["status"] for r in rows] == ["ok", "error"] and rows[1]["error_type"] == "GearSetError"
     assert np.isfinite(float(rows[0]["min_clearance_mm"])) and rows[0]["contact_rotation_arcmin"] == ""
-    assert sorted(p.name for p in out.iterdir()) == ["journal.csv", "results.csv", "sweep.png"]
+    assert sorted(p.name for p in out.iterdir()) == [".profilegen.json", "journal.csv", "results.csv", "sweep.png"]
+    assert json.loads((out / ".profilegen.json").read_text())["files"] == sorted(p.name for p in out.iterdir())
 
 
 @pytest.mark.xdist_group("test_sweep_designs")  # one worker: _design_once's designs are its process's
