@@ -492,8 +492,9 @@ def _check_target(out: Path, given: str, ours: Collection[str], marker: str = DE
     other = foreign_entries(out, ours, marker=marker, patterns=patterns)
     if other:
         why = "which profilegen did not write" if _listed(out, marker) is not None else \
-            f"and no profilegen marker ({marker}) says profilegen wrote the folder"
-        raise ExportError(f"cannot write '{given}': it holds '{other[0]}'"
+            f"which no profilegen marker ({marker}) lists"
+        link = " (a symbolic link)" if os.path.islink(out / other[0]) else ""
+        raise ExportError(f"cannot write '{given}': it holds '{other[0]}'{link}"
                           + (f" and {len(other) - 1} more entries" if len(other) > 1 else "")
                           + f", {why}, and profilegen replaces the output folder as a whole; "
                           f"move {'them' if len(other) > 1 else 'it'} elsewhere or give another --out (nothing was changed)")
