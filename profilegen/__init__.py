@@ -30,7 +30,15 @@ True
 True
 """
 
+import logging
+
 from .errors import ConvergenceError, EnvelopeError, ExportError, GearSetError, ProfilegenError, ToothError
+
+# A library does not print: a script calling design() finds the warnings in the result
+# (Design.warnings), not as log records through logging's last-resort handler on its stderr
+# (one redesign of the default set printed the same flank-kink warning up to eight times).
+# The CLI configures logging's output; a script that wants the records adds its own handler.
+logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = [
     "CircularSplineForm",

@@ -347,13 +347,16 @@ def parse_gearset(
 
 
 def load_gearset(path: str | os.PathLike) -> GearSet:
-    """Read and validate a gear-set TOML file.
+    """Read and validate a gear-set TOML file, or a bundled set by name (``"default"``,
+    ``"csf32_100"``: the names ``profilegen profiles`` lists, as the CLI takes them).
 
     Every error is a :class:`GearSetError` naming the file: a missing file, a
     malformed file (with TOML's line/column message) and each invalid field
     (one line per field, prefixed with the path).
     """
-    path = Path(path)
+    from .profiles import resolve_gearset
+
+    path = resolve_gearset(path) if isinstance(path, str) else Path(path)
     data = read_toml(path, GearSetError, "gear-set file")
     try:
         return parse_gearset(data, origin=str(path), base_dir=path.parent)
