@@ -48,6 +48,10 @@ def _cmd_design(args) -> int:
     folder.check(out, ours=OUTPUT_FILES)  # a folder holding the user's files: refused now, not after the stages
     scene = args.scene
     if args.rim is not None:  # the scene's rim tier overridden: --rim cup3d
+    if args.step:  # the B-rep kernel is an optional extra: say so now, not after the stages
+        from .output import step as step_files
+
+        step_files.require()
         from .scenes import resolve_scene, with_rim_tier
 
         scene = with_rim_tier(resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene), args.rim)
