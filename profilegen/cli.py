@@ -2,7 +2,8 @@
 
 Exit codes: 0 success, 2 bad input (gear set, file, option) or a failed stage,
 with one line on stderr naming the field (nothing is written on failure); 3 from
-``design --strict`` when the design's verdict is FAIL (its files are written).
+``design --strict`` when the design's verdict is FAIL, 4 when it is INCOMPLETE (a check
+NOT CHECKED, nothing failed; the files are written either way).
 """
 
 from __future__ import annotations
@@ -42,16 +43,12 @@ def _cmd_design(args) -> int:
               "profilegen design --scene my_scenes.toml (one table: that scene; several: the gear set's, "
               "or my_scenes.toml#NAME)")
         return 0
-    gearset = _load(args.gearset)
+    gearset = _with_requirements(_load(args.gearset), args.require)
     check_gearset(gearset)  # what check rejects fails here, before the first progress line
     out = Path(args.out) if args.out else Path("export") / gearset.name
     folder.check(out, ours=OUTPUT_FILES)  # a folder holding the user's files: refused now, not after the stages
     scene = args.scene
     if args.rim is not None:  # the scene's rim tier overridden: --rim cup3d
-    if args.step:  # the B-rep kernel is an optional extra: say so now, not after the stages
-        from .output import step as step_files
-
-        step_files.require()
         from .scenes import resolve_scene, with_rim_tier
 
         scene = with_rim_tier(resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene), args.rim)
@@ -76,7 +73,43 @@ def _cmd_design(args) -> int:
     verdict = result.verdict
     if not args.quiet or not verdict.passed:
         print(verdict.line, file=sys.stdout if verdict.passed else sys.stderr)
-    return 3 if (args.strict and not verdict.passed) else 0
+    return STRICT_EXIT.get(verdict.status, 0) if args.strict else 0
+
+
+#: ``design --strict``'s exit code per verdict (PASS: 0)
+STRICT_EXIT = {"FAIL": 3, "INCOMPLETE": 4}
+
+
+def _with_requirements(gearset, pairs):
+    """The gear set with ``--require KEY=VALUE`` applied to its ``[requirements]`` (VALUE a
+    number or "none"; ``yield_safety`` / ``fatigue_safety`` set every key of the group). A bad
+    key or value is the reader's GearSetError, naming ``requirements.KEY``."""
+    if not pairs:
+        return gearset
+    from .errors import GearSetError
+    from .gearset.requirements import NOT_REQUIRED, REQUIREMENT_GROUPS
+
+    changes = {}
+    for pair in pairs:
+        key, eq, value = pair.partition("=")
+        key, value = key.strip(), value.strip()
+        if not eq or not key:
+            raise GearSetError(f"--require {pair!r}: must be KEY=VALUE (e.g. fatigue_safety=2 or max_backlash_mm=none)")
+        try:
+            value = value if value == NOT_REQUIRED else float(value)
+        except ValueError:
+            raise GearSetError(f"--require {key}={value}: requirements.{key} must be a number or {NOT_REQUIRED!r}") \
+                from None
+        for k in REQUIREMENT_GROUPS.get(key, (key,)):
+            changes[f"requirements.{k}"] = value
+    return gearset.with_values(changes)
+
+
+def _check_out(out: Path) -> None:
+    """An output path too long for the file system: one line naming --out, before any stage runs."""
+    from .outpath import check_out_path
+
+    check_out_path(out)
 
 
 def _summary(result, written) -> None:
@@ -367,10 +400,16 @@ def _parser() -> argparse.ArgumentParser:
     d.add_argument("--fit", choices=["one_sided", "least_squares", "minimax"],
                    help="arc–line–arc fit of the CS flank for CAD (default: the gear set's circular_spline.fit_method)")
     d.add_argument("--strict", action="store_true",
-                   help="exit 3 when any check fails (a safety factor below its requirement, a load case beyond "
-                        "the contact's capacity, a fitted CS that interferes); the files are written either way")
-    d.add_argument("-q", "--quiet", action="store_true", help="print nothing on success (a failed verdict still "
-                   "prints its one line on stderr)")
+                   help="exit 3 when the verdict is FAIL (a safety factor below its requirement, a load case beyond "
+                        "the contact's capacity, a fitted CS that interferes, ...) and 4 when it is INCOMPLETE "
+                        "(nothing failed, but a check was NOT CHECKED: no material limits, no contact, no ratcheting "
+                        "in the scene); the files are written either way")
+    d.add_argument("--require", action="append", metavar="KEY=VALUE",
+                   help="override one of the gear set's [requirements] for this run (repeatable): e.g. "
+                        "fatigue_safety=2 (every fatigue key; yield_safety likewise), max_backlash_mm=0.01, "
+                        "ratcheting_margin=none (not required); keys in docs/gearset.md")
+    d.add_argument("-q", "--quiet", action="store_true", help="print nothing on success (a FAIL or INCOMPLETE verdict "
+                   "still prints its one line on stderr)")
     d.add_argument("--step", action="store_true", help="also write circular_spline.step and flexspline.step "
                    "(B-rep solids, mm; adds some seconds)")
     d.add_argument("--figures", action="store_true", help="draw the PNG figures (envelope.png, stress.png, the "

@@ -359,7 +359,7 @@ def _num(x, fmt=".1f") -> str:
 
 def _verdict(check) -> str:
     if check.passed is None:
-        return '<span class="skip">skipped</span>'
+        return '<span class="skip">NOT CHECKED</span>'
     return '<span class="pass">pass</span>' if check.passed else '<span class="fail">FAIL</span>'
 
 
@@ -558,8 +558,10 @@ def _stress_section(design, png: bytes | None = None) -> str:
     uri = _png_uri(png) if png is not None else figure_png(plot.stress_figure(res), dpi=100)
     g = design.gearset
     cup = g.cup
-    overall = ('<span class="pass">every check passes</span>' if res.passed
-               else '<span class="fail">a check FAILS</span>')
+    unchecked = [c.name for c in res.checks if c.passed is None]  # no material limits: not a pass (issue 28)
+    overall = ('<span class="fail">a check FAILS</span>' if not res.passed else
+               f'<span class="skip">INCOMPLETE: NOT CHECKED {html.escape(", ".join(unchecked))} (no material '
+               'limits)</span>' if unchecked else '<span class="pass">every check passes</span>')
     return f"""<h2>Flexspline stresses and safety factors</h2>
 <p>Overall: {overall}. Inputs: rim δ = {g.gear.rim_thickness_mm:g} mm, r_m = {g.gear.neutral_radius_mm:.4g} mm,
 face width {cup.face_width_mm:g} mm, root fillet {cup.root_fillet_radius_mm:g} mm (root thickness s_f =

@@ -75,7 +75,7 @@ def format_clearance(clearance_mm: float | None, *, tol_mm: float | None = None)
 @dataclass(frozen=True, slots=True)
 class Check:
     """One line of the verdict: what was checked, at which load, the value against the
-    requirement, the margin, and ``passed`` (None: skipped)."""
+    requirement, the margin, and ``passed`` (None: NOT CHECKED, the reason in ``margin``)."""
 
     name: str
     where: str
@@ -86,34 +86,48 @@ class Check:
 
 
 def checks(design, interference_tol_mm: float) -> list[Check]:
-    """Every pass/fail check of ``design`` — the same ones, with the same outcome, as
-    :attr:`profilegen.pipeline.Design.verdict` — each with its value, requirement and margin.
+    """Every check of ``design``'s verdict (:attr:`profilegen.pipeline.Design.verdict`, its
+    ``checks``), each with its value, requirement and margin as the sheet shows them; a NOT
+    CHECKED one (``passed`` None) has its reason in the margin column.
     ``interference_tol_mm``: the verdict's (:func:`profilegen.pipeline.interference_tol_mm`;
     passed in, so this module does not import the pipeline that shows it in notebooks)."""
-    out = []
-    prof = design.profile
-    if prof is not None:
-        c = prof.clearance.min_mm
-        tol = float(interference_tol_mm)
-        out.append(Check("fitted CS clear of the FS tooth", f"{prof.positions} positions",
-                         format_clearance(c, tol_mm=tol), f"≥ −{tol * 1e3:g} µm", format_um(c + tol),
-                         bool(c >= -tol)))
-    if design.contact is not None:
-        for case in design.contact.cases:
-            inside = case.beyond_capacity is None
-            out.append(Check("contact inside the searched teeth", f"{case.torque_nm:g} N·m",
-                             f"{case.teeth_in_contact} teeth/zone", "inside",
-                             "—" if inside else html.escape(case.beyond_capacity), inside))
-    if design.stress is not None:
-        for c in design.stress.checks:
-            if c.value is None:
-                out.append(Check(c.name, f"{c.torque_nm:g} N·m", "—", f"≥ {c.required:g}",
-                                 "no material limit", None))
-            else:
-                out.append(Check(c.name, f"{c.torque_nm:g} N·m", f"{c.value:.2f}", f"≥ {c.required:g}",
-                                 f"{100.0 * (c.value / c.required - 1.0):+.0f} %".replace("-", "\u2212"),
-                                 bool(c.passed)))
-    return out
+    return [_check_row(c, float(interference_tol_mm)) for c in design.verdict.checks]
+
+
+def _percent(x: float) -> str:
+    return f"{100.0 * x:+.0f} %".replace("-", "\u2212")
+
+
+def _check_row(c, tol: float) -> Check:
+    """One :class:`Check` from a :class:`profilegen.pipeline.VerdictCheck` (by its ``kind``)."""
+    ge = c.sense == ">="
+    if c.kind == "clearance":
+        required = f"≥ −{tol * 1e3:g} µm" if c.required is None or c.required <= -tol else f"≥ {format_um(c.required)}"
+    elif c.kind in ("face", "backlash"):
+        required = "—" if c.required is None else f"≤ {format_um(c.required)}"
+    elif c.kind == "capacity":
+        required = "inside"
+    elif c.required is None:
+        required = "—"
+    else:
+        unit = {"arcmin": " arcmin", "N·m/rad": " N·m/rad"}.get(c.unit, "")
+        required = f"{'≥' if ge else '≤'} {c.required:g}{unit}" + ("× the momentary torque" if c.kind == "ratcheting"
+                                                                    and "momentary" in c.where else "")
+    if c.passed is None:
+        return Check(c.name, c.where, "—", required, html.escape(c.text), None)
+    if c.kind == "clearance":
+        value, margin = format_clearance(c.value, tol_mm=tol), format_um(c.value - c.required)
+    elif c.kind in ("face", "backlash"):
+        value, margin = format_um(c.value), format_um(c.required - c.value)
+    elif c.kind == "capacity":
+        value, margin = f"{c.value:.0f} teeth/zone", "—" if c.passed else "beyond the searched teeth"
+    else:
+        digits = {"arcmin": ".3f", "N·m/rad": ".4g"}.get(c.unit, ".2f")
+        value = f"{c.value:{digits}}" + ({"arcmin": " arcmin", "N·m/rad": " N·m/rad"}.get(c.unit, ""))
+        margin = _percent(c.value / c.required - 1.0 if ge else c.required / c.value - 1.0)
+        if c.kind == "ratcheting" and c.text:  # the bound and the estimate it comes from
+            value += f" ({c.text.split(' (')[0]})"
+    return Check(c.name, c.where, value, required, margin, bool(c.passed))
 
 
 @dataclass(frozen=True, slots=True)
@@ -168,7 +182,7 @@ def _row(label: str, value: str, note: str = "") -> str:
 
 def _badge(passed: bool | None) -> str:
     if passed is None:
-        return '<span class="skip">skipped</span>'
+        return '<span class="skip">NOT CHECKED</span>'
     return '<span class="pass">pass</span>' if passed else '<span class="fail">FAIL</span>'
 
 
@@ -254,6 +268,7 @@ SHEET_STYLE = """<style>
 .ds h1{font-size:19px;margin:0 0 2px}.ds .sub{color:#444;margin:0 0 4px}
 .ds .verdict{font-size:17px;font-weight:bold;padding:3px 10px;border-radius:4px;display:inline-block;margin:0 0 3px}
 .ds .verdict.ok{background:#e3f4e3;color:#125c12}.ds .verdict.bad{background:#fbe3e3;color:#a00}
+.ds .verdict.incomplete{background:#fdf1d6;color:#7a4b00}.ds .verdict{white-space:normal}
 .ds .grid{display:grid;grid-template-columns:minmax(0,53fr) minmax(0,47fr);gap:0 14px;align-items:start}
 .ds h2 .unit{font-weight:normal;font-size:12px;color:#555}
 .ds h2{font-size:14px;margin:4px 0 2px;border-bottom:1px solid #ccc}
@@ -265,6 +280,18 @@ SHEET_STYLE = """<style>
 .ds .pass{color:#1a7f1a;font-weight:bold}.ds .fail{color:#c00;font-weight:bold}.ds .skip{color:#777}
 .ds .fig{min-height:300px;position:sticky;top:0}
 </style>"""
+
+
+_VERDICT_CLASS = {"PASS": "ok", "FAIL": "bad", "INCOMPLETE": "incomplete"}
+
+
+def _verdict_head(v) -> str:
+    """The verdict's box: PASS, FAIL (how many failed) or INCOMPLETE (how many NOT CHECKED)."""
+    if v.status == "FAIL":
+        return f"FAIL: {len(v.failures)} check{'s' if len(v.failures) > 1 else ''} failed"
+    if v.status == "INCOMPLETE":
+        return f"INCOMPLETE: {len(v.not_checked)} check{'s' if len(v.not_checked) > 1 else ''} NOT CHECKED"
+    return html.escape(v.status)
 
 
 def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> str:
@@ -288,7 +315,8 @@ def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> 
 <p class="sub">{html.escape(g.description)}</p>
 <div class="grid">
 <div class="numbers">
-<div class="verdict {'ok' if v.passed else 'bad'}">{html.escape(v.line)}</div>
+<div class="verdict {_VERDICT_CLASS.get(v.status, 'bad')}">{_verdict_head(v)}</div>
+{'' if v.line == v.status else f'<p class="sub">{html.escape(v.line)}</p>'}
 <p class="sub">{gear}</p>
 <h2>Checks</h2>
 <table><thead><tr><th>check</th><th>at</th><th>value</th><th>required</th><th>margin</th><th></th></tr></thead>

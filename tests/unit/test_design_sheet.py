@@ -64,8 +64,13 @@ def test_checks_match_the_verdict(sketch):
     rows = sheet.checks(sketch, interference_tol_mm(sketch.scene))
     assert rows, "a sketch has at least the interference check"
     failed = [c for c in rows if c.passed is False]
-    assert (not failed) == sketch.verdict.passed
-    assert sum(c.passed is None for c in rows) == len(sketch.verdict.skipped)
+    unchecked = [c for c in rows if c.passed is None]
+    assert bool(failed) == sketch.verdict.failed
+    assert len(unchecked) == len(sketch.verdict.not_checked) == len(sketch.verdict.skipped)
+    # three outcomes: FAIL if a row failed, else INCOMPLETE if a row was not checked, else PASS
+    assert sketch.verdict.status == ("FAIL" if failed else "INCOMPLETE" if unchecked else "PASS")
+    assert sketch.verdict.passed == (sketch.verdict.status == "PASS")
+    assert all(c.margin for c in unchecked)  # the reason, in the margin column
 
 
 def test_sheet_text(sketch):
