@@ -48,6 +48,10 @@ def _cmd_design(args) -> int:
     out = Path(args.out) if args.out else Path("export") / gearset.name
     folder.check(out, ours=OUTPUT_FILES)  # a folder holding the user's files: refused now, not after the stages
     scene = args.scene
+    if args.step:  # the B-rep kernel is an optional extra: say so now, not after the stages
+        from .output import step as step_files
+
+        step_files.require()
     if args.rim is not None:  # the scene's rim tier overridden: --rim cup3d
         from .scenes import resolve_scene, with_rim_tier
 
