@@ -69,6 +69,7 @@ __all__ = [
     "involute_tooth",
     "list_profiles",
     "load_gearset",
+    "new_gearset",
     "optimize",
     "parse_gearset",
     "points_tooth",
@@ -88,7 +89,7 @@ __version__ = "0.1.0"
 # cli before main() starts, so a Ctrl-C during the imports that follow ends it like one during the
 # stages (exit 130, one line), not with a traceback out of the package's import.
 _LAZY = {"write_design": "output.files", "RimDeformation": "rim", "solve_rim": "rim", "solve_ring": "rim", "fit_fourier": "series",
-         "fit_sine_series": "series",
+         "fit_sine_series": "series", "new_gearset": "catalogue_set",
          **dict.fromkeys(("HarmonicDeformation", "ring_theory"), "deformation"),
          **dict.fromkeys(("Envelope", "envelope_of"), "envelope"),
          **dict.fromkeys(("CircularSplineForm", "circular_spline_form", "clearance_map"), "gearform"),
