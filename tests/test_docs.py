@@ -1,0 +1,121 @@
+"""The docs site builds with no warning and no broken link, and its generated pages follow the code.
+
+``mkdocs build --strict`` (what CI runs here) fails on any warning: a link to a page or an anchor
+that does not exist, a page left out of the nav, a docstring mkdocstrings cannot render. The
+reference pages made at build time (docs/_gen/hooks.py) are checked against the package itself:
+every name of ``profilegen.__all__`` on the API page, every field of ``profilegen.Scene`` on the
+scene page, and docs/gearset.md against the gear-set schema (a key without a row, or a row for a
+key the schema does not have, fails the build).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib.util
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+pytest.importorskip("mkdocs", reason="the docs tools are the 'docs' extra: pip install -e '.[docs]'")
+pytest.importorskip("mkdocstrings", reason="the docs tools are the 'docs' extra: pip install -e '.[docs]'")
+pytest.importorskip("material", reason="the docs tools are the 'docs' extra: pip install -e '.[docs]'")
+
+from mkdocs.exceptions import PluginError  # noqa: E402
+
+import profilegen  # noqa: E402
+
+
+def _hooks():
+    spec = importlib.util.spec_from_file_location("profilegen_docs_hooks", ROOT / "docs" / "_gen" / "hooks.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+@pytest.fixture(scope="module")
+def site(tmp_path_factory):
+    """`mkdocs build --strict` once, into a temporary folder: (CompletedProcess, site folder)."""
+    out = tmp_path_factory.mktemp("site")
+    env = dict(os.environ, NO_MKDOCS_2_WARNING="1", PYTHONPATH=str(ROOT))
+    res = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-d", str(out)], cwd=ROOT,
+                         capture_output=True, text=True, env=env, timeout=600)
+    return res, out
+
+
+@pytest.mark.slow
+def test_site_builds_strict(site):
+    res, out = site
+    assert res.returncode == 0, res.stdout[-3000:] + res.stderr[-3000:]
+    assert "WARNING" not in res.stderr, res.stderr[-3000:]
+    for page in ("index.html", "getting-started/index.html", "reference/api/index.html",
+                 "reference/scenes/index.html", "gearset/index.html", "validation/failures/index.html"):
+        assert (out / page).is_file(), page
+
+
+@pytest.mark.slow
+def test_api_page_has_every_public_name(site):
+    """Each name of profilegen.__all__ gets its heading, and its docstring's first line is rendered."""
+    res, out = site
+    assert res.returncode == 0
+    html = (out / "reference" / "api" / "index.html").read_text(encoding="utf-8")
+    text = re.sub(r"\s+", " ", re.sub(r"<[^>]+>", " ", html)).replace("&#39;", "'").replace("&quot;", '"')
+    for name in profilegen.__all__:
+        assert f"profilegen.{name}" in html, name
+    first_line = profilegen.design.__doc__.strip().splitlines()[0]
+    assert first_line in text
+    assert ":class:" not in text and ":func:" not in text  # Sphinx roles shown as plain code
+
+
+@pytest.mark.slow
+def test_scene_page_has_every_key_and_scene(site):
+    res, out = site
+    assert res.returncode == 0
+    html = (out / "reference" / "scenes" / "index.html").read_text(encoding="utf-8")
+    for field in dataclasses.fields(profilegen.Scene):
+        if field.name != "name":
+            assert f"<code>{field.name}</code>" in html, field.name
+    for name, scene in profilegen.SCENES.items():
+        assert f"<code>{name}</code>" in html
+        assert str(scene.n_phi) in html
+
+
+def test_gearset_page_check_catches_a_missing_and_an_unknown_key():
+    """docs/gearset.md passes the check; without the module_mm row, or with a row for a key the
+    schema does not have, the build fails naming the key."""
+    hooks = _hooks()
+    page = (ROOT / "docs" / "gearset.md").read_text(encoding="utf-8")
+    hooks.check_gearset_page(page)
+    without = "\n".join(line for line in page.splitlines() if not line.startswith("| `module_mm`"))
+    with pytest.raises(PluginError, match="module_mm"):
+        hooks.check_gearset_page(without)
+    with pytest.raises(PluginError, match="bogus_teeth"):
+        hooks.check_gearset_page(page + "\n| `bogus_teeth` | a key nobody reads | – | 1 | – |\n")
+
+
+def test_scene_key_table_follows_the_scene_file():
+    """The key table read from scenes.toml's header is Scene's fields; a key missing from the
+    header fails the scene page."""
+    hooks = _hooks()
+    header = profilegen.scenes.bundled_scenes_path().read_text(encoding="utf-8")
+    table = hooks.scene_key_table(header)
+    assert set(table) == {f.name for f in dataclasses.fields(profilegen.Scene)} - {"name"}
+    assert table["n_t"][0] == "count" and "flank" in table["n_t"][1]
+    broken = "\n".join(line for line in header.splitlines() if not line.startswith("#   n_phi "))
+    assert "n_phi" not in hooks.scene_key_table(broken)
+
+
+def test_site_config_is_strict():
+    """The config itself fails on a warning and checks links and anchors (so `mkdocs serve` shows
+    the same problems the test build fails on)."""
+    from mkdocs.config import load_config
+
+    config = load_config(str(ROOT / "mkdocs.yml"))
+    assert config["strict"] is True
+    validation = config["validation"]
+    assert validation["links"]["not_found"] >= 30 and validation["links"]["anchors"] >= 30  # logging.WARNING
+    assert validation["nav"]["omitted_files"] >= 30
