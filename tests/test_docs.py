@@ -27,6 +27,9 @@ pytest.importorskip("material", reason="the docs tools are the 'docs' extra: pip
 
 from mkdocs.exceptions import PluginError  # noqa: E402
 
+#: one worker builds the site once for the three tests that read it (the build is ~25 s on the busy machine)
+pytestmark = pytest.mark.xdist_group("docs_site")
+
 import profilegen  # noqa: E402
 
 

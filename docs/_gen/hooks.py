@@ -159,13 +159,13 @@ def api_page() -> str:
         for n in present:
             placed.add(n)
             out += [f"### `profilegen.{n}`", "", f"::: {targets[n]}", "    options:",
-                    "      show_root_heading: false", "      heading_level: 4", ""]
+                    "      show_root_heading: true", "      heading_level: 4", "      show_root_toc_entry: false", ""]
     rest = [n for n in targets if n not in placed]
     if rest:
         out += ["## Other names", ""]
         for n in rest:
             out += [f"### `profilegen.{n}`", "", f"::: {targets[n]}", "    options:",
-                    "      show_root_heading: false", "      heading_level: 4", ""]
+                    "      show_root_heading: true", "      heading_level: 4", "      show_root_toc_entry: false", ""]
     return "\n".join(out)
 
 
