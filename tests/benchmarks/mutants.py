@@ -188,7 +188,8 @@ MUTANTS: tuple[Mutant, ...] = (
            (U + "test_face.py",), "the engaged zone without its tolerance"),
     Mutant("face-section-endpoint", "profilegen/face/sections.py",
            "phi = period * np.arange(samples) / samples", "phi = period * np.arange(samples) / (samples - 1)",
-           (U + "test_face.py",), "endpoint counted twice in a section's Fourier fit samples"),
+           (U + "test_sampling_grids.py", U + "test_face.py"),
+           "endpoint counted twice in a section's Fourier fit samples (missed on the first run: test added)"),
     # ------------------------------------------------------------------ fillet (rootfillet)
     Mutant("fillet-no-kept-sharp-warning", "profilegen/rootfillet.py",
            "            log.warning(msg)\n            warnings.append(msg)\n    done = [d for d in done",

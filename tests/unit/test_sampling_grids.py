@@ -7,6 +7,8 @@ stage's expensive work replaced by a stub that records where it is asked to work
   teeth's shift δ = −ψ z2/z1; over a span in degrees both ends are included;
 * the climb's wave-generator positions (ratcheting_torque(climb_positions=N)): shifts
   s − k·2π/(z1 N), k = 0 … N − 1 (one FS tooth pitch, no end counted twice);
+* a face section's Fourier-fit samples (face.sections.section_fit): one wave period, its end not
+  sampled;
 * the face slices (face_load.slice_positions, face_curve.slice_layout): the midpoint rule's
   mid-planes and the trapezoid rule's nodes, whose cells tile the face (Σ w = b);
 * the bearing's balls (clearance.radial_load_with_clearance_n): ψ_i = phase + 2πi/Z, ball i
@@ -160,3 +162,25 @@ def test_balls_at_phase_plus_2pi_i_over_z():
     # a symmetric set (phase 0, Z odd): the loads mirror about ψ = 0
     _, q0 = radial_load_with_clearance_n(dr, 0.0, z, ch)
     np.testing.assert_allclose(q0[1:], q0[1:][::-1], rtol=1e-12)
+
+
+# --------------------------------------------------------------------------- a face section's samples
+
+
+def test_face_section_fit_samples_one_wave_period_without_its_end():
+    """face.sections.section_fit samples ω, υ at φ_k = (2π/U) k / N, k < N (N = max(181, 8·order
+    + 8)): the period's end is its start again. The fit of a two-harmonic stub is exact."""
+    from profilegen.face.sections import section_fit
+
+    class Stub:
+        def omega(self, phi, z):
+            return 0.5 * np.cos(2 * phi) + 0.01 * np.cos(6 * phi)
+
+        def upsilon(self, phi, z):
+            return -0.25 * np.sin(2 * phi) - 0.01 / 3 * np.sin(6 * phi)
+
+    fit, phi, omega, upsilon = section_fit(Stub(), 10.0, waves=2, max_order=8)
+    n = max(181, 8 * 8 + 8)
+    np.testing.assert_allclose(phi, math.pi * np.arange(n) / n, rtol=0, atol=1e-15)
+    assert phi[-1] < math.pi * (1 - 1e-9)
+    np.testing.assert_allclose(omega, Stub().omega(phi, 10.0), rtol=0, atol=1e-15)
