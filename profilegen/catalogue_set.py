@@ -299,4 +299,4 @@ def format_derived(gearset) -> str:
             f"pitch radii {q['pitch_radius_mm']:.4f}/{q['cs_pitch_radius_mm']:.4f} mm, "
             f"rim {100 * q['rim_per_neutral_radius']:.2f} % of r_m = {q['rim_per_deflection']:.2f} w0, "
             f"rated {gearset.torque.rated_nm:g} N·m = {q['rated_level']:.2f} x the size's "
-            f"{q['size_torque_nm']:.3g} N·m (T ~ d²·b)")
+            f"{q['size_torque_nm']:.4g} N·m (T ~ d²·b)")
