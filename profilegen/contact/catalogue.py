@@ -180,7 +180,9 @@ def catalogue_row(size: int, ratio: int) -> dict:
     or 80 — "80 and above"), with a ``note`` when that row is not exactly the ratio asked;
     ``source`` (document, page, table), ``values_of`` (whose values: the component set's),
     ``ratcheting_torque_nm`` and ``buckling_torque_nm`` of the size and ratio (None when not
-    listed)."""
+    listed), and the accuracy upper limits of the size and ratio column
+    (``transmission_accuracy_max_arcmin``, ``hysteresis_loss_max_arcmin``,
+    ``lost_motion_max_arcmin``: :data:`ACCURACY_ARCMIN`, ``accuracy_source``)."""
     size = _whole("size", size, 1)
     ratio = _whole("ratio", ratio, 1)
     ratios = sorted({r for r, s in STIFFNESS if s == size})
