@@ -20,20 +20,23 @@ from pathlib import Path
 
 import pytest
 
-ROOT = Path(__file__).resolve().parents[1]
-pytest.importorskip("mkdocs", reason="the docs tools are the 'docs' extra: pip install -e '.[docs]'")
-pytest.importorskip("mkdocstrings", reason="the docs tools are the 'docs' extra: pip install -e '.[docs]'")
-pytest.importorskip("material", reason="the docs tools are the 'docs' extra: pip install -e '.[docs]'")
+import profilegen
 
-from mkdocs.exceptions import PluginError  # noqa: E402
+ROOT = Path(__file__).resolve().parents[1]
+README = ROOT / "README.md"
+_NO_TOOLS = "the docs tools are the 'docs' extra: pip install -e '.[docs]'"
 
 #: one worker builds the site once for the three tests that read it (the build is ~25 s on the busy machine)
 pytestmark = pytest.mark.xdist_group("docs_site")
 
-import profilegen  # noqa: E402
+
+def _need_docs_tools():
+    for module in ("mkdocs", "mkdocstrings", "material"):
+        pytest.importorskip(module, reason=_NO_TOOLS)
 
 
 def _hooks():
+    _need_docs_tools()
     spec = importlib.util.spec_from_file_location("profilegen_docs_hooks", ROOT / "docs" / "_gen" / "hooks.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -43,6 +46,7 @@ def _hooks():
 @pytest.fixture(scope="module")
 def site(tmp_path_factory):
     """`mkdocs build --strict` once, into a temporary folder: (CompletedProcess, site folder)."""
+    _need_docs_tools()
     out = tmp_path_factory.mktemp("site")
     env = dict(os.environ, NO_MKDOCS_2_WARNING="1", PYTHONPATH=str(ROOT))
     res = subprocess.run([sys.executable, "-m", "mkdocs", "build", "--strict", "-d", str(out)], cwd=ROOT,
@@ -94,6 +98,8 @@ def test_gearset_page_check_catches_a_missing_and_an_unknown_key():
     page = (ROOT / "docs" / "gearset.md").read_text(encoding="utf-8")
     hooks.check_gearset_page(page)
     without = "\n".join(line for line in page.splitlines() if not line.startswith("| `module_mm`"))
+    from mkdocs.exceptions import PluginError
+
     with pytest.raises(PluginError, match="module_mm"):
         hooks.check_gearset_page(without)
     with pytest.raises(PluginError, match="bogus_teeth"):
@@ -115,6 +121,7 @@ def test_scene_key_table_follows_the_scene_file():
 def test_site_config_is_strict():
     """The config itself fails on a warning and checks links and anchors (so `mkdocs serve` shows
     the same problems the test build fails on)."""
+    _need_docs_tools()
     from mkdocs.config import load_config
 
     config = load_config(str(ROOT / "mkdocs.yml"))
@@ -122,3 +129,4 @@ def test_site_config_is_strict():
     validation = config["validation"]
     assert validation["links"]["not_found"] >= 30 and validation["links"]["anchors"] >= 30  # logging.WARNING
     assert validation["nav"]["omitted_files"] >= 30
+
