@@ -250,13 +250,18 @@ def _model(q: np.ndarray, p: np.ndarray, jac: bool = True):
     return (d[0], u[0], G[0]) if squeeze else (d, u, G)
 
 
+#: what a user of :func:`profilegen.design` can change when the fit fails (the fit itself takes points)
+_IN_A_DESIGN = ('; in a design: --fit least_squares (circular_spline.fit_method = "least_squares") fits the flank '
+                "without this step, and a scene chord_tol_mm of at most 1 % of gear.module_mm gives the fit cleaner data")
+
+
 def _offset(q: np.ndarray, e: float) -> np.ndarray:
     """The parallel composite moved by e to the left of travel (mm); distances drop by e."""
     mx, my, th, k1, L, k2 = q
     if not (1.0 - k1 * e > 0.0 and 1.0 - k2 * e > 0.0):
         raise OneSidedError(
             f"one_sided: an offset of {e:.3e} mm collapses an arc (curvatures {k1:.4g}, {k2:.4g} 1/mm); "
-            "the data are not consistent with a one-sided arc–line–arc"
+            "the data are not consistent with a one-sided arc–line–arc" + _IN_A_DESIGN
         )
     return np.array([mx - e * math.sin(th), my + e * math.cos(th), th, k1 / (1.0 - k1 * e), L, k2 / (1.0 - k2 * e)])
 
@@ -1015,7 +1020,7 @@ def _check_swept(chain: Chain, swept, tol: float, spacing: float, contacts: np.n
     if not depth[k] <= tol:
         raise OneSidedError(
             f"one_sided: the fitted chain enters the swept region by {depth[k]:.3e} mm at "
-            f"({pts[k, 0]:.6f}, {pts[k, 1]:.6f}) mm (swept_tol_mm={tol:g})"
+            f"({pts[k, 0]:.6f}, {pts[k, 1]:.6f}) mm (swept_tol_mm={tol:g})" + _IN_A_DESIGN
         )
     return out
 
@@ -1121,6 +1126,8 @@ def _least_squares_stage(prob: _Problem, p: np.ndarray, s: np.ndarray, max_point
         raise ConvergenceError(
             f"arcfit least_squares: no convergence after {res.nfev} evaluations "
             f"(rms residual {np.sqrt(np.mean(D**2)):.3e} mm, first-order optimality {res.optimality:.2e})"
+            + _IN_A_DESIGN.replace('--fit least_squares (circular_spline.fit_method = "least_squares")',
+                                   '--fit minimax (circular_spline.fit_method = "minimax")')
         )
     diag = {
         "subsample": len(idx),
@@ -1211,7 +1218,8 @@ def _minimax_stage(prob: _Problem, q_lsq: np.ndarray, lsq_runs: list, *, starts:
     if not _converged_at(prob, q_best, F_mm, imp):
         raise ConvergenceError(
             f"arcfit minimax: no convergence in {max_iter} SLP iterations (max error {F_mm:.3e} mm, "
-            f"the LP still finds a relative decrease of {imp:.2e}; raise max_iter or starts)"
+            f"the LP still finds a relative decrease of {imp:.2e}; a call of fit_profile can raise max_iter or "
+            "starts)" + _IN_A_DESIGN
         )
     return {"q_best": q_best, "F_mm": F_mm, "imp": imp, "diag": diag}
 
@@ -1268,6 +1276,9 @@ def fit_profile(
             "an arc–line–arc fit is ill-posed for a straight flank — use a single Line"
         )
     s = _arclength(p)
+    if np.any(np.diff(s) == 0):  # a point repeated exactly (the tip circle's clip with tip_clearance_mm = 0): once
+        p = p[np.r_[True, np.diff(s) > 0]]
+        s = _arclength(p)
     if np.any(np.diff(s) <= 0):
         k = int(np.argmax(np.diff(s) <= 0))
         raise FitError(f"points: consecutive points {k} and {k + 1} coincide; points must be distinct and ordered along the flank")
@@ -1307,7 +1318,8 @@ def fit_profile(
         if not info["converged"]:
             imp = _lp_improvement(prob, q_best, True)
             if not imp <= 1e-6:
-                raise OneSidedError(f"one_sided: no convergence in {max_iter} SLP iterations (max backlash {F:.3e} mm, LP improvement {imp:.2e})")
+                raise OneSidedError(f"one_sided: no convergence in {max_iter} SLP iterations (max backlash {F:.3e} mm, "
+                                    f"LP improvement {imp:.2e})" + _IN_A_DESIGN)
         diag["lp_improvement"] = _lp_improvement(prob, q_best, True)
         diag["one_sided_iterations"] = int(info["iterations"])
         D, _, _ = prob.eval(q_best, jac=False)
@@ -1318,7 +1330,8 @@ def fit_profile(
 
     u_first, u_last, D = _feet(prob, q_best)
     if not u_last > u_first:
-        raise ConvergenceError(f"arcfit {method}: the fitted composite runs against the data (feet at {u_first:.4g}, {u_last:.4g} mm)")
+        raise ConvergenceError(f"arcfit {method}: the fitted composite runs against the data (feet at {u_first:.4g}, "
+                               f"{u_last:.4g} mm)" + _IN_A_DESIGN)
     p8 = _params_from_q(q_best, u_first, u_last)
     chain = composite(p8)
     if method == "one_sided" and swept is not None:

@@ -374,7 +374,7 @@ def round_space(space: Chain, *, radius_mm: float, tip_radius_mm: float, cs_teet
             f"{field}: the wire is too thick for the CS tooth space — a fillet of {radius_mm:.4g} mm (wire radius + "
             f"spark gap) does not fit in its {where} corner (it runs past the elements beside it"
             f"{'; the two root fillets would overlap' if where.startswith('root') else ''}); the largest that fits "
-            f"is {best:.4g} mm: a thinner wire (or, at the root, a larger circular_spline.root_clearance_mm)") from None
+            f"is {best:.4g} mm (wire radius + spark gap): {_what_fits(best, where)}") from None
     try:
         els, done = _round(space, radius_mm, **kw)
     except _NoRoom:  # the tip corners: the largest round that fits
@@ -405,8 +405,7 @@ def round_space(space: Chain, *, radius_mm: float, tip_radius_mm: float, cs_teet
                     raise FilletError(
                         f"{field}: a {where} fillet of {radius_mm:.4g} mm (wire radius + spark gap) would cut into "
                         f"the mesh — it enters the FS tooth's swept region by {depth * 1e3:.3g} µm; the largest "
-                        f"root fillet that stays clear is {best:.4g} mm: a thinner wire, or a larger "
-                        f"circular_spline.root_clearance_mm")
+                        f"root fillet that stays clear is {best:.4g} mm: {_what_fits(best, 'root')}")
                 clearance = -depth
         elif arc.radius < radius_mm * (1 - 1e-12):
             msg = (f"the CS {where} corner (outside, convex for the ring material) is rounded with {arc.radius:.4g} mm, "
@@ -422,8 +421,27 @@ def round_space(space: Chain, *, radius_mm: float, tip_radius_mm: float, cs_teet
             raise FilletError(
                 f"{field}: the wire is too thick for the CS tooth space — it has a concave arc of {el.radius:.4g} mm "
                 f"about ({el.centre[0]:.4f}, {el.centre[1]:.4f}) mm, tighter than the {radius_mm:.4g} mm the wire "
-                f"(radius + spark gap) can cut; the largest that fits is {el.radius:.4g} mm")
+                f"(radius + spark gap) can cut; the largest that fits is {el.radius:.4g} mm: "
+                f"{_what_fits(el.radius, 'arc')}")
     return RoundedSpace(Chain(tuple(els)), tuple(fillets), tuple(warnings))
+
+
+def _what_fits(best: float, where: str = "") -> str:
+    """What the user can change when a wire of corner radius (wire radius + spark gap) ``best`` mm fits:
+    sharp corners always do; else a wire and spark gap (the default gap is 0.02 mm) summing to ``best``."""
+    text = 'circular_spline.corners = "sharp" (the wire cuts the corners as it can)'
+    if best > 0.0:
+        digits = 10 ** (math.floor(math.log10(best)) - 2)
+        gap = math.floor(min(0.02, best / 2) / digits) * digits  # rounded down: the pair surely fits
+        wire = math.floor((best - gap) / digits) * digits
+        if wire > 0:
+            text += (f", or circular_spline.wire_radius_mm = {wire:.3g} with spark_gap_mm = {gap:.3g} "
+                     f"(their sum at most {best:.4g} mm)")
+    if where.startswith("root"):
+        text += ", or a larger circular_spline.root_clearance_mm"
+    elif where.startswith("tip"):
+        text += ", or a larger circular_spline.tip_clearance_mm"
+    return text
 
 
 def _round_shrunk(space, radius, *, tip_radius_mm, cs_teeth):
@@ -438,7 +456,7 @@ def _round_shrunk(space, radius, *, tip_radius_mm, cs_teeth):
     r_out = _largest(ok, radius)
     if r_out <= 0.0:
         raise FilletError(f"circular_spline.corners: the CS tip corners cannot be rounded at all (no room on the "
-                          "tip land); corners = \"sharp\" keeps them sharp")
+                          "tip land): corners = \"sharp\" keeps them sharp, or a larger circular_spline.tip_clearance_mm")
     return _round(space, radius, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth, outside_radius=r_out)
 
 

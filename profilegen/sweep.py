@@ -358,7 +358,9 @@ def spec_scene(text: str, base: Path, gearset, fail, key: str):
     try:
         return resolve_scene(arg, default=gearset.scene)
     except GearSetError as exc:
-        fail(key, str(exc))
+        from .userpaths import named_file_problem  # another file's keys and values are not shown
+
+        fail(key, named_file_problem(exc, arg, "scene file") if looks_like_path(str(arg)) else str(exc))
 
 
 def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | os.PathLike | None = None,
@@ -462,7 +464,9 @@ def _base_gearset(text: str, base: Path, fail) -> GearSet:
             path = resolve_gearset(text)
         return load_gearset(path)
     except GearSetError as exc:
-        fail("gearset", str(exc))
+        from .userpaths import named_file_problem  # another file's keys and values are not shown
+
+        fail("gearset", named_file_problem(exc, path, "gear-set file"))
 
 
 def _flat_table(table, prefix: str, fail, _path: str = "") -> dict:

@@ -24,7 +24,7 @@ Conventions
 Validation collects every problem before raising one
 :class:`~profilegen.errors.GearSetError`; each problem is one line naming the
 field path, the value, the unit and the allowed range, e.g.
-``gear.module_mm = -0.5 mm: must be in (0, 10]``.
+``gear.module_mm = -0.5 mm: must be in [1e-05, 10] (lower bound: ...)``.
 
 >>> gs = load_gearset(default_gearset_path())
 >>> gs.gear.pitch_radius_mm, round(gs.gear.neutral_radius_mm, 6), gs.deflection_mm

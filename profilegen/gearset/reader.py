@@ -25,6 +25,7 @@ from typing import Any
 
 import numpy as np
 
+from ..budget import MODULE_MIN_MM  # the smallest module the arc fit resolves (issue 26: 1e-6 failed deep in it)
 from ..errors import GearSetError
 from ..teeth import MAX_POINTS  # most points a kind = "points" tooth may have: one limit, the tooth builder's
 from .sections import (
@@ -462,7 +463,7 @@ class _Reader:
         self.unknown_keys(t, "gear", _GEAR_KEYS)
         out: dict[str, Any] = {}
         out["module_mm"] = m = self.number(
-            t, "gear", "module_mm", unit="mm", rng=_Range(0, 10, lo_open=True)
+            t, "gear", "module_mm", unit="mm", rng=_Range(MODULE_MIN_MM, 10, note="lower bound: the smallest module the arc fit resolves")
         )
         out["flexspline_teeth"] = z1 = self.number(
             t, "gear", "flexspline_teeth", unit="", integer=True, rng=_Range(20, 2000)
@@ -687,7 +688,7 @@ class _Reader:
             path = self.base_dir / path
         try:
             data = read_limited(path, MAX_POINTS_FILE_BYTES, GearSetError, "point-list CSV file")
-            text = _decode_utf8(data, path, GearSetError, "point-list CSV file")
+            text = _decode_utf8(data, path, GearSetError, "point-list CSV file").removeprefix("\ufeff")  # Excel's BOM
         except GearSetError as exc:
             self.problem(f"{where}: {exc}")
             return None

@@ -95,10 +95,13 @@ def _optional_fields(obj, keys) -> dict[str, Any]:
 
 
 def _twin_keys(parts: list[str]) -> tuple[str, ...]:
-    """The other spelling of a tooth length (``addendum_mm`` ↔ ``addendum_coefficient``)."""
+    """The other spelling of a tooth length (``addendum_mm`` ↔ ``addendum_coefficient``), or of a point list
+    (``points`` ↔ ``points_file``)."""
     if len(parts) != 2 or parts[0] != "tooth":
         return ()
     key = parts[1]
+    if key in ("points", "points_file"):  # a point list replaces the file and back (a sweep over points_file)
+        return ("points_file" if key == "points" else "points",)
     if key.endswith(COEFFICIENT_SUFFIX):
         return (key[: -len(COEFFICIENT_SUFFIX)] + "_mm",)
     if key.endswith("_mm"):

@@ -143,6 +143,10 @@ def _check_chain(chain: Chain, what: str) -> None:
                           f"(tolerance {_CLOSE_TOL_MM:g} mm)")
 
 
+_SLIVER_MM = 1e-7
+"""OpenCascade's Precision::Confusion (mm here): shorter elements are left out of a wire."""
+
+
 def _chain_wire(chain: Chain, z: float, *, ccw: bool):
     """The chain as one closed wire at height z, running counter-clockwise if ``ccw``.
 
@@ -151,7 +155,9 @@ def _chain_wire(chain: Chain, z: float, *, ccw: bool):
     o = _occ()
     if (_signed_area_mm2(chain) > 0) != ccw:
         chain = chain.reversed()
-    els = chain.elements
+    # an element shorter than OpenCascade's confusion tolerance makes no edge (a fitted arc that a root
+    # fillet trimmed to a sliver: 1.1e-8 mm at z1 = 20, sketch scene); its neighbours meet across it
+    els = [e for e in chain.elements if e.length >= _SLIVER_MM] or list(chain.elements)
     mk_vertex = o.BRepBuilderAPI.BRepBuilderAPI_MakeVertex
     verts = [mk_vertex(o.gp_Pnt(float(e.start[0]), float(e.start[1]), z)).Vertex() for e in els]
     up, down = o.gp_Dir(0.0, 0.0, 1.0), o.gp_Dir(0.0, 0.0, -1.0)
@@ -168,7 +174,10 @@ def _chain_wire(chain: Chain, z: float, *, ccw: bool):
             axis = o.gp_Ax2(o.gp_Pnt(float(e.centre[0]), float(e.centre[1]), z), up if e.sweep > 0 else down)
             edge = mk_edge(o.gp_Circ(axis, float(e.radius)), v0, v1)
         if not edge.IsDone():
-            raise ExportError(f"STEP: element {i} of the chain ({type(e).__name__}) makes no edge")
+            what = "a line" if isinstance(e, Line) else f"an arc of radius {e.radius:.4g} mm"
+            raise ExportError(f"STEP: element {i} of the outline, {what} {e.length:.3g} mm long, makes no edge in "
+                              "OpenCascade: circular_spline.corners = \"sharp\" leaves the fillets (and the slivers "
+                              "they trim) out; the DXF files need no --step")
         builder.Add(wire, edge.Edge())
     wire.Closed(True)
     return wire

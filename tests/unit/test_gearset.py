@@ -197,7 +197,7 @@ def test_out_of_range_names_the_field(path, value):
 
 def test_problem_line_format():
     (line,) = problems_of(with_(base(), "gear.module_mm", -0.5))
-    assert line == "gear.module_mm = -0.5 mm: must be in (0, 10]"
+    assert line == "gear.module_mm = -0.5 mm: must be in [1e-05, 10] (lower bound: the smallest module the arc fit resolves)"
 
 
 def test_error_is_a_value_error_too():
@@ -611,7 +611,7 @@ def test_problems_from_a_file_name_the_file(tmp_path):
     path.write_text(text)
     with pytest.raises(GearSetError) as info:
         load_gearset(path)
-    assert info.value.problems[0] == f"{path}: gear.module_mm = -0.5 mm: must be in (0, 10]"
+    assert info.value.problems[0] == f"{path}: gear.module_mm = -0.5 mm: must be in [1e-05, 10] (lower bound: the smallest module the arc fit resolves)"
 
 
 # --------------------------------------------------------------------------- round trip, changes

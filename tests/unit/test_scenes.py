@@ -18,7 +18,7 @@ PRESETS = {
     "sketch": Scene("sketch", "ring theory", 1e-4, 96, 241, 91, False,
                     "interactive use and sweeps: analytic rim, coarse envelope", 181,
                     figures="none"),  # no PNG figures (issue 14: tests/unit/test_scene_figures.py)
-    "design": Scene("design", "ring FEM (nonlinear)", 1e-6, 96, 241, 361, False,
+    "design": Scene("design", "3D cup FEM, coarse (nonlinear)", 1e-6, 96, 241, 361, False,  # rim: the coarse 3D cup (issue 28)
                     "the default: 1 nm envelope, classified, loaded contact", 721, True),
     "verify": Scene("verify", "3D cup FEM (nonlinear)", 1e-7, 192, 481, 721, True,  # rim: the 3D cup (issue 15)
                     "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001, True, tier="cup3d",
@@ -60,7 +60,7 @@ def test_the_bundled_file_holds_the_presets_unchanged():
         (_sketch_table(n_phi=5), "n_phi", "[11, 100000]"),
         (_sketch_table(face_slices=-1), "face_slices", "[0, 33]"),
         (_sketch_table(face_slices=2.0), "face_slices", "must be an integer"),
-        (_sketch_table(chord_tol_mm=0.0), "chord_tol_mm", "(0, 0.01] mm"),
+        (_sketch_table(chord_tol_mm=0.0), "chord_tol_mm", "[1e-09, 0.01] mm"),
         (_sketch_table(chord_tol_mm=float("nan")), "chord_tol_mm", "must be a number"),
         (_sketch_table(brute_force_check=1), "brute_force_check", "true or false"),
         (_sketch_table(description=""), "description", "non-empty text"),
