@@ -103,6 +103,10 @@ class Scene:
 
 
 _NAME = re.compile(r"[A-Za-z0-9_-]+")
+MAX_SCENE_NAME_CHARS = 64
+"""Longest scene name (it is shown in every report and sweep table)."""
+MAX_TEXT_CHARS = 2000
+"""Longest ``rim`` / ``description`` text (the gear set's description has the same limit)."""
 
 
 def bundled_scenes_path() -> Path:
@@ -126,8 +130,9 @@ def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:
     scenes: dict[str, Scene] = {}
     for name, table in data.items():
         where = f"{origin}: scene {name!r}"
-        if not _NAME.fullmatch(str(name)):
-            problems.append(f"{where}: a scene name is letters, digits, '_' and '-'")
+        if not _NAME.fullmatch(str(name)) or len(str(name)) > MAX_SCENE_NAME_CHARS:
+            where = f"{origin}: scene {str(name)[:40]!r}{'...' if len(str(name)) > 40 else ''}"
+            problems.append(f"{where}: a scene name is letters, digits, '_' and '-', at most {MAX_SCENE_NAME_CHARS}")
             continue
         if not isinstance(table, Mapping):
             problems.append(f"{where}: must be a table ([{name}]), got {_type_name(table)}")
@@ -144,7 +149,8 @@ def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:
                 continue
             problem = _check(table[key], kind, rng)
             if problem:
-                problems.append(f"{where}: {key} = {table[key]!r}: {problem}")
+                shown = table[key] if not isinstance(table[key], str) or len(table[key]) <= 40 else table[key][:37] + "..."
+                problems.append(f"{where}: {key} = {shown!r}: {problem}")
             else:
                 values[key] = float(table[key]) if kind == "mm" else table[key]
         tier = values.get("tier", name if name in SCENE_NAMES else None)
@@ -224,6 +230,8 @@ def with_rim_tier(scene: Scene, tier: str | None) -> Scene:
 def _check(value, kind: str, rng) -> str:
     """'' if ``value`` is a valid ``kind`` within ``rng``, else what is wrong."""
     if kind == "text":
+        if isinstance(value, str) and len(value) > MAX_TEXT_CHARS:
+            return f"must be at most {MAX_TEXT_CHARS} characters, got {len(value)}"
         return "" if isinstance(value, str) and value.strip() else "must be a non-empty text"
     if kind == "bool":
         return "" if isinstance(value, bool) else f"must be true or false, got {_type_name(value)}"

@@ -99,6 +99,8 @@ MAX_POINTS = 100_000
 DEFAULT_PLOT = "profile_max_error_mm"
 _NAME_RE = re.compile(r"[A-Za-z0-9_.-]+")
 MAX_NAME_CHARS = 100
+MAX_GRID_TEXT_CHARS = 4096
+"""Longest text value in a grid (the longest gear-set text field, ``tooth.points_file``)."""
 _TOP_KEYS = ("name", "description", "gearset", "scene", "plot", "grid", "sample")
 _SAMPLE_KEYS = ("method", "n", "seed")
 
@@ -492,6 +494,9 @@ def _check_grid_values(gearset: GearSet, path: str, values: Sequence, fail) -> N
     first_of: dict[type, int] = {}
     for i, v in enumerate(values):
         first_of.setdefault(type(v), i)
+        if isinstance(v, str) and len(v) > MAX_GRID_TEXT_CHARS:  # a 3 MB text drew its tick label for 100 s
+            fail(f"grid.{path}[{i}]", f"a text of {len(v)} characters: at most {MAX_GRID_TEXT_CHARS} (a file name's "
+                 "length; the longest gear-set text, tooth.points_file, is 4096)")
     for i in sorted(first_of.values()):
         _check_field(gearset, path, values[i], f"grid.{path}[{i}]", fail, field_key=f"grid.{path}")
 

@@ -309,3 +309,21 @@ def test_library_warnings_are_one_line_and_q_silences_every_warning_line_in_work
     (warning,) = [ln for ln in lines if "RuntimeWarning" in ln]
     assert warning.startswith("WARNING py.warnings: RuntimeWarning: divide by zero encountered (run.py:")
     assert len(lines) == 3
+
+
+def test_scene_names_and_texts_and_grid_texts_have_length_limits(tmp_path):
+    from profilegen.errors import SweepSpecError
+    from profilegen.sweep import load_sweep_spec
+
+    table = {k: v for k, v in dataclasses.asdict(SCENES["sketch"]).items() if k != "name" and v != ""}
+    with pytest.raises(SceneError, match=r"a scene name is letters, digits, '_' and '-', at most 64"):
+        parse_scenes({"s" * 65: table})
+    with pytest.raises(SceneError, match=r"description = 'ddd.*\.\.\.': must be at most 2000 characters, got 3000") as err:
+        parse_scenes({"s": {**table, "description": "d" * 3000}})
+    assert len(str(err.value)) < 300  # the text is not echoed whole
+    spec = tmp_path / "long.toml"
+    spec.write_text('name = "s"\ndescription = "d"\ngearset = "default"\nscene = "sketch"\n'
+                    f'[grid]\n"description" = ["short", "{"x" * 5000}"]\n')
+    with pytest.raises(SweepSpecError, match=r"grid\.description\[1\]: a text of 5000 characters: at most 4096") as err:
+        load_sweep_spec(spec)
+    assert len(str(err.value)) < 300
