@@ -455,7 +455,7 @@ def _round_shrunk(space, radius, *, tip_radius_mm, cs_teeth):
 
     r_out = _largest(ok, radius)
     if r_out <= 0.0:
-        raise FilletError(f"circular_spline.corners: the CS tip corners cannot be rounded at all (no room on the "
+        raise FilletError("circular_spline.corners: the CS tip corners cannot be rounded at all (no room on the "
                           "tip land): corners = \"sharp\" keeps them sharp, or a larger circular_spline.tip_clearance_mm")
     return _round(space, radius, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth, outside_radius=r_out)
 

@@ -30,13 +30,12 @@ import math
 import os
 import re
 from collections.abc import Mapping
+from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
-from dataclasses import dataclass
 
 from .errors import GearSetError
-from .gearset import SCENE_NAMES
-from .gearset import looks_like_path
+from .gearset import SCENE_NAMES, looks_like_path
 
 __all__ = ["RIM_TIER_NAMES", "SCENES", "SCENE_NAMES", "Scene", "SceneError", "bundled_scenes_path", "parse_scenes",
            "read_scenes", "resolve_scene", "with_rim_tier"]

@@ -14,7 +14,6 @@ import os
 import subprocess
 import sys
 import textwrap
-import warnings
 from pathlib import Path
 
 import numpy as np
@@ -22,7 +21,13 @@ import pytest
 
 import profilegen as pg
 from profilegen import budget
-from profilegen.budget import BudgetError, ResolutionError, check_budget, check_resolution, preflight
+from profilegen.budget import (
+    BudgetError,
+    ResolutionError,
+    check_budget,
+    check_resolution,
+    preflight,
+)
 from profilegen.errors import ExportError, GearSetError
 from profilegen.gearset import default_gearset_path, load_gearset
 from profilegen.scenes import SCENES, SceneError, parse_scenes
@@ -136,7 +141,7 @@ def test_a_module_below_what_the_arc_fit_resolves_is_refused_by_the_reader(gs):
 
 
 def _cli(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "profilegen", *args], capture_output=True, text=True, cwd=cwd,
+    return subprocess.run([sys.executable, "-m", "profilegen", *args], check=False, capture_output=True, text=True, cwd=cwd,
                           timeout=120)
 
 
@@ -161,13 +166,13 @@ def test_a_path_longer_than_the_system_allows_names_out():
 def test_a_wire_too_thick_names_sharp_corners_and_a_wire_gap_pair_that_fits():
     """The narrow space of test_root_fillet (closed on the axis by a 0.099 mm arc): the message
     offers corners = "sharp" and a wire radius with a spark gap; that pair then fits."""
+    import re
+
     from profilegen.contour import Arc, Chain, Line
     from profilegen.errors import FilletError
     from profilegen.rootfillet import filleted_cs_chain
 
-    import re
-
-    kw = dict(tip_radius_mm=50.07, root_radius_mm=51.03, cs_teeth=202)
+    kw = {"tip_radius_mm": 50.07, "root_radius_mm": 51.03, "cs_teeth": 202}
     end = np.array([0.07, kw["root_radius_mm"] - 0.10])
     t = np.array([-1.0, 1.0]) / np.sqrt(2.0)
     bend = Arc(end + 0.5 * np.array([-t[1], t[0]]), 0.5, math.radians(45.0 - 39.3), math.radians(39.3))
@@ -301,9 +306,9 @@ def test_library_warnings_are_one_line_and_q_silences_every_warning_line_in_work
         sys.exit(cli.main(["design"] + sys.argv[1:]))
     """)
     (tmp_path / "run.py").write_text(script)
-    quiet = subprocess.run([sys.executable, "run.py", "-q"], capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    quiet = subprocess.run([sys.executable, "run.py", "-q"], check=False, capture_output=True, text=True, cwd=tmp_path, timeout=60)
     assert quiet.returncode == 0 and quiet.stderr == ""
-    loud = subprocess.run([sys.executable, "run.py"], capture_output=True, text=True, cwd=tmp_path, timeout=60)
+    loud = subprocess.run([sys.executable, "run.py"], check=False, capture_output=True, text=True, cwd=tmp_path, timeout=60)
     lines = loud.stderr.splitlines()
     assert "WARNING profilegen.rootfillet: W-main" in lines and "WARNING profilegen.rootfillet: W-worker" in lines
     (warning,) = [ln for ln in lines if "RuntimeWarning" in ln]
