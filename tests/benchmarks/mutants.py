@@ -224,10 +224,11 @@ MUTANTS: tuple[Mutant, ...] = (
     # ------------------------------------------------------------------ optimize
     Mutant("optimize-violation-sign", "profilegen/optimize/search.py",
            "v = max(v, self.lo - value)", "v = max(v, value - self.lo)",
-           (U + "test_optimize.py",), "a lower bound's violation with the sign flipped"),
+           (U + "test_optimize_senses.py", U + "test_optimize.py"), "a lower bound's violation with the sign flipped"),
     Mutant("optimize-max-not-negated", "profilegen/optimize/search.py",
            'return 1.0 if self.sense == "min" else -1.0', "return 1.0",
-           (U + "test_optimize.py",), "a max objective minimised"),
+           (U + "test_optimize_senses.py", U + "test_optimize.py"),
+           "a max objective minimised (missed on the first run: no test had a max objective; test added)"),
     Mutant("optimize-equal-rows-last", "profilegen/optimize/search.py",
            "earlier_equal = np.triu(equal, k=1).any(axis=0)", "earlier_equal = np.tril(equal, k=-1).any(axis=0)",
            (U + "test_optimize.py",), "of equal rows the last kept, not the first"),
