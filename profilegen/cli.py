@@ -336,11 +336,39 @@ def _cmd_check(args) -> int:
             print(f"{where}: ok ({gs.name}: m {gs.gear.module_mm:g} mm, z {gs.gear.flexspline_teeth}/{gs.gear.circular_spline_teeth})")
             for note in gs.warnings:
                 print(f"{where}: note: {note}")
+            from .catalogue_set import format_derived
+
     return status
+            print(f"{where}: derived: {format_derived(gs)}")
 
 
 def _cmd_profiles(args) -> int:
     from .gearset import list_profiles, load_gearset
+
+def _cmd_new(args) -> int:
+    """A gear set of catalogue proportions (profilegen.catalogue_set.new_gearset): to --out, or stdout."""
+    from .catalogue_set import format_derived, new_gearset
+
+    made = new_gearset(args.size, args.ratio, series=args.series, torque_rated_nm=args.torque_rated,
+                       torque_peak_nm=args.torque_peak, torque_momentary_nm=args.torque_momentary)
+    if args.out is None:
+        sys.stdout.write(made.text)
+        return 0
+    out = Path(args.out)
+    if out.exists() and not args.force:
+        raise ProfilegenError(f"--out {out}: exists (give --force to overwrite it)")
+    made.write(out)
+    print(f"wrote {out}: {made.gearset.description}")
+    print(f"{out}: derived: {format_derived(made.gearset)}")
+    return 0
+
+
+def _number(text: str) -> float:
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
+
 
     for path in list_profiles():
         gs = load_gearset(path)
@@ -426,6 +454,17 @@ def _parser() -> argparse.ArgumentParser:
     ls.set_defaults(func=_cmd_profiles)
     sw = sub.add_parser("sweep", help="a parameter study: many designs over a grid or a sample (docs/sweep.md)")
     sw.add_argument("spec", help="a sweep spec TOML file (e.g. profiles/sweeps/deflection.toml)")
+    n = sub.add_parser("new", help="write a gear set of catalogue proportions for a size and ratio "
+                                   "(every estimated proportion named in a comment with its rule)")
+    n.add_argument("--size", type=int, required=True, help="catalogue size: 14, 17, 20, 25, 32, 40, 50 or 58")
+    n.add_argument("--ratio", type=int, required=True, help="reduction ratio, a whole number 30-320 (z1 = 2·ratio)")
+    n.add_argument("--series", default="csf", help="csf (default), csg (high torque, ×1.3) or shf (hat type, written as a cup)")
+    n.add_argument("--torque-rated", type=_number, metavar="N·m", help="rated torque (default: the size's, T ∝ d²·b)")
+    n.add_argument("--torque-peak", type=_number, metavar="N·m", help="peak torque (default: rated × 167/67)")
+    n.add_argument("--torque-momentary", type=_number, metavar="N·m", help="momentary torque (default: rated × 304/67)")
+    n.add_argument("--out", metavar="FILE", help="the TOML file to write (default: print it)")
+    n.add_argument("--force", action="store_true", help="overwrite --out if it exists")
+    n.set_defaults(func=_cmd_new)
     sw.add_argument("--workers", type=_positive_int, metavar="N", help="local worker processes (default: the CPU count)")
     sw.add_argument("--dask", metavar="ADDRESS", help="run on the Dask cluster at ADDRESS (tcp://HOST:PORT) instead")
     sw.add_argument("--out", metavar="DIR", help="output folder (default: export/sweeps/<name>/); a path ending in .parquet also "
