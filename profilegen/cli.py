@@ -333,17 +333,14 @@ def _cmd_check(args) -> int:
                         break
                 print(f"{where}: {line}", file=sys.stderr)
         else:
-            print(f"{where}: ok ({gs.name}: m {gs.gear.module_mm:g} mm, z {gs.gear.flexspline_teeth}/{gs.gear.circular_spline_teeth})")
-            for note in gs.warnings:
-                print(f"{where}: note: {note}")
             from .catalogue_set import format_derived
 
-    return status
+            print(f"{where}: ok ({gs.name}: m {gs.gear.module_mm:g} mm, z {gs.gear.flexspline_teeth}/{gs.gear.circular_spline_teeth})")
             print(f"{where}: derived: {format_derived(gs)}")
+            for note in gs.warnings:
+                print(f"{where}: note: {note}")
+    return status
 
-
-def _cmd_profiles(args) -> int:
-    from .gearset import list_profiles, load_gearset
 
 def _cmd_new(args) -> int:
     """A gear set of catalogue proportions (profilegen.catalogue_set.new_gearset): to --out, or stdout."""
@@ -369,6 +366,9 @@ def _number(text: str) -> float:
     except ValueError:
         raise argparse.ArgumentTypeError(f"must be a number, got {text!r}") from None
 
+
+def _cmd_profiles(args) -> int:
+    from .gearset import list_profiles, load_gearset
 
     for path in list_profiles():
         gs = load_gearset(path)
@@ -450,10 +450,6 @@ def _parser() -> argparse.ArgumentParser:
     c = sub.add_parser("check", help="validate gear-set files and print every problem")
     c.add_argument("gearsets", nargs="+", help="gear-set TOML files or bundled names")
     c.set_defaults(func=_cmd_check)
-    ls = sub.add_parser("profiles", help="list the bundled gear sets")
-    ls.set_defaults(func=_cmd_profiles)
-    sw = sub.add_parser("sweep", help="a parameter study: many designs over a grid or a sample (docs/sweep.md)")
-    sw.add_argument("spec", help="a sweep spec TOML file (e.g. profiles/sweeps/deflection.toml)")
     n = sub.add_parser("new", help="write a gear set of catalogue proportions for a size and ratio "
                                    "(every estimated proportion named in a comment with its rule)")
     n.add_argument("--size", type=int, required=True, help="catalogue size: 14, 17, 20, 25, 32, 40, 50 or 58")
@@ -465,6 +461,10 @@ def _parser() -> argparse.ArgumentParser:
     n.add_argument("--out", metavar="FILE", help="the TOML file to write (default: print it)")
     n.add_argument("--force", action="store_true", help="overwrite --out if it exists")
     n.set_defaults(func=_cmd_new)
+    ls = sub.add_parser("profiles", help="list the bundled gear sets")
+    ls.set_defaults(func=_cmd_profiles)
+    sw = sub.add_parser("sweep", help="a parameter study: many designs over a grid or a sample (docs/sweep.md)")
+    sw.add_argument("spec", help="a sweep spec TOML file (e.g. profiles/sweeps/deflection.toml)")
     sw.add_argument("--workers", type=_positive_int, metavar="N", help="local worker processes (default: the CPU count)")
     sw.add_argument("--dask", metavar="ADDRESS", help="run on the Dask cluster at ADDRESS (tcp://HOST:PORT) instead")
     sw.add_argument("--out", metavar="DIR", help="output folder (default: export/sweeps/<name>/); a path ending in .parquet also "
