@@ -71,6 +71,21 @@ def default_design_scene(default_gearset):
     return pg.design(default_gearset, scene="design")
 
 
+@pytest.fixture(scope="session")
+def default_ring_design(default_gearset):
+    """The design scene with the 2D ring FEM and no face stage (its ``rim`` label asks for it:
+    profilegen.face.coning.RING_FEM_LABEL), no contact, no stresses: the stage studies and the
+    arc-fit checks on the default flank, written for the ring FEM's section (issue 28 moved the
+    design scene to a coarse 3D cup with the face stage)."""
+    import dataclasses
+
+    import profilegen as pg
+    from profilegen.face.coning import RING_FEM_LABEL
+
+    scene = dataclasses.replace(pg.SCENES["design"], rim=RING_FEM_LABEL)
+    return pg.design(default_gearset, scene=scene, contact=False, stress=False)
+
+
 #: Modules kept on one xdist worker from here, not by a ``pytestmark`` of their own: their files
 #: belong to other engineers this session (2026-11-25). Their module fixtures (designs with the
 #: loaded contact, torsional curves, the import graph: 4-15 s wall each on the busy machine,

@@ -18,6 +18,22 @@ def default_design(default_design_scene):
     return default_design_scene  # conftest.py: computed once per worker
 
 
+class _DenseTooth:
+    """The FS tooth with its outline and surface sampled 4 x as densely as asked."""
+
+    def __init__(self, tooth):
+        self._tooth = tooth
+
+    def __getattr__(self, name):
+        return getattr(self._tooth, name)
+
+    def outline(self, n_per_mm=400.0):
+        return self._tooth.outline(n_per_mm=4.0 * n_per_mm)
+
+    def surface(self, n_per_mm=400.0):
+        return self._tooth.surface(n_per_mm=4.0 * n_per_mm)
+
+
 def test_default_profile_is_one_sided_and_closed(default_design):
     p = default_design.profile
     assert p.method == "one_sided"
@@ -33,7 +49,11 @@ def test_default_profile_is_one_sided_and_closed(default_design):
     n_unit = len(p.space.elements) + 1
     local = Chain(p.outline.elements[-n_unit:] + p.outline.elements[: 2 * n_unit]).sample(1e-7)
     d = default_design
-    fine = clearance_map(d.form, d.tooth, d.motion, phi_range=d.envelope.phi_range, samples=2001, cs_points=local)
+    # the FS tooth's surface at 4 x the map's 400 points/mm: at 400/mm its chords on the 0.65-0.7 mm
+    # arcs sag by (1/400)^2/(8 r) = 1.1-1.2 nm, more than the 1 nm chord checked here (the design
+    # scene's cup section read -1.048 nm at 400/mm, -0.024 nm at 1600/mm; issue 28)
+    fine = clearance_map(d.form, _DenseTooth(d.tooth), d.motion, phi_range=d.envelope.phi_range, samples=2001,
+                         cs_points=local)
     assert fine.min_mm >= -d.envelope.chord_tol_mm
     # the mirror image is the left flank: the space is symmetric about its axis
     np.testing.assert_allclose(p.space.start * [-1, 1], p.space.end, atol=1e-9)
@@ -55,7 +75,13 @@ def test_flank_with_a_ridge_is_fitted_per_branch():
     # sharp corners: the branch fits meet at the ridge through a 26 nm line and one has a 15 µm
     # concave arc (sketch scene) — no wire cuts that: filleted, it is a FilletError
     d["circular_spline"] = {"corners": "sharp"}
-    r = pg.design(pg.parse_gearset(d), scene="design")
+    # the 2D ring FEM's section (issue 28: on the design scene's coarse-cup section at z = 70 mm the
+    # minimax SLP of a branch does not converge in 200 iterations, 17 µm; left to the arc fit)
+    from dataclasses import replace
+
+    from profilegen.face.coning import RING_FEM_LABEL
+
+    r = pg.design(pg.parse_gearset(d), scene=replace(pg.SCENES["design"], rim=RING_FEM_LABEL))
     assert any(rr.kink_deg > 5 for rr in r.envelope.ridges)
     p = r.profile
     assert p.branches is not None and len(p.branches.fits) == 2

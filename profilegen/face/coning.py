@@ -26,7 +26,7 @@ scene models; the coarse cup follows whatever the verify scene's cup does.
 
 from __future__ import annotations
 
-__all__ = ["DESIGN_CUP_TIER", "UNDECIDED", "modification_lines", "rim_tier_for"]
+__all__ = ["DESIGN_CUP_TIER", "RING_FEM_LABEL", "UNDECIDED", "modification_lines", "rim_tier_for"]
 
 #: what a scene without the face stage cannot decide (the sheet and design.json say it)
 UNDECIDED = ("NOT THE PART TO CUT: this scene has no face stage (no model of the coning across the face), so the "
@@ -44,13 +44,20 @@ def _design_cup_tier():
 DESIGN_CUP_TIER = None  # built on first use (the rim stage imports scipy)
 
 
+#: a scene whose ``rim`` label is this (the design tier's label in :mod:`profilegen.scenes`) keeps
+#: the 2D ring FEM and has no face stage: the stage studies (tests/unit/test_bench_stages.py)
+RING_FEM_LABEL = "ring FEM (nonlinear)"
+
+
 def rim_tier_for(scene, gearset):
     """The rim stage's tier for ``scene`` on ``gearset`` (a tier name or a RimTier): the scene's
     own, except the ``design`` tier on a two-wave gear, which runs the 3D cup at a coarse mesh
-    (:data:`DESIGN_CUP_TIER`) so that the face stage chooses its part as the verify scene does."""
+    (:data:`DESIGN_CUP_TIER`) so that the face stage chooses its part as the verify scene does —
+    unless the scene's ``rim`` label is :data:`RING_FEM_LABEL` (the 2D ring FEM asked for by name:
+    one section, no face stage, its files not the part to cut)."""
     global DESIGN_CUP_TIER
     tier = scene.rim_tier
-    if tier == "design" and gearset.gear.waves == 2:
+    if tier == "design" and gearset.gear.waves == 2 and scene.rim != RING_FEM_LABEL:
         if DESIGN_CUP_TIER is None:
             DESIGN_CUP_TIER = _design_cup_tier()
         return DESIGN_CUP_TIER
@@ -74,8 +81,9 @@ def modification_lines(design) -> list[str]:
                      "at some section: a modification is required.")
         return lines
     ds = [float(v) for v in mod.thickness_change_mm]
+    crown = ("" if abs(mod.crowning_mm) < 1e-9 else
+             f" and by -{mod.crowning_mm * 1e3:.4g} um at the face ends against mid-face (crowning)")
     lines.append(f"FS teeth MODIFIED along the face: tooth thickness on the pitch line changes by "
-                 f"{mod.taper_mm_per_mm * 1e3:.3g} um per mm toward the open end (taper) and "
-                 f"-{mod.crowning_mm * 1e3:.3g} um at the face ends (crowning), 0 at z = {z:g} mm; "
+                 f"{mod.taper_mm_per_mm * 1e3:.4g} um per mm toward the open end (taper){crown}, 0 at z = {z:g} mm; "
                  f"from {min(ds) * 1e3:.3g} to {max(ds) * 1e3:.3g} um over the face.")
     return lines

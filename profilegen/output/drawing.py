@@ -687,7 +687,18 @@ def _note_lines(design) -> list[str]:
         "   profile (zone " + _fmt(2 * e_mm) + " mm): the arc-line-arc fit's largest deviation from the conjugate profile.",
         "4. All dimensions in mm; detail A's dimensions give true size.",
     ]
+    from ..face.coning import modification_lines  # the face stage's choice (issue 28)
+
+    for k, text in enumerate(modification_lines(design)):
+        lines += _wrapped(f"{5 + k}. " + text)
     return lines
+
+
+def _wrapped(text: str, width: int = 88) -> list[str]:
+    """A note line broken into lines of at most ``width`` characters, the rest indented."""
+    import textwrap
+
+    return textwrap.wrap(text, width, subsequent_indent="   ")
 
 
 def _notes(sheet: _Sheet, lines: list[str], at) -> None:

@@ -33,14 +33,14 @@ def gearset():
 
 
 @pytest.fixture(scope="session")
-def design_scene(default_design_scene):
+def design_scene(default_ring_design):  # the ring FEM's design scene (conftest.py; issue 28)
     """The design scene without the loaded contact and the stresses (what the studies take: the
     stress study's force estimate), from conftest.py's design scene, which test_profile.py and
     test_arcfit_default_set.py read on this worker too (the stages before the contact do not
     read it)."""
     from dataclasses import replace
 
-    return replace(default_design_scene, contact=None, stress=None)
+    return replace(default_ring_design, contact=None, stress=None)
 
 
 @pytest.fixture(scope="session")

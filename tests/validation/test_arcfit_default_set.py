@@ -35,8 +35,8 @@ pytestmark = pytest.mark.xdist_group("bench_stages")
 
 
 @pytest.fixture(scope="module")
-def design(default_design_scene):
-    return default_design_scene  # conftest.py: computed once per worker
+def design(default_ring_design):
+    return default_ring_design  # conftest.py: the ring FEM's design scene, computed once per worker (issue 28)
 
 
 @pytest.fixture(scope="module")
