@@ -106,7 +106,7 @@ def optimize(spec: OptimizeSpec | str | os.PathLike, out_dir: str | os.PathLike 
 
     with folder.owning(out, ours=OPTIMIZE_FILES, patterns=(DESIGN_PATTERN,), marker=folder.MARKER,
                        command="optimize", lock_wait_s=folder.LOCK_WAIT_S if lock_wait_s is None else lock_wait_s) as owned:
-        owned.begin(JOURNALS)
+        owned.begin(JOURNALS if spec.confirm_scene is not None else JOURNALS[:1])
         own = executor is None
         if own:
             from concurrent.futures import ProcessPoolExecutor
