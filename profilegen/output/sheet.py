@@ -220,6 +220,18 @@ def _geometry_rows(design) -> str:
                if f.kind == "inside" and f.clearance_mm is not None else
                "wire radius + spark gap" if f.kind == "inside" else "convex corner, rounded for a G1 outline")
         rows.append(_row(label, f"{f.radius_mm:.4f} mm", f"centre {_xy(f.centre_mm)} (left: mirrored); {why}"))
+    from ..face.coning import modification_lines  # the face stage's choice: design section, FS taper (issue 28)
+
+    face = getattr(design, "face", None)
+    if face is None:
+        rows.append(_row("design section, FS taper", "<b>not decided</b>", html.escape(modification_lines(design)[0])))
+    else:
+        mod = face.modification
+        rows.append(_row("CS design section", f"z = {face.design_section_z_mm:g} mm", f"from the cup bottom ({face.design_choice})"))
+        if mod is not None:
+            rows.append(_row("FS tooth taper", f"<b>{mod.taper_mm_per_mm * 1e3:.4g} µm/mm</b>",
+                             html.escape("; ".join(modification_lines(design)[1:]))))
+            rows.append(_row("FS crowning", f"{mod.crowning_mm * 1e3:.4g} µm", "thinner at both face ends"))
     bl = prof.max_backlash_mm
     rows.append(_row("backlash (largest)", "—" if bl is None else html.escape(format_um(bl)),
                      "normal gap the fit leaves to the exact flank" if bl is not None
@@ -321,7 +333,7 @@ def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> 
 <h2>Checks</h2>
 <table><thead><tr><th>check</th><th>at</th><th>value</th><th>required</th><th>margin</th><th></th></tr></thead>
 {check_rows}</table>
-<h2>To cut <span class="unit">(mm; CS frame: origin on the gear axis, y through the middle of the space)</span></h2>
+<h2>{'To cut' if getattr(design, 'face', None) is not None else 'Not the part to cut'} <span class="unit">(mm; CS frame: origin on the gear axis, y through the middle of the space)</span></h2>
 <table>{_geometry_rows(design)}</table>
 <h2>Stiffness <span class="unit">({_stiffness_scope(design)})</span></h2>
 <table>{_load_rows(design)}</table></div>
