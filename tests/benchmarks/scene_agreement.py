@@ -126,7 +126,8 @@ def compare(a: Path, b: Path, labels=("A", "B")) -> float:
         print(f"{key:34s} {_fmt(va):>14s} {_fmt(vb):>14s} {_fmt(diff):>12s}")
     dist = outline_distance_mm(na["_space"], nb["_space"])
     print(f"{'CS tooth-space outlines apart (µm)':34s} {dist * 1e3:>14.3f}")
-    print(f"{labels[0]} rim error estimate {na['_rim_error_mm'] * 1e3:.3f} µm, fit deviation "
+    rim = "none (the model itself)" if na["_rim_error_mm"] is None else f"{na['_rim_error_mm'] * 1e3:.3f} µm"
+    print(f"{labels[0]} rim error estimate {rim}, fit deviation "
           f"{na['_fit_error_mm'] * 1e3:.3f} µm; {labels[1]} fit deviation {nb['_fit_error_mm'] * 1e3:.3f} µm; "
           f"design() time {na['_time_s']:.1f} / {nb['_time_s']:.1f} s")
     return dist
@@ -136,6 +137,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--sets", nargs="*", default=list(SETS))
     ap.add_argument("--dirs", nargs=2, metavar=("A", "B"))
+    ap.add_argument("--scenes", nargs=2, default=["design", "verify"], metavar=("A", "B"),
+                    help="the two scenes compared (default: design verify)")
     args = ap.parse_args(argv)
     if args.dirs:
         compare(Path(args.dirs[0]), Path(args.dirs[1]))
@@ -147,15 +150,15 @@ def main(argv=None) -> int:
         for name in args.sets:
             gs = pg.load_gearset(root / f"{name}.toml")
             folders = []
-            for scene in ("design", "verify"):
+            for scene in args.scenes:
                 t0 = time.perf_counter()
                 result = pg.design(gs, scene=scene)
                 out = Path(tmp) / f"{name}_{scene}"
                 pg.write_design(result, out, figure=False)
                 folders.append(out)
                 print(f"{name} {scene}: {time.perf_counter() - t0:.1f} s", file=sys.stderr)
-            print(f"\n== {name}: design scene (A) against verify scene (B)")
-            compare(*folders, labels=("design", "verify"))
+            print(f"\n== {name}: {args.scenes[0]} scene (A) against {args.scenes[1]} scene (B)")
+            compare(*folders, labels=tuple(args.scenes))
     return 0
 
 
