@@ -36,6 +36,7 @@ __all__ = [
     "DESIGN_OUTPUTS",
     "SAFETY_CHECKS",
     "STATUS_COLUMNS",
+    "VERDICT_COLUMNS",
     "context_key",
     "evaluate_design",
     "evaluate_points",
@@ -61,7 +62,10 @@ DESIGN_OUTPUTS: tuple[str, ...] = (
 )
 #: outputs only a scene with the loaded contact computes
 CONTACT_OUTPUTS = tuple(c for c in DESIGN_OUTPUTS if c.startswith("contact_"))
-STATUS_COLUMNS = ("status", "error_type", "error_message", "time_s")
+#: the design's verdict (PASS / FAIL / INCOMPLETE) and its failed checks: text, kept with the status
+VERDICT_COLUMNS = ("verdict", "failed_checks")
+STATUS_COLUMNS = ("status", "error_type", "error_message", "time_s", *VERDICT_COLUMNS)
+_TEXT_COLUMNS = ("status", "error_type", "error_message", *VERDICT_COLUMNS)
 
 
 def evaluate_design(values: Mapping[str, Any], context) -> dict[str, float | None]:
@@ -74,6 +78,7 @@ def evaluate_design(values: Mapping[str, Any], context) -> dict[str, float | Non
     result = design(gearset.with_values(dict(values)), scene=scene)
     out = outputs_of(result)
     row = {c: out.get(c) for c in DESIGN_OUTPUTS if c in out}
+    row.update({c: out.get(c) for c in VERDICT_COLUMNS})  # the design's own verdict (text)
     safety = result.stress.headline()["safety"] if result.stress is not None else {}
     for check in SAFETY_CHECKS:
         v = safety.get(check)
@@ -112,16 +117,17 @@ def _run_candidate(values: dict, evaluator: Callable, context, outputs: tuple[st
             v = got.get(c)
             row[c] = None if v is None or not math.isfinite(float(v)) else float(v)
         row.update(status="ok", error_type=None, error_message=None)
+        row.update({c: None if got.get(c) is None else str(got.get(c)) for c in VERDICT_COLUMNS})
     except Exception as exc:  # the candidate's failure is its result: infeasible, with its reason
         log.info("candidate %s failed: %s: %s", values, type(exc).__name__, exc)
         row.update(status="error", error_type=type(exc).__name__,
-                   error_message=" ".join(str(exc).split()) or repr(exc))
+                   error_message=" ".join(str(exc).split()) or repr(exc), **dict.fromkeys(VERDICT_COLUMNS))
     row["time_s"] = time.perf_counter() - t0
     return row
 
 
 def _parse(text: str, column: str):
-    if column in ("status", "error_type", "error_message"):
+    if column in _TEXT_COLUMNS:
         return text or None
     return float(text) if text != "" else None
 

@@ -40,7 +40,7 @@ import numpy as np
 
 from ..pools import stop_pool
 from ..sweep import _init_worker, _signals_deferred, write_table
-from .evaluate import DESIGN_OUTPUTS, STATUS_COLUMNS, evaluate_design, evaluate_points
+from .evaluate import DESIGN_OUTPUTS, STATUS_COLUMNS, VERDICT_COLUMNS, evaluate_design, evaluate_points
 from .search import Problem, SearchResult, dominates, judge, rank_disagreement, search
 from .spec import OptimizeSpec, load_optimize_spec
 
@@ -157,7 +157,7 @@ def _run(spec: OptimizeSpec, out: Path, owned, executor: Executor, progress, fig
                                   context=fine.context, journal=confirm_journal, executor=executor, on_done=on_done)
         for target, row in zip([start, *front_rows], rows):
             _, _, reason = judge(fine, row)
-            target.update({f"confirm_{c}": row[c] for c in DESIGN_OUTPUTS})
+            target.update({f"confirm_{c}": row[c] for c in (*DESIGN_OUTPUTS, *VERDICT_COLUMNS)})
             target.update(confirm_status=row["status"], confirm_feasible=reason is None, confirm_reason=reason)
         disagreement = _disagreement(cheap, fine, front_rows)
     prefix = "confirm_" if confirm is not None else ""
@@ -238,9 +238,10 @@ def _write(spec: OptimizeSpec, out: Path, res: SearchResult, front: list[dict], 
     files = [write_table(res.rows, ["point_id", "generation", *names, *DESIGN_OUTPUTS, *STATUS_COLUMNS, "feasible",
                                     "reason"], out / "evaluations.csv")]
     confirm = spec.confirm_scene
-    cols = ["design", "point_id", *names, *judged, "status", "feasible", "reason"]
+    cols = ["design", "point_id", *names, *judged, "status", *VERDICT_COLUMNS, "feasible", "reason"]
     if confirm is not None:
-        cols += [f"confirm_{c}" for c in judged] + ["confirm_status", "confirm_feasible", "confirm_reason"]
+        cols += [f"confirm_{c}" for c in (*judged, *VERDICT_COLUMNS)] + ["confirm_status", "confirm_feasible",
+                                                                          "confirm_reason"]
     cols += ["dominates_start", "toml"]
     table = [{**start, "design": "start", "toml": None}] + [{**r, "design": f"pareto_{k + 1:02d}"}
                                                              for k, r in enumerate(front)]

@@ -108,9 +108,13 @@ class Problem:
         return {v.name: v.decode(xi) for v, xi in zip(self.variables, x)}
 
 
+_VERDICT_G = 1.0  # a design whose verdict is FAIL: as infeasible as a violation of one constraint scale
+
+
 def judge(problem: Problem, row: dict) -> tuple[np.ndarray, np.ndarray, str | None]:
     """(objectives to minimise, scaled constraint violations g ≤ 0 with a last 'evaluated'
-    entry, the reason it is infeasible or None) of one evaluated row."""
+    entry — positive also when the design's verdict is FAIL —, the reason it is infeasible or
+    None) of one evaluated row."""
     n_c = len(problem.constraints)
     if row["status"] != "ok":
         reason = f"{row['error_type']}: {row['error_message']}"
@@ -121,8 +125,11 @@ def judge(problem: Problem, row: dict) -> tuple[np.ndarray, np.ndarray, str | No
         reason = f"no value for {', '.join(dict.fromkeys(missing))}"
         return np.full(len(problem.objectives), _FAILED_F), np.r_[np.zeros(n_c), _FAILED_G], reason
     f = np.array([o.sign * row[o.output] for o in problem.objectives], dtype=float)
-    g = np.array([c.violation(row[c.output]) for c in problem.constraints] + [0.0], dtype=float)
+    failed = row.get("verdict") == "FAIL"  # the design's own checks failed: infeasible whatever the constraints say
+    g = np.array([c.violation(row[c.output]) for c in problem.constraints] + [_VERDICT_G if failed else 0.0], dtype=float)
     broken = [c.describe() for c, gi in zip(problem.constraints, g) if gi > 0]
+    if failed:
+        broken.append(f"verdict FAIL ({row.get('failed_checks') or 'a check failed'})")
     return f, g, ("violates " + "; ".join(broken)) if broken else None
 
 

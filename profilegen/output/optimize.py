@@ -17,7 +17,7 @@ from pathlib import Path
 
 from .export import atomic_write
 
-__all__ = ["front_figure", "gearset_toml", "optimize_report_html", "write_gearset_toml"]
+__all__ = ["front_figure", "front_in_words", "gearset_toml", "optimize_report_html", "write_gearset_toml"]
 
 
 def _toml_value(value) -> str:
@@ -152,6 +152,49 @@ def _fmt(v) -> str:
     return html.escape(str(v))
 
 
+def _verdict_text(r: Mapping) -> str | None:
+    verdict = r.get("confirm_verdict", r.get("verdict"))
+    failed = r.get("confirm_failed_checks", r.get("failed_checks"))
+    return None if verdict is None else (f"{verdict}: {failed}" if failed else str(verdict))
+
+
+def _num(v) -> str:
+    return f"{v:.4g}" if isinstance(v, float) else str(v)
+
+
+def front_in_words(front: Sequence[Mapping], start: Mapping | None, *, variables: Sequence[str],
+                   objectives: Sequence[tuple[str, str]]) -> list[str]:
+    """One sentence per front design: which variables it changes from the starting design (from →
+    to), what it gains and gives up in each objective (confirmed values where there are, in
+    %), and its verdict — infeasible ones said so first."""
+    lines = []
+    for k, r in enumerate(front):
+        changes = [f"{v} {_num(start.get(v))} → {_num(r.get(v))}" for v in variables
+                   if start is not None and r.get(v) is not None and r.get(v) != start.get(v)]
+        gains, costs = [], []
+        for o, sense in objectives:
+            s = None if start is None else start.get(f"confirm_{o}", start.get(o))
+            v = r.get(f"confirm_{o}", r.get(o))
+            if s is None or v is None:
+                continue
+            rel = (v - s) / abs(s) * 100 if s else None
+            better = (v > s) if sense == "max" else (v < s)
+            text = f"{o} {_num(s)} → {_num(v)}" + (f" ({rel:+.1f} %)" if rel is not None else "")
+            (gains if better else costs if v != s else []).append(text)
+        feasible = r.get("confirm_feasible", r.get("feasible"))
+        head = f"#{k + 1}: " + ("INFEASIBLE — " + str(r.get("confirm_reason") or r.get("reason") or "")
+                                + "; " if feasible is False else "")
+        body = ("changes " + ", ".join(changes) if changes else "changes nothing from the starting design")
+        body += ("; buys " + ", ".join(gains)) if gains else "; buys nothing over the starting design"
+        if costs:
+            body += "; gives up " + ", ".join(costs)
+        verdict = _verdict_text(r)
+        if verdict:
+            body += f"; verdict {verdict}"
+        lines.append(head + body + ".")
+    return lines
+
+
 def optimize_report_html(summary: Mapping, front: Sequence[Mapping], start: Mapping | None, *,
                          variables: Sequence[str], objectives: Sequence[tuple[str, str]],
                          constraints: Sequence[str], figure: str | None, path: str | os.PathLike) -> Path:
@@ -164,7 +207,7 @@ def optimize_report_html(summary: Mapping, front: Sequence[Mapping], start: Mapp
     head = ["design", *variables]
     for o, sense in objectives:
         head += [f"{o} ({sense})", f"{o} confirmed", "change vs start"]
-    head += [*constraints, "feasible (confirmed)", "dominates start", "gear set"]
+    head += [*constraints, "verdict (confirmed)", "feasible (confirmed)", "dominates start", "gear set"]
 
     def change(o, sense, r):
         s = None if start is None else start.get(f"confirm_{o}", start.get(o))
@@ -179,15 +222,20 @@ def optimize_report_html(summary: Mapping, front: Sequence[Mapping], start: Mapp
         for o, sense in objectives:
             cells += [_fmt(r.get(o)), _fmt(r.get(f"confirm_{o}")), change(o, sense, r) if label != "start" else ""]
         cells += [_fmt(r.get(f"confirm_{c}", r.get(c))) for c in constraints]
-        cells += [_fmt(r.get("confirm_feasible", r.get("feasible"))), _fmt(r.get("dominates_start", "")),
-                  _fmt(r.get("toml", ""))]
-        rows.append("<tr>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
+        cells += [_fmt(_verdict_text(r)), _fmt(r.get("confirm_feasible", r.get("feasible"))),
+                  _fmt(r.get("dominates_start", "")), _fmt(r.get("toml", ""))]
+        feasible = r.get("confirm_feasible", r.get("feasible"))
+        mark = ' class="infeasible" title="infeasible"' if feasible is False else ""
+        rows.append(f"<tr{mark}>" + "".join(f"<td>{c}</td>" for c in cells) + "</tr>")
+    words = "".join(f"<li>{html.escape(line)}</li>" for line in
+                    front_in_words(front, start, variables=variables, objectives=objectives))
     facts = "".join(f"<tr><th>{html.escape(str(k))}</th><td>{_fmt(v)}</td></tr>" for k, v in summary.items())
     img = f'<p><img src="{html.escape(figure)}" alt="Pareto front" style="max-width:100%"></p>' if figure else ""
     page = f"""<!doctype html>
 <html lang="en"><head><meta charset="utf-8"><title>{html.escape(title)}</title>
 <style>body{{font-family:sans-serif;margin:1.5em}} table{{border-collapse:collapse;font-size:12px}}
-td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}} th{{background:#f3f3f3}}</style></head>
+td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}} th{{background:#f3f3f3}}
+tr.infeasible td{{background:#fde8e8;color:#8a1f1f}}</style></head>
 <body><h1>{html.escape(title)}</h1>
 <table>{facts}</table>
 {img}
@@ -196,7 +244,12 @@ td,th{{border:1px solid #ccc;padding:2px 6px;text-align:right}} th{{background:#
 improvement over the starting design's confirmed value (+ is better).</p>
 <table><tr>{''.join(f'<th>{html.escape(h)}</th>' for h in head)}</tr>
 {''.join(rows)}
-</table></body></html>
+</table>
+<p>Rows in red are infeasible: a constraint is violated or the design's verdict is FAIL (in the confirm
+scene when there is one).</p>
+<h2>What each front design changes and buys</h2>
+<ul>{words}</ul>
+</body></html>
 """
     path = Path(path)
     with atomic_write(path) as f:
