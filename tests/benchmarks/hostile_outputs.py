@@ -9,7 +9,8 @@ design.json whose ``files`` lists the user's notes.txt), ``old`` (a planted ``.r
 to a folder of the user's; ``old_missing``: the same with no folder yet, the link to another
 output folder of the user's), ``sweep`` (``--out`` a folder holding the user's results.csv and
 report.html), ``journal`` (a sweep's journal.csv planted as a link), ``root`` (``sweep --out /``
-as the unprivileged user nobody, where the machine allows it), ``optimize`` (``--out`` a
+as the unprivileged user nobody, where the machine allows it; ``root_named``: as this user,
+only where the folder rule is in), ``optimize`` (``--out`` a
 folder holding the user's report.html). Sketch-scene designs: each case takes a few seconds.
 """
 
@@ -147,6 +148,20 @@ def case_root(d: Path):
     print(f"root (as nobody): exit {rc}: {msg}; new entries in /: {sorted(set(after) - set(before))}")
 
 
+def case_root_named(d: Path):
+    """``sweep --out /`` as this user: only with the folder rule in the checked-out package
+    (before it, a root run would write /journal.csv and /results.csv)."""
+    root = str(Path(__file__).resolve().parents[2])
+    probe = subprocess.run([sys.executable, "-c", "import profilegen.output.folder as f; f.owning"],
+                           env={**os.environ, "PYTHONPATH": root}, capture_output=True)
+    if probe.returncode != 0:
+        print("root_named: skipped (this checkout has no folder rule: the run would write into /)")
+        return
+    before = sorted(os.listdir("/"))
+    rc, msg = run([*PG, "sweep", str(sweep_spec(d)), "-q", "--workers", "1", "--out", "/"], d)
+    print(f"root_named: exit {rc}: {msg}; new entries in /: {sorted(set(os.listdir('/')) - set(before))}")
+
+
 def case_optimize(d: Path):
     out = d / "opt"
     out.mkdir()
@@ -177,7 +192,7 @@ def _unreadable_by_others(path) -> bool:
 
 
 CASES = {"lock": case_lock, "designjson": case_designjson, "old": case_old, "old_missing": case_old_missing, "sweep": case_sweep,
-         "journal": case_journal, "root": case_root, "optimize": case_optimize}
+         "journal": case_journal, "root": case_root, "root_named": case_root_named, "optimize": case_optimize}
 
 
 def main(argv):
