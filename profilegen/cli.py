@@ -46,12 +46,13 @@ def _cmd_design(args) -> int:
     gearset = _with_requirements(_load(args.gearset), args.require)
     check_gearset(gearset)  # what check rejects fails here, before the first progress line
     out = Path(args.out) if args.out else Path("export") / gearset.name
+    _check_out(out)
     folder.check(out, ours=OUTPUT_FILES)  # a folder holding the user's files: refused now, not after the stages
-    scene = args.scene
     if args.step:  # the B-rep kernel is an optional extra: say so now, not after the stages
         from .output import step as step_files
 
         step_files.require()
+    scene = args.scene
     if args.rim is not None:  # the scene's rim tier overridden: --rim cup3d
         from .scenes import resolve_scene, with_rim_tier
 
@@ -111,7 +112,7 @@ def _with_requirements(gearset, pairs):
 
 def _check_out(out: Path) -> None:
     """An output path too long for the file system: one line naming --out, before any stage runs."""
-    from .outpath import check_out_path
+    from .userpaths import check_out_path
 
     check_out_path(out)
 
@@ -211,6 +212,7 @@ def _cmd_sweep(args) -> int:
                 table, out = Path(args.out), Path(args.out).with_suffix("")
             else:
                 out = Path(args.out)
+            _check_out(out)
             bar = _sweep_progress(len(spec.points), quiet=args.quiet)
             if args.dask:
                 with dask_executor(args.dask) as executor:
@@ -248,6 +250,7 @@ def _cmd_optimize(args) -> int:
         with interrupt_on_signals((signal.SIGTERM,)):  # SIGTERM stops the run as cleanly as Ctrl-C
             spec = load_optimize_spec(args.spec)  # validated in full before anything is written
             out = Path(args.out) if args.out else Path("export") / "optimize" / spec.name
+            _check_out(out)
             bar = _sweep_progress(spec.population * spec.generations, quiet=args.quiet, desc="optimize", unit="design")
             if args.dask:
                 with dask_executor(args.dask) as executor:
@@ -391,6 +394,7 @@ def _cmd_bench(args) -> int:
     rows = bench_scenes.scene_benchmark(gearset, scenes=scenes, repeats=1 if args.quick else args.repeats,
                                         progress=say)
     out = Path(args.out) if args.out else Path("export") / "bench"
+    _check_out(out)
     written = bench_scenes.write_scene_benchmark(rows, out, title=f"{gearset.name}: the whole pipeline per scene")
     scene_s = time.perf_counter() - t0
     if not args.quiet:
@@ -497,9 +501,29 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
+def _library_warnings(quiet: bool) -> None:
+    """Python warnings (numpy's, scipy's RuntimeWarning) as one log line each, ``WARNING py.warnings:
+    RuntimeWarning: ... (file.py:123)``, not the message and source line printed to stderr; none with -q."""
+    import warnings
+
+    if quiet:
+        warnings.simplefilter("ignore")
+        return
+
+    def show(message, category, filename, lineno, file=None, line=None):
+        text = " ".join(str(message).split())[:300]
+        logging.getLogger("py.warnings").warning("%s: %s (%s:%s)", category.__name__, text,
+                                                 os.path.basename(str(filename)), lineno)
+
+    warnings.showwarning = show
+
+
 def main(argv: list[str] | None = None) -> int:
     args = _parser().parse_args(argv)
-    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING, format="%(levelname)s %(name)s: %(message)s")
+    quiet = getattr(args, "quiet", False) and not args.verbose
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.ERROR if quiet else logging.WARNING,
+                        format="%(levelname)s %(name)s: %(message)s")
+    _library_warnings(quiet)  # forked sweep/optimize workers inherit both
     try:
         return args.func(args)
     except ProfilegenError as exc:

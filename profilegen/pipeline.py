@@ -662,6 +662,9 @@ def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Sce
 def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, on_profile=None,
             on_stage=None) -> Design:
     scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
+    from .budget import preflight
+
+    preflight(gearset, scene)  # a scene too coarse for the module, or over the memory budget: named, before any stage
     step = progress or (lambda name: None)
     warnings: list[str] = list(gearset.warnings)
     stages: list[StageReport] = []
