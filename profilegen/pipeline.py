@@ -611,8 +611,11 @@ def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None 
     arguments (a progress display's total). The contact and stress models need two waves."""
     scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
     names = ["tooth", "deformation", "envelope", "gearform", "arcfit"]
-    if scene.rim_tier == "cup3d" and gearset.gear.waves == 2:
-        names.insert(2, "face")
+    from .face.coning import rim_tier_for
+
+    if not isinstance(rim_tier_for(scene, gearset), str) or scene.rim_tier == "cup3d":
+        if gearset.gear.waves == 2:
+            names.insert(2, "face")
     two_waves = gearset.gear.waves == 2
     if two_waves and (contact or (contact is None and scene.contact)):
         names.append("contact")
@@ -682,7 +685,9 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     from .rim.stage import solve_rim  # scipy's solvers load only when a design runs (not in the stage time)
 
     t0 = time.perf_counter()
-    rim = solve_rim(gearset, tier=scene.rim_tier)
+    from .face.coning import rim_tier_for
+
+    rim = solve_rim(gearset, tier=rim_tier_for(scene, gearset))  # design: a coarse 3D cup for the face stage
     face, face_report = None, None
     if getattr(rim, "cup", None) is not None:  # the 3D cup: the face stage picks the CS's design section
         t_face = time.perf_counter()
@@ -708,6 +713,10 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     if face_report is not None:
         stages.append(face_report)
         warnings += list(face.warnings)
+    else:  # no face stage: the design section and the FS modification are not decided (issue 28)
+        from .face.coning import UNDECIDED
+
+        warnings.append(UNDECIDED)
     motion = HarmonicDriveMotion.from_gearset(gearset, deformation)
 
     step("envelope")
