@@ -457,6 +457,7 @@ def _text(data: Mapping, key: str, default: str, fail) -> str:
 def _base_gearset(text: str, base: Path, fail) -> GearSet:
     from .gearset import load_gearset, resolve_gearset
 
+    path: str | Path = text  # what the message names if the name does not resolve
     try:
         if looks_like_path(text) and not Path(text).is_absolute():
             path = base / text
