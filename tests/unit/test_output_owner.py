@@ -464,3 +464,34 @@ def test_a_lock_file_of_another_user_is_refused_by_an_unprivileged_run(tmp_path)
                        timeout=60)
     assert "ExportError" in p.stdout and "another user" in p.stdout, p.stdout + p.stderr
     assert lock.read_text() == "root's\n"
+
+
+# ----------------------------------------------------------------------------- the command line
+
+
+@pytest.mark.parametrize("command", ["sweep", "optimize"])
+def test_the_command_refuses_a_users_folder_with_exit_2_and_one_line(tmp_path, capsys, command):
+    spec = tmp_path / "s.toml"
+    if command == "sweep":
+        spec.write_text(f'name = "s"\ngearset = "default"\nscene = "sketch"\n[grid]\n"{FIELD}" = [0.9]\n')
+    else:
+        spec.write_text(textwrap.dedent(f"""\
+            name = "s"
+            gearset = "default"
+            scene = "sketch"
+            confirm_scene = ""
+            [variables]
+            "{FIELD}" = [0.9, 1.0]
+            [objectives]
+            profile_max_error_mm = "min"
+            """))
+    out = tmp_path / "mine"
+    out.mkdir()
+    (out / "report.html").write_text("<p>mine</p>\n")
+    before = tree(out)
+    from profilegen.cli import main
+
+    assert main([command, str(spec), "-q", "--workers", "1", "--out", str(out)]) == 2
+    err = [line for line in capsys.readouterr().err.splitlines() if line.strip()]
+    assert len(err) == 1 and "'report.html'" in err[0] and str(out) in err[0], err
+    assert tree(out) == before and sorted(os.listdir(tmp_path)) == ["mine", "s.toml"]
