@@ -365,7 +365,7 @@ def _links_beside(out: Path, given: str) -> None:
     pats = _patterns(out.name)
     try:
         names = sorted(os.listdir(out.parent))
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):  # no parent yet, or a file there: _check_target names it
         return
     for n in names:
         if any(p.fullmatch(n) for p in pats.values()) and not _real_dir(out.parent / n):
@@ -389,7 +389,7 @@ def recover(out: str | os.PathLike, *, ours: Collection[str], marker: str = DESI
     done = []
     try:
         names = sorted(os.listdir(out.parent))
-    except FileNotFoundError:
+    except (FileNotFoundError, NotADirectoryError):
         return done
     parked = [out.parent / n for n in names if pats["parked"].fullmatch(n) and _real_dir(out.parent / n)
               and not foreign_entries(out.parent / n, ours, marker=marker, patterns=patterns)]
@@ -459,8 +459,8 @@ def check(out_dir: str | os.PathLike, *, ours: Collection[str], marker: str = DE
     given = os.fspath(out_dir)
     out = _real(out_dir)
     _check_name(out, given)
-    _links_beside(out, given)
     _check_target(out, given, ours, marker, patterns)
+    _links_beside(out, given)
 
 
 def _check_name(out: Path, given: str) -> None:
@@ -564,8 +564,8 @@ def owning(out_dir: str | os.PathLike, *, ours: Collection[str], marker: str = D
     out = _real(out_dir)
     try:
         _check_name(out, given)
-        _links_beside(out, given)
         _check_target(out, given, ours, marker, patterns)  # before anything is made, also the parent folders
+        _links_beside(out, given)
         out.parent.mkdir(parents=True, exist_ok=True)
         with _locked(out, lock_wait_s, given):
             _links_beside(out, given)
