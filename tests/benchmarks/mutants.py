@@ -87,6 +87,7 @@ test_unit_constants.py, test_sampling_grids.py, test_optimize_senses.py.)
     folder-no-parent-fsync             output/folder.py           MISSED
     folder-fsync-dir-noop              output/folder.py           MISSED
     folder-no-restore                  output/folder.py           MISSED
+    figures-interrupt-waits            output/report.py           caught (added after: --only, at 09045ab)
 
 The four escapes are all in the output folder's swap and the sweep journal, whose fault-injection
 tests (the parent fsync, the journal checksum) another engineer writes with the rewrite of
@@ -324,6 +325,11 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant("folder-no-restore", "profilegen/output/folder.py",
            "        os.rename(parked, out)\n        raise", "        raise",
            (U + "test_output_folder.py",), "a failed two-rename swap leaves the old set parked"),
+    # ------------------------------------------------------------------ figure workers (the timed test made a behaviour test)
+    Mutant("figures-interrupt-waits", "profilegen/output/report.py",
+           "self.close(error=kind is not None)", "self.close(error=False)",
+           (U + "test_report_speed.py::test_an_interrupted_block_ends_its_workers",),
+           "an interrupted block waits for its running figures (the test asserted < 30 s before; now the end marks)"),
 )
 
 
