@@ -28,7 +28,7 @@ RESULTS (2026-11-28, 10:40-10:53 UTC, on the 2-core machine shared by ~6 session
 ``nice -n 10 python tests/benchmarks/mutants.py`` at b303f7a, then ``--only sweep-journal-no-checksum
 sweep-reruns-journal-points sweep-int-sample-endpoint`` at 09045ab (test_sweep was red at b303f7a
 on its own: baseline-red there, green again at 09045ab). Caught 50 of 54 (92.6 %),
-missed 4, stale 0. (The first run, at e36a966 with 53 mutants, caught 46 (86.8 %); its escapes
+missed 4, stale 0; with figures-interrupt-waits, added after and run alone, 51 of 55 (92.7 %). (The first run, at e36a966 with 53 mutants, caught 46 (86.8 %); its escapes
 contact-torque-in-nm, face-section-endpoint and optimize-max-not-negated got tests:
 test_unit_constants.py, test_sampling_grids.py, test_optimize_senses.py.)
 
