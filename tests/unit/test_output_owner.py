@@ -201,6 +201,32 @@ def test_the_parent_folder_is_fsynced_after_the_swap(tmp_path, monkeypatch):
     assert ("fsync", str(tmp_path)) in events[k + 1:], events
 
 
+def test_two_renames_a_failed_second_rename_puts_the_old_set_back(tmp_path, monkeypatch):
+    """Without renameat2 the swap is NAME → .NAME.old-*, staging → NAME; if the second rename
+    fails, the first is undone: the old set is back at NAME, nothing is left beside it, and the
+    error names the folder (fault injection: the second rename raises EIO)."""
+    out = tmp_path / "run"
+    with outfolder.replacing(out, ours=OURS) as staging:
+        (staging / "design.json").write_text(json.dumps({"files": ["design.json", "a.txt"]}))
+        (staging / "a.txt").write_text("old\n")
+    old = tree(out)
+    monkeypatch.setattr(outfolder, "_renameat2", None)
+    real_rename = os.rename
+
+    def rename(src, dst, *a, **k):
+        if ".staging-" in os.fspath(src):
+            raise OSError(5, "Input/output error", os.fspath(src))
+        return real_rename(src, dst, *a, **k)
+
+    monkeypatch.setattr(os, "rename", rename)
+    with pytest.raises(ExportError, match="Input/output error") as info:
+        with outfolder.replacing(out, ours=OURS) as staging:
+            (staging / "design.json").write_text(json.dumps({"files": ["design.json", "a.txt"]}))
+            (staging / "a.txt").write_text("new\n")
+    assert str(out) in _one_line(info)
+    assert tree(out) == old and sorted(os.listdir(tmp_path)) == ["run"]
+
+
 # ----------------------------------------------------------------------------- sweep
 
 
