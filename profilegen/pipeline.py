@@ -629,7 +629,8 @@ def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None 
 RETRACES, RETRACE_FACTOR = 2, 4.0
 
 
-def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Scene) -> tuple[Envelope, CircularSplineForm, list[str]]:
+def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Scene,
+                step: Callable[[str], None] | None = None) -> tuple[Envelope, CircularSplineForm, list[str]]:
     """The envelope at the scene's chord and the CS form built from it; where the trace missed a
     grazing crossing above the CS tip circle (``UnresolvedBoundaryError``), retraced at a chord
     ``RETRACE_FACTOR`` finer, up to ``RETRACES`` times, with a warning saying so.
@@ -638,7 +639,10 @@ def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Sce
     default set's sketch scene failed at deflection coefficient 1.002 with pressure angle 10.1°
     and at 1.003 / 10.0° while every neighbour 0.001 and 0.1° away passed; at a 4× finer chord
     (2.5e-5 mm) both design, their tip circles within 10 nm of the next finer chord's. A value
-    between two that design cleanly designs too, and the user never has to tune the chord."""
+    between two that design cleanly designs too, and the user never has to tune the chord.
+
+    ``step``: the progress callback, told "gearform" once, when the CS form is first built (a
+    failure there is the gearform stage's, as the progress display says)."""
     from .gearform import UnresolvedBoundaryError
 
     g, cs = gearset.gear, gearset.circular_spline
@@ -646,6 +650,8 @@ def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Sce
     for attempt in range(RETRACES + 1):
         env = envelope_of(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves,
                           chord_tol_mm=chord, n_t=scene.n_t, n_phi=scene.n_phi)
+        if attempt == 0 and step is not None:
+            step("gearform")
         try:
             form = circular_spline_form(env, cs_teeth=g.circular_spline_teeth, tip_clearance_mm=cs.tip_clearance_mm,
                                         root_clearance_mm=cs.root_clearance_mm,
@@ -720,7 +726,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     motion = HarmonicDriveMotion.from_gearset(gearset, deformation)
 
     step("envelope")
-    env, form, retraced = traced_form(tooth, motion, gearset, scene)
+    env, form, retraced = traced_form(tooth, motion, gearset, scene, step=step)
     warnings += retraced
     stages.append(StageReport("envelope", f"traced, chord {env.chord_tol_mm:g} mm", int(sum(len(p.points) for p in env.pieces)),
                               env.time_s, env.chord_tol_mm, "chord error of the traced envelope (mm)"))
@@ -730,7 +736,6 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
         on_stage(Design(gearset, scene, tooth, deformation, motion, env, None, tuple(stages), tuple(warnings),
                         rim=rim, face=face))
 
-    step("gearform")
     t0 = time.perf_counter() - form.time_s  # the form was built with the trace (traced_form): its time counts here
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples)
     form = _with_clearance(form, cmap)

@@ -111,10 +111,11 @@ def _check_row(c, tol: float) -> Check:
         required = "—"
     else:
         unit = {"arcmin": " arcmin", "N·m/rad": " N·m/rad"}.get(c.unit, "")
-        required = f"{'≥' if ge else '≤'} {c.required:g}{unit}" + ("× the momentary torque" if c.kind == "ratcheting"
+        required = f"{'≥' if ge else '≤'} {c.required:g}{unit}" + ("× momentary" if c.kind == "ratcheting"
                                                                     and "momentary" in c.where else "")
+    where = c.where.replace("momentary ", "") if c.kind == "ratcheting" else c.where  # "≥ 1× momentary" says it
     if c.passed is None:
-        return Check(c.name, c.where, "—", required, html.escape(c.text), None)
+        return Check(c.name, where, "—", required, html.escape(c.text), None)
     if c.kind == "clearance":
         value, margin = format_clearance(c.value, tol_mm=tol), format_um(c.value - c.required)
     elif c.kind in ("face", "backlash"):
@@ -127,7 +128,7 @@ def _check_row(c, tol: float) -> Check:
         margin = _percent(c.value / c.required - 1.0 if ge else c.required / c.value - 1.0)
         if c.kind == "ratcheting" and c.text:  # the bound and the estimate it comes from
             value += f" ({c.text.split(' (')[0]})"
-    return Check(c.name, c.where, value, required, margin, bool(c.passed))
+    return Check(c.name, where, value, required, margin, bool(c.passed))
 
 
 @dataclass(frozen=True, slots=True)
@@ -224,14 +225,18 @@ def _geometry_rows(design) -> str:
 
     face = getattr(design, "face", None)
     if face is None:
-        rows.append(_row("design section, FS taper", "<b>not decided</b>", html.escape(modification_lines(design)[0])))
+        rows.append(_row("design section, FS taper", "<b>not decided</b>",
+                         "this scene has no face stage"))
     else:
         mod = face.modification
         rows.append(_row("CS design section", f"z = {face.design_section_z_mm:g} mm", f"from the cup bottom ({face.design_choice})"))
-        if mod is not None:
+        if mod is not None:  # a short note: a wrapped one pushed the clearance row below the first screen
+            ds = [float(v) * 1e3 for v in mod.thickness_change_mm]
             rows.append(_row("FS tooth taper", f"<b>{mod.taper_mm_per_mm * 1e3:.4g} µm/mm</b>",
-                             html.escape("; ".join(modification_lines(design)[1:]))))
-            rows.append(_row("FS crowning", f"{mod.crowning_mm * 1e3:.4g} µm", "thinner at both face ends"))
+                             f"tooth thickness on the pitch line, toward the open end, 0 at the design section "
+                             f"({min(ds):.3g} … {max(ds):.3g} µm over the face)"))
+            if abs(mod.crowning_mm) >= 1e-9:
+                rows.append(_row("FS crowning", f"{mod.crowning_mm * 1e3:.4g} µm", "thinner at both face ends"))
     bl = prof.max_backlash_mm
     rows.append(_row("backlash (largest)", "—" if bl is None else html.escape(format_um(bl)),
                      "normal gap the fit leaves to the exact flank" if bl is not None
@@ -306,6 +311,14 @@ def _verdict_head(v) -> str:
     return html.escape(v.status)
 
 
+def _margin_cell(c: Check) -> str:
+    """A check's margin; a NOT CHECKED one's reason (the verdict line above says it in words) as
+    the cell's tooltip, so that the reasons do not widen the table past its half of the screen."""
+    if c.passed is None:
+        return f"<td class=num title=\"{html.escape(c.margin)}\">—</td>"
+    return f"<td class=num>{c.margin}</td>"
+
+
 def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> str:
     """The first screen of the design report (an HTML fragment): name and description, the
     verdict with every check and its margin, the numbers to cut and the load numbers, each with
@@ -315,7 +328,7 @@ def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> 
     v = design.verdict
     check_rows = "".join(
         f"<tr><th>{html.escape(c.name)}</th><td>{html.escape(c.where)}</td><td class='num wrap'>{html.escape(c.value)}</td>"
-        f"<td>{html.escape(c.required)}</td><td class=num>{c.margin}</td><td>{_badge(c.passed)}</td></tr>"
+        f"<td>{html.escape(c.required)}</td>{_margin_cell(c)}<td>{_badge(c.passed)}</td></tr>"
         for c in checks(design, interference_tol_mm))
     gear = (f"ratio {g.ratio:g}, deflection ω* = {g.wave_generator.deflection_coefficient:g}, "
             f"torques {g.torque.rated_nm:g} / {g.torque.peak_nm:g}"

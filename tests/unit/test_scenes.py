@@ -148,6 +148,7 @@ def test_scene_file_at_the_command_line(tmp_path, capsys):
     out = tmp_path / "o"
     assert main(["design", "--scene", str(good), "--out", str(out), "-q"]) == 0
     assert '"description": "my sketch"' in (out / "design.json").read_text()
+    capsys.readouterr()  # the good run's INCOMPLETE verdict line (stderr even with -q: the sketch runs no contact)
     bad = tmp_path / "bad.toml"
     bad.write_text(_toml({"sketch": _sketch_table(n_t=2)}))
     assert main(["design", "--scene", str(bad), "--out", str(tmp_path / "b"), "-q"]) == 2
