@@ -1141,11 +1141,11 @@ def _cs_pieces(space, cs_teeth: int):
     for el in space.elements:
         if isinstance(el, Line):
             a, b = np.asarray(el.start), np.asarray(el.end)
-            pieces.append(("line", el.length, (lambda a, b: lambda u: polar(a + u[:, None] * (b - a)))(a, b)))
+            pieces.append(("line", el.length, lambda u, a=a, b=b: polar(a + u[:, None] * (b - a))))
         elif isinstance(el, Arc):
-            pieces.append(("arc", el.length, (lambda el: lambda u: polar(
+            pieces.append(("arc", el.length, lambda u, el=el: polar(
                 el.centre + el.radius * np.column_stack([np.cos(el.start_angle + u * el.sweep),
-                                                         np.sin(el.start_angle + u * el.sweep)])))(el)))
+                                                         np.sin(el.start_angle + u * el.sweep)]))))
         else:
             raise ComplianceError(f"cs_space: element {el!r} is not a Line or an Arc")
     pieces.append(("tip land", rho_e * abs(half - psi_e),

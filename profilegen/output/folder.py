@@ -60,7 +60,7 @@ import shutil
 import stat
 import sys
 import time
-from collections.abc import Callable, Collection, Iterator
+from collections.abc import Collection, Iterator
 from pathlib import Path
 
 from ..errors import ExportError
@@ -311,7 +311,7 @@ def _locked(out: Path, wait_s: float, given: str | None = None) -> Iterator[None
                 waited = True
             if time.monotonic() >= deadline:
                 raise ExportError(errno.EBUSY, f"cannot write '{out}': {_holder(path)} is writing it (lock file "
-                                               f"'{path}', waited {wait_s:g} s); wait for it or give another --out")
+                                               f"'{path}', waited {wait_s:g} s); wait for it or give another --out") from None
             time.sleep(0.05)
             continue
         # the holder before us may have removed the file between our open and our lock: then our

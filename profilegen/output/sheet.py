@@ -221,7 +221,6 @@ def _geometry_rows(design) -> str:
                if f.kind == "inside" and f.clearance_mm is not None else
                "wire radius + spark gap" if f.kind == "inside" else "convex corner, rounded for a G1 outline")
         rows.append(_row(label, f"{f.radius_mm:.4f} mm", f"centre {_xy(f.centre_mm)} (left: mirrored); {why}"))
-    from ..face.coning import modification_lines  # the face stage's choice: design section, FS taper (issue 28)
 
     face = getattr(design, "face", None)
     if face is None:

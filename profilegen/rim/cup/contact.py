@@ -443,7 +443,7 @@ def _solve(contact, response, solve_field, at_band, state, hb, orders, nonlinear
         best = math.inf
         for newton in range(1, max_iterations + 1):
             internal = body.force(x)
-            du = solve_field(lambda k: -internal[k])
+            du = solve_field(lambda k, internal=internal: -internal[k])
             now_r, now_t = at_band(x)
             base_r, base_t = at_band(du)
             mu, n_r, n_t, dist, its = contact(now_r, now_t, base_r, base_t, guess=(mu > 0.0).ravel())
