@@ -1,0 +1,223 @@
+"""The model against the catalogue at every size (issue 29, build item 3).
+
+    python tests/benchmarks/catalogue_sizes.py [--scene design|verify] [--sizes 14 17 ...] [--ratios 100 50]
+                                              [--csv FILE] [--png FILE] [--json FILE] [--plot-only JSON]
+
+For each size (default 14, 17, 20, 25, 32, 40, 50, 58) and ratio (default 100): the gear set
+``profilegen.new_gearset(size, ratio)`` writes (catalogue proportions, no per-size fitting: one
+set of rules for every size), run through ``profilegen.design(gs, scene=...)``; then, against
+the catalogue row of that size and ratio (``profilegen.contact.catalogue.catalogue_row``; ratio
+100 → the "> 50" / "80 and above" row):
+
+* K1, K2, K3: the whole gear's, as the design sheet and design.json read them
+  (``Design.torsional.headline()["model_over_catalogue"]``, i.e. ``TorsionalCurve.catalogue_comparison``);
+* the torsion angle at T2: the model's rotation at T2 less its first contact (θ₀, the
+  no-load gap taken up) against ``torsion_angle_rad(row, T2)`` (the catalogue's three lines);
+* lost motion (model, arcmin, at the curve's ± lost-motion torque) against the catalogue's
+  upper limit ("< 1 arcmin": a limit, not a value — model/limit ≤ 1 is a pass, not a match);
+* transmission error peak to peak (verify scene only): the loaded tooth-passage ripple at rated
+  torque with the balls held at fixed angles and rigid; it leaves out every manufacturing error
+  (tooth pitch and profile errors, run-out of the CS and the wave generator, bearing
+  eccentricity), the balls' rolling (the cage ripple) and the Hertz ball springs — so it is a
+  floor of the catalogue's transmission accuracy (also an upper limit), not a comparable value;
+* the ratcheting estimate (verify scene only) against the catalogue's ratcheting torque where
+  published (sizes 25, 32, 40 at ratios 50, 80, 100; table 4 of the LLC catalogue).
+
+It prints one table, writes it as CSV (default /tmp/catalogue_sizes.csv) and as JSON, and draws
+model/catalogue against size (one line per quantity, a ±30 % band and the 1.5× lines of the
+ratcheting goal) to docs/img/catalogue_sizes.png (``--png``). ``--plot-only JSON`` redraws the
+figure from a JSON this script wrote (design- and verify-scene JSONs can be given together:
+``--plot-only a.json b.json``, the later one winning per size). Every run under a 4 GB memory cap.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import resource
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+import profilegen as pg  # noqa: E402
+from profilegen.contact.catalogue import catalogue_row, torsion_angle_rad  # noqa: E402
+
+ARCMIN_PER_RAD = 60.0 * 180.0 / math.pi
+SIZES = (14, 17, 20, 25, 32, 40, 50, 58)
+BAND = 0.30
+RATCHET_GOAL = 1.5
+COLUMNS = ("size", "ratio", "scene", "verdict", "seconds",
+           "K1_model", "K1_cat", "K1_ratio", "K2_model", "K2_cat", "K2_ratio", "K3_model", "K3_cat", "K3_ratio",
+           "phi_T2_model_arcmin", "phi_T2_cat_arcmin", "phi_T2_ratio",
+           "lost_motion_arcmin", "lost_motion_limit_arcmin", "lost_motion_ratio",
+           "te_pp_arcsec", "te_torque_nm", "te_limit_arcsec",
+           "ratchet_model_nm", "ratchet_cat_nm", "ratchet_ratio", "failed_checks", "error")
+
+
+def measure(size: int, ratio: int, scene: str) -> dict:
+    out = dict.fromkeys(COLUMNS)
+    out.update(size=size, ratio=ratio, scene=scene)
+    row = catalogue_row(size, ratio)
+    gs = pg.new_gearset(size, ratio).gearset
+    t0 = time.perf_counter()
+    try:
+        d = pg.design(gs, scene=scene)
+    except Exception as exc:  # a size the pipeline refuses is a result of the study, not a crash of it
+        out.update(error=f"{type(exc).__name__}: {exc}"[:200], seconds=time.perf_counter() - t0)
+        return out
+    out["seconds"] = time.perf_counter() - t0
+    v = d.verdict.to_dict()
+    out["verdict"] = v["status"]
+    out["failed_checks"] = "; ".join(c["text"] or c["name"] for c in v.get("checks", []) if c.get("status") == "FAIL") or None
+    curve = d.torsional
+    if curve is None:
+        out["error"] = "no torsional curve: " + "; ".join(str(w) for w in d.warnings)[:200]
+    else:
+        head = curve.headline()
+        cmp = curve.catalogue_comparison()["compared"]
+        for k in ("K1", "K2", "K3"):
+            c = cmp.get(f"{k}_nm_per_rad")
+            if c is not None:
+                out.update({f"{k}_model": c["model"], f"{k}_cat": c["catalogue"], f"{k}_ratio": c["model_over_catalogue"]})
+        t2 = float(row["T2_nm"])
+        try:
+            phi = curve.rotation_at(t2) - curve.first_contact_rad["positive"]
+            cat_phi = torsion_angle_rad(row, t2)
+            out.update(phi_T2_model_arcmin=phi * ARCMIN_PER_RAD, phi_T2_cat_arcmin=cat_phi * ARCMIN_PER_RAD,
+                       phi_T2_ratio=phi / cat_phi)
+        except Exception as exc:  # T2 not a torque of the curve (breakpoints not the catalogue's)
+            out["error"] = f"torsion at T2: {exc}"[:200]
+        lm, limit = head["lost_motion_arcmin"], row.get("lost_motion_max_arcmin")
+        out.update(lost_motion_arcmin=lm, lost_motion_limit_arcmin=limit,
+                   lost_motion_ratio=None if limit is None else lm / limit)
+    te = d.transmission
+    if te is not None:
+        out.update(te_pp_arcsec=te.peak_to_peak_arcsec, te_torque_nm=te.torque_nm,
+                   te_limit_arcsec=None if row.get("transmission_accuracy_max_arcmin") is None
+                   else 60.0 * row["transmission_accuracy_max_arcmin"])
+    r = d.ratcheting
+    if r is not None:
+        cat = row.get("ratcheting_torque_nm")
+        out.update(ratchet_model_nm=r.torque_nm, ratchet_cat_nm=cat,
+                   ratchet_ratio=None if cat is None or not math.isfinite(r.torque_nm) else r.torque_nm / cat)
+    return out
+
+
+def fmt(v, spec=".3g") -> str:
+    if v is None:
+        return "—"
+    if isinstance(v, float):
+        return format(v, spec)
+    return str(v)
+
+
+def table(rows: list) -> str:
+    head = ("size", "ratio", "scene", "verdict", "s", "K1 m/c", "K2 m/c", "K3 m/c", "φ(T2) m/c", "φ(T2) model′",
+            "φ(T2) cat′", "LM′", "LM/limit", "TE p-p″", "TE limit″", "ratchet N·m", "cat N·m", "ratchet m/c")
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in rows:
+        cells = (r["size"], r["ratio"], r["scene"], r["verdict"] or "—", fmt(r["seconds"], ".0f"),
+                 fmt(r["K1_ratio"], ".2f"), fmt(r["K2_ratio"], ".2f"), fmt(r["K3_ratio"], ".2f"),
+                 fmt(r["phi_T2_ratio"], ".2f"), fmt(r["phi_T2_model_arcmin"], ".2f"), fmt(r["phi_T2_cat_arcmin"], ".2f"),
+                 fmt(r["lost_motion_arcmin"], ".3f"), fmt(r["lost_motion_ratio"], ".2f"), fmt(r["te_pp_arcsec"], ".2f"),
+                 fmt(r["te_limit_arcsec"], ".0f"), fmt(r["ratchet_model_nm"], ".4g"), fmt(r["ratchet_cat_nm"], ".4g"),
+                 fmt(r["ratchet_ratio"], ".2f"))
+        lines.append("| " + " | ".join(map(str, cells)) + " |")
+        for note in ("failed_checks", "error"):
+            if r.get(note):
+                lines.append(f"| ⤷ | {r['size']}/{r['ratio']} {r['scene']}, {note.replace('_', ' ')}: {r[note]} |"
+                             + " |" * (len(head) - 2))
+    return "\n".join(lines)
+
+
+def plot(rows: list, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(8, 4.8), dpi=110)
+    ax.axhspan(1 - BAND, 1 + BAND, color="0.88", label=f"±{BAND:.0%}")
+    ax.axhline(1.0, color="0.5", lw=0.8)
+    for y in (1 / RATCHET_GOAL, RATCHET_GOAL):
+        ax.axhline(y, color="0.5", lw=0.8, ls=":")
+    series = (("K1_ratio", "K1", "o-"), ("K2_ratio", "K2", "s-"), ("K3_ratio", "K3", "^-"),
+              ("phi_T2_ratio", "torsion at T2 (model/cat)", "d--"), ("ratchet_ratio", "ratcheting torque", "*-"))
+    for ratio in sorted({r["ratio"] for r in rows}):
+        for key, label, style in series:
+            pts = [(r["size"], r[key]) for r in rows if r["ratio"] == ratio and r[key] is not None]
+            if pts:
+                pts.sort()
+                scenes = sorted({r["scene"] for r in rows if r["ratio"] == ratio and r[key] is not None})
+                ax.plot(*zip(*pts), style, ms=5, label=f"{label}, ratio {ratio} ({'/'.join(scenes)} scene)")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xticks(SIZES)
+    ax.set_xticklabels([str(s) for s in SIZES])
+    ax.minorticks_off()
+    ax.set_xlabel("size")
+    ax.set_ylabel("model / catalogue")
+    ax.set_title("profilegen new sets against the catalogue (dotted: 1/1.5 and 1.5)", fontsize=10)
+    ax.legend(fontsize=7, loc="best")
+    ax.grid(True, which="major", alpha=0.3)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    print(f"figure: {path}")
+
+
+def main(argv=None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--scene", default="verify", help="design scene (default verify; 'design' is the quick pass)")
+    ap.add_argument("--sizes", type=int, nargs="+", default=list(SIZES))
+    ap.add_argument("--ratios", type=int, nargs="+", default=[100])
+    ap.add_argument("--csv", type=Path, default=Path("/tmp/catalogue_sizes.csv"))
+    ap.add_argument("--json", type=Path, default=None, help="default: the CSV's path with .json")
+    ap.add_argument("--png", type=Path, default=ROOT / "docs" / "img" / "catalogue_sizes.png")
+    ap.add_argument("--plot-only", type=Path, nargs="+", default=None, help="redraw from JSONs this script wrote")
+    a = ap.parse_args(argv)
+    if a.plot_only:
+        merged = {}
+        for p in a.plot_only:
+            for r in json.loads(p.read_text()):
+                merged[(r["size"], r["ratio"], r["scene"])] = r
+        rows = sorted(merged.values(), key=lambda r: (r["ratio"], r["size"], r["scene"]))
+        # per size and ratio, the verify scene's stiffness if there is one (the plot shows one line per quantity)
+        best = {}
+        for r in rows:
+            key = (r["size"], r["ratio"])
+            if key not in best or r["scene"] == "verify":
+                best[key] = r
+        print(table(rows))
+        plot(sorted(best.values(), key=lambda r: (r["ratio"], r["size"])), a.png)
+        return
+    resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, 4_000_000_000))
+    rows = []
+    json_path = a.json or a.csv.with_suffix(".json")
+    for ratio in a.ratios:
+        for size in a.sizes:
+            r = measure(size, ratio, a.scene)
+            rows.append(r)
+            print(f"size {size} ratio {ratio} ({a.scene}): {r['seconds']:.0f} s, K1/K2/K3 m/c "
+                  f"{fmt(r['K1_ratio'], '.2f')}/{fmt(r['K2_ratio'], '.2f')}/{fmt(r['K3_ratio'], '.2f')}, "
+                  f"φ(T2) m/c {fmt(r['phi_T2_ratio'], '.2f')}, ratchet {fmt(r['ratchet_model_nm'], '.4g')}"
+                  + (f"  [{r['error']}]" if r["error"] else ""), flush=True)
+            # write as we go: a long verify run stopped half way keeps what it measured
+            with a.csv.open("w", newline="") as f:
+                w = csv.DictWriter(f, fieldnames=COLUMNS)
+                w.writeheader()
+                w.writerows(rows)
+            json_path.write_text(json.dumps(rows, indent=1, default=str))
+    print()
+    print(table(rows))
+    print(f"\ncsv: {a.csv}; json: {json_path}")
+    plot(rows, a.png)
+
+
+if __name__ == "__main__":
+    main()
