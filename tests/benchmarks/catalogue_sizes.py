@@ -56,13 +56,16 @@ COLUMNS = ("size", "ratio", "scene", "verdict", "seconds",
            "phi_T2_model_arcmin", "phi_T2_cat_arcmin", "phi_T2_ratio",
            "lost_motion_arcmin", "lost_motion_limit_arcmin", "lost_motion_ratio",
            "te_pp_arcsec", "te_torque_nm", "te_limit_arcsec",
-           "ratchet_model_nm", "ratchet_cat_nm", "ratchet_ratio", "failed_checks", "error")
+           "ratchet_model_nm", "ratchet_cat_nm", "ratchet_ratio",
+           "K1_one_section_ratio", "K2_one_section_ratio", "K3_one_section_ratio", "crowning_um", "taper_um_per_mm",
+           "failed_checks", "error")
 
 
 def measure(size: int, ratio: int, scene: str) -> dict:
     out = dict.fromkeys(COLUMNS)
     out.update(size=size, ratio=ratio, scene=scene)
     row = catalogue_row(size, ratio)
+    out["ratchet_cat_nm"] = row.get("ratcheting_torque_nm")
     gs = pg.new_gearset(size, ratio).gearset
     t0 = time.perf_counter()
     try:
@@ -92,6 +95,11 @@ def measure(size: int, ratio: int, scene: str) -> dict:
                        phi_T2_ratio=phi / cat_phi)
         except Exception as exc:  # T2 not a torque of the curve (breakpoints not the catalogue's)
             out["error"] = f"torsion at T2: {exc}"[:200]
+        one = head.get("one_section")  # across the face (verify): the face held straight, beside the slices
+        if one:
+            for k in ("K1", "K2", "K3"):
+                out[f"{k}_one_section_ratio"] = (one.get("model_over_catalogue") or {}).get(f"{k}_nm_per_rad")
+            out.update(crowning_um=curve.face.get("crowning_um"), taper_um_per_mm=curve.face.get("taper_um_per_mm"))
         lm, limit = head["lost_motion_arcmin"], row.get("lost_motion_max_arcmin")
         out.update(lost_motion_arcmin=lm, lost_motion_limit_arcmin=limit,
                    lost_motion_ratio=None if limit is None else lm / limit)
@@ -101,6 +109,9 @@ def measure(size: int, ratio: int, scene: str) -> dict:
                    te_limit_arcsec=None if row.get("transmission_accuracy_max_arcmin") is None
                    else 60.0 * row["transmission_accuracy_max_arcmin"])
     r = d.ratcheting
+    if r is None and getattr(d.scene, "ratcheting", False):
+        why = [str(w) for w in d.warnings if "ratchet" in str(w).lower()]
+        out["error"] = "; ".join(filter(None, [out["error"], "no ratcheting estimate: " + (why[0] if why else "?")]))[:300]
     if r is not None:
         cat = row.get("ratcheting_torque_nm")
         out.update(ratchet_model_nm=r.torque_nm, ratchet_cat_nm=cat,
@@ -118,12 +129,14 @@ def fmt(v, spec=".3g") -> str:
 
 def table(rows: list) -> str:
     head = ("size", "ratio", "scene", "verdict", "s", "K1 m/c", "K2 m/c", "K3 m/c", "φ(T2) m/c", "φ(T2) model′",
-            "φ(T2) cat′", "LM′", "LM/limit", "TE p-p″", "TE limit″", "ratchet N·m", "cat N·m", "ratchet m/c")
+            "φ(T2) cat′", "K1, K2 m/c one section", "crown µm", "LM′", "LM/limit", "TE p-p″", "TE limit″", "ratchet N·m", "cat N·m", "ratchet m/c")
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for r in rows:
         cells = (r["size"], r["ratio"], r["scene"], r["verdict"] or "—", fmt(r["seconds"], ".0f"),
                  fmt(r["K1_ratio"], ".2f"), fmt(r["K2_ratio"], ".2f"), fmt(r["K3_ratio"], ".2f"),
                  fmt(r["phi_T2_ratio"], ".2f"), fmt(r["phi_T2_model_arcmin"], ".2f"), fmt(r["phi_T2_cat_arcmin"], ".2f"),
+                 "—" if r.get("K1_one_section_ratio") is None else
+                 f"{r['K1_one_section_ratio']:.2f}, {r['K2_one_section_ratio']:.2f}", fmt(r.get("crowning_um"), ".3g"),
                  fmt(r["lost_motion_arcmin"], ".3f"), fmt(r["lost_motion_ratio"], ".2f"), fmt(r["te_pp_arcsec"], ".2f"),
                  fmt(r["te_limit_arcsec"], ".0f"), fmt(r["ratchet_model_nm"], ".4g"), fmt(r["ratchet_cat_nm"], ".4g"),
                  fmt(r["ratchet_ratio"], ".2f"))
@@ -141,29 +154,38 @@ def plot(rows: list, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(8, 4.8), dpi=110)
+    fig, ax = plt.subplots(figsize=(10, 4.8), dpi=110)
     ax.axhspan(1 - BAND, 1 + BAND, color="0.88", label=f"±{BAND:.0%}")
     ax.axhline(1.0, color="0.5", lw=0.8)
     for y in (1 / RATCHET_GOAL, RATCHET_GOAL):
         ax.axhline(y, color="0.5", lw=0.8, ls=":")
-    series = (("K1_ratio", "K1", "o-"), ("K2_ratio", "K2", "s-"), ("K3_ratio", "K3", "^-"),
-              ("phi_T2_ratio", "torsion at T2 (model/cat)", "d--"), ("ratchet_ratio", "ratcheting torque", "*-"))
-    for ratio in sorted({r["ratio"] for r in rows}):
-        for key, label, style in series:
+    series = (("K1_ratio", "K1", "o", "C0"), ("K2_ratio", "K2", "s", "C1"), ("K3_ratio", "K3", "^", "C2"),
+              ("phi_T2_ratio", "torsion angle at T2", "d", "C3"), ("ratchet_ratio", "ratcheting torque", "*", "C4"),
+              ("K1_one_section_ratio", "K1, face held straight (one section)", "x", "C7"))
+    ratios = sorted({r["ratio"] for r in rows}, reverse=True)
+    for i, ratio in enumerate(ratios):  # the first (highest) ratio solid, the others dashed with open markers
+        for key, label, marker, color in series:
             pts = [(r["size"], r[key]) for r in rows if r["ratio"] == ratio and r[key] is not None]
             if pts:
                 pts.sort()
                 scenes = sorted({r["scene"] for r in rows if r["ratio"] == ratio and r[key] is not None})
-                ax.plot(*zip(*pts), style, ms=5, label=f"{label}, ratio {ratio} ({'/'.join(scenes)} scene)")
+                ax.plot(*zip(*pts), marker=marker, ls="-" if i == 0 else "--", color=color, ms=6 if marker == "*" else 5,
+                        mfc=color if i == 0 else "white", alpha=1.0 if i == 0 else 0.7,
+                        label=f"{label}, ratio {ratio} ({'/'.join(scenes)} scene)")
     ax.set_xscale("log")
     ax.set_yscale("log")
     ax.set_xticks(SIZES)
     ax.set_xticklabels([str(s) for s in SIZES])
     ax.minorticks_off()
+    ticks = [0.3, 0.4, 0.5, 0.7, 1 - BAND, 1.0, 1 + BAND, RATCHET_GOAL, 2.0, 3.0, 4.0]
+    lo, hi = ax.get_ylim()
+    ticks = sorted({round(t, 3) for t in ticks if lo <= t <= hi})
+    ax.set_yticks(ticks)
+    ax.set_yticklabels([f"{t:g}" for t in ticks])
     ax.set_xlabel("size")
     ax.set_ylabel("model / catalogue")
     ax.set_title("profilegen new sets against the catalogue (dotted: 1/1.5 and 1.5)", fontsize=10)
-    ax.legend(fontsize=7, loc="best")
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     ax.grid(True, which="major", alpha=0.3)
     fig.tight_layout()
     path.parent.mkdir(parents=True, exist_ok=True)
