@@ -177,7 +177,7 @@ def plot(rows: list, path: Path) -> None:
     ax.set_xticks(SIZES)
     ax.set_xticklabels([str(s) for s in SIZES])
     ax.minorticks_off()
-    ticks = [0.3, 0.4, 0.5, 0.7, 1 - BAND, 1.0, 1 + BAND, RATCHET_GOAL, 2.0, 3.0, 4.0]
+    ticks = [0.3, 0.4, 0.5, 0.7, 1 - BAND, 1.0, 1 + BAND, RATCHET_GOAL, 2.0, 3.0, 4.0, 6.0]
     lo, hi = ax.get_ylim()
     ticks = sorted({round(t, 3) for t in ticks if lo <= t <= hi})
     ax.set_yticks(ticks)
