@@ -37,3 +37,13 @@ def test_modification_no_change_does_not_warn(designed):
     mod = apply_modification(gs, d.rim.cup, d.face, m.taper_mm_per_mm, m.crowning_mm)
     assert mod.max_interference_mm <= d.face.interference_tol_mm
     assert not _still(mod.warnings)
+
+
+def test_one_cs_profile_interferes_warns(designed):
+    # the default set's unmodified FS teeth interfere with the one CS profile (max_interference_mm
+    # above the tolerance): the face stage says so, naming the design section
+    _, d = designed
+    f = d.face
+    assert f.max_interference_mm > f.interference_tol_mm
+    hits = [w for w in f.warnings if w.startswith("the one CS profile (design section")]
+    assert len(hits) == 1 and f"z = {f.design_section_z_mm:g} mm" in hits[0]
