@@ -8,6 +8,7 @@ scene of every set is in tests/benchmarks/bundled.py (about a minute per set).""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -39,25 +40,8 @@ def test_bundled_set_runs_and_obeys_its_checks(name, scene, tmp_path, capsys):
     _check(name, scene, out, printed.out, printed.err)
 
 
-#: the verify scene's tiers and stages (the 3D cup, the face stage, the brute-force swept-region
-#: check, contact, ratcheting, transmission error, the torsional curve across the face) on the design
-#: scene's grids and 3 face slices instead of 5 (tests/benchmarks/reduced_verify.py times it)
-REDUCED_VERIFY = """[reduced_verify]
-tier = "cup3d"
-rim = "3D cup FEM (nonlinear), reduced grids"
-chord_tol_mm = 1e-6
-n_t = 96
-n_phi = 241
-clearance_samples = 361
-brute_force_check = true
-description = "the verify scene's tiers and stages on the design scene's grids"
-fit_check_positions = 721
-contact = true
-ratcheting = true
-transmission_error = true
-face_slices = 3
-figures = "none"
-"""
+#: the verify scene's tiers and stages on the design scene's grids (the file says which)
+REDUCED_VERIFY = Path(__file__).parent / "scenes" / "reduced_verify.toml"
 
 
 @pytest.mark.slow
@@ -69,10 +53,8 @@ def test_a_bundled_set_in_the_verify_scenes_tiers(tmp_path, capsys):
     the verdict, the transmission error is a finite non-zero ripple, the torsional curve is solved
     across the face in the scene's 3 slices."""
     name = "seed001_shf25"
-    scene = tmp_path / "reduced_verify.toml"
-    scene.write_text(REDUCED_VERIFY)
     out = tmp_path / "out"
-    assert main(["design", name, "--scene", str(scene), "--out", str(out)]) == 0
+    assert main(["design", name, "--scene", str(REDUCED_VERIFY), "--out", str(out)]) == 0
     printed = capsys.readouterr()
     _check(name, "design", out, printed.out, printed.err)
     data = json.loads((out / "design.json").read_text())

@@ -13,7 +13,6 @@ from __future__ import annotations
 
 import resource
 import sys
-import tempfile
 import time
 from pathlib import Path
 
@@ -21,44 +20,26 @@ import profilegen as pg
 
 ROOT = Path(__file__).resolve().parents[2]
 
-SCENE = """[reduced_verify]
-tier = "cup3d"
-rim = "3D cup FEM (nonlinear), reduced grids"
-chord_tol_mm = 1e-6
-n_t = 96
-n_phi = 241
-clearance_samples = 361
-brute_force_check = true
-description = "the verify scene's tiers and stages on the design scene's grids"
-fit_check_positions = 721
-contact = true
-ratcheting = true
-transmission_error = true
-face_slices = 3
-figures = "none"
-"""
+SCENE = ROOT / "tests" / "scenes" / "reduced_verify.toml"  # the one tests/test_bundled.py runs
 
 
 def main(argv=None) -> None:
     names = (argv if argv is not None else sys.argv[1:]) or ["seed000_csf40"]
-    with tempfile.TemporaryDirectory() as tmp:
-        scene = Path(tmp) / "reduced_verify.toml"
-        scene.write_text(SCENE)
-        for name in names:
-            gs = pg.load_gearset(ROOT / "profiles" / f"{name}.toml")
-            load0 = open("/proc/loadavg").read().split()[:3]
-            c0, ch0 = time.process_time(), resource.getrusage(resource.RUSAGE_CHILDREN)
-            t0 = time.perf_counter()
-            d = pg.design(gs, scene=str(scene))
-            wall = time.perf_counter() - t0
-            ch = resource.getrusage(resource.RUSAGE_CHILDREN)
-            children = ch.ru_utime + ch.ru_stime - ch0.ru_utime - ch0.ru_stime
-            print(f"{name}: wall {wall:.1f} s, CPU {time.process_time() - c0:.1f} s here + {children:.1f} s in "
-                  f"children; load average {' '.join(load0)} before, "
-                  f"{' '.join(open('/proc/loadavg').read().split()[:3])} after")
-            print(f"  ratcheting {d.ratcheting.torque_nm:.0f} N·m; transmission error "
-                  f"{d.transmission.peak_to_peak_arcsec:.3g} arcsec p-p; face slices "
-                  f"{d.torsional.face['slices'] if d.torsional.face else None}")
+    for name in names:
+        gs = pg.load_gearset(ROOT / "profiles" / f"{name}.toml")
+        load0 = open("/proc/loadavg").read().split()[:3]
+        c0, ch0 = time.process_time(), resource.getrusage(resource.RUSAGE_CHILDREN)
+        t0 = time.perf_counter()
+        d = pg.design(gs, scene=str(SCENE))
+        wall = time.perf_counter() - t0
+        ch = resource.getrusage(resource.RUSAGE_CHILDREN)
+        children = ch.ru_utime + ch.ru_stime - ch0.ru_utime - ch0.ru_stime
+        print(f"{name}: wall {wall:.1f} s, CPU {time.process_time() - c0:.1f} s here + {children:.1f} s in "
+              f"children; load average {' '.join(load0)} before, "
+              f"{' '.join(open('/proc/loadavg').read().split()[:3])} after")
+        print(f"  ratcheting {d.ratcheting.torque_nm:.0f} N·m; transmission error "
+              f"{d.transmission.peak_to_peak_arcsec:.3g} arcsec p-p; face slices "
+              f"{d.torsional.face['slices'] if d.torsional.face else None}")
 
 
 if __name__ == "__main__":

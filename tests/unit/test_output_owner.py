@@ -360,14 +360,15 @@ def _fake_evaluate(values, context):
     return {"profile_max_error_mm": (w - 0.95) ** 2 + 1e-3, "stress_min_safety": 2.0 - w}
 
 
-def _optimize(tmp_path, out, *, name="Rim.Study", population=6, origin_dir=None, monkeypatch=None):
+def _optimize(tmp_path, out, *, name="Rim.Study", population=6, origin_dir=None, monkeypatch=None,
+              objectives='profile_max_error_mm = "min"\nstress_min_safety = "max"\n', spec_name="o.toml"):
     from profilegen.optimize import load_optimize_spec, optimize
     from profilegen.optimize import run as oprun
 
     monkeypatch.setattr(oprun, "evaluate_design", _fake_evaluate)
     where = origin_dir or tmp_path
     where.mkdir(parents=True, exist_ok=True)
-    path = where / "o.toml"
+    path = where / spec_name
     path.write_text(textwrap.dedent(f"""\
         name = "{name}"
         gearset = "default"
@@ -380,9 +381,7 @@ def _optimize(tmp_path, out, *, name="Rim.Study", population=6, origin_dir=None,
         [variables]
         "{FIELD}" = [0.85, 1.05]
         [objectives]
-        profile_max_error_mm = "min"
-        stress_min_safety = "max"
-        """))
+        """) + objectives)
     with ThreadPoolExecutor(max_workers=1) as ex:
         return optimize(load_optimize_spec(path), out, executor=ex, figure=False)
 
@@ -426,27 +425,8 @@ def test_optimize_front_designs_pass_check_and_a_smaller_front_leaves_no_old_des
 
 def _optimize_small(tmp_path, out, monkeypatch):
     """The same spec with one objective: its front is one design."""
-    from profilegen.optimize import load_optimize_spec, optimize
-    from profilegen.optimize import run as oprun
-
-    monkeypatch.setattr(oprun, "evaluate_design", _fake_evaluate)
-    path = tmp_path / "small.toml"
-    path.write_text(textwrap.dedent(f"""\
-        name = "Rim.Study"
-        gearset = "default"
-        scene = "sketch"
-        confirm_scene = ""
-        [search]
-        population = 6
-        generations = 2
-        seed = 3
-        [variables]
-        "{FIELD}" = [0.85, 1.05]
-        [objectives]
-        profile_max_error_mm = "min"
-        """))
-    with ThreadPoolExecutor(max_workers=1) as ex:
-        return optimize(load_optimize_spec(path), out, executor=ex, figure=False)
+    return _optimize(tmp_path, out, monkeypatch=monkeypatch, objectives='profile_max_error_mm = "min"\n',
+                     spec_name="small.toml")
 
 
 # ----------------------------------------------------------------------------- a second user
