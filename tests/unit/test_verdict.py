@@ -130,7 +130,11 @@ def test_ratcheting_bound_is_below_every_catalogue_value_measured():
 
     measured = [(5096.0, RATCHETING_TORQUE_NM[(100, 40)]),  # seed000_csf40, verify scene
                 (2679.0, RATCHETING_TORQUE_NM[(100, 32)]),  # csf32_100, verify scene
-                (5672.0, RATCHETING_TORQUE_NM[(80, 32)])]  # a CSF-32-80 set (issue 28), verify scene
+                (5672.0, RATCHETING_TORQUE_NM[(80, 32)]),  # a CSF-32-80 set (issue 28), verify scene
+                # profilegen new sets, verify scene (tests/benchmarks/catalogue_sizes.py --scene verify)
+                (1431.0, RATCHETING_TORQUE_NM[(100, 25)]), (2787.0, RATCHETING_TORQUE_NM[(100, 32)]),
+                (5446.0, RATCHETING_TORQUE_NM[(100, 40)]),
+                (2582.0, RATCHETING_TORQUE_NM[(50, 25)]), (5572.0, RATCHETING_TORQUE_NM[(50, 32)])]
     for estimate, catalogue in measured:
         assert estimate / RATCHETING_MODEL_OVER_CATALOGUE <= catalogue * (1 + 1e-12)
 
