@@ -1,8 +1,7 @@
 """Loaded tooth contact (seed 000 §5): contact points, compliance, complementarity solve.
 
 * :mod:`profilegen.contact.solvers` — the solvers on (S, θ, r, T): :func:`solve_lemke` (the
-  package's solver), :func:`solve_qp_active_set` (cross-check), :func:`solve_naive_lp`
-  (the printed phase-1 LP, a negative example) → :class:`ContactSolution`.
+  package's solver), :func:`solve_qp_active_set` (cross-check) → :class:`ContactSolution`.
 * :mod:`profilegen.contact.points` — the potential contact points of one engagement zone
   of a design: FS flank stations against the fitted CS flank (:func:`contact_points`).
 * :mod:`profilegen.contact.inputs` — :class:`ContactInput`, what the contact reads of a
@@ -17,7 +16,6 @@ from .solvers import (
     ContactError,
     ContactSolution,
     solve_lemke,
-    solve_naive_lp,
     solve_qp_active_set,
 )
 
@@ -29,6 +27,5 @@ __all__ = [
     "contact_points",
     "ContactSolution",
     "solve_lemke",
-    "solve_naive_lp",
     "solve_qp_active_set",
 ]

@@ -49,10 +49,11 @@ The solvers
   as Lemke's complementary pivoting (see below).
 * :func:`solve_qp_active_set` — an independent primal active-set method on the QP in ``m``
   (equality kept, Cholesky of the loaded block grown by rank-one appends), for cross-checks.
-* :func:`solve_naive_lp` — the phase-1 LP of Eqs. 15–17 exactly as printed, by HiGHS. Its
-  optimum (Z = 0) is *any* feasible point of Eqs. 10 and 12, and HiGHS returns a vertex
-  that is not a contact solution (typically φ = 0 with the whole torque on one point and
-  open gaps under load). Kept only to show that (DESIGN.md, trap 4).
+
+The phase-1 LP of Eqs. 15–17 exactly as printed is *not* a contact solver: its optimum (Z = 0)
+is any feasible point of Eqs. 10 and 12, and HiGHS returns a vertex that is not a contact
+solution (typically φ = 0 with the whole torque on one point and open gaps under load). The
+tests keep it as a negative example (docs/theory/contact.md).
 
 Why Lemke is Conry–Seireg's method. The seed's constraint rows (16)–(17) are the linear part
 of the KKT system above: ``w = 𝕄 z + q`` with ``z = (m, ψ)``, ``w = (ĝ, Σm − 1)``,
@@ -108,7 +109,6 @@ True
 
 from __future__ import annotations
 
-import dataclasses
 import logging
 import math
 import time
@@ -123,40 +123,12 @@ from ..results import json_ready as _json, readonly as _readonly
 __all__ = [
     "ContactError",
     "ContactSolution",
-    "active_set_loop",
     "solve_lemke",
-    "solve_naive_lp",
     "solve_qp_active_set",
 ]
 
 log = logging.getLogger(__name__)
 
-
-def active_set_loop(loaded, solve, *, max_iter: int):
-    """The primal–dual active-set rule for an LCP with bordered equality unknowns (the whole-ring
-    contact of :mod:`profilegen.contact.tooth_errors` and the two-zone climb of
-    :mod:`profilegen.contact.dedoidal`): ``solve(p)`` solves the system with the loads ``p``
-    (indices) active and the others zero → (x, w, tol, extra) — the loads, the gaps, the gap
-    tolerance and whatever else the caller needs; a load stays active while x > 0 and an inactive
-    one joins where w < −tol. Returns (x, w, loaded, extra) once the set repeats itself, or None
-    when a set recurs (cycling), the system is singular, or ``max_iter`` sets have been tried —
-    the caller then falls back to a pivoting method."""
-    seen = set()
-    loaded = np.array(loaded, dtype=bool)
-    for _ in range(max_iter):
-        key = loaded.tobytes()
-        if key in seen:
-            return None
-        seen.add(key)
-        try:
-            x, w, tol, extra = solve(np.flatnonzero(loaded))
-        except np.linalg.LinAlgError:
-            return None
-        new = (loaded & (x > 0.0)) | (~loaded & (w < -tol))
-        if np.array_equal(new, loaded):
-            return x, w, loaded, extra
-        loaded = new
-    return None
 
 #: reciprocal condition number of the scaled compliance below which it counts as singular
 _RCOND_MIN = 1e-12
@@ -649,54 +621,3 @@ def solve_qp_active_set(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *
     loaded = m > 0.0
     return _finish("qp_active_set", p, m, psi, it, t0, loaded=loaded,
                    diagnostics={"max_iter": cap, "added": adds, "dropped": drops})
-
-
-# ----------------------------------------------------------------------------- naive LP
-
-
-def solve_naive_lp(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm) -> ContactSolution:
-    """The phase-1 LP of seed 000, Eqs. (15)–(17), exactly as printed, by HiGHS — a negative example.
-
-    min Z = Σ X (artificials) subject to ``−[S']F + φ1 + Y + Z' = θ`` (16) and ``rᵀF + X = T`` (17),
-    F, φ, Y, Z', X ≥ 0, with the seed's ``S' = D⁻¹S``. Built in the scaled variables of the module
-    docstring (a positive diagonal rescaling of rows and columns, which maps vertices to vertices,
-    so the answer is the printed LP's, not a scaling artefact). Z = 0 at *every* feasible point;
-    nothing asks for F_k·Y_k = 0, and HiGHS returns a vertex that is typically φ = 0 with the
-    whole torque on one point. Its gaps are ≥ 0 and equilibrium holds (the constraints), but
-    loaded points keep open gaps: the result reports that as a large ``complementarity_residual``
-    and a warning. Never use it as a contact solution.
-    """
-    from scipy.optimize import linprog
-
-    t0 = time.perf_counter()
-    p = _prepare(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm)
-    n = len(p.th)
-    # scaled, unshifted θ as printed (φ ≥ 0 is a constraint there): variables [m, φ̂, Y, Z', X]
-    th_abs = p.theta / p.tau
-    I = np.eye(n)
-    A_eq = np.zeros((n + 1, 3 * n + 2))
-    A_eq[:n, :n] = -p.A
-    A_eq[:n, n] = 1.0
-    A_eq[:n, n + 1:2 * n + 1] = I
-    A_eq[:n, 2 * n + 1:3 * n + 1] = I
-    A_eq[n, :n] = 1.0
-    A_eq[n, 3 * n + 1] = 1.0
-    b_eq = np.concatenate([th_abs, [1.0]])
-    c = np.zeros(3 * n + 2)
-    c[2 * n + 1:] = 1.0
-    res = linprog(c, A_eq=A_eq, b_eq=b_eq, bounds=(0, None), method="highs")
-    if res.status != 0 or res.x is None:
-        raise ConvergenceError(f"solve_naive_lp: HiGHS failed (status {res.status}: {res.message})")
-    x = res.x
-    m = np.maximum(x[:n], 0.0)
-    phi_hat = float(x[n])
-    psi = phi_hat - p.theta_min / p.tau
-    out = _finish("naive_lp", p, m, psi, int(getattr(res, "nit", 0) or 0), t0, loaded=m > 1e-12,
-                  diagnostics={"objective_Z": float(res.fun), "highs_status": int(res.status),
-                               "highs_message": str(res.message)})
-    if out.complementarity_residual > 1e-6:
-        note = (f"the phase-1 LP point is not a contact solution: complementarity residual "
-                f"{out.complementarity_residual:.3g} (loaded points with open gaps), {out.loaded_count} point(s) "
-                f"loaded, φ = {out.phi_rad:.6g} rad")
-        out = dataclasses.replace(out, warnings=(*out.warnings, note))
-    return out

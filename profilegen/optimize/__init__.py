@@ -7,7 +7,6 @@ is callable, so ``profilegen.optimize(...)`` works however it was imported). The
 * :mod:`.spec` — the TOML spec (:func:`load_optimize_spec`), validated before anything runs;
 * :mod:`.evaluate` — one design per candidate through the Executor and the resumable journal;
 * :mod:`.search` — NSGA-II asked and told, constraints, the Pareto front;
-* :mod:`.problems` — analytic problems with known fronts (ZDT1) for the machinery's tests;
 * :mod:`.run` — the whole run and its files (through :mod:`profilegen.output.optimize`).
 """
 

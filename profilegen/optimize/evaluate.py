@@ -11,8 +11,8 @@ a later generation, or by a run resumed after an interruption — is read back f
 journal, not recomputed.
 
 An *evaluator* is a picklable function ``evaluator(values, context) -> {output: number}``;
-:func:`evaluate_design` is the one for gear sets (``context = (gearset, scene)``), and
-:mod:`profilegen.optimize.problems` holds analytic ones with known Pareto fronts. An
+:func:`evaluate_design` is the one for gear sets (``context = (gearset, scene)``); the tests
+run the machinery on an analytic one with a known Pareto front (ZDT1). An
 evaluator that raises makes the candidate a row with ``status = "error"`` and the error's
 type and message kept; the run goes on.
 """

@@ -6,11 +6,8 @@
   geometrically nonlinear, unilateral frictionless contact on a rigid contour (:func:`solve_ring`).
 * :mod:`profilegen.rim.nonlinear` — total Lagrangian St Venant–Kirchhoff force and tangent.
 * :mod:`profilegen.rim.toothed` — mapped mesh of the toothed rim (:func:`toothed_quarter_mesh`).
-* :mod:`profilegen.rim.oracle` — the inextensible thin ring on a cam with partial wrap
-  (:func:`inextensible_ring_on_cam`), the analytic limit the FEM converges to.
 """
 
-from .oracle import InadmissibleContactError, OracleResult, inextensible_ring_on_cam
 from .ring import ConvergenceError, RingError, RingParameters, RingResult, solve_ring
 from .stage import RIM_TIERS, RimDeformation, RimTier, solve_rim
 from .toothed import ToothedMeshError, ToothedRimMesh, toothed_quarter_mesh
@@ -18,8 +15,6 @@ from .toothed import ToothedMeshError, ToothedRimMesh, toothed_quarter_mesh
 __all__ = [
     "RIM_TIERS",
     "ConvergenceError",
-    "InadmissibleContactError",
-    "OracleResult",
     "RimDeformation",
     "RimTier",
     "RingError",
@@ -27,7 +22,6 @@ __all__ = [
     "RingResult",
     "ToothedMeshError",
     "ToothedRimMesh",
-    "inextensible_ring_on_cam",
     "solve_rim",
     "solve_ring",
     "toothed_quarter_mesh",

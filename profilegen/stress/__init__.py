@@ -4,7 +4,6 @@
   generator's assembly bending and the mesh load;
 * :mod:`~profilegen.stress.plate` — seed 002: the cup bottom as a Kirchhoff annular plate
   (consistent per-harmonic solution, and the paper's ``seed002`` variant);
-  :mod:`~profilegen.stress.morley` checks it with a scikit-fem Morley plate;
 * :mod:`~profilegen.stress.diaphragm` — seed 000: the diaphragm corner's shear and its
   Goodman check;
 * :mod:`~profilegen.stress.stage` — :func:`solve_stress` feeds all three with a design's own

@@ -21,8 +21,8 @@ Three steps, each a function:
    Table 1's β (:func:`seed002_beta`); :func:`seed002_comparison` sets the paper's printed
    stresses (Table 2) beside both models.
 
-:mod:`profilegen.stress.morley` solves the same plate with scikit-fem's Morley element and
-decides between the two models.
+A Morley finite-element solution of the same plate decides between the two models
+(docs/theory/stresses.md).
 """
 
 from __future__ import annotations
@@ -666,7 +666,7 @@ def cup_bottom_stress(edge: EdgeDisplacement, *, boss_radius_mm: float, thicknes
     prescribes w (the seed's compatibility); the seed calls the edge "free" — its rotation
     is not held by the thin wall — so the moment acting on the edge, M_r (the moment on a
     circle r = const), vanishes. It is the natural condition of the energy minimum with w
-    prescribed, which the Morley solution (:mod:`profilegen.stress.morley`) converges to.
+    prescribed, which a Morley finite-element solution converges to (docs/theory/stresses.md).
     The seed writes "M_φ = 0": M_φ acts on radial cuts, not on the edge, so it is not a
     boundary condition (Table 1's β follow from ν f'' + f'/r = 0, see :func:`seed002_beta`).
 

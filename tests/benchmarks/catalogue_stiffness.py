@@ -15,7 +15,7 @@ springs' share is the chain's and is kept as it is):
   flank (the opposite flank's preload left out; its "K1" is then not a catalogue K1) and both
   flanks (every ball a Hertz spring at its 500 N secant; the change of the elastic rotation
   from each variant's own zero-torque position);
-* the CS ring's ovalisation (profilegen.contact.cs_ring, a free ring, the face width wide, to the
+* the CS ring's ovalisation (tests/oracles/cs_ring.py, a free ring, the face width wide, to the
   CS's estimated outer radius from its root circle — the section that bends — or, the upper
   bound, from the contact model's sector edge 1.1 r2): S + S_ring re-solved;
 * a cup wall thinner than the rim (ESTIMATE: 0.6 δ; the chain takes the wall as thick as the rim):
@@ -46,7 +46,7 @@ import profilegen as pg  # noqa: E402
 from profilegen.contact.analysis import solve_contact  # noqa: E402
 from profilegen.contact.catalogue import catalogue_row  # noqa: E402
 from profilegen.contact.chain import compliance_chain, torsional_curve  # noqa: E402
-from profilegen.contact.cs_ring import CSRing, cs_ring_compliance  # noqa: E402
+from tests.oracles.cs_ring import CSRing, cs_ring_compliance  # noqa: E402
 from profilegen.contact.face_load import (  # noqa: E402
     cup_sections, gap_shift_mm, slice_positions, solve_face, solve_two_flanks, two_flank_sides)
 from profilegen.contact.inputs import ContactInput  # noqa: E402

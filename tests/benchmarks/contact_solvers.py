@@ -30,7 +30,8 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from profilegen.contact import solve_lemke, solve_naive_lp, solve_qp_active_set
+from profilegen.contact import solve_lemke, solve_qp_active_set
+from tests.oracles.naive_lp import solve_naive_lp
 from profilegen.output.export import atomic_write
 
 SIZES = (50, 200, 800, 2000)

@@ -7,7 +7,7 @@ design run), the climb built as ``ratcheting_torque`` builds it (9 stations, tee
 0.15 mm, every ball one-sided at its no-load gap with its Hertz spring, the free CS ring):
 
 1. the one-zone climb (profilegen.contact.climb, the estimate today);
-2. the two-zone climb (profilegen.contact.dedoidal.TwoZoneClimb, the FS as the whole ring, the
+2. the two-zone climb (research.dedoidal.TwoZoneClimb, the FS as the whole ring, the
    FS/WG assembly free to translate, the cam floating) with no imperfection: must give the same;
 3. the eccentric mode's stiffness K (2 × 2, N/mm, dedoidal.n1_stiffness, ±1 µm) at every point
    of that path, its smallest eigenvalue, and the first torque where it reaches 0
@@ -98,7 +98,7 @@ def _path_table(model, path):
 
 
 def _scan(model, path, label):
-    from profilegen.contact.dedoidal import stability_limit
+    from research.dedoidal import stability_limit
 
     t0 = time.process_time()
     out = stability_limit(model, path, delta_mm=1e-3)
@@ -118,7 +118,7 @@ def _scan(model, path, label):
 def _fine(model, path, t0_nm, step_mrad, count):
     """The symmetric path again at fine rotation steps from its last point below ``t0_nm``."""
     from profilegen.contact.climb import _point, _solve_at
-    from profilegen.contact.dedoidal import _falling, n1_stiffness
+    from research.dedoidal import _falling, n1_stiffness
     from profilegen.errors import ConvergenceError
 
     start = [p for p in path.points if p.torque_nm < t0_nm][-1]
@@ -143,7 +143,7 @@ def run(path, args):
     from threadpoolctl import threadpool_limits
 
     from profilegen.contact.climb import climb
-    from profilegen.contact.dedoidal import TwoZoneClimb
+    from research.dedoidal import TwoZoneClimb
 
     gs = pg.load_gearset(path)
     cat = _catalogue(gs)

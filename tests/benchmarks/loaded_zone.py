@@ -6,7 +6,7 @@ For each gear set (default: the default set and seed000_csf40; design scene): th
 the rated torque (profilegen.contact.analysis.solve_contact, 5 stations, rigid balls, every
 ball a one-sided support at its no-load gap), per FS tooth of one zone its force, force-weighted pressure angle α = asin(n·e_r),
 contact position along the FS flank and its smallest no-load gap; the bands of loaded teeth;
-then the same torque with reliefs (profilegen.contact.loadzone.ProfileRelief: an FS tip
+then the same torque with reliefs (research.loadzone.ProfileRelief: an FS tip
 relief, and a wave-generator flattening near the major axis) on the same compliance: largest
 tooth force, teeth in contact, rotation and secant mesh stiffness. The no-load gaps are set
 against the CS arc-line-arc fit's own deviation from the exact envelope at each contact's CS
@@ -31,7 +31,7 @@ sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
 from profilegen.contact.analysis import solve_contact  # noqa: E402
-from profilegen.contact.loadzone import ProfileRelief, load_zone, relief_study  # noqa: E402
+from research.loadzone import ProfileRelief, load_zone, relief_study  # noqa: E402
 from profilegen.output.export import atomic_write  # noqa: E402
 
 SETS = [Path(pg.default_gearset_path()), ROOT / "profiles" / "seed000_csf40.toml"]

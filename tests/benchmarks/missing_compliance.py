@@ -14,15 +14,15 @@ set's values), then the rotation at T1 and T2 of two models of the whole gear �
   series parts — P1's model, built here from the package, not from P1's files' changes;
 
 and each candidate for the missing compliance, added to both: the CS ring's ovalisation
-(contact.cs_ring) as a free ring (the upper bound), on the bolted face joint's foundation
+(tests/oracles/cs_ring.py) as a free ring (the upper bound), on the bolted face joint's foundation
 (bolted_flange_foundation, ESTIMATES named in the output) and with a housing ring as thick as
 the CS ring (housing_ring_foundation); the bearing's radial internal clearance
-(contact.clearance: c_r/2 added to every ball outside the window; c_r from ISO 5753's deep
+(research/bearing_clearance.py: c_r/2 added to every ball outside the window; c_r from ISO 5753's deep
 groove groups for the bearing's estimated bore) — all + Hertz only (the window model has no
 ball outside the window); a thinner outer race than the 2.5 %-of-pitch-diameter ESTIMATE
 (``--race``: the section under the raceway groove; a sensitivity) — all + Hertz only; the race
 and rim bending across the face between the ball at mid-width and the face's ends
-(contact.race_flexure, strip model, in series with each ball's Hertz spring) — all + Hertz only;
+(research/race_flexure.py, strip model, in series with each ball's Hertz spring) — all + Hertz only;
 and, as sensitivities of ESTIMATES rather than missing parts, smaller balls and a looser groove,
 and a cup thinner than the seed's (wall below the tooth ring and bottom at 0.6 of the rim
 thickness: a series term, both models). Printed: K1, K2 and the secants T/φ at T1 and T2 (the catalogue's
@@ -53,12 +53,12 @@ import profilegen as pg  # noqa: E402
 from profilegen.contact.analysis import solve_contact  # noqa: E402
 from profilegen.contact.catalogue import catalogue_row  # noqa: E402
 from profilegen.contact.chain import catalogue_size, compliance_chain, torsional_curve  # noqa: E402
-from profilegen.contact.clearance import clearance_ball_gaps_mm, iso5753_radial_clearance_um  # noqa: E402
+from research.bearing_clearance import clearance_ball_gaps_mm, iso5753_radial_clearance_um  # noqa: E402
 from profilegen.contact.compliance import ContactCompliance, default_race_thickness_mm  # noqa: E402
-from profilegen.contact.cs_ring import (  # noqa: E402
+from tests.oracles.cs_ring import (  # noqa: E402
     CSRing, bolted_flange_foundation, cs_ring_compliance, housing_ring_foundation)
 from profilegen.contact.inputs import ContactInput  # noqa: E402
-from profilegen.contact.race_flexure import race_axial_flexure_compliance_mm_per_n  # noqa: E402
+from research.race_flexure import race_axial_flexure_compliance_mm_per_n  # noqa: E402
 
 ARCSEC = 180 * 3600 / math.pi
 #: the bolted face joint (ESTIMATES: a CSF-40-class CS on 16 bolts M6–M8; a clamped joint's

@@ -36,7 +36,7 @@ test_unit_constants.py, test_sampling_grids.py, test_optimize_senses.py.)
     arcsec-is-arcmin                   contact/transmission.py    caught
     chain-arcmin-is-arcsec             contact/chain.py           caught
     analysis-arcmin-degrees            contact/analysis.py        caught
-    loadzone-arcmin                    contact/loadzone.py        caught
+    loadzone-arcmin                    research/loadzone.py       caught
     contact-torque-in-nm               contact/analysis.py        caught
     contact-stage-torque-in-nm         contact/analysis.py        caught
     face-load-torque-one-zone          contact/face_load.py       caught
@@ -46,13 +46,13 @@ test_unit_constants.py, test_sampling_grids.py, test_optimize_senses.py.)
     climb-positions-endpoint           contact/ratchet.py         caught
     face-slices-left-ends              contact/face_load.py       caught
     face-curve-ends-weight             contact/face_curve.py      caught
-    balls-endpoint-twice               contact/clearance.py       caught
+    balls-endpoint-twice               research/bearing_clearance.py caught
     ratchet-climb-section-swapped      contact/ratchet.py         caught
     ratchet-linear-section-swapped     contact/ratchet.py         caught
     ratchet-section-return-swapped     contact/ratchet.py         caught
     ring-inertia-swapped               contact/ratchet.py         caught
     ring-hoop-term                     contact/ratchet.py         caught
-    csring-inertia-swapped             contact/cs_ring.py         caught
+    csring-inertia-swapped             tests/oracles/cs_ring.py   caught
     ratchet-positions-max              contact/ratchet.py         caught
     ratchet-interpolation              contact/ratchet.py         caught
     ratchet-no-end-of-path-warning     contact/ratchet.py         caught
@@ -60,7 +60,7 @@ test_unit_constants.py, test_sampling_grids.py, test_optimize_senses.py.)
     ratchet-no-growth-warning          contact/ratchet.py         caught
     climb-no-cap-warning               contact/climb.py           caught
     climb-no-first-rotation-warning    contact/climb.py           caught
-    dedoidal-eccentricity-ignored      contact/dedoidal.py        caught
+    dedoidal-eccentricity-ignored      research/dedoidal.py       caught
     face-load-no-coning-warning        contact/face_load.py       caught
     cup-bore-load-endpoint             rim/cup/fourier.py         caught
     cup-nonlinear-samples-endpoint     rim/cup/nonlinear.py       caught
@@ -144,9 +144,9 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant("analysis-arcmin-degrees", "profilegen/contact/analysis.py",
            "ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi", "ARCMIN_PER_RAD = 180.0 / math.pi",
            (U + "test_unit_constants.py",), "unit constant: load-case rotations in degrees labelled arcmin"),
-    Mutant("loadzone-arcmin", "profilegen/contact/loadzone.py",
+    Mutant("loadzone-arcmin", "research/loadzone.py",
            "ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi", "ARCMIN_PER_RAD = 180.0 * 60.0 / 3.1416",
-           (U + "test_unit_constants.py",), "unit constant: a rounded π (1e-5 relative)"),
+           ("tests/research/test_loadzone.py",), "unit constant: a rounded π (1e-5 relative)"),
     Mutant("contact-torque-in-nm", "profilegen/contact/analysis.py",
            "sol = _SOLVERS[solver](s, points.theta_rad, points.lever_mm, torque / points.zones * 1e3)",
            "sol = _SOLVERS[solver](s, points.theta_rad, points.lever_mm, torque / points.zones)",
@@ -181,7 +181,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant("face-curve-ends-weight", "profilegen/contact/face_curve.py",
            "w[[0, -1]] = 0.5 * h", "w[[0, -1]] = h",
            (U + "test_sampling_grids.py", U + "test_face_curve.py"), "trapezoid's end nodes counted whole: Σw > b"),
-    Mutant("balls-endpoint-twice", "profilegen/contact/clearance.py",
+    Mutant("balls-endpoint-twice", "research/bearing_clearance.py",
            "psi = float(phase_rad) + 2.0 * math.pi * np.arange(z) / z",
            "psi = float(phase_rad) + 2.0 * math.pi * np.arange(z) / (z - 1)",
            (U + "test_sampling_grids.py",), "endpoint counted twice: the last ball on the first"),
@@ -204,7 +204,7 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant("ring-hoop-term", "profilegen/contact/ratchet.py",
            "return bending + r / (e * area) / (2.0 * math.pi)", "return bending + r / (e * area) / math.pi",
            (U + "test_ratchet_ring.py",), "the n = 0 (hoop) term doubled"),
-    Mutant("csring-inertia-swapped", "profilegen/contact/cs_ring.py",
+    Mutant("csring-inertia-swapped", "tests/oracles/cs_ring.py",
            "return self.width_mm * self.thickness_mm ** 3 / 12.0",
            "return self.thickness_mm * self.width_mm ** 3 / 12.0",
            (U + "test_ratchet_ring.py",), "swapped section in the CS ring module"),
@@ -233,9 +233,9 @@ MUTANTS: tuple[Mutant, ...] = (
     Mutant("climb-no-first-rotation-warning", "profilegen/contact/climb.py",
            'warnings.append(f"the first rotation already meets the {crit} criterion")', "pass",
            (U + "test_warnings_fire.py",), "a removed warning"),
-    Mutant("dedoidal-eccentricity-ignored", "profilegen/contact/dedoidal.py",
+    Mutant("dedoidal-eccentricity-ignored", "research/dedoidal.py",
            "        self._rest[:2] = ecc * np.array(", "        self._rest[:2] = 0.0 * np.array(",
-           (U + "test_dedoidal.py::test_eccentricity_is_the_cup_springs_load",),
+           ("tests/research/test_dedoidal.py::test_eccentricity_is_the_cup_springs_load",),
            "the eccentricity dropped (the old test compared two runs that could not differ)"),
     Mutant("face-load-no-coning-warning", "profilegen/contact/face_load.py",
            "if np.any(theta < 0.0):", "if np.any(theta < -1.0):",

@@ -2,7 +2,7 @@
 
     python tests/benchmarks/rim_checks.py
 
-* FEM → exact inextensible ring with partial wrap (rim.oracle) as δ/r_m → 0 (the case of
+* FEM → exact inextensible ring with partial wrap (tests/oracles/ring_on_cam.py) as δ/r_m → 0 (the case of
   tests/validation/test_rim_oracle.py), and the default set against its oracle;
 * the default set: bore and neutral-line ω(0) against w0, linear vs nonlinear, the pitch
   circle's υ, the design tier's Fourier fit;
@@ -22,7 +22,8 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
-from profilegen.rim import RingParameters, inextensible_ring_on_cam, solve_rim, solve_ring  # noqa: E402
+from profilegen.rim import RingParameters, solve_rim, solve_ring  # noqa: E402
+from tests.oracles.ring_on_cam import inextensible_ring_on_cam  # noqa: E402
 from profilegen.wavegen import EllipticalCam, ellipse_perimeter, from_gearset  # noqa: E402
 
 SEED_OMEGA = ([0.5272, 0.02677, 0.007596], [1.987, 5.965, 4.033], [1.611, 1.694, -9.533])

@@ -654,7 +654,8 @@ def contact_problem(rng, n: int, kappa: float):
 
 def run_contact(quick: bool) -> dict:
     import matplotlib.pyplot as plt
-    from profilegen.contact import ContactError, solve_lemke, solve_naive_lp, solve_qp_active_set
+    from profilegen.contact import ContactError, solve_lemke, solve_qp_active_set
+    from tests.oracles.naive_lp import solve_naive_lp
 
     sizes = [5, 20, 100] if quick else [2, 5, 10, 20, 50, 100, 200]
     kappas = [1e0, 1e4, 1e8, 1e11, 1e13] if quick else [1e0, 1e2, 1e4, 1e6, 1e8, 1e10, 1e11, 1e12, 1e13]
@@ -951,7 +952,7 @@ def run_rim(quick: bool) -> dict:
 
 def run_plate(quick: bool) -> dict:
     import matplotlib.pyplot as plt
-    from profilegen.stress.morley import model_verdict
+    from tests.oracles.morley import model_verdict
     from profilegen.stress.plate import SEED002_TABLE1, edge_displacement_from_ellipse, solve_plate
 
     P = SEED002_TABLE1

@@ -58,6 +58,7 @@ import inspect
 import logging
 import math
 import statistics
+import sys
 import time
 from functools import cached_property
 from pathlib import Path
@@ -67,6 +68,14 @@ import numpy as np
 __all__ = ["STAGES", "FIELDS", "stage_benchmark", "write_stage_benchmark", "format_stage_rows"]
 
 log = logging.getLogger(__name__)
+
+
+def _oracles_importable() -> None:
+    """The cross-check models live in the checkout's tests/oracles/ (not in the package): make
+    ``tests.oracles`` importable however this file was loaded (``profilegen bench`` loads it by path)."""
+    root = str(Path(__file__).resolve().parents[2])
+    if root not in sys.path:
+        sys.path.append(root)
 
 STAGES = ("rim", "fit", "envelope", "arcfit", "contact", "stress")
 #: the columns of ``stages.csv`` (every row has them all)
@@ -624,7 +633,8 @@ def _contact(inp: _Inputs, repeats: int) -> list[dict]:
     from profilegen.contact import ContactInput
     from profilegen.contact.analysis import solve_contact
     from profilegen.contact.compliance import ContactCompliance
-    from profilegen.contact.solvers import solve_naive_lp
+    _oracles_importable()
+    from tests.oracles.naive_lp import solve_naive_lp
     from profilegen.errors import ProfilegenError
 
     d = inp.design
@@ -704,7 +714,8 @@ def _contact(inp: _Inputs, repeats: int) -> list[dict]:
 
 def _stress(inp: _Inputs, repeats: int) -> list[dict]:
     from profilegen.stress import solve_stress
-    from profilegen.stress.morley import clamp_sigma_r_mpa, richardson, solve_morley
+    _oracles_importable()
+    from tests.oracles.morley import clamp_sigma_r_mpa, richardson, solve_morley
     from profilegen.stress.plate import cup_bottom_stress
 
     inp.step("stress: the design scene's cup-bottom edge")

@@ -31,7 +31,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from profilegen.stress.morley import clamp_sigma_r_mpa, compare_with_field, richardson, solve_morley  # noqa: E402
+from tests.oracles.morley import clamp_sigma_r_mpa, compare_with_field, richardson, solve_morley  # noqa: E402
 from profilegen.stress.plate import (SEED002_TABLE1, cup_bottom_stress, edge_displacement_from_ellipse,  # noqa: E402
                                      solve_plate)
 

@@ -32,7 +32,7 @@ sys.path.insert(0, str(ROOT))
 
 from profilegen.stress import diaphragm as dg  # noqa: E402
 from profilegen.stress import tooth_ring as tr  # noqa: E402
-from profilegen.stress.morley import solve_morley  # noqa: E402
+from tests.oracles.morley import solve_morley  # noqa: E402
 from profilegen.stress.plate import (SEED002_TABLE1, cup_bottom_stress, edge_displacement,  # noqa: E402
                                      edge_displacement_from_ellipse)
 from tests.validation.test_stress_diaphragm import SAMPLE as DIAPHRAGM_SAMPLE  # noqa: E402

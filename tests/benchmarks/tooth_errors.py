@@ -5,7 +5,7 @@
 For the gear set (default seed000_csf40; design scene, no contact or stress in the design run):
 torsional_curve at ±T1, T2 of the catalogue row for its size and ratio (every ball one-sided,
 Hertz springs, the series parts of the chain), then both engagement zones as one problem
-(profilegen.contact.tooth_errors.TwoZoneContact) in two models:
+(research.tooth_errors.TwoZoneContact) in two models:
 
 * **one flank** (the right flank alone: the other flank never touches — a gear with a backlash
   allowance larger than its deviations); the curve's zero is the deviated gear's first contact
@@ -46,7 +46,7 @@ import profilegen as pg  # noqa: E402
 from profilegen.contact.chain import ARCMIN_PER_RAD as ARCMIN, catalogue_for, torsional_curve  # noqa: E402
 from profilegen.contact.compliance import ContactCompliance  # noqa: E402
 from profilegen.contact.inputs import ContactInput  # noqa: E402
-from profilegen.contact.tooth_errors import (TwoZoneContact, draw_deviations, eccentricity_offsets_rad,  # noqa: E402
+from research.tooth_errors import (TwoZoneContact, draw_deviations, eccentricity_offsets_rad,  # noqa: E402
                                              iso1328_tolerances_um)
 
 

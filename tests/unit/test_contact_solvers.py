@@ -13,10 +13,10 @@ from profilegen.contact import (
     ContactError,
     ContactSolution,
     solve_lemke,
-    solve_naive_lp,
     solve_qp_active_set,
 )
 from profilegen.errors import ConvergenceError
+from tests.oracles.naive_lp import solve_naive_lp
 
 SOLVERS = [solve_lemke, solve_qp_active_set]
 

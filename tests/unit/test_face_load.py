@@ -171,7 +171,7 @@ def test_bad_input_is_named():
 def test_cs_ring_two_opposite_loads_match_roark():
     # Roark, thin circular ring, two equal opposite radial loads P: ΔD along them +0.1488 PR³/EI, across −0.1366;
     # the ring here is also extensible in hoop (n = 0): + U·R/(2π E A) on every radial term
-    from profilegen.contact.cs_ring import CSRing, CSRingError, cs_ring_compliance
+    from tests.oracles.cs_ring import CSRing, CSRingError, cs_ring_compliance
 
     ring = CSRing(50.0, 60.0, 10.0, 200000.0)
     r, ei = ring.radius_mm, ring.youngs_modulus_mpa * ring.second_moment_mm4
@@ -207,7 +207,7 @@ def test_catalogue_rows_are_the_sourced_ones_with_the_ratio_caveat():
 
 
 def test_cs_ring_of_a_gearset_root_section_is_stiffer_than_the_sector_part():
-    from profilegen.contact.cs_ring import CSRing, CSRingError
+    from tests.oracles.cs_ring import CSRing, CSRingError
     from profilegen.gearset import default_gearset_path, load_gearset
 
     gs = load_gearset(default_gearset_path())

@@ -17,7 +17,7 @@ import pytest
 
 from profilegen.errors import OptimizeSpecError
 from profilegen.optimize import Objective, Problem, Variable, pareto_front, search
-from profilegen.optimize.problems import zdt1, zdt1_front
+from tests.oracles.zdt1 import zdt1, zdt1_front
 from profilegen.sweep import _init_worker
 
 

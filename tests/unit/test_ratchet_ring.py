@@ -5,7 +5,7 @@ swapped in the ratcheting model moved the estimate by +55 % and no test failed).
   section's own dimensions: w = R/(2π E A) + (1/π) Σ_{n≥2} cos n(θ − θ_k) R³/(E I (n² − 1)²),
   A = b h, I = b h³/12 (b the width along the axis, h the radial thickness); its scaling:
   everything ∝ 1/b; the bending part ∝ h⁻³, the hoop part ∝ h⁻¹; and the same numbers from
-  the second implementation of the ring (contact.cs_ring, two zones, radial directions).
+  the second implementation of the ring (tests/oracles/cs_ring.py, two zones, radial directions).
 * CSRing's section properties from their definitions (I = b h³/12 with h = r_o − r_i).
 * The section the ratcheting model takes (ratchet._cs_ring_section) against the CS ring module's
   own estimate (CSRing.from_gearset: the root circle as r1 + addendum + w0 + 0.25 m, the face
@@ -26,7 +26,7 @@ import numpy as np
 import pytest
 
 from profilegen.contact import ratchet
-from profilegen.contact.cs_ring import CSRing, cs_ring_compliance
+from tests.oracles.cs_ring import CSRing, cs_ring_compliance
 from profilegen.contact.ratchet import cs_ring_radial_compliance
 
 R, H, B, E = 57.5, 13.0, 20.0, 206000.0

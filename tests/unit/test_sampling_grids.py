@@ -150,7 +150,7 @@ def test_face_curve_layouts_tile_the_face(n):
 def test_balls_at_phase_plus_2pi_i_over_z():
     """Each ball's load (δ cos ψ_i − c/2)^{3/2}/c_H^{3/2} at ψ_i = phase + 2πi/Z, no ball twice;
     with no clearance the sum F_r = Σ Q_i cos ψ_i."""
-    from profilegen.contact.clearance import radial_load_with_clearance_n
+    from research.bearing_clearance import radial_load_with_clearance_n
 
     z, ch, dr, c, phase = 9, 1e-3, 0.01, 0.004, 0.1
     fr, q = radial_load_with_clearance_n(dr, c, z, ch, phase_rad=phase)

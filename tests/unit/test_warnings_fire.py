@@ -34,7 +34,7 @@ import pytest
 
 from profilegen.contact import ratchet
 from profilegen.contact.climb import climb
-from profilegen.contact.dedoidal import TwoZoneClimb
+from research.dedoidal import TwoZoneClimb
 
 T = np.array([100.0, 200.0, 300.0, 400.0])
 OK = np.ones(4, bool)
@@ -109,7 +109,7 @@ def test_climb_outcome_warnings(monkeypatch, default_sketch, criterion, expect):
 
 # --------------------------------------------------------------------------- climb() on a hand model
 
-K, C0, R, SC = 1.0e4, 2.0e-5, 50.0, 0.02  # N/mm, mm/N, mm, mm (as tests/unit/test_dedoidal.py)
+K, C0, R, SC = 1.0e4, 2.0e-5, 50.0, 0.02  # N/mm, mm/N, mm, mm (as tests/research/test_dedoidal.py)
 
 
 class _Zone:

@@ -7,7 +7,8 @@ pull); DESIGN.md trap 4 (complementary pivoting, the naive LP fails).
 import numpy as np
 import pytest
 
-from profilegen.contact import ContactError, ContactInput, solve_lemke, solve_naive_lp, solve_qp_active_set
+from profilegen.contact import ContactError, ContactInput, solve_lemke, solve_qp_active_set
+from tests.oracles.naive_lp import solve_naive_lp
 from profilegen.contact.analysis import analyse_contact, solve_contact
 
 

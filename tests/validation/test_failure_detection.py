@@ -17,7 +17,7 @@ Sources:
 * DESIGN.md trap 7 (rim FEM): the contact (wrap) angle is ill-conditioned; a contact iteration
   that does not settle raises ConvergenceError.
 * DESIGN.md trap 5 / seed 002 (cup bottom): the seed002 variant is no plate solution; a Morley
-  FE plate decides (``stress.morley.model_verdict``).
+  FE plate decides (``tests/oracles/morley.py``, ``model_verdict``).
 
 The five failures the stability maps found undetected are fixed, each with its test here:
 the naive LP's negative residual, the sine series' strict Nyquist check, a bare KeyError in
@@ -36,7 +36,8 @@ import numpy as np
 import pytest
 
 import profilegen as pg
-from profilegen.contact import ContactError, solve_lemke, solve_naive_lp, solve_qp_active_set
+from profilegen.contact import ContactError, solve_lemke, solve_qp_active_set
+from tests.oracles.naive_lp import solve_naive_lp
 from profilegen.envelope import CONJUGATE, INTERFERING, TIP_PATH, envelope_of, swept_depth, tooth_curves, trace_meshing_roots
 from profilegen.errors import ConvergenceError, EnvelopeError, StressError, ToothError
 from profilegen.series import SeriesError, fit_fourier, fit_sine_series
@@ -397,7 +398,7 @@ def table1_edge():
 def test_seed002_variant_is_rejected_by_the_morley_verdict(table1_edge):
     """Seed 002 Table 1 (r0/r_m = 0.49): the Morley FE plate agrees with the consistent model and
     puts the seed002 variant's clamp stress ~19 % high (coarse meshes suffice here)."""
-    from profilegen.stress.morley import model_verdict
+    from tests.oracles.morley import model_verdict
 
     v = model_verdict(table1_edge, radial_divisions=(8, 16))
     assert v["supports"] == "consistent"
@@ -424,7 +425,7 @@ def test_seed002_variant_violates_the_free_edge_condition(table1_edge):
 
 
 def test_plate_bad_geometry_is_a_named_error(table1_edge):
-    from profilegen.stress.morley import solve_morley
+    from tests.oracles.morley import solve_morley
     from profilegen.stress.plate import SEED002_TABLE1 as P, cup_bottom_stress, edge_displacement
 
     with pytest.raises(StressError, match=r"boss_radius_mm") as info:
@@ -440,7 +441,7 @@ def test_plate_bad_geometry_is_a_named_error(table1_edge):
 
 def test_morley_verdict_flags_an_unresolved_boss(table1_edge):
     # Found by the stability map (82 % off with no warning); the verdict now checks its Richardson step.
-    from profilegen.stress.morley import model_verdict
+    from tests.oracles.morley import model_verdict
     from profilegen.stress.plate import SEED002_TABLE1 as P
 
     v = model_verdict(table1_edge, boss_radius_mm=0.02 * P["mean_radius_mm"])

@@ -1,4 +1,4 @@
-"""Ring-theory oracle (profilegen.rim.oracle) and the ring FEM's convergence to it.
+"""Ring-theory oracle (tests/oracles/ring_on_cam.py) and the ring FEM's convergence to it.
 
 Source: classical linear theory of thin inextensible circular rings — Timoshenko & Gere,
 *Theory of Elastic Stability* (2nd ed., 1961), §7.1 (ring equation EI/R⁴(ω⁗ + 2ω″ + ω) = load,
@@ -17,12 +17,12 @@ from scipy.optimize import brentq
 
 from profilegen.gearset import default_gearset_path, load_gearset
 from profilegen.rim import RingError, RingParameters, solve_ring
-from profilegen.rim.oracle import (
+from profilegen.wavegen import CosineCam, EllipticalCam, ellipse_perimeter, from_gearset
+from tests.oracles.ring_on_cam import (
     InadmissibleContactError,
     full_wrap_on_cam,
     inextensible_ring_on_cam,
 )
-from profilegen.wavegen import CosineCam, EllipticalCam, ellipse_perimeter, from_gearset
 
 
 @pytest.fixture(scope="module")

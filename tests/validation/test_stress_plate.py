@@ -295,7 +295,7 @@ def test_morley_converges_to_the_consistent_model_at_rate_two():
     W₄ cos 4φ: vertex deflection, strain energy, clamp moment M_r(r0, φ) (from the reactions)
     and max clamp stress O(h²) (observed 1.9–2.0), curvatures O(h) in L²; on the 32-division
     mesh all within 0.5 % (its solve time is in ``tests/benchmarks/stress_speed.py``)."""
-    from profilegen.stress.morley import morley_convergence
+    from tests.oracles.morley import morley_convergence
 
     edge = edge_displacement({2: 0.35, 4: 0.02}, mean_radius_mm=RM, length_mm=L)
     rows = morley_convergence(edge, radial_divisions=(8, 16, 32), **PLATE)
@@ -310,7 +310,7 @@ def test_morley_converges_to_the_consistent_model_at_rate_two():
 def test_morley_decides_for_the_consistent_model():
     """Same plate, same edge (Table 1 ellipse): Morley (Richardson over h, 2h) matches the
     consistent model's max clamp stress to < 0.1 %; the seed002 variant is 19 % high."""
-    from profilegen.stress.morley import model_verdict
+    from tests.oracles.morley import model_verdict
 
     verdict = model_verdict()
     assert verdict["supports"] == "consistent"
@@ -345,7 +345,7 @@ def test_bad_edge_input_names_the_parameter(name, value):
 
 
 def test_bad_morley_input_names_the_parameter(ellipse_edge):
-    from profilegen.stress.morley import solve_morley
+    from tests.oracles.morley import solve_morley
 
     odd = edge_displacement({3: 0.1}, mean_radius_mm=RM, length_mm=L)
     with pytest.raises(StressError, match="edge"):

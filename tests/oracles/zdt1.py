@@ -18,7 +18,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 
-from ..errors import ProfilegenError
+from profilegen.errors import ProfilegenError
 
 __all__ = ["AnalyticProblemError", "zdt1", "zdt1_front"]
 

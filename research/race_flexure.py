@@ -1,5 +1,5 @@
 """The bearing's outer race and the rim bending across the face between a ball and the face's
-ends: a candidate for the compliance the whole-gear model leaves out (issue 16).
+ends: a candidate for the compliance the whole-gear model leaves out (research/README.md).
 
 The contact model is a plane-stress slice (:mod:`profilegen.contact.compliance`): a ball is a
 radial support along the whole face width b, and the tooth load is spread evenly across b
@@ -27,8 +27,8 @@ from __future__ import annotations
 import math
 from functools import partial
 
-from .. import checks
-from ..errors import ProfilegenError
+from profilegen import checks
+from profilegen.errors import ProfilegenError
 
 __all__ = ["RaceFlexureError", "race_axial_flexure_compliance_mm_per_n"]
 

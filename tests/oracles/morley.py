@@ -1,4 +1,4 @@
-"""Morley finite-element check of the cup-bottom plate (seed 002; DESIGN.md trap 5).
+"""Morley finite-element check of the cup-bottom plate (seed 002; docs/theory/stresses.md).
 
 The same annular Kirchhoff plate as :mod:`profilegen.stress.plate` — r0 ≤ r ≤ r_m, clamped on
 the boss (w = ∂w/∂n = 0 at r0), w = w(φ) prescribed at r_m and nothing else there — solved
@@ -32,9 +32,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ConvergenceError, StressError
-from ..results import json_ready, readonly
-from .plate import (EdgeDisplacement, PlateField, SEED002_TABLE1, _count, _poisson, _positive, _radii,
+from profilegen.errors import ConvergenceError, StressError
+from profilegen.results import json_ready, readonly
+from profilegen.stress.plate import (EdgeDisplacement, PlateField, SEED002_TABLE1, _count, _poisson, _positive, _radii,
                     edge_displacement_from_ellipse, solve_plate)
 
 __all__ = ["MorleyPlate", "compare_with_field", "model_verdict", "morley_convergence", "solve_morley"]

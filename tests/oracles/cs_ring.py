@@ -56,9 +56,9 @@ from functools import partial
 
 import numpy as np
 
-from .. import checks
-from ..errors import ProfilegenError
-from ..results import json_ready
+from profilegen import checks
+from profilegen.errors import ProfilegenError
+from profilegen.results import json_ready
 
 __all__ = ["CSRing", "CSRingError", "bolted_flange_foundation", "cs_ring_compliance", "housing_ring_foundation"]
 
@@ -115,7 +115,7 @@ class CSRing:
         (the contact's CS sector models the teeth and the ring locally, not the ring's global
         bending); "sector" — only the ring outside the contact model's sector edge (1.1 × the
         CS pitch radius): about 4× softer in bending (h³), the upper bound."""
-        from .chain import _cs_held_radius  # the chain's own estimate of where the CS is held
+        from profilegen.contact.chain import _cs_held_radius  # the chain's own estimate of where the CS is held
 
         checks.choice("inner", inner, ("root", "sector"), error=CSRingError)
         g = gearset.gear

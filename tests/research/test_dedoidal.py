@@ -1,4 +1,4 @@
-"""The two-zone (dedoidal, n = 1) climb (profilegen.contact.dedoidal, issue 16 item 4).
+"""The two-zone (dedoidal, n = 1) climb (research.dedoidal, issue 16 item 4).
 
 * By hand: two zones as nonlinear radial springs on a floating body. Each zone one radial
   contact on a radial spring k, the contact's own compliance c₀, its gap G(s) − rφ with
@@ -25,7 +25,7 @@ import pytest
 from scipy.optimize import brentq
 
 from profilegen.contact.climb import climb
-from profilegen.contact.dedoidal import DedoidalError, TwoZoneClimb, n1_stiffness, stability_limit
+from research.dedoidal import DedoidalError, TwoZoneClimb, n1_stiffness, stability_limit
 
 K, C0, R, SC = 1.0e4, 2.0e-5, 50.0, 0.02  # N/mm, mm/N, mm, mm
 

@@ -1,4 +1,4 @@
-"""The loaded zone and profile relief (profilegen.contact.loadzone).
+"""The loaded zone and profile relief (research.loadzone).
 
 On the default set's sketch design at the rated torque: the per-tooth forces add up to the
 solver's and balance the zone's torque (Σ r_k F_k = T/U), the bands partition the loaded
@@ -17,7 +17,7 @@ import numpy as np
 import pytest
 
 from profilegen.contact.analysis import solve_contact
-from profilegen.contact.loadzone import LoadZoneError, ProfileRelief, load_zone, pressure_angle_rad, relief_study
+from research.loadzone import ARCMIN_PER_RAD, LoadZoneError, ProfileRelief, load_zone, pressure_angle_rad, relief_study
 
 
 # one xdist worker runs the whole module (pyproject: --dist loadgroup): its module fixtures would
@@ -101,3 +101,8 @@ def test_bad_relief_input():
     with pytest.raises(LoadZoneError, match="kind"):
         ProfileRelief(kind="root")
     assert math.isclose(ProfileRelief(depth_mm=0.5).depth_mm, 0.5)
+
+
+def test_arcmin_constant_is_its_definition():
+    # 1′ = 1°/60 = π/10800 rad (SI Brochure, 9th ed., table 4)
+    assert ARCMIN_PER_RAD == pytest.approx(10800.0 / math.pi, rel=1e-15)

@@ -1,5 +1,5 @@
 """Dedoidal ratcheting: both engagement zones in one climb, the FS and wave generator free to
-go off-centre in the CS (the eccentric, n = 1 mode; issue 16 item 4).
+go off-centre in the CS (the eccentric, n = 1 mode).
 
 The one-zone climb (:mod:`profilegen.contact.climb`) is symmetric in the two zones: each load
 stands for itself and its image, so the FS can only ovalise, never shift. In a gear the wave
@@ -15,7 +15,7 @@ Model (:class:`TwoZoneClimb`, a model for :func:`profilegen.contact.climb.climb`
   Zone 2 is zone 1 turned by π (FS tooth i + z1/2 in CS space i + z2/2): the same geometry in
   its own frame, with its own retreats s₂.
 * **Both zones in one complementarity problem, sharing φ**: the compliance is the FS as the
-  whole ring (:class:`~profilegen.contact.tooth_errors.TwoZoneContact`'s full-ring build for
+  whole ring (:class:`~research.tooth_errors.TwoZoneContact`'s full-ring build for
   the climb's stations, the corners' tip-land columns and the tip-land probes of both zones),
   every ball of both zones a one-sided support at its no-load gap (an LCP unknown, not settled
   by a loop), the Hertz ball springs by the climb's lagged secant, each zone's CS sector, and
@@ -80,8 +80,8 @@ from types import SimpleNamespace
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
-from ..errors import ConvergenceError, ProfilegenError
-from .climb import solve_lcp
+from profilegen.errors import ConvergenceError, ProfilegenError
+from profilegen.contact.climb import solve_lcp
 
 __all__ = ["DedoidalError", "TwoZoneClimb", "TwoZoneState", "n1_stiffness", "stability_limit"]
 
@@ -204,14 +204,14 @@ class TwoZoneClimb:
         """The two-zone climb of a design: ``zone`` its one-zone :class:`~profilegen.contact.
         climb.DesignClimb` (built with ``shift_rad`` = 0; its stations, corners and probes are
         both zones'; zone 2 is its copy, the same geometry in its own frame), the FS as the whole
-        ring (:class:`~profilegen.contact.tooth_errors.TwoZoneContact`'s build for those
+        ring (:class:`~research.tooth_errors.TwoZoneContact`'s build for those
         columns, every ball one-sided at its no-load gap), ``ring`` = (mean radius, radial
         thickness, width) of the free CS ring in mm (None: no ring; × ``ring_scale``)."""
-        from ..kinematics import turn
-        from .climb import tooth_probes
-        from .compliance import ContactCompliance
-        from .ratchet import cs_ring_radial_compliance
-        from .tooth_errors import TwoZoneContact
+        from profilegen.kinematics import turn
+        from profilegen.contact.climb import tooth_probes
+        from profilegen.contact.compliance import ContactCompliance
+        from profilegen.contact.ratchet import cs_ring_radial_compliance
+        from research.tooth_errors import TwoZoneContact
 
         if getattr(zone, "_ci", None) is None or not hasattr(zone, "points"):
             raise DedoidalError(f"zone = {zone!r}: must be a profilegen.contact.climb.DesignClimb")
@@ -381,7 +381,7 @@ class TwoZoneClimb:
         return x, sol[kp:]
 
     def _active_set(self, m_mat, q, df, k, rest, load, loaded):
-        from .solvers import active_set_loop
+        from research.tooth_errors import active_set_loop
 
         tol = 1e-12 * (float(np.max(np.abs(q))) or 1.0)
 
@@ -444,7 +444,7 @@ def n1_stiffness(model: TwoZoneClimb, point, *, delta_mm: float = 1e-3, tol_mm: 
     Anderson iteration to ``tol_mm``; ×10, ×100 if it does not settle), and
     K[:, j] = −Δ(Σ contact loads on the FS)/(2δ) — the cup's spring not included. The path
     is stable against going off-centre while K + k_c·I has no eigenvalue ≤ 0."""
-    from .climb import _solve_at
+    from profilegen.contact.climb import _solve_at
 
     delta = _positive("delta_mm", delta_mm, "mm")
     k = np.zeros((2, 2))
@@ -474,7 +474,7 @@ def n1_stiffness(model: TwoZoneClimb, point, *, delta_mm: float = 1e-3, tol_mm: 
 def _falling(model, point, *, tol_mm: float, max_iterations: int, fraction: float = 1e-3) -> bool:
     """Whether ``point`` lies on a stretch where T(φ) falls: the path solved again a little
     before it (φ (1 − ``fraction``), from the point's state) carries more torque."""
-    from .climb import _point, _solve_at
+    from profilegen.contact.climb import _point, _solve_at
 
     phi = point.phi_rad * (1.0 - fraction)
     state = copy.copy(point.state)

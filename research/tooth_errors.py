@@ -1,5 +1,5 @@
 """Tooth deviations and assembly eccentricity in the loaded contact: a candidate for the
-compliance the whole-gear model misses against the catalogue (issue 16).
+compliance the whole-gear model misses against the catalogue (research/README.md).
 
 The contact model is a perfect gear: every pitch exact, CS and wave generator concentric, so
 both engagement zones are images of each other and the one-zone model (the FS as a
@@ -30,7 +30,7 @@ Model
   Lemke's method (:func:`~profilegen.contact.compliance._lemke_lcp`, t = t⁺ − t⁻) when the
   active set cycles. The Hertz ball springs: the chain's secant fixed point
   (:class:`~profilegen.contact.chain._SpringIteration`). With no deviations the two zones
-  carry T/2 each and reproduce the one-zone model (tests/unit/test_tooth_errors.py).
+  carry T/2 each and reproduce the one-zone model (tests/research/test_tooth_errors.py).
 * **One flank or both.** Given one flank's points, the other flank never touches (a gear
   whose backlash allowance exceeds its deviations); the curve's zero is the rigid gear's
   first contact (:meth:`TwoZoneContact.first_contact_rad`). Given both flanks (a sequence of
@@ -78,12 +78,38 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sp
 
-from ..blas import one_blas_thread
-from ..errors import ConvergenceError, ProfilegenError
+from profilegen.blas import one_blas_thread
+from profilegen.errors import ConvergenceError, ProfilegenError
 
 __all__ = ["ToothErrorError", "TwoZoneContact", "TwoZoneSolution", "draw_deviations", "eccentricity_offsets_rad",
-           "iso1328_tolerances_um"]
+           "iso1328_tolerances_um", "active_set_loop"]
 
+
+def active_set_loop(loaded, solve, *, max_iter: int):
+    """The primal–dual active-set rule for an LCP with bordered equality unknowns (the whole-ring
+    contact of :class:`TwoZoneContact` and the two-zone climb of :mod:`research.dedoidal`):
+    ``solve(p)`` solves the system with the loads ``p`` (indices) active and the others zero →
+    (x, w, tol, extra) — the loads, the gaps, the gap tolerance and whatever else the caller
+    needs; a load stays active while x > 0 and an inactive one joins where w < −tol. Returns
+    (x, w, loaded, extra) once the set repeats itself, or None when a set recurs (cycling), the
+    system is singular, or ``max_iter`` sets have been tried — the caller then falls back to a
+    pivoting method."""
+    seen = set()
+    loaded = np.array(loaded, dtype=bool)
+    for _ in range(max_iter):
+        key = loaded.tobytes()
+        if key in seen:
+            return None
+        seen.add(key)
+        try:
+            x, w, tol, extra = solve(np.flatnonzero(loaded))
+        except np.linalg.LinAlgError:
+            return None
+        new = (loaded & (x > 0.0)) | (~loaded & (w < -tol))
+        if np.array_equal(new, loaded):
+            return x, w, loaded, extra
+        loaded = new
+    return None
 
 class ToothErrorError(ProfilegenError, ValueError):
     """Bad input to the tooth-deviation study (names the field, its value and range)."""
@@ -223,9 +249,9 @@ class TwoZoneContact:
 
     def __init__(self, inputs, points, compliance, *, race_thickness_mm: float | None = None, per_pitch: int = 14,
                  rim_layers: int = 2, tooth_layers: int = 4, race_layers: int = 2):
-        from ..kinematics import turn
-        from ..rim.toothed import toothed_half_ring_race_mesh
-        from . import compliance as cm
+        from profilegen.kinematics import turn
+        from profilegen.rim.toothed import toothed_half_ring_race_mesh
+        from profilegen.contact import compliance as cm
 
         if compliance.ball_supports != "all":
             raise ToothErrorError(f"compliance.ball_supports = {compliance.ball_supports!r}: must be 'all' (every "
@@ -369,7 +395,7 @@ class TwoZoneContact:
         free to translate radially, as on an Oldham coupling: a second translation c, the
         balls' gaps h − e_r·c, Σ R e_r = 0 on the cam; so the teeth's resultant vanishes too).
         ``translation_mm``: t, or (t, c) when floating."""
-        from .chain import _SpringIteration
+        from profilegen.contact.chain import _SpringIteration
 
         t = float(torque_nm)
         two_flanks = len(self.flanks) > 1
@@ -463,7 +489,6 @@ class TwoZoneContact:
         return x, phi, t, w
 
     def _active_set(self, ms, qs, as_, dmat, loaded):
-        from .solvers import active_set_loop
 
         def solve(p):
             x, phi, t, w = self._kkt(ms, qs, as_, dmat, p)
@@ -478,7 +503,7 @@ class TwoZoneContact:
 
     def _lemke(self, ms, qs, as_, dmat):
         """Lemke on (x, ψ = φ − θ̂_min, t⁺, t⁻); the final loaded set re-solved by :meth:`_kkt`."""
-        from .compliance import _lemke_lcp
+        from profilegen.contact.compliance import _lemke_lcp
 
         m = qs.size
         n = self.n

@@ -5,7 +5,7 @@ Stability*, §7.1–7.2; Timoshenko & Goodier / Roark's ring formulas; the inext
 assumption of harmonic-drive theory, seed 004's ω = w0 cos 2φ), solved as a unilateral
 contact (obstacle) problem on a rigid wave-generator contour (:mod:`profilegen.wavegen`).
 
-Notation (DESIGN.md): R = r_m the neutral radius, δ the rim thickness, r_b = R − δ/2 the
+Notation (docs/reference/conventions.md): R = r_m the neutral radius, δ the rim thickness, r_b = R − δ/2 the
 bore, EI = Eδ³/12 the bending stiffness per mm of face width (plane stress, as the FEM),
 U the wave count, φ from the major axis, ω radial (outward +), υ tangential (+ toward
 increasing φ), ′ = d/dφ, L = d²/dφ² + 1.
@@ -45,7 +45,7 @@ mean(ρ − r_b) = −mean(ρ′²/2ρ) ≈ −w0²/R, and the linear kinematics
 on the default set α ≈ 30.9° (first_order) and 37.7° (exact_gap; the FEM gives 38.0°). A
 geometrically exact inextensible ring cannot lift off a contour of equal perimeter at all
 (an enclosing closed curve of the same length coincides with it): the partial wrap of the
-linear models is an artefact of their kinematics, µm in size (DESIGN.md trap 7: the gap of
+linear models is an artefact of their kinematics, µm in size (docs/theory/rim.md: the gap of
 the free part, and the ~7 µm effect of geometric nonlinearity). Because the free span
 2(P/2 − α) grows like (mismatch/w0)^(1/7), α moves by degrees per µm of mean radius;
 :attr:`OracleResult.wrap_sensitivity_deg_per_um` reports it.
@@ -72,10 +72,10 @@ from functools import partial
 
 import numpy as np
 
-from .. import checks
-from ..errors import ConvergenceError, ProfilegenError
-from .ring import WRAP_WARNING, RingError
-from ..results import readonly as _readonly
+from profilegen import checks
+from profilegen.errors import ConvergenceError, ProfilegenError
+from profilegen.rim.ring import WRAP_WARNING, RingError
+from profilegen.results import readonly as _readonly
 
 __all__ = [
     "InadmissibleContactError",

@@ -42,9 +42,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import checks
-from ..errors import ProfilegenError
-from ..results import json_ready, readonly as _readonly
+from profilegen import checks
+from profilegen.errors import ProfilegenError
+from profilegen.results import json_ready, readonly as _readonly
 
 __all__ = ["LoadZone", "LoadZoneError", "ProfileRelief", "ReliefStudy", "load_zone", "relief_study"]
 
@@ -159,7 +159,7 @@ def load_zone(case, points, *, teeth_total: int | None = None) -> LoadZone:
     """The load pattern of one :class:`~profilegen.contact.analysis.LoadCase` (``result.cases[i]``)
     on its ``points`` (``result.points``). ``teeth_total``: z1 (default 2·U·the zone's
     half-width, i.e. the points' zone size)."""
-    from .analysis import LoadCase
+    from profilegen.contact.analysis import LoadCase
 
     if not isinstance(case, LoadCase):
         raise LoadZoneError(f"case: must be a LoadCase (result.cases[i]), got {type(case).__name__}")
@@ -273,8 +273,8 @@ def relief_study(design, torque_nm: float, reliefs, *, result=None, stations: in
     :func:`~profilegen.contact.analysis.solve_contact` result to take them from). The relieved
     solves are the package's :func:`~profilegen.contact.analysis.solve_contact` with the
     relieved points (ball settling included; rigid balls)."""
-    from .analysis import solve_contact
-    from .inputs import ContactInput
+    from profilegen.contact.analysis import solve_contact
+    from profilegen.contact.inputs import ContactInput
 
     torque = checks.number("torque_nm", torque_nm, "N·m", error=LoadZoneError)
     if not (math.isfinite(torque) and torque > 0.0):

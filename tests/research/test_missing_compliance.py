@@ -10,9 +10,9 @@ import numpy as np
 import pytest
 
 from profilegen.contact.catalogue import CatalogueError, catalogue_row
-from profilegen.contact.clearance import (
+from research.bearing_clearance import (
     ClearanceError, clearance_ball_gaps_mm, iso5753_radial_clearance_um, radial_load_with_clearance_n)
-from profilegen.contact.cs_ring import (
+from tests.oracles.cs_ring import (
     CSRing, CSRingError, bolted_flange_foundation, cs_ring_compliance, housing_ring_foundation)
 
 E = 2.0e5
@@ -108,7 +108,7 @@ def test_catalogue_rows_for_ratio_80_and_above_are_stiffer_and_sourced():
 def test_race_axial_flexure_is_two_cantilevers_under_an_even_load():
     """c_ax = b³/(320 EI): the load-weighted mean deflection of a beam of length b under an
     even load Q/b held at mid-length, by integrating M/EI twice (trapezoids), divided by Q."""
-    from profilegen.contact.race_flexure import RaceFlexureError, race_axial_flexure_compliance_mm_per_n
+    from research.race_flexure import RaceFlexureError, race_axial_flexure_compliance_mm_per_n
 
     b, s, hr, hf, nu = 20.0, 12.7, 2.5, 1.45, 0.3
     ei = E / (1 - nu * nu) * s * (hr ** 3 + hf ** 3) / 12.0
@@ -131,7 +131,7 @@ def test_clearance_and_housing_enter_the_contact_as_the_chain_would_take_them():
     import profilegen as pg
     from profilegen.contact import ContactInput, contact_points
     from profilegen.contact.analysis import solve_contact
-    from profilegen.contact.clearance import with_clearance_and_housing
+    from research.bearing_clearance import with_clearance_and_housing
     from profilegen.contact.compliance import ContactCompliance
 
     gs = pg.load_gearset(pg.default_gearset_path())

@@ -1,4 +1,4 @@
-"""Tooth deviations and eccentricity in the loaded contact (profilegen.contact.tooth_errors,
+"""Tooth deviations and eccentricity in the loaded contact (research.tooth_errors,
 issue 16): both zones as one problem on the FS's whole ring.
 
 * zero deviations: each zone carries T/2 (found by the whole gear's balance, not imposed) and
@@ -23,7 +23,7 @@ import pytest
 from profilegen.contact.chain import compliance_chain, torsional_curve
 from profilegen.contact.compliance import ContactCompliance
 from profilegen.contact.inputs import ContactInput
-from profilegen.contact.tooth_errors import (ToothErrorError, TwoZoneContact, draw_deviations,
+from research.tooth_errors import (ToothErrorError, TwoZoneContact, draw_deviations,
                                              eccentricity_offsets_rad, iso1328_tolerances_um)
 
 T1, T2 = 54.0, 196.0

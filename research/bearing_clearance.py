@@ -1,5 +1,5 @@
 """The wave-generator bearing's radial internal clearance: a candidate for the compliance the
-whole-gear model leaves out (issue 16).
+whole-gear model leaves out (research/README.md).
 
 The contact model (:mod:`profilegen.contact.compliance`) supports the rim on the balls at
 their no-load gaps — 0 within the no-load contact angle (the rim pressed on the cam), the
@@ -30,8 +30,8 @@ from functools import partial
 
 import numpy as np
 
-from .. import checks
-from ..errors import ProfilegenError
+from profilegen import checks
+from profilegen.errors import ProfilegenError
 
 __all__ = ["ClearanceError", "ISO5753_DEEP_GROOVE_UM", "clearance_ball_gaps_mm", "iso5753_radial_clearance_um",
            "radial_load_with_clearance_n", "with_clearance_and_housing"]
@@ -96,14 +96,14 @@ def radial_load_with_clearance_n(radial_displacement_mm, radial_clearance_mm: fl
 
 def with_clearance_and_housing(compliance, points, gearset, *, radial_clearance_mm: float = 0.0,
                                cs_ring=None):
-    """The contact compliance with the two candidates this module and :mod:`~profilegen.contact.
+    """The contact compliance with the two candidates this module and :mod:`~tests.oracles.
     cs_ring` measure, as the chain would take them (docs/catalogue_comparison.md):
 
     * ``radial_clearance_mm`` c_r: every ball outside the window c_r/2 further away
       (:func:`clearance_ball_gaps_mm` on ``compliance.ball_gap_mm``) — only with every ball a
       one-sided support (``ball_supports="all"``; the window has no ball outside it: a
       ClearanceError if c_r > 0 there);
-    * ``cs_ring``: a :class:`~profilegen.contact.cs_ring.CSRing` (e.g. ``CSRing.from_gearset(gs)
+    * ``cs_ring``: a :class:`~tests.oracles.cs_ring.CSRing` (e.g. ``CSRing.from_gearset(gs)
       .held(k)``) whose ovalisation compliance at the contact points is added to the CS block
       (parallel to the contact's CS sector), or None.
 
@@ -112,7 +112,7 @@ def with_clearance_and_housing(compliance, points, gearset, *, radial_clearance_
     compliance (the matrix reassembled with the same active balls)."""
     import dataclasses
 
-    from .cs_ring import CSRing, cs_ring_compliance
+    from tests.oracles.cs_ring import CSRing, cs_ring_compliance
 
     del gearset
     c = _positive("radial_clearance_mm", radial_clearance_mm, allow_zero=True)
