@@ -379,6 +379,13 @@ def _cmd_profiles(args) -> int:
     return 0
 
 
+def _cmd_app(args) -> int:
+    """The local web workbench (profilegen.app): serves until Ctrl-C."""
+    from .app import serve
+
+    return serve(_load(args.gearset), workspace=args.workspace, scene=args.scene, host=args.host, port=args.port)
+
+
 def _cmd_bench(args) -> int:
     import time
 
@@ -483,6 +490,15 @@ def _parser() -> argparse.ArgumentParser:
     op.add_argument("--out", metavar="DIR", help="output folder (default: export/optimize/<name>/)")
     op.add_argument("-q", "--quiet", action="store_true", help="print nothing on success")
     op.set_defaults(func=_cmd_optimize)
+    a = sub.add_parser("app", help="a local web workbench: change a field, see the profile, its fit and its verdict "
+                                   "(docs/guides/app.md)")
+    a.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")
+    a.add_argument("--workspace", default=".", metavar="DIR", help="the only folder the app loads, saves and exports "
+                   "in (default: the current folder)")
+    a.add_argument("--scene", choices=["sketch", "design", "verify"], help="the scene to start in (default: the gear set's)")
+    a.add_argument("--host", default="127.0.0.1", help="address to listen on (default 127.0.0.1: this machine only)")
+    a.add_argument("--port", type=int, default=8050, help="port (default 8050; 0: any free port)")
+    a.set_defaults(func=_cmd_app)
     b = sub.add_parser("bench", help="speed against accuracy: the whole pipeline per scene, then every stage and tier "
                                      "against a converged reference (from a source checkout: the benchmarks are its "
                                      "tests/benchmarks/)")

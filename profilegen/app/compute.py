@@ -1,0 +1,26 @@
+"""The app's one way to compute a design: :func:`redesign`.
+
+Every design the workbench shows goes through here, so that an incremental engine (stage
+results cached by the inputs they read) can take this function's place without the app
+changing. Today it calls :func:`profilegen.design`.
+"""
+
+from __future__ import annotations
+
+from typing import Callable
+
+from ..gearset import GearSet
+
+__all__ = ["redesign"]
+
+
+def redesign(gearset: GearSet, scene: str, *, progress: Callable[[str], None] | None = None,
+             on_profile: Callable | None = None, on_stage: Callable | None = None):
+    """The design of ``gearset`` in ``scene`` (a :class:`profilegen.pipeline.Design`).
+
+    ``progress`` is told each stage's name as it starts (it may raise to abandon the run: a
+    newer request supersedes this one); ``on_profile`` gets the design once the CS profile is
+    fitted, ``on_stage`` each partial design as the slower stages add to it."""
+    from ..pipeline import design
+
+    return design(gearset, scene=scene, progress=progress, on_profile=on_profile, on_stage=on_stage)

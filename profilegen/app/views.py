@@ -1,0 +1,173 @@
+"""What the workbench draws from a design: the CS tooth space with the FS tooth poses (zoomable,
+the pinned design over it), the fit's error along the flank and the clearance through the mesh,
+the verdict, and the design sheet's numbers with what changed since the last design.
+
+Plain data (plotly figure dicts, rows of numbers): the server module turns them into the page.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Row", "changes", "error_figure", "numbers", "space_figure", "verdict_parts"]
+
+PINNED_COLOR = "#d62728"
+
+
+def _xy(points) -> tuple[list, list]:
+    p = np.round(np.asarray(points, dtype=float), 9)
+    return p[:, 0].tolist(), p[:, 1].tolist()
+
+
+def space_figure(design, *, pinned=None, job: int | None = None, height_px: int = 520) -> dict:
+    """The CS tooth space (:func:`profilegen.output.interactive.flank_figure`: the exact flank, the
+    fitted space, the arc centres, the FS tooth poses through the mesh), with the pinned design's
+    flank and space dashed over it. The zoom is kept across redesigns (``uirevision``)."""
+    from ..output.interactive import flank_figure
+
+    fig = flank_figure(design, height_px=height_px)
+    if pinned is not None and pinned.profile is not None:
+        space = np.vstack([e.sample(1e-8) for e in pinned.profile.space.elements])
+        x, y = _xy(space)
+        fig["data"].append({"type": "scatter", "mode": "lines", "name": "A (pinned): CS space", "x": x, "y": y,
+                            "line": {"color": PINNED_COLOR, "width": 1.4, "dash": "dash"}, "legendrank": 25,
+                            "hovertemplate": "A: x %{x:.7f} mm<br>y %{y:.7f} mm<extra></extra>"})
+        x, y = _xy(pinned.envelope.flank["boundary"])
+        fig["data"].append({"type": "scatter", "mode": "lines", "name": "A (pinned): exact flank", "x": x, "y": y,
+                            "line": {"color": PINNED_COLOR, "width": 3, "dash": "dot"}, "opacity": 0.5,
+                            "legendrank": 26, "hoverinfo": "skip"})
+    layout = fig["layout"]
+    layout["uirevision"] = "space"
+    layout["meta"] = {"job": job, "gearset": design.gearset.name}
+    layout["title"]["text"] = "CS tooth space with the FS tooth poses (drag to zoom, double-click to reset)"
+    return fig
+
+
+def _fit_traces(design, *, name: str, color: str, dash: str = "solid") -> list[dict]:
+    prof = design.profile
+    out = []
+    for i, fit in enumerate(f for f in prof.cad_fits if f is not None):
+        out.append({"type": "scatter", "mode": "lines", "name": name if i == 0 else f"{name} ({i + 1})",
+                    "x": np.round(np.asarray(fit.arclength_mm, float), 7).tolist(),
+                    "y": np.round(np.asarray(fit.error_mm, float) * 1e3, 6).tolist(),
+                    "line": {"color": color, "width": 1.5, "dash": dash}, "xaxis": "x", "yaxis": "y",
+                    "hovertemplate": "s %{x:.4f} mm<br>%{y:.4f} µm<extra>" + name + "</extra>"})
+    cl = prof.clearance
+    out.append({"type": "scatter", "mode": "lines", "name": f"{name}: clearance", "showlegend": False,
+                "x": np.round(np.degrees(np.asarray(cl.phi, float)), 5).tolist(),
+                "y": np.round(np.asarray(cl.clearance_mm, float) * 1e3, 6).tolist(),
+                "line": {"color": color, "width": 1.5, "dash": dash}, "xaxis": "x2", "yaxis": "y2",
+                "hovertemplate": "φ %{x:.3f}°<br>%{y:.4f} µm<extra>" + name + "</extra>"})
+    return out
+
+
+def error_figure(design, *, pinned=None, height_px: int = 260) -> dict:
+    """Left: the fitted CS flank's signed error along the flank (µm; + on the space side: backlash
+    for the one-sided fit). Right: the smallest clearance between the fitted CS and the FS tooth
+    at each pose through the mesh (µm against φ; below 0 it cuts in)."""
+    data = _fit_traces(design, name="B" if pinned is not None else "fit", color="#1f5fbf")
+    if pinned is not None and pinned.profile is not None:
+        data += _fit_traces(pinned, name="A (pinned)", color=PINNED_COLOR, dash="dash")
+    axis = {"showgrid": True, "gridcolor": "#eee", "zeroline": True, "zerolinecolor": "#999", "showline": True,
+            "linecolor": "#444", "ticks": "outside", "exponentformat": "none"}
+    layout = {
+        "template": {}, "height": height_px, "margin": {"l": 60, "r": 10, "t": 28, "b": 40},
+        "font": {"family": "system-ui, sans-serif", "size": 11}, "paper_bgcolor": "white", "plot_bgcolor": "white",
+        "xaxis": {**axis, "domain": [0, 0.46], "title": {"text": "along the flank s (mm)", "standoff": 2}},
+        "yaxis": {**axis, "title": {"text": "fit error (µm)", "standoff": 2}},
+        "xaxis2": {**axis, "domain": [0.56, 1], "anchor": "y2", "title": {"text": "φ (deg)", "standoff": 2}},
+        "yaxis2": {**axis, "anchor": "x2", "title": {"text": "clearance (µm)", "standoff": 2}},
+        "annotations": [
+            {"text": "fitted flank − exact flank", "xref": "paper", "yref": "paper", "x": 0, "y": 1.1,
+             "showarrow": False, "xanchor": "left", "font": {"size": 12}},
+            {"text": "smallest clearance through the mesh", "xref": "paper", "yref": "paper", "x": 0.56, "y": 1.1,
+             "showarrow": False, "xanchor": "left", "font": {"size": 12}}],
+        "legend": {"orientation": "h", "x": 0, "y": -0.25, "font": {"size": 10}},
+        "uirevision": "error", "hovermode": "closest",
+    }
+    return {"data": data, "layout": layout}
+
+
+@dataclass(frozen=True)
+class Row:
+    """One number of the sheet: ``key`` (stable), its label, value, unit and the text shown."""
+
+    key: str
+    group: str
+    label: str
+    value: float | None
+    unit: str
+    text: str
+
+
+def _row(rows, group, key, label, value, unit, digits=4):
+    if value is None:
+        return
+    v = float(value)
+    text = f"{v:.{digits}g}" if math.isfinite(v) else str(v)
+    rows.append(Row(key, group, label, v, unit, text))
+
+
+def numbers(design) -> list[Row]:
+    """The design sheet's numbers, as far as the design got (the slower stages add theirs)."""
+    rows: list[Row] = []
+    g, form, prof = design.gearset, design.form, design.profile
+    _row(rows, "geometry", "ratio", "ratio z1/(z2−z1)", g.ratio, "")
+    _row(rows, "geometry", "w0", "radial deflection w0", g.deflection_mm * 1e3, "µm")
+    if form is not None:
+        _row(rows, "geometry", "tip_d", "CS tip diameter", 2 * form.tip_radius_mm, "mm", 7)
+        _row(rows, "geometry", "root_d", "CS root diameter", 2 * form.root_radius_mm, "mm", 7)
+    if prof is not None:
+        _row(rows, "fit", "fit_err", "fit error, max", prof.max_error_mm * 1e3, "µm")
+        _row(rows, "fit", "clearance", "smallest clearance", prof.clearance.min_mm * 1e3, "µm")
+        _row(rows, "fit", "backlash", "backlash, max", None if prof.max_backlash_mm is None
+             else prof.max_backlash_mm * 1e3, "µm")
+    env = design.envelope
+    if env is not None:
+        _row(rows, "fit", "interference", "envelope interference, max", env.max_interference_mm * 1e3, "µm")
+    c = design.contact
+    if c is not None:
+        for tq, case in zip(c.torques_nm, c.cases):
+            teeth = np.max(np.atleast_1d(np.asarray(case.teeth_in_contact, dtype=float)))
+            _row(rows, "contact", f"teeth_{tq:g}", f"teeth in contact at {tq:g} N·m", teeth, "per zone")
+            _row(rows, "contact", f"force_{tq:g}", f"max tooth force at {tq:g} N·m", case.max_tooth_force_n, "N")
+    t = design.torsional
+    if t is not None:
+        h = t.headline()
+        for k in ("k1_nm_per_rad", "k2_nm_per_rad", "k3_nm_per_rad"):
+            if h.get(k) is not None:
+                _row(rows, "torsion", k, k.split("_")[0].upper() + " stiffness", h[k] / 1e3, "kN·m/rad")
+        _row(rows, "torsion", "lost_motion", "lost motion", h.get("lost_motion_arcmin"), "arcmin")
+    s = design.stress
+    if s is not None:
+        for name, value in s.headline().get("safety", {}).items():
+            _row(rows, "stress", f"safety_{name}", f"safety, {name}", value, "", 3)
+    r = design.ratcheting
+    if r is not None and getattr(r, "torque_nm", None) is not None:
+        _row(rows, "torsion", "ratcheting", "ratcheting torque (estimate)", r.torque_nm, "N·m")
+    return rows
+
+
+def changes(now: list[Row], before: list[Row] | None) -> dict[str, str]:
+    """key -> the earlier value's text, for the numbers that changed since ``before`` (a number
+    that is new, or gone, is not a change)."""
+    if before is None:
+        return {}
+    old = {r.key: r for r in before}
+    out = {}
+    for r in now:
+        o = old.get(r.key)
+        if o is not None and r.value is not None and o.value is not None:
+            if not math.isclose(r.value, o.value, rel_tol=1e-9, abs_tol=1e-12):
+                out[r.key] = o.text
+    return out
+
+
+def verdict_parts(design) -> tuple[str, str, list[tuple[str, str, str]]]:
+    """(status, the verdict's line, [(status, check name at where, text), ...])."""
+    v = design.verdict
+    checks = [(c.status, f"{c.name} at {c.where}" if c.where else c.name, c.text) for c in v.checks]
+    return v.status, v.line, checks
