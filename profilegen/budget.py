@@ -6,7 +6,7 @@ tolerance is coarse for the module (over :data:`CHORD_PER_MODULE_MAX` of it), na
 
 :func:`check_budget` estimates the largest arrays each stage will hold from the numbers that
 size them — the envelope's tracing grid ``n_t × n_phi``, the envelope's point count (from the
-scene's ``chord_tol_mm`` and the module), the CS outline (that count times the circular spline's
+scene's ``chord_tol_mm`` and the module, at the worst case's chord: :func:`worst_chord`), the CS outline (that count times the circular spline's
 teeth), the clearance map's ``clearance_samples`` and the fitted profile's
 ``fit_check_positions`` (each pose against every point of the FS tooth's surface) — and raises a
 :class:`BudgetError` naming the scene key or gear-set field to lower, and the value that fits,
@@ -48,7 +48,7 @@ from dataclasses import dataclass
 from .errors import GearSetError
 
 __all__ = ["BUDGET_ENV", "CHORD_PER_MODULE_MAX", "MODULE_MIN_MM", "BudgetError", "Cost", "Estimate", "ResolutionError",
-           "budget_bytes", "check_budget", "check_resolution", "estimate", "preflight"]
+           "budget_bytes", "check_budget", "check_resolution", "estimate", "preflight", "worst_chord"]
 
 BUDGET_ENV = "PROFILEGEN_MEMORY_BUDGET"
 """Environment variable overriding the memory budget: ``8G``, ``500M``, bytes, or ``none``."""
@@ -160,6 +160,17 @@ def envelope_points(module_mm: float, chord_tol_mm: float) -> float:
     return ENVELOPE_POINTS_PER_SQRT * math.sqrt(module_mm / chord_tol_mm) + ENVELOPE_POINTS_FLOOR
 
 
+def worst_chord(chord_tol_mm: float) -> float:
+    """The finest chord the envelope may be traced at for a scene's ``chord_tol_mm``:
+    :func:`profilegen.pipeline.traced_form` retraces a trace that missed a grazing crossing at a
+    chord ``RETRACE_FACTOR`` finer, up to ``RETRACES`` times, so chord / 4² = chord / 16 (4× the
+    points, points ∝ chord^-1/2). The envelope and the CS outline are estimated there: the retrace
+    is rare, but a run the check passed must not then take the machine when it happens."""
+    from .pipeline import RETRACE_FACTOR, RETRACES
+
+    return chord_tol_mm / RETRACE_FACTOR**RETRACES
+
+
 def _surface_points(gearset) -> int:
     """Points of the FS tooth's surface as the clearance map samples it (0 if the tooth cannot be built:
     the stage that builds it names the problem)."""
@@ -175,7 +186,7 @@ def estimate(gearset, scene) -> Estimate:
     """The estimated peak memory of each stage's largest arrays for ``gearset`` in ``scene``."""
     m = gearset.gear.module_mm
     z2 = gearset.gear.circular_spline_teeth
-    env = envelope_points(m, scene.chord_tol_mm)
+    env = envelope_points(m, worst_chord(scene.chord_tol_mm))
     surface = _surface_points(gearset)
     costs = [
         Cost("the envelope stage's tracing grid", GRID_BYTES_PER_CELL * scene.n_t * scene.n_phi, ("n_t", "n_phi")),
@@ -246,9 +257,11 @@ def _message(cost: Cost, gearset, scene, limit: float) -> str:
         per_point = ENVELOPE_BYTES_PER_POINT + (OUTLINE_BYTES_PER_POINT * OUTLINE_POINTS_PER_ENVELOPE_POINT * z2
                                                 if len(cost.fields) > 1 else 0)
         points = max(limit / per_point - ENVELOPE_POINTS_FLOOR, 1.0)
-        tol = m * (ENVELOPE_POINTS_PER_SQRT / points) ** 2
-        return (f"{where}: chord_tol_mm = {scene.chord_tol_mm:g} {over} (~{envelope_points(m, scene.chord_tol_mm):.3g} "
-                f"envelope points at module {m:g} mm{f', {z2} CS teeth' if len(cost.fields) > 1 else ''}): raise "
+        tol = m * (ENVELOPE_POINTS_PER_SQRT / points) ** 2 * (scene.chord_tol_mm / worst_chord(scene.chord_tol_mm))
+        return (f"{where}: chord_tol_mm = {scene.chord_tol_mm:g} {over} "
+                f"(~{envelope_points(m, worst_chord(scene.chord_tol_mm)):.3g} envelope points at module {m:g} mm"
+                f"{f', {z2} CS teeth' if len(cost.fields) > 1 else ''}, if the envelope is retraced at "
+                f"{worst_chord(scene.chord_tol_mm):.3g} mm): raise "
                 f"chord_tol_mm to at least {_round_up(tol):g}; {tail}")
     key = cost.fields[0]
     value = getattr(scene, key)
