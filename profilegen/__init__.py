@@ -44,6 +44,7 @@ __all__ = [
     "CircularSplineForm",
     "ConvergenceError",
     "Design",
+    "Engine",
     "Envelope",
     "EnvelopeError",
     "ExportError",
@@ -97,6 +98,7 @@ _LAZY = {"write_design": "output.files", "RimDeformation": "rim", "solve_rim": "
                           "resolve_gearset"), "gearset"),
          **dict.fromkeys(("HarmonicDriveMotion", "RackMotion"), "kinematics"),
          **dict.fromkeys(("Design", "design"), "pipeline"),
+         **dict.fromkeys(("Engine", "Cancelled"), "engine"),
          **dict.fromkeys(("SCENES", "Scene"), "scenes"),
          **dict.fromkeys(("ToothProfile", "dcta_tooth", "involute_tooth", "points_tooth", "tooth_from_gearset"), "teeth")}
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import logging
 import os
 import time
+from contextvars import ContextVar
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Callable
 
@@ -624,13 +625,41 @@ def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None 
     return tuple(names)
 
 
+#: the stage cache :func:`design` looks each stage up in: set by :class:`profilegen.engine.Engine`
+#: for its own runs (per thread, a ContextVar); None — every plain :func:`design` call — runs every
+#: stage. The cache keys each stage by the gear-set fields and scene keys it reads and by its
+#: upstream stage's key (profilegen.engine.STAGE_INPUTS says which).
+STAGE_CACHE: ContextVar = ContextVar("profilegen_stage_cache", default=None)
+
+
+def _stage(name: str, parent, compute: Callable, gearset: GearSet, scene: Scene, extra: tuple = (),
+           on_hit: Callable[[], None] | None = None):
+    """(``compute()``, its key): the stage ``name`` run, or its result from the engine's cache
+    (:data:`STAGE_CACHE`; the key None without one). ``parent``: the upstream stage's key (or a
+    tuple of them); ``extra``: the arguments the stage takes beside the gear set and scene;
+    ``on_hit``: called instead of ``compute`` on a hit (the progress line the stage would say)."""
+    cache = STAGE_CACHE.get()
+    if cache is None:
+        return compute(), None
+    return cache.stage(name, parent, compute, gearset, scene, extra, on_hit)
+
+
+def _checkpoint() -> None:
+    """Where a long stage may stop: the engine's cancellation check (profilegen.engine.Cancelled);
+    nothing without an engine."""
+    run = STAGE_CACHE.get()
+    if run is not None:
+        run.checkpoint()
+
+
 #: how many times, and by how much finer each time, the envelope is retraced when the swept
 #: boundary has an unresolved stretch above the CS tip circle (see :func:`traced_form`)
 RETRACES, RETRACE_FACTOR = 2, 4.0
 
 
 def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Scene,
-                step: Callable[[str], None] | None = None) -> tuple[Envelope, CircularSplineForm, list[str]]:
+                step: Callable[[str], None] | None = None, *,
+                _parent=None) -> tuple[Envelope, CircularSplineForm, list[str]]:
     """The envelope at the scene's chord and the CS form built from it; where the trace missed a
     grazing crossing above the CS tip circle (``UnresolvedBoundaryError``), retraced at a chord
     ``RETRACE_FACTOR`` finer, up to ``RETRACES`` times, with a warning saying so.
@@ -642,14 +671,17 @@ def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Sce
     between two that design cleanly designs too, and the user never has to tune the chord.
 
     ``step``: the progress callback, told "gearform" once, when the CS form is first built (a
-    failure there is the gearform stage's, as the progress display says)."""
+    failure there is the gearform stage's, as the progress display says). ``_parent``: the keys
+    of the tooth and deformation stages in the engine's cache (:func:`_stage`; each trace is
+    looked up there by its chord)."""
     from .gearform import UnresolvedBoundaryError
 
     g, cs = gearset.gear, gearset.circular_spline
     chord, notes = scene.chord_tol_mm, []
     for attempt in range(RETRACES + 1):
-        env = envelope_of(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves,
-                          chord_tol_mm=chord, n_t=scene.n_t, n_phi=scene.n_phi)
+        env, _ = _stage("envelope", _parent, lambda chord=chord: envelope_of(
+            tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves, chord_tol_mm=chord, n_t=scene.n_t,
+            n_phi=scene.n_phi), gearset, scene, (chord,))
         if attempt == 0 and step is not None:
             step("gearform")
         try:
@@ -670,6 +702,8 @@ def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Sce
 
 def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, on_profile=None,
             on_stage=None) -> Design:
+    # Each stage below is one _stage(...) call: run here, or taken from the engine's stage cache
+    # (profilegen.engine) when one is active; without one, every stage runs, as it always did.
     scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
     from .budget import preflight
 
@@ -680,33 +714,41 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     g = gearset.gear
 
     step("tooth")
-    t0 = time.perf_counter()
-    tooth = tooth_from_gearset(gearset)
-    stages.append(
-        StageReport("tooth", tooth.kind, len(tooth.segments), time.perf_counter() - t0, float(tooth.fit_error_mm),
-                    "max distance of the input points to the smoothed flank (0 for analytic teeth)")
-    )
+
+    def tooth_stage():
+        t0 = time.perf_counter()
+        tooth = tooth_from_gearset(gearset)
+        return tooth, StageReport("tooth", tooth.kind, len(tooth.segments), time.perf_counter() - t0,
+                                  float(tooth.fit_error_mm),
+                                  "max distance of the input points to the smoothed flank (0 for analytic teeth)")
+
+    (tooth, report), k_tooth = _stage("tooth", None, tooth_stage, gearset, scene)
+    stages.append(report)
 
     step("deformation")
     from .rim.stage import solve_rim  # scipy's solvers load only when a design runs (not in the stage time)
-
-    t0 = time.perf_counter()
     from .face.coning import rim_tier_for
 
-    rim = solve_rim(gearset, tier=rim_tier_for(scene, gearset))  # design: a coarse 3D cup for the face stage
-    face, face_report = None, None
+    tier = rim_tier_for(scene, gearset)  # design: a coarse 3D cup for the face stage
+
+    def rim_stage():
+        t0 = time.perf_counter()
+        rim = solve_rim(gearset, tier=tier)
+        return rim, time.perf_counter() - t0
+
+    (rim, rim_time), k_rim = _stage("rim", None, rim_stage, gearset, scene, (tier,))
+    face, face_report, k_deformation = None, None, k_rim
     if getattr(rim, "cup", None) is not None:  # the 3D cup: the face stage picks the CS's design section
-        t_face = time.perf_counter()
-        rim, face, face_report = _with_face(gearset, rim, step)
-        t0 += time.perf_counter() - t_face  # the rim stage's time without the face stage
+        (rim, face, face_report), k_deformation = _stage("face", k_rim, lambda: _with_face(gearset, rim, step),
+                                                         gearset, scene, on_hit=lambda: step("face"))
     deformation = rim.model
     warnings += list(rim.warnings)
     if rim.fem is None:
-        stages.append(StageReport("rim", rim.tier.label(), 0, time.perf_counter() - t0, None, rim.error_measure))
+        stages.append(StageReport("rim", rim.tier.label(), 0, rim_time, None, rim.error_measure))
     else:
         fem = rim.fem
         stages.append(StageReport(
-            "rim", rim.tier.label(), rim.dof, time.perf_counter() - t0 - rim.fit_time_s, rim.error_estimate_mm,
+            "rim", rim.tier.label(), rim.dof, rim_time - rim.fit_time_s, rim.error_estimate_mm,
             rim.error_measure,
             f"FEM solve {rim.fem_time_s:.3f} s ({len(fem.newton_steps_mm)} Newton iterations), the rest is the "
             f"coarser-mesh solve for the error estimate; contact angle {fem.contact_angle_deg:.1f}° (ill-conditioned)"))
@@ -726,46 +768,73 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     motion = HarmonicDriveMotion.from_gearset(gearset, deformation)
 
     step("envelope")
-    env, form, retraced = traced_form(tooth, motion, gearset, scene, step=step)
-    warnings += retraced
-    stages.append(StageReport("envelope", f"traced, chord {env.chord_tol_mm:g} mm", int(sum(len(p.points) for p in env.pieces)),
-                              env.time_s, env.chord_tol_mm, "chord error of the traced envelope (mm)"))
-    if env.flank.get("chains", 1) > 1:
-        warnings.append(f"the swept boundary is in {env.flank['chains']} pieces; the CS outline uses the longest")
-    if on_stage is not None:  # the rim's and the envelope's figures can be drawn from here on
+    envelope_stages: list = []  # the partial design for on_stage, once the envelope is traced
+
+    def gearform_stage():
+        env, form, notes = traced_form(tooth, motion, gearset, scene, step=step, _parent=(k_tooth, k_deformation))
+        env_report = StageReport("envelope", f"traced, chord {env.chord_tol_mm:g} mm",
+                                 int(sum(len(p.points) for p in env.pieces)), env.time_s, env.chord_tol_mm,
+                                 "chord error of the traced envelope (mm)")
+        if env.flank.get("chains", 1) > 1:
+            notes.append(f"the swept boundary is in {env.flank['chains']} pieces; the CS outline uses the longest")
+        envelope_stages.append((env, env_report, tuple(notes)))
+        if on_stage is not None:  # the rim's and the envelope's figures can be drawn from here on
+            on_stage(Design(gearset, scene, tooth, deformation, motion, env, None, tuple(stages) + (env_report,),
+                            tuple(warnings + notes), rim=rim, face=face))
+
+        t0 = time.perf_counter() - form.time_s  # the form was built with the trace (traced_form): its time counts here
+        cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples)
+        form = _with_clearance(form, cmap)
+        error, measure = cmap.min_mm, "min signed clearance FS tooth ↔ CS outline (mm; ≈ −chord error on the working flank)"
+        if scene.brute_force_check:
+            from .swept import boundary_distance, swept_region
+
+            region = swept_region(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves, n_phi=4001)
+            error = float(np.max(boundary_distance(env.flank["boundary"], region)))
+            measure = ("max distance of the swept boundary to the brute-force union of 4001 tooth positions (mm); "
+                       "bounded below by the brute force's own notch error, ≈ 0.6 mm / 4001 for the default set")
+        form_report = StageReport("gearform", "shapely outline", len(form.outline), time.perf_counter() - t0, error,
+                                  measure)
+        form_notes = list(form.warnings)
+        if cmap.min_mm < -10 * scene.chord_tol_mm:
+            form_notes.append(f"the FS tooth interferes with the CS outline by {-cmap.min_mm * 1e3:.3f} µm at "
+                              f"φ = {np.degrees(cmap.at_phi):.2f}°")
+        return env, env_report, tuple(notes), form, form_report, tuple(form_notes)
+
+    def gearform_hit():
+        step("gearform")
+
+    (env, env_report, env_notes, form, form_report, form_notes), k_form = _stage(
+        "gearform", (k_tooth, k_deformation), gearform_stage, gearset, scene, on_hit=gearform_hit)
+    stages.append(env_report)
+    warnings += env_notes
+    if on_stage is not None and not envelope_stages:  # a cached trace: the partial design now
         on_stage(Design(gearset, scene, tooth, deformation, motion, env, None, tuple(stages), tuple(warnings),
                         rim=rim, face=face))
-
-    t0 = time.perf_counter() - form.time_s  # the form was built with the trace (traced_form): its time counts here
-    cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples)
-    form = _with_clearance(form, cmap)
-    error, measure = cmap.min_mm, "min signed clearance FS tooth ↔ CS outline (mm; ≈ −chord error on the working flank)"
-    if scene.brute_force_check:
-        from .swept import boundary_distance, swept_region
-
-        region = swept_region(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves, n_phi=4001)
-        error = float(np.max(boundary_distance(env.flank["boundary"], region)))
-        measure = ("max distance of the swept boundary to the brute-force union of 4001 tooth positions (mm); "
-                   "bounded below by the brute force's own notch error, ≈ 0.6 mm / 4001 for the default set")
-    stages.append(StageReport("gearform", "shapely outline", len(form.outline), time.perf_counter() - t0, error, measure))
-    warnings += list(form.warnings)
-    if cmap.min_mm < -10 * scene.chord_tol_mm:
-        warnings.append(f"the FS tooth interferes with the CS outline by {-cmap.min_mm * 1e3:.3f} µm at φ = {np.degrees(cmap.at_phi):.2f}°")
+    stages.append(form_report)
+    warnings += form_notes
 
     step("arcfit")
-    t0 = time.perf_counter()
     method = fit_method or gearset.circular_spline.fit_method
     if method not in FIT_METHODS:
         raise GearSetError(f"fit method = {method!r}: must be one of {', '.join(FIT_METHODS)}")
-    profile = _fit_profile(env, form, tooth, motion, method=method, positions=scene.fit_check_positions,
-                           cs=gearset.circular_spline)
-    warnings += list(profile.notes)
-    stages.append(StageReport("arcfit", f"arc–line–arc, {method}", len(profile.space.elements),
-                              time.perf_counter() - t0, profile.max_error_mm,
-                              "max normal deviation of the fitted CS flank from the envelope (mm)"))
-    if profile.clearance.min_mm < -interference_tol_mm(scene):
-        warnings.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} µm "
-                        f"at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
+
+    def arcfit_stage():
+        t0 = time.perf_counter()
+        profile = _fit_profile(env, form, tooth, motion, method=method, positions=scene.fit_check_positions,
+                               cs=gearset.circular_spline)
+        report = StageReport("arcfit", f"arc–line–arc, {method}", len(profile.space.elements),
+                             time.perf_counter() - t0, profile.max_error_mm,
+                             "max normal deviation of the fitted CS flank from the envelope (mm)")
+        notes = list(profile.notes)
+        if profile.clearance.min_mm < -interference_tol_mm(scene):
+            notes.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} "
+                         f"µm at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
+        return profile, report, tuple(notes)
+
+    (profile, report, notes), k_fit = _stage("arcfit", k_form, arcfit_stage, gearset, scene, (method,))
+    warnings += notes
+    stages.append(report)
     result = Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim,
                     face=face)
     if on_profile is not None:
@@ -773,18 +842,50 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     # with a callback the stresses are computed as soon as the contact is solved (they read only its
     # tooth forces), so that their figure can be drawn while the contact stage goes on
     early = _EarlyStress(stress, on_stage) if on_stage is not None else None
-    if contact:
-        result = _with_contact(result, step, early)
-    elif contact is None and scene.contact:
-        # the scene's default: a contact model that cannot take this design leaves the profile
-        # and files standing, with the reason in the warnings (asked for explicitly, it raises)
-        try:
-            result = _with_contact(result, step, early)
-        except ProfilegenError as exc:
-            result = replace(result, warnings=result.warnings + (f"loaded contact failed, skipped: {exc}",))
-            if early is not None:  # (not reached once the stresses ran early: nothing after them raises this)
-                early.solved = None
-    return _with_stress(result, step, None if early is None else early.solved) if stress else result
+    k_load, contact_ran = k_fit, []
+    if contact or (contact is None and scene.contact):
+        def contact_stage():
+            contact_ran.append(True)
+            if contact:
+                after = _with_contact(result, step, early)
+            else:
+                # the scene's default: a contact model that cannot take this design leaves the profile
+                # and files standing, with the reason in the warnings (asked for explicitly, it raises)
+                try:
+                    after = _with_contact(result, step, early)
+                except ProfilegenError as exc:
+                    after = replace(result, warnings=result.warnings + (f"loaded contact failed, skipped: {exc}",))
+                    if early is not None:  # (not reached once the stresses ran early: nothing after them raises this)
+                        early.solved = None
+            return _added(result, after, ("contact", "torsional", "ratcheting", "transmission"))
+
+        added, k_load = _stage("contact", k_fit, contact_stage, gearset, scene, (bool(contact),),
+                               on_hit=lambda: step("contact"))
+        result = _with_added(result, added)
+    if not stress:
+        return result
+
+    def stress_stage():
+        solved = None if early is None else early.solved
+        return _added(result, _with_stress(result, step, solved), ("stress",))
+
+    added, _ = _stage("stress", k_load, stress_stage, gearset, scene, on_hit=lambda: step("stress"))
+    result = _with_added(result, added)
+    if on_stage is not None and result.contact is not None and not contact_ran:
+        on_stage(result)  # a cached contact (the engine's): its figures from the whole design
+    return result
+
+
+def _added(before: Design, after: Design, names: tuple[str, ...]) -> tuple:
+    """What a load stage added to ``before`` (its stage reports, warnings and the result fields
+    ``names``): the value the engine's cache keeps, applied again by :func:`_with_added`."""
+    return (after.stages[len(before.stages):], after.warnings[len(before.warnings):],
+            tuple((n, getattr(after, n)) for n in names))
+
+
+def _with_added(result: Design, added: tuple) -> Design:
+    stages, warnings, fields = added
+    return replace(result, stages=result.stages + stages, warnings=result.warnings + warnings, **dict(fields))
 
 
 class _EarlyStress:
@@ -890,6 +991,7 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, sta
     from .contact.analysis import solve_contact
 
     contact = solve_contact(inputs, torques)  # teeth and every wave-generator ball (one-sided at its no-load gap)
+    _checkpoint()
     rated = contact.cases[0]
     pts = contact.points
     # error estimate: the independent solve (balls settled around the active-set QP of the teeth) at the rated torque
@@ -902,6 +1004,7 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, sta
         t_stress = time.perf_counter()
         partial = stages_early.contact_solved(replace(result, contact=contact))
         t0 += time.perf_counter() - t_stress  # the contact stage's time without the stresses and the callback
+    _checkpoint()
     dof = int(sum(contact.compliance.dof.values()))
     # the whole gear in torsion: both flanks (the left one built here), the compliance chain, K1–K3
     from .contact.chain import whole_gear_curve
@@ -923,6 +1026,7 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, sta
         f"{torsional.k_nm_per_rad['total']['positive']['K2']:.3g}/"
         f"{torsional.k_nm_per_rad['total']['positive']['K3']:.3g} N·m/rad, lost motion "
         f"{torsional.lost_motion_rad['total'] * 10800 / np.pi:.3f} arcmin")
+    _checkpoint()
     ratchet, transmission = _whole_gear_extras(result, contact, notes, early=early)
     if ratchet is not None:
         whole += f"; ratcheting ≈ {ratchet.torque_nm:.4g} N·m"
@@ -1086,6 +1190,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     check = swept if (method == "one_sided" and not ridges) else None
     fits = {}
     for m in FIT_METHODS:
+        _checkpoint()
         try:
             fits[m] = fit_profile(flank, method=m, space_side="left", swept=check if m == "one_sided" else None,
                                   swept_tol_mm=tol, max_iter=FIT_MAX_ITER)
