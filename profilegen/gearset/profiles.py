@@ -6,6 +6,7 @@ path) and :func:`looks_like_path`.
 
 from __future__ import annotations
 
+import errno
 import os
 import sys
 from pathlib import Path
@@ -52,6 +53,17 @@ def list_profiles() -> list[Path]:
     return sorted(profiles_dir().glob("*.toml"))
 
 
+def _exists(path: Path, *, file: bool = False) -> bool:
+    """``path.is_file()`` / ``path.exists()``, False for a name too long for the file system (a
+    300-character bare name, whose ``NAME.toml`` the profile lookup tries, raised ENAMETOOLONG)."""
+    try:
+        return path.is_file() if file else path.exists()
+    except OSError as exc:
+        if exc.errno == errno.ENAMETOOLONG:
+            return False
+        raise
+
+
 def resolve_gearset(name_or_path: str | os.PathLike) -> Path:
     """Path of a gear set given as a file path or as a bare profile name (``"default"``).
 
@@ -70,16 +82,16 @@ def resolve_gearset(name_or_path: str | os.PathLike) -> Path:
         or candidate.suffix == ".toml"
     )
     if is_path:
-        if candidate.exists():  # a folder, device or FIFO too: load_gearset says what it is
+        if _exists(candidate):  # a folder, device or FIFO too: load_gearset says what it is
             return candidate
         raise GearSetError(f"{candidate}: no such gear-set file")
     try:
         folder = profiles_dir()
     except GearSetError:
         folder = None
-    if folder is not None and (folder / f"{text}.toml").is_file():
+    if folder is not None and _exists(folder / f"{text}.toml", file=True):
         return folder / f"{text}.toml"
-    if candidate.exists():
+    if _exists(candidate):
         return candidate
     known = ", ".join(p.stem for p in list_profiles()) if folder is not None else "none found"
     raise GearSetError(f"gear set {text!r}: no such profile (known profiles: {known}) and no such file")
