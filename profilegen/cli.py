@@ -29,7 +29,8 @@ def _load(name_or_path: str | None):
 def _cmd_design(args) -> int:
     from .output import folder
     from .output.files import OUTPUT_FILES, figure_workers, profile_figures, stage_figures, write_design
-    from .pipeline import check_gearset, design, planned_stages
+    from .engine import default_engine
+    from .pipeline import check_gearset, planned_stages
     from .scenes import SCENES
 
     if args.scene == "list":
@@ -67,9 +68,11 @@ def _cmd_design(args) -> int:
         draw = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene).figures != "none"
     # the figure workers start now: they import matplotlib and draw the profile's figures while the stages run
     with figure_workers(draw=draw) as figures:
-        result = design(gearset, scene=scene, fit_method=args.fit, progress=lambda name: bar(name),
-                        contact=args.contact, on_profile=lambda partial: profile_figures(figures, partial, draw=draw),
-                        on_stage=lambda partial: stage_figures(figures, partial, draw=draw))
+        # through the process's engine, as sweeps and the optimiser: the same stages, the same numbers
+        result = default_engine().design(
+            gearset, scene=scene, fit_method=args.fit, progress=lambda name: bar(name), contact=args.contact,
+            on_profile=lambda partial: profile_figures(figures, partial, draw=draw),
+            on_stage=lambda partial: stage_figures(figures, partial, draw=draw))
         bar("files")
         written = write_design(result, out, figures=figures, step=args.step, draw=draw)
     bar(None)

@@ -40,6 +40,7 @@ superseding call waits for the running one to stop, then runs.
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import json
 import logging
@@ -205,12 +206,14 @@ class _Run:
         key = self.key(name, parent, gearset, scene, extra)
         found, value = self.engine._get(key)
         if found:
-            self.engine.hits[name] += 1
+            with self.engine._lock:
+                self.engine.hits[name] += 1
             if on_hit is not None:
                 on_hit()
             return value, key
         value = compute()
-        self.engine.runs[name] += 1
+        with self.engine._lock:
+            self.engine.runs[name] += 1
         self.ran.append(name)
         self.engine._put(key, value)
         return value, key
@@ -221,20 +224,24 @@ class Engine:
 
     ``memory_bytes``: the cache's budget (default :data:`DEFAULT_MEMORY_BYTES`, or
     ``PROFILEGEN_ENGINE_MEMORY``); 0 keeps nothing (every stage runs, as :func:`profilegen.design`).
+    ``supersede``: a :meth:`design` call cancels the one running (the interactive use: one engine
+    per user or browser tab; designs run one at a time); False: calls from several threads run
+    side by side and share the cache (a thread-pool sweep; :meth:`cancel` stops them all).
 
     Attributes: ``runs`` and ``hits`` (Counters, stage name → stage executions / cache hits since
-    the engine was made), ``last_run`` (the stages the last design ran, in order), ``stats()``.
+    the engine was made), ``last_run`` (the stages the last design to finish ran, in order), ``stats()``.
     Thread-safe: :meth:`design` may be called from any thread (one runs at a time; a newer call
     supersedes the running one), :meth:`cancel` from any thread.
     """
 
-    def __init__(self, *, memory_bytes: int | None = None):
+    def __init__(self, *, memory_bytes: int | None = None, supersede: bool = True):
         if memory_bytes is None:
             env = os.environ.get(MEMORY_ENV)
             memory_bytes = _parse_size(env) if env else DEFAULT_MEMORY_BYTES
         if isinstance(memory_bytes, bool) or not isinstance(memory_bytes, (int, np.integer)) or memory_bytes < 0:
             raise ValueError(f"memory_bytes must be an integer >= 0, got {memory_bytes!r}")
         self.memory_bytes = int(memory_bytes)
+        self.supersede = bool(supersede)
         self._cache: OrderedDict[str, tuple[object, int]] = OrderedDict()
         self._bytes = 0
         self._lock = threading.Lock()  # the cache and the generation
@@ -254,9 +261,10 @@ class Engine:
         from . import pipeline
 
         with self._lock:
-            self._generation += 1  # supersedes a running design: it stops at its next checkpoint
+            if self.supersede:
+                self._generation += 1  # supersedes a running design: it stops at its next checkpoint
             generation = self._generation
-        with self._running:
+        with self._running if self.supersede else contextlib.nullcontext():
             run = _Run(self, generation)
             run.checkpoint()  # superseded while it waited
             say = progress
@@ -324,11 +332,12 @@ _DEFAULT_LOCK = threading.Lock()
 
 
 def default_engine() -> Engine:
-    """This process's shared engine (made on first use; a forked child starts with a new one)."""
+    """This process's shared engine, ``Engine(supersede=False)``: designs from several threads run
+    side by side (made on first use; a forked child starts with a new one)."""
     global _DEFAULT
     with _DEFAULT_LOCK:
         if _DEFAULT is None:
-            _DEFAULT = Engine()
+            _DEFAULT = Engine(supersede=False)
         return _DEFAULT
 
 

@@ -25,7 +25,6 @@ import dataclasses
 import json
 import math
 import random
-import re
 import sys
 import time
 from pathlib import Path
@@ -33,21 +32,13 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-_SECONDS = re.compile(r"\d+(\.\d+)? s\b")
-
-
 def comparable(design) -> object:
     """design.json's content (``Design.to_dict()`` through JSON) without what differs between two
-    runs of the same inputs: every ``*time_s`` key, and the seconds written in texts."""
-    def strip(x):
-        if isinstance(x, dict):
-            return {k: strip(v) for k, v in x.items() if not str(k).endswith("time_s")}
-        if isinstance(x, list):
-            return [strip(v) for v in x]
-        if isinstance(x, str):
-            return _SECONDS.sub("<s>", x)
-        return x
-    return strip(json.loads(json.dumps(design.to_dict(), default=str)))
+    runs of the same inputs: the keys naming a time and the durations in texts (the end-to-end
+    benchmark's rule, tests/benchmarks/kill_design.strip_times)."""
+    from tests.benchmarks.kill_design import strip_times
+
+    return strip_times(json.loads(json.dumps(design.to_dict(), default=str)))
 
 
 def first_difference(a, b, path="") -> str | None:
