@@ -41,6 +41,7 @@ from .errors import ConvergenceError, EnvelopeError, ExportError, GearSetError, 
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = [
+    "Cancelled",
     "CircularSplineForm",
     "ConvergenceError",
     "Design",

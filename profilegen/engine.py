@@ -29,6 +29,17 @@ checkpoint: before every stage, at every progress line and inside the pipeline's
 (each fit method, each step of the contact stage). One design runs at a time per engine; a
 superseding call waits for the running one to stop, then runs.
 
+In an interactive application, one engine per user (or browser tab), each change designed in a
+worker thread; a change that arrives while one is designed supersedes it::
+
+    engine = pg.Engine()
+    def on_change(gearset):                       # called in a worker thread for each change
+        try:
+            design = engine.design(gearset, scene="sketch", progress=show_stage)
+        except pg.Cancelled:
+            return                                # a newer change took over
+        show(design)                              # design.verdict, design.profile, ...
+
 >>> import profilegen as pg
 >>> engine = pg.Engine()
 >>> gs = pg.load_gearset(pg.default_gearset_path())

@@ -783,6 +783,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
                             tuple(warnings + notes), rim=rim, face=face))
 
         t0 = time.perf_counter() - form.time_s  # the form was built with the trace (traced_form): its time counts here
+        _checkpoint()
         cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples)
         form = _with_clearance(form, cmap)
         error, measure = cmap.min_mm, "min signed clearance FS tooth ↔ CS outline (mm; ≈ −chord error on the working flank)"
@@ -1213,6 +1214,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
                 els.append(Line(els[-1].end, nxt[0].start))
             els += list(nxt)
         chain = Chain(tuple(els))
+    _checkpoint()
     corners = filleted_cs_chain(chain, tip_radius_mm=form.tip_radius_mm, root_radius_mm=form.root_radius_mm,
                                 cs_teeth=form.cs_teeth, corners="sharp" if cs is None else cs.corners,
                                 radius_mm=None if cs is None else cs.corner_radius_mm, swept=swept, swept_tol_mm=tol)
@@ -1221,6 +1223,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     n_unit = len(space.elements) + 1
     local = outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]
     cs_points = Chain(tuple(local)).sample(1e-7)
+    _checkpoint()
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
     return CSProfile(fits, method, branches, space, outline, cmap, positions, tuple(notes), corners)
 

@@ -63,8 +63,18 @@ def test_a_torque_change_reruns_the_stresses_only(warm, base):
 
 
 def test_a_torque_change_with_the_contact_resolves_contact_and_stresses(base):
+    """With the callbacks the CLI gives (the stresses computed inside the contact stage): the same
+    design.json and the same partial designs as design() hands them; then a torque change."""
+    seen = {"engine": [], "plain": []}
+
+    def recorder(who):
+        return lambda d: seen[who].append((d.form is None, d.contact is None, d.stress is None, d.torsional is None))
+
     engine = Engine()
-    engine.design(base, scene=SKETCH, contact=True)
+    cached = engine.design(base, scene=SKETCH, contact=True, on_stage=recorder("engine"))
+    plain = pg.design(base, scene=SKETCH, contact=True, on_stage=recorder("plain"))
+    assert first_difference(comparable(cached), comparable(plain)) is None
+    assert seen["engine"] == seen["plain"] and len(seen["plain"]) == 3
     d = engine.design(base.with_values({"torque.rated_nm": 200.0}), scene=SKETCH, contact=True)
     assert engine.last_run == ("contact", "stress")
     assert d.contact.torques_nm[0] == 200.0
