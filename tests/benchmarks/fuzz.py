@@ -24,6 +24,23 @@ error, reproducer command) and export/bench/fuzz_failures/<seed>-<k>.json (the s
 set of each, written when it fails, which ``--replay`` runs again in-process with the traceback
 shown); prints the counts
 table; exits 1 if any example failed.
+
+The command-line fuzz (``--cli``, issue 26): every example is a set of files in a temporary
+folder run through the ``profilegen`` command in a subprocess under a 4 GB address-space cap
+(RLIMIT_AS) and a per-example timeout: ``profilegen.cli.main`` in a child forked from a worker that
+has imported the package once (``--cli-exec``: ``python -m profilegen`` started for each).
+Run it from a copy of a commit (``git archive HEAD | tar -x -C DIR``, then ``cd DIR``): the
+script imports the package of the tree it sits in, not others' uncommitted work. Five kinds of example: ``check`` and ``design`` of a drawn
+gear set (the strategy above; design in the sketch scene), ``scene`` (a bundled set designed in a
+scene file: the sketch scene with its keys redrawn, inside and beyond their documented ranges),
+``sweep`` (a spec of 1–2 grid points or a 1–2 point sample over the fields below, the sketch
+scene) and ``optimize`` (population 4, 1 generation (one in four 2), no confirm scene); two specs in three are
+spoiled (an unknown key, a wrong type, a non-finite or out-of-range value, a bad name, a long
+string, a field the gear set has not). Outcomes: ``ok`` (exit 0, no traceback), ``named`` (exit
+2, one line on stderr, no traceback) and anything else, by name: ``TRACEBACK``, ``EXIT-<n>``,
+``MULTI-LINE`` (exit 2 with more than one line), ``TIMEOUT``, ``KILLED``.
+
+    python tests/benchmarks/fuzz.py --cli [--examples 2000] [--workers 2] [--time-limit-s 90]
 """
 
 from __future__ import annotations
@@ -32,6 +49,7 @@ import argparse
 import csv
 import json
 import math
+import os
 import statistics
 import sys
 import time
@@ -136,6 +154,428 @@ def _replay(path: Path) -> int:
     print(f"outcome: {name} in {time.perf_counter() - t0:.1f} s")
     return 0
 
+# ---------------------------------------------------------------------------------------------
+# the command-line fuzz (--cli)
+
+CLI_KINDS = ("check", "design", "scene", "sweep", "optimize")
+#: shares of the example kinds. Unloaded: a check 0.4 s (forked), a sketch design ~5 s, a sweep
+#: 4 s, an optimize (population 4, one generation) 7 s, a spoiled spec ~0.4 s; at a load of 17 on
+#: the 2-core machine each ~10x that, so the cheap kinds are most of the 2000 examples
+CLI_SHARES = (0.70, 0.04, 0.10, 0.10, 0.06)
+#: share of sweep / optimize specs spoiled (the rest run)
+SPOIL_SHARE = 2 / 3
+#: sweep / optimize fields of the bundled sets with a sane range and a spoiling one
+SPEC_FIELDS = {
+    "wave_generator.deflection_coefficient": (0.85, 1.15),
+    "tooth.pressure_angle_deg": (6.0, 14.0),
+    "gear.rim_thickness_mm": (0.7, 1.1),
+    "circular_spline.root_clearance_mm": (0.05, 0.2),
+    "circular_spline.tip_clearance_mm": (0.05, 0.2),
+    "tooth.addendum_coefficient": (0.6, 0.9),
+}
+INT_FIELDS = {"face.sections": (3, 7)}  # an integer field every bundled set takes
+SWEEP_OUTPUTS = ("profile_max_error_mm", "min_clearance_mm", "deflection_mm", "cs_tip_radius_mm")
+OPT_OUTPUTS = ("profile_max_error_mm", "min_clearance_mm", "stress_min_safety", "deflection_mm",
+               "profile_max_backlash_mm")
+BAD_SPEC_VALUES = (0, -1, 1e300, -1e300, math.nan, math.inf, "text", True, [], {}, "=HYPERLINK(\"x\")",
+                   "x" * 5000, 2**63, 0.5)
+SCENE_KEYS = {  # key: (kind, documented range) — profilegen/scenes.py _KEYS
+    "chord_tol_mm": ("log", (1e-9, 1e-2)), "n_t": ("count", (8, 100_000)), "n_phi": ("count", (11, 100_000)),
+    "clearance_samples": ("count", (3, 100_000)), "fit_check_positions": ("count", (3, 100_000)),
+    "face_slices": ("count", (0, 33)), "brute_force_check": ("bool", None), "figures": ("choice", ("all", "none")),
+}
+
+
+def _toml_value(v) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, int):
+        return str(v) if -2**63 <= v < 2**63 else json.dumps(str(v))
+    if isinstance(v, float):
+        return "nan" if math.isnan(v) else ("inf" if v > 0 else "-inf") if math.isinf(v) else repr(v)
+    if isinstance(v, str):
+        return json.dumps(v, ensure_ascii=False)
+    if isinstance(v, (list, tuple)):
+        return "[" + ", ".join(_toml_value(x) for x in v) + "]"
+    if isinstance(v, dict):
+        return "{" + ", ".join(f"{json.dumps(str(k))} = {_toml_value(x)}" for k, x in v.items()) + "}"
+    return json.dumps(str(v))
+
+
+def toml_text(data: dict) -> str:
+    """A mapping of scalars and one level of tables (values may be inline tables) as TOML."""
+    lines = [f"{json.dumps(k)} = {_toml_value(v)}" for k, v in data.items() if not isinstance(v, dict)]
+    for name, table in data.items():
+        if isinstance(table, dict):
+            lines += ["", f"[{json.dumps(name)}]"] + [f"{json.dumps(k)} = {_toml_value(v)}" for k, v in table.items()]
+    return "\n".join(lines) + "\n"
+
+
+def _spoil_spec(rng, spec: dict, tables: tuple[str, ...]) -> dict:
+    """One field of a sweep/optimize spec made wrong."""
+    import copy
+
+    spec = copy.deepcopy(spec)
+    how = rng.choice(["top", "table", "unknown", "remove", "name", "field", "gearset", "scene"])
+    if how == "top":
+        spec[str(rng.choice([k for k in spec if not isinstance(spec[k], dict)] or ["name"]))] = \
+            BAD_SPEC_VALUES[rng.integers(len(BAD_SPEC_VALUES))]
+    elif how == "table":
+        t = str(rng.choice([t for t in tables if t in spec]))
+        if spec[t]:
+            k = str(rng.choice(list(spec[t])))
+            spec[t][k] = BAD_SPEC_VALUES[rng.integers(len(BAD_SPEC_VALUES))]
+        else:
+            spec[t] = BAD_SPEC_VALUES[rng.integers(len(BAD_SPEC_VALUES))]
+    elif how == "unknown":
+        spec["colour" if rng.random() < 0.5 else str(rng.choice(tables))] = {"x": 1} if rng.random() < 0.5 else 1
+    elif how == "remove":
+        spec.pop(str(rng.choice(list(spec))))
+    elif how == "name":
+        spec["name"] = str(rng.choice(["..", "a/b", "Rim.Study\n[x]", "", "é" * 300, "x" * 101, "-", "con"]))
+    elif how == "field":
+        t = str(rng.choice([t for t in tables if t in spec and isinstance(spec[t], dict)] or [tables[0]]))
+        spec.setdefault(t, {})
+        spec[t][str(rng.choice(["gear.colour", "tooth", "gear..module_mm", "", "tooth.points_file", "name",
+                                "gear.module_mm.x", "wave_generator.contour"]))] = [0.1, 0.2]
+    elif how == "gearset":
+        spec["gearset"] = str(rng.choice(["nope", "../../etc/passwd", "/dev/zero", "", "default.toml", "x" * 4000]))
+    else:
+        spec["scene"] = str(rng.choice(["nope", "/dev/zero", "verify#x", "scenes.toml#nope", "", "SKETCH"]))
+    return spec
+
+
+def _sweep_spec(rng) -> dict:
+    spec = {"name": f"fz{rng.integers(1e6)}", "gearset": str(rng.choice(["default", "seed001_shf25"])),
+            "scene": "sketch", "plot": str(rng.choice(SWEEP_OUTPUTS))}
+    names = list(SPEC_FIELDS) + list(INT_FIELDS)
+    fields = [str(f) for f in rng.choice(names, size=int(rng.integers(1, 3)), replace=False)]
+    if len(fields) == 2 or rng.random() < 0.6:  # a grid of at most 2 points
+        grid, left = {}, 2
+        for f in fields:
+            lo, hi = SPEC_FIELDS.get(f) or INT_FIELDS[f]
+            k = int(rng.integers(1, left + 1)) if f == fields[-1] else 1
+            left = max(1, left // k)
+            grid[f] = [int(rng.integers(lo, hi + 1)) if f in INT_FIELDS else float(rng.uniform(lo, hi))
+                       for _ in range(k)]
+        spec["grid"] = grid
+    else:
+        f = fields[0]
+        lo, hi = SPEC_FIELDS.get(f) or INT_FIELDS[f]
+        spec["sample"] = {"method": str(rng.choice(["lhs", "random"])), "n": int(rng.integers(1, 3)),
+                          "seed": int(rng.integers(0, 100)), f: [lo, hi]}
+    if rng.random() < SPOIL_SHARE:
+        spec = _spoil_spec(rng, spec, ("grid", "sample"))
+    return spec
+
+
+def _optimize_spec(rng) -> dict:
+    names = list(SPEC_FIELDS) + list(INT_FIELDS)
+    fields = [str(f) for f in rng.choice(names, size=int(rng.integers(1, 3)), replace=False)]
+    variables = {}
+    for f in fields:
+        lo, hi = SPEC_FIELDS.get(f) or INT_FIELDS[f]
+        variables[f] = [int(lo), int(hi)] if f in INT_FIELDS else [lo, hi]
+    objectives = {str(o): str(rng.choice(["min", "max"]))
+                  for o in rng.choice(OPT_OUTPUTS, size=int(rng.integers(1, 3)), replace=False)}
+    spec = {"name": f"fz{rng.integers(1e6)}", "gearset": "default", "scene": "sketch", "confirm_scene": "",
+            "search": {"population": 4, "generations": int(rng.choice([1, 1, 1, 2])),
+                       "seed": int(rng.integers(0, 100))},
+            "variables": variables, "objectives": objectives}
+    if rng.random() < 0.5:
+        out = str(rng.choice(OPT_OUTPUTS))
+        spec["constraints"] = {out: {"min": float(rng.uniform(-1, 1)), "scale": 0.001}}
+    if rng.random() < SPOIL_SHARE:
+        spec = _spoil_spec(rng, spec, ("search", "variables", "objectives", "constraints"))
+    return spec
+
+
+def _scene_file(rng) -> dict:
+    """The sketch scene with 1–3 keys redrawn: mostly near their defaults, one in four at or
+    beyond an end of the documented range (the budget's and the validation's cases)."""
+    import tomllib
+
+    base = tomllib.loads((ROOT / "profilegen" / "scenes.toml").read_text())["sketch"]
+    scene = dict(base, tier="sketch")
+    for key in rng.choice(list(SCENE_KEYS), size=int(rng.integers(1, 4)), replace=False):
+        kind, rng_ = SCENE_KEYS[str(key)]
+        extreme = rng.random() < 0.25
+        if kind == "log":
+            lo, hi = rng_
+            scene[key] = float(rng.choice([lo, hi, 1e-300, 0.0, -1e-6, 0.1])) if extreme else \
+                float(10 ** rng.uniform(-6.5, -3))
+        elif kind == "count":
+            lo, hi = rng_
+            d = base.get(key, lo if key != "face_slices" else 1)
+            scene[key] = int(rng.choice([lo, hi, lo - 1, hi + 1, 10**9])) if extreme else \
+                int(max(lo, min(hi, round(d * 2 ** rng.uniform(-2, 1.5)))))
+        elif kind == "bool":
+            scene[key] = bool(rng.random() < 0.3) if not extreme else "yes"
+        else:
+            scene[key] = str(rng.choice(rng_)) if not extreme else "some"
+    return {"fz": scene}
+
+
+def cli_example(rng, kind: str, gearset: dict | None) -> tuple[dict, list[str]]:
+    """The files (name → text) and the argument list of one command-line example."""
+    if kind in ("check", "design"):
+        files = {"gs.toml": toml_text(gearset)}
+        args = ["check", "gs.toml"] if kind == "check" else ["design", "gs.toml", "--scene", "sketch", "--out",
+                                                                "out", "-q"]
+    elif kind == "scene":
+        files = {"scene.toml": toml_text(_scene_file(rng))}
+        args = ["design", str(rng.choice(["default", "seed001_shf25", "seed002_short_cup"])), "--scene",
+                "scene.toml#fz", "--out", "out", "-q"]
+    elif kind == "sweep":
+        files = {"spec.toml": toml_text(_sweep_spec(rng))}
+        args = ["sweep", "spec.toml", "--workers", "1", "--out", "out", "-q"]
+    else:
+        files = {"spec.toml": toml_text(_optimize_spec(rng))}
+        args = ["optimize", "spec.toml", "--workers", "1", "--out", "out", "-q"]
+    return files, args
+
+
+def _cap(limit: int = 4_000_000_000):
+    import resource
+
+    resource.setrlimit(resource.RLIMIT_AS, (limit, limit))
+
+
+def run_cli(files: dict, args: list[str], limit_s: float) -> tuple[str, str, float]:
+    """(outcome, stderr's last lines, seconds) of one example run as ``python -m profilegen``."""
+    import os
+    import subprocess
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="fuzzcli-") as tmp:
+        for name, text in files.items():
+            Path(tmp, name).write_text(text)
+        env = dict(os.environ, OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MPLBACKEND="Agg",
+                   PYTHONPATH=str(ROOT))  # this tree's package, not the editable install's
+        t0 = time.perf_counter()
+        try:
+            p = subprocess.run([sys.executable, "-m", "profilegen", *args], cwd=tmp, env=env, capture_output=True,
+                               text=True, timeout=limit_s, preexec_fn=_cap)
+        except subprocess.TimeoutExpired:
+            return "TIMEOUT", f"over {limit_s:g} s", time.perf_counter() - t0
+        dt = time.perf_counter() - t0
+    return _outcome(p.returncode, p.stderr.strip(), dt)
+
+
+def _preload() -> None:
+    """Import what the command imports, once per worker: each example's process is then forked
+    from here (run_cli_forked) instead of starting an interpreter (~1 s of a 1.3 s check)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import profilegen.cli  # noqa: F401
+    import profilegen.pipeline  # noqa: F401
+    import profilegen.sweep  # noqa: F401
+    import profilegen.optimize  # noqa: F401
+    import scipy.optimize  # noqa: F401
+
+
+def run_cli_forked(files: dict, args: list[str], limit_s: float) -> tuple[str, str, float]:
+    """:func:`run_cli`, the command run as ``profilegen.cli.main(args)`` in a child forked from this
+    (preloaded) process: its own process group, working folder, stderr file, 4 GB RLIMIT_AS and
+    exit code — what ``python -m profilegen ARGS`` does, less the interpreter's start. An exception
+    out of main is printed with its traceback (as the interpreter would) and exits 1."""
+    import os
+    import signal
+    import tempfile
+
+    with tempfile.TemporaryDirectory(prefix="fuzzcli-") as tmp:
+        for name, text in files.items():
+            Path(tmp, name).write_text(text)
+        err_path = Path(tmp, ".stderr")
+        t0 = time.perf_counter()
+        pid = os.fork()
+        if pid == 0:  # the child: never returns
+            code = 1
+            try:
+                os.setpgid(0, 0)
+                os.chdir(tmp)
+                fd = os.open(err_path, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o600)
+                null = os.open(os.devnull, os.O_WRONLY)
+                sys.stdout.flush()
+                sys.stderr.flush()
+                os.dup2(null, 1)
+                os.dup2(fd, 2)
+                _cap()
+                sys.argv = ["profilegen", *args]
+                from profilegen.cli import main
+
+                code = main(list(args))
+            except SystemExit as exc:
+                code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+            except BaseException:  # noqa: BLE001 — what the interpreter does with an uncaught exception
+                traceback.print_exc()
+                code = 1
+            finally:
+                try:
+                    sys.stdout.flush()
+                    sys.stderr.flush()
+                finally:
+                    os._exit(code if isinstance(code, int) else 1)
+        status = None
+        while time.perf_counter() - t0 < limit_s:
+            done, status = os.waitpid(pid, os.WNOHANG)
+            if done:
+                break
+            time.sleep(0.02)
+        else:
+            try:
+                os.killpg(pid, signal.SIGKILL)
+            except ProcessLookupError:
+                pass
+            os.waitpid(pid, 0)
+            return "TIMEOUT", f"over {limit_s:g} s", time.perf_counter() - t0
+        try:
+            os.killpg(pid, signal.SIGKILL)  # anything the command left running in its group
+        except ProcessLookupError:
+            pass
+        dt = time.perf_counter() - t0
+        returncode = os.waitstatus_to_exitcode(status)
+        err = err_path.read_text(errors="replace").strip() if err_path.exists() else ""
+    return _outcome(returncode, err, dt)
+
+
+def _outcome(returncode: int, err: str, dt: float) -> tuple[str, str, float]:
+    lines = err.splitlines()
+    if "Traceback (most recent call last)" in err or "MemoryError" in err:
+        return "TRACEBACK", "\n".join(lines[-6:]), dt
+    if returncode < 0:
+        return "KILLED", f"signal {-returncode}: " + "\n".join(lines[-3:]), dt
+    if returncode == 0:
+        return "ok", "", dt
+    if returncode == 2:
+        return ("named", lines[0] if lines else "", dt) if len(lines) == 1 else ("MULTI-LINE", err[-2000:], dt)
+    return f"EXIT-{returncode}", "\n".join(lines[-6:]), dt
+
+
+def _cli_worker(job: tuple[int, int, float, str, bool]) -> dict:
+    """``n`` examples with seed ``seed``: the gear sets drawn by hypothesis, the rest by a seeded
+    generator; each failure written at once to ``fail_dir``/cli-<seed>-<k>.json."""
+    n, seed, limit_s, fail_dir, fork = job
+    import numpy as np
+    from hypothesis import HealthCheck, given, settings
+    from hypothesis import seed as hseed
+
+    from tests.property.gearsets import gear_sets
+
+    rng = np.random.default_rng(seed)
+    kinds = [str(k) for k in rng.choice(CLI_KINDS, size=n, p=CLI_SHARES)]
+    need = sum(k in ("check", "design") for k in kinds)
+    drawn: list[dict] = []
+    if need:
+        @hseed(seed)
+        @settings(max_examples=need, deadline=None, database=None, suppress_health_check=list(HealthCheck))
+        @given(gear_sets())
+        def draw(data):
+            drawn.append(data)
+
+        draw()
+    rows, failures = [], []
+    for i, kind in enumerate(kinds):
+        gs = drawn.pop() if kind in ("check", "design") and drawn else None
+        if kind in ("check", "design") and gs is None:
+            kind = "scene"
+        files, args = cli_example(rng, kind, gs)
+        if fork:
+            _preload()
+        name, err, dt = (run_cli_forked if fork else run_cli)(files, args, limit_s)
+        rows.append((kind, name, dt, err if name == "named" else ""))
+        with open(Path(fail_dir).parent / "fuzz_cli_rows.jsonl", "a") as f:  # a killed run keeps its rows
+            f.write(json.dumps({"seed": seed, "kind": kind, "outcome": name, "seconds": round(dt, 2),
+                                "error": err[:300]}) + "\n")
+        if name not in ("ok", "named"):
+            fail = {"outcome": name, "kind": kind, "seconds": dt, "error": err, "args": args, "files": files}
+            path = Path(fail_dir) / f"cli-{seed}-{len(failures) + 1:03d}.json"
+            path.write_text(json.dumps(fail, indent=1))
+            failures.append(fail | {"path": str(path)})
+    return {"rows": rows, "failures": failures}
+
+
+def cli_table(rows, failures) -> None:
+    """The counts per example kind (rows: (kind, outcome, seconds, named error)) and the failures."""
+    names = ["ok", "named"] + sorted({r[1] for r in rows} - {"ok", "named"})
+    print(f"{'':>9} " + " ".join(f"{n:>10}" for n in names) + f" {'total':>7} {'median s':>9} {'max s':>7}")
+    for kind in list(CLI_KINDS) + ["total"]:
+        sel = [r for r in rows if kind == "total" or r[0] == kind]
+        if not sel:
+            continue
+        c = Counter(r[1] for r in sel)
+        t = [r[2] for r in sel]
+        print(f"{kind:>9} " + " ".join(f"{c.get(n, 0):>10}" for n in names) + f" {len(sel):>7} "
+              f"{statistics.median(t):>9.2f} {max(t):>7.1f}")
+    named = Counter(r[3].removeprefix("profilegen: error: ").split(": ", 2)[-2][:70] if r[3].count(": ") > 1
+                    else r[3][:70] for r in rows if r[1] == "named")
+    print("\nmost frequent named errors (the key each names):")
+    for text, n in named.most_common(12):
+        print(f"  {n:>5}  {text}")
+    print(f"\nanything else: {len(failures)}" + "".join(
+        f"\n  {f['outcome']} {f['kind']} ({f['path']}): {f['error'].strip().splitlines()[-1][:200] if f['error'].strip() else ''}"
+        for f in failures[:20]))
+
+
+def cli_main(args) -> int:
+    chunks = max(4 * args.workers, math.ceil(args.examples / 10))
+    sizes = [args.examples // chunks + (k < args.examples % chunks) for k in range(chunks)]
+    out = Path(args.out)
+    fail_dir = out / "fuzz_failures"
+    fail_dir.mkdir(parents=True, exist_ok=True)
+    for old in fail_dir.glob("cli-*.json"):
+        old.unlink()
+    (out / "fuzz_cli_rows.jsonl").unlink(missing_ok=True)
+    jobs = [(n, args.seed + k, args.time_limit_s, str(fail_dir), not args.cli_exec) for k, n in enumerate(sizes) if n]
+    os.environ.update(OMP_NUM_THREADS="1", OPENBLAS_NUM_THREADS="1", MKL_NUM_THREADS="1", MPLBACKEND="Agg")
+    t0 = time.perf_counter()
+    rows, failures = [], []
+    from concurrent.futures import as_completed
+
+    with ProcessPoolExecutor(args.workers) as pool:
+        for k, done in enumerate(as_completed([pool.submit(_cli_worker, job) for job in jobs]), start=1):
+            part = done.result()
+            rows += part["rows"]
+            failures += part["failures"]
+            c = Counter(r[1] for r in rows)
+            print(f"[{k}/{len(jobs)}] {len(rows)} examples, {time.perf_counter() - t0:.0f} s: ok {c.get('ok', 0)}, "
+                  f"named {c.get('named', 0)}, else {len(rows) - c.get('ok', 0) - c.get('named', 0)}", flush=True)
+    wall = time.perf_counter() - t0
+    print(f"\n{len(rows)} command-line examples in {wall:.0f} s on {args.workers} workers "
+          f"(4 GB RLIMIT_AS, {args.time_limit_s:g} s per example, "
+          f"{'python -m profilegen' if args.cli_exec else 'profilegen.cli.main forked from a preloaded worker'})\n")
+    cli_table(rows, failures)
+    summary = {"command": "python tests/benchmarks/fuzz.py " + " ".join(sys.argv[1:]), "examples": len(rows),
+               "wall_s": wall, "outcomes": dict(Counter(r[1] for r in rows)),
+               "by_kind": {k: dict(Counter(r[1] for r in rows if r[0] == k)) for k in CLI_KINDS},
+               "failures": [{k: v for k, v in f.items() if k != "files"} for f in failures]}
+    (out / "fuzz_cli.json").write_text(json.dumps(summary, indent=1))
+    print(f"written: {out / 'fuzz_cli.json'}; replay one: python tests/benchmarks/fuzz.py --replay-cli FILE")
+    return 1 if failures else 0
+
+
+def cli_summary(out: Path) -> int:
+    """The table of a run from its rows file (a run killed or still going included)."""
+    rows, failures = [], []
+    for line in (out / "fuzz_cli_rows.jsonl").read_text().splitlines():
+        r = json.loads(line)
+        rows.append((r["kind"], r["outcome"], r["seconds"], r["error"] if r["outcome"] == "named" else ""))
+    for path in sorted((out / "fuzz_failures").glob("cli-*.json")):
+        f = json.loads(path.read_text())
+        failures.append(f | {"path": str(path)})
+    print(f"{len(rows)} command-line examples (from {out / 'fuzz_cli_rows.jsonl'})\n")
+    cli_table(rows, failures)
+    return 1 if failures else 0
+
+
+def replay_cli(path: Path) -> int:
+    case = json.loads(path.read_text())
+    print(f"replaying {path}: {case['kind']} (was {case['outcome']}): profilegen {' '.join(case['args'])}")
+    name, err, dt = run_cli(case["files"], case["args"], 600.0)
+    print(f"outcome: {name} in {dt:.1f} s\n{err}")
+    return 0
+
 
 def main() -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -150,7 +590,19 @@ def main() -> int:
     ap.add_argument("--seed", type=int, default=20261124, help="base hypothesis seed")
     ap.add_argument("--out", default=str(ROOT / "export" / "bench"), help="output folder")
     ap.add_argument("--replay", type=Path, help="run one failure file again and show its traceback")
+    ap.add_argument("--cli", action="store_true",
+                    help="the command-line fuzz: gear sets, scenes, sweep and optimize specs through profilegen")
+    ap.add_argument("--replay-cli", type=Path, help="run one command-line failure file again")
+    ap.add_argument("--cli-exec", action="store_true",
+                    help="with --cli: start `python -m profilegen` for each example (default: fork main from a preloaded worker)")
+    ap.add_argument("--cli-summary", type=Path, metavar="OUT", help="the table of a command-line run's rows in OUT")
     args = ap.parse_args()
+    if args.cli_summary:
+        return cli_summary(args.cli_summary)
+    if args.replay_cli:
+        return replay_cli(args.replay_cli)
+    if args.cli:
+        return cli_main(args)
     if args.replay:
         return _replay(args.replay)
     if args.examples < 1 or args.workers < 1:
