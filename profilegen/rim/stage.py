@@ -495,8 +495,10 @@ def _solve_cup(gearset, tier: RimTier, contour, z_mm: float | None, reference, w
     design section's samples fitted."""
     from ..errors import ProfilegenError, RimSolverError
     from .cup import CupGeometry, press_cup
+    from .cup.bearing import cup_tier_race
 
     geometry = CupGeometry.from_gearset(gearset)
+    race = cup_tier_race(gearset, geometry)  # the bearing's outer race on its ball row (None: a rigid band)
     z = design_section_z(gearset, z_mm)
     samples = 4 * tier.max_order + 1  # on 0..π/2: 128 per wave period, 8 per period of the highest fitted harmonic
     coarse_angles = max(2, tier.angles // CUP_COARSENING)
@@ -505,7 +507,7 @@ def _solve_cup(gearset, tier: RimTier, contour, z_mm: float | None, reference, w
     for element_mm, angles in ((tier.element_mm, tier.angles), (CUP_COARSENING * tier.element_mm, coarse_angles)):
         try:
             runs.append(press_cup(geometry, contour=contour, angles=angles, element_mm=element_mm, layers=tier.layers,
-                                  gap=tier.gap, nonlinear=tier.geometry == "nonlinear"))
+                                  gap=tier.gap, nonlinear=tier.geometry == "nonlinear", race=race))
         except (ProfilegenError, np.linalg.LinAlgError, RuntimeError, FloatingPointError) as exc:
             if isinstance(exc, ProfilegenError) and not isinstance(exc, RuntimeError):
                 raise

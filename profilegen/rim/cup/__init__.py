@@ -10,17 +10,22 @@ revolution.
 * :mod:`profilegen.rim.cup.contact` — the cup pressed onto the wave-generator contour over the
   bearing's width, frictionless unilateral contact by collocation in φ, the harmonic solves as
   the compliance operator (:func:`press_cup` → :class:`CupContact`).
+* :mod:`profilegen.rim.cup.bearing` — the wave-generator bearing's outer race under the bore, a
+  ring on one ball row that bends, tilts and rests on Hertz balls (:class:`BearingRace`,
+  ``press_cup(race=...)``; without one the bore is pressed onto a rigid band).
 * :mod:`profilegen.rim.cup.assembly` — batched assembly of the stiffness matrices (the
   harmonic forms and 3D elasticity, equal to scikit-fem's BilinearForms to rounding).
 * :mod:`profilegen.rim.cup.solid3d` — the plain 3D solid of the same cup (27-node hexahedra,
   a quarter with the two symmetry planes), the check of the fast formulation.
 """
 
+from .bearing import BearingRace
 from .contact import CupContact, press_cup
 from .fourier import CupDeformation, HarmonicBasis, bore_load, harmonic_stiffness, solve_cup
 from .geometry import CupError, CupGeometry, CupMesh, meridional_mesh
 
 __all__ = [
+    "BearingRace",
     "CupContact",
     "CupDeformation",
     "CupError",

@@ -32,6 +32,16 @@ Venant–Kirchhoff cup by harmonic balance (:mod:`profilegen.rim.cup.nonlinear`)
 Newton with the linear harmonic stiffnesses: each step the response to the out-of-balance
 force is the "base" of the same contact problem (the 2D ring's Newton loop).
 
+The wave-generator bearing's outer race (``race``, :class:`~profilegen.rim.cup.bearing.BearingRace`):
+the bore bears on the race instead of the contour, the race on one ball row at z_c. Unknowns μ_ij
+(bore on race) and λ_j (balls on race, ≥ 0); the race's outer surface moves radially by
+W(F) + (z − z_c) B(M) with F_j = λ_j − Σ_i n_r μ_ij, M_j = −Σ_i n_r μ_ij (z_i − z_c) and W, B its
+radial and tilt compliances between the collocation angles; gaps bore − race ≥ 0 (in the gap
+above, the race's deviation from the contour along the normal) and race − (contour − Hertz
+approach) ≥ 0 at the ball row. One symmetric positive definite complementarity problem
+(blockdiag(C, S) + Zᵀ H Z, S the Hertz secants), solved as above; the secants iterated with the
+re-linearisations. Without a race: the rigid band (the limit of a stiff, stress-free race).
+
 The result is a :class:`~profilegen.rim.cup.fourier.CupDeformation` (harmonics 0..2(J − 1)) and
 the contact state (:class:`CupContact`).
 """
@@ -49,6 +59,7 @@ import numpy as np
 from ... import checks
 from ...errors import ConvergenceError
 from ...results import readonly
+from .bearing import BearingRace
 from .fourier import CupDeformation, HarmonicBasis, _resultants, bore_load, harmonic_stiffness
 from .geometry import CupError, CupGeometry, meridional_mesh
 
@@ -71,7 +82,12 @@ class CupContact:
     signed distance to the contour; ≥ 0), ``active`` (force > 0); ``load_mm``: w(φ_j);
     ``compliance_s``, ``contact_s``: times (s); ``gap``, ``nonlinear``: the model;
     ``iterations``: contact re-linearisations; ``newton_steps_mm``: the nonlinear steps;
-    ``band_radial_mm``, ``band_tangential_mm``: the bore's displacement at the band × angles."""
+    ``band_radial_mm``, ``band_tangential_mm``: the bore's displacement at the band × angles.
+    With the bearing's outer race (``race``, :class:`~profilegen.rim.cup.bearing.BearingRace`;
+    None: the rigid band): ``ball_force_n`` the ball row's force at each angle (N, the total of
+    its four copies), ``race_radial_mm`` the race's outer surface's radial displacement at the
+    band × angles (from its circle), ``race_tilt_rad`` its tilt at each angle (+: the open-end
+    side outward), ``ball_approach_mm`` the balls' Hertz approach at each angle (0: rigid)."""
 
     deformation: CupDeformation
     z_mm: np.ndarray
@@ -88,9 +104,15 @@ class CupContact:
     newton_steps_mm: tuple = ()
     band_radial_mm: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
     band_tangential_mm: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    race: BearingRace | None = None
+    ball_force_n: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    race_radial_mm: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    race_tilt_rad: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    ball_approach_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
     def __post_init__(self):
-        for name in ("z_mm", "phi_rad", "force_n", "gap_mm", "load_mm", "band_radial_mm", "band_tangential_mm"):
+        for name in ("z_mm", "phi_rad", "force_n", "gap_mm", "load_mm", "band_radial_mm", "band_tangential_mm",
+                     "ball_force_n", "race_radial_mm", "race_tilt_rad", "ball_approach_mm"):
             object.__setattr__(self, name, readonly(getattr(self, name)))
 
     @property
@@ -106,7 +128,9 @@ class CupContact:
 
         out = self.deformation.to_dict()
         out["model"] = ("cup as a body of revolution, Fourier harmonics of 2D meridional FEM, pressed onto the "
-                        "contour over the bearing width: frictionless unilateral contact by collocation in φ, "
+                        + ("contour over the bearing width (a rigid band)" if self.race is None else
+                           "wave generator's " + self.race.label())
+                        + ": frictionless unilateral contact by collocation in φ, "
                         + ("exact gap (distance to the contour along its normal)" if self.gap == "exact"
                            else "first-order (radial) gap")
                         + (", geometrically nonlinear (total Lagrangian, harmonic balance)" if self.nonlinear
@@ -118,6 +142,10 @@ class CupContact:
                                      "time_s": self.time_s, "gap": self.gap, "nonlinear": self.nonlinear,
                                      "iterations": self.iterations,
                                      "newton_steps_mm": list(self.newton_steps_mm)})
+        if self.race is not None:
+            out["race"] = json_ready({**self.race.to_dict(), "ball_force_n": self.ball_force_n,
+                                      "tilt_rad": self.race_tilt_rad, "ball_approach_mm": self.ball_approach_mm,
+                                      "radial_mm": self.race_radial_mm})
         return out
 
     def contact_span_mm(self, phi_index: int) -> tuple[float, float] | None:
@@ -147,6 +175,7 @@ def press_cup(
     gap_tol_mm: float = 1e-9,
     newton_tol_mm: float = 1e-7,
     max_iterations: int = 50,
+    race: BearingRace | None = None,
 ) -> CupContact:
     """The cup pressed onto ``contour`` (or the bore shape ``radial_mm`` {n: w_n}, even n) over
     the bearing's width, frictionless and unilateral, boss clamped. ``angles`` J collocation
@@ -163,6 +192,11 @@ def press_cup(
     below ``newton_tol_mm``.
     ``open_end_axial_fixed``: the open end's axial displacement held at zero (seed 004's
     restraint), otherwise free.
+    ``race``: the wave-generator bearing's outer race on its ball row
+    (:class:`~profilegen.rim.cup.bearing.BearingRace`: a ring that bends, tilts about the ball
+    row and rests on Hertz balls; the bore on the race and the race on the balls, both
+    unilateral, one complementarity problem); None: the bore pressed onto the contour itself, a
+    rigid band over the bearing width (the limit of a stiff, stress-free race).
 
     Defaults (2 mm, 2 layers, 16 angles): within 0.3 µm in ω, 0.05 µm in υ of 1 mm / 31 angles
     over the default set's tooth ring, 3.1 s against 41 s under a load of ~8 on 2 cores
@@ -266,6 +300,25 @@ def press_cup(
         blocks.append(0.5 * (g_n + g_n.T))
     a_cos = np.cos(np.outer(orders, phi))  # (harmonics, angles)
     a_sin = np.sin(np.outer(orders, phi))
+    if race is not None:
+        if not isinstance(race, BearingRace):
+            raise CupError(f"race = {race!r}: must be a BearingRace or None (the rigid band)")
+        lo_b, hi_b = g.bearing_span_mm
+        if not lo_b - tol <= race.ball_row_z_mm <= hi_b + tol:
+            raise CupError(f"race.ball_row_z_mm = {race.ball_row_z_mm!r} mm: must lie on the bearing band "
+                           f"[{lo_b:g}, {hi_b:g}] mm")
+        cw, cb = race.compliances(orders)
+        race_w = a_cos.T @ (cw[:, None] * a_cos)  # (angles, angles): radial at φ_j per unit force at φ_k
+        race_b = a_cos.T @ (cb[:, None] * a_cos)  # tilt at φ_j per unit moment at φ_k
+        arm = z[band] - race.ball_row_z_mm  # (m,) the band nodes' lever about the ball row
+        race_bb = np.kron(np.ones((m, m)), race_w) + np.kron(np.outer(arm, arm), race_b)
+        race_bc = np.kron(np.ones((m, 1)), race_w)
+        # the race's own shape on the balls: the contour's harmonics n ≥ 2 (its mean is the
+        # inextensible race's, not a stretch); a stress-free race is on the contour without load
+        coef = np.linalg.solve(a_cos.T, w_cam)
+        race_pre = (w_cam - coef[0]) if race.prestress else np.zeros(angles)
+        ball_gain = race.ball_loads(np.ones(angles), phi)  # ball load per unit angle force
+        race_now = {"lam": np.zeros(angles), "secant": None, "approach": np.zeros(angles)}
     t_comp = time.perf_counter() - t0
 
     # the band's bore points (m, J) in the wave-generator frame: (r sin φ, r cos φ)
@@ -348,31 +401,82 @@ def press_cup(
                                    f"not positive definite ({exc})") from exc
         return nnls(lower.T, solve_triangular(lower, q, lower=True), maxiter=50 * q.size)[0]
 
+    def race_state(mu, lam, n_r):
+        """The race under the ball forces λ and the bore's μ (radial part n_r μ): (its outer
+        surface's radial displacement from its circle at the band (m, J), at the ball row (J),
+        its tilt (J)), the contour's mean and the race's own shape included."""
+        pushed = n_r * mu
+        force = lam - pushed.sum(axis=0)
+        tilt = race_b @ (-(arm[:, None] * pushed).sum(axis=0))
+        at_row = race_w @ force
+        mean = coef[0] if race.prestress else 0.0
+        shift = 0.0 if race.prestress else w_cam  # a stress-free race sits on the contour unloaded
+        return at_row[None, :] + arm[:, None] * tilt[None, :] + mean + shift, at_row + mean + shift, tilt
+
+    def with_race(compliance, q, n_r, secant):
+        """The bore's contact and the ball row's as one problem: unknowns (μ, λ), the gaps
+        (bore − race, race − balls' reach) ≥ 0."""
+        a = n_r.ravel()
+        full = np.empty((m * angles + angles,) * 2)
+        k = m * angles
+        full[:k, :k] = compliance + a[:, None] * race_bb * a[None, :]
+        full[:k, k:] = -a[:, None] * race_bc
+        full[k:, :k] = full[:k, k:].T
+        full[k:, k:] = race_w + np.diag(secant)
+        return full, np.concatenate([q - a * np.repeat(race_pre[None, :], m, axis=0).ravel(), race_pre])
+
+    def secants(lam):
+        """The Hertz secants δ/F (mm/N per unit angle force) at the angles' forces (a 1 N ball
+        load floor, as the contact chain's); zeros with rigid balls."""
+        if race.hertz_coefficient_mm is None:
+            return np.zeros(angles)
+        q_ball = np.maximum(ball_gain * lam, 1.0)
+        return race.hertz_coefficient_mm * ball_gain * q_ball ** (-1.0 / 3.0)
+
     def contact(now_r, now_t, base_r, base_t, guess=None):
         """Unilateral contact for band displacement (now + base + G f), the gap re-linearised
-        at the current iterate until the loaded points sit on the contour: (μ, n_r, n_t, gap,
+        at the current iterate until the loaded points sit on the contour (with the race: on
+        the race, the race on its balls, the Hertz secants settled): (μ, n_r, n_t, gap,
         iterations)."""
         disp_r, disp_t = base_r.copy(), base_t.copy()
         n_r, n_t, dist = state(now_r + disp_r, now_t + disp_t)
+        if race is not None:
+            if guess is not None and guess.size == m * angles:
+                guess = np.concatenate([guess, race_now["lam"] > 0.0])
+            secant = race_now["secant"] if race_now["secant"] is not None else secants(race_now["lam"])
         for iteration in range(1, max_iterations + 1):
             q = (n_r * (disp_r - base_r) + n_t * (disp_t - base_t) - dist).ravel()
-            force = complementary(assemble(n_r, n_t), q, guess)
+            compliance = assemble(n_r, n_t)
+            if race is not None:
+                compliance, q = with_race(compliance, q, n_r, secant)
+            force = complementary(compliance, q, guess)
             if not np.all(np.isfinite(force)):
                 raise ConvergenceError(f"press_cup: non-finite contact forces at iteration {iteration}")
-            mu = force.reshape(m, angles)
+            mu = force[:m * angles].reshape(m, angles)
             guess = force > 0.0
             used = n_r, n_t
             d_r, d_t = band_displacement(generalised(mu, n_r, n_t))
             disp_r, disp_t = base_r + d_r, base_t + d_t
             n_r, n_t, dist = state(now_r + disp_r, now_t + disp_t)
+            settled, gap_now = True, dist
+            if race is not None:
+                lam = force[m * angles:]
+                band_race, _, _ = race_state(mu, lam, used[0])
+                gap_now = dist - n_r * (band_race - w_cam[None, :])  # the bore's gap to the race
+                approach = secants(lam) * lam  # Hertz c_H Q^(2/3); linear below the 1 N floor
+                settled = float(np.max(np.abs(secant * lam - approach), initial=0.0)) <= max(gap_tol_mm, 1e-12)
+                log.debug("press_cup race: iteration %d, Hertz residual %.3g mm, balls on %d", iteration,
+                          float(np.max(np.abs(secant * lam - approach), initial=0.0)), int((lam > 0).sum()))
+                race_now.update(lam=lam, secant=secant, approach=approach, band=band_race, mu=mu, n_r=used[0])
+                secant = secants(lam)  # the secant fixed point (c_H Q^(-1/3): a contraction by ~1/3)
             on = mu > 0.0
-            if (np.max(np.abs(dist[on]), initial=0.0) <= gap_tol_mm
-                    and np.min(dist[~on], initial=0.0) >= -gap_tol_mm):
-                return mu, used[0], used[1], dist, iteration
+            if (settled and np.max(np.abs(gap_now[on]), initial=0.0) <= gap_tol_mm
+                    and np.min(gap_now[~on], initial=0.0) >= -gap_tol_mm):
+                return mu, used[0], used[1], gap_now, iteration
         raise ConvergenceError(
             f"press_cup: the contact gaps did not close in {max_iterations} re-linearisations (largest gap error "
-            f"{np.max(np.abs(dist[mu > 0]), initial=0.0):.3g} mm, deepest penetration "
-            f"{-np.min(dist[mu <= 0], initial=0.0):.3g} mm)")
+            f"{np.max(np.abs(gap_now[mu > 0]), initial=0.0):.3g} mm, deepest penetration "
+            f"{-np.min(gap_now[mu <= 0], initial=0.0):.3g} mm)")
 
     def solve_field(rhs_of):
         """Displacement (harmonics, dof) for the generalised force rhs_of(k) of each harmonic."""
@@ -388,11 +492,18 @@ def press_cup(
     def at_band(x):
         return x[:, iu[band]].T @ a_cos, x[:, iv[band]].T @ a_sin
 
+    def final_state(u_r, u_t):
+        """state() with the gap measured to the race (its last solved position) when there is one."""
+        n_r, n_t, dist = state(u_r, u_t)
+        if race is not None:
+            dist = dist - n_r * (race_now["band"] - w_cam[None, :])
+        return n_r, n_t, dist
+
     t0 = time.perf_counter()
     with one_blas_thread(True):
         x, mu, dist, iterations, newton_steps, body = _solve(
-            contact, response, solve_field, at_band, state, hb, orders, nonlinear, max_iterations, newton_tol_mm, m,
-            angles)
+            contact, response, solve_field, at_band, final_state, hb, orders, nonlinear, max_iterations,
+            newton_tol_mm, m, angles)
     gap_mm = dist
     t_contact = time.perf_counter() - t0
 
@@ -414,6 +525,8 @@ def press_cup(
         notes.append(f"geometrically nonlinear (harmonic balance), {len(newton_steps)} modified Newton steps")
     if open_end_axial_fixed:
         notes.append("open end held axially")
+    if race is not None:
+        notes.append("on the wave generator's " + race.label())
     deformation = CupDeformation(
         geometry=g, orders=orders, load_mm=np.array([load.get(int(n), 0.0) for n in orders]), z_mm=z[line],
         radial_mm=radial, axial_mm=axial, tangential_mm=tangential, bore_radial_mm=bore_radial,
@@ -421,9 +534,14 @@ def press_cup(
         elements=hb.cup_mesh.elements, element_mm=hb.cup_mesh.element_mm, layers=hb.cup_mesh.layers,
         assembly_s=hb.assembly_s, solve_s=t_comp + t_contact, time_s=elapsed, warnings=tuple(notes))
     band_r, band_t = at_band(x)
+    extra = {}
+    if race is not None:
+        band_race, _, tilt = race_state(race_now["mu"], race_now["lam"], race_now["n_r"])
+        extra = {"race": race, "ball_force_n": race_now["lam"], "race_radial_mm": band_race,
+                 "race_tilt_rad": tilt, "ball_approach_mm": race_now["approach"]}
     return CupContact(deformation, z[band], phi, mu, gap_mm, w_cam, t_comp, t_contact, elapsed, gap=gap,
                       nonlinear=nonlinear, iterations=iterations, newton_steps_mm=tuple(newton_steps),
-                      band_radial_mm=band_r, band_tangential_mm=band_t)
+                      band_radial_mm=band_r, band_tangential_mm=band_t, **extra)
 
 
 def _solve(contact, response, solve_field, at_band, state, hb, orders, nonlinear, max_iterations, newton_tol_mm, m,
