@@ -1197,14 +1197,20 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
                                   swept_tol_mm=tol, max_iter=FIT_MAX_ITER)
         except ConvergenceError as exc:
             if m == method and not ridges:  # with ridges the CAD profile is the per-branch fit
-                raise
+                fits[m] = _fit_again(fit_profile, exc, notes, flank, method=m, space_side="left", swept=check,
+                                     swept_tol_mm=tol)
+                continue
             notes.append(f"the {m} fit is left out of the report: {exc}")
     branches = None
     chain = fits[method].chain if method in fits else None  # with ridges: the per-branch chain below
     if ridges:
-        branches = fit_profile_per_branch(flank, ridges, method=method, space_side="left",
-                                          swept=swept if method == "one_sided" else None, swept_tol_mm=tol,
-                                          max_iter=FIT_MAX_ITER, whole=False)  # the whole-flank fit is fits[method]
+        per_branch = {"method": method, "space_side": "left", "swept": swept if method == "one_sided" else None,
+                      "swept_tol_mm": tol, "whole": False}  # the whole-flank fit is fits[method]
+        try:
+            branches = fit_profile_per_branch(flank, ridges, max_iter=FIT_MAX_ITER, **per_branch)
+        except ConvergenceError as exc:
+            branches = _fit_again(lambda pts, **o: fit_profile_per_branch(pts, ridges, **o), exc, notes, flank,
+                                  **per_branch)
         # each branch fit ends at the foot of its own last point: at a ridge the two fits
         # meet within the backlash, with the ridge's kink; a short line closes any gap
         els = list(branches.fits[0].chain.elements)
@@ -1226,6 +1232,25 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     _checkpoint()
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
     return CSProfile(fits, method, branches, space, outline, cmap, positions, tuple(notes), corners)
+
+
+#: the CAD fit's second try when the first does not converge (:func:`_fit_again`): more SLP
+#: iterations, more minimax starts, other perturbations
+FIT_RETRY = {"max_iter": 4 * FIT_MAX_ITER, "starts": 6, "seed": 1}
+
+
+def _fit_again(fit, first: ConvergenceError, notes: list, flank, **options):
+    """The CAD method's fit tried again with :data:`FIT_RETRY` after ``first`` failed (a start that
+    had not converged within FIT_MAX_ITER: no cliff under a slider, where a neighbouring value
+    converges at once), with a note; ``first`` again, with both tries named, if it fails too."""
+    try:
+        result = fit(flank, **options, **FIT_RETRY)
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"{first} (tried again with {FIT_RETRY['max_iter']} SLP iterations and "
+                               f"{FIT_RETRY['starts']} starts: {str(exc).split(';')[0]})") from None
+    notes.append(f"the {options['method']} fit converged on a second try ({FIT_RETRY['max_iter']} SLP iterations, "
+                 f"{FIT_RETRY['starts']} starts): the first stopped with {str(first).split(';')[0]}")
+    return result
 
 
 def _with_clearance(form: CircularSplineForm, cmap) -> CircularSplineForm:
