@@ -26,8 +26,11 @@ each entry sized once when stored (its arrays and containers, walked).
 Cancellation: :meth:`Engine.cancel` — or a newer :meth:`Engine.design` call from another thread,
 which supersedes the running one — makes the running design raise :class:`Cancelled` at its next
 checkpoint: before every stage, at every progress line and inside the pipeline's longer loops
-(each fit method, each step of the contact stage). One design runs at a time per engine; a
-superseding call waits for the running one to stop, then runs.
+(each fit method, the clearance maps, each step of the contact stage; :func:`checkpoint` is the
+hook a stage's own loop may call). A stage without one inside (the face stage, the rim FEM) runs
+to its end first: ``tests/benchmarks/engine.py --cancel`` measures the delay. One design runs at a
+time per engine (``supersede=True``, the default); a superseding call waits for the running one
+to stop, then runs.
 
 In an interactive application, one engine per user (or browser tab), each change designed in a
 worker thread; a change that arrives while one is designed supersedes it::
@@ -66,7 +69,7 @@ import numpy as np
 
 from .gearset import GearSet
 
-__all__ = ["Engine", "Cancelled", "STAGE_INPUTS", "DEFAULT_MEMORY_BYTES", "default_engine", "cached_design"]
+__all__ = ["Engine", "Cancelled", "checkpoint", "STAGE_INPUTS", "DEFAULT_MEMORY_BYTES", "default_engine", "cached_design"]
 
 log = logging.getLogger(__name__)
 
@@ -103,6 +106,15 @@ class Cancelled(Exception):
     """The design was cancelled (:meth:`Engine.cancel`) or superseded by a newer
     :meth:`Engine.design` call. Deliberately not a ProfilegenError: no stage may take it for a
     failure of the design (the contact stage turns those into warnings)."""
+
+
+def checkpoint() -> None:
+    """Where a long computation may stop: raises :class:`Cancelled` when the engine design running
+    in this thread was cancelled or superseded; nothing outside an engine's design (a few µs). A
+    stage's own loop may call it (between face sections, FEM iterations, ...) for a quicker stop."""
+    from .pipeline import _checkpoint
+
+    _checkpoint()
 
 
 def _rim_sections(tier) -> tuple[str, ...]:
