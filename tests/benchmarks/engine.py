@@ -46,18 +46,25 @@ CASES = {
 }
 
 
-def _cli_seconds(gs, scene: str, work: Path) -> float:
+def _cli_seconds(gs, scene: str, work: Path) -> tuple[float, float]:
     from profilegen.output.optimize import write_gearset_toml
 
     path = write_gearset_toml(gs.to_dict(), work / f"{gs.name}.toml")
     out = work / f"out{time.monotonic_ns()}"
-    t0 = time.perf_counter()
+    t0, c0 = time.perf_counter(), _children_cpu()
     res = subprocess.run([sys.executable, "-m", "profilegen", "design", str(path), "--scene", scene, "--out", str(out),
                           "-q"], capture_output=True, text=True, cwd=work)
-    wall = time.perf_counter() - t0
-    if res.returncode != 0:
+    wall, cpu = time.perf_counter() - t0, _children_cpu() - c0
+    if res.returncode != 0 and "FAIL" not in res.stderr and "INCOMPLETE" not in res.stderr:
         raise RuntimeError(f"profilegen design failed: {res.stderr[-500:]}")
-    return wall
+    return wall, cpu
+
+
+def _children_cpu() -> float:
+    import resource
+
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
 
 
 def cancel_latency(engine, gs, scene: str, delay_s: float) -> float | None:
@@ -105,34 +112,42 @@ def main(argv=None) -> int:
             engine.design(base, scene=scene)  # warm: the base set's stages in the cache
             pg.design(base, scene=scene)
             load = os.getloadavg()[0]
-            cached, plain, ran, sizes = [], [], set(), []
+            cached, plain, ran, sizes, cached_cpu, plain_cpu = [], [], set(), [], [], []
             for gs in changed:
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), time.process_time()
                 d = engine.design(gs, scene=scene)
                 cached.append(time.perf_counter() - t0)
+                cached_cpu.append(time.process_time() - c0)
                 ran.add(engine.last_run)
-                t0 = time.perf_counter()
+                t0, c0 = time.perf_counter(), time.process_time()
                 ref = pg.design(gs, scene=scene)
                 plain.append(time.perf_counter() - t0)
+                plain_cpu.append(time.process_time() - c0)
                 diff = first_difference(comparable(d), comparable(ref))
                 if diff:
                     bad += 1
                     print(f"DIFFERENCE {case} {gs.to_dict()[field.split('.')[0]]}: {diff}")
             sizes.append(engine.stats()["bytes"])
             cli = [_cli_seconds(gs, scene, Path(tmp)) for gs in changed[: args.cli]]
+            nan = float("nan")
             row = {"case": case, "cached": statistics.median(cached), "uncached": statistics.median(plain),
-                   "cli": statistics.median(cli) if cli else float("nan"), "load": load, "ran": sorted(ran),
-                   "cache_mb": sizes[-1] / 1e6}
+                   "cli": statistics.median(c[0] for c in cli) if cli else nan,
+                   "cached_cpu": statistics.median(cached_cpu), "uncached_cpu": statistics.median(plain_cpu),
+                   "cli_cpu": statistics.median(c[1] for c in cli) if cli else nan,
+                   "load": load, "ran": sorted(ran), "cache_mb": sizes[-1] / 1e6}
             rows.append(row)
-            print(f"{case}: cached {row['cached']:.3f} s, uncached {row['uncached']:.3f} s, cold CLI {row['cli']:.2f} s "
-                  f"(medians of {len(cached)}/{len(plain)}/{len(cli)}; load {load:.1f}); engine ran {sorted(ran)}; "
+            print(f"{case}: wall cached {row['cached']:.3f} s, uncached {row['uncached']:.3f} s, cold CLI {row['cli']:.2f} s; "
+                  f"CPU {row['cached_cpu']:.3f} / {row['uncached_cpu']:.3f} / {row['cli_cpu']:.2f} s (medians of "
+                  f"{len(cached)}/{len(plain)}/{len(cli)}; load {load:.1f}); engine ran {sorted(ran)}; "
                   f"cache {row['cache_mb']:.0f} MB", flush=True)
     print()
-    print(f"{'case':15s} {'cached s':>9s} {'uncached s':>11s} {'cold CLI s':>11s} {'uncached/cached':>16s} "
-          f"{'CLI/cached':>11s}")
-    for r in rows:
-        print(f"{r['case']:15s} {r['cached']:9.3f} {r['uncached']:11.3f} {r['cli']:11.2f} "
-              f"{r['uncached'] / r['cached']:16.1f} {r['cli'] / r['cached']:11.1f}")
+    for what, suffix in (("wall", ""), ("CPU (the host is shared: wall times stretch with its load)", "_cpu")):
+        print(f"{what}:")
+        print(f"  {'case':15s} {'cached s':>9s} {'uncached s':>11s} {'cold CLI s':>11s} {'uncached/cached':>16s} "
+              f"{'CLI/cached':>11s}")
+        for r in rows:
+            c, u, k = r["cached" + suffix], r["uncached" + suffix], r["cli" + suffix]
+            print(f"  {r['case']:15s} {c:9.3f} {u:11.3f} {k:11.2f} {u / c:16.1f} {k / c:11.1f}")
     print(f"design.json identical cached vs uncached: {'yes' if not bad else f'NO ({bad} differ)'}")
     if args.cancel:
         import random

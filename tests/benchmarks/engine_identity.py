@@ -119,7 +119,8 @@ def draw_states(rng: random.Random, sets: dict, length: int):
 def run(sequences: int, length: int, seed: int, *, pool: int | None = None, engine=None, log=print) -> dict:
     """Design ``sequences`` random edit sequences through ``engine`` (a new Engine by default) and
     afresh; with ``pool``, the states are drawn from ``pool`` sequences' states only (the fresh
-    designs of a state repeat: computed once). {'designs', 'differences', 'runs', 'hits'}."""
+    designs of a state repeat). The fresh design of inputs seen before is not made again (a
+    sequence starts from the unmodified set). {'designs', 'errors', 'differences', 'runs', 'hits'}."""
     import profilegen as pg
     from profilegen.errors import GearSetError
 
@@ -143,7 +144,7 @@ def run(sequences: int, length: int, seed: int, *, pool: int | None = None, engi
                 continue  # refused before any stage: nothing to compare
             scene = all_scenes[scene_index]
             key = json.dumps([set_name, changes, scene_index, method], sort_keys=True)
-            if pool is None or key not in fresh:
+            if key not in fresh:  # the same inputs again (a sequence's start): design() gives the same design
                 fresh[key] = outcome(pg.design, gs, scene, method)
             got = outcome(engine.design, gs, scene, method)
             out["designs"] += 1

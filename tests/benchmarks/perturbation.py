@@ -4,6 +4,11 @@ neighbours (each perturbed value × (1 ± 0.001)) designed too, and a failure wh
 both design is a *cliff* — a value between two that design cleanly that does not.
 
     python tests/benchmarks/perturbation.py [--n 2000] [--seed 31] [--design 40] [--design-only] [--plain]
+                                            [--start J] [--stop K] [--replay LOG ...]
+
+``--start``/``--stop`` run a slice of the job list (one run split over two processes: the counts
+are the sum); ``--replay`` runs again only the jobs printed as failures in earlier runs' logs (the
+code changed on the failure path only: the other jobs' outcomes stand).
                                             [--out export/bench/perturbation.json]
 
 Each perturbation takes one bundled set (``profiles/*.toml``, uniformly) and multiplies 1 to 4
@@ -88,6 +93,10 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=31)
     ap.add_argument("--design", type=int, default=40, help="how many of them also in the design scene")
     ap.add_argument("--design-only", action="store_true", help="the design-scene subset only")
+    ap.add_argument("--start", type=int, default=0, help="run jobs [start, stop) of the list only (split a run)")
+    ap.add_argument("--stop", type=int, default=None)
+    ap.add_argument("--replay", nargs="+", default=None, metavar="LOG",
+                    help="run only the jobs that failed in these logs of earlier runs (same --n, --seed, --design)")
     ap.add_argument("--plain", action="store_true", help="profilegen.design, no engine (the 'before' count)")
     ap.add_argument("--time-limit-s", type=float, default=60.0)
     ap.add_argument("--out", default=str(ROOT / "export" / "bench" / "perturbation.json"))
@@ -120,9 +129,18 @@ def main(argv=None) -> int:
     jobs = [] if args.design_only else [(i, name, changes, "sketch") for i, name, changes in cases]
     jobs += [(i, name, changes, "design") for i, name, changes in cases[: args.design]]
 
+    total = len(jobs)
+    indexed = list(enumerate(jobs))[args.start:args.stop]
+    if args.replay:  # the failures of earlier runs (their printed lines: "[J/total] scene set {...}: named ...")
+        import re
+
+        failed = {int(m.group(1)) - 1 for log in args.replay for m in
+                  re.finditer(r"^\[(\d+)/\d+\] (?:sketch|design) \S+ \{", Path(log).read_text(), re.M)}
+        indexed = [(j, job) for j, job in indexed if j in failed]
+        print(f"replaying {len(indexed)} failures of {', '.join(args.replay)}")
     counts: dict[str, Counter] = {"sketch": Counter(), "design": Counter()}
     failures, t0 = [], time.perf_counter()
-    for j, (i, name, changes, scene) in enumerate(jobs):
+    for j, (i, name, changes, scene) in indexed:
         limit = args.time_limit_s * (4 if scene == "design" else 1)
         kind, what = outcome(run, sets[name], changes, scene, limit)
         counts[scene][kind] += 1
@@ -134,15 +152,16 @@ def main(argv=None) -> int:
             cliff = all(k == "ok" for k, _ in neighbours)
             failures.append({"case": i, "set": name, "scene": scene, "changes": changes, "outcome": kind,
                              "error": what, "neighbours": [list(n) for n in neighbours], "cliff": cliff})
-            print(f"[{j + 1}/{len(jobs)}] {scene} {name} {changes}: {kind} {what[:160]}"
+            print(f"[{j + 1}/{total}] {scene} {name} {changes}: {kind} {what[:160]}"
                   f"{'  CLIFF' if cliff else ''}", flush=True)
-        if (j + 1) % 100 == 0:
-            print(f"[{j + 1}/{len(jobs)}] {time.perf_counter() - t0:.0f} s {dict(counts['sketch'])} "
+        if (j + 1) % 100 == 0 and not args.replay:
+            print(f"[{j + 1}/{total}] {time.perf_counter() - t0:.0f} s {dict(counts['sketch'])} "
                   f"{dict(counts['design'])}", flush=True)
 
     cliffs = [f for f in failures if f["cliff"]]
     errors = Counter(f["error"].split(":")[0] for f in failures)
-    summary = {"n": args.n, "seed": args.seed, "plain": args.plain, "time_s": time.perf_counter() - t0,
+    summary = {"n": args.n, "seed": args.seed, "plain": args.plain, "jobs": [j for j, _ in indexed] if args.replay else
+               [args.start, args.start + len(indexed)], "time_s": time.perf_counter() - t0,
                "counts": {s: dict(c) for s, c in counts.items()}, "cliffs": len(cliffs),
                "failures_by_type": dict(errors), "failures": failures}
     out = Path(args.out)
