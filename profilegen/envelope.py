@@ -2,7 +2,7 @@
 
 The CS tooth space is the region swept by the FS tooth over one pass
 (φ ∈ [−π/U, π/U]); its boundary is the conjugate CS flank. The meshing
-equation f(t, φ) = ∂Q/∂φ × ∂Q/∂t = 0 gives candidates only (DESIGN trap 2):
+equation f(t, φ) = ∂Q/∂φ × ∂Q/∂t = 0 gives candidates only (docs/theory/envelope.md):
 
 * a profile point can have two roots (double conjugation) or none (never in
   mesh); near folds (f = ∂f/∂φ = 0) the two roots merge;

@@ -13,7 +13,7 @@ Frames and signs (one place, used everywhere):
 
 With the CS fixed, the wave generator turned by ψ and the FS carrier by
 −ψU/z1, the tooth with undeformed carrier angle 0 has φ = −(z2/z1)ψ and
-undeformed polar angle β = −ψU/z1 = (U/z2)·φ (DESIGN trap 1: not (U/z1)·φ).
+undeformed polar angle β = −ψU/z1 = (U/z2)·φ, not (U/z1)·φ (docs/theory/envelope.md, "Kinematics").
 The exact displacement geometry is::
 
     O = (r_m + ω) e_r(β) + υ e_t(β)
@@ -123,7 +123,7 @@ class Motion(Protocol):
 
 @dataclass(frozen=True, slots=True, eq=False)
 class HarmonicDriveMotion:
-    """FS tooth in the fixed CS: exact displacement geometry of DESIGN trap 1."""
+    """FS tooth in the fixed CS: the exact displacement geometry (docs/theory/envelope.md, "Kinematics")."""
 
     deformation: Deformation
     neutral_radius_mm: float

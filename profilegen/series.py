@@ -6,7 +6,7 @@ tangential one (toward increasing φ, mm). A rim solver (ring theory, FEM) gives
 discrete φ; the kinematics needs smooth functions with derivatives up to third order.
 
 Two fitters, as in seed 004 ("Deriving Deformation Functions via Curve Fitting") but
-corrected by DESIGN.md trap 3:
+corrected (docs/theory/rim.md, "The fit"):
 
 * :func:`fit_fourier` — the default. Integer harmonics of the wave count U,
   ``ω = a_0 + Σ a_k cos(kUφ)``, ``υ = Σ b_k sin(kUφ)``, by linear least squares. Exactly
@@ -841,7 +841,7 @@ def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int 
     solved by variable projection (only the b_i are iterated; α_i, β_i by linear least
     squares, a QR of the sin/cos matrix, at every step; the exact Golub–Pereyra Jacobian of
     the projected residual), then the best one is polished in all 3·terms parameters with
-    the analytic Jacobian. (``_reference=True``: the variable projection as before issue 14,
+    the analytic Jacobian. (``_reference=True``: the variable projection of the first version,
     ``np.linalg.lstsq`` and a finite-difference Jacobian — 3–4× the CPU time, the same fit
     to rounding; kept for tests/benchmarks/sine_fit.py.) Starting frequencies come from FFT peaks:
     matching pursuit takes the strongest peak of the residual's spectrum, refines its
@@ -850,7 +850,7 @@ def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int 
     frequencies at random (``seed``), even starts jitter start 0, each by up to half a
     frequency bin. The lowest SSE wins. Needs more samples than the 3·terms parameters.
 
-    The result is not periodic in general (DESIGN.md trap 3); see ``stats.defect_mm``.
+    The result is not periodic in general (docs/theory/rim.md, "The fit"); see ``stats.defect_mm``.
     Pair an ω and a υ fit with :class:`GeneralSineDeformation` for the kinematics.
 
     >>> phi = np.linspace(0.0, 2 * np.pi, 200, endpoint=False)
@@ -890,7 +890,7 @@ def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int 
 
     projection = _Projection(phi, values, terms)
 
-    def projected(b):  # the fitter before issue 14 (_reference): SVD least squares, finite-difference Jacobian
+    def projected(b):  # the first version's fitter (_reference): SVD least squares, finite-difference Jacobian
         return _linear_amplitudes(phi, values, b)[2]
 
     best_b, best_cost = None, math.inf

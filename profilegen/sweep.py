@@ -387,7 +387,7 @@ def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | o
                             "(method, n, seed, field = [lo, hi])")
     seed = None
     if has_grid:
-        grid = _flat_table(data["grid"], "grid", fail)
+        grid = flat_table(data["grid"], "grid", fail)
         if not grid:
             fail("grid", "needs at least one field = [values]")
         for f, values in grid.items():
@@ -416,7 +416,7 @@ def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | o
         seed = table.get("seed", 0)
         if not _is_int(seed) or seed < 0:
             fail("sample.seed", f"{seed!r}: must be an integer >= 0")
-        ranges = _flat_table({k: v for k, v in table.items() if k not in _SAMPLE_KEYS}, "sample", fail)
+        ranges = flat_table({k: v for k, v in table.items() if k not in _SAMPLE_KEYS}, "sample", fail)
         if not ranges:
             fail("sample", "needs at least one field = [lo, hi]")
         for f, rng in ranges.items():
@@ -431,7 +431,7 @@ def parse_sweep_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str | o
             _check_grid_values(gearset, f, values, fail)
     else:
         for f, v in first.items():
-            _check_field(gearset, f, v, f"sample.{f}", fail)
+            check_field(gearset, f, v, f"sample.{f}", fail)
     return SweepSpec(name=name, gearset=gearset, scene=scene, kind=kind, fields=tuple(first), points=tuple(points),
                      description=description, plot=plot, seed=seed, origin=origin)
 
@@ -472,7 +472,7 @@ def _base_gearset(text: str, base: Path, fail) -> GearSet:
         fail("gearset", named_file_problem(exc, path, "gear-set file"))
 
 
-def _flat_table(table, prefix: str, fail, _path: str = "") -> dict:
+def flat_table(table, prefix: str, fail, _path: str = "") -> dict:
     """A (possibly nested) TOML table as {dotted path: value}: `a.b = 1` and `"a.b" = 1` alike."""
     if not isinstance(table, Mapping):
         fail(prefix, f"must be a table, got {type(table).__name__}")
@@ -480,7 +480,7 @@ def _flat_table(table, prefix: str, fail, _path: str = "") -> dict:
     for key, value in table.items():
         path = f"{_path}.{key}" if _path else str(key)
         if isinstance(value, Mapping):
-            out.update(_flat_table(value, prefix, fail, path))
+            out.update(flat_table(value, prefix, fail, path))
         else:
             out[path] = value
     return out
@@ -499,10 +499,10 @@ def _check_grid_values(gearset: GearSet, path: str, values: Sequence, fail) -> N
             fail(f"grid.{path}[{i}]", f"a text of {len(v)} characters: at most {MAX_GRID_TEXT_CHARS} (a file name's "
                  "length; the longest gear-set text, tooth.points_file, is 4096)")
     for i in sorted(first_of.values()):
-        _check_field(gearset, path, values[i], f"grid.{path}[{i}]", fail, field_key=f"grid.{path}")
+        check_field(gearset, path, values[i], f"grid.{path}[{i}]", fail, field_key=f"grid.{path}")
 
 
-def _check_field(gearset: GearSet, path: str, value, key: str, fail, *, field_key: str | None = None) -> None:
+def check_field(gearset: GearSet, path: str, value, key: str, fail, *, field_key: str | None = None) -> None:
     """A field path the gear set does not have, or a value of the wrong type for the field (a
     text for a number, a boolean, a float for an integer, nan/inf), is a spec error at ``key``;
     a value of the right type out of its range is the point's error (a row)."""
@@ -591,7 +591,7 @@ def _run_point(index: int, values: dict, gearset: GearSet, scene: Scene, designe
 _ONE_THREAD = ("OMP_NUM_THREADS", "OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS", "BLIS_NUM_THREADS")
 
 
-def _init_worker() -> None:
+def init_worker() -> None:
     """Process-pool workers: one BLAS thread each, as Dask's workers have by default (the
     pool is the parallelism; and a BLAS's thread count changes its rounding, so both give
     the same table). The variables cover the libraries loaded later (scipy's own BLAS).
@@ -661,7 +661,7 @@ def interrupt_on_signals(signals: Sequence[int] = (signal.SIGTERM,)) -> Iterator
 
 
 @contextlib.contextmanager
-def _signals_deferred() -> Iterator[None]:
+def signals_deferred() -> Iterator[None]:
     """SIGINT and SIGTERM blocked in this thread: processes forked and threads started here
     start with them blocked (a pool's workers and its manager thread), and a second Ctrl-C
     does not cut a clean-up short. A signal that came meanwhile is delivered on leaving."""
@@ -745,7 +745,7 @@ def _run_sweep(spec: SweepSpec, out: Path, owned, executor, workers, progress, d
     from .output import folder
 
     live = owned.begin([JOURNAL])
-    journal = _Journal(live / JOURNAL, ("point_id", *spec.fields, *OUTPUT_COLUMNS, *STATUS_COLUMNS))
+    journal = Journal(live / JOURNAL, ("point_id", *spec.fields, *OUTPUT_COLUMNS, *STATUS_COLUMNS))
     wanted = set(spec.ids)
     done: dict[str, dict] = {pid: row for pid, row in journal.read().items() if pid in wanted}
     reused = len(done)
@@ -763,10 +763,10 @@ def _run_sweep(spec: SweepSpec, out: Path, owned, executor, workers, progress, d
     if own:
         from concurrent.futures import ProcessPoolExecutor
 
-        executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, initializer=_init_worker)
+        executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, initializer=init_worker)
     futures = {}
     try:
-        with _signals_deferred():  # the pool's processes start with SIGINT/SIGTERM blocked (see _init_worker)
+        with signals_deferred():  # the pool's processes start with SIGINT/SIGTERM blocked (see init_worker)
             for pid, i in todo.items():
                 futures[executor.submit(_run_point, i, spec.points[i], spec.gearset, spec.scene, designer)] = pid
         for fut in as_completed(futures):
@@ -787,7 +787,7 @@ def _run_sweep(spec: SweepSpec, out: Path, owned, executor, workers, progress, d
             executor.shutdown(wait=True)
     except BaseException:
         if own:
-            with _signals_deferred():
+            with signals_deferred():
                 stop_pool(executor, what="sweep")
         else:
             for fut in futures:
@@ -843,7 +843,7 @@ def _parse_cell(text: str, kind: type):
 # ----------------------------------------------------------------------------- the journal
 
 
-class _Journal:
+class Journal:
     """An append-only CSV of finished points, one complete line each.
 
     Each line is written by one ``write`` on a file opened for appending and ends with a

@@ -13,7 +13,7 @@ the validation tests and the benchmark, never by the pipeline.
 
 The union of discrete placements lies inside the true swept region, in notches
 between successive placements. Where the boundary is a smooth envelope they are
-O(1/n_phi²) deep, but where it is the path of the tooth's tip *corner* (DESIGN trap 2)
+O(1/n_phi²) deep, but where it is the path of the tooth's tip *corner* (docs/theory/envelope.md)
 two successive copies of the corner leave a notch of first order, so the error falls
 only as 1/n_phi. Measured on the default set (DCTA, m 0.5, z1 200, z2 202, r_m 48.95,
 w0 0.5, one neighbour each side; largest distance between this boundary and the one at

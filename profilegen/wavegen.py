@@ -1,6 +1,6 @@
 """Wave-generator contours: the rigid curve the flexspline bore is pressed onto.
 
-Conventions (DESIGN.md): lengths in mm, angles in rad. θ is the polar angle measured from
+Conventions (docs/reference/conventions.md): lengths in mm, angles in rad. θ is the polar angle measured from
 the wave-generator major axis; in the CS/WG frame the major axis is +y and θ runs from +y
 toward +x, so a point at radius r is ``(r sin θ, r cos θ)``. Points are ``(n, 2)`` arrays.
 

@@ -29,7 +29,7 @@ Model
   solved by a primal–dual active set on the bordered system (as the chain's continuation),
   Lemke's method (:func:`~profilegen.contact.compliance._lemke_lcp`, t = t⁺ − t⁻) when the
   active set cycles. The Hertz ball springs: the chain's secant fixed point
-  (:class:`~profilegen.contact.chain._SpringIteration`). With no deviations the two zones
+  (:class:`~profilegen.contact.chain.SpringIteration`). With no deviations the two zones
   carry T/2 each and reproduce the one-zone model (tests/research/test_tooth_errors.py).
 * **One flank or both.** Given one flank's points, the other flank never touches (a gear
   whose backlash allowance exceeds its deviations); the curve's zero is the rigid gear's
@@ -395,7 +395,7 @@ class TwoZoneContact:
         free to translate radially, as on an Oldham coupling: a second translation c, the
         balls' gaps h − e_r·c, Σ R e_r = 0 on the cam; so the teeth's resultant vanishes too).
         ``translation_mm``: t, or (t, c) when floating."""
-        from profilegen.contact.chain import _SpringIteration
+        from profilegen.contact.chain import SpringIteration
 
         t = float(torque_nm)
         two_flanks = len(self.flanks) > 1
@@ -411,7 +411,7 @@ class TwoZoneContact:
         loaded = start
         if loaded is None and wave_generator == "floating":  # a set whose teeth can balance their resultant
             loaded = self.solve(t, offsets_rad)._loaded
-        springs = None if bearing is None else _SpringIteration(bearing.hertz_coefficient(), spring_tol)
+        springs = None if bearing is None else SpringIteration(bearing.hertz_coefficient(), spring_tol)
         for _ in range(spring_iterations):
             c = None if springs is None else springs.springs
             out = self._solve(t * 1e3, theta, c, loaded, dmat)

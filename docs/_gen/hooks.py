@@ -175,10 +175,10 @@ def gearset_schema_keys() -> dict[str, set[str]]:
     """Every key a gear-set file may have, by section (``""`` the top level, ``tooth.<kind>``)."""
     from profilegen.gearset import sections as s  # the schema's own lists: one implementation
 
-    keys = {"": set(s._TOP_KEYS)}
+    keys = {"": set(s.TOP_KEYS)}
     for section, names in s._SECTION_KEYS.items():
         keys[section] = set(names)
-    for kind, names in s._TOOTH_KEYS.items():
+    for kind, names in s.TOOTH_KEYS.items():
         keys[f"tooth.{kind}"] = set(names)
     return keys
 

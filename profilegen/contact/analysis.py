@@ -183,7 +183,7 @@ def _checked_torques(torques_nm, solver: str) -> np.ndarray:
     return torques
 
 
-def _load_case(points, torque: float, sol: ContactSolution, balls=None) -> tuple[LoadCase, list[str]]:
+def load_case(points, torque: float, sol: ContactSolution, balls=None) -> tuple[LoadCase, list[str]]:
     """The per-tooth summary of one zone's solution, and what the result must warn about."""
     teeth = points.teeth
     slot = np.searchsorted(teeth, points.tooth)
@@ -217,15 +217,15 @@ def analyse_contact(points, compliance_mm_per_n, torques_nm, *, solver: str = "l
     cases, warnings = [], []
     for torque in torques:
         sol = _SOLVERS[solver](s, points.theta_rad, points.lever_mm, torque / points.zones * 1e3)
-        case, notes = _load_case(points, torque, sol)
+        case, notes = load_case(points, torque, sol)
         cases.append(case)
         warnings += notes
     return ContactResult(points, tuple(cases), int(points.zones), solver, {}, time.perf_counter() - t0,
                          tuple(warnings), None)
 
 
-class _Balls:
-    """What :func:`_load_case` reads of the balls: their angles, reactions (N, > 0 the ball
+class BallReactions:
+    """What :func:`load_case` reads of the balls: their angles, reactions (N, > 0 the ball
     compressed) and which are in contact (default: those with a reaction)."""
 
     __slots__ = ("ball_angle_rad", "ball_active", "_reactions")
@@ -244,26 +244,26 @@ def _solve_every_ball(points, compliance, torque_nm: float, solver: str, bearing
     compliance.ContactCompliance.solve_unilateral`, exact). "active_set": an independent
     solve of the same problem — the ball set settled (:func:`~profilegen.contact.compliance.
     settle_step`), for each set the teeth by the primal active-set QP on the compliance with
-    those balls closed at their gaps (:class:`~profilegen.contact.reduced._ReducedZone`)."""
+    those balls closed at their gaps (:class:`~profilegen.contact.reduced.ReducedZone`)."""
     from ..errors import ConvergenceError
 
     torque_nmm = torque_nm / points.zones * 1e3
     if solver == "lemke":
         sol, reactions, _ = compliance.solve_unilateral(points.theta_rad, points.lever_mm, torque_nmm,
                                                         bearing=bearing)
-        return sol, _Balls(compliance.ball_angle_rad, reactions)
-    from .reduced import _ReducedZone, _solution
+        return sol, BallReactions(compliance.ball_angle_rad, reactions)
+    from .reduced import ReducedZone, zone_solution
 
     t0 = time.perf_counter()
-    zone = _ReducedZone(points, compliance, bearing)
+    zone = ReducedZone(points, compliance, bearing)
     state = (np.zeros(points.count, bool), np.asarray(compliance.ball_active, bool), None)
     out = zone.solve(torque_nm, state, springs_on=bearing is not None, spring_tol=1e-6,
                      max_iterations=settle_iterations + 2 * compliance.ball_angle_rad.size + 60, teeth="active_set")
     if out is None:
         raise ConvergenceError(f"solve_contact: the active-set solve's ball set cycles or does not settle at "
                                f"{torque_nm:g} N·m")
-    return (_solution(zone, torque_nm, out, t0, method="active set (teeth), balls settled"),
-            _Balls(compliance.ball_angle_rad, out["reactions"], out["active"]))
+    return (zone_solution(zone, torque_nm, out, t0, method="active set (teeth), balls settled"),
+            BallReactions(compliance.ball_angle_rad, out["reactions"], out["active"]))
 
 
 def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: int = 5, max_gap_mm: float = 0.12,
@@ -324,7 +324,7 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
         for torque in torques:
             if every_ball:
                 sol, balls = _solve_every_ball(points, compliance, float(torque), solver, bearing, settle_iterations)
-                case, notes = _load_case(points, torque, sol, balls)
+                case, notes = load_case(points, torque, sol, balls)
                 cases.append(case)
                 warnings += notes
                 continue
@@ -337,7 +337,7 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
             settled = compliance.settle_balls(first.force_n, max_iterations=settle_iterations, solve=forces_for)
             sol = (first if np.array_equal(settled.ball_active, compliance.ball_active)
                    else solve(settled.matrix_mm_per_n, points.theta_rad, points.lever_mm, torque_nmm))
-            case, notes = _load_case(points, torque, sol, settled)
+            case, notes = load_case(points, torque, sol, settled)
             cases.append(case)
             warnings += notes
     info = {**compliance.to_dict(), "ball_supports": getattr(compliance, "ball_supports", "window")}

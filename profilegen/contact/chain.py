@@ -89,7 +89,7 @@ rotation span between +f·T_rated and −f·T_rated (f = 3 % by default), backla
 
 Each flank's torques are solved by continuation in T (``method="continuation"``, default):
 in increasing |T|, each from the previous torque's loaded points, ball set and springs, on
-reduced systems (:class:`_ReducedZone`; the balls by the settling rule :func:`~profilegen.
+reduced systems (:class:`ReducedZone`; the balls by the settling rule :func:`~profilegen.
 contact.compliance.settle_step`, each closed at its gap) — 0.22 s CPU for the 32 torques of a
 design run and the breakpoints (seed000_csf40) against 3.4 s for the reference
 (``method="lemke"``: Lemke from scratch on teeth and balls at every torque and spring step),
@@ -122,7 +122,7 @@ from .. import checks
 from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import json_ready, readonly as _readonly
-from .reduced import _ReducedZone, _solution, _SpringIteration  # noqa: F401 (the continuation's pieces, used here)
+from .reduced import ReducedZone, zone_solution, SpringIteration  # noqa: F401 (the continuation's pieces, used here)
 
 __all__ = [
     "ARCMIN_PER_RAD",
@@ -476,7 +476,7 @@ LEFT_OUT = (
 )
 
 
-def _cs_held_radius(gearset) -> tuple[float, str | None]:
+def cs_held_radius(gearset) -> tuple[float, str | None]:
     cs = getattr(gearset, "circular_spline", None)
     d_out = None if cs is None else cs.outer_diameter_mm
     if d_out is not None:
@@ -523,7 +523,7 @@ def compliance_chain(gearset, *, cs_sector_radius_mm: float | None = None, cs_he
         _positive("cs_sector_radius_mm", cs_sector_radius_mm)
     est_cs = []
     if cs_held_radius_mm is None:
-        r_held, note = _cs_held_radius(gearset)
+        r_held, note = cs_held_radius(gearset)
         if note:
             est_cs.append(note)
         else:
@@ -728,7 +728,7 @@ class TorsionalCurve:
         })
 
     def to_dict(self) -> dict:
-        """JSON-ready, in the names of issue 16's ``contact.json["torsional"]``."""
+        """JSON-ready, in the names of ``contact.json["torsional"]`` (docs/reference/outputs.md)."""
         k_total = self.k_nm_per_rad["total"]["positive"]
         return json_ready({
             "torque_nm": self.torque_nm.tolist(),
@@ -789,10 +789,10 @@ def _solve_side_unilateral(points, compliance, magnitude_nm: float, bearing: Bal
     """One flank at |T| with every ball a one-sided support at its no-load gap: Lemke from
     scratch on the teeth and balls (:meth:`~profilegen.contact.compliance.ContactCompliance.
     solve_unilateral`'s LCP) at rigid balls and at every step of the springs' fixed point
-    (:class:`_SpringIteration`). → (φ rigid balls, φ with springs, teeth, balls, springs)."""
+    (:class:`SpringIteration`). → (φ rigid balls, φ with springs, teeth, balls, springs)."""
     from dataclasses import replace
 
-    from .analysis import _Balls
+    from .analysis import BallReactions
 
     tz = magnitude_nm / points.zones * 1e3
     # across the face (face_slices) coning can close a slice's gap below zero: the LCP takes the
@@ -808,8 +808,8 @@ def _solve_side_unilateral(points, compliance, magnitude_nm: float, bearing: Bal
     sol, react = lcp(None)
     rigid_sol, phi_rigid = sol, float(sol.phi_rad)
     if bearing is None:
-        return phi_rigid, phi_rigid, sol, rigid_sol, _Balls(compliance.ball_angle_rad, react), None
-    it = _SpringIteration(bearing.hertz_coefficient(), spring_tol,
+        return phi_rigid, phi_rigid, sol, rigid_sol, BallReactions(compliance.ball_angle_rad, react), None
+    it = SpringIteration(bearing.hertz_coefficient(), spring_tol,
                           None if start_springs is None else np.log(start_springs))
     if start_springs is not None:
         sol, react = lcp(np.exp(it.x))
@@ -820,7 +820,7 @@ def _solve_side_unilateral(points, compliance, magnitude_nm: float, bearing: Bal
     else:
         raise ConvergenceError(f"torsional_curve: the Hertz ball springs did not settle in {spring_iterations} "
                                f"iterations at {magnitude_nm:g} N·m")
-    return phi_rigid, float(sol.phi_rad), sol, rigid_sol, _Balls(compliance.ball_angle_rad, react), \
+    return phi_rigid, float(sol.phi_rad), sol, rigid_sol, BallReactions(compliance.ball_angle_rad, react), \
         it.springs
 
 
@@ -847,8 +847,8 @@ def _solve_side_window(points, compliance, magnitude_nm: float, bearing: BallBea
     rigid_sol = sol
     if bearing is None:
         return phi_rigid, phi_rigid, sol, rigid_sol, comp, None
-    # the secant springs' fixed point (_SpringIteration: Steffensen per ball in log c)
-    it = _SpringIteration(bearing.hertz_coefficient(), spring_tol,
+    # the secant springs' fixed point (SpringIteration: Steffensen per ball in log c)
+    it = SpringIteration(bearing.hertz_coefficient(), spring_tol,
                           None if start_springs is None else np.log(start_springs))
     if start_springs is not None:
         comp, sol = settled_solve(comp.with_balls(comp.ball_active, ball_compliance_mm_per_n=start_springs))
@@ -891,7 +891,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
 
     ``method``: ``"continuation"`` (default) solves each flank's torques in increasing |T|,
     each from the previous one's loaded points, ball set and springs, on reduced systems
-    (:class:`_ReducedZone`); ``"lemke"`` is the reference: every torque from scratch by
+    (:class:`ReducedZone`); ``"lemke"`` is the reference: every torque from scratch by
     Lemke's method on the assembled compliance, settling and springs iterated around it
     (:func:`_solve_side`). Both solve the same problem, whose solution is unique: they agree
     to the springs' tolerance (tests/unit/test_compliance_chain.py).
@@ -907,7 +907,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     modification along the face, if given), every ball one-sided with its Hertz spring in every
     slice, the tooth ring's twist in the slices (:mod:`profilegen.contact.face_curve`). One
     slice is the 2D curve; the result's ``sides`` stay the 2D flanks."""
-    from .analysis import _Balls, _load_case
+    from .analysis import BallReactions, load_case
     from .compliance import ContactCompliance
     from .inputs import ContactInput
     from .points import contact_points
@@ -986,14 +986,14 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
                 spring_iterations=spring_iterations, spring_tol=spring_tol, start_springs=start(side, magnitude))
             if springs is not None:
                 last_springs[side] = (float(magnitude), springs)
-            case, notes = _load_case(pts, magnitude, sol, settled)
+            case, notes = load_case(pts, magnitude, sol, settled)
             cache[key] = (phi_r, phi_b, case, notes)
         return cache[key]
 
     def continuation(side: int, magnitudes) -> None:
         """Fill the cache for one flank, |T| ascending, each torque from the one before."""
         pts, comp = sides[side]
-        zone = _ReducedZone(pts, comp, chain.bearing)
+        zone = ReducedZone(pts, comp, chain.bearing)
         start = np.zeros(pts.count, bool)
         start[int(np.argmin(pts.theta_rad))] = True
         rigid_state = (start, np.asarray(comp.ball_active, bool), None)
@@ -1016,9 +1016,9 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
                 continue
             rigid_state = (rigid["loaded"], rigid["active"], None)
             spring_state, previous = (springs["loaded"], springs["active"], springs["log_springs"]), m
-            sol = _solution(zone, m, springs, tm)
-            balls = _Balls(comp.ball_angle_rad, springs["reactions"], springs["active"])
-            case, notes = _load_case(pts, m, sol, balls)
+            sol = zone_solution(zone, m, springs, tm)
+            balls = BallReactions(comp.ball_angle_rad, springs["reactions"], springs["active"])
+            case, notes = load_case(pts, m, sol, balls)
             cache[(side, m)] = (float(rigid["phi"]), float(springs["phi"]), case, notes)
 
     with one_blas_thread():

@@ -21,7 +21,7 @@ Model (small displacements about the undeformed bodies; linear, plane stress)
   normal is turned back with the tooth frame. The elastic response to the tooth loads is
   then computed on the undeformed rim: the rim's pre-stress from the wave generator
   and the ~0.5 mm change of geometry are left out (seed 000 does the same; the rim
-  stage's geometric nonlinearity moves ω by ~7 µm out of 500, DESIGN.md trap 7, so the
+  stage's geometric nonlinearity moves ω by ~7–10 µm out of 500, docs/theory/rim.md, so the
   error of this linearisation is of the order of 1–2 %).
 * **FS: point-symmetric half ring.** The two engagement zones of a two-wave gear are
   images of each other under the rotation by π (not mirror images: the tooth forces have
@@ -51,7 +51,7 @@ Model (small displacements about the undeformed bodies; linear, plane stress)
   θ_b = ``ball_phase_rad`` + 2πb/N (N = ``ball_count``, default 23 — seed 000 §5.2's
   CSF40-100 — an ESTIMATE for other sizes), only those within ``wrap_half_angle_rad`` of
   the major axis (where the rim sits on the cam at no load; default: the rim stage's
-  contact angle, or a flat linear ring solve — ill-conditioned, DESIGN.md trap 7). A ball
+  contact angle, or a flat linear ring solve — ill-conditioned, docs/theory/rim.md). A ball
   is a point support along e_r, frictionless, on the inner surface of the bearing's outer
   race (below), or on the bore with ``race_thickness_mm=0`` (seed 000's model). The ball set is taken point-symmetric (the other zone's balls
   are the images of this zone's; exact for even N, a choice of cage position for odd N).
@@ -1321,7 +1321,7 @@ def gearset_cs_modulus(gearset) -> float:
     return float(gearset.material.youngs_modulus_mpa)
 
 
-def _wrap_half_angle(rim_contact_angle_rad: float | None, gearset) -> tuple[float, str]:
+def wrap_half_angle(rim_contact_angle_rad: float | None, gearset) -> tuple[float, str]:
     """The half angle that selects the candidate balls, and where it comes from: the rim
     stage's no-load contact angle when known, else a linear flat-ring solve."""
     if rim_contact_angle_rad is not None:
@@ -1579,8 +1579,8 @@ class ContactCompliance:
         cs_outer_radius_mm = _positive("cs_outer_radius_mm", cs_outer_radius_mm, "mm")
         warnings: list[str] = []
         if wrap_half_angle_rad is None:
-            wrap, wrap_source = _wrap_half_angle(inputs.rim_contact_angle_rad, gearset)
-            warnings.append("the wrap angle that selects the candidate balls is ill-conditioned (DESIGN.md trap 7)")
+            wrap, wrap_source = wrap_half_angle(inputs.rim_contact_angle_rad, gearset)
+            warnings.append("the wrap angle that selects the candidate balls is ill-conditioned (docs/theory/rim.md)")
         else:
             wrap = _positive("wrap_half_angle_rad", wrap_half_angle_rad, "rad")
             if wrap > 0.5 * math.pi:

@@ -8,7 +8,7 @@ so each axial position of a tooth stands a little differently in its CS space
 low torque only part of the face may carry load. This module turns one flank's 2D contact
 (its points and :class:`~profilegen.contact.compliance.ContactCompliance`) into the same
 problem on N slices, which the curve's own solvers (the continuation of
-:class:`~profilegen.contact.reduced._ReducedZone` and the Lemke reference) solve unchanged:
+:class:`~profilegen.contact.reduced.ReducedZone` and the Lemke reference) solve unchanged:
 
 * **Slice i** (width Δz = b/N, mid-plane z_i = z_0 − b/2 + (i + ½)Δz, slice 0 at the diaphragm
   end) is the 2D section at width Δz: the FS rim's and the CS sector's compliances ×N

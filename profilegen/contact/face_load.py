@@ -17,7 +17,7 @@ contact with
   and no coupling to the other slices (``coupling_length_mm`` = 0; see below);
 * the initial gaps e_k + Δe_ki, Δe_ki = −n_k · (p_k(z_i) − p_k(z_0)): the change of the FS
   flank point p_k (tooth-frame station ``points.local_mm``, placed in the CS frame with the
-  exact pose of DESIGN.md trap 1) when the deformation of section z_i replaces that of
+  exact pose of docs/theory/envelope.md, "Kinematics") when the deformation of section z_i replaces that of
   z_0, along the common normal n_k (out of the FS tooth, the direction the FS pushes). It
   is the first-order change of the separation, and exact to first order at a separation's
   local minimum (the stations there are the minima: :mod:`profilegen.contact.points`),
@@ -40,7 +40,7 @@ Sections
 interpolated in z as the cup's own elements do), as the kinematics' harmonic deformation;
 the reference is the cup's section at z_0, so only the *change* along the face enters —
 the design's own 2D deformation stays the one the CS was generated with.
-:func:`semi_membrane_sections`: the analytic check (DESIGN.md, "Notes for the 3D cup"):
+:func:`semi_membrane_sections`: the analytic check (docs/theory/cup.md):
 the wall inextensible along its generators and in shear, ω(φ, z) = ω(φ, z_0)·z/z_0 and
 υ likewise, z from the cup bottom.
 
@@ -454,9 +454,9 @@ def face_load(inputs, torque_nm: float, *, slices: int = 8, cup=None, coning: st
     if getattr(comp, "ball_supports", "window") == "all":
         # every ball one-sided at its no-load gap (the contact stage's model): the balls the 2D solve
         # loads are held at their gaps, which moves each point's separation alike on every slice
-        from .reduced import _ReducedZone
+        from .reduced import ReducedZone
 
-        _, _, theta, _ = _ReducedZone(pts, comp, None)._balls(np.asarray(res.cases[0].ball_active), None)
+        _, _, theta, _ = ReducedZone(pts, comp, None)._balls(np.asarray(res.cases[0].ball_active), None)
         pts = dataclasses.replace(pts, gap_mm=pts.lever_mm * theta)
     return solve_face(pts, settled.matrix_mm_per_n, shifts, torque_nm, coupling_length_mm=coupling_length_mm,
                       face_width_mm=b, z_mm=z)

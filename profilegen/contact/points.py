@@ -1,8 +1,8 @@
 """Potential contact points of the loaded mesh: FS flank stations against the fitted CS flank.
 
 For the wave generator at ψ = 0 (major axis along +y), FS tooth i sits at φ_i = 2πi/z1
-from the major axis. By closure (DESIGN.md trap 1: successive FS teeth generate CS spaces
-2π/z2 apart) tooth i stands in CS space i exactly as the generating tooth stands in space 0
+from the major axis. By closure (successive FS teeth generate CS spaces 2π/z2 apart,
+docs/theory/envelope.md) tooth i stands in CS space i exactly as the generating tooth stands in space 0
 at φ = φ_i: its CS-frame position is ``turn(pose(φ_i).to_cs(p), 2πi/z2)``. So every tooth is
 placed with the kinematics the CS profile was generated with, and the no-load deformation
 (the rim stage's fit) is in it.

@@ -306,9 +306,9 @@ def cs_ring_radial_compliance(angles_rad, at_rad, *, mean_radius_mm: float, thic
 
 def _cs_ring_section(gearset, inputs) -> tuple[float, float, float, list[str]]:
     """(mean radius, radial thickness, width) of the CS ring (mm) and the estimates in them."""
-    from .chain import _cs_held_radius
+    from .chain import cs_held_radius
 
-    r_out, note = _cs_held_radius(gearset)
+    r_out, note = cs_held_radius(gearset)
     estimates = [note] if note else []
     # the root circle of the fitted CS space: its farthest point from the centre
     pts = np.asarray(inputs.cs_space.sample(1e-3), dtype=float)
@@ -594,13 +594,13 @@ def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, c
                                          youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
         ring_info = {"mean_radius_mm": r_mean, "thickness_mm": thick, "width_mm": width}
     rows, flags, warnings, every = [], [], [], []
-    from .analysis import _load_case
+    from .analysis import load_case
 
     with one_blas_thread():
         for t in torques:
             sol, settled = _solve(points, comp, float(t), bearing, settle_iterations=settle_iterations,
                                   spring_iterations=spring_iterations, spring_tol=spring_tol)
-            case, _ = _load_case(points, float(t), sol, settled)
+            case, _ = load_case(points, float(t), sol, settled)
             flags.append(case.beyond_capacity)
             full = combined.with_balls(settled.ball_active, ball_compliance_mm_per_n=settled.ball_compliance_mm_per_n)
             f = sol.force_n

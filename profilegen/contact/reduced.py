@@ -1,9 +1,9 @@
 """The loaded contact of one flank on reduced systems: the continuation solver of
-:func:`~profilegen.contact.chain.torsional_curve` (:class:`_ReducedZone`), the Hertz ball
-springs' fixed point (:class:`_SpringIteration`) and the ContactSolution of a reduced solve
-(:func:`_solution`). Also the independent solve of
+:func:`~profilegen.contact.chain.torsional_curve` (:class:`ReducedZone`), the Hertz ball
+springs' fixed point (:class:`SpringIteration`) and the ContactSolution of a reduced solve
+(:func:`zone_solution`). Also the independent solve of
 :func:`~profilegen.contact.analysis.solve_contact` (``solver="active_set"`` with every ball:
-``_ReducedZone.solve(teeth="active_set")``). Its own module so that both
+``ReducedZone.solve(teeth="active_set")``). Its own module so that both
 :mod:`profilegen.contact.chain` and :mod:`profilegen.contact.analysis` use it without importing
 each other."""
 
@@ -14,7 +14,7 @@ import time
 import numpy as np
 
 
-class _SpringIteration:
+class SpringIteration:
     """The Hertz ball springs' secant fixed point, in log c: c = c_H R(c)^(−1/3) per ball.
 
     Plain steps contract by ~1/3 (12 steps to 1e-6 on the default set); a per-ball secant
@@ -55,7 +55,7 @@ class _SpringIteration:
         return None if self.x is None else np.exp(self.x)
 
 
-class _ReducedZone:
+class ReducedZone:
     """One flank's contact, ball settling and Hertz springs solved on reduced systems.
 
     The same problem as :func:`~profilegen.contact.chain._solve_side` (whose answer is unique: the contact's QP is
@@ -71,7 +71,7 @@ class _ReducedZone:
     points with a negative gap) from the previous torque's P, B and springs — continuation in
     T —, B the ball-settling rule (:func:`~profilegen.contact.compliance.settle_step`: the
     most tensile ball leaves, else the ball the rim moves into most, past its gap, comes
-    back), the springs their secant fixed point (:class:`_SpringIteration`), all in one loop.
+    back), the springs their secant fixed point (:class:`SpringIteration`), all in one loop.
     At its end teeth and balls are both complementary: F ≥ 0, g ≥ 0, F g = 0 and R ≥ 0,
     h ≥ 0, R h = 0 (h the balls' gaps after load). A loop that cycles or does not end falls
     back to the reference (Lemke from scratch) for that torque.
@@ -185,7 +185,7 @@ class _ReducedZone:
         tz = magnitude_nm / self.points.zones * 1e3
         loaded, active, x = state
         loaded, active = loaded.copy(), active.copy()
-        springs = _SpringIteration(self.c_hertz, spring_tol, x) if springs_on else None
+        springs = SpringIteration(self.c_hertz, spring_tol, x) if springs_on else None
         total = 0
         seen = set()
         for _ in range(max_iterations):
@@ -226,7 +226,7 @@ class _ReducedZone:
                 "iterations": total}
 
 
-def _solution(zone: _ReducedZone, magnitude_nm: float, out: dict, t0: float, *, method: str = "continuation"):
+def zone_solution(zone: ReducedZone, magnitude_nm: float, out: dict, t0: float, *, method: str = "continuation"):
     """A ContactSolution of the reduced solve (the fields and residuals of solvers._finish)."""
     from .solvers import ContactSolution
 

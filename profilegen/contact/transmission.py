@@ -290,7 +290,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
     :func:`~profilegen.contact.analysis.solve_contact`. See the module docstring."""
     global _JOB
 
-    from .compliance import _wrap_half_angle
+    from .compliance import wrap_half_angle
 
     t0 = time.perf_counter()
     inputs = ContactInput.from_design(inputs, name="inputs")
@@ -336,7 +336,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="t
         if ball_motion == "cage":
             cage_rate = 0.5 * (1.0 + bearing.ball_diameter_mm / bearing.pitch_diameter_mm)
     with one_blas_thread():  # the flat-ring solve's BLAS threads only contend
-        wrap, wrap_source = _wrap_half_angle(inputs.rim_contact_angle_rad, inputs.gearset)  # once: ψ-invariant
+        wrap, wrap_source = wrap_half_angle(inputs.rim_contact_angle_rad, inputs.gearset)  # once: ψ-invariant
     opts = dict(side=side, stations=stations, max_gap_mm=max_gap_mm, ball_motion=ball_motion, cage_rate=cage_rate,
                 face_width_mm=face_width_mm, race_thickness_mm=race_thickness_mm, race_interface=race_interface,
                 wrap=wrap, torque_nm=torque, keep_matrices=bool(keep_matrices), ball_supports=ball_supports,

@@ -1,4 +1,4 @@
-"""Face width and FS tooth modification along the face (issue 15, items 4 and 5).
+"""Face width and FS tooth modification along the face (docs/theory/cup.md).
 
 * :mod:`profilegen.face.sections` — one axial section of the tooth ring (its deformation from
   the 3D cup, motion, envelope) and the signed gap of CS points to its swept region;

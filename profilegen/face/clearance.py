@@ -46,7 +46,7 @@ class SectionClearance:
                 "min_gap_mm": self.min_gap_mm, "thickness_change_mm": self.thickness_change_mm}
 
 
-def _map(form, section: FaceSection, samples: int, phi_range=None):
+def section_map(form, section: FaceSection, samples: int, phi_range=None):
     from ..gearform import clearance_map
 
     waves = section.motion.waves
@@ -54,7 +54,7 @@ def _map(form, section: FaceSection, samples: int, phi_range=None):
     return clearance_map(form, section.tooth, section.motion, phi_range=phi_range, samples=samples)
 
 
-def _parabolic_minimum(phi: np.ndarray, c: np.ndarray) -> tuple[float, float]:
+def parabolic_minimum(phi: np.ndarray, c: np.ndarray) -> tuple[float, float]:
     """The sampled minimum of c(φ), refined by the parabola through it and its two neighbours
     (kept only when its vertex lies between them and below the sample)."""
     i = int(np.argmin(c))
@@ -79,10 +79,10 @@ def section_clearance(form, section: FaceSection, engaged: np.ndarray | None = N
     ``engaged``: the design section's engaged poses on the same φ grid (None: this section is the
     design section, its own); ``cmap``: the map if already computed."""
     if cmap is None:
-        cmap = _map(form, section, samples)
+        cmap = section_map(form, section, samples)
     c = cmap.clearance_mm
     phi = cmap.phi
-    c_min, at = _parabolic_minimum(phi, c)
+    c_min, at = parabolic_minimum(phi, c)
     engaged = engaged_zone(c) if engaged is None else engaged
     backlash = float(np.max(c[engaged])) if np.any(engaged) else float("nan")
     gap = min_gap_mm

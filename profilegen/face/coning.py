@@ -1,4 +1,4 @@
-"""The coning model each scene gives the face stage (issue 28, item 1: one design intent).
+"""The coning model each scene gives the face stage (one design intent in every scene).
 
 The part to cut is chosen the same way in every scene that writes one: the face stage
 (:func:`profilegen.face.face_width`) picks the CS's design section among the tooth ring's
@@ -20,7 +20,7 @@ minor axis inward with z as well as the major axis outward; the cup pressed onto
 generator over the bearing width stops the minor axis on the cam (ω_minor −0.503 mm at z = 65
 and 70 mm on seed000_csf40, semi-membrane −0.543/−0.585). With it no section of seed000_csf40 is
 interference-free (61 µm) and no taper helps, where the cup gives z = 70 mm and 1.2 µm/mm. It
-describes a bearing free to tilt on one ball row (issue 28, item 4a), not the bearing the verify
+describes a bearing free to tilt on one ball row, not the bearing the verify
 scene models; the coarse cup follows whatever the verify scene's cup does.
 """
 

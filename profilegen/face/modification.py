@@ -1,4 +1,4 @@
-"""FS tooth modification along the face (issue 15, item 5): a linear taper and a crowning of the
+"""FS tooth modification along the face: a linear taper and a crowning of the
 tooth thickness that make the one CS profile interference-free at every section with the
 backlash as uniform as it can be.
 
@@ -39,7 +39,7 @@ import numpy as np
 
 from .. import checks
 from ..results import json_ready, readonly
-from .clearance import _map, _parabolic_minimum, section_clearance
+from .clearance import section_map, parabolic_minimum, section_clearance
 from .sections import FaceError, cup_deformation, ring_span
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -164,7 +164,7 @@ class _MapCache:
             return _Stored(self.face.phi_rad, self.face.clearance_mm[k])
         key = (k, float(ds_k))
         if key not in self.maps:
-            self.maps[key] = _map(self.face.form, section, self.face.map_samples)
+            self.maps[key] = section_map(self.face.form, section, self.face.map_samples)
         return self.maps[key]
 
 
@@ -225,7 +225,7 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
     sens = np.zeros_like(c0)
     for k, s in enumerate(face.sections):
         if k != d:
-            sens[k] = (_map(face.form, replace(s, tooth=thick, envelope=None), samples).clearance_mm - c0[k]) / FD_STEP_MM
+            sens[k] = (section_map(face.form, replace(s, tooth=thick, envelope=None), samples).clearance_mm - c0[k]) / FD_STEP_MM
 
     nvar = 3 if crowning else 2
     cache = _MapCache(face)
@@ -326,7 +326,7 @@ def _search_on_maps(gearset, face: FaceWidth, a: np.ndarray, c: np.ndarray | Non
         rows = {}
         for k in ks:
             rows[k] = cache.get(k, secs[k], float(ds[k])).clearance_mm
-        return min(_parabolic_minimum(face.phi_rad, rows[k])[0] for k in ks), rows, secs
+        return min(parabolic_minimum(face.phi_rad, rows[k])[0] for k in ks), rows, secs
 
     for taper_max, crown_max in directions:
         active = [worst]
@@ -357,7 +357,7 @@ def _search_on_maps(gearset, face: FaceWidth, a: np.ndarray, c: np.ndarray | Non
                 cmaps = np.array([rows[k] for k in everyone])
                 found = (float(np.max(cmaps[:, face.engaged])), high, ds, secs)
                 break
-            bad = [k for k in everyone if k not in active and _parabolic_minimum(face.phi_rad, rows[k])[0] < -tol]
+            bad = [k for k in everyone if k not in active and parabolic_minimum(face.phi_rad, rows[k])[0] < -tol]
             active += bad
             f_high = lowest(thickness(1.0, taper_max, crown_max), active)[0] + tol
             if f_high < 0.0:

@@ -1,4 +1,4 @@
-"""Face width (issue 15, item 4): the envelope at axial sections of the tooth ring, one CS
+"""Face width: the envelope at axial sections of the tooth ring, one CS
 profile, and the clearance of every section's FS tooth against it.
 
 The 3D cup gives each section z its own deformation, so its own motion and swept region

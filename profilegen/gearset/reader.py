@@ -25,26 +25,26 @@ from typing import Any
 
 import numpy as np
 
-from ..budget import MODULE_MIN_MM  # the smallest module the arc fit resolves (issue 26: 1e-6 failed deep in it)
+from ..budget import MODULE_MIN_MM  # the smallest module the arc fit resolves (1e-6 failed deep in it)
 from ..errors import GearSetError
 from ..teeth import MAX_POINTS  # most points a kind = "points" tooth may have: one limit, the tooth builder's
 from .sections import (
-    _CIRCULAR_SPLINE_KEYS,
-    _CUP_KEYS,
-    _FACE_KEYS,
+    CIRCULAR_SPLINE_KEYS,
+    CUP_KEYS,
+    FACE_KEYS,
     FACE_CROWNING_LIMIT,
     FACE_SECTIONS_RANGE,
     FACE_TAPER_LIMIT,
-    _DCTA_DEFAULTS,
-    _GEAR_KEYS,
-    _MATERIAL_KEYS,
-    _ROLLER_ANGLE_DEG_DEFAULT,
-    _SECTIONS,
-    _TOOTH_KEYS,
-    _TOOTH_LENGTHS,
-    _TOP_KEYS,
-    _TORQUE_KEYS,
-    _WAVE_GENERATOR_KEYS,
+    DCTA_DEFAULTS,
+    GEAR_KEYS,
+    MATERIAL_KEYS,
+    ROLLER_ANGLE_DEG_DEFAULT,
+    SECTIONS,
+    TOOTH_KEYS,
+    TOOTH_LENGTHS,
+    TOP_KEYS,
+    TORQUE_KEYS,
+    WAVE_GENERATOR_KEYS,
     COEFFICIENT_SUFFIX,
     CORNER_STYLES,
     CS_MIN_WALL_PER_MODULE,
@@ -65,7 +65,7 @@ from .sections import (
     WaveGenerator,
     check_cup_geometry,
 )
-from .requirements import _REQUIREMENTS_KEYS, NOT_REQUIRED, REQUIREMENT_FIELDS, Requirements
+from .requirements import REQUIREMENTS_KEYS, NOT_REQUIRED, REQUIREMENT_FIELDS, Requirements
 
 
 _NAME_RE = re.compile(r"[a-z0-9_-]+")
@@ -212,16 +212,16 @@ class _Range:
 
     def describe(self) -> str:
         if math.isinf(self.hi):
-            text = f"must be {'>' if self.lo_open else '>='} {_fmt(self.lo)}"
+            text = f"must be {'>' if self.lo_open else '>='} {format_number(self.lo)}"
         else:
             text = (
-                f"must be in {'(' if self.lo_open else '['}{_fmt(self.lo)}, "
-                f"{_fmt(self.hi)}{')' if self.hi_open else ']'}"
+                f"must be in {'(' if self.lo_open else '['}{format_number(self.lo)}, "
+                f"{format_number(self.hi)}{')' if self.hi_open else ']'}"
             )
         return f"{text} ({self.note})" if self.note else text
 
 
-def _fmt(x) -> str:
+def format_number(x) -> str:
     if isinstance(x, numbers.Integral):
         return str(int(x))
     return f"{float(x):.6g}"
@@ -336,7 +336,7 @@ class _Reader:
                 return None
             if rng is not None and default not in rng:
                 self.problem(
-                    f"{path} = {_fmt(default)}{suffix} (default): {rng.describe()}; give it explicitly"
+                    f"{path} = {format_number(default)}{suffix} (default): {rng.describe()}; give it explicitly"
                 )
                 return None
             return default
@@ -409,7 +409,7 @@ class _Reader:
     # ----------------------------------------------------------------- sections
     def read(self, data: Mapping) -> dict[str, Any]:
         """Read everything; returns the GearSet keyword arguments (meaningful only without problems)."""
-        self.unknown_keys(data, "", _TOP_KEYS + _SECTIONS)
+        self.unknown_keys(data, "", TOP_KEYS + SECTIONS)
         name = self.string(data, "", "name", pattern=_NAME_RE, max_chars=MAX_NAME_CHARS)
         description = self.string(data, "", "description", max_chars=MAX_TEXT_CHARS)
         source = self.string(data, "", "source", max_chars=MAX_TEXT_CHARS)
@@ -435,9 +435,9 @@ class _Reader:
             w0 = wave_generator.deflection_coefficient * m
             if rim < RIM_PER_DEFLECTION_MIN * w0:
                 self.problem(
-                    f"gear.rim_thickness_mm = {_fmt(rim)} mm: must be >= "
-                    f"{_fmt(RIM_PER_DEFLECTION_MIN * w0)} mm ({_fmt(RIM_PER_DEFLECTION_MIN)}·w0, w0 = "
-                    f"wave_generator.deflection_coefficient·gear.module_mm = {_fmt(w0)} mm): a rim this thin for its "
+                    f"gear.rim_thickness_mm = {format_number(rim)} mm: must be >= "
+                    f"{format_number(RIM_PER_DEFLECTION_MIN * w0)} mm ({format_number(RIM_PER_DEFLECTION_MIN)}·w0, w0 = "
+                    f"wave_generator.deflection_coefficient·gear.module_mm = {format_number(w0)} mm): a rim this thin for its "
                     "deflection is outside the ring models' range"
                 )
                 gear = None
@@ -460,7 +460,7 @@ class _Reader:
     def read_gear(self, t: Mapping | None) -> dict[str, Any]:
         if t is None:
             return {}
-        self.unknown_keys(t, "gear", _GEAR_KEYS)
+        self.unknown_keys(t, "gear", GEAR_KEYS)
         out: dict[str, Any] = {}
         out["module_mm"] = m = self.number(
             t, "gear", "module_mm", unit="mm", rng=_Range(MODULE_MIN_MM, 10, note="lower bound: the smallest module the arc fit resolves")
@@ -511,7 +511,7 @@ class _Reader:
                     r1 - dedendum,
                     lo_open=True,
                     hi_open=True,
-                    note=f"0.5·r1 < r_m < root radius r1 − dedendum, r1 = {_fmt(r1)} mm",
+                    note=f"0.5·r1 < r_m < root radius r1 − dedendum, r1 = {format_number(r1)} mm",
                 )
             if r_m not in rng:
                 self.problem(f"gear.neutral_radius_mm = {_show(r_m)} mm: {rng.describe()}")
@@ -519,7 +519,7 @@ class _Reader:
         elif not raw["_neutral_given"]:
             rim = raw["rim_thickness_mm"]
             r_m = None if None in (r1, dedendum, rim) else r1 - dedendum - rim / 2.0
-        values = {k: raw[k] for k in _GEAR_KEYS if k != "neutral_radius_mm"}
+        values = {k: raw[k] for k in GEAR_KEYS if k != "neutral_radius_mm"}
         if r_m is None or any(v is None for v in values.values()):
             return None
         return Gear(**values, neutral_radius_mm=r_m)
@@ -529,14 +529,14 @@ class _Reader:
             return None
         kind = self.string(t, "tooth", "kind", choices=TOOTH_KINDS)
         if kind is None:
-            known = set().union(*_TOOTH_KEYS.values())
+            known = set().union(*TOOTH_KEYS.values())
             self.unknown_keys(t, "tooth", sorted(known, key=lambda k: (k != "kind", k)))
             return None
-        allowed = _TOOTH_KEYS[kind]
+        allowed = TOOTH_KEYS[kind]
         for key in t:
             if key in allowed:
                 continue
-            owners = [k for k, keys in _TOOTH_KEYS.items() if key in keys]
+            owners = [k for k, keys in TOOTH_KEYS.items() if key in keys]
             belongs = f"belongs to kind {', '.join(map(_show, owners))}; " if owners else ""
             hint = difflib.get_close_matches(str(key)[:100], list(allowed), n=1)
             line = (
@@ -554,13 +554,13 @@ class _Reader:
         if m is None:
             return _Range(lo, lo_open=lo_open)
         return _Range(
-            lo, factor * m, lo_open=lo_open, hi_open=hi_open, note=f"upper bound {_fmt(factor)}·{what}"
+            lo, factor * m, lo_open=lo_open, hi_open=hi_open, note=f"upper bound {format_number(factor)}·{what}"
         )
 
     def tooth_length(self, t: Mapping, kind: str, name: str, m: float | None, coefficients: dict):
         """A tooth length given as ``<name>_mm`` (mm) or ``<name>_coefficient`` (units of m),
         or its module-relative default; the value in mm, or None after a problem."""
-        spec = _TOOTH_LENGTHS[kind][name]
+        spec = TOOTH_LENGTHS[kind][name]
         mm_key, c_key = f"{name}_mm", f"{name}{COEFFICIENT_SUFFIX}"
         if mm_key in t and c_key in t:
             self.given.update((f"tooth.{mm_key}", f"tooth.{c_key}"))
@@ -585,10 +585,10 @@ class _Reader:
             rng = _Range(0, math.pi * m / 2.0, lo_open=True, hi_open=True, note="upper bound half a pitch π·m/2")
         elif spec.lo > 0:
             rng = _Range(spec.lo * m, spec.hi * m, lo_open=spec.lo_open, hi_open=spec.hi_open,
-                         note=f"{_fmt(spec.lo)}·m to {_fmt(spec.hi)}·m, m = {_fmt(m)} mm")
+                         note=f"{format_number(spec.lo)}·m to {format_number(spec.hi)}·m, m = {format_number(m)} mm")
         else:
             rng = _Range(0, spec.hi * m, lo_open=spec.lo_open, hi_open=spec.hi_open,
-                         note=f"upper bound {_fmt(spec.hi)}·m")
+                         note=f"upper bound {format_number(spec.hi)}·m")
         return self.number(t, "tooth", mm_key, unit="mm", rng=rng, default=spec.default * m)
 
     def read_dcta(self, t: Mapping, m: float | None) -> DctaTooth | None:
@@ -599,10 +599,10 @@ class _Reader:
             "pressure_angle_deg",
             unit="deg",
             rng=_Range(0, 45, lo_open=True, hi_open=True),
-            default=_DCTA_DEFAULTS["pressure_angle_deg"],
+            default=DCTA_DEFAULTS["pressure_angle_deg"],
         )
         coefficients: dict[str, float] = {}
-        for name in _TOOTH_LENGTHS["dcta"]:
+        for name in TOOTH_LENGTHS["dcta"]:
             v[f"{name}_mm"] = self.tooth_length(t, "dcta", name, m, coefficients)
         if any(x is None for x in v.values()):
             return None
@@ -614,7 +614,7 @@ class _Reader:
             t, "tooth", "pressure_angle_deg", unit="deg", rng=_Range(5, 35), default=20.0
         )
         coefficients: dict[str, float] = {}
-        for name in _TOOTH_LENGTHS["involute"]:
+        for name in TOOTH_LENGTHS["involute"]:
             v[f"{name}_mm"] = self.tooth_length(t, "involute", name, m, coefficients)
         if any(x is None for x in v.values()):
             return None
@@ -751,33 +751,33 @@ class _Reader:
             )
         if not p[0, 1] < p[-1, 1]:
             self.problem(
-                f"{label}: must run from root to tip (first y = {_fmt(p[0, 1])} mm "
-                f"must be below last y = {_fmt(p[-1, 1])} mm)"
+                f"{label}: must run from root to tip (first y = {format_number(p[0, 1])} mm "
+                f"must be below last y = {format_number(p[-1, 1])} mm)"
             )
         ymin, ymax = p[:, 1].min(), p[:, 1].max()
         if not ymin < 0.0 < ymax:
             self.problem(
                 f"{label}: must cross the pitch circle (min y < 0 < max y in the pitch frame), "
-                f"got y in [{_fmt(ymin)}, {_fmt(ymax)}] mm"
+                f"got y in [{format_number(ymin)}, {format_number(ymax)}] mm"
             )
         xmin, xmax = p[:, 0].min(), p[:, 0].max()
         half_pitch = None if m is None else math.pi * m / 2.0
         if xmin < 0.0 or (half_pitch is not None and xmax > half_pitch):
             allowed = (
-                ">= 0" if half_pitch is None else f"in [0, {_fmt(half_pitch)}] (half a pitch π·m/2)"
+                ">= 0" if half_pitch is None else f"in [0, {format_number(half_pitch)}] (half a pitch π·m/2)"
             )
             self.problem(
                 f"{label}: x must be {allowed} for a right flank, "
-                f"got x in [{_fmt(xmin)}, {_fmt(xmax)}] mm"
+                f"got x in [{format_number(xmin)}, {format_number(xmax)}] mm"
             )
         if m is not None:
             if ymax > 3.0 * m:
                 self.problem(
-                    f"{label}: addendum (max y) = {_fmt(ymax)} mm: must be <= {_fmt(3 * m)} (3·m)"
+                    f"{label}: addendum (max y) = {format_number(ymax)} mm: must be <= {format_number(3 * m)} (3·m)"
                 )
             if -ymin > 3.0 * m:
                 self.problem(
-                    f"{label}: dedendum (−min y) = {_fmt(-ymin)} mm: must be <= {_fmt(3 * m)} (3·m)"
+                    f"{label}: dedendum (−min y) = {format_number(-ymin)} mm: must be <= {format_number(3 * m)} (3·m)"
                 )
         return len(self.problems) == n_problems
 
@@ -786,7 +786,7 @@ class _Reader:
     ) -> WaveGenerator | None:
         if t is None:
             return None
-        self.unknown_keys(t, "wave_generator", _WAVE_GENERATOR_KEYS)
+        self.unknown_keys(t, "wave_generator", WAVE_GENERATOR_KEYS)
         p = "wave_generator"
         v: dict[str, Any] = {}
         v["deflection_coefficient"] = self.number(
@@ -833,7 +833,7 @@ class _Reader:
                     "roller_angle_deg",
                     unit="deg",
                     rng=angle_rng,
-                    default=_ROLLER_ANGLE_DEG_DEFAULT if count == 4 else None,
+                    default=ROLLER_ANGLE_DEG_DEFAULT if count == 4 else None,
                 )
                 ok = ok and angle is not None
                 v["roller_angle_deg"] = angle
@@ -861,7 +861,7 @@ class _Reader:
         if t is None:
             return None
         p = "material"
-        self.unknown_keys(t, p, _MATERIAL_KEYS)
+        self.unknown_keys(t, p, MATERIAL_KEYS)
         v: dict[str, Any] = {}
         v["youngs_modulus_mpa"] = self.number(
             t, p, "youngs_modulus_mpa", unit="MPa", rng=_Range(0, 1e6, lo_open=True)
@@ -870,7 +870,7 @@ class _Reader:
             t, p, "poisson_ratio", unit="", rng=_Range(0, 0.5, hi_open=True)
         )
         ok = all(x is not None for x in v.values())
-        for key in _MATERIAL_KEYS[2:]:
+        for key in MATERIAL_KEYS[2:]:
             value = self.number(t, p, key, unit="MPa", rng=_Range(0, lo_open=True), default=None)
             ok = ok and not (key in t and value is None)
             v[key] = value
@@ -883,8 +883,8 @@ class _Reader:
             ):
                 if v[key] is not None and v[key] > ultimate:
                     self.problem(
-                        f"{p}.{key} = {_fmt(v[key])} MPa: must be <= "
-                        f"material.ultimate_strength_mpa = {_fmt(ultimate)} MPa"
+                        f"{p}.{key} = {format_number(v[key])} MPa: must be <= "
+                        f"material.ultimate_strength_mpa = {format_number(ultimate)} MPa"
                     )
                     ok = False
         return Material(**v) if ok else None
@@ -893,7 +893,7 @@ class _Reader:
         if t is None:
             return None
         p = "torque"
-        self.unknown_keys(t, p, _TORQUE_KEYS)
+        self.unknown_keys(t, p, TORQUE_KEYS)
         rated = self.number(t, p, "rated_nm", unit="N·m", rng=_Range(0, lo_open=True))
         peak_rng = (
             _Range(0, lo_open=True) if rated is None else _Range(rated, note="peak >= rated torque")
@@ -913,7 +913,7 @@ class _Reader:
         if t is None:
             t = {}
         p = "circular_spline"
-        self.unknown_keys(t, p, _CIRCULAR_SPLINE_KEYS)
+        self.unknown_keys(t, p, CIRCULAR_SPLINE_KEYS)
         v = {"fit_method": self.string(t, p, "fit_method", default="one_sided", choices=FIT_METHODS)}
         for key in ("root_clearance_mm", "tip_clearance_mm"):
             v[key] = self.number(
@@ -937,7 +937,7 @@ class _Reader:
         low = 0.0 if root is None else root + 2 * CS_MIN_WALL_PER_MODULE * m
         v["outer_diameter_mm"] = self.number(t, p, "outer_diameter_mm", unit="mm", rng=_Range(
             low, lo_open=root is None, note="" if root is None else
-            f"root diameter ~{_fmt(root)} mm + 2 × a wall of {_fmt(CS_MIN_WALL_PER_MODULE)}·m"),
+            f"root diameter ~{format_number(root)} mm + 2 × a wall of {format_number(CS_MIN_WALL_PER_MODULE)}·m"),
             default=None if root is None else float(math.ceil(CS_OUTER_DIAMETER_PER_ROOT * root)))
         if "outer_diameter_mm" not in t and root is None:
             v.pop("outer_diameter_mm")  # derived from the root diameter at the STEP writer
@@ -950,7 +950,7 @@ class _Reader:
         if t is None:
             t = {}
         p = "cup"
-        self.unknown_keys(t, p, _CUP_KEYS)
+        self.unknown_keys(t, p, CUP_KEYS)
         if gear is None:  # invalid gear: already reported; the defaults cannot be derived
             return None
         d = gear.module_mm * gear.flexspline_teeth  # pitch diameter
@@ -998,7 +998,7 @@ class _Reader:
         if t is None:
             return Face()
         p = "face"
-        self.unknown_keys(t, p, _FACE_KEYS)
+        self.unknown_keys(t, p, FACE_KEYS)
         v = {}
         auto = {k: None for k in ("design_section_z_mm", "taper_mm_per_mm", "crowning_mm")
                 if isinstance(t.get(k), str) and t.get(k) == "auto"}
@@ -1017,7 +1017,7 @@ class _Reader:
         if "crowning_mm" not in auto:
             v["crowning_mm"] = self.number(t, p, "crowning_mm", unit="mm", rng=_Range(
                 -FACE_CROWNING_LIMIT, FACE_CROWNING_LIMIT, note='or "auto"'), default=None)
-        if any(k in t and v.get(k) is None and k not in auto for k in _FACE_KEYS):
+        if any(k in t and v.get(k) is None and k not in auto for k in FACE_KEYS):
             return None  # reported
         for k in auto:
             self.given.add(f"{p}.{k}")
@@ -1029,7 +1029,7 @@ class _Reader:
         if t is None:
             return Requirements()
         p = "requirements"
-        self.unknown_keys(t, p, _REQUIREMENTS_KEYS)
+        self.unknown_keys(t, p, REQUIREMENTS_KEYS)
         v, ok = {}, True
         for f in REQUIREMENT_FIELDS:
             if isinstance(t.get(f.key), str):

@@ -131,6 +131,6 @@ class Requirements:
         return {f.name: NOT_REQUIRED if getattr(self, f.name) is None else getattr(self, f.name) for f in fields(self)}
 
 
-_REQUIREMENTS_KEYS = tuple(f.key for f in REQUIREMENT_FIELDS)
-assert _REQUIREMENTS_KEYS == tuple(f.name for f in fields(Requirements))  # one list, two spellings: kept equal
+REQUIREMENTS_KEYS = tuple(f.key for f in REQUIREMENT_FIELDS)
+assert REQUIREMENTS_KEYS == tuple(f.name for f in fields(Requirements))  # one list, two spellings: kept equal
 assert all(FIELDS_BY_KEY[f.name].default == f.default for f in fields(Requirements))

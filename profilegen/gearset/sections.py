@@ -17,7 +17,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..errors import GearSetError
-from .requirements import _REQUIREMENTS_KEYS, Requirements  # the [requirements] table (the verdict's)
+from .requirements import REQUIREMENTS_KEYS, Requirements  # the [requirements] table (the verdict's)
 
 
 SCENE_NAMES = ("sketch", "design", "verify")
@@ -27,8 +27,8 @@ WAVE_GENERATOR_CONTOURS = ("elliptical_cam", "cosine_cam", "rollers")
 
 # The project's default double-circular-arc tooth for m = 0.5 mm, in mm: the defaults of a
 # DctaTooth built directly (no module to scale with). In a gear-set file the defaults follow
-# the module: _TOOTH_LENGTHS' coefficients (0.05 mm = 0.1·m at m = 0.5 mm, ...).
-_DCTA_DEFAULTS = {
+# the module: TOOTH_LENGTHS' coefficients (0.05 mm = 0.1·m at m = 0.5 mm, ...).
+DCTA_DEFAULTS = {
     "pressure_angle_deg": 10.0,
     "line_above_pitch_mm": 0.05,
     "line_below_pitch_mm": 0.20,
@@ -38,9 +38,9 @@ _DCTA_DEFAULTS = {
     "dedendum_mm": 0.60,
 }
 
-_TOP_KEYS = ("name", "description", "source", "scene")
-_SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline", "cup", "face", "requirements")
-_GEAR_KEYS = (
+TOP_KEYS = ("name", "description", "source", "scene")
+SECTIONS = ("gear", "tooth", "wave_generator", "material", "torque", "circular_spline", "cup", "face", "requirements")
+GEAR_KEYS = (
     "module_mm",
     "flexspline_teeth",
     "circular_spline_teeth",
@@ -48,7 +48,7 @@ _GEAR_KEYS = (
     "rim_thickness_mm",
     "neutral_radius_mm",
 )
-_TOOTH_KEYS = {
+TOOTH_KEYS = {
     "dcta": (
         "kind",
         "pressure_angle_deg",
@@ -83,7 +83,7 @@ _HALF_PITCH = math.pi / 2.0
 # strain-wave-gear tooth, 1.6–2.2·m in total); at least 0.2·m, because a shorter tooth than that
 # cannot clear the circular spline's default clearances of 0.25·m (and is a sign of a tooth in mm
 # for another module: the default tooth's 0.4 mm on an m = 10 gear is 0.04·m).
-_TOOTH_LENGTHS: dict[str, dict[str, _Length]] = {
+TOOTH_LENGTHS: dict[str, dict[str, _Length]] = {
     "dcta": {
         "line_above_pitch": _Length(0.0, 5.0, 0.1, lo_open=False),
         "line_below_pitch": _Length(0.0, 5.0, 0.4, lo_open=False),
@@ -101,11 +101,11 @@ _TOOTH_LENGTHS: dict[str, dict[str, _Length]] = {
 }
 COEFFICIENT_SUFFIX = "_coefficient"
 # every tooth length may be given in units of the module instead of mm
-_TOOTH_KEYS = {
-    kind: keys + tuple(f"{name}{COEFFICIENT_SUFFIX}" for name in _TOOTH_LENGTHS.get(kind, {}))
-    for kind, keys in _TOOTH_KEYS.items()
+TOOTH_KEYS = {
+    kind: keys + tuple(f"{name}{COEFFICIENT_SUFFIX}" for name in TOOTH_LENGTHS.get(kind, {}))
+    for kind, keys in TOOTH_KEYS.items()
 }
-_WAVE_GENERATOR_KEYS = (
+WAVE_GENERATOR_KEYS = (
     "deflection_coefficient",
     "contour",
     "roller_count",
@@ -113,10 +113,10 @@ _WAVE_GENERATOR_KEYS = (
     "roller_angle_deg",
     "bearing_thickness_mm",
 )
-# Four rollers touch the ring-theory bore at ±_ROLLER_ANGLE_DEG_DEFAULT about each end of the
+# Four rollers touch the ring-theory bore at ±ROLLER_ANGLE_DEG_DEFAULT about each end of the
 # major axis unless ``wave_generator.roller_angle_deg`` says otherwise.
-_ROLLER_ANGLE_DEG_DEFAULT = 30.0
-_MATERIAL_KEYS = (
+ROLLER_ANGLE_DEG_DEFAULT = 30.0
+MATERIAL_KEYS = (
     "youngs_modulus_mpa",
     "poisson_ratio",
     "yield_strength_mpa",
@@ -124,8 +124,8 @@ _MATERIAL_KEYS = (
     "bending_endurance_limit_mpa",
     "shear_endurance_limit_mpa",
 )
-_TORQUE_KEYS = ("rated_nm", "peak_nm", "momentary_nm")
-_CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm", "fit_method", "wire_radius_mm", "spark_gap_mm",
+TORQUE_KEYS = ("rated_nm", "peak_nm", "momentary_nm")
+CIRCULAR_SPLINE_KEYS = ("root_clearance_mm", "tip_clearance_mm", "fit_method", "wire_radius_mm", "spark_gap_mm",
                          "corners", "outer_diameter_mm")
 #: [circular_spline] outer_diameter_mm: default (ESTIMATE) this × the CS root diameter, rounded up to
 #: a whole mm; it must leave a ring wall of at least CS_MIN_WALL_PER_MODULE · m beyond the root circle
@@ -133,31 +133,31 @@ CS_OUTER_DIAMETER_PER_ROOT = 1.25
 CS_MIN_WALL_PER_MODULE = 2.0
 CORNER_STYLES = ("fillet", "sharp")
 FIT_METHODS = ("one_sided", "least_squares", "minimax")
-_CUP_KEYS = ("length_mm", "face_width_mm", "bottom_thickness_mm", "boss_radius_mm", "root_fillet_radius_mm",
+CUP_KEYS = ("length_mm", "face_width_mm", "bottom_thickness_mm", "boss_radius_mm", "root_fillet_radius_mm",
              "wall_thickness_mm", "bearing_width_mm", "bearing_center_mm")
 #: [face] (profilegen.face): the CS design section, the number of axial sections, the FS tooth modification
-_FACE_KEYS = ("design_section_z_mm", "sections", "taper_mm_per_mm", "crowning_mm")
+FACE_KEYS = ("design_section_z_mm", "sections", "taper_mm_per_mm", "crowning_mm")
 FACE_SECTIONS_RANGE = (3, 41)
 FACE_TAPER_LIMIT = 0.01  # mm of tooth thickness per mm of face
 FACE_CROWNING_LIMIT = 0.1  # mm
 _SECTION_KEYS = {
-    "gear": _GEAR_KEYS,
-    "wave_generator": _WAVE_GENERATOR_KEYS,
-    "material": _MATERIAL_KEYS,
-    "torque": _TORQUE_KEYS,
-    "circular_spline": _CIRCULAR_SPLINE_KEYS,
-    "cup": _CUP_KEYS,
-    "face": _FACE_KEYS,
-    "requirements": _REQUIREMENTS_KEYS,
+    "gear": GEAR_KEYS,
+    "wave_generator": WAVE_GENERATOR_KEYS,
+    "material": MATERIAL_KEYS,
+    "torque": TORQUE_KEYS,
+    "circular_spline": CIRCULAR_SPLINE_KEYS,
+    "cup": CUP_KEYS,
+    "face": FACE_KEYS,
+    "requirements": REQUIREMENTS_KEYS,
 }
 
 
 # --------------------------------------------------------------------------- types
 
-_FROZEN = dict(frozen=True, slots=True, eq=False, kw_only=True)
+FROZEN = dict(frozen=True, slots=True, eq=False, kw_only=True)
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class Gear:
     """Gear data of the set: module, teeth, waves and the flexspline rim."""
 
@@ -195,7 +195,7 @@ class Gear:
         return self.pitch_radius_mm - self.neutral_radius_mm
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class DctaTooth:
     """Double-circular-arc tooth with a common tangent (DCTA), pitch frame.
 
@@ -211,13 +211,13 @@ class DctaTooth:
     """
 
     kind: ClassVar[str] = "dcta"
-    pressure_angle_deg: float = _DCTA_DEFAULTS["pressure_angle_deg"]
-    line_above_pitch_mm: float = _DCTA_DEFAULTS["line_above_pitch_mm"]
-    line_below_pitch_mm: float = _DCTA_DEFAULTS["line_below_pitch_mm"]
-    tip_arc_radius_mm: float = _DCTA_DEFAULTS["tip_arc_radius_mm"]
-    root_arc_radius_mm: float = _DCTA_DEFAULTS["root_arc_radius_mm"]
-    addendum_mm: float = _DCTA_DEFAULTS["addendum_mm"]
-    dedendum_mm: float = _DCTA_DEFAULTS["dedendum_mm"]
+    pressure_angle_deg: float = DCTA_DEFAULTS["pressure_angle_deg"]
+    line_above_pitch_mm: float = DCTA_DEFAULTS["line_above_pitch_mm"]
+    line_below_pitch_mm: float = DCTA_DEFAULTS["line_below_pitch_mm"]
+    tip_arc_radius_mm: float = DCTA_DEFAULTS["tip_arc_radius_mm"]
+    root_arc_radius_mm: float = DCTA_DEFAULTS["root_arc_radius_mm"]
+    addendum_mm: float = DCTA_DEFAULTS["addendum_mm"]
+    dedendum_mm: float = DCTA_DEFAULTS["dedendum_mm"]
     half_thickness_mm: float
     coefficients: tuple[tuple[str, float], ...] = ()
     """The lengths the file gave in units of the module, as (``<name>_mm``, coefficient)
@@ -228,7 +228,7 @@ class DctaTooth:
         return math.radians(self.pressure_angle_deg)
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class InvoluteTooth:
     """Standard involute tooth (pitch frame): pressure angle, addendum, dedendum, thickness."""
 
@@ -245,7 +245,7 @@ class InvoluteTooth:
         return math.radians(self.pressure_angle_deg)
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class PointsTooth:
     """A tooth given by points of its right flank (pitch frame, root to tip, mm).
 
@@ -292,7 +292,7 @@ Tooth = DctaTooth | InvoluteTooth | PointsTooth
 _TOOTH_TYPES = (DctaTooth, InvoluteTooth, PointsTooth)
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class WaveGenerator:
     """Wave generator: deflection coefficient ω* (w0 = ω*·m) and contour.
 
@@ -313,7 +313,7 @@ class WaveGenerator:
         return None if self.roller_angle_deg is None else math.radians(self.roller_angle_deg)
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class Material:
     """Flexspline material (linear elastic) and optional strength limits (MPa)."""
 
@@ -330,7 +330,7 @@ class Material:
         return self.youngs_modulus_mpa / (2.0 * (1.0 + self.poisson_ratio))
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class Torque:
     """Output torques (N·m, as in the files); ``*_nmm`` give N·mm."""
 
@@ -351,7 +351,7 @@ class Torque:
         return None if self.momentary_nm is None else self.momentary_nm * 1e3
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class CircularSpline:
     """Radial clearances of the CS against the FS tooth (mm, resolved) and how its flank is
     fitted with an arc–line–arc (``one_sided``: never inside the swept region)."""
@@ -373,7 +373,7 @@ class CircularSpline:
         return self.wire_radius_mm + self.spark_gap_mm
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class Cup:
     """The cup flexspline beyond its tooth ring (mm), for the loaded contact and the stress
     stage: ``length_mm`` l, from the cup bottom to the tooth ring's mid-face (the
@@ -398,7 +398,7 @@ class Cup:
     bearing_center_mm: float | None = None
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class Face:
     """The face width (:mod:`profilegen.face`, the cup3d rim tier): ``design_section_z_mm`` the
     axial section whose envelope the one CS profile is cut from (z from the cup bottom's
@@ -467,7 +467,7 @@ def check_cup_geometry(*, neutral_radius_mm, ring_thickness_mm, length_mm, face_
             "bearing_center_mm": bc}
 
 
-_SECTION_TYPES = {
+SECTION_TYPES = {
     "gear": Gear,
     "tooth": _TOOTH_TYPES,
     "wave_generator": WaveGenerator,

@@ -21,19 +21,19 @@ from typing import Any
 import numpy as np
 
 from ..errors import GearSetError
-from .reader import _fmt, _Reader, read_toml
+from .reader import format_number, _Reader, read_toml
 from .requirements import Requirements
 from .sections import (
-    _CIRCULAR_SPLINE_KEYS,
-    _CUP_KEYS,
-    _FACE_KEYS,
-    _FROZEN,
-    _GEAR_KEYS,
-    _MATERIAL_KEYS,
-    _SECTION_TYPES,
-    _TOOTH_KEYS,
-    _TORQUE_KEYS,
-    _WAVE_GENERATOR_KEYS,
+    CIRCULAR_SPLINE_KEYS,
+    CUP_KEYS,
+    FACE_KEYS,
+    FROZEN,
+    GEAR_KEYS,
+    MATERIAL_KEYS,
+    SECTION_TYPES,
+    TOOTH_KEYS,
+    TORQUE_KEYS,
+    WAVE_GENERATOR_KEYS,
     COEFFICIENT_SUFFIX,
     CircularSpline,
     Cup,
@@ -109,7 +109,7 @@ def _twin_keys(parts: list[str]) -> tuple[str, ...]:
     return ()
 
 
-@dataclass(**_FROZEN)
+@dataclass(**FROZEN)
 class GearSet:
     """One validated strain wave gear set (see ``docs/gearset.md``).
 
@@ -142,7 +142,7 @@ class GearSet:
             object.__setattr__(self, "given", frozenset(self.given))
         wrong = [
             f"{name}: must be a {_type_label(kind)}, got {type(getattr(self, name)).__name__}"
-            for name, kind in _SECTION_TYPES.items()
+            for name, kind in SECTION_TYPES.items()
             if not isinstance(getattr(self, name), kind)
         ]
         if wrong:
@@ -209,9 +209,9 @@ class GearSet:
             if value > _TORQUE_FACTOR_HIGH * expected or (key == "rated_nm" and value < expected / _TORQUE_FACTOR_LOW):
                 how = "above" if value > expected else "below"
                 out.append(
-                    f"torque.{key} = {_fmt(value)} N·m is far {how} the ≈ {expected:.3g} N·m a catalogue gear of this "
-                    f"size carries (pitch diameter {_fmt(self.gear.module_mm * self.gear.flexspline_teeth)} mm, face "
-                    f"width {_fmt(self.cup.face_width_mm)} mm; scaling law T ∝ d²·b on seeds 000/001, "
+                    f"torque.{key} = {format_number(value)} N·m is far {how} the ≈ {expected:.3g} N·m a catalogue gear of this "
+                    f"size carries (pitch diameter {format_number(self.gear.module_mm * self.gear.flexspline_teeth)} mm, face "
+                    f"width {format_number(self.cup.face_width_mm)} mm; scaling law T ∝ d²·b on seeds 000/001, "
                     "GearSet.size_torque_nm): do the torques belong to this size?"
                 )
         return tuple(out)
@@ -239,7 +239,7 @@ class GearSet:
             tooth["points"] = np.asarray(t.points, dtype=float).tolist()
             tooth["smoothing_mm"] = float(t.smoothing_mm)
         else:
-            for key in _TOOTH_KEYS[t.kind][1:]:
+            for key in TOOTH_KEYS[t.kind][1:]:
                 if not key.endswith(COEFFICIENT_SUFFIX):
                     tooth[key] = _json_value(getattr(t, key))
             if not include_defaults:  # a length given in units of the module stays so (it follows m)
@@ -252,15 +252,15 @@ class GearSet:
             "description": self.description,
             "source": self.source,
             "scene": self.scene,
-            "gear": {key: _json_value(getattr(g, key)) for key in _GEAR_KEYS},
+            "gear": {key: _json_value(getattr(g, key)) for key in GEAR_KEYS},
             "tooth": tooth,
-            "wave_generator": _optional_fields(w, _WAVE_GENERATOR_KEYS),
-            "material": _optional_fields(mat, _MATERIAL_KEYS),
-            "torque": _optional_fields(tq, _TORQUE_KEYS),
-            "circular_spline": {key: _json_value(getattr(cs, key)) for key in _CIRCULAR_SPLINE_KEYS},
-            "cup": {key: _json_value(getattr(cup, key)) for key in _CUP_KEYS},
+            "wave_generator": _optional_fields(w, WAVE_GENERATOR_KEYS),
+            "material": _optional_fields(mat, MATERIAL_KEYS),
+            "torque": _optional_fields(tq, TORQUE_KEYS),
+            "circular_spline": {key: _json_value(getattr(cs, key)) for key in CIRCULAR_SPLINE_KEYS},
+            "cup": {key: _json_value(getattr(cup, key)) for key in CUP_KEYS},
             "face": {key: ("auto" if getattr(self.face, key) is None else _json_value(getattr(self.face, key)))
-                     for key in _FACE_KEYS},
+                     for key in FACE_KEYS},
             "requirements": self.requirements.to_dict(),
         }
         if include_defaults or self.given is None:

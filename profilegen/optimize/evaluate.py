@@ -1,7 +1,7 @@
 """Evaluating candidates: one design per candidate on an Executor, with a resumable journal.
 
 The machinery is :mod:`profilegen.sweep`'s, reused: its process-pool worker set-up
-(``_init_worker``: one BLAS thread, SIGINT ignored, a watch on the parent), its Dask
+(``init_worker``: one BLAS thread, SIGINT ignored, a watch on the parent), its Dask
 executor (:func:`profilegen.sweep.dask_executor`), its append-only CSV journal (one
 complete line per finished candidate, a CRC per line, a cut line dropped on reading) and
 its pool clean-up (:func:`profilegen.pools.stop_pool`). A candidate is a {name: value}
@@ -29,7 +29,7 @@ from concurrent.futures import Executor, as_completed
 from pathlib import Path
 from typing import Any
 
-from ..sweep import OUTPUTS, SweepError, _Journal, _signals_deferred, outputs_of
+from ..sweep import OUTPUTS, SweepError, Journal, signals_deferred, outputs_of
 
 __all__ = [
     "CONTACT_OUTPUTS",
@@ -147,7 +147,7 @@ def evaluate_points(points: Sequence[Mapping[str, Any]], *, variables: Sequence[
     outputs = tuple(outputs)
     key = context_key(evaluator, context)
     ids = [_candidate_id(key, p) for p in points]
-    jr = _Journal(Path(journal), journal_columns(variables, outputs))
+    jr = Journal(Path(journal), journal_columns(variables, outputs))
     wanted = set(ids)
     done = {pid: cells for pid, cells in jr.read().items() if pid in wanted}
     todo: dict[str, int] = {}
@@ -159,7 +159,7 @@ def evaluate_points(points: Sequence[Mapping[str, Any]], *, variables: Sequence[
             on_done(False)
     futures = {}
     try:
-        with _signals_deferred():  # a pool's processes started here begin with SIGINT/SIGTERM blocked
+        with signals_deferred():  # a pool's processes started here begin with SIGINT/SIGTERM blocked
             for pid, i in todo.items():
                 futures[executor.submit(_run_candidate, dict(points[i]), evaluator, context, outputs)] = pid
         for fut in as_completed(futures):

@@ -39,7 +39,7 @@ from pathlib import Path
 import numpy as np
 
 from ..pools import stop_pool
-from ..sweep import _init_worker, _signals_deferred, write_table
+from ..sweep import init_worker, signals_deferred, write_table
 from .evaluate import DESIGN_OUTPUTS, STATUS_COLUMNS, VERDICT_COLUMNS, evaluate_design, evaluate_points
 from .search import Problem, SearchResult, dominates, judge, rank_disagreement, search
 from .spec import OptimizeSpec, load_optimize_spec
@@ -111,8 +111,8 @@ def optimize(spec: OptimizeSpec | str | os.PathLike, out_dir: str | os.PathLike 
         if own:
             from concurrent.futures import ProcessPoolExecutor
 
-            with _signals_deferred():
-                executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, initializer=_init_worker)
+            with signals_deferred():
+                executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, initializer=init_worker)
         try:
             result = _run(spec, out, owned, executor, progress, figure, t0)
             if own:
@@ -120,7 +120,7 @@ def optimize(spec: OptimizeSpec | str | os.PathLike, out_dir: str | os.PathLike 
             return result
         except BaseException:
             if own:
-                with _signals_deferred():
+                with signals_deferred():
                     stop_pool(executor, what="optimize")
             raise
 

@@ -40,7 +40,7 @@ from typing import TYPE_CHECKING
 
 from ..errors import GearSetError, OptimizeSpecError
 from ..gearset import GearSet
-from ..sweep import _check_field, _flat_table, spec_header, spec_scene
+from ..sweep import check_field, flat_table, spec_header, spec_scene
 from .evaluate import CONTACT_OUTPUTS, DESIGN_OUTPUTS
 from .search import SENSES, Constraint, Objective, Variable
 
@@ -156,7 +156,7 @@ def parse_optimize_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str 
     # variables: field = [lo, hi]
     if "variables" not in data:
         fail("variables", "missing: give at least one gear-set field = [lo, hi]")
-    ranges = _flat_table(data["variables"], "variables", fail)
+    ranges = flat_table(data["variables"], "variables", fail)
     if not ranges:
         fail("variables", "needs at least one gear-set field = [lo, hi]")
     variables = []
@@ -166,7 +166,7 @@ def parse_optimize_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str 
         if not (isinstance(rng, list) and len(rng) == 2 and all(_number(v) for v in rng) and rng[0] < rng[1]):
             fail(key, f"must be [lo, hi] with finite numbers lo < hi, got {rng!r}")
         lo, hi = rng
-        _check_field(gearset, path, lo, key, fail)  # not a field, or a value of the wrong type
+        check_field(gearset, path, lo, key, fail)  # not a field, or a value of the wrong type
         variables.append(Variable(path, lo, hi, integer=_int(lo) and _int(hi)))
         start.append(field_value(gearset, path))
     base_values = {v.name: s for v, s in zip(variables, start) if s is not None}

@@ -687,7 +687,7 @@ def _note_lines(design) -> list[str]:
         "   profile (zone " + _fmt(2 * e_mm) + " mm): the arc-line-arc fit's largest deviation from the conjugate profile.",
         "4. All dimensions in mm; detail A's dimensions give true size.",
     ]
-    from ..face.coning import modification_lines  # the face stage's choice (issue 28)
+    from ..face.coning import modification_lines  # the face stage's choice
 
     for k, text in enumerate(modification_lines(design)):
         lines += _wrapped(f"{5 + k}. " + text)

@@ -1,4 +1,4 @@
-"""The face width's files (issue 15, items 4 and 5): ``face.png`` (the clearance map, axial
+"""The face width's files: ``face.png`` (the clearance map, axial
 position × φ, without and with the FS tooth modification), one FS tooth DXF per section
 (``face_tooth_NN.dxf``: the modified tooth of that section, through the flexspline drawings'
 writer, :mod:`profilegen.output.flexspline`), and the report section.

@@ -75,7 +75,7 @@ def write_flexspline_dxfs(staging: Path, result: Design, *, tol_mm: float = FIT_
 
     tooth, g = result.tooth, result.gearset
     chain, dev = flexspline_tooth_chain(tooth, g.gear, tol_mm=tol_mm)
-    from ..face.coning import modification_lines  # the face stage's taper, or "not decided" (issue 28)
+    from ..face.coning import modification_lines  # the face stage's taper, or "not decided"
 
     note = _note(g.name, tooth, dev, tol_mm) + tuple(modification_lines(result))
     layers, texts = tooth_layers(tooth, chain, note)

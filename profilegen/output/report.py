@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import base64
 import contextlib
-import functools
 import html
 import logging
 import os
@@ -391,14 +390,18 @@ def _contact_section(design, png: bytes | None = None) -> str:
         f"<td class=text>{html.escape(case.beyond_capacity or 'within the searched zone')}</td></tr>"
         for case, ki in zip(c.cases, k))
     uri = _png_uri(png) if png is not None else figure_png(plot.contact_figure(c, title="", ratio=design.gearset.ratio, size=_catalogue_size(design.gearset)), dpi=100)
-    return f"""<h2>Loaded contact</h2>
+    whole = ("; the whole gear's stiffness, which the catalogue's K1/K2 are, is in the section above"
+             if getattr(design, "torsional", None) is not None else
+             "; the whole gear's stiffness (the catalogue's K1/K2) comes from the design and verify scenes' torsional curve")
+    return f"""<h2>Loaded contact (the tooth mesh)</h2>
 <p>{c.points.count} candidate points on {c.points.teeth.size} teeth per zone, {c.zones} zones; FEM influence
 coefficients (face width {c.compliance_info.get('face_width_mm', float('nan')):.4g} mm), Lemke's complementary
 pivoting on the teeth and {'every wave-generator ball (each a rigid one-sided support at its no-load gap)'
 if c.compliance_info.get('ball_supports') == 'all' else 'the balls within the rim’s no-load contact angle'}.
-The stiffness is the mesh's only (no ball Hertz, inner ring, cam or cup wind-up).</p>
-<table><tr><th>torque (N·m)</th><th>teeth in contact per zone</th><th>rotation (arcmin)</th>
-<th>max tooth force (N)</th><th>secant stiffness (N·m/rad)</th><th>capacity</th></tr>{rows}</table>
+The rotation and stiffness here are <b>the mesh's alone</b> (teeth and rim on rigid balls: no ball Hertz,
+inner ring, cam or cup wind-up){whole}.</p>
+<table><tr><th>torque (N·m)</th><th>teeth in contact per zone</th><th>mesh rotation (arcmin)</th>
+<th>max tooth force (N)</th><th>mesh-only secant stiffness (N·m/rad)</th><th>capacity</th></tr>{rows}</table>
 <img src="{uri}" alt="loaded contact">"""
 
 
@@ -451,7 +454,7 @@ def _free_play(arcmin: float) -> str:
 
 
 def _torsional_section(design, png: bytes | None = None) -> str:
-    """The whole gear in torsion, in plain words, against the catalogue (issue 16); then the
+    """The whole gear in torsion, in plain words, against the catalogue (docs/theory/torsion.md); then the
     ratcheting estimate and the transmission error when the scene ran them."""
     curve = getattr(design, "torsional", None)
     if curve is None:
@@ -558,7 +561,7 @@ def _stress_section(design, png: bytes | None = None) -> str:
     uri = _png_uri(png) if png is not None else figure_png(plot.stress_figure(res), dpi=100)
     g = design.gearset
     cup = g.cup
-    unchecked = [c.name for c in res.checks if c.passed is None]  # no material limits: not a pass (issue 28)
+    unchecked = [c.name for c in res.checks if c.passed is None]  # no material limits: not a pass
     overall = ('<span class="fail">a check FAILS</span>' if not res.passed else
                f'<span class="skip">INCOMPLETE: NOT CHECKED {html.escape(", ".join(unchecked))} (no material '
                'limits)</span>' if unchecked else '<span class="pass">every check passes</span>')
@@ -576,47 +579,15 @@ face width {cup.face_width_mm:g} mm, root fillet {cup.root_fillet_radius_mm:g} m
 <img src="{uri}" alt="stresses">"""
 
 
-@functools.lru_cache(maxsize=1)
-def _seed_tables() -> str:
-    """The seed papers' tables: the same for every design, so made once per process."""
-    from ..stress.plate import SEED002_BETA, seed002_beta, seed002_comparison
-    from ..stress.tooth_ring import seed001_comparison, seed001_trend_checks
-
-    beta = "".join(f"<tr><td>β{i}</td><td>{b:.4f}</td><td>{ours:.5f}</td><td>{ours - b:+.1e}</td></tr>"
-                   for i, (b, ours) in enumerate(zip(SEED002_BETA, seed002_beta())))
-
-    rows1 = "".join(
-        f"<tr><td>{html.escape(str(r.quantity))}</td><td>{_num(r.seed_value, '.4g')}</td>"
-        f"<td>{_num(r.our_value, '.4g')}</td><td class=text>{html.escape(str(r.assumed))}</td>"
-        f"<td class=text>{html.escape(str(r.note))}</td></tr>" for r in seed001_comparison())
-    rows2 = "".join(
-        f"<tr><td>{html.escape(r['quantity'])} ({html.escape(r['where'])}, {r['torque_nm']:g} N·m)</td>"
-        f"<td>{_num(r['seed_mpa'], '.4g')}</td><td>{_num(r['seed002_mpa'], '.4g')}</td>"
-        f"<td>{_num(r['consistent_mpa'], '.4g')}</td><td class=text>{html.escape(r['reason'])}</td></tr>"
-        for r in seed002_comparison())
-    trends = "".join(
-        f"<tr><td class=text>{html.escape(t.claim)}</td><td>{'holds' if t.holds else 'does not hold'}</td>"
-        f"<td class=text>{html.escape(t.evidence)}</td></tr>" for t in seed001_trend_checks())
-    return f"""<h2>Published examples and ours</h2>
-<h3>Seed 001 (tooth ring, SHF-25-80)</h3>
-<table><tr><th>quantity</th><th>seed</th><th>ours</th><th>inputs we had to assume</th><th>why they differ</th></tr>
-{rows1}</table>
-<table><tr><th>seed 001's claim</th><th>in its own model</th><th>evidence</th></tr>{trends}</table>
-<h3>Seed 002 (cup bottom, CSG-25, L/D 0.3)</h3>
-<table><tr><th>quantity</th><th>seed (MPa)</th><th>seed002 variant</th><th>consistent plate</th><th>why</th></tr>
-{rows2}</table>
-<table><tr><th>Table 1</th><th>seed</th><th><code>seed002</code> variant</th><th>difference</th></tr>{beta}</table>
-<p>The β constants of seed 002's Table 1 come out of the <code>seed002</code> variant only with ln r in mm and
-ν f″ + f′/r = 0 at r_m (the paper's "M_φ = 0"); a scikit-fem Morley plate solution of the same problem agrees with the consistent model and
-puts the seed variant's clamp stress 19 % high (<code>python tests/benchmarks/stress_plate.py</code>).</p>"""
-
-
 def design_report_html(design, images: dict | None = None) -> str:
-    """The design report: profile, fit error, contact, stresses, safety factors (pass/fail
-    against the gear set's material limits), the seed comparison tables; one HTML page.
-    ``images``: PNG bytes already drawn (``"contact"``, ``"stress"``, ``"fit_profile"``,
-    ``"fit_error"``; see :func:`png_jobs`), embedded as they are; the others are drawn. It may
-    also hold the HTML pieces of :func:`html_jobs` made already (``"seed_tables"``, ``"cs_figure"``)."""
+    """The design report of this gear: the design sheet, then how it was computed — stages,
+    flank fit, the whole gear in torsion, the loaded contact (the mesh alone), the face,
+    stresses and safety factors (pass/fail against the gear set's material limits); one HTML
+    page. (The published examples and the project's research are in the docs' validation
+    section, not in a gear's report.) ``images``: PNG bytes already drawn (``"contact"``,
+    ``"stress"``, ``"fit_profile"``, ``"fit_error"``; see :func:`png_jobs`), embedded as they
+    are; the others are drawn. It may also hold the HTML piece of :func:`html_jobs` made
+    already (``"cs_figure"``)."""
     images = images or {}
     g = design.gearset
     prof = design.profile
@@ -643,11 +614,10 @@ The full fit-error report is <code>fit_report.html</code>; the CAD files are the
 <p>Scene <b>{html.escape(design.scene.name)}</b>: each stage, the model it used, its time and its own error estimate.</p>
 <table><tr><th>stage</th><th>tier</th><th>time (ms)</th><th>error estimate</th><th>error measure</th></tr>{stages}</table>
 {fit}
-{_contact_section(design, images.get("contact"))}
 {_torsional_section(design, images.get("torsional"))}
+{_contact_section(design, images.get("contact"))}
 {_face_section(design, images)}
 {stress}
-{images.get("seed_tables") or _seed_tables()}
 <h2>Notes</h2><ul>{warnings}</ul>
 </body></html>
 """
@@ -726,11 +696,18 @@ def png_jobs(design) -> dict[str, tuple[Callable[..., bytes], tuple]]:
     return jobs
 
 
-#: The seed papers' tables of report.html: one job, the same for every design.
-SEED_TABLES_JOB = {"seed_tables": (_seed_tables, ())}
+def _workers_ready() -> None:
+    """Nothing: a first job that makes the figure workers start while the stages run."""
+
+
+#: A first job for the figure workers, handed over before the design has its profile, so that
+#: they fork (and import what they draw with) while the stages run.
+WARM_UP_JOB = {"workers_ready": (_workers_ready, ())}
+#: the name output/files.py hands over (it was report.html's seed tables): WARM_UP_JOB
+SEED_TABLES_JOB = WARM_UP_JOB
 
 #: The HTML pieces of :func:`report_pieces` (not pictures: made in every run).
-_HTML_PIECES = ("seed_tables", "cs_figure")
+_HTML_PIECES = ("cs_figure",)
 
 
 class NoFigures(dict):
@@ -759,17 +736,16 @@ def without_figures(page: str, scene: str) -> str:
 
 
 def html_jobs(design) -> dict[str, tuple[Callable[..., str], tuple]]:
-    """The pieces of ``report.html`` that take time, as jobs for :func:`rendering` beside the PNGs:
-    the seed papers' tables (the same for every design, ~0.4 s of stress models) and the zoomable
-    CS figure (plotly's first page ~0.3 s). Drawn in the figure workers they leave the parent's
-    path; :func:`design_report_html` takes them from its ``images``. None without the stresses
-    (no report.html then); :func:`report_pieces` makes them for a design that has its profile."""
+    """The piece of ``report.html`` that takes time, as a job for :func:`rendering` beside the PNGs:
+    the zoomable CS figure (plotly's first page ~0.3 s). Drawn in the figure workers it leaves the
+    parent's path; :func:`design_report_html` takes it from its ``images``. None without the
+    stresses (no report.html then); :func:`report_pieces` makes it for a design that has its
+    profile."""
     return report_pieces(design) if design.stress is not None else {}
 
 
 def report_pieces(design) -> dict[str, tuple[Callable[..., str], tuple]]:
-    """:func:`html_jobs` for a design whose stresses are still to come (``seed_tables`` needs
-    no design: :data:`SEED_TABLES_JOB`)."""
+    """:func:`html_jobs` for a design whose stresses are still to come."""
     from dataclasses import replace
 
     # the figure reads the envelope, tooth, motion and fitted profile: the rest is not pickled to the worker;
@@ -779,7 +755,7 @@ def report_pieces(design) -> dict[str, tuple[Callable[..., str], tuple]]:
     if prof is not None:
         prof = replace(prof, outline=None, corners=None)
     slim = replace(design, form=None, rim=None, contact=None, stress=None, profile=prof)
-    return {**SEED_TABLES_JOB, "cs_figure": (figure_html, (slim,))}
+    return {"cs_figure": (figure_html, (slim,))}
 
 
 #: Environment variable: how many worker processes draw the figures (0: none, draw in the

@@ -1,7 +1,7 @@
 """Geometrically nonlinear plane stress: total Lagrangian, St Venant–Kirchhoff material.
 
 The rim's strains are ~1e-3 but its points move by w0 ≈ r_m/100 and its cross-sections turn
-by ~w0/r_m: the *kinematics* is nonlinear (DESIGN.md trap 7: ~7 µm in ω), the *material*
+by ~w0/r_m: the *kinematics* is nonlinear (~7–10 µm in ω, docs/theory/rim.md), the *material*
 is not. St Venant–Kirchhoff — the second Piola–Kirchhoff stress S = C : E with the Green
 strain E = ½(FᵀF − I), F = I + ∇u, and C the linear plane-stress tensor — is the
 small-strain, large-rotation model: at u = 0 its tangent is the linear stiffness.

@@ -44,13 +44,13 @@ Model
   Lagrangian St Venant–Kirchhoff, :mod:`profilegen.rim.nonlinear`): modified Newton from
   the linear solution with the linear factorisation and compliance; a step that shrinks by
   less than half refreshes both with the tangent at the current state.
-* ω, υ are read on the node line at r_m (the neutral line of the flat ring; DESIGN.md trap 7:
+* ω, υ are read on the node line at r_m (the neutral line of the flat ring;
   probes do not work on quadratic meshes): ω = u·e_r, υ = u·e_θ, e_r = (sin θ, cos θ),
   e_θ = (cos θ, −sin θ) (toward increasing θ). Vertex and mid-edge nodes are both read,
   2·divisions + 1 samples on 0 ≤ φ ≤ π/2.
 
 The contact (wrap) angle — the angle of the last active bore node from the major axis —
-is ill-conditioned: the free part of the ring sits µm from the cam (DESIGN.md trap 7), so a
+is ill-conditioned: the free part of the ring sits µm from the cam (docs/theory/rim.md), so a
 tiny change of load or mesh moves it a lot. It is reported with that warning.
 """
 
@@ -201,7 +201,7 @@ class RingResult:
         interpolate it. Beyond (the pitch circle, in the teeth or above a flat rim):
         plane sections stay plane and normal (Kirchhoff), ω(r) = ω_m and
         υ(r) = υ_m + (r − r_m)(υ_m − ω′_m)/r_m, ω′_m from a cubic spline of the neutral
-        samples (DESIGN.md: at the pitch circle υ differs from the neutral line by ~16 µm).
+        samples (at the pitch circle υ differs from the neutral line by ~16 µm: docs/theory/rim.md).
         """
         from scipy.interpolate import CubicSpline
 
@@ -301,7 +301,7 @@ class _Factor:
     is banded (bandwidth ~ 2 × nodes across the rim), and LAPACK's banded Cholesky then solves the 2·(bore nodes) right-hand sides of
     the condensation ~2.5× faster than SuperLU (measured on the default ring, 4 × 64). A
     matrix that is not positive definite (a tangent past a limit point) falls back to
-    SuperLU with COLAMD ordering (DESIGN.md trap 7)."""
+    SuperLU with COLAMD ordering."""
 
     def __init__(self, matrix, order=None):
         from scipy.linalg import LinAlgError, cholesky_banded

@@ -48,7 +48,7 @@ import numpy as np
 from ..errors import StressError
 from ..results import json_ready, readonly
 from .inputs import finite as _finite, non_negative as _non_negative, positive as _positive
-from .plate import _flexural_row, radial_basis
+from .plate import flexural_row, radial_basis
 
 __all__ = [
     "OUTER_EDGES",
@@ -127,7 +127,7 @@ def _mode_coefficients(boss_ratio: float, poisson_ratio: float, outer_edge: str)
     M_r(1) = 0 (hinged: the cup bottom's condition) or F_ρ(1) = 4 (rigid joint)."""
     at_boss, at_edge = radial_basis(2, boss_ratio, 1.0), radial_basis(2, 1.0, 1.0)
     if outer_edge == "hinged":
-        last, value = _flexural_row(at_edge, 1.0, 2, poisson_ratio, "M_r"), 0.0
+        last, value = flexural_row(at_edge, 1.0, 2, poisson_ratio, "M_r"), 0.0
     else:
         last, value = at_edge[1], 4.0
     return np.linalg.solve(np.array([at_boss[0], at_boss[1], at_edge[0], last]), np.array([0.0, 0.0, 1.0, value]))

@@ -11,7 +11,7 @@ Three steps, each a function:
 
 1. :func:`edge_displacement_from_ellipse` / :func:`edge_displacement` — the axial
    displacement w(φ) of the plate's outer edge from semi-membrane shell theory
-   (seed 002, eq. for w₀(φ)), corrected (DESIGN.md trap 5): integrand ρ(η) − r_m in mm and
+   (seed 002, eq. for w₀(φ)), corrected (docs/theory/stresses.md): integrand ρ(η) − r_m in mm and
    made periodic. Returned as harmonics, :class:`EdgeDisplacement`.
 2. :func:`cup_bottom_stress` with ``model="consistent"`` — the Kirchhoff solution that is
    exact for each harmonic n of w(φ) (radial basis r^n, r^−n, r^(n+2), r^(2−n), logs for
@@ -207,7 +207,7 @@ def edge_displacement(radial_cos_mm: Mapping[int, float], *, mean_radius_mm: flo
     """w(φ) at the plate's outer edge from a radial displacement ω(η) = Σ_k c_k cos kη (mm,
     the package's integer-harmonic deformation model; ring theory: {2: w0}).
 
-    Seed 002's semi-membrane result, corrected (DESIGN.md trap 5)::
+    Seed 002's semi-membrane result, corrected (docs/theory/stresses.md)::
 
         w₀(φ) = −(1/2k) ∫₀^φ ∫₀^θ (ρ(η) − r_m) dη dθ,   k = l/(2 r_m),   ρ − r_m = ω
 
@@ -354,7 +354,7 @@ def _log_power(x: np.ndarray, p: int) -> tuple:
     return x**p * lg, x ** float(p - 1) * (p * lg + 1.0), x ** float(p - 2) * (p * (p - 1) * lg + 2 * p - 1)
 
 
-def _flexural_row(basis: np.ndarray, r: float, n: int, nu: float, moment: str) -> np.ndarray:
+def flexural_row(basis: np.ndarray, r: float, n: int, nu: float, moment: str) -> np.ndarray:
     """Row of a moment condition (M/(−D), per unit cos nφ) on the 4 basis functions."""
     g, g1, g2 = basis
     hoop = g1 / r - n**2 * g / r**2
@@ -371,7 +371,7 @@ def _coefficients(n: int, r0: float, r_m: float, nu: float, model: str) -> tuple
     b0 = radial_basis(n, r0, r_m, model=model)
     bm = radial_basis(n, r_m, r_m, model=model)
     cond = "M_r" if model == "consistent" else "M_phi"
-    a = np.array([b0[0], b0[1] * r_m, bm[0], _flexural_row(bm, r_m, n, nu, cond) * r_m**2])
+    a = np.array([b0[0], b0[1] * r_m, bm[0], flexural_row(bm, r_m, n, nu, cond) * r_m**2])
     rhs = np.array([0.0, 0.0, 1.0, 0.0])
     coef = np.linalg.solve(a, rhs)
     residual = float(np.max(np.abs(a @ coef - rhs)))
@@ -384,7 +384,7 @@ def seed002_beta(boss_radius_mm: float = SEED002_TABLE1["boss_radius_mm"],
                  log_unit_mm: float = 1.0) -> np.ndarray:
     """β0..β3 of seed 002's f(r) = β0 + β1 ρ² + β2 ln(r/u) + β3 ρ² ln(r/u), ρ = r/r_m.
 
-    What reproduces Table 1 (DESIGN.md trap 5): f(r0) = 0, f'(r0) = 0, f(r_m) = 1 and
+    What reproduces Table 1 (docs/theory/stresses.md): f(r0) = 0, f'(r0) = 0, f(r_m) = 1 and
     ν f''(r_m) + f'(r_m)/r_m = 0 — "M_φ = 0" at r_m evaluated for the axisymmetric f alone
     (the f w''/r² term of the paper's own σ_φ dropped) — with the logarithm of r in mm
     (u = ``log_unit_mm`` = 1). Table 1's inputs give (8.56323, 35.81212, −4.32945, −8.33943),
@@ -767,7 +767,8 @@ def _reason(key: str, seed: float, values: dict, res: dict) -> str:
                 f"{w0 * seed / s2:.4f} mm, close to (a − b)/8 = {a_b / 8:.4f} mm, i.e. w(φ) without the factor "
                 f"r_m/l = 1/(2k) (a guess). The consistent model is {100 * (co / s2 - 1):+.1f} % from seed002: "
                 "f(r) cos 2φ is not in equilibrium (∇⁴w ≠ 0) and ν f'' + f'/r = 0 is not the edge condition "
-                "M_r = 0; the Morley FE solution sides with the consistent model (morley.model_verdict).")
+                "M_r = 0; a Morley finite-element solution of the same plate sides with the consistent model "
+                "(docs/theory/stresses.md).")
     if key == "tau_total_rated":
         phi = math.radians(45.0)
         tc, rc = _max_along(res["consistent"][87.0].field, phi, "tau")

@@ -308,7 +308,7 @@ def solve_stress(inputs: StressInput, *, fatigue: bool | None = None,
         root_thickness_mm=s_f, fillet_radius_mm=cup.root_fillet_radius_mm, pitch_mm=math.pi * g.module_mm,
         tooth_height_mm=h, equivalent_tooth_height_mm=0.5 * h, face_width_mm=cup.face_width_mm,
         youngs_modulus_mpa=mat.youngs_modulus_mpa, tangential_force_n=f, minor_semi_axis_mm=rho_b,
-        curvature=section_curvature(model, r_m))  # the design section's own κ, not the ellipse's (issue 28)
+        curvature=section_curvature(model, r_m))  # the design section's own κ, not the ellipse's
         for f in forces)
 
     edge = edge_displacement(radial, mean_radius_mm=r_m, length_mm=cup.length_mm)

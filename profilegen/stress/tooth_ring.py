@@ -23,7 +23,7 @@ Where the seed is wrong or silent (details in the functions):
 
 1. Its κ(φ) gives NaN as written (:func:`seed001_printed_curvature`); the exact ellipse
    curvature is :func:`ellipse_curvature`, and :func:`displaced_curvature` is the exact
-   curvature of any displaced neutral line (r_m + ω) e_r + υ e_t (DESIGN.md trap 6).
+   curvature of any displaced neutral line (r_m + ω) e_r + υ e_t (docs/theory/stresses.md).
 2. ρ_b is not explained; the table's 28.741 mm is the ellipse of the same perimeter as the
    neutral circle (an inextensible neutral line, :func:`equal_perimeter_minor_semi_axis`).
 3. 6 M/δ² is a stress only if q_t is a force per unit face width: q_t = F_t / b.

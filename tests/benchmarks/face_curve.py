@@ -98,10 +98,10 @@ def _face_load(inputs, sides, chain, spec, torque_nm) -> None:
     """The load per slice at ``torque_nm`` on the loaded flank (the curve's model: every ball one-sided
     with its Hertz spring in every slice), against the 2D solve spread evenly (S_2D/b)."""
     from profilegen.contact.face_curve import slice_layout
-    from profilegen.contact.reduced import _ReducedZone
+    from profilegen.contact.reduced import ReducedZone
 
     def solve(pts, comp, bearing):
-        zone = _ReducedZone(pts, comp, bearing)
+        zone = ReducedZone(pts, comp, bearing)
         loaded = np.zeros(pts.count, bool)
         loaded[int(np.argmin(pts.theta_rad))] = True
         out = zone.solve(torque_nm, (loaded, np.asarray(comp.ball_active, bool), None), springs_on=True,

@@ -115,7 +115,7 @@ class CSRing:
         (the contact's CS sector models the teeth and the ring locally, not the ring's global
         bending); "sector" — only the ring outside the contact model's sector edge (1.1 × the
         CS pitch radius): about 4× softer in bending (h³), the upper bound."""
-        from profilegen.contact.chain import _cs_held_radius  # the chain's own estimate of where the CS is held
+        from profilegen.contact.chain import cs_held_radius  # the chain's own estimate of where the CS is held
 
         checks.choice("inner", inner, ("root", "sector"), error=CSRingError)
         g = gearset.gear
@@ -126,7 +126,7 @@ class CSRing:
             r_i = float(g.pitch_radius_mm) + float(gearset.tooth.addendum_mm) + float(gearset.deflection_mm) \
                 + 0.25 * float(g.module_mm)
             est = ["inner_radius_mm = the CS root radius estimated as r1 + addendum + w0 + 0.25 m"]
-        r_o, note = _cs_held_radius(gearset)
+        r_o, note = cs_held_radius(gearset)
         est += ["width_mm = the face width", "the CS of the FS's steel", "a free ring (no housing)"]
         if note:
             est.append(note)

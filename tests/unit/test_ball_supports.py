@@ -190,11 +190,11 @@ def test_curve_continuation_keeps_teeth_and_balls_complementary(inputs, flanks):
     R h = 0 (h the gap after load, a loaded ball's spring compressed by c R); every loaded
     ball's spring is the Hertz law at its own reaction, c R = c_H R^{2/3}. The ball set
     changes along the curve (more balls take load as the torque grows)."""
-    from profilegen.contact.chain import BallBearing, _ReducedZone
+    from profilegen.contact.chain import BallBearing, ReducedZone
 
     bearing = BallBearing.from_gearset(inputs.gearset)
     for side, (pts, comp) in flanks.items():
-        zone = _ReducedZone(pts, comp, bearing)
+        zone = ReducedZone(pts, comp, bearing)
         s_cc, c_cb, c_bb = _blocks(comp)
         loaded = np.zeros(pts.count, bool)
         loaded[int(np.argmin(pts.theta_rad))] = True
@@ -304,7 +304,7 @@ def test_curve_falls_back_to_lemke_with_every_ball(inputs, flanks, monkeypatch):
     kw = dict(sides=flanks, breakpoints_nm=(20.0, 54.0), catalogue=None)
     torques = [-54.0, 20.0, 54.0]
     plain = chain.torsional_curve(inputs, torques, **kw)
-    solve = chain._ReducedZone.solve
+    solve = chain.ReducedZone.solve
     given_up = []
 
     def flaky(self, magnitude_nm, state, **options):
@@ -313,7 +313,7 @@ def test_curve_falls_back_to_lemke_with_every_ball(inputs, flanks, monkeypatch):
             return None
         return solve(self, magnitude_nm, state, **options)
 
-    monkeypatch.setattr(chain._ReducedZone, "solve", flaky)
+    monkeypatch.setattr(chain.ReducedZone, "solve", flaky)
     mixed = chain.torsional_curve(inputs, torques, **kw)
     assert given_up == [20.0, 20.0]  # both flanks
     np.testing.assert_allclose(mixed.rotation_rad, plain.rotation_rad, rtol=1e-5, atol=0.0)

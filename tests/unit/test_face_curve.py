@@ -23,7 +23,7 @@ from profilegen.contact.face_curve import (
 from profilegen.contact.face_load import slice_coupling
 from profilegen.contact.inputs import ContactInput
 from profilegen.contact.points import ContactPoints
-from profilegen.contact.reduced import _ReducedZone
+from profilegen.contact.reduced import ReducedZone
 
 TORQUES = [-196.0, -54.0, 54.0, 196.0]
 
@@ -47,7 +47,7 @@ def _one_point(s_mm_per_n=2e-6, lever=45.0, gap=1e-3, zones=2, b=10.0):
 
 
 def _solve(pts, comp, torque_nm, bearing=None):
-    zone = _ReducedZone(pts, comp, bearing)
+    zone = ReducedZone(pts, comp, bearing)
     loaded = np.zeros(pts.count, bool)
     loaded[int(np.argmin(pts.theta_rad))] = True
     out = zone.solve(torque_nm, (loaded, np.asarray(comp.ball_active, bool), None), springs_on=bearing is not None,

@@ -18,7 +18,7 @@ import pytest
 from profilegen.errors import OptimizeSpecError
 from profilegen.optimize import Objective, Problem, Variable, pareto_front, search
 from tests.oracles.zdt1 import zdt1, zdt1_front
-from profilegen.sweep import _init_worker
+from profilegen.sweep import init_worker
 
 
 def _zdt1(n=2, **context):
@@ -47,7 +47,7 @@ pytestmark = pytest.mark.xdist_group("test_optimize")
 
 @pytest.fixture(scope="module")
 def pool():
-    with ProcessPoolExecutor(max_workers=2, initializer=_init_worker) as ex:
+    with ProcessPoolExecutor(max_workers=2, initializer=init_worker) as ex:
         yield ex
 
 

@@ -24,7 +24,7 @@ import pytest
 
 from profilegen.errors import ExportError
 from profilegen.output import folder as outfolder
-from profilegen.sweep import SWEEP_FILES, _Journal, parse_sweep_spec, run_sweep
+from profilegen.sweep import SWEEP_FILES, Journal, parse_sweep_spec, run_sweep
 
 FIELD = "wave_generator.deflection_coefficient"
 SPEC = {"name": "t", "gearset": "default", "scene": "sketch", "grid": {FIELD: [0.8, 0.9]}}
@@ -246,8 +246,8 @@ def test_sweep_out_root_is_a_named_error_and_writes_nothing(monkeypatch):
     def never(*a, **k):
         raise AssertionError("wrote something")
 
-    monkeypatch.setattr(_Journal, "_rewrite", never)
-    monkeypatch.setattr(_Journal, "append", never)
+    monkeypatch.setattr(Journal, "_rewrite", never)
+    monkeypatch.setattr(Journal, "append", never)
     monkeypatch.setattr(outfolder.Owned, "begin", never)
     with pytest.raises(ExportError, match="root") as info:
         _sweep(Path("/"))
@@ -277,7 +277,7 @@ def test_the_journal_never_reads_or_appends_through_a_link(tmp_path):
     victim = tmp_path / "victim.csv"
     victim.write_text("point_id,x,crc\n")
     os.symlink(victim, tmp_path / "journal.csv")
-    jr = _Journal(tmp_path / "journal.csv", ("point_id", "x"))
+    jr = Journal(tmp_path / "journal.csv", ("point_id", "x"))
     with pytest.raises(ExportError, match="symbolic link"):
         jr.read()
     with pytest.raises(ExportError, match="symbolic link"):

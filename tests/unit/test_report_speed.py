@@ -156,10 +156,10 @@ def test_reports_embed_the_files_pictures(sketch, tmp_path, monkeypatch, workers
     page = _embedded((out / "report.html").read_text(encoding="utf-8"))
     fit = _embedded((out / "fit_report.html").read_text(encoding="utf-8"))
     assert len(fit) == 3  # error, profile, clearance (no FEM rim in the sketch scene)
-    assert len(page) == 5  # profile, error, contact, torsional (the whole gear), stress
+    assert len(page) == 5  # profile, error, torsional (the whole gear, first), contact (the mesh), stress
     assert page[0] == fit[1] and page[1] == fit[0]
-    assert page[2] == (out / "contact.png").read_bytes()
-    assert page[3] == (out / "torsional.png").read_bytes()
+    assert page[2] == (out / "torsional.png").read_bytes()
+    assert page[3] == (out / "contact.png").read_bytes()
     assert page[4] == (out / "stress.png").read_bytes()
     for name in ("envelope", "contact", "torsional", "stress"):
         assert (out / f"{name}.png").read_bytes()[:8] == PNG_MAGIC
@@ -169,7 +169,7 @@ def test_html_pieces_made_anywhere_give_the_same_report(sketch):
     """report.html's slow pieces (html_jobs) made in the workers, taken back by the caller, or
     made inside design_report_html: the same page."""
     pieces = report.html_jobs(sketch)
-    assert set(pieces) == {"seed_tables", "cs_figure"}
+    assert set(pieces) == {"cs_figure"}
     images = {k: f(*a) for k, (f, a) in report.png_jobs(sketch).items()}
     plain = report.design_report_html(sketch, images=images)
     with report.rendering(pieces, workers=2) as collect:

@@ -48,7 +48,7 @@ def stub_positions(monkeypatch, default_sketch):
     monkeypatch.setattr(transmission, "_position", position)
     from profilegen.contact import compliance
 
-    monkeypatch.setattr(compliance, "_wrap_half_angle", lambda angle, gs: (1.0, "stub"))
+    monkeypatch.setattr(compliance, "wrap_half_angle", lambda angle, gs: (1.0, "stub"))
     return seen
 
 
