@@ -175,7 +175,8 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
 from functools import partial
 
 import numpy as np
@@ -191,6 +192,7 @@ __all__ = [
     "CATALOGUE_RATCHETING",
     "Ratcheting",
     "RatchetingError",
+    "RatchetingOptions",
     "check_bearing_fits",
     "cs_ring_radial_compliance",
     "ratcheting_torque",
@@ -222,6 +224,80 @@ def _flag(name: str, value) -> bool:
     if not isinstance(value, (bool, np.bool_)):
         raise RatchetingError(f"{name} = {value!r}: must be True or False")
     return bool(value)
+
+
+@dataclass(frozen=True)
+class RatchetingOptions:
+    """How :func:`ratcheting_torque` solves (``options=``, in the style of scipy.optimize's): the
+    defaults are the model the product runs; the rest are the accuracy and the studies' choices.
+
+    ``torques_nm``: the ladder to solve (N·m, > 0; default 0.25 … 4.5 × the rated torque, up to
+    the momentary one; with the climb rated × (0.5, 1, 2): the linear part is a diagnostic);
+    ``side``: the loaded flank (+1/−1); ``bearing``: a
+    :class:`~profilegen.contact.chain.BallBearing`, True (its estimate for the gear set) or
+    None/False (rigid balls); ``cs_ring``: add the CS ring's ovalisation; ``stations``,
+    ``max_gap_mm``, ``race_thickness_mm``, ``settle_iterations``, ``spring_iterations``,
+    ``spring_tol``: the linear diagnostics' contact points, race and ball-spring iteration.
+
+    ``climb``: follow the climb (:mod:`profilegen.contact.climb`: ``climb_stations`` material
+    stations per tooth on the teeth within ``climb_max_gap_mm`` of the CS, the rotation
+    continued until a criterion or ``climb_max_torque_nm``, default 1.5 × the linear
+    estimate); its torque is the estimate when a criterion ends it, the linear one stays in
+    ``torque_linear_nm``. ``climb_positions``: the climb at that many wave-generator positions
+    evenly over one tooth passage (shift − k·2π/(z1·N)), the estimate their minimum (the gear
+    running under load meets every position; each in ``climb["positions"]``; N× the time);
+    ``climb_friction``: the Coulomb coefficient μ on the tooth contacts (0, the default: no
+    friction; lubricated steel 0.05–0.15), ``climb_sliding`` the sense of the teeth's sliding it
+    opposes: "static" (the pull-out the climb models), "forward" (running, the wave generator
+    driving the load) or "backward" (running, the load driving) — see
+    :mod:`profilegen.contact.climb`, "Friction".
+
+    Study knobs (docs/theory/torsion.md, "Ratcheting and transmission error"; 1 / 0 / True /
+    "all" is the model): ``climb_ring_scale`` multiplies the CS ring's compliance in the climb
+    (missing radial compliance); ``climb_shift_rad`` puts the wave generator elsewhere in the
+    tooth passage (each tooth at 2πi/z1 + shift, rad); ``climb_corner_normal`` False takes the
+    flank's normal at the FS tip corner instead of the CS surface's; ``climb_ball_supports``
+    "window" supports the rim on the balls within its no-load contact angle only (settled)
+    instead of every ball one-sided at its no-load gap.
+    """
+
+    torques_nm: object = None
+    side: int = 1
+    bearing: object = True
+    cs_ring: bool = True
+    stations: int = 5
+    max_gap_mm: float = 0.12
+    race_thickness_mm: float | None = None
+    settle_iterations: int = 20
+    spring_iterations: int = 60
+    spring_tol: float = 1e-6
+    climb: bool = True
+    climb_stations: int = 9
+    climb_max_gap_mm: float = 0.15
+    climb_max_torque_nm: float | None = None
+    climb_positions: int = 1
+    climb_friction: float = 0.0
+    climb_sliding: str = "static"
+    climb_ring_scale: float = 1.0
+    climb_shift_rad: float = 0.0
+    climb_corner_normal: bool = True
+    climb_ball_supports: str = "all"
+
+    @classmethod
+    def of(cls, options) -> "RatchetingOptions":
+        """``options`` as a :class:`RatchetingOptions`: None (the defaults), one already, or a
+        mapping of its fields (an unknown key is a :class:`RatchetingError` naming it)."""
+        if options is None:
+            return cls()
+        if isinstance(options, cls):
+            return options
+        if not isinstance(options, Mapping):
+            raise RatchetingError(f"options = {options!r}: must be a RatchetingOptions, a mapping of its fields or None")
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(str(k) for k in options if k not in known)
+        if unknown:
+            raise RatchetingError(f"options: unknown key {unknown[0]!r} (the keys: {', '.join(sorted(known))})")
+        return cls(**options)
 
 
 def _torque(name: str, value) -> float:
@@ -489,45 +565,23 @@ def _default_ladder(gearset) -> np.ndarray:
     return np.unique(np.append(ladder[ladder < top], top))
 
 
-def ratcheting_torque(design, *, torques_nm=None, side: int = 1, bearing=True, cs_ring: bool = True,
-                      stations: int = 5, max_gap_mm: float = 0.12, race_thickness_mm: float | None = None,
-                      catalogue: dict | None = CATALOGUE_RATCHETING, settle_iterations: int = 20,
-                      spring_iterations: int = 60, spring_tol: float = 1e-6, climb: bool = True,
-                      climb_stations: int = 9, climb_max_gap_mm: float = 0.15,
-                      climb_max_torque_nm: float | None = None, climb_ring_scale: float = 1.0,
-                      climb_shift_rad: float = 0.0, climb_corner_normal: bool = True,
-                      climb_ball_supports: str = "all", climb_positions: int = 1, climb_friction: float = 0.0,
-                      climb_sliding: str = "static") -> Ratcheting:
+def ratcheting_torque(design, *, catalogue: dict | None = CATALOGUE_RATCHETING,
+                      options: RatchetingOptions | Mapping | None = None) -> Ratcheting:
     """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
     by the model of the module docstring.
 
-    ``torques_nm``: the ladder to solve (N·m, > 0; default 0.25 … 4.5 × the rated torque, up to
-    the momentary one); ``side``: the loaded flank (+1/−1); ``bearing``: a
-    :class:`~profilegen.contact.chain.BallBearing`, True (its estimate for the gear set) or
-    None/False (rigid balls); ``cs_ring``: add the CS ring's ovalisation; ``catalogue``:
-    {"torque_nm": …, "source": …} to compare with (a value only with its source).
-
-    ``climb``: follow the climb (:mod:`profilegen.contact.climb`: ``climb_stations`` material
-    stations per tooth on the teeth within ``climb_max_gap_mm`` of the CS, the rotation
-    continued until a criterion or ``climb_max_torque_nm``, default 1.5 × the linear
-    estimate); its torque is the estimate when a criterion ends it, the linear one stays in
-    ``torque_linear_nm``. The default ladder is then rated × (0.5, 1, 2) (the linear part is
-    a diagnostic). ``climb_ring_scale``: multiplies the CS ring's compliance in the climb (a
-    study of missing radial compliance; 1 = the model); ``climb_shift_rad``: the climb with the
-    wave generator elsewhere in the tooth passage (each tooth at 2πi/z1 + shift, rad);
-    ``climb_positions``: the climb at that many wave-generator positions evenly over one tooth
-    passage from there (shift − k·2π/(z1·N)), the estimate their minimum (the gear running
-    under load meets every position; each in ``climb["positions"]``; N× the time);
-    ``climb_corner_normal``: the FS tip corner's normal follows the CS surface (False: the
-    flank's, the model before); ``climb_ball_supports``: "all" (every ball one-sided at its
-    no-load gap, as the contact stage since c4e4c83) or "window" (the balls within the rim's
-    no-load contact angle, settled; the linear diagnostics keep this one); ``climb_friction``: the
-    Coulomb coefficient μ on the tooth contacts (0, the default: no friction, the estimate as
-    before; lubricated steel 0.05–0.15), ``climb_sliding`` the sense of the teeth's sliding it
-    opposes: "static" (the pull-out the climb models, every tooth sliding out of its space),
-    "forward" (running, the wave generator driving the load: per station from the kinematics,
-    the entering teeth slide into their spaces) or "backward" (running, the load driving) —
-    see :mod:`profilegen.contact.climb`, "Friction"."""
+    ``catalogue``: {"torque_nm": …, "source": …} to compare with (a value only with its source),
+    or None. ``options``: how to solve, a :class:`RatchetingOptions` or a mapping of its fields
+    (default: the product's model — the climb, every ball one-sided, the CS ring)."""
+    o = RatchetingOptions.of(options)
+    torques_nm, side, bearing, cs_ring, stations = o.torques_nm, o.side, o.bearing, o.cs_ring, o.stations
+    max_gap_mm, race_thickness_mm = o.max_gap_mm, o.race_thickness_mm
+    settle_iterations, spring_iterations, spring_tol = o.settle_iterations, o.spring_iterations, o.spring_tol
+    climb, climb_stations, climb_max_gap_mm, climb_max_torque_nm = (o.climb, o.climb_stations, o.climb_max_gap_mm,
+                                                                    o.climb_max_torque_nm)
+    climb_ring_scale, climb_shift_rad, climb_corner_normal = o.climb_ring_scale, o.climb_shift_rad, o.climb_corner_normal
+    climb_ball_supports, climb_positions = o.climb_ball_supports, o.climb_positions
+    climb_friction, climb_sliding = o.climb_friction, o.climb_sliding
     from .chain import BallBearing
     from .compliance import ContactCompliance
     from .inputs import ContactInput

@@ -125,8 +125,8 @@ def positions_run(gs, design) -> None:
     out = []
     for f in np.arange(n) / n:
         t0 = time.process_time()
-        r = ratcheting_torque(design, torques_nm=lad, climb_shift_rad=-f * 2 * math.pi / gs.gear.flexspline_teeth,
-                              climb_friction=mu, climb_sliding=sliding)
+        r = ratcheting_torque(design, options=dict(torques_nm=lad, climb_friction=mu, climb_sliding=sliding,
+                                                   climb_shift_rad=-f * 2 * math.pi / gs.gear.flexspline_teeth))
         out.append(r.torque_nm)
         print(f"  {f:.3f} of a tooth passage: {r.torque_nm:8.1f} N·m ({r.climb['criterion']}), "
               f"{time.process_time() - t0:.1f} s CPU")
@@ -213,7 +213,7 @@ def parts_run(gs, design) -> None:
                       ("the balls within the wrap only (the window)", {"climb_ball_supports": "window"}),
                       ("the FS tip-corner normal held at the flank's", {"climb_corner_normal": False})):
         t0 = time.process_time()
-        r = ratcheting_torque(design, torques_nm=lad, **kw)
+        r = ratcheting_torque(design, options=dict(torques_nm=lad, **kw))
         print(f"  {label}: {r.torque_nm:.1f} N·m ({r.climb['criterion']}), {time.process_time() - t0:.1f} s CPU")
 
 
@@ -232,8 +232,8 @@ def climb_run(gs, design) -> None:
     runs = [(1.0, 0.0)] + [(x, 0.0) for x in ARGS["ring_scale"]] + [(1.0, x) for x in ARGS["shift"]]
     for scale, shift in runs:
         t0 = time.process_time()
-        r = ratcheting_torque(design, catalogue=cat, climb_ring_scale=scale,
-                              climb_shift_rad=-shift * 2 * 3.141592653589793 / gs.gear.flexspline_teeth)
+        r = ratcheting_torque(design, catalogue=cat, options=dict(
+            climb_ring_scale=scale, climb_shift_rad=-shift * 2 * 3.141592653589793 / gs.gear.flexspline_teeth))
         cpu = time.process_time() - t0
         c = r.climb
         print(f"\n-- climb (CS ring x {scale:g}, wave generator {shift:g} tooth passage on): {cpu:.2f} s CPU; {c['teeth']} teeth, {c['points']} stations; "
@@ -290,7 +290,8 @@ def friction_run(gs, design) -> None:
     for mu in ARGS["friction"]:
         for sliding in (["static"] if mu == 0.0 else ARGS["sliding"]):
             t0 = time.process_time()
-            r = ratcheting_torque(design, torques_nm=lad, catalogue=cat, climb_friction=mu, climb_sliding=sliding)
+            r = ratcheting_torque(design, catalogue=cat,
+                                  options=dict(torques_nm=lad, climb_friction=mu, climb_sliding=sliding))
             cpu = time.process_time() - t0
             base = r.torque_nm if mu == 0.0 else base
             rel = "—" if base is None else f"{r.torque_nm / base:.3f}"
@@ -410,7 +411,7 @@ def run(path: Path) -> None:
     for label, kw in (("whole model (linear)", {"climb": False}), ("no CS ring (linear)", {"cs_ring": False, "climb": False}),
                       ("rigid balls, no ring (linear)", {"bearing": None, "cs_ring": False, "climb": False})):
         t0 = time.process_time()
-        r = ratcheting_torque(design, **kw)
+        r = ratcheting_torque(design, options=kw)
         cpu = time.process_time() - t0
         print(f"\n-- {label}: {cpu:.2f} s CPU")
         print(f"{'':8s} {'loaded teeth, force-weighted':>28s}   {'most loaded tooth':>50s}")
@@ -441,7 +442,7 @@ def run(path: Path) -> None:
     if whole.torque_nm < float("inf"):
         print(f"  flag(1.01 × estimate): {whole.flag(1.01 * whole.torque_nm)}")
     try:
-        ratcheting_torque(design, torques_nm=[0.0, 265.0], climb=False)
+        ratcheting_torque(design, options=dict(torques_nm=[0.0, 265.0], climb=False))
     except RatchetingError as exc:
         print(f"  torques_nm=[0, 265]: {type(exc).__name__}: {exc}")
     big = BallBearing(23, 7.5, 84.5, 0.52, 2.06e5, 0.3)

@@ -386,7 +386,7 @@ def test_ratcheting_and_transmission_error_in_the_outputs(sketch_design):
 
     inputs = dataclasses.replace(ContactInput.from_design(sketch_design),
                                  rim_contact_angle_rad=sketch_design.contact.compliance.wrap_half_angle_rad)
-    ratchet = ratcheting_torque(inputs, torques_nm=[132.5, 265.0], climb=False)  # the climb: test_ratchet.py
+    ratchet = ratcheting_torque(inputs, options=dict(torques_nm=[132.5, 265.0], climb=False))  # the climb: test_ratchet.py
     te = transmission_error(inputs, 265.0, positions=2, workers=1)
     design = dataclasses.replace(sketch_design, ratcheting=ratchet, transmission=te)
     out = _whole_gear(design)

@@ -82,7 +82,7 @@ TORQUES = [132.5, 265.0, 397.5]
 
 @pytest.fixture(scope="module")
 def whole(design):
-    return ratcheting_torque(design, torques_nm=TORQUES, stations=3, climb=False)
+    return ratcheting_torque(design, options=dict(torques_nm=TORQUES, stations=3, climb=False))
 
 
 def test_estimate_and_its_parts(whole):
@@ -105,8 +105,9 @@ def test_estimate_and_its_parts(whole):
 def test_softer_balls_let_the_teeth_ride_out(design):
     """Rigid ball supports against the Hertz springs (no CS ring in either): the rim sinks into
     the softer supports, so the loaded teeth move further out of their spaces (force-weighted)."""
-    rigid = ratcheting_torque(design, torques_nm=TORQUES, stations=3, bearing=None, cs_ring=False, climb=False)
-    hertz = ratcheting_torque(design, torques_nm=TORQUES, stations=3, cs_ring=False, climb=False)
+    rigid = ratcheting_torque(design, options=dict(torques_nm=TORQUES, stations=3, bearing=None, cs_ring=False,
+                                                  climb=False))
+    hertz = ratcheting_torque(design, options=dict(torques_nm=TORQUES, stations=3, cs_ring=False, climb=False))
     assert np.all(rigid.separation_cs_mm == 0.0) and np.all(hertz.separation_cs_mm == 0.0)
     assert np.all(hertz.mean_separation_mm > rigid.mean_separation_mm + 2e-3)  # > 2 µm further out
 
@@ -119,13 +120,17 @@ def test_flag_and_zero_torque(whole, design):
         with pytest.raises(RatchetingError, match="torque_nm"):
             r.flag(bad)
     with pytest.raises(RatchetingError, match=r"torques_nm\[0\] = 0.0 N·m"):
-        ratcheting_torque(design, torques_nm=[0.0, 265.0])
+        ratcheting_torque(design, options={"torques_nm": [0.0, 265.0]})
     with pytest.raises(RatchetingError, match="bearing"):
-        ratcheting_torque(design, bearing="steel")
+        ratcheting_torque(design, options={"bearing": "steel"})
     for name, bad in (("climb_positions", 0), ("climb_ball_supports", "some"), ("climb_corner_normal", "yes"),
                       ("climb_friction", -0.1), ("climb_friction", 1.0), ("climb_sliding", "sideways")):
         with pytest.raises(RatchetingError, match=name):
-            ratcheting_torque(design, **{name: bad})
+            ratcheting_torque(design, options={name: bad})
+    with pytest.raises(RatchetingError, match="options: unknown key 'climb_ring'"):
+        ratcheting_torque(design, options={"climb_ring": 2.0})
+    with pytest.raises(RatchetingError, match="options = 3"):
+        ratcheting_torque(design, options=3)
 
 
 def test_bearing_that_does_not_fit():

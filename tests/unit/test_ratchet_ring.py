@@ -106,9 +106,10 @@ def climbed(default_sketch):
     mp = pytest.MonkeyPatch()
     mp.setattr(ratchet, "cs_ring_radial_compliance", spy)
     try:
-        r = ratchet.ratcheting_torque(default_sketch, torques_nm=[132.5, 265.0], stations=3, climb=True,
-                                      climb_stations=3, climb_max_gap_mm=0.08,
-                                      catalogue={"torque_nm": 2000.0, "source": "a stand-in value for the test"})
+        r = ratchet.ratcheting_torque(default_sketch,
+                                      catalogue={"torque_nm": 2000.0, "source": "a stand-in value for the test"},
+                                      options=ratchet.RatchetingOptions(torques_nm=[132.5, 265.0], stations=3,
+                                                                        climb_stations=3, climb_max_gap_mm=0.08))
     finally:
         mp.undo()
     return r, calls

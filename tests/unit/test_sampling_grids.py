@@ -5,7 +5,7 @@ stage's expensive work replaced by a stub that records where it is asked to work
 * transmission error over one tooth passage: ψ_k = 2πk/(z2 N), k = 0 … N − 1 — the last one
   below a passage (ψ = 2π/z2 is ψ = 0 again: counting it would weigh that position twice), the
   teeth's shift δ = −ψ z2/z1; over a span in degrees both ends are included;
-* the climb's wave-generator positions (ratcheting_torque(climb_positions=N)): shifts
+* the climb's wave-generator positions (ratcheting_torque(options={"climb_positions": N})): shifts
   s − k·2π/(z1 N), k = 0 … N − 1 (one FS tooth pitch, no end counted twice);
 * a face section's Fourier-fit samples (face.sections.section_fit): one wave period, its end not
   sampled;

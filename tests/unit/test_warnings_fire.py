@@ -196,6 +196,6 @@ def test_coning_that_closes_gaps_warns_and_both_balance_the_torque():
 
 
 def test_ratcheting_without_a_catalogue_value_says_the_comparison_is_left_out(default_sketch):
-    r = ratchet.ratcheting_torque(default_sketch, torques_nm=[132.5, 265.0], stations=3, climb=False)
+    r = ratchet.ratcheting_torque(default_sketch, options=dict(torques_nm=[132.5, 265.0], stations=3, climb=False))
     assert r.catalogue is None and r.ratio_to_catalogue is None
     assert any("no catalogue ratcheting torque" in w for w in r.warnings)
