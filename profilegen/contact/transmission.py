@@ -91,7 +91,8 @@ import logging
 import math
 import os
 import time
-from dataclasses import dataclass, field
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields
 
 import numpy as np
 
@@ -100,7 +101,7 @@ from ..errors import ProfilegenError
 from ..results import json_ready, readonly as _readonly
 from .inputs import ContactInput
 
-__all__ = ["ARCSEC_PER_RAD", "TransmissionError", "TransmissionErrorError", "transmission_error"]
+__all__ = ["ARCSEC_PER_RAD", "TransmissionError", "TransmissionErrorError", "TransmissionOptions", "transmission_error"]
 
 log = logging.getLogger(__name__)
 
@@ -111,6 +112,56 @@ _BALL_MOTIONS = ("wave_generator", "cage")
 
 class TransmissionErrorError(ProfilegenError, ValueError):
     """Bad input to the transmission-error run; names the parameter, value, unit and range."""
+
+
+@dataclass(frozen=True)
+class TransmissionOptions:
+    """How :func:`transmission_error` solves (``options=``, in the style of scipy.optimize's): the
+    defaults are the model the product runs.
+
+    ``span``: ``"tooth"`` (one tooth passage, ψ in [0, 2π/z2), periodic) or a number of degrees
+    of ψ (ψ in [0, span], both ends). ``side``: +1 the right FS flank loaded, −1 the left.
+    ``ball_motion``: "wave_generator" (balls held against the major axis) or "cage" (rolling).
+    ``keep_matrices``: keep each position's settled S and compliance. ``ball_supports``: "all"
+    (every ball a one-sided support at its no-load gap, solved with the teeth:
+    :meth:`~profilegen.contact.compliance.ContactCompliance.solve_unilateral`; ``matrices`` then
+    holds S with the loaded balls rigid) or "window" (the balls within the rim's no-load contact
+    angle, rigid, settled as :func:`~profilegen.contact.analysis.solve_contact`'s window option
+    settles them: over a ball passage it jumps as a ball enters the window — the comparison).
+    ``hertz_balls`` (with "all" only): the balls as the bearing's Hertz springs
+    (:class:`~profilegen.contact.chain.BallBearing`, iterated to the Hertz law at each ball's
+    reaction). ``stations``, ``max_gap_mm``, ``face_width_mm``, ``race_thickness_mm``,
+    ``race_interface``: as :func:`~profilegen.contact.analysis.solve_contact`'s.
+    """
+
+    span: object = "tooth"
+    side: int = 1
+    stations: int = 5
+    max_gap_mm: float = 0.12
+    ball_motion: str = "wave_generator"
+    face_width_mm: float | None = None
+    race_thickness_mm: float | None = None
+    race_interface: str = "sliding"
+    keep_matrices: bool = False
+    ball_supports: str = "all"
+    hertz_balls: bool = False
+
+    @classmethod
+    def of(cls, options) -> "TransmissionOptions":
+        """``options`` as a :class:`TransmissionOptions`: None (the defaults), one already, or a
+        mapping of its fields (an unknown key is a :class:`TransmissionErrorError` naming it)."""
+        if options is None:
+            return cls()
+        if isinstance(options, cls):
+            return options
+        if not isinstance(options, Mapping):
+            raise TransmissionErrorError(f"options = {options!r}: must be a TransmissionOptions, a mapping of its "
+                                         "fields or None")
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(str(k) for k in options if k not in known)
+        if unknown:
+            raise TransmissionErrorError(f"options: unknown key {unknown[0]!r} (the keys: {', '.join(sorted(known))})")
+        return cls(**options)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -266,29 +317,21 @@ def _checked(name: str, value, unit: str, *, low: float = 0.0) -> float:
     return v
 
 
-def transmission_error(inputs, torque_nm: float, *, positions: int = 16, span="tooth", side: int = 1,
-                       stations: int = 5, max_gap_mm: float = 0.12, ball_motion: str = "wave_generator",
-                       face_width_mm: float | None = None, race_thickness_mm: float | None = None,
-                       race_interface: str = "sliding", workers: int | None = None,
-                       keep_matrices: bool = False, ball_supports: str = "all",
-                       hertz_balls: bool = False) -> TransmissionError:
+def transmission_error(inputs, torque_nm: float, *, positions: int = 16, workers: int | None = None,
+                       options: TransmissionOptions | Mapping | None = None) -> TransmissionError:
     """The loaded transmission error of a design (or a :class:`~profilegen.contact.inputs.
     ContactInput`) at ``torque_nm`` (N·m, > 0, on the whole gear) over ``positions`` (≥ 2)
-    wave-generator positions ψ evenly over ``span``: ``"tooth"`` (one tooth passage, ψ in
-    [0, 2π/z2), periodic) or a number of degrees of ψ (ψ in [0, span], both ends). ``side``:
-    +1 the right FS flank loaded, −1 the left. ``ball_motion``: "wave_generator" (balls held
-    against the major axis) or "cage" (rolling). ``workers``: processes (default: up to 2,
-    one per position; 1 = in this process). ``keep_matrices``: keep each position's settled
-    S and compliance. ``ball_supports``: "all" (every ball a one-sided support at its no-load
-    gap, solved with the teeth: :meth:`~profilegen.contact.compliance.ContactCompliance.
-    solve_unilateral`; ``matrices`` then holds S with the loaded balls rigid; the default, with
-    held and with rolling balls) or "window" (the balls within the rim's no-load contact angle,
-    rigid, settled as :func:`~profilegen.contact.analysis.solve_contact`'s window option settles them: over a
-    ball passage it jumps as a ball enters the window — the comparison). ``hertz_balls`` (with "all" only): the balls
-    as the bearing's Hertz springs (:class:`~profilegen.contact.chain.BallBearing`, iterated
-    to the Hertz law at each ball's reaction). Other keywords as
-    :func:`~profilegen.contact.analysis.solve_contact`. See the module docstring."""
+    wave-generator positions ψ (default: evenly over one tooth passage). ``workers``: processes
+    (default: up to 2, one per position; 1 = in this process). ``options``: how to solve, a
+    :class:`TransmissionOptions` or a mapping of its fields (span, flank, ball motion and
+    supports, …). See the module docstring."""
     global _JOB
+
+    chosen = TransmissionOptions.of(options)
+    span, side, stations, max_gap_mm = chosen.span, chosen.side, chosen.stations, chosen.max_gap_mm
+    ball_motion, face_width_mm, race_interface = chosen.ball_motion, chosen.face_width_mm, chosen.race_interface
+    race_thickness_mm, keep_matrices = chosen.race_thickness_mm, chosen.keep_matrices
+    ball_supports, hertz_balls = chosen.ball_supports, chosen.hertz_balls
 
     from .compliance import wrap_half_angle
 

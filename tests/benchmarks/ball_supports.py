@@ -116,8 +116,9 @@ def run(path: Path, passage: int, clearances) -> None:
         period = 360.0 / bearing.ball_count / (0.5 * (1.0 + bearing.ball_diameter_mm / bearing.pitch_diameter_mm))
         for supports, hertz in (("window", False), ("all", False), ("all", True)):
             c0 = time.process_time()
-            te = transmission_error(inputs, rated, positions=passage, span=period, ball_motion="cage",
-                                    ball_supports=supports, hertz_balls=hertz, workers=1)
+            te = transmission_error(inputs, rated, positions=passage, workers=1,
+                                    options=dict(span=period, ball_motion="cage", ball_supports=supports,
+                                                 hertz_balls=hertz))
             supports += " + Hertz" if hertz else ""
             r = te.rotation_rad * ARCSEC_PER_RAD
             print(f"  ball passage ψ = 0 … {period:.3f}° ({passage} positions, rolling balls), {supports}: rotation "

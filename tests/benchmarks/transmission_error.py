@@ -124,11 +124,11 @@ def run(path: Path, repeats: int) -> None:
         print(f"16 positions, workers={workers}: median {w:.2f} s wall, {c:.2f} s CPU (of {repeats})")
     _table(te)
     _summary(f"rated {rated:g} N·m, balls held", te)
-    cage = transmission_error(inputs, rated, positions=16, ball_motion="cage")
+    cage = transmission_error(inputs, rated, positions=16, options={"ball_motion": "cage"})
     _summary(f"rated {rated:g} N·m, balls rolling (cage), one tooth passage", cage)
     bearing = BallBearing.from_gearset(gs)
     period = 360.0 / bearing.ball_count / (0.5 * (1.0 + bearing.ball_diameter_mm / bearing.pitch_diameter_mm))
-    balls = transmission_error(inputs, rated, positions=33, span=period, ball_motion="cage")
+    balls = transmission_error(inputs, rated, positions=33, options={"span": period, "ball_motion": "cage"})
     _summary(f"rated {rated:g} N·m, balls rolling (cage), one ball passage ψ = 0 … {period:.3f}° (33 positions)",
              balls)
     print(f"  error over the ball passage (arcsec): {np.array2string(balls.error_arcsec, precision=3)}")

@@ -141,9 +141,9 @@ def test_ball_supports_bad_input(inputs, zone):
     with pytest.raises(cm.ComplianceError, match="ball_supports"):
         _build(inputs, pts, ball_supports="some")
     with pytest.raises(TransmissionErrorError, match="ball_supports"):
-        transmission_error(inputs, 100.0, positions=2, ball_supports="some")
+        transmission_error(inputs, 100.0, positions=2, options={"ball_supports": "some"})
     with pytest.raises(TransmissionErrorError, match="hertz_balls"):
-        transmission_error(inputs, 100.0, positions=2, hertz_balls=True, ball_supports="window")
+        transmission_error(inputs, 100.0, positions=2, options={"hertz_balls": True, "ball_supports": "window"})
     with pytest.raises(cm.ComplianceError, match="solve_unilateral"):
         comp.settle_balls(sol.force_n)
 
@@ -287,9 +287,9 @@ def test_ball_passage_without_the_jump(inputs):
 
     fixed = dataclasses.replace(inputs, rim_contact_angle_rad=WRAP)
     rated = inputs.gearset.torque.rated_nm
-    every = transmission_error(fixed, rated, positions=2, span=12.0, ball_motion="cage", workers=1)
-    window = transmission_error(fixed, rated, positions=2, span=12.0, ball_motion="cage", workers=1,
-                                ball_supports="window")
+    every = transmission_error(fixed, rated, positions=2, workers=1, options=dict(span=12.0, ball_motion="cage"))
+    window = transmission_error(fixed, rated, positions=2, workers=1,
+                                options=dict(span=12.0, ball_motion="cage", ball_supports="window"))
     assert every.ball_supports == "all"
     step_all = abs(float(np.diff(every.rotation_rad)[0])) * ARCSEC_PER_RAD
     step_window = abs(float(np.diff(window.rotation_rad)[0])) * ARCSEC_PER_RAD

@@ -71,7 +71,7 @@ def test_tooth_passage_samples_psi_k_2pi_k_over_z2_n(stub_positions, default_ske
 
 
 def test_a_span_in_degrees_takes_both_ends(stub_positions, default_sketch):
-    te = transmission_error(default_sketch, 265.0, positions=4, span=30.0, workers=1)
+    te = transmission_error(default_sketch, 265.0, positions=4, workers=1, options={"span": 30.0})
     np.testing.assert_allclose(te.psi_rad, np.radians([0.0, 10.0, 20.0, 30.0]), rtol=0, atol=1e-15)
 
 

@@ -34,8 +34,8 @@ def passage_deg(inputs):
 @pytest.fixture(scope="module")
 def right(inputs, passage_deg):
     """ψ = 0, half a tooth passage, one tooth passage (right flanks, rated torque)."""
-    return transmission_error(inputs, inputs.gearset.torque.rated_nm, positions=3, span=passage_deg, workers=1,
-                              keep_matrices=True)
+    return transmission_error(inputs, inputs.gearset.torque.rated_nm, positions=3, workers=1,
+                              options=dict(span=passage_deg, keep_matrices=True))
 
 
 def test_equilibrium_and_complementarity_at_every_position(inputs, right):
@@ -99,7 +99,8 @@ def test_one_tooth_passage_repeats_with_the_teeth_relabelled(right):
 def test_left_flank_is_the_mirror_image(inputs, right, passage_deg):
     """Mirror about the major axis: the left flank at ψ is the right flank at 2π/z2 − ψ
     (the motion, the CS space and the ball set are mirror-symmetric)."""
-    left = transmission_error(inputs, right.torque_nm, positions=2, span=passage_deg / 2.0, side=-1, workers=1)
+    left = transmission_error(inputs, right.torque_nm, positions=2, workers=1,
+                              options=dict(span=passage_deg / 2.0, side=-1))
     assert left.points[0].rotation == -right.points[0].rotation
     np.testing.assert_allclose(left.first_contact_rad, right.first_contact_rad[[2, 1]], rtol=1e-9)
     variation = abs(right.rotation_rad[1] - right.rotation_rad[0])
@@ -122,5 +123,13 @@ def test_left_flank_is_the_mirror_image(inputs, right, passage_deg):
 ])
 def test_bad_input_names_the_parameter(inputs, kw, name):
     args = {"torque_nm": 100.0, **kw}
+    top = {k: args.pop(k) for k in ("positions", "workers") if k in args}
     with pytest.raises(TransmissionErrorError, match=name):
-        transmission_error(inputs, args.pop("torque_nm"), **args)
+        transmission_error(inputs, args.pop("torque_nm"), **top, options=args)
+
+
+def test_unknown_option_names_the_key(inputs):
+    with pytest.raises(TransmissionErrorError, match="options: unknown key 'spam'"):
+        transmission_error(inputs, 100.0, options={"spam": 1})
+    with pytest.raises(TransmissionErrorError, match="options = 'tooth'"):
+        transmission_error(inputs, 100.0, options="tooth")
