@@ -135,7 +135,10 @@ def _page(s: Session):
 
     return html.Div([
         dcc.Store(id="sid", data=s.id), dcc.Store(id="req", data=0), dcc.Store(id="shown", data=0),
-        dcc.Interval(id="poll", interval=POLL_MS, disabled=True),
+        dcc.Store(id="latest", data=0), dcc.Store(id="drawn", data=""),
+        # always on: re-enabling a disabled Interval from a callback did not restart it reliably (Dash 4.4,
+        # seen in the browser tests); an idle tick is answered with 204 (nothing new) in well under 1 ms
+        dcc.Interval(id="poll", interval=POLL_MS),
         html.Div(className="pg-head", children=[
             html.H1("profilegen workbench"),
             html.Span("scene"),
@@ -182,8 +185,8 @@ def _verdict_children(snap: Snapshot, pinned):
     from dash import html
 
     if snap.error is not None:
-        return [html.Span("ERROR", className="pg-badge pg-ERROR"),
-                html.Span(f"this gear set does not design: {snap.error}", className="pg-line")]
+        return [html.Span("ERROR", className="pg-badge pg-ERROR", id="verdict-status"),
+                html.Span(f"this gear set does not design: {snap.error}", className="pg-line", id="verdict-line")]
     d = snap.design
     if not snap.done or d is None:
         left = [n for n in snap.planned if n not in snap.stages[:-1]]
@@ -351,48 +354,60 @@ def _register(app, sessions: Sessions) -> None:
             out[4] = _bad(_failure(exc))
             return out
 
+    @app.callback(Output("latest", "data"), Input("poll", "n_intervals"), State("sid", "data"),
+                  State("latest", "data"), prevent_initial_call=True)
+    def tick(_n, sid, seen):
+        """The newest snapshot's version when it is new (the render follows), else nothing."""
+        s = sessions.get(sid)
+        snap = None if s is None else s.computer.latest()
+        if snap is None or snap.version == seen:
+            raise PreventUpdate
+        return snap.version
+
     @app.callback(
         Output("space", "figure"), Output("fit-error", "figure"), Output("verdict", "children"),
-        Output("numbers", "children"), Output("progress", "children"), Output("poll", "disabled"),
-        Output("shown", "data"),
-        Input("req", "data"), Input("poll", "n_intervals"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
-        State("sid", "data"), State("shown", "data"),
+        Output("numbers", "children"), Output("progress", "children"), Output("shown", "data"),
+        Output("drawn", "data"),
+        Input("req", "data"), Input("latest", "data"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
+        State("sid", "data"), State("shown", "data"), State("drawn", "data"),
         prevent_initial_call=True,
     )
-    def render(req, _tick, _pin, _unpin, sid, shown):
+    def render(req, _latest, _pin, _unpin, sid, shown, drawn):
+        # the browser may drop a response when a newer one of this callback is on its way, so what the
+        # page holds is read from the page (``drawn``: the design its figures show), not remembered here
         trig = ctx.triggered_id
         try:
             s = session(sid)
-            force = False
+            force = trig in ("pin", "unpin")
             if trig == "req":
                 if not req:
                     raise PreventUpdate
-                snap = s.computer.wait(req)
+                snap = s.computer.wait(req)  # the profile as soon as it is fitted
                 if snap is None:
                     raise PreventUpdate  # superseded: the newer request draws
             else:
                 if trig == "pin":
                     s.pin()
-                    force = True
                 elif trig == "unpin":
                     s.unpin()
-                    force = True
                 snap = s.computer.latest()
-                if snap is None:
-                    raise PreventUpdate
-                if snap.version == shown and not force:
-                    return (no_update,) * 5 + (snap.done, no_update)
+                if snap is None or (shown and snap.version <= shown and not force):
+                    raise PreventUpdate  # nothing newer than what is drawn
             out = [no_update] * 7
-            out[4], out[5], out[6] = _progress_text(snap), snap.done, snap.version
-            if snap.design is not None and snap.design.profile is not None:
+            out[4], out[5] = _progress_text(snap), snap.version
+            design = snap.design
+            if design is not None and design.profile is not None:
+                key = f"{snap.job}:{id(design)}:{id(s.pinned)}"
                 s.drawn(snap)
-                pinned = s.pinned.design if s.pinned is not None else None
-                out[0] = views.space_figure(snap.design, pinned=pinned, job=snap.job)
-                out[1] = views.error_figure(snap.design, pinned=pinned)
-                before = s.before if snap.done else s.shown
-                if before is not None and before.job == snap.job:
-                    before = s.before
-                out[3] = _numbers_children(snap, before, s.pinned)
+                if force or key != drawn:
+                    out[6] = key
+                    pinned = s.pinned.design if s.pinned is not None else None
+                    out[0] = views.space_figure(design, pinned=pinned, job=snap.job)
+                    out[1] = views.error_figure(design, pinned=pinned)
+                    before = s.before if snap.done else s.shown
+                    if before is not None and before.job == snap.job:
+                        before = s.before
+                    out[3] = _numbers_children(snap, before, s.pinned)
             out[2] = _verdict_children(snap, s.pinned)
             return out
         except PreventUpdate:
@@ -401,7 +416,7 @@ def _register(app, sessions: Sessions) -> None:
             from dash import html
 
             return (no_update,) * 2 + ([html.Span("ERROR", className="pg-badge pg-ERROR"), _bad(_failure(exc))],) \
-                + (no_update,) * 2 + (True, no_update)
+                + (no_update,) * 4
 
     @app.callback(
         Output("status", "children", allow_duplicate=True), Output("load-name", "options"),

@@ -1,0 +1,278 @@
+"""``profilegen app`` in a real browser: Debian's chromium, headless, driven by Selenium through
+/usr/bin/chromedriver (never Selenium Manager), as tests/validation/test_browser.py drives the report.
+
+One server on a free port (sketch scene, a fresh workspace); each test loads the page (a new
+session). What a designer does: change a field and see the profile and the verdict change, undo,
+enter a bad value and read the reader's own line under the field, pin a design and compare, export
+and read the DXF back; and the browser's console stays free of errors throughout.
+
+Screenshots go to tmp_path; with ``PROFILEGEN_APP_SHOTS=docs/img`` they are written there as
+``app_default.png``, ``app_fail.png`` and ``app_compare.png`` (how the docs' pictures are made):
+
+    PROFILEGEN_APP_SHOTS=docs/img python -m pytest -q -n 0 tests/app/test_browser.py
+
+Skipped, with the reason, where chromium, chromedriver or selenium is missing.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = "/usr/bin/chromium"
+CHROMEDRIVER = "/usr/bin/chromedriver"
+SCREEN = (1440, 900)
+SHOTS_ENV = "PROFILEGEN_APP_SHOTS"
+WAIT_S = 40
+
+
+def _missing() -> str | None:
+    for path in (CHROMIUM, CHROMEDRIVER):
+        if not (os.path.exists(path) and os.access(path, os.X_OK)):
+            return f"{path} is missing (apt-get install chromium chromium-driver)"
+    try:
+        import selenium  # noqa: F401
+    except ImportError:
+        return "selenium is not installed (pip install -e '.[test]')"
+    import resource
+
+    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
+    if soft != resource.RLIM_INFINITY and soft < 64 << 30:
+        return f"chromium reserves more address space than this process's RLIMIT_AS ({soft >> 20} MiB) allows"
+    return None
+
+
+pytestmark = [pytest.mark.skipif(_missing() is not None, reason=_missing() or ""),
+              pytest.mark.xdist_group("app_browser")]
+
+
+@pytest.fixture(scope="module")
+def workspace(tmp_path_factory) -> Path:
+    return tmp_path_factory.mktemp("workspace")
+
+
+@pytest.fixture(scope="module")
+def app(workspace):
+    from profilegen.app import start
+
+    running = start(workspace=workspace, scene="sketch")
+    try:
+        yield running
+    finally:
+        running.stop()
+
+
+@pytest.fixture(scope="module")
+def browser(tmp_path_factory):
+    from selenium import webdriver
+    from selenium.webdriver.chrome.service import Service
+
+    opts = webdriver.ChromeOptions()
+    opts.binary_location = CHROMIUM
+    for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
+                 "--hide-scrollbars", f"--window-size={SCREEN[0]},{SCREEN[1]}",
+                 f"--user-data-dir={tmp_path_factory.mktemp('chromium-profile')}"):
+        opts.add_argument(flag)
+    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    driver = webdriver.Chrome(service=Service(executable_path=CHROMEDRIVER), options=opts)
+    try:
+        driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
+                               {"width": SCREEN[0], "height": SCREEN[1], "deviceScaleFactor": 1, "mobile": False})
+        yield driver
+    finally:
+        driver.quit()
+
+
+def _shot(browser, tmp_path, name: str) -> Path:
+    folder = Path(os.environ.get(SHOTS_ENV) or tmp_path)
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"app_{name}.png"
+    assert browser.save_screenshot(str(path))
+    assert path.stat().st_size > 20_000
+    return path
+
+
+def _no_console_errors(browser) -> None:
+    severe = [e["message"] for e in browser.get_log("browser") if e.get("level") == "SEVERE"]
+    assert not severe, severe
+
+
+_STATE = """
+const g = document.querySelector('#space .js-plotly-plot');
+const fl = g && g._fullLayout;
+const space = g && g.data ? g.data.find(t => (t.name || '').startsWith('CS space to cut')) : null;
+const v = document.getElementById('verdict-status');
+const p = document.getElementById('progress');
+return {job: fl && fl.meta ? fl.meta.job : null, traces: g && g.data ? g.data.map(t => t.name) : [],
+        space: space ? [space.x.length, space.x[0], space.y[0], space.x[space.x.length - 1]] : null,
+        status: v ? v.textContent : null, line: (document.getElementById('verdict-line') || {}).textContent || null,
+        done: p ? p.textContent.includes(', done') : false, progress: p ? p.textContent : '',
+        verdict: (document.getElementById('verdict') || {}).textContent || null};
+"""
+
+
+def _state(browser) -> dict:
+    return browser.execute_script(_STATE)
+
+
+def _settled(browser, *, after_job: int = 0) -> dict:
+    """The page once a design newer than ``after_job`` is drawn and finished (verdict shown)."""
+    from selenium.common.exceptions import TimeoutException
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    try:
+        WebDriverWait(browser, WAIT_S, poll_frequency=0.05).until(
+            lambda d: (lambda s: s["job"] is not None and s["job"] > after_job and s["done"] and s["status"])(
+                _state(d)))
+    except TimeoutException:
+        import sys
+        import threading
+        import traceback
+
+        names = {t.ident: t.name for t in threading.enumerate()}
+        stacks = "".join(f"--- {names.get(i)}\n" + "".join(traceback.format_stack(f)[-6:])
+                         for i, f in sys._current_frames().items() if "compute" in str(names.get(i)))
+        raise AssertionError(f"{stacks}\nno design after job {after_job}: {_state(browser)}; status "
+                             f"{browser.find_element('id', 'status').text!r}") from None
+    return _state(browser)
+
+
+def _open(browser, app) -> dict:
+    """The page, loaded once for the module (each load is a new session and a first design); the
+    tests go on from where the one before left it."""
+    if browser.current_url != app.url:
+        browser.get(app.url)
+    return _settled(browser)
+
+
+def _by_id(browser, kind: str, path: str):
+    """A pattern-matching component's element (Dash writes the dict id as JSON, keys sorted)."""
+    element = browser.execute_script("return document.getElementById(arguments[0])",
+                                     json.dumps({"path": path, "type": kind}, separators=(",", ":")))
+    assert element is not None, (kind, path)
+    return element
+
+
+def _field(browser, path: str):
+    return _by_id(browser, "field", path)
+
+
+def _type(browser, path: str, text: str) -> None:
+    from selenium.webdriver.common.keys import Keys
+
+    box = _field(browser, path)
+    browser.execute_script("arguments[0].scrollIntoView({block: 'center'})", box)
+    box.send_keys(Keys.CONTROL, "a")
+    box.send_keys(text + Keys.ENTER)
+
+
+def _error_text(browser, path: str) -> str:
+    return _by_id(browser, "error", path).text
+
+
+def _click(browser, element_id: str) -> None:
+    from selenium.webdriver.common.by import By
+
+    browser.find_element(By.ID, element_id).click()
+
+
+def test_a_field_change_redraws_the_profile_and_a_torque_change_fails_the_verdict(browser, app, tmp_path):
+    first = _open(browser, app)
+    assert "FS tooth, poses through the mesh" in first["traces"] and first["space"] is not None
+    assert first["status"] in ("PASS", "INCOMPLETE")  # the sketch scene checks no contact: INCOMPLETE
+    _shot(browser, tmp_path, "default")
+    # a deeper deflection: another envelope, another CS space
+    _type(browser, "wave_generator.deflection_coefficient", "1.1")
+    second = _settled(browser, after_job=first["job"])
+    assert second["space"] != first["space"]
+    assert "wave_generator.deflection_coefficient = 1.1" in browser.find_element("id", "status").text
+    # a momentary torque far above the set's: the cup bottom yields, and the verdict says so
+    _type(browser, "torque.momentary_nm", "3000")
+    third = _settled(browser, after_job=second["job"])
+    assert third["status"] == "FAIL"
+    assert "yield safety" in third["line"] and "3000 N·m" in third["line"]
+    assert third["space"] == second["space"]  # the torque does not move the profile
+    _shot(browser, tmp_path, "fail")
+    # undo: the torque back, the verdict back
+    _click(browser, "undo")
+    fourth = _settled(browser, after_job=third["job"])
+    assert fourth["status"] == second["status"] and _field(browser, "torque.momentary_nm").get_attribute(
+        "value") == "1200.0"
+    _no_console_errors(browser)
+
+
+def test_a_bad_value_shows_the_readers_line_under_its_field(browser, app):
+    first = _open(browser, app)
+    _type(browser, "gear.module_mm", "-0.5")
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    WebDriverWait(browser, WAIT_S).until(lambda d: _error_text(d, "gear.module_mm"))
+    assert _error_text(browser, "gear.module_mm").startswith("gear.module_mm = -0.5 mm: must be in [1e-05, 10]")
+    _type(browser, "torque.rated_nm", "lots")
+    WebDriverWait(browser, WAIT_S).until(lambda d: _error_text(d, "torque.rated_nm"))
+    assert _error_text(browser, "torque.rated_nm") == 'torque.rated_nm = "lots": must be a number, got string'
+    time.sleep(0.3)
+    assert _state(browser)["job"] == first["job"]  # nothing was computed from a bad set
+    _type(browser, "gear.module_mm", "0.5")
+    _type(browser, "torque.rated_nm", "265")
+    WebDriverWait(browser, WAIT_S).until(lambda d: not _error_text(d, "torque.rated_nm"))
+    assert not _error_text(browser, "gear.module_mm")
+    assert "Traceback" not in browser.page_source
+    _no_console_errors(browser)
+
+
+def test_pin_a_design_and_compare_the_next_one_over_it(browser, app, tmp_path):
+    first = _open(browser, app)
+    _click(browser, "pin")
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    WebDriverWait(browser, WAIT_S).until(lambda d: "A (pinned): CS space" in _state(d)["traces"])
+    _type(browser, "tooth.dedendum_coefficient", "1.3")
+    second = _settled(browser, after_job=first["job"])
+    assert "A (pinned): CS space" in second["traces"] and second["space"] != first["space"]
+    table = browser.find_element("id", "numbers").text
+    assert "A" in table.split("\n")[0] and "B" in table.split("\n")[0]
+    changed = browser.find_elements("css selector", "#numbers .pg-changed")
+    assert changed, "the numbers that moved are highlighted"
+    _shot(browser, tmp_path, "compare")
+    _click(browser, "unpin")
+    WebDriverWait(browser, WAIT_S).until(lambda d: "A (pinned): CS space" not in _state(d)["traces"])
+    _no_console_errors(browser)
+
+
+def test_export_writes_the_design_folder_and_the_dxf_reads_back(browser, app, workspace):
+    import ezdxf
+
+    _open(browser, app)
+    _click(browser, "export")
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    WebDriverWait(browser, WAIT_S).until(lambda d: d.find_elements("id", "export-done"))
+    folder = workspace / "export" / "default"
+    doc = ezdxf.readfile(folder / "circular_spline.dxf")
+    cs = [e for e in doc.modelspace() if e.dxf.layer == "CS"]
+    assert cs
+    # every point of the CS outline lies within two modules of the CS pitch circle, r2 = m·z2/2 = 50.5 mm
+    radii = []
+    for e in cs:
+        if e.dxftype() == "LWPOLYLINE":
+            radii += [math.hypot(x, y) for x, y in e.get_points("xy")]
+        elif e.dxftype() == "ARC":
+            cx, cy = e.dxf.center.x, e.dxf.center.y
+            for a in (e.dxf.start_angle, e.dxf.end_angle):
+                radii.append(math.hypot(cx + e.dxf.radius * math.cos(math.radians(a)),
+                                        cy + e.dxf.radius * math.sin(math.radians(a))))
+        elif e.dxftype() == "LINE":
+            radii += [math.hypot(e.dxf.start.x, e.dxf.start.y), math.hypot(e.dxf.end.x, e.dxf.end.y)]
+    assert len(radii) > 202 and all(abs(r - 50.5) < 2 * 0.5 for r in radii)
+    assert (workspace / "export" / "default.toml").is_file()
+    import profilegen as pg
+
+    assert pg.load_gearset(workspace / "export" / "default.toml").gear.circular_spline_teeth == 202
+    _no_console_errors(browser)
