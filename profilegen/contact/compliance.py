@@ -147,7 +147,8 @@ from __future__ import annotations
 import logging
 import math
 import time
-from dataclasses import dataclass, field, replace
+from collections.abc import Mapping
+from dataclasses import dataclass, field, fields, replace
 from functools import partial
 
 import numpy as np
@@ -160,7 +161,8 @@ from ..results import readonly as _readonly
 from .inputs import ContactInput
 from .solvers import LemkeTableau
 
-__all__ = ["ComplianceError", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache", "default_race_thickness_mm",
+__all__ = ["ComplianceError", "ComplianceMesh", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache",
+           "default_race_thickness_mm",
            "no_load_ball_gap_mm", "settle_step"]
 
 log = logging.getLogger(__name__)
@@ -1419,6 +1421,54 @@ def _lemke_lcp(m_mat: np.ndarray, q: np.ndarray, where: str, max_pivots: int | N
 # --------------------------------------------------------------------------- the result
 
 
+@dataclass(frozen=True)
+class ComplianceMesh:
+    """The meshes :meth:`ContactCompliance.build` computes the influence coefficients on
+    (``mesh=``, in the style of scipy.optimize's ``options=``): the defaults are the product's
+    (see the module docstring, "Mesh"); the rest are accuracy studies.
+
+    FS: ``per_pitch`` columns per pitch on the toothed pitches, ``flat_per_pitch`` on the flat
+    rim beyond them, ``rim_layers`` / ``tooth_layers`` layers, ``toothed_teeth`` "all" (every
+    pitch toothed) or "loaded" (only the loaded teeth and ``margin_teeth`` on each side),
+    ``race_layers`` layers of the bearing's outer race. CS: ``cs_per_pitch``,
+    ``cs_tooth_layers``, ``cs_back_layers``, fixed at ``cs_outer_radius_mm`` (default 1.1 × the
+    CS pitch radius, ESTIMATE). ``on_surface_tol_mm``: how far a contact point may sit off the
+    meshed surface. ``substructure``: condense one pitch of each body onto its cuts and solve
+    the cuts (the default); False assembles and factorises the whole meshes (the reference:
+    the same model and mesh, the same S to rounding, ~10× slower).
+    """
+
+    race_layers: int = 2
+    margin_teeth: int = 2
+    toothed_teeth: str = "all"
+    per_pitch: int = 14
+    flat_per_pitch: int = 2
+    rim_layers: int = 2
+    tooth_layers: int = 4
+    cs_per_pitch: int = 16
+    cs_tooth_layers: int = 4
+    cs_back_layers: int = 3
+    cs_outer_radius_mm: float | None = None
+    on_surface_tol_mm: float = 0.01
+    substructure: bool = True
+
+    @classmethod
+    def of(cls, mesh) -> "ComplianceMesh":
+        """``mesh`` as a :class:`ComplianceMesh`: None (the defaults), one already, or a mapping of
+        its fields (an unknown key is a :class:`ComplianceError` naming it)."""
+        if mesh is None:
+            return cls()
+        if isinstance(mesh, cls):
+            return mesh
+        if not isinstance(mesh, Mapping):
+            raise ComplianceError(f"mesh = {mesh!r}: must be a ComplianceMesh, a mapping of its fields or None")
+        known = {f.name for f in fields(cls)}
+        unknown = sorted(str(k) for k in mesh if k not in known)
+        if unknown:
+            raise ComplianceError(f"mesh: unknown key {unknown[0]!r} (the keys: {', '.join(sorted(known))})")
+        return cls(**mesh)
+
+
 @dataclass(frozen=True, slots=True, eq=False)
 class ContactCompliance:
     """Influence coefficients of one engagement zone (see the module docstring).
@@ -1480,27 +1530,15 @@ class ContactCompliance:
         *,
         face_width_mm: float | None = None,
         race_thickness_mm: float | None = None,
-        race_layers: int = 2,
         race_interface: str = "sliding",
         ball_count: int = DEFAULT_BALL_COUNT,
         ball_phase_rad: float = 0.0,
         wrap_half_angle_rad: float | None = None,
-        margin_teeth: int = 2,
-        toothed_teeth: str = "all",
-        per_pitch: int = 14,
-        flat_per_pitch: int = 2,
-        rim_layers: int = 2,
-        tooth_layers: int = 4,
-        cs_per_pitch: int = 16,
-        cs_tooth_layers: int = 4,
-        cs_back_layers: int = 3,
-        cs_outer_radius_mm: float | None = None,
-        on_surface_tol_mm: float = 0.01,
         settle_iterations: int = 0,
         forces_n=None,
-        substructure: bool = True,
         shift_rad: float = 0.0,
         ball_supports: str = "window",
+        mesh: ComplianceMesh | Mapping | None = None,
     ) -> "ContactCompliance":
         """Influence coefficients for the contact points of one engagement zone.
 
@@ -1514,13 +1552,11 @@ class ContactCompliance:
         whose own default is 0.2 × the pitch diameter,
         ESTIMATE). ``race_thickness_mm``: the wave-generator bearing's outer race under the
         FS bore (default :func:`default_race_thickness_mm`, ESTIMATE; 0 = no race, the balls
-        on the bore), meshed with ``race_layers`` layers; ``race_interface``: "sliding" (joined
-        radially only, frictionless; the default) or "bonded" (race and bore share their nodes). All balls within the wrap start active; ``forces_n`` with
-        ``settle_iterations`` > 0 runs :meth:`settle_balls` for those contact forces.
-        ``substructure``: condense one pitch of each body onto its cuts and solve the cuts
-        (the default); False assembles and factorises the whole meshes (the reference: the
-        same model and mesh, the same S to rounding, ~10× slower). Other keywords: the mesh
-        (see the module docstring). ``shift_rad``: every FS tooth i at 2πi/z1 + shift from the
+        on the bore); ``race_interface``: "sliding" (joined radially only, frictionless; the
+        default) or "bonded" (race and bore share their nodes). All balls within the wrap start
+        active; ``forces_n`` with ``settle_iterations`` > 0 runs :meth:`settle_balls` for those
+        contact forces. ``mesh``: the meshes and their solve, a :class:`ComplianceMesh` or a
+        mapping of its fields (default: the product's). ``shift_rad``: every FS tooth i at 2πi/z1 + shift from the
         major axis (another wave-generator position, as ``contact_points(shift_rad=…)`` places
         the points): the points are mapped back with it, and the balls (``ball_phase_rad`` and
         the wrap, from the major axis) sit at −shift in the rim's frame.
@@ -1530,6 +1566,13 @@ class ContactCompliance:
         within the wrap start active; solve with :meth:`solve_unilateral`).
         """
         start = time.perf_counter()
+        grid = ComplianceMesh.of(mesh)
+        race_layers, margin_teeth, toothed_teeth = grid.race_layers, grid.margin_teeth, grid.toothed_teeth
+        per_pitch, flat_per_pitch, rim_layers, tooth_layers = (grid.per_pitch, grid.flat_per_pitch, grid.rim_layers,
+                                                               grid.tooth_layers)
+        cs_per_pitch, cs_tooth_layers, cs_back_layers = grid.cs_per_pitch, grid.cs_tooth_layers, grid.cs_back_layers
+        cs_outer_radius_mm, on_surface_tol_mm, substructure = (grid.cs_outer_radius_mm, grid.on_surface_tol_mm,
+                                                               grid.substructure)
         inputs = ContactInput.of(inputs, error=ComplianceError)
         gearset = inputs.gearset
         g = gearset.gear

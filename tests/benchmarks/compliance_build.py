@@ -77,7 +77,7 @@ def main() -> None:
     inputs = ContactInput.from_design(design)
     pts = contact_points(inputs, side=1, stations=5, max_gap_mm=0.12)
     if args.baseline is None:
-        old_build, old_label = (lambda *a: ContactCompliance.build(*a, substructure=False)), "substructure=False"
+        old_build, old_label = (lambda *a: ContactCompliance.build(*a, mesh={"substructure": False})), "substructure=False"
     else:
         old_build, old_label = baseline_module(args.baseline).ContactCompliance.build, f"git {args.baseline}"
     builders = {"old": old_build, "new": ContactCompliance.build}

@@ -112,7 +112,7 @@ def main() -> None:
     for label, kw in (("default mesh", {}), ("24 columns per pitch", {"per_pitch": 24, "cs_per_pitch": 24}),
                       ("6 tooth layers", {"tooth_layers": 6, "cs_tooth_layers": 6}), ("3 rim layers", {"rim_layers": 3})):
         comp = ContactCompliance.build(ContactInput.from_design(design), pts.fs_point_mm, pts.normal, pts.tooth,
-                                       pts.cs_point_mm, ball_supports="all", **kw)
+                                       pts.cs_point_mm, ball_supports="all", mesh=kw)
         res = solve_contact(design, [54.0, 265.0, 660.0], points=pts, compliance=comp)
         print(f"{label:22s} dof {comp.dof}: K = {np.array2string(res.secant_stiffness_nm_per_rad / 1e4, precision=2)}·10⁴ "
               f"N·m/rad, max tooth force {[round(c.max_tooth_force_n, 1) for c in res.cases]} N at 54 / 265 / 660 N·m")

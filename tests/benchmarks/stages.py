@@ -646,8 +646,8 @@ def _contact(inp: _Inputs, repeats: int) -> list[dict]:
     def build(points, cols, tooth_layers):
         return ContactCompliance.build(ContactInput.from_design(d), points.fs_point_mm, points.normal, points.tooth,
                                        points.cs_point_mm,
-                                       per_pitch=cols, cs_per_pitch=cols, tooth_layers=tooth_layers,
-                                       cs_tooth_layers=tooth_layers)
+                                       mesh=dict(per_pitch=cols, cs_per_pitch=cols, tooth_layers=tooth_layers,
+                                                 cs_tooth_layers=tooth_layers))
 
     ref_stations, ref_cols, ref_layers = (stations, 24, 6) if inp.quick else (9, 32, 6)
     ref_label = f"Lemke, {ref_stations} stations, FEM {ref_cols} col./pitch, {ref_layers} layers"

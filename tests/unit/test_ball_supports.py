@@ -49,7 +49,7 @@ def test_cached_build_is_bitwise_a_fresh_build(inputs):
     for name in ("matrix_mm_per_n", "fs_matrix_mm_per_n", "cs_matrix_mm_per_n", "_flex_cb", "_flex_bb"):
         assert np.array_equal(getattr(warm, name), getattr(cold, name)), name
     # and the cache is keyed on the mesh: another mesh is a new entry, not the old one reused
-    other = _build(inputs, pts1, shift, per_pitch=16)
+    other = _build(inputs, pts1, shift, mesh={"per_pitch": 16})
     assert not np.allclose(other.fs_matrix_mm_per_n, cold.fs_matrix_mm_per_n, rtol=1e-6, atol=0.0)
 
 

@@ -396,10 +396,16 @@ def test_race_on_flat_ring_against_ring_theory(joint):
 
 @pytest.mark.parametrize("kw", [{"race_thickness_mm": -1.0}, {"race_thickness_mm": float("nan")},
                                 {"race_thickness_mm": "thick"}, {"race_thickness_mm": 30.0},
-                                {"race_interface": "glued"}, {"race_layers": 0}])
+                                {"race_interface": "glued"}, {"mesh": {"race_layers": 0}}])
 def test_bad_race_names_the_parameter(inputs, points, kw):
-    with pytest.raises(ComplianceError, match=next(iter(kw))):
+    name = next(iter(kw["mesh"])) if "mesh" in kw else next(iter(kw))
+    with pytest.raises(ComplianceError, match=name):
         ContactCompliance.build(inputs, *points, **kw)
+
+
+def test_unknown_mesh_key_is_named(inputs, points):
+    with pytest.raises(ComplianceError, match="mesh: unknown key 'columns'"):
+        ContactCompliance.build(inputs, *points, mesh={"columns": 3})
 
 
 def test_cs_columns_grow_to_the_pieces_of_the_profile(inputs, points, compliance):
@@ -407,7 +413,7 @@ def test_cs_columns_grow_to_the_pieces_of_the_profile(inputs, points, compliance
     count (the verify scene: 17 > 16); the sector mesh takes one column per piece at least
     instead of failing. Forced here by asking for 2 columns: the matrix stays SPD and close
     to the default mesh's (same FS, coarser CS: the CS part is ~5 % of S)."""
-    coarse = ContactCompliance.build(inputs, *points, cs_per_pitch=2)
+    coarse = ContactCompliance.build(inputs, *points, mesh={"cs_per_pitch": 2})
     s = coarse.matrix_mm_per_n
     np.linalg.cholesky(s)
     d0, d1 = np.diag(compliance.matrix_mm_per_n), np.diag(s)
@@ -441,10 +447,12 @@ def test_substructured_build_is_the_whole_mesh_assembly(small_set, kw):
     same dof and mesh counts, on a coarse mesh of a small set (rotation invariance of the
     pitches, the periodic tie in turned frames, the gauge projection, two pitch kinds)."""
     small, pts = small_set
-    coarse = dict(wrap_half_angle_rad=1.0, per_pitch=14, tooth_layers=2, rim_layers=1, race_layers=1,
-                  cs_tooth_layers=2, cs_back_layers=1, **kw)
-    fast = ContactCompliance.build(small, *pts, **coarse)
-    whole = ContactCompliance.build(small, *pts, substructure=False, **coarse)
+    model = {k: v for k, v in kw.items() if k.startswith("race_")}  # the race's model; the rest is the mesh's
+    coarse = dict(per_pitch=14, tooth_layers=2, rim_layers=1, race_layers=1, cs_tooth_layers=2, cs_back_layers=1,
+                  **{k: v for k, v in kw.items() if k not in model})
+    fast = ContactCompliance.build(small, *pts, wrap_half_angle_rad=1.0, mesh=coarse, **model)
+    whole = ContactCompliance.build(small, *pts, wrap_half_angle_rad=1.0, mesh=dict(substructure=False, **coarse),
+                                    **model)
     assert "substructure" in fast.mesh["fs"] and "substructure" not in whole.mesh["fs"]
     for name in ("matrix_mm_per_n", "fs_matrix_mm_per_n", "cs_matrix_mm_per_n", "_flex_cc", "_flex_cb", "_flex_bb"):
         a, b = getattr(fast, name), getattr(whole, name)
