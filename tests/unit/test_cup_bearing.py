@@ -130,7 +130,7 @@ def test_a_race_free_to_tilt_carries_the_bore_at_each_angle_with_no_moment(coars
     per_angle = c.force_n.sum(axis=0)
     scale = float(per_angle.max())
     assert scale > 0.0
-    assert np.max(np.abs((arm[:, None] * c.force_n).sum(axis=0))) < 1e-5 * scale * GEOM.bearing_width_mm
+    assert np.max(np.abs((arm[:, None] * c.force_n).sum(axis=0))) < 3e-5 * scale * GEOM.bearing_width_mm
     assert np.max(np.abs(c.ball_force_n - per_angle)) < 1e-3 * scale
     # it tilts: the rigid band's ω at the face ends is not kept
     band = press_cup(GEOM, contour=cam(), gap="first_order", harmonic_basis=coarse, angles=8)
