@@ -41,7 +41,7 @@ body{margin:0;font:13px system-ui,sans-serif;color:#222;background:#f6f7f9}
 .pg-head button:disabled{opacity:.45;cursor:default}
 .pg-head .pg-dd{width:230px;color:#222;font-size:12px}
 .pg-head .pg-scene{width:120px;color:#222;font-size:12px}
-.pg-head input{font-size:12px;padding:3px;width:140px}
+.pg-head input{font-size:12px;padding:3px;width:140px;color:#222}
 .pg-status{padding:3px 10px;min-height:18px;font-size:12px;background:#eef1f5;border-bottom:1px solid #ddd}
 .pg-status .pg-bad{color:#b00020}
 .pg-body{display:flex;gap:8px;padding:8px;align-items:flex-start}
@@ -524,11 +524,12 @@ def serve(gearset: GearSet | None = None, *, workspace: str | Path = ".", scene:
     if host not in ("127.0.0.1", "localhost", "::1"):
         print(f"profilegen app: listening on {host}: reachable from other machines", file=sys.stderr, flush=True)
     try:
-        srv.serve_forever()
+        srv.serve_forever()  # werkzeug's returns on Ctrl-C (it catches the KeyboardInterrupt itself)
     except KeyboardInterrupt:
-        print("\nprofilegen app: stopped", file=sys.stderr, flush=True)
+        pass
     finally:
         srv.server_close()
         app.profilegen_sessions.close()
+    print("\nprofilegen app: stopped", file=sys.stderr, flush=True)
     return 0
 

@@ -42,7 +42,7 @@ def space_figure(design, *, pinned=None, job: int | None = None, height_px: int 
     layout = fig["layout"]
     layout["uirevision"] = "space"
     layout["meta"] = {"job": job, "gearset": design.gearset.name}
-    layout["title"]["text"] = "CS tooth space with the FS tooth poses (drag to zoom, double-click to reset)"
+    layout["title"]["text"] = "CS tooth space, FS tooth poses (drag: zoom)"
     return fig
 
 
@@ -125,9 +125,6 @@ def numbers(design) -> list[Row]:
         _row(rows, "fit", "clearance", "smallest clearance", prof.clearance.min_mm * 1e3, "µm")
         _row(rows, "fit", "backlash", "backlash, max", None if prof.max_backlash_mm is None
              else prof.max_backlash_mm * 1e3, "µm")
-    env = design.envelope
-    if env is not None:
-        _row(rows, "fit", "interference", "envelope interference, max", env.max_interference_mm * 1e3, "µm")
     c = design.contact
     if c is not None:
         for tq, case in zip(c.torques_nm, c.cases):

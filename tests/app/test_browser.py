@@ -93,6 +93,7 @@ def _shot(browser, tmp_path, name: str) -> Path:
     folder = Path(os.environ.get(SHOTS_ENV) or tmp_path)
     folder.mkdir(parents=True, exist_ok=True)
     path = folder / f"app_{name}.png"
+    browser.execute_script("window.scrollTo(0, 0)")
     assert browser.save_screenshot(str(path))
     assert path.stat().st_size > 20_000
     return path
@@ -253,7 +254,9 @@ def test_export_writes_the_design_folder_and_the_dxf_reads_back(browser, app, wo
     _click(browser, "export")
     from selenium.webdriver.support.ui import WebDriverWait
 
-    WebDriverWait(browser, WAIT_S).until(lambda d: d.find_elements("id", "export-done"))
+    WebDriverWait(browser, WAIT_S).until(lambda d: d.find_elements("id", "export-done")
+                                         or d.find_elements("css selector", "#status .pg-bad"))
+    assert browser.find_elements("id", "export-done"), browser.find_element("id", "status").text
     folder = workspace / "export" / "default"
     doc = ezdxf.readfile(folder / "circular_spline.dxf")
     cs = [e for e in doc.modelspace() if e.dxf.layer == "CS"]
