@@ -211,3 +211,26 @@ def test_bad_race_arguments_are_named(coarse):
 
     with pytest.raises(CupError, match="model"):
         cup_tier_race(load_gearset(default_gearset_path()), None, "loose")
+
+
+def test_the_rim_stage_cup_tier_puts_the_chosen_race_under_the_bore(monkeypatch):
+    """The cup tier takes :data:`CUP_TIER_RACE`: ``rigid`` is the rigid band (no race on the
+    result), ``ring`` the race, whose face ends differ from the band's (the cup's cone about the
+    ball row: the diaphragm end lower) — and the stage's coarse companion (its error estimate)
+    runs on the same race."""
+    import profilegen.rim.cup.bearing as bearing
+    from profilegen.gearset import default_gearset_path, load_gearset
+    from profilegen.rim.stage import RimTier, solve_rim
+
+    tier = RimTier("cup3d", "cup", geometry="linear", layers=2, divisions=0, max_order=16, element_mm=4.0, angles=8)
+    gs = load_gearset(default_gearset_path())
+    runs = {}
+    for model in ("rigid", "ring"):
+        monkeypatch.setattr(bearing, "CUP_TIER_RACE", model)
+        runs[model] = solve_rim(gs, tier=tier)
+    assert runs["rigid"].cup_contact.race is None
+    race = runs["ring"].cup_contact.race
+    assert race is not None and race.tilt == "ring" and any("outer race" in w for w in runs["ring"].warnings)
+    lo, hi = runs["ring"].cup.geometry.ring_span_mm
+    assert runs["ring"].cup.omega(0.0, lo) < runs["rigid"].cup.omega(0.0, lo) - 0.02 * gs.deflection_mm
+    assert runs["ring"].error_estimate_mm < 0.1 * gs.deflection_mm  # the coarse companion agrees: the same race
