@@ -209,7 +209,7 @@ class BearingRace:
 #: with its defaults: tilt with the ring's stiffness, bent onto Hertz balls — the physics), ``"held"``
 #: (the tilt's upper bound), ``"free"`` (its lower bound) or ``"rigid"`` (no race: the bore pressed
 #: onto the contour over the bearing width, the model before issue 28). Still ``"rigid"``: with
-#: ``"ring"`` the face ends move 50–120 µm (the cup takes its own cone about the ball row) and the
+#: ``"ring"`` the face ends move 37–119 µm (the cup takes its own cone about the ball row) and the
 #: face stage finds no CS/taper/crowning that clears 4 of the 5 bundled sets across the face (35–56 µm
 #: left in the verify scene; docs/theory/cup.md, "The wave-generator bearing"). The face stage has to
 #: choose its part for the race before this becomes ``"ring"``. tests/benchmarks/bearing_tilt.py
