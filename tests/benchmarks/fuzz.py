@@ -50,6 +50,7 @@ import csv
 import json
 import math
 import os
+import re
 import statistics
 import sys
 import time
@@ -496,6 +497,24 @@ def _cli_worker(job: tuple[int, int, float, str, bool]) -> dict:
     return {"rows": rows, "failures": failures}
 
 
+FIELD_WORD = re.compile(r"\b[a-z][a-z0-9_]*\.[a-z][a-z0-9_]*\b|--[a-z]|\b(" + "|".join(
+    ["chord_tol_mm", "n_t", "n_phi", "clearance_samples", "fit_check_positions", "face_slices", "brute_force_check",
+     "figures", "tier", "rim", "contact", "name", "gearset", "scene", "plot", "grid", "sample", "search",
+     "variables", "objectives", "constraints", "confirm_scene", "description"]) + r")\b")
+
+
+def names_a_field(line: str) -> bool:
+    """Whether an error line names something the user can change: a ``section.key`` field path
+    (gear-set, spec table), a scene or spec key, or a command-line option."""
+    body = line.removeprefix("profilegen: error: ")
+    body = re.sub(r"^\S+\.toml: ", "", body)  # the file's own name is not a field
+    return bool(FIELD_WORD.search(body))
+
+
+def _stage_part(line: str) -> str:
+    return re.sub(r"[-+]?\d[\d.e+-]*", "#", line.removeprefix("profilegen: error: "))[:90]
+
+
 def cli_table(rows, failures) -> None:
     """The counts per example kind (rows: (kind, outcome, seconds, named error)) and the failures."""
     names = ["ok", "named"] + sorted({r[1] for r in rows} - {"ok", "named"})
@@ -512,6 +531,10 @@ def cli_table(rows, failures) -> None:
                     else r[3][:70] for r in rows if r[1] == "named")
     print("\nmost frequent named errors (the key each names):")
     for text, n in named.most_common(12):
+        print(f"  {n:>5}  {text}")
+    unnamed = Counter(_stage_part(r[3]) for r in rows if r[1] == "named" and not names_a_field(r[3]))
+    print(f"\nnamed errors whose line names no field, scene key or option: {sum(unnamed.values())}")
+    for text, n in unnamed.most_common(12):
         print(f"  {n:>5}  {text}")
     print(f"\nanything else: {len(failures)}" + "".join(
         f"\n  {f['outcome']} {f['kind']} ({f['path']}): {f['error'].strip().splitlines()[-1][:200] if f['error'].strip() else ''}"
