@@ -9,6 +9,9 @@ bent onto Hertz balls — the cup tier's default), ``held`` (the tilt's upper bo
 axially), ``free`` (its lower bound) — ω at the major/minor axis at both face ends, the race's
 tilt and the ball row's force at the major axis.
 
+``--part narrow``: the independent check's model (issue 28: "a 2 mm band free to tilt", ω major
+0.420/0.588 mm at z = 50/70 on seed000_csf40), the bearing narrowed to 2 mm.
+
 Part 2 (``--part scenes``): ``profilegen design NAME --scene S`` in a subprocess per set and
 race model (the model set by :data:`~profilegen.rim.cup.bearing.CUP_TIER_RACE`), its
 design.json read: ω at the face ends, the design section, the FS taper and crowning, the
@@ -17,6 +20,7 @@ one section) against the catalogue, the verdict. One run at a time (20-190 s eac
 2-core machine).
 
     python tests/benchmarks/bearing_tilt.py --part cup
+    python tests/benchmarks/bearing_tilt.py --part narrow --sets seed000_csf40   # issue 28's 2 mm band
     python tests/benchmarks/bearing_tilt.py --part scenes --races rigid ring --out /tmp/bearing_tilt
     python tests/benchmarks/bearing_tilt.py --part table --races rigid ring --out /tmp/bearing_tilt   # reread only
 """
@@ -67,6 +71,30 @@ def cup_part(sets, races) -> None:
             balls = f"{c.ball_force_n[0]:.0f}" if race is not None else "-"
             print(f"{name:18s} {model:6s} {om[0]:10.4f} {om[1]:10.4f}  {om[2]:10.4f} {om[3]:10.4f}  {tilt:>15s} "
                   f"{balls:>13s} {dt:8.1f}")
+
+
+def narrow_part(sets) -> None:
+    """The independent check of issue 28 (a 2 mm band free to tilt): the bearing narrowed to 2 mm,
+    as a rigid band and as a stress-free race free to tilt on rigid balls, at the verify mesh."""
+    import numpy as np
+
+    from profilegen.gearset import load_gearset, resolve_gearset
+    from profilegen.rim.cup import BearingRace, CupGeometry, press_cup
+    from profilegen.rim.stage import RIM_TIERS
+    from profilegen.wavegen import from_gearset
+
+    tier = RIM_TIERS["cup3d"]
+    for name in sets:
+        gs = load_gearset(resolve_gearset(name))
+        g = CupGeometry.from_gearset(gs, bearing_width_mm=2.0)
+        lo, hi = g.ring_span_mm
+        for label, race in (("2 mm rigid band", None), ("2 mm band free to tilt",
+                                                         BearingRace.from_gearset(gs, g, tilt="free", prestress=False,
+                                                                                  hertz=False))):
+            c = press_cup(g, contour=from_gearset(gs), angles=tier.angles, element_mm=tier.element_mm,
+                          layers=tier.layers, gap=tier.gap, nonlinear=True, race=race)
+            om = [float(c.deformation.omega(np.array([0.0]), np.array([z]))[0]) for z in (lo, hi)]
+            print(f"{name:18s} {label:24s} ω major at z = {lo:g} / {hi:g}: {om[0]:.4f} / {om[1]:.4f} mm")
 
 
 def run_scene(name: str, scene: str, race: str, out: Path) -> float:
@@ -122,7 +150,7 @@ def table(sets, races, scene: str, out: Path) -> None:
 
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--part", choices=("cup", "scenes", "table"), default="cup")
+    ap.add_argument("--part", choices=("cup", "narrow", "scenes", "table"), default="cup")
     ap.add_argument("--sets", nargs="+", default=list(SETS))
     ap.add_argument("--races", nargs="+", default=None, help="default: all four (cup), rigid and ring (scenes)")
     ap.add_argument("--scene", default="verify")
@@ -130,6 +158,9 @@ def main(argv=None) -> None:
     a = ap.parse_args(argv)
     if a.part == "cup":
         cup_part(a.sets, a.races or ["rigid", "ring", "held", "free"])
+        return
+    if a.part == "narrow":
+        narrow_part(a.sets)
         return
     races = a.races or ["rigid", "ring"]
     if a.part == "scenes":
