@@ -20,11 +20,6 @@ PACKAGE = Path(__file__).resolve().parents[1] / "profilegen"
 
 #: (importing module, module imported from, name) → why it is left
 KNOWN_EXCEPTIONS: dict[tuple[str, str, str], str] = {
-    ("profilegen.contact.climb", "profilegen.contact.compliance", "_lemke_lcp"):
-        "the climb's nonsymmetric LCP uses the compliance module's Lemke pivoting: to go when one module owns "
-        "the LCP solvers (contact/solvers.py)",
-    ("profilegen.contact.compliance", "profilegen.contact.solvers", "_prepare"):
-        "ContactCompliance.solve scales its problem as the solvers do; the same LCP-solver move",
     ("profilegen.gearset", "profilegen.gearset.sections", "_points_tooth"):
         "a pickling alias: PointsTooth objects pickled before the gearset split name profilegen.gearset._points_tooth",
     ("profilegen.gearset.profiles", "profilegen.gearset.reader", "_show"):
@@ -32,6 +27,8 @@ KNOWN_EXCEPTIONS: dict[tuple[str, str, str], str] = {
         "edit when this list was made: rename to public with the next change there",
     ("profilegen.gearset.types", "profilegen.gearset.reader", "_Reader"):
         "the gear-set reader class, also used by profilegen/app (another engineer's, in progress): renamed with it",
+    ("profilegen.engine", "profilegen.pipeline", "_checkpoint"):
+        "profilegen/engine.py and pipeline.py: another engineer's, in progress this session (make it public there)",
     ("profilegen.app.schema", "profilegen.gearset.reader", "_Reader"):
         "profilegen/app (another engineer's, in progress this session)",
     ("profilegen.app.schema", "profilegen.gearset.reader", "_REQUIRED"):

@@ -203,7 +203,7 @@ def solve_lcp_lemke(m: np.ndarray, q: np.ndarray, *, tol: float | None = None) -
     """F ≥ 0 with w = M F + q ≥ 0 and F·w = 0 for a general square M — the climb with
     friction, whose M is not symmetric (the force tilted off the normal its gap is measured
     along: a non-associated contact). Lemke's complementary pivoting
-    (:func:`profilegen.contact.compliance._lemke_lcp`, lexicographic ratio test) on the
+    (:func:`profilegen.contact.solvers.lemke_lcp`, lexicographic ratio test) on the
     candidates (q_j < 0 first; a point whose w comes out below −tol joins and the problem is
     solved again, as :func:`solve_lcp`), on M and q scaled to O(1), the forces then from the
     active set's own equations. Lemke's method ends at the solution when M is a P-matrix
@@ -211,7 +211,7 @@ def solve_lcp_lemke(m: np.ndarray, q: np.ndarray, *, tol: float | None = None) -
     which it is when its symmetric part is positive definite (S + μ·(tangential coupling)
     for small μ); the result is checked (F ≥ 0, w ≥ 0 to ``tol``), a failure raises
     :class:`ConvergenceError`."""
-    from .compliance import _lemke_lcp
+    from .solvers import lemke_lcp
 
     scale = float(np.max(np.abs(q))) if q.size else 1.0
     scale = scale or 1.0
@@ -220,7 +220,7 @@ def solve_lcp_lemke(m: np.ndarray, q: np.ndarray, *, tol: float | None = None) -
 
     def on_candidates(idx, tol_):
         sub, f = m[np.ix_(idx, idx)], np.zeros(idx.size)
-        act, _ = _lemke_lcp(sub / d, q[idx] / scale, "climb.solve_lcp_lemke")
+        act, _ = lemke_lcp(sub / d, q[idx] / scale, "climb.solve_lcp_lemke")
         if act.size:
             f[act] = np.linalg.solve(sub[np.ix_(act, act)], -q[idx[act]])
         w = sub @ f + q[idx]  # = (M F + q) on the candidates: F is zero elsewhere

@@ -159,7 +159,7 @@ from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 from .inputs import ContactInput
-from .solvers import LemkeTableau
+from .solvers import lemke_lcp
 
 __all__ = ["ComplianceError", "ComplianceMesh", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache",
            "default_race_thickness_mm",
@@ -1389,35 +1389,6 @@ def settle_step(active, reactions_n, gaps_mm, *, gap_tol_mm: float = 1e-15):
     return act, None
 
 
-def _lemke_lcp(m_mat: np.ndarray, q: np.ndarray, where: str, max_pivots: int | None = None):
-    """Lemke's complementary pivoting for w = M z + q, w, z ≥ 0, wᵀz = 0 (covering vector 1,
-    lexicographic ratio test, revised form with an explicit basis inverse), as
-    :func:`~profilegen.contact.solvers.solve_lemke` pivots; for a copositive-plus M (here
-    positive semidefinite) it ends at a solution whenever one exists (Cottle, Pang & Stone
-    §4.4). Returns (the indices of the basic z's, pivots)."""
-    n = q.size
-    z0 = 2 * n
-    cap = 10 * n + 50 if max_pivots is None else int(max_pivots)
-    if np.all(q >= 0.0):
-        return np.zeros(0, dtype=int), 0
-    tab = LemkeTableau(m_mat, q)
-    leaving = tab.pivot(int(np.argmin(q)), tab.column(z0), z0)
-    pivots = 1
-    while leaving != z0:
-        entering = leaving + n if leaving < n else leaving - n
-        col = tab.column(entering)
-        row = tab.ratio_row(col)
-        if row is None:
-            raise ConvergenceError(f"{where}: Lemke's method ended on a ray at pivot {pivots}; impossible for a "
-                                   "positive definite compliance — numerical breakdown")
-        if pivots >= cap:
-            raise ConvergenceError(f"{where}: no complementary solution after {pivots} pivots")
-        leaving = tab.pivot(row, col, entering)
-        pivots += 1
-    basis = tab.basis
-    return np.sort(basis[(basis >= n) & (basis < z0)] - n), pivots
-
-
 # --------------------------------------------------------------------------- the result
 
 
@@ -1850,7 +1821,7 @@ class ContactCompliance:
 
     def _solve_unilateral(self, theta_rad, lever_mm, torque_nmm, springs):
         """:meth:`solve_unilateral` with the ball springs ``springs`` (mm/N per ball, or None: rigid)."""
-        from .solvers import ContactSolution, _prepare
+        from .solvers import ContactSolution, scale_problem
 
         t0 = time.perf_counter()
         b = self.face_width_mm
@@ -1859,7 +1830,7 @@ class ContactCompliance:
         # window's solve checks it: S_cc alone (the rim free of every ball) is worse conditioned by the
         # ring's near-rigid modes (rcond 9.6e-13 at 13 stations per flank on the default set), which
         # the ball rows of the LCP below hold
-        p = _prepare(self.matrix_mm_per_n, theta_rad, lever_mm, torque_nmm)
+        p = scale_problem(self.matrix_mm_per_n, theta_rad, lever_mm, torque_nmm)
         theta, r, torque = p.theta, p.r, p.T
         n, nb = theta.size, self.ball_angle_rad.size
         c_bb = self._flex_bb / b
@@ -1879,7 +1850,7 @@ class ContactCompliance:
         m_mat[nt, :n] = r / r_bar
         q = np.concatenate([r * (theta - p.theta_min) / length, gap_b / length, [-1.0]])
         where = "ContactCompliance.solve_unilateral"
-        basic, pivots = _lemke_lcp(m_mat, q, where)
+        basic, pivots = lemke_lcp(m_mat, q, where)
         if basic.size == 0 or basic[-1] != nt:
             raise ConvergenceError(f"{where}: the rotation is not in the final basis after {pivots} pivots")
         # reinversion: the loaded teeth and balls and ψ, solved directly

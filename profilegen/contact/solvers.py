@@ -123,6 +123,7 @@ from ..results import json_ready as _json, readonly as _readonly
 __all__ = [
     "ContactError",
     "ContactSolution",
+    "lemke_lcp",
     "solve_lemke",
     "solve_qp_active_set",
 ]
@@ -238,7 +239,7 @@ class _Scaled:
     tau: float
 
 
-def _prepare(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm) -> _Scaled:
+def scale_problem(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm) -> _Scaled:
     try:
         T = float(torque_nmm)
     except (TypeError, ValueError):
@@ -457,6 +458,36 @@ class LemkeTableau:
         return int(ties[0])
 
 
+
+def lemke_lcp(m_mat: np.ndarray, q: np.ndarray, where: str, max_pivots: int | None = None):
+    """Lemke's complementary pivoting for w = M z + q, w, z ≥ 0, wᵀz = 0 (covering vector 1,
+    lexicographic ratio test, revised form with an explicit basis inverse), as
+    :func:`~profilegen.contact.solvers.solve_lemke` pivots; for a copositive-plus M (here
+    positive semidefinite) it ends at a solution whenever one exists (Cottle, Pang & Stone
+    §4.4). Returns (the indices of the basic z's, pivots)."""
+    n = q.size
+    z0 = 2 * n
+    cap = 10 * n + 50 if max_pivots is None else int(max_pivots)
+    if np.all(q >= 0.0):
+        return np.zeros(0, dtype=int), 0
+    tab = LemkeTableau(m_mat, q)
+    leaving = tab.pivot(int(np.argmin(q)), tab.column(z0), z0)
+    pivots = 1
+    while leaving != z0:
+        entering = leaving + n if leaving < n else leaving - n
+        col = tab.column(entering)
+        row = tab.ratio_row(col)
+        if row is None:
+            raise ConvergenceError(f"{where}: Lemke's method ended on a ray at pivot {pivots}; impossible for a "
+                                   "positive definite compliance — numerical breakdown")
+        if pivots >= cap:
+            raise ConvergenceError(f"{where}: no complementary solution after {pivots} pivots")
+        leaving = tab.pivot(row, col, entering)
+        pivots += 1
+    basis = tab.basis
+    return np.sort(basis[(basis >= n) & (basis < z0)] - n), pivots
+
+
 def solve_lemke(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *, max_pivots: int | None = None) -> ContactSolution:
     """Contact forces and rotation by Conry–Seireg's restricted-entry simplex, as Lemke's method.
 
@@ -472,7 +503,7 @@ def solve_lemke(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *, max_pi
     n = 200: 7 ms, 800: 0.23 s, 2000: 2.3 s (the active-set cross-check: 3 ms, 51 ms, 0.35 s).
     """
     t0 = time.perf_counter()
-    p = _prepare(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm)
+    p = scale_problem(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm)
     n = len(p.th)
     N = n + 1
     cap = 10 * N + 50 if max_pivots is None else int(max_pivots)
@@ -550,7 +581,7 @@ def solve_qp_active_set(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *
     raises :class:`~profilegen.errors.ConvergenceError`. Arguments as :func:`solve_lemke`.
     """
     t0 = time.perf_counter()
-    p = _prepare(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm)
+    p = scale_problem(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm)
     A, th = p.A, p.th
     n = len(th)
     cap = 10 * n + 50 if max_iter is None else int(max_iter)

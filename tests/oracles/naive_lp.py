@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from profilegen.contact.solvers import ContactSolution, _finish, _prepare
+from profilegen.contact.solvers import ContactSolution, _finish, scale_problem
 from profilegen.errors import ConvergenceError
 
 __all__ = ["solve_naive_lp"]
@@ -32,7 +32,7 @@ def solve_naive_lp(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm) -> Con
     from scipy.optimize import linprog
 
     t0 = time.perf_counter()
-    p = _prepare(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm)
+    p = scale_problem(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm)
     n = len(p.th)
     # scaled, unshifted θ as printed (φ ≥ 0 is a constraint there): variables [m, φ̂, Y, Z', X]
     th_abs = p.theta / p.tau
