@@ -23,7 +23,7 @@ from pathlib import Path
 from ..errors import ProfilegenError
 from ..gearset import GearSet, list_profiles, load_gearset
 from . import schema, views
-from .session import Session, Sessions, Snapshot, Workspace, WorkspaceError
+from .session import BUNDLED, Session, Sessions, Snapshot, Workspace, WorkspaceError
 
 __all__ = ["make_app", "serve", "start"]
 
@@ -31,7 +31,7 @@ log = logging.getLogger(__name__)
 
 SCENES = ("sketch", "design", "verify")
 POLL_MS = 150
-BUNDLED = "bundled:"
+
 
 _CSS = """
 body{margin:0;font:13px system-ui,sans-serif;color:#222;background:#f6f7f9}
@@ -297,12 +297,7 @@ def _register(app, sessions: Sessions) -> None:
             elif trig == "load":
                 if not load_name:
                     raise WorkspaceError("load: pick a gear set first")
-                if load_name.startswith(BUNDLED):
-                    gs = load_gearset(load_name[len(BUNDLED):])
-                    with s.lock:
-                        s._set(type(s.history.current)(gs, s.scene))
-                else:
-                    s.load(load_name)
+                s.load(load_name)
                 rebuild, status = True, f"loaded {load_name}"
             elif trig == "scene":
                 if scene == s.scene:

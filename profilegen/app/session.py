@@ -34,6 +34,7 @@ class WorkspaceError(ProfilegenError):
 
 # ------------------------------------------------------------------------------------------ workspace
 
+BUNDLED = "bundled:"  # a bundled gear set's name in the load list (not a file of the workspace)
 _NAME_PART = re.compile(r"[A-Za-z0-9_.+-]+")
 MAX_LISTED = 500
 
@@ -380,8 +381,17 @@ class Session:
             self._set(State(self.gearset, scene))
 
     def load(self, name: str) -> GearSet:
+        """A gear set from the workspace (``sets/a.toml``) or a bundled one (``bundled:default``)."""
         with self.lock:
-            gs = self.workspace.load(name)
+            if name.startswith(BUNDLED):
+                from ..gearset import list_profiles
+
+                stem = name[len(BUNDLED):]
+                if stem not in {p.stem for p in list_profiles()}:
+                    raise WorkspaceError(f"{name}: no bundled gear set of that name")
+                gs = load_gearset(stem)
+            else:
+                gs = self.workspace.load(name)
             self._set(State(gs, self.scene))
             return gs
 

@@ -48,7 +48,7 @@ def _missing() -> str | None:
 
 
 pytestmark = [pytest.mark.skipif(_missing() is not None, reason=_missing() or ""),
-              pytest.mark.xdist_group("app_browser")]
+              pytest.mark.xdist_group("app_browser"), pytest.mark.slow]
 
 
 @pytest.fixture(scope="module")

@@ -235,3 +235,12 @@ def test_the_real_computation_is_dropped_when_superseded(gearset):
     assert snap.error is None and snap.design.gearset.wave_generator.deflection_coefficient == 1.05
     assert c.wait(first, timeout=0) is None
     c.close()
+
+
+def test_loading_a_bundled_set_by_name_and_refusing_another_name(gearset, tmp_path):
+    s = Session(gearset.with_values({"wave_generator.deflection_coefficient": 1.1}), "sketch", Workspace(tmp_path),
+                compute=_never)
+    s.load("bundled:default")
+    assert s.gearset.wave_generator.deflection_coefficient == 1.0 and s.history.can_undo
+    with pytest.raises(WorkspaceError, match="no bundled gear set"):
+        s.load("bundled:../../etc/passwd")

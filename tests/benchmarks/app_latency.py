@@ -54,7 +54,7 @@ def _changes(driver, path: str, values, *, until_done: bool, n: int) -> list[flo
             from selenium.webdriver.support.ui import WebDriverWait
 
             WebDriverWait(driver, 120, poll_frequency=0.01).until(
-                lambda d: (tb._state(d)["job"] or 0) > before["job"])
+                lambda d, job=before["job"]: (tb._state(d)["job"] or 0) > job)
         times.append(time.perf_counter() - t0)
         tb._settled(driver, after_job=before["job"])  # let the rest finish before the next change
     return times
