@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from .. import scene_estimates
 from ..contour import Arc, Line, Polyline
 from . import face as face_files
 
@@ -278,16 +279,18 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
         face_files.write_face_dxfs(staging, result)  # face_tooth_NN.dxf, one per face section (cup3d tier)
         cad.write_contours_svg(staging / "circular_spline.svg", {"CS": [prof.outline], "construction": circles})
         export.write_points_csv(staging / "circular_spline.csv", prof.space.sample(1e-5))
-        export.write_json(staging / "profile_fit.json", {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()})
+        fit_data = {"gearset": g.name, "scene": result.scene.name, **prof.to_dict()}
+        export.write_json(staging / "profile_fit.json", fit_data)
         export.write_json(staging / "deformation_fit.json", report.deformation_fit_dict(result))
         if step:  # the STEP solids (OpenCASCADE, imported only here: seconds)
             from . import step as step_files
 
             step_files.write_cs_step(staging / "circular_spline.step", result)
             step_files.write_fs_step(staging / "flexspline.step", result)
+        contact_data = None
         if result.contact is not None:
-            export.write_json(staging / "contact.json", {"gearset": g.name, "scene": result.scene.name,
-                                                         **result.contact.to_dict(), **_whole_gear(result)})
+            contact_data = {"gearset": g.name, "scene": result.scene.name, **result.contact.to_dict(), **_whole_gear(result)}
+            export.write_json(staging / "contact.json", contact_data)
         if result.stress is not None:
             export.write_json(staging / "stress.json", {"gearset": g.name, "scene": result.scene.name,
                                                         **result.stress.to_dict()})
@@ -318,6 +321,9 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
     if unknown:  # a new output file must be named in OUTPUT_FILES, or the next run would refuse the folder
         raise RuntimeError(f"write_design wrote {unknown[0]!r}, which OUTPUT_FILES does not list")
     data["files"] = names
+    # each sheet number's measured distance to the next scene's (profilegen.scene_estimates)
+    data["scene_estimates"] = scene_estimates.report(result.scene, scene_estimates.sheet_numbers(data, fit_data, contact_data),
+                                                     g.gear.module_mm)
     export.write_json(staging / "design.json", data)  # last: a staging folder with design.json is complete
     return names
 

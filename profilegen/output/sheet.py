@@ -187,14 +187,32 @@ def _badge(passed: bool | None) -> str:
     return '<span class="pass">pass</span>' if passed else '<span class="fail">FAIL</span>'
 
 
+def _est(design, key: str, value) -> str:
+    """The number's measured distance to the next scene's (:mod:`profilegen.scene_estimates`), a
+    small grey '±…' beside it; 'not estimated' with the reason as its tooltip; '' in verify."""
+    from .. import scene_estimates as se
+
+    text = se.note(design.scene, key, value, design.gearset.gear.module_mm)
+    if not text:
+        return ""
+    est = se.estimate_for(design.scene, key)
+    tip = est.reason if isinstance(est, se.NotEstimated) else (
+        f"{se.NUMBERS[key][0]}: measured distance to the {se.NEXT_SCENE[design.scene.name]} scene "
+        f"({se.SAFETY_FACTOR:g}× the largest over {se.MEASURED['sets']} sets)")
+    return f' <span class=est title="{html.escape(tip)}">{html.escape(text)}</span>'
+
+
 def _geometry_rows(design) -> str:
     g, form, tooth = design.gearset, design.form, design.tooth
+    fs_tip, fs_root = 2 * (tooth.neutral_radius_mm + tooth.addendum_y_mm), 2 * (tooth.neutral_radius_mm + tooth.dedendum_y_mm)
     rows = [
         _row("module, teeth", f"{g.gear.module_mm:g} mm, {g.gear.flexspline_teeth} FS / {g.gear.circular_spline_teeth} CS"),
-        _row("CS tip Ø", f"{2 * form.tip_radius_mm:.4f} mm", "inner (tooth tips)"),
-        _row("CS root Ø", f"{2 * form.root_radius_mm:.4f} mm", "outer (tooth roots)"),
-        _row("FS tip Ø", f"{2 * (tooth.neutral_radius_mm + tooth.addendum_y_mm):.4f} mm", "undeformed"),
-        _row("FS root Ø", f"{2 * (tooth.neutral_radius_mm + tooth.dedendum_y_mm):.4f} mm", "undeformed"),
+        _row("CS tip Ø", f"{2 * form.tip_radius_mm:.4f} mm" + _est(design, "cs_tip_diameter_mm", 2 * form.tip_radius_mm),
+             "inner (tooth tips)"),
+        _row("CS root Ø", f"{2 * form.root_radius_mm:.4f} mm" + _est(design, "cs_root_diameter_mm", 2 * form.root_radius_mm),
+             "outer (tooth roots)"),
+        _row("FS tip Ø", f"{fs_tip:.4f} mm" + _est(design, "fs_tip_diameter_mm", fs_tip), "undeformed"),
+        _row("FS root Ø", f"{fs_root:.4f} mm" + _est(design, "fs_root_diameter_mm", fs_root), "undeformed"),
     ]
     prof = design.profile
     if prof is None:
@@ -204,12 +222,14 @@ def _geometry_rows(design) -> str:
     for b, fit in enumerate(fits):
         head = f"branch {b + 1} " if len(fits) > 1 else ""
         for el in flank_elements(fit):
+            e = (lambda key, value: _est(design, key, value)) if b == 0 else (lambda key, value: "")  # measured: branch 1
             if el.kind == "arc":
-                rows.append(_row(f"{head}{el.label}", f"{el.radius_mm:.4f} mm <b>{el.shape}</b>",
-                                 f"centre {_xy(el.centre_mm)}"))
+                k = el.label.lower()
+                rows.append(_row(f"{head}{el.label}", f"{el.radius_mm:.4f} mm <b>{el.shape}</b>" + e(f"{k}_radius_mm", el.radius_mm),
+                                 f"centre {_xy(el.centre_mm)}" + e(f"{k}_centre_mm", el.centre_mm)))
             else:
-                rows.append(_row(f"{head}line", f"{el.length_mm:.4f} mm long",
-                                 f"{_xy(el.start_mm)} → {_xy(el.end_mm)}"))
+                rows.append(_row(f"{head}line", f"{el.length_mm:.4f} mm long" + e("line_length_mm", el.length_mm),
+                                 f"{_xy(el.start_mm)} → {_xy(el.end_mm)}" + e("line_end_mm", el.end_mm)))
     fillets = () if getattr(prof, "corners", None) is None else prof.corners.fillets
     if not fillets:
         rows.append(_row("CS root fillet", "none (sharp corner)", "flank meets the root by a straight run"))
@@ -217,10 +237,14 @@ def _geometry_rows(design) -> str:
         if f.centre_mm[0] < 0:
             continue
         label = "CS root fillet" if f.kind == "inside" else f"CS {f.where.split()[0]} round"
+        key = "root_fillet" if f.kind == "inside" else "tip_round"
         why = (f"wire radius + spark gap, {html.escape(format_um(f.clearance_mm))} clear of the FS tooth path"
                if f.kind == "inside" and f.clearance_mm is not None else
                "wire radius + spark gap" if f.kind == "inside" else "convex corner, rounded for a G1 outline")
-        rows.append(_row(label, f"{f.radius_mm:.4f} mm", f"centre {_xy(f.centre_mm)} (left: mirrored); {why}"))
+        centre_est = _est(design, f"{key}_centre_mm", f.centre_mm)  # beside the radius: the note wraps
+        rows.append(_row(label, f"{f.radius_mm:.4f} mm" + _est(design, f"{key}_radius_mm", f.radius_mm)
+                         + (centre_est.replace(">", ">centre ", 1) if centre_est else ""),
+                         f"centre {_xy(f.centre_mm)} (left: mirrored); {why}"))
 
     face = getattr(design, "face", None)
     if face is None:
@@ -228,20 +252,25 @@ def _geometry_rows(design) -> str:
                          "this scene has no face stage"))
     else:
         mod = face.modification
-        rows.append(_row("CS design section", f"z = {face.design_section_z_mm:g} mm", f"from the cup bottom ({face.design_choice})"))
+        rows.append(_row("CS design section", f"z = {face.design_section_z_mm:g} mm"
+                         + _est(design, "design_section_z_mm", face.design_section_z_mm), f"from the cup bottom ({face.design_choice})"))
         if mod is not None:  # a short note: a wrapped one pushed the clearance row below the first screen
             ds = [float(v) * 1e3 for v in mod.thickness_change_mm]
-            rows.append(_row("FS tooth taper", f"<b>{mod.taper_mm_per_mm * 1e3:.4g} µm/mm</b>",
+            rows.append(_row("FS tooth taper", f"<b>{mod.taper_mm_per_mm * 1e3:.4g} µm/mm</b>"
+                             + _est(design, "fs_taper_um_per_mm", mod.taper_mm_per_mm * 1e3),
                              f"tooth thickness on the pitch line, toward the open end, 0 at the design section "
                              f"({min(ds):.3g} … {max(ds):.3g} µm over the face)"))
             if abs(mod.crowning_mm) >= 1e-9:
-                rows.append(_row("FS crowning", f"{mod.crowning_mm * 1e3:.4g} µm", "thinner at both face ends"))
+                rows.append(_row("FS crowning", f"{mod.crowning_mm * 1e3:.4g} µm" + _est(design, "fs_crowning_um", mod.crowning_mm * 1e3),
+                                 "thinner at both face ends"))
     bl = prof.max_backlash_mm
-    rows.append(_row("backlash (largest)", "—" if bl is None else html.escape(format_um(bl)),
+    rows.append(_row("backlash (largest)", "—" if bl is None else html.escape(format_um(bl)) + _est(design, "backlash_mm", bl),
                      "normal gap the fit leaves to the exact flank" if bl is not None
                      else f"{html.escape(prof.method)} fit: no one-sided backlash"))
-    rows.append(_row("fit deviation (largest)", html.escape(format_um(prof.max_error_mm)), "from the exact (envelope) flank"))
-    rows.append(_row("smallest clearance", html.escape(format_clearance(prof.clearance.min_mm)),
+    rows.append(_row("fit deviation (largest)", html.escape(format_um(prof.max_error_mm))
+                     + _est(design, "fit_deviation_mm", prof.max_error_mm), "from the exact (envelope) flank"))
+    rows.append(_row("smallest clearance", html.escape(format_clearance(prof.clearance.min_mm))
+                     + _est(design, "min_clearance_mm", prof.clearance.min_mm),
                      f"fitted CS ↔ FS tooth at φ = {math.degrees(prof.clearance.at_phi):.2f}°"))
     return "".join(rows)
 
@@ -262,18 +291,18 @@ def _load_rows(design) -> str:
         rows.append(_row("stiffness", "not computed", "this scene runs no loaded contact"))
     else:
         curve = getattr(design, "torsional", None)
-        for case, k in zip(c.cases, np.asarray(c.secant_stiffness_nm_per_rad, dtype=float)):
+        for t, case, k in zip(("rated", "peak", "momentary"), c.cases, np.asarray(c.secant_stiffness_nm_per_rad, dtype=float)):
             if curve is not None and np.any(curve.torque_nm == case.torque_nm):
                 # the whole gear's secant T / (φ(T) − φ at first contact), the mesh's beside it
                 rot = curve.rotation_at(case.torque_nm)
                 whole = case.torque_nm / (rot - curve.first_contact_rad["positive"])
                 rows.append(_row(f"stiffness at {case.torque_nm:g} N·m",
-                                 f"{whole / 1e3:,.0f} kN·m/rad".replace(",", "\u2009"),
+                                 f"{whole / 1e3:,.0f} kN·m/rad".replace(",", "\u2009") + _est(design, f"k_whole_{t}_nm_per_rad", whole),
                                  f"{rot * ARCMIN_PER_RAD:.2f} arcmin; mesh only "
                                  + f"{k / 1e3:,.0f}".replace(",", "\u2009") + " kN·m/rad"))
                 continue
             rows.append(_row(f"stiffness at {case.torque_nm:g} N·m",
-                             f"{k / 1e3:,.0f} kN·m/rad".replace(",", "\u2009"),
+                             f"{k / 1e3:,.0f} kN·m/rad".replace(",", "\u2009") + _est(design, f"k_mesh_{t}_nm_per_rad", k),
                              f"{k / ARCMIN_PER_RAD:.0f} N·m/arcmin; rotation {case.rotation_arcmin:.2f} arcmin"))
     return "".join(rows)
 
@@ -294,7 +323,7 @@ SHEET_STYLE = """<style>
 .ds td.wrap{white-space:normal}
 .ds thead th{font-weight:bold;color:#111}
 .ds .pass{color:#1a7f1a;font-weight:bold}.ds .fail{color:#c00;font-weight:bold}.ds .skip{color:#777}
-.ds .fig{min-height:300px;position:sticky;top:0}
+.ds .fig{min-height:300px;position:sticky;top:0}.ds .est{color:#777;font-size:10px;white-space:nowrap}.ds .nw{white-space:nowrap}.ds .checks td,.ds .checks th{padding:1px 3px}
 </style>"""
 
 
@@ -318,6 +347,29 @@ def _margin_cell(c: Check) -> str:
     return f"<td class=num>{c.margin}</td>"
 
 
+def _next_scene_words(design) -> str:
+    """What the grey '±…' beside the numbers are (none in the dearest scene)."""
+    from ..scene_estimates import NEXT_SCENE
+
+    nxt = NEXT_SCENE.get(design.scene.name)
+    return "" if nxt is None else f" <span class=unit>(grey ±: the measured distance to the {nxt} scene's number)</span>"
+
+
+def _with_est(value: str, est: str) -> str:
+    """A value and its estimate on one line (the check table's value column wraps long values)."""
+    return value if not est else f"<span class=nw>{value}{est}</span>"
+
+
+def _check_est(design, c) -> str:
+    """A check's value's distance to the next scene (safety factors, lost motion, clearance)."""
+    from ..scene_estimates import check_key
+
+    key = check_key(c.kind, c.name)
+    if c.kind in ("clearance", "backlash"):  # the 'smallest clearance' and 'backlash' rows' numbers, estimated there
+        return ""
+    return "" if key is None or c.value is None else _est(design, key, c.value)
+
+
 def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> str:
     """The first screen of the design report (an HTML fragment): name and description, the
     verdict with every check and its margin, the numbers to cut and the load numbers, each with
@@ -326,9 +378,8 @@ def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> 
     g = design.gearset
     v = design.verdict
     check_rows = "".join(
-        f"<tr><th>{html.escape(c.name)}</th><td>{html.escape(c.where)}</td><td class='num wrap'>{html.escape(c.value)}</td>"
-        f"<td>{html.escape(c.required)}</td>{_margin_cell(c)}<td>{_badge(c.passed)}</td></tr>"
-        for c in checks(design, interference_tol_mm))
+        f"<tr><th>{html.escape(c.name)}</th><td>{html.escape(c.where)}</td><td class='num wrap'>{_with_est(html.escape(c.value), _check_est(design, vc))}</td><td>{html.escape(c.required)}</td>{_margin_cell(c)}<td>{_badge(c.passed)}</td></tr>"
+        for c, vc in zip(checks(design, interference_tol_mm), v.checks))
     gear = (f"ratio {g.ratio:g}, deflection ω* = {g.wave_generator.deflection_coefficient:g}, "
             f"torques {g.torque.rated_nm:g} / {g.torque.peak_nm:g}"
             + ("" if g.torque.momentary_nm is None else f" / {g.torque.momentary_nm:g}")
@@ -342,8 +393,8 @@ def sheet_html(design, figure_html: str = "", *, interference_tol_mm: float) -> 
 <div class="verdict {_VERDICT_CLASS.get(v.status, 'bad')}">{_verdict_head(v)}</div>
 {'' if v.line == v.status else f'<p class="sub">{html.escape(v.line)}</p>'}
 <p class="sub">{gear}</p>
-<h2>Checks</h2>
-<table><thead><tr><th>check</th><th>at</th><th>value</th><th>required</th><th>margin</th><th></th></tr></thead>
+<h2>Checks{_next_scene_words(design)}</h2>
+<table class=checks><thead><tr><th>check</th><th>at</th><th>value</th><th>required</th><th>margin</th><th></th></tr></thead>
 {check_rows}</table>
 <h2>{'To cut' if getattr(design, 'face', None) is not None else 'Not the part to cut'} <span class="unit">(mm; CS frame: origin on the gear axis, y through the middle of the space)</span></h2>
 <table>{_geometry_rows(design)}</table>

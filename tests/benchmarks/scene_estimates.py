@@ -406,7 +406,7 @@ def docs_block(tab: dict) -> str:
              f"Measured at commit `{tab['commit'][:7]}` on {tab['date']}: {len(tab['sets'])} sets × 3 scenes, "
              f"{len(runs) - len(failed)} runs finished, {len(failed)} failed; "
              f"**{outside_count(tab)} numbers outside their estimate**. Wall time of the runs: {total / 60:.0f} min "
-             "on 2 processes of the shared 2-core machine (load 5–12); one run "
+             "on 2 processes of the shared 2-core machine (load average 5–19); one run "
              + ", ".join(f"{s} {min(w):.0f}–{max(w):.0f} s" for s, w in walls.items() if w) + ".", "",
              "| number | unit | kind | sketch → design: largest | sketch estimate | design → verify: largest | design estimate |",
              "|---|---|---|---|---|---|---|"]
@@ -445,7 +445,7 @@ def write_docs(tab: dict) -> None:
 
 
 CHART = ROOT / "docs" / "img" / "scene_estimates.png"
-KIND_LABEL = {"per_module": "× m", "relative": "× |value|", "absolute": ""}
+KIND_LABEL = {"per_module": "× m", "relative": "relative", "absolute": ""}
 
 
 def chart(tab: dict, path: Path = CHART) -> None:
@@ -461,7 +461,7 @@ def chart(tab: dict, path: Path = CHART) -> None:
     from profilegen import scene_estimates as se
 
     keys = list(se.NUMBERS)
-    fig, axes = plt.subplots(1, 2, figsize=(13, 11), sharey=True)
+    fig, axes = plt.subplots(1, 2, figsize=(14, 12), sharey=True)
     floor = 1e-7
     sizes = sorted({_size(n) for n in tab["sets"]})
     cmap = plt.get_cmap("viridis")
@@ -471,8 +471,8 @@ def chart(tab: dict, path: Path = CHART) -> None:
             y = len(keys) - 1 - i
             est = ests[key]
             if "not_estimated" in est:
-                why = est["not_estimated"].split(":")[0].split(" (")[0]
-                ax.text(floor * 1.5, y, "not estimated: " + why[:60], va="center", fontsize=7, color="#888")
+                why = est["not_estimated"].split(":")[0].split(" (")[0].replace(f"the {cheap} scene ", "")
+                ax.text(floor * 1.5, y, "not estimated: " + why[:55], va="center", fontsize=7, color="#888")
                 continue
             if est["value"] > floor:
                 ax.errorbar([est["value"] / 2], [y], xerr=[[est["value"] / 2 - floor], [est["value"] / 2]], fmt="none",
@@ -490,10 +490,10 @@ def chart(tab: dict, path: Path = CHART) -> None:
         ax.set_xlim(floor, 5.0)
         ax.set_title(f"|{cheap} − {dear}|, the {cheap} scene's estimate as a red bar", fontsize=10)
         ax.grid(axis="x", which="major", color="#ddd")
-        ax.set_xlabel("difference in the estimate's kind (mm × m, × |value|, or the number's unit); "
-                      f"{floor:g} = equal", fontsize=8)
+        ax.set_xlabel(f"|difference|: × m, relative, or in the unit named ({floor:g}: equal)", fontsize=8)
     axes[0].set_yticks(range(len(keys)))
-    axes[0].set_yticklabels([f"{se.NUMBERS[k][0]} ({KIND_LABEL[se.NUMBERS[k][2]] or se.NUMBERS[k][1] or '1'})"
+    axes[0].set_yticklabels([f"{se.NUMBERS[k][0].replace(' torque', '').replace('FS teeth across the face: largest', 'face')} "
+                             f"({KIND_LABEL[se.NUMBERS[k][2]] or se.NUMBERS[k][1] or '1'})"
                              for k in reversed(keys)], fontsize=7)
     handles = [plt.Line2D([], [], marker="o", ls="", color=cmap(i / max(1, len(sizes) - 1)), label=f"size {s}")
                for i, s in enumerate(sizes)]
