@@ -392,17 +392,18 @@ def _register(app, sessions: Sessions) -> None:
             out[4], out[5] = _progress_text(snap), snap.version
             design = snap.design
             if design is not None and design.profile is not None:
-                key = f"{snap.job}:{id(design)}:{id(s.pinned)}"
+                # the figures once per profile (the design that adds the contact and stresses keeps it)
+                key = f"{snap.job}:{id(design.profile)}:{id(s.pinned)}"
                 s.drawn(snap)
                 if force or key != drawn:
                     out[6] = key
                     pinned = s.pinned.design if s.pinned is not None else None
                     out[0] = views.space_figure(design, pinned=pinned, job=snap.job)
                     out[1] = views.error_figure(design, pinned=pinned)
-                    before = s.before if snap.done else s.shown
-                    if before is not None and before.job == snap.job:
-                        before = s.before
-                    out[3] = _numbers_children(snap, before, s.pinned)
+                before = s.before if snap.done else s.shown
+                if before is not None and before.job == snap.job:
+                    before = s.before
+                out[3] = _numbers_children(snap, before, s.pinned)
             out[2] = _verdict_children(snap, s.pinned)
             return out
         except PreventUpdate:
