@@ -206,10 +206,22 @@ def table(work: Path) -> dict:
                              "has": ("c" if a[key] is not None else "") + ("d" if b[key] is not None else "")}
             pair[key] = per
         diffs[f"{cheap}-{dear}"] = pair
+    outlines = {}  # the largest normal distance between two scenes' CS tooth-space outlines (scene_agreement.py's)
+    sys.path.insert(0, str(ROOT / "tests" / "benchmarks"))
+    from scene_agreement import outline_distance_mm
+
+    for name in sets:
+        spaces = {}
+        for scene in SCENES:
+            p = work / name / scene / "files" / "profile_fit.json"
+            if p.exists():
+                spaces[scene] = json.loads(p.read_text(encoding="utf-8"))["space"]
+        outlines[name] = {f"{a}-{b}": outline_distance_mm(spaces[a], spaces[b]) for a, b in PAIRS
+                          if a in spaces and b in spaces}
     walls = json.loads((work / "wall.json").read_text()) if (work / "wall.json").exists() else []
     out = {"commit": sha, "date": time.strftime("%Y-%m-%d", time.gmtime()), "sets": sets, "differences": diffs,
            "numbers": {k: list(v) for k, v in se.NUMBERS.items()}, "wall": walls,
-           "safety_factor": se.SAFETY_FACTOR}
+           "safety_factor": se.SAFETY_FACTOR, "outline_mm": outlines}
     out["estimates"] = derive(out)
     TABLE_JSON.write_text(json.dumps(out, indent=1, sort_keys=False) + "\n", encoding="utf-8")
     TABLE_MD.write_text(markdown(out), encoding="utf-8")
@@ -414,6 +426,19 @@ def docs_block(tab: dict) -> str:
         a = _est_cell(tab["estimates"]["sketch"][key], unit)
         b = _est_cell(tab["estimates"]["design"][key], unit)
         lines.append(f"| {label} | {unit or '—'} | {se.NUMBERS[key][2].replace('_', ' ')} | {a[0]} | {a[1]} | {b[0]} | {b[1]} |")
+    lines += ["", "The CS tooth-space outline as a whole (the largest normal distance between two scenes' outlines, "
+              "fillets included, `tests/benchmarks/scene_agreement.py`'s measure), against the diameters' estimate:", ""]
+    for a, b in PAIRS:
+        per = [(v[f"{a}-{b}"] / tab["sets"][n]["module_mm"], v[f"{a}-{b}"], n) for n, v in tab["outline_mm"].items()
+               if f"{a}-{b}" in v]
+        worst = max(per)
+        est = tab["estimates"][a]["cs_tip_diameter_mm"]
+        picks = [n for n in ("seed000_csf40", "csf32_120") if n in tab["outline_mm"]]
+        lines.append(f"- {a} → {b}: largest {worst[0]:.4f} × m ({worst[1] * 1e3:.3g} µm, {worst[2]}); "
+                     + ", ".join(f"{n} {tab['outline_mm'][n][f'{a}-{b}'] * 1e3:.3g} µm against the {a} scene's "
+                                 f"{est['value'] * tab['sets'][n]['module_mm'] * 1e3:.3g} µm tip-Ø estimate" for n in picks)
+                     + f"; every set within the {a} scene's CS tip Ø estimate ({est['value']:.2g} × m): "
+                     + ("yes" if all(x <= est["value"] for x, _, _ in per) else "NO"))
     lines += ["", "Why a number is not estimated:", ""]
     for cheap in ("sketch", "design"):
         reasons = {}
