@@ -166,7 +166,7 @@ def worst_chord(chord_tol_mm: float) -> float:
     chord ``RETRACE_FACTOR`` finer, up to ``RETRACES`` times, so chord / 4² = chord / 16 (4× the
     points, points ∝ chord^-1/2). The envelope and the CS outline are estimated there: the retrace
     is rare, but a run the check passed must not then take the machine when it happens."""
-    from .pipeline import RETRACE_FACTOR, RETRACES
+    from .gearform import RETRACE_FACTOR, RETRACES
 
     return chord_tol_mm / RETRACE_FACTOR**RETRACES
 

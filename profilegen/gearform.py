@@ -233,6 +233,10 @@ class UnresolvedBoundaryError(EnvelopeError):
     grazing crossing between two grid lines). A finer chord resolves it: the pipeline retraces
     the envelope itself (:func:`profilegen.pipeline.traced_form`) before this reaches a user."""
 
+#: On an :class:`UnresolvedBoundaryError` the pipeline traces again at a chord ``RETRACE_FACTOR``
+#: finer, up to ``RETRACES`` times (the memory preflight budgets for the finest of those traces).
+RETRACES, RETRACE_FACTOR = 2, 4.0
+
 
 def _unresolved(envelope, tip_r: float, r_mid: float) -> list[str]:
     """What the envelope's unresolved stretches (``diagnostics["unresolved"]``) mean for the CS.

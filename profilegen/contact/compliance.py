@@ -158,6 +158,7 @@ from .. import checks
 from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
+from ..wgbearing import DEFAULT_BALL_COUNT, default_race_thickness_mm  # noqa: F401 (re-exported)
 from .inputs import ContactInput
 from .solvers import lemke_lcp
 
@@ -167,8 +168,6 @@ __all__ = ["ComplianceError", "ComplianceMesh", "ContactCompliance", "DEFAULT_BA
 
 log = logging.getLogger(__name__)
 
-#: Balls of the wave generator's flexible bearing: 23 in seed 000's CSF40-100 (§5.2).
-DEFAULT_BALL_COUNT = 23
 
 
 class ComplianceError(ProfilegenError, ValueError):
@@ -1292,15 +1291,6 @@ def _support_flex(flex_bb, act, ball_compliance, face_width_mm) -> np.ndarray:
     if ball_compliance is None:
         return block
     return block + np.diag(np.asarray(ball_compliance, dtype=float)[act] * face_width_mm)
-
-
-def default_race_thickness_mm(gear) -> float:
-    """ESTIMATE of the wave-generator bearing's outer-race thickness: 2.5 % of the FS pitch
-    diameter (2.5 mm for the default set). The gear set gives no bearing; a flexible
-    (thin-section) bearing of a size-40 wave generator has a radial section of ~10–13 mm
-    and balls of ~7–8 mm, which leaves ~2–3 mm of ring on either side of the ball row
-    (less under the raceway groove, more at the shoulders)."""
-    return 0.025 * 2.0 * float(gear.pitch_radius_mm)
 
 
 def _race_thickness(value, gear) -> float:
