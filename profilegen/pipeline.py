@@ -20,7 +20,7 @@ import numpy as np
 from .blas import one_blas_thread
 from .envelope import Envelope, envelope_of
 from .errors import ConvergenceError, GearSetError, ProfilegenError
-from .gearform import CircularSplineForm, circular_spline_form, clearance_map
+from .gearform import RETRACE_FACTOR, RETRACES, CircularSplineForm, circular_spline_form, clearance_map
 from .gearset import FIT_METHODS, GearSet
 from .contour import Chain, Line
 from .kinematics import HarmonicDriveMotion
@@ -650,11 +650,6 @@ def _checkpoint() -> None:
     run = STAGE_CACHE.get()
     if run is not None:
         run.checkpoint()
-
-
-#: how many times, and by how much finer each time, the envelope is retraced when the swept
-#: boundary has an unresolved stretch above the CS tip circle (see :func:`traced_form`)
-RETRACES, RETRACE_FACTOR = 2, 4.0
 
 
 def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Scene,
