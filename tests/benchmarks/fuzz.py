@@ -30,8 +30,8 @@ folder run through the ``profilegen`` command in a subprocess under a 4 GB addre
 (RLIMIT_AS) and a per-example timeout: ``profilegen.cli.main`` in a child forked from a worker that
 has imported the package once (``--cli-exec``: ``python -m profilegen`` started for each).
 Run it from a copy of a commit (``git archive HEAD | tar -x -C DIR``, then ``cd DIR``): the
-script imports the package of the tree it sits in, not others' uncommitted work. Five kinds of example: ``check`` and ``design`` of a drawn
-gear set (the strategy above; design in the sketch scene), ``scene`` (a bundled set designed in a
+script imports the package of the tree it sits in, not others' uncommitted work. Five kinds of
+example: ``check`` and ``design`` of a drawn gear set (the strategy above; design in the sketch scene), ``scene`` (a bundled set designed in a
 scene file: the sketch scene with its keys redrawn, inside and beyond their documented ranges),
 ``sweep`` (a spec of 1–2 grid points or a 1–2 point sample over the fields below, the sketch
 scene) and ``optimize`` (population 4, 1 generation (one in four 2), no confirm scene); two specs in three are
@@ -546,7 +546,8 @@ def cli_table(rows, failures) -> None:
     for text, n in unnamed.most_common(12):
         print(f"  {n:>5}  {text}")
     print(f"\nanything else: {len(failures)}" + "".join(
-        f"\n  {f['outcome']} {f['kind']} ({f['path']}): {f['error'].strip().splitlines()[-1][:200] if f['error'].strip() else ''}"
+        f"\n  {f['outcome']} {f['kind']} ({f['path']}): "
+        f"{f['error'].strip().splitlines()[-1][:200] if f['error'].strip() else ''}"
         for f in failures[:20]))
 
 
@@ -635,7 +636,8 @@ def main() -> int:
                     help="the command-line fuzz: gear sets, scenes, sweep and optimize specs through profilegen")
     ap.add_argument("--replay-cli", type=Path, help="run one command-line failure file again")
     ap.add_argument("--cli-exec", action="store_true",
-                    help="with --cli: start `python -m profilegen` for each example (default: fork main from a preloaded worker)")
+                    help="with --cli: start `python -m profilegen` for each example "
+                         "(default: fork main from a preloaded worker)")
     ap.add_argument("--cli-summary", type=Path, metavar="OUT", help="the table of a command-line run's rows in OUT")
     args = ap.parse_args()
     if args.cli_summary:
