@@ -72,10 +72,10 @@ def evaluate_design(values: Mapping[str, Any], context) -> dict[str, float | Non
     """The :data:`DESIGN_OUTPUTS` of the base gear set with ``values`` (field path → value),
     designed in the scene: ``context = (gearset, scene)``. A value the gear set refuses
     raises its :class:`~profilegen.errors.GearSetError`, a stage that fails its own error."""
-    from ..pipeline import design
+    from ..engine import cached_design  # this process's stage cache: a nearby candidate's stages are reused
 
     gearset, scene = context
-    result = design(gearset.with_values(dict(values)), scene=scene)
+    result = cached_design(gearset.with_values(dict(values)), scene=scene)
     out = outputs_of(result)
     row = {c: out.get(c) for c in DESIGN_OUTPUTS if c in out}
     row.update({c: out.get(c) for c in VERDICT_COLUMNS})  # the design's own verdict (text)
