@@ -1,6 +1,6 @@
 """design(gearset, scene) → Design: every stage, its tier, time and error estimate.
 
-Scenes pick a fidelity tier per stage (DESIGN.md, "Scenes"): the rim tier (ring theory,
+Scenes pick a fidelity tier per stage (docs/reference/scenes.md): the rim tier (ring theory,
 nonlinear flat-ring FEM, toothed-rim FEM; :mod:`profilegen.rim.stage`) and its Fourier
 fit, the envelope's chord tolerance and grids, the number of FS poses the fitted profile is
 checked against.
@@ -756,7 +756,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     if face_report is not None:
         stages.append(face_report)
         warnings += list(face.warnings)
-    else:  # no face stage: the design section and the FS modification are not decided (issue 28)
+    else:  # no face stage: the design section and the FS modification are not decided
         from .face.coning import UNDECIDED
 
         warnings.append(UNDECIDED)

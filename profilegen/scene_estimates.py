@@ -1,4 +1,4 @@
-"""How far each scene's design-sheet numbers may be from the next scene's (issue 28 item 2).
+"""How far each scene's design-sheet numbers may be from the next scene's.
 
 The scenes run the same gear with less or more effort: ``sketch`` → ``design`` → ``verify``. For
 every number of the design sheet (the CS tip and root diameters, the flank's R1 / line / R2 and

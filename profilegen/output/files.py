@@ -329,7 +329,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
 
 
 def _whole_gear(result: Design) -> dict:
-    """contact.json's whole-gear parts (issue 16): the torsional curve, when the run made one."""
+    """contact.json's whole-gear parts: the torsional curve, when the run made one."""
     out = {}
     torsional = getattr(result, "torsional", None)
     ratchet = getattr(result, "ratcheting", None)

@@ -1,6 +1,6 @@
 """The rim stage: ``solve_rim(gearset, tier=...) -> RimDeformation`` (ω, υ samples + fits).
 
-Tiers (DESIGN.md "Scenes"; numbers from ``python tests/benchmarks/rim.py``):
+Tiers (docs/reference/scenes.md; numbers from ``python tests/benchmarks/rim.py``):
 
 ========  ===========================================================  ==========================
 tier      rim model                                                    fit

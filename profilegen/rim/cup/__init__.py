@@ -1,4 +1,4 @@
-"""The 3D cup tier of the rim stage (issue 15): the flexspline cup — wall, tooth ring as an
+"""The 3D cup tier of the rim stage: the flexspline cup — wall, tooth ring as an
 equivalent band of the rim thickness, bottom (diaphragm) clamped on its boss — as a body of
 revolution.
 

@@ -24,7 +24,7 @@ symmetry planes):
   turned into a cone; n = 1: 0, the rigid tilt), I_z = t B³/12, J = B t³/3 (1 − 0.63 t/B);
   ``tilt="held"`` (axial displacement held): k_n = (E I_z + G J n²)/R², an upper bound;
   ``tilt="free"``: k_n = 10⁻⁸ × the ring's, the bound of a race free to tilt (as a 2 mm band
-  free to tilt in the independent check of issue 28);
+  free to tilt in an independent check);
 * a point force F at φ_j (the total of its four symmetric copies, as the cup's collocation
   counts it) is the line load q_n = F cos nφ_j/(πR) (n ≥ 2), q_0 = F/(2πR); a moment likewise.
 
@@ -207,7 +207,7 @@ class BearingRace:
 #: the race the rim stage's cup tier puts under the bore: ``"ring"`` (:meth:`BearingRace.from_gearset`
 #: with its defaults: tilt with the ring's stiffness, bent onto Hertz balls — the physics), ``"held"``
 #: (the tilt's upper bound), ``"free"`` (its lower bound) or ``"rigid"`` (no race: the bore pressed
-#: onto the contour over the bearing width, the model before issue 28). Still ``"rigid"``: with
+#: onto the contour over the bearing width, the model before the race). Still ``"rigid"``: with
 #: ``"ring"`` the face ends move 37–119 µm (the cup takes its own cone about the ball row) and the
 #: face stage finds no CS/taper/crowning that clears 4 of the 5 bundled sets across the face (35–56 µm
 #: left in the verify scene; docs/theory/cup.md, "The wave-generator bearing"). The face stage has to

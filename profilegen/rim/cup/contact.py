@@ -1,6 +1,6 @@
 """The cup pressed onto the wave-generator contour over the bearing's width: frictionless
 unilateral contact by collocation in φ with the harmonic solves as the
-compliance operator (DESIGN.md, "Notes for the 3D cup": each solve stays 2D).
+compliance operator (docs/theory/cup.md: each solve stays 2D).
 
 Unknowns: the radial force μ_ij ≥ 0 (N) of the cam on bore node i of the bearing band
 (z_i) at collocation angle φ_j = j·(π/2)/(J − 1), j = 0..J − 1 — each the total of its

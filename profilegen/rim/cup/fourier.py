@@ -21,7 +21,7 @@ Load (this first step): the bore r = r_m − t/2 is given the radial displacemen
 Σ w_n cos nφ over the bearing's width, frictionless (u_z, u_φ free there) — a prescribed
 shape, as ring theory's bilateral cam; the boss r = r0 is clamped. A contour's w(φ) is its
 polar radius minus the bore radius, expanded in cos nφ (:func:`bore_load`): the
-first-order contact statement (DESIGN.md trap 7: the O(w0²/R) terms of the contact
+first-order contact statement (docs/theory/rim.md: the O(w0²/R) terms of the contact
 geometry and the unilateral wrap are the next step).
 
 Results are read on the neutral surface r = r_m of the wall (a node line of every mesh:

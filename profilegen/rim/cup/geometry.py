@@ -1,7 +1,7 @@
 """The cup flexspline as a body of revolution: its validated geometry and its meridional mesh.
 
 Coordinates (mm): r the radius, z the axis, z = 0 the mid-plane of the cup bottom, z growing
-toward the open end; φ from the wave-generator major axis (DESIGN.md). The meridional
+toward the open end; φ from the wave-generator major axis (docs/reference/conventions.md). The meridional
 section (r, z) is an L:
 
 * the bottom (diaphragm) r0 ≤ r ≤ r_bore + t_w, −t_b/2 ≤ z ≤ t_b/2, clamped on the boss at r = r0;
