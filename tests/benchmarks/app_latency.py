@@ -116,6 +116,9 @@ def main() -> None:
                     "cli_over_drawn": statistics.median(cli) / statistics.median(drawn)}
         finally:
             driver.quit()
+    import os
+
+    print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs (medians of -n {args.n})")
     for name, r in rows.items():
         print(f"{name}: drawn {r['drawn_s']:.3f} s, compute {r['compute_s']:.3f} s, cold CLI {r['cold_cli_s']:.2f} s "
               f"({r['cli_over_drawn']:.1f}x the drawn change); app cold start to first render {r['first_render_s']:.2f} s")
