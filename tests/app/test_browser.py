@@ -208,6 +208,22 @@ def test_a_field_change_redraws_the_profile_and_a_torque_change_fails_the_verdic
     _no_console_errors(browser)
 
 
+def test_a_slider_step_redesigns_and_writes_its_value_into_the_box(browser, app):
+    from selenium.webdriver.common.keys import Keys
+
+    first = _open(browser, app)
+    path = "wave_generator.deflection_coefficient"
+    before = float(_field(browser, path).get_attribute("value"))
+    handle = _by_id(browser, "slider", path).find_element("css selector", "[role=slider]")
+    browser.execute_script("arguments[0].scrollIntoView({block: 'center'})", handle)
+    handle.send_keys(Keys.ARROW_RIGHT)  # one step of the slider, as a drag released there
+    after = _settled(browser, after_job=first["job"])
+    now = float(handle.get_attribute("aria-valuenow"))
+    assert now > before and float(_field(browser, path).get_attribute("value")) == now
+    assert after["space"] != first["space"]
+    _no_console_errors(browser)
+
+
 def test_a_bad_value_shows_the_readers_line_under_its_field(browser, app):
     first = _open(browser, app)
     _type(browser, "gear.module_mm", "-0.5")
