@@ -116,19 +116,27 @@ def test_a_newer_request_supersedes_the_running_one_and_queued_ones(gearset):
 
 
 def test_a_stale_result_is_never_published(gearset):
-    """A computation that ignores the cancellation still finishes; its result is dropped."""
-    release, started = threading.Event(), threading.Event()
+    """A computation that ignores the cancellation still finishes; its result is dropped: while the
+    newer request runs, the tab sees no design at all (not the stale one)."""
+    gates = [threading.Event(), threading.Event()]
+    started = [threading.Event(), threading.Event()]
+    calls = []
 
     def stubborn(gs, scene, *, progress, on_profile, on_stage):
-        started.set()
-        release.wait(10)
+        i = len(calls)
+        calls.append(i)
+        started[i].set()
+        assert gates[i].wait(10)
         return _Fake(gs.wave_generator.deflection_coefficient)
 
     c = Computer(stubborn)
     c.submit(gearset, "sketch")
-    assert started.wait(10)
+    assert started[0].wait(10)
     two = c.submit(gearset.with_values({"wave_generator.deflection_coefficient": 1.1}), "sketch")
-    release.set()
+    gates[0].set()  # the stale one finishes ...
+    assert started[1].wait(10)  # ... and the newer one starts after it
+    assert c.latest().job == two and c.latest().design is None and c.final is None
+    gates[1].set()
     snap = c.wait(two, profile=False, timeout=10)
     assert snap.design.key == 1.1
     assert c.final.job == two and c.final.design.key == 1.1
