@@ -33,16 +33,6 @@ KNOWN_EXCEPTIONS: dict[tuple[str, str, str], str] = {
         "profilegen/app (another engineer's, in progress this session)",
     ("profilegen.app.schema", "profilegen.gearset.reader", "_REQUIRED"):
         "profilegen/app (another engineer's, in progress this session)",
-    ("profilegen.rim.cup.contact", "profilegen.rim.cup.fourier", "_resultants"):
-        "profilegen/rim/cup (the wave-generator bearing's folder, being edited by another engineer this session)",
-    ("profilegen.rim.cup.contact", "profilegen.rim.cup.fourier", "_factor"):
-        "profilegen/rim/cup (being edited by another engineer this session)",
-    ("profilegen.rim.cup.contact", "profilegen.rim.cup.fourier", "_load"):
-        "profilegen/rim/cup (being edited by another engineer this session)",
-    ("profilegen.rim.cup.fourier", "profilegen.rim.ring", "_Factor"):
-        "profilegen/rim/cup (being edited by another engineer this session)",
-    ("profilegen.rim.cup.solid3d", "profilegen.rim.cup.fourier", "_load"):
-        "profilegen/rim/cup (being edited by another engineer this session)",
 }
 
 

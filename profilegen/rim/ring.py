@@ -294,7 +294,7 @@ def _mesh(params: RingParameters, layers: int, divisions: int):
 GEOMETRIES = ("linear", "nonlinear")
 
 
-class _Factor:
+class StiffnessFactor:
     """Factorisation of a symmetric stiffness matrix for many right-hand sides.
 
     Ordered around the ring (``order``; reverse Cuthill–McKee if not given) a ring's matrix
@@ -426,7 +426,7 @@ class _LazyCompliance:
     pivoting step tries (~80–150 of the toothed rim's 1228 kept nodes) — so condensing every
     kept node (2456 right-hand sides of a 28818-row band, two factors per mesh) was most of
     the verify tier's rim time. The columns are the same solves as the up-front condensation's
-    (one BLAS thread; :meth:`_Factor.solve_many`, or the banded solve for a few), unsymmetrised (G_ij and G_ji agree to
+    (one BLAS thread; :meth:`StiffnessFactor.solve_many`, or the banded solve for a few), unsymmetrised (G_ij and G_ji agree to
     rounding). ``dense(n_k)`` solves every missing column of the first ``n_k`` nodes (the NNLS
     fallback) and returns the up-front condensation's array, kept block symmetrised."""
 
@@ -824,7 +824,7 @@ def solve_ring(
     # thread for the default toothed rim (28818 dof, band 81) on a busy 2-core machine, and 5.7 s
     # CPU for the 2 × 32 flat ring of the verify tier's wrap pass at load 10 (0.18 s on one thread)
     with one_blas_thread():
-        lu = _Factor(stiffness[free][:, free], order=band_order)
+        lu = StiffnessFactor(stiffness[free][:, free], order=band_order)
 
     bore = np.flatnonzero(np.abs(r - params.bore_radius_mm) < tol_r)
     bore = bore[np.argsort(th[bore])]
@@ -910,7 +910,7 @@ def solve_ring(
                     refreshes += 1
                     tangent, _ = body(u)
                     try:
-                        factor = _Factor(tangent[free][:, free], order=band_order)
+                        factor = StiffnessFactor(tangent[free][:, free], order=band_order)
                     except RuntimeError as exc:  # splu: "Factor is exactly singular"
                         raise ConvergenceError(f"solve_ring (nonlinear): singular tangent at Newton iteration {newton}") from exc
                     compliance = (_LazyCompliance(factor, n_b, where[bore_dofs], rows_free, cols_free, free.size)

@@ -60,7 +60,7 @@ from ... import checks
 from ...errors import ConvergenceError
 from ...results import readonly
 from .bearing import BearingRace
-from .fourier import CupDeformation, HarmonicBasis, _resultants, bore_load, harmonic_stiffness
+from .fourier import CupDeformation, HarmonicBasis, harmonic_resultants, bore_load, harmonic_stiffness
 from .geometry import CupError, CupGeometry, meridional_mesh
 
 __all__ = ["GAPS", "CupContact", "DisplacedHalves", "press_cup"]
@@ -208,7 +208,7 @@ def press_cup(
     from scipy.optimize import nnls
 
     from ...blas import one_blas_thread
-    from .fourier import _factor
+    from .fourier import factor_stiffness
 
     start = time.perf_counter()
     if isinstance(geometry_or_gearset, CupGeometry):
@@ -239,9 +239,9 @@ def press_cup(
         if gap == "exact":
             raise CupError("gap = 'exact': needs a contour (its normal and distance); a radial_mm bore shape has "
                            "only the first-order gap")
-        from .fourier import _load
+        from .fourier import radial_load
 
-        load = _load(radial_mm)
+        load = radial_load(radial_mm)
         if any(n % 2 for n in load):
             raise CupError("radial_mm: odd harmonics break the two symmetry planes the contact uses")
         phi = 0.5 * math.pi * np.arange(angles) / (angles - 1)
@@ -285,7 +285,7 @@ def press_cup(
     for n in orders:
         stiff = hb.stiffness(int(n))
         try:
-            factor = _factor(stiff[free][:, free])
+            factor = factor_stiffness(stiff[free][:, free])
             cols = factor.solve(rhs)
         except RuntimeError as exc:
             raise ConvergenceError(f"press_cup: the harmonic n = {n} stiffness is singular ({exc})") from exc
@@ -516,8 +516,8 @@ def press_cup(
     internal = body.force(x) if nonlinear else None
     for k, n in enumerate(orders):
         reaction = internal[k] if nonlinear else hb.stiffness(int(n)) @ x[k]
-        boss_res.append(_resultants(int(n), reaction, (iu, iw, iv), r, z, boss))
-        bore_res.append(_resultants(int(n), reaction, (iu, iw, iv), r, z, band))
+        boss_res.append(harmonic_resultants(int(n), reaction, (iu, iw, iv), r, z, boss))
+        bore_res.append(harmonic_resultants(int(n), reaction, (iu, iw, iv), r, z, band))
     elapsed = time.perf_counter() - start
     notes = ["unilateral contact by collocation, " + ("exact gap (the contour's distance along its normal)"
                                                         if exact else "first-order (radial) gap")]

@@ -176,7 +176,7 @@ def bore_load(contour, bore_radius_mm: float, *, max_order: int = 32, samples: i
     return {k: float(coef[k]) for k in range(max_order + 1) if abs(coef[k]) > 1e-13}
 
 
-def _load(radial_mm) -> dict[int, float]:
+def radial_load(radial_mm) -> dict[int, float]:
     if not isinstance(radial_mm, Mapping) or not radial_mm:
         raise CupError(f"radial_mm must be a non-empty mapping harmonic order → mm, got {radial_mm!r}")
     out: dict[int, float] = {}
@@ -217,7 +217,7 @@ class CupDeformation:
     mid-edge nodes). ``radial_mm``, ``axial_mm``, ``tangential_mm``: (harmonics, z) the
     coefficients U_n, W_n (of cos nφ) and V_n (of sin nφ) there. ``bore_radial_mm``: U_n on the
     bore line (the same z). ``boss_reaction`` / ``bore_reaction``: per harmonic, the resultants
-    of the reactions at the clamped boss and at the loaded bore (:func:`_resultants`): n = 0 the
+    of the reactions at the clamped boss and at the loaded bore (:func:`harmonic_resultants`): n = 0 the
     axial force F_z (N) and the torque M_z (N·mm); n = 1 the force along φ = 0, F_x (N), and
     the moment about the axis φ = π/2 through z = 0, M_y (N·mm); none for n ≥ 2 (a cos nφ
     distribution has no resultant).
@@ -321,7 +321,7 @@ class CupDeformation:
         })
 
 
-def _resultants(n: int, reaction: np.ndarray, dofs, r: np.ndarray, z: np.ndarray, nodes: np.ndarray) -> tuple:
+def harmonic_resultants(n: int, reaction: np.ndarray, dofs, r: np.ndarray, z: np.ndarray, nodes: np.ndarray) -> tuple:
     """Force and moment resultants of generalised harmonic-n nodal reactions on ``nodes``
     (the virtual work of the reactions on the rigid-body modes of harmonic n)."""
     iu, iw, iv = dofs
@@ -337,16 +337,16 @@ def _resultants(n: int, reaction: np.ndarray, dofs, r: np.ndarray, z: np.ndarray
 # --------------------------------------------------------------------------- the solve
 
 
-def _factor(matrix):
+def factor_stiffness(matrix):
     """A factorisation of a harmonic's stiffness (symmetric positive definite once the boss is
     clamped): the rim stage's banded Cholesky after reverse Cuthill–McKee (a meridional mesh is
     a long strip, bandwidth ~ 3 × the nodes across it), SuperLU with COLAMD if it is not
     positive definite. One thread: the solves are small and the machine is shared."""
     from ...blas import one_blas_thread
-    from ..ring import _Factor
+    from ..ring import StiffnessFactor
 
     with one_blas_thread(True):
-        return _Factor(matrix)
+        return StiffnessFactor(matrix)
 
 
 def solve_cup(
@@ -385,7 +385,7 @@ def solve_cup(
             contour = from_gearset(gearset)
         load = bore_load(contour, geometry.bore_radius_mm, max_order=max_order)
     else:
-        load = _load(radial_mm)
+        load = radial_load(radial_mm)
     if harmonic_basis is None:
         harmonic_basis = harmonic_stiffness(meridional_mesh(geometry, element_mm=element_mm, layers=layers,
                                                             bottom_layers=bottom_layers))
@@ -425,7 +425,7 @@ def solve_cup(
         kff = stiff[free][:, free].tocsc()
         rhs = -(stiff[free][:, pressed] @ x[pressed])
         try:
-            x[free] = _factor(kff).solve(rhs)
+            x[free] = factor_stiffness(kff).solve(rhs)
         except RuntimeError as exc:  # "Factor is exactly singular"
             raise ConvergenceError(f"solve_cup: the harmonic n = {n} stiffness is singular ({exc})") from exc
         if not np.all(np.isfinite(x)):
@@ -433,8 +433,8 @@ def solve_cup(
         reaction = stiff @ x
         radial[k], axial[k], tangential[k] = x[iu[line]], x[iw[line]], x[iv[line]]
         bore_radial[k] = x[iu[bore_line]]
-        boss_res.append(_resultants(int(n), reaction, (iu, iw, iv), r, z, boss))
-        bore_res.append(_resultants(int(n), reaction, (iu, iw, iv), r, z, bore))
+        boss_res.append(harmonic_resultants(int(n), reaction, (iu, iw, iv), r, z, boss))
+        bore_res.append(harmonic_resultants(int(n), reaction, (iu, iw, iv), r, z, bore))
     t_solve = time.perf_counter() - t_solve
     elapsed = time.perf_counter() - start
     log.debug("cup (Fourier): %d harmonics × %d dof, assembly %.3g s, solves %.3g s", orders.size, hb.dof,

@@ -29,7 +29,7 @@ import scipy.sparse as sp
 from ... import checks
 from ...errors import ConvergenceError
 from ...results import readonly
-from .fourier import _load, lame
+from .fourier import radial_load, lame
 from .geometry import CupError, CupGeometry, CupMesh, meridional_mesh
 
 __all__ = ["SolidCup", "solve_solid_cup"]
@@ -100,7 +100,7 @@ def solve_solid_cup(
     start = time.perf_counter()
     if not isinstance(geometry, CupGeometry):
         raise CupError(f"geometry: must be a CupGeometry, got {type(geometry).__name__}")
-    load = _load(radial_mm)
+    load = radial_load(radial_mm)
     odd = [n for n in load if n % 2]
     if odd:
         raise CupError(f"radial_mm order {odd[0]}: the quarter model takes even harmonics only (two symmetry planes)")
