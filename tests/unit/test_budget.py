@@ -68,3 +68,20 @@ def test_the_advised_chord_fits_with_the_retrace_and_a_finer_one_does_not(gs):
     # chord only) is refused: the estimate is at the retrace's chord
     with pytest.raises(budget.BudgetError):
         budget.check_budget(gs, dataclasses.replace(scene, chord_tol_mm=advised / 16.0), budget=limit)
+
+
+def test_the_grid_advice_divides_by_the_other_key(gs):
+    # n_t × n_phi cells at 48 bytes each: with n_t kept, n_phi ≤ budget / 48 / n_t, and the other way
+    # round (an unequal grid, so the two advices differ)
+    limit = 0.5 * 2**30
+    scene = dataclasses.replace(SCENES["sketch"], n_t=100_000, n_phi=241)
+    with pytest.raises(budget.BudgetError) as err:
+        budget.check_budget(gs, scene, budget=limit)
+    cells = limit / 48.0
+    n_phi, n_t = int(cells // 100_000), int(cells // 241)
+    assert f"lower n_phi to at most {n_phi} (with n_t = 100000), or n_t to at most {n_t} (with n_phi = 241)" \
+        in str(err.value)
+    budget.check_budget(gs, dataclasses.replace(scene, n_phi=n_phi), budget=limit)
+    budget.check_budget(gs, dataclasses.replace(scene, n_t=n_t), budget=limit)
+    with pytest.raises(budget.BudgetError):
+        budget.check_budget(gs, dataclasses.replace(scene, n_t=n_t + 1), budget=limit)
