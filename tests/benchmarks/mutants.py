@@ -102,6 +102,64 @@ They landed (tests/unit/test_output_owner.py: the parent fsync counted after the
 line with a wrong CRC recomputed, the second rename made to fail): at ba6e318 (2026-11-28), with
 test_output_owner.py added to those four mutants' covering tests, ``--only`` the four: caught 4 of
 4. With the 51 of the full run above: 55 of 55 caught (100 %), 0 stale.
+
+RESULTS with the modules added since (2026-11-28 13:04-14:10 UTC, load 14-21): 40 mutants more —
+profilegen new (catalogue_set.py), the [requirements] fields, the verdict (pipeline.py's _judge,
+Verdict.status, _ratcheting_check), the design scene's rim (face/coning.py rim_tier_for), the
+output folder's owner rule, the memory check (budget.py), user paths (userpaths.py) and the face
+stage's warnings. ``python tests/benchmarks/mutants.py --timeout 900`` at 2d3156e: caught 87 of 95
+(91.6 %), missed 8, stale 0; the 55 above all caught again. The 8 escapes, none equivalent, each
+got a test and was caught by it (``--only`` at 0fc1713 / 3049769-: 5 of 5, 1 of 1, 3 of 3), so 95 of
+95:
+
+    mutant                             file                       result
+    new-pitch-diameter-rule            catalogue_set.py           caught
+    new-momentary-ratio                catalogue_set.py           caught
+    new-rim-rule                       catalogue_set.py           caught
+    new-wire-gap-boundary              catalogue_set.py           MISSED -> test_catalogue_set_rules.py
+    new-csg-factor-ignored             catalogue_set.py           caught
+    new-ratio-range-endpoint           catalogue_set.py           MISSED -> test_catalogue_set_rules.py
+    require-safety-range-open          gearset/requirements.py    caught
+    require-fatigue-group              gearset/requirements.py    caught
+    verdict-judge-boundary             pipeline.py                MISSED -> test_verdict_rules.py
+    verdict-judge-max-sense            pipeline.py                MISSED -> test_verdict_rules.py
+    verdict-ratcheting-no-ratio        pipeline.py                caught
+    verdict-ratcheting-end-of-path     pipeline.py                caught
+    verdict-face-unmodified-depth      pipeline.py                MISSED -> test_verdict_rules.py
+    verdict-never-incomplete           pipeline.py                caught
+    verdict-momentary-fallback         pipeline.py                caught
+    coning-any-waves                   face/coning.py             caught
+    coning-ring-fem-label              face/coning.py             caught
+    coning-design-cup-mesh             face/coning.py             caught
+    folder-marker-listing-unchecked    output/folder.py           caught
+    folder-marker-lists-anything       output/folder.py           caught
+    folder-link-is-regular             output/folder.py           caught
+    folder-lock-follows-link           output/folder.py           caught (timeout: 900 s, a hang)
+    budget-retrace-ignored             budget.py                  caught
+    budget-whole-memory                budget.py                  caught
+    budget-grid-advice-swapped         budget.py                  MISSED -> test_budget.py (unequal grid)
+    budget-mebibyte                    budget.py                  caught
+    budget-outline-one-tooth           budget.py                  caught
+    userpaths-no-staging-room          userpaths.py               MISSED -> test_userpaths.py
+    userpaths-relative-length          userpaths.py               MISSED -> test_userpaths.py
+    userpaths-echoes-problems          userpaths.py               caught
+    face-no-free-section-warning       face/stage.py              caught
+    face-one-cs-warning                face/stage.py              caught
+    face-one-cs-warning-always         face/stage.py              caught
+    face-no-thickness-field-warning    face/stage.py              caught
+    modification-still-interferes-warning face/modification.py   caught
+    modification-lp-failed-warning     face/modification.py       caught
+    modification-still-interfering-warning face/modification.py   caught
+    modification-search-found-warning  face/modification.py       caught
+    face-curve-overlap-warning         contact/face_curve.py      caught
+    face-curve-overlap-threshold       contact/face_curve.py      caught
+
+The escapes were boundaries no test stood on (the 0.1 mm wire's gap, ratio 30, a value exactly at
+its requirement, a maximum checked as a minimum), a face check fed only designs whose modified and
+unmodified depths agree, an advice tested only on a square grid, and the output path's limits
+tested only far beyond them. folder-lock-follows-link is caught only by the timeout: with the lock
+opened through the planted link the owner test blocks instead of failing (a hang the suite would
+notice, slowly).
 """
 
 from __future__ import annotations
@@ -336,6 +394,146 @@ MUTANTS: tuple[Mutant, ...] = (
            "self.close(error=kind is not None)", "self.close(error=False)",
            (U + "test_report_speed.py::test_an_interrupted_block_ends_its_workers",),
            "an interrupted block waits for its running figures (the test asserted < 30 s before; now the end marks)"),
+    # ------------------------------------------------------------------ profilegen new (catalogue_set.py)
+    Mutant("new-pitch-diameter-rule", "profilegen/catalogue_set.py",
+           "PITCH_DIAMETER_PER_SIZE_MM = 2.54", "PITCH_DIAMETER_PER_SIZE_MM = 2.4",
+           (U + "test_catalogue_set.py",), "a unit constant: the size in tenths of an inch (2.54 mm) read as 2.4 mm"),
+    Mutant("new-momentary-ratio", "profilegen/catalogue_set.py",
+           "MOMENTARY_PER_RATED = 304.0 / 67.0", "MOMENTARY_PER_RATED = 304.0 / 76.0",
+           (U + "test_catalogue_set.py",), "a catalogue cell transcribed with its digits swapped (67 -> 76)"),
+    Mutant("new-rim-rule", "profilegen/catalogue_set.py",
+           "(1.0 + RIM_PER_NEUTRAL_RADIUS / 2.0)", "(1.0 + RIM_PER_NEUTRAL_RADIUS)",
+           (U + "test_catalogue_set.py",), "the rim solved from r_m = d/2 - dedendum - delta (not delta/2)"),
+    Mutant("new-wire-gap-boundary", "profilegen/catalogue_set.py",
+           "gap = 0.02 if diameter >= 0.1 else 0.01", "gap = 0.02 if diameter > 0.1 else 0.01",
+           (U + "test_catalogue_set.py", U + "test_catalogue_set_rules.py"), "the 0.1 mm wire's spark gap on the wrong side of the boundary"),
+    Mutant("new-csg-factor-ignored", "profilegen/catalogue_set.py",
+           'factor = CSG_TORQUE_FACTOR if series == "csg" else 1.0', "factor = 1.0",
+           (U + "test_catalogue_set.py",), "the CSG's 30 % torque increase left out"),
+    Mutant("new-ratio-range-endpoint", "profilegen/catalogue_set.py",
+           "if not RATIO_RANGE[0] <= ratio <= RATIO_RANGE[1]:", "if not RATIO_RANGE[0] < ratio <= RATIO_RANGE[1]:",
+           (U + "test_catalogue_set.py", U + "test_catalogue_set_rules.py"), "ratio 30, the range's lower end, refused"),
+    # ------------------------------------------------------------------ requirements (gearset/requirements.py)
+    Mutant("require-safety-range-open", "profilegen/gearset/requirements.py",
+           "_SAFETY_RANGE = dict(lo=1.0, hi=10.0, lo_open=False)", "_SAFETY_RANGE = dict(lo=1.0, hi=10.0, lo_open=True)",
+           (U + "test_verdict.py",), "a required safety of exactly 1 refused (the range's closed end)"),
+    Mutant("require-fatigue-group", "profilegen/gearset/requirements.py",
+           '"fatigue_safety": tuple(f.key for f in REQUIREMENT_FIELDS if f.key.endswith("_fatigue_safety")),',
+           '"fatigue_safety": tuple(f.key for f in REQUIREMENT_FIELDS if f.key.endswith("_safety")),',
+           (U + "test_verdict.py",), "--require fatigue_safety=X sets the yield safeties too"),
+    # ------------------------------------------------------------------ the verdict (pipeline.py, read-only there)
+    Mutant("verdict-judge-boundary", "profilegen/pipeline.py",
+           'ok = value >= required if sense == ">=" else value <= required',
+           'ok = value > required if sense == ">=" else value <= required',
+           (U + "test_verdict.py", U + "test_verdict_rules.py"), "a value exactly at its requirement fails (>= made >)"),
+    Mutant("verdict-judge-max-sense", "profilegen/pipeline.py",
+           'ok = value >= required if sense == ">=" else value <= required',
+           'ok = value >= required if sense == ">=" else value >= required',
+           (U + "test_verdict.py", U + "test_verdict_rules.py"), "a maximum (backlash, lost motion, interference) checked as a minimum"),
+    Mutant("verdict-ratcheting-no-ratio", "profilegen/pipeline.py",
+           "    bound = r.torque_nm / ratio\n", "    bound = r.torque_nm\n",
+           (U + "test_verdict.py",), "the ratcheting estimate used as its own bound (the model's overestimate kept)"),
+    Mutant("verdict-ratcheting-end-of-path", "profilegen/pipeline.py",
+           'if criterion == "end of path":', 'if criterion == "end-of-path":',
+           (U + "test_verdict.py",), "a climb whose path ended judged as an estimate"),
+    Mutant("verdict-face-unmodified-depth", "profilegen/pipeline.py",
+           "depth = face.max_interference_mm if mod is None else mod.max_interference_mm",
+           "depth = face.max_interference_mm",
+           (U + "test_verdict.py", U + "test_verdict_rules.py"), "the face check reads the unmodified teeth, not the teeth as made"),
+    Mutant("verdict-never-incomplete", "profilegen/pipeline.py",
+           "return INCOMPLETE if any(c.status == NOT_CHECKED for c in self.checks) else PASS", "return PASS",
+           (U + "test_verdict.py",), "a design with NOT CHECKED checks reported PASS"),
+    Mutant("verdict-momentary-fallback", "profilegen/pipeline.py",
+           't_max, which = gs.torque.peak_nm, "peak (no momentary torque given)"',
+           't_max, which = gs.torque.rated_nm, "peak (no momentary torque given)"',
+           (U + "test_verdict.py",), "without a momentary torque the ratcheting bound is over the rated torque"),
+    # ------------------------------------------------------------------ the design scene's rim (face/coning.py)
+    Mutant("coning-any-waves", "profilegen/face/coning.py",
+           'if tier == "design" and gearset.gear.waves == 2 and scene.rim != RING_FEM_LABEL:',
+           'if tier == "design" and scene.rim != RING_FEM_LABEL:',
+           (U + "test_scene_intent.py",), "the 3D cup (two-wave only) asked for on a three-wave gear"),
+    Mutant("coning-ring-fem-label", "profilegen/face/coning.py",
+           'if tier == "design" and gearset.gear.waves == 2 and scene.rim != RING_FEM_LABEL:',
+           'if tier == "design" and gearset.gear.waves == 2:',
+           (U + "test_scene_intent.py",), "the 2D ring FEM asked for by name replaced by the cup"),
+    Mutant("coning-design-cup-mesh", "profilegen/face/coning.py",
+           "element_mm=4.0, angles=8, gap=\"exact\")", "element_mm=2.0, angles=16, gap=\"exact\")",
+           (U + "test_scene_intent.py",), "the design scene's cup at the verify mesh (4.6x the time)"),
+    # ------------------------------------------------------------------ output folder: the owner rule
+    Mutant("folder-marker-listing-unchecked", "profilegen/output/folder.py",
+           "return (staging or rel in listed) and _writable(rel, ours, patterns)",
+           "return _writable(rel, ours, patterns)",
+           (U + "test_output_owner.py", U + "test_output_folder.py"),
+           "a file the marker does not list taken as ours"),
+    Mutant("folder-marker-lists-anything", "profilegen/output/folder.py",
+           "return (staging or rel in listed) and _writable(rel, ours, patterns)",
+           "return staging or rel in listed",
+           (U + "test_output_owner.py", U + "test_output_folder.py"),
+           "a planted marker listing a user's notes.txt makes it ours (the issue's case)"),
+    Mutant("folder-link-is-regular", "profilegen/output/folder.py",
+           "return entry.is_file(follow_symlinks=False)", "return entry.is_file()",
+           (U + "test_output_owner.py", U + "test_output_folder.py"), "a symbolic link to a file taken for our file"),
+    Mutant("folder-lock-follows-link", "profilegen/output/folder.py",
+           "    flags = _O_NOFOLLOW | _O_CLOEXEC\n", "    flags = _O_CLOEXEC\n",
+           (U + "test_output_owner.py", U + "test_output_folder.py"), "the lock file opened through a planted link"),
+    # ------------------------------------------------------------------ the memory check (budget.py)
+    Mutant("budget-retrace-ignored", "profilegen/budget.py",
+           "return chord_tol_mm / RETRACE_FACTOR**RETRACES", "return chord_tol_mm",
+           (U + "test_budget.py", U + "test_messages_name_fields.py"), "the envelope's retrace left out of the estimate"),
+    Mutant("budget-whole-memory", "profilegen/budget.py",
+           "return None if avail is None else 0.5 * avail", "return None if avail is None else avail",
+           (U + "test_budget.py", U + "test_messages_name_fields.py"), "the budget all the memory, not half"),
+    Mutant("budget-grid-advice-swapped", "profilegen/budget.py",
+           'f"{int(cells // scene.n_t)} (with n_t', 'f"{int(cells // scene.n_phi)} (with n_t',
+           (U + "test_budget.py", U + "test_messages_name_fields.py"), "the n_phi advice divided by n_phi"),
+    Mutant("budget-mebibyte", "profilegen/budget.py",
+           'scale = {"k": 2**10, "m": 2**20, "g": 2**30, "t": 2**40}', 'scale = {"k": 2**10, "m": 10**6, "g": 2**30, "t": 2**40}',
+           (U + "test_budget.py", U + "test_messages_name_fields.py"), "a unit constant: M as 10^6 where G is 2^30"),
+    Mutant("budget-outline-one-tooth", "profilegen/budget.py",
+           "OUTLINE_POINTS_PER_ENVELOPE_POINT * env * z2", "OUTLINE_POINTS_PER_ENVELOPE_POINT * env",
+           (U + "test_budget.py", U + "test_messages_name_fields.py"), "the CS outline of one tooth space, not all z2"),
+    # ------------------------------------------------------------------ user paths (userpaths.py)
+    Mutant("userpaths-no-staging-room", "profilegen/userpaths.py",
+           "limit = NAME_MAX - (BESIDE if k == len(parts) - 1 else 0)", "limit = NAME_MAX",
+           (U + "test_messages_name_fields.py", U + "test_userpaths.py"), "the staging folder's extra characters not left room for"),
+    Mutant("userpaths-relative-length", "profilegen/userpaths.py",
+           "total = len(os.fsencode(os.path.abspath(text)))", "total = len(os.fsencode(text))",
+           (U + "test_messages_name_fields.py", U + "test_userpaths.py"), "the path's length counted as given, not made absolute"),
+    Mutant("userpaths-echoes-problems", "profilegen/userpaths.py",
+           '    problems = getattr(exc, "problems", None) or [str(exc)]\n',
+           '    return str(exc)\n',
+           (U + "test_messages_name_fields.py", U + "test_userpaths.py"), "a spec's named file's problems echoed (its keys and values)"),
+    # ------------------------------------------------------------------ face-stage warnings (test_face_warnings.py)
+    Mutant("face-no-free-section-warning", "profilegen/face/stage.py",
+           "warnings.append(f\"no computed section's CS is interference-free", "(f\"no computed section's CS is interference-free",
+           (U + "test_face_warnings.py",), "a warning removed: no section's CS interference-free"),
+    Mutant("face-one-cs-warning", "profilegen/face/stage.py",
+           'warnings.append(f"the one CS profile (design section', '(f"the one CS profile (design section',
+           (U + "test_face_warnings.py",), "a warning removed: the one CS profile interferes"),
+    Mutant("face-one-cs-warning-always", "profilegen/face/stage.py",
+           "    if result.max_interference_mm > tol:\n", "    if True:\n",
+           (U + "test_face_warnings.py",), "the one-CS warning given when nothing interferes"),
+    Mutant("face-no-thickness-field-warning", "profilegen/face/stage.py",
+           'warnings.append(f"no tooth modification along the face', '(f"no tooth modification along the face',
+           (U + "test_face_warnings.py",), "a warning removed: a tooth kind without a thickness field"),
+    Mutant("modification-still-interferes-warning", "profilegen/face/modification.py",
+           'warnings.append(f"with the tooth modification the CS still interferes', '(f"with the tooth modification the CS still interferes',
+           (U + "test_face_warnings.py",), "a warning removed: the modification leaves interference"),
+    Mutant("modification-lp-failed-warning", "profilegen/face/modification.py",
+           'warnings.append(f"tooth modification: the LP failed', '(f"tooth modification: the LP failed',
+           (U + "test_face_warnings.py",), "a warning removed: the LP failed"),
+    Mutant("modification-still-interfering-warning", "profilegen/face/modification.py",
+           'warnings.append(f"tooth modification: still interfering', '(f"tooth modification: still interfering',
+           (U + "test_face_warnings.py",), "a warning removed: nothing interference-free found"),
+    Mutant("modification-search-found-warning", "profilegen/face/modification.py",
+           'warnings.append(f"tooth modification: the LP found no interference-free step', '(f"tooth modification: the LP found no interference-free step',
+           (U + "test_face_warnings.py",), "a warning removed: the fallback search, not the LP, gave the modification"),
+    Mutant("face-curve-overlap-warning", "profilegen/contact/face_curve.py",
+           'warnings.append(f"across the face ({self.slices} slices', '(f"across the face ({self.slices} slices',
+           (U + "test_face_warnings.py",), "a warning removed: the two flanks overlap at no load"),
+    Mutant("face-curve-overlap-threshold", "profilegen/contact/face_curve.py",
+           "if np.any(play < 0.0):", "if np.any(play < -1.0):",
+           (U + "test_face_warnings.py",), "the overlap warning's condition never met"),
 )
 
 
@@ -452,8 +650,8 @@ def main(argv=None) -> int:
             print(f"{m.name:34s} {verdict:16s} {secs:6.1f} s  {last[:90]}", flush=True)
 
     print()
-    print(f"| mutant | file | tests | result |")
-    print(f"|---|---|---|---|")
+    print("| mutant | file | tests | result |")
+    print("|---|---|---|---|")
     for m, verdict, secs, last in rows:
         print(f"| {m.name} | {m.file.removeprefix('profilegen/')} | {', '.join(t.removeprefix(U) for t in m.tests)} "
               f"| {verdict} |")
