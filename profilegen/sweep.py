@@ -570,13 +570,13 @@ class SweepResult:
 
 def _run_point(index: int, values: dict, gearset: GearSet, scene: Scene, designer) -> dict:
     """Run one point (in a worker): {column: value} with status; never raises for the point's own errors."""
-    from .pipeline import design
+    from .engine import cached_design  # this process's engine: the stages a nearby point shares are reused
 
     row: dict[str, Any] = {"index": index}
     t0 = time.perf_counter()
     try:
         gs = gearset.with_values(values)
-        result = (designer or design)(gs, scene=scene)
+        result = (designer or cached_design)(gs, scene=scene)
         row.update(outputs_of(result))
         row["time_design_s"] = time.perf_counter() - t0
         row.update(status="ok", error_type=None, error_message=None)
@@ -712,7 +712,8 @@ def run_sweep(
     ``workers`` processes (default: the CPU count), closed at the end. ``progress(done,
     total)`` is called with the points already finished and after each point.
     ``designer(gearset, scene=...)``: the design function (default
-    :func:`profilegen.pipeline.design`; it must pickle for a process pool or Dask).
+    :func:`profilegen.engine.cached_design`, :func:`profilegen.pipeline.design` through each
+    worker's stage cache: the same results; it must pickle for a process pool or Dask).
     Writes ``results.csv`` (always), ``sweep.png`` (``figure``), and ``table`` if given
     (CSV, or Parquet when it ends in ``.parquet``: needs pyarrow). Interrupted
     (KeyboardInterrupt, or :class:`SignalInterrupt` within :func:`interrupt_on_signals`),
