@@ -89,7 +89,7 @@ POINTS = frozenset(k for k in NUMBERS if k.endswith("_centre_mm") or k in ("line
 
 def _flank(fit: dict) -> dict:
     """R1 / line / R2 of the first CAD fit (the sheet's naming: tip first; one arc after a line is R2)."""
-    fits = fit["branches"]["fits"] if fit.get("branches") else [fit["fits"][fit["method"]]]
+    fits = fit["branches"]["branches"] if fit.get("branches") else [fit["fits"][fit["method"]]]
     elements = fits[0]["chain"]["elements"]
     out, arcs = {}, []
     for el in elements:
