@@ -112,9 +112,9 @@ def checkpoint() -> None:
     """Where a long computation may stop: raises :class:`Cancelled` when the engine design running
     in this thread was cancelled or superseded; nothing outside an engine's design (a few µs). A
     stage's own loop may call it (between face sections, FEM iterations, ...) for a quicker stop."""
-    from .pipeline import _checkpoint
+    from .pipeline import stage_checkpoint
 
-    _checkpoint()
+    stage_checkpoint()
 
 
 def _rim_sections(tier) -> tuple[str, ...]:

@@ -644,7 +644,7 @@ def _stage(name: str, parent, compute: Callable, gearset: GearSet, scene: Scene,
     return cache.stage(name, parent, compute, gearset, scene, extra, on_hit)
 
 
-def _checkpoint() -> None:
+def stage_checkpoint() -> None:
     """Where a long stage may stop: the engine's cancellation check (profilegen.engine.Cancelled);
     nothing without an engine."""
     run = STAGE_CACHE.get()
@@ -778,7 +778,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
                             tuple(warnings + notes), rim=rim, face=face))
 
         t0 = time.perf_counter() - form.time_s  # the form was built with the trace (traced_form): its time counts here
-        _checkpoint()
+        stage_checkpoint()
         cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples)
         form = _with_clearance(form, cmap)
         error, measure = cmap.min_mm, "min signed clearance FS tooth ↔ CS outline (mm; ≈ −chord error on the working flank)"
@@ -987,7 +987,7 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, sta
     from .contact.analysis import solve_contact
 
     contact = solve_contact(inputs, torques)  # teeth and every wave-generator ball (one-sided at its no-load gap)
-    _checkpoint()
+    stage_checkpoint()
     rated = contact.cases[0]
     pts = contact.points
     # error estimate: the independent solve (balls settled around the active-set QP of the teeth) at the rated torque
@@ -1000,7 +1000,7 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, sta
         t_stress = time.perf_counter()
         partial = stages_early.contact_solved(replace(result, contact=contact))
         t0 += time.perf_counter() - t_stress  # the contact stage's time without the stresses and the callback
-    _checkpoint()
+    stage_checkpoint()
     dof = int(sum(contact.compliance.dof.values()))
     # the whole gear in torsion: both flanks (the left one built here), the compliance chain, K1–K3
     from .contact.chain import whole_gear_curve
@@ -1022,7 +1022,7 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, sta
         f"{torsional.k_nm_per_rad['total']['positive']['K2']:.3g}/"
         f"{torsional.k_nm_per_rad['total']['positive']['K3']:.3g} N·m/rad, lost motion "
         f"{torsional.lost_motion_rad['total'] * 10800 / np.pi:.3f} arcmin")
-    _checkpoint()
+    stage_checkpoint()
     ratchet, transmission = _whole_gear_extras(result, contact, notes, early=early)
     if ratchet is not None:
         whole += f"; ratcheting ≈ {ratchet.torque_nm:.4g} N·m"
@@ -1186,7 +1186,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     check = swept if (method == "one_sided" and not ridges) else None
     fits = {}
     for m in FIT_METHODS:
-        _checkpoint()
+        stage_checkpoint()
         try:
             fits[m] = fit_profile(flank, method=m, space_side="left", swept=check if m == "one_sided" else None,
                                   swept_tol_mm=tol, max_iter=FIT_MAX_ITER)
@@ -1215,7 +1215,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
                 els.append(Line(els[-1].end, nxt[0].start))
             els += list(nxt)
         chain = Chain(tuple(els))
-    _checkpoint()
+    stage_checkpoint()
     corners = filleted_cs_chain(chain, tip_radius_mm=form.tip_radius_mm, root_radius_mm=form.root_radius_mm,
                                 cs_teeth=form.cs_teeth, corners="sharp" if cs is None else cs.corners,
                                 radius_mm=None if cs is None else cs.corner_radius_mm, swept=swept, swept_tol_mm=tol)
@@ -1224,7 +1224,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     n_unit = len(space.elements) + 1
     local = outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]
     cs_points = Chain(tuple(local)).sample(1e-7)
-    _checkpoint()
+    stage_checkpoint()
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
     return CSProfile(fits, method, branches, space, outline, cmap, positions, tuple(notes), corners)
 
