@@ -133,6 +133,7 @@ def api_targets() -> list[tuple[str, str]]:
 
 GROUPS = [
     ("Design a gear", ["design", "Design", "write_design", "Scene", "SCENES"]),
+    ("Redesign in a warm process", ["Engine", "Cancelled"]),
     ("Gear sets", ["GearSet", "load_gearset", "parse_gearset", "resolve_gearset", "default_gearset_path",
                    "list_profiles", "new_gearset"]),
     ("Studies", ["optimize"]),
