@@ -122,3 +122,23 @@ def choice(name: str, value, allowed, *, error: type):
     if value not in allowed:
         raise error(f"{name} must be one of {', '.join(map(repr, allowed))}, got {value!r}")
     return value
+
+
+def options(cls, value, name: str, *, error: type):
+    """``value`` as an options dataclass ``cls``: None (its defaults), an instance already, or a
+    mapping of its fields; anything else, or a mapping with a key ``cls`` has no field for, is
+    ``error`` naming ``name`` (and the unknown key, with the keys there are)."""
+    import dataclasses
+    from collections.abc import Mapping
+
+    if value is None:
+        return cls()
+    if isinstance(value, cls):
+        return value
+    if not isinstance(value, Mapping):
+        raise error(f"{name} = {value!r}: must be a {cls.__name__}, a mapping of its fields or None")
+    known = {f.name for f in dataclasses.fields(cls)}
+    unknown = sorted(str(k) for k in value if k not in known)
+    if unknown:
+        raise error(f"{name}: unknown key {unknown[0]!r} (the keys: {', '.join(sorted(known))})")
+    return cls(**value)

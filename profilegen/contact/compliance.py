@@ -148,7 +148,7 @@ import logging
 import math
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields, replace
+from dataclasses import dataclass, field, replace
 from functools import partial
 
 import numpy as np
@@ -1417,17 +1417,7 @@ class ComplianceMesh:
     def of(cls, mesh) -> "ComplianceMesh":
         """``mesh`` as a :class:`ComplianceMesh`: None (the defaults), one already, or a mapping of
         its fields (an unknown key is a :class:`ComplianceError` naming it)."""
-        if mesh is None:
-            return cls()
-        if isinstance(mesh, cls):
-            return mesh
-        if not isinstance(mesh, Mapping):
-            raise ComplianceError(f"mesh = {mesh!r}: must be a ComplianceMesh, a mapping of its fields or None")
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(str(k) for k in mesh if k not in known)
-        if unknown:
-            raise ComplianceError(f"mesh: unknown key {unknown[0]!r} (the keys: {', '.join(sorted(known))})")
-        return cls(**mesh)
+        return checks.options(cls, mesh, "mesh", error=ComplianceError)
 
 
 @dataclass(frozen=True, slots=True, eq=False)

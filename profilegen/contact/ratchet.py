@@ -176,7 +176,7 @@ import logging
 import math
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from functools import partial
 
 import numpy as np
@@ -287,17 +287,7 @@ class RatchetingOptions:
     def of(cls, options) -> "RatchetingOptions":
         """``options`` as a :class:`RatchetingOptions`: None (the defaults), one already, or a
         mapping of its fields (an unknown key is a :class:`RatchetingError` naming it)."""
-        if options is None:
-            return cls()
-        if isinstance(options, cls):
-            return options
-        if not isinstance(options, Mapping):
-            raise RatchetingError(f"options = {options!r}: must be a RatchetingOptions, a mapping of its fields or None")
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(str(k) for k in options if k not in known)
-        if unknown:
-            raise RatchetingError(f"options: unknown key {unknown[0]!r} (the keys: {', '.join(sorted(known))})")
-        return cls(**options)
+        return checks.options(cls, options, "options", error=RatchetingError)
 
 
 def _torque(name: str, value) -> float:

@@ -92,10 +92,11 @@ import math
 import os
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 
 import numpy as np
 
+from .. import checks
 from ..blas import one_blas_thread
 from ..errors import ProfilegenError
 from ..results import json_ready, readonly as _readonly
@@ -150,18 +151,7 @@ class TransmissionOptions:
     def of(cls, options) -> "TransmissionOptions":
         """``options`` as a :class:`TransmissionOptions`: None (the defaults), one already, or a
         mapping of its fields (an unknown key is a :class:`TransmissionErrorError` naming it)."""
-        if options is None:
-            return cls()
-        if isinstance(options, cls):
-            return options
-        if not isinstance(options, Mapping):
-            raise TransmissionErrorError(f"options = {options!r}: must be a TransmissionOptions, a mapping of its "
-                                         "fields or None")
-        known = {f.name for f in fields(cls)}
-        unknown = sorted(str(k) for k in options if k not in known)
-        if unknown:
-            raise TransmissionErrorError(f"options: unknown key {unknown[0]!r} (the keys: {', '.join(sorted(known))})")
-        return cls(**options)
+        return checks.options(cls, options, "options", error=TransmissionErrorError)
 
 
 @dataclass(frozen=True, slots=True, eq=False)

@@ -26,8 +26,9 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT / "tests" / "app"))
+sys.path.insert(0, str(ROOT))  # tests.chromium, which the browser tests import
 
-import test_browser as tb  # noqa: E402  (the browser tests' helpers)
+import test_app_browser as tb  # noqa: E402  (the browser tests' helpers)
 
 
 def _browser(tmp: Path):

@@ -22,31 +22,14 @@ from __future__ import annotations
 import json
 import os
 import re
-import shutil
 from pathlib import Path
 
 import pytest
 
-CHROMIUM = "/usr/bin/chromium"
-CHROMEDRIVER = "/usr/bin/chromedriver"
+from tests.chromium import CHROMEDRIVER, CHROMIUM, missing as _missing
+
 SCREEN = (1366, 768)
 SHOT_ENV = "PROFILEGEN_DESIGN_SHEET_PNG"
-
-
-def _missing() -> str | None:
-    for path in (CHROMIUM, CHROMEDRIVER):
-        if not (os.path.exists(path) and os.access(path, os.X_OK)):
-            return f"{path} is missing (apt-get install chromium chromium-driver)"
-    try:
-        import selenium  # noqa: F401
-    except ImportError:
-        return "selenium is not installed (pip install -e '.[test]')"
-    import resource
-
-    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-    if soft != resource.RLIM_INFINITY and soft < 64 << 30:
-        return f"chromium reserves more address space than this process's RLIMIT_AS ({soft >> 20} MiB) allows"
-    return None
 
 
 pytestmark = pytest.mark.skipif(_missing() is not None, reason=_missing() or "")

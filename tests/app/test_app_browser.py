@@ -9,7 +9,7 @@ and read the DXF back; and the browser's console stays free of errors throughout
 Screenshots go to tmp_path; with ``PROFILEGEN_APP_SHOTS=docs/img`` they are written there as
 ``app_default.png``, ``app_fail.png`` and ``app_compare.png`` (how the docs' pictures are made):
 
-    PROFILEGEN_APP_SHOTS=docs/img python -m pytest -q -n 0 tests/app/test_browser.py
+    PROFILEGEN_APP_SHOTS=docs/img python -m pytest -q -n 0 tests/app/test_app_browser.py
 
 Skipped, with the reason, where chromium, chromedriver or selenium is missing.
 """
@@ -24,27 +24,11 @@ from pathlib import Path
 
 import pytest
 
-CHROMIUM = "/usr/bin/chromium"
-CHROMEDRIVER = "/usr/bin/chromedriver"
+from tests.chromium import CHROMEDRIVER, CHROMIUM, missing as _missing
+
 SCREEN = (1440, 900)
 SHOTS_ENV = "PROFILEGEN_APP_SHOTS"
 WAIT_S = 40
-
-
-def _missing() -> str | None:
-    for path in (CHROMIUM, CHROMEDRIVER):
-        if not (os.path.exists(path) and os.access(path, os.X_OK)):
-            return f"{path} is missing (apt-get install chromium chromium-driver)"
-    try:
-        import selenium  # noqa: F401
-    except ImportError:
-        return "selenium is not installed (pip install -e '.[test]')"
-    import resource
-
-    soft, _ = resource.getrlimit(resource.RLIMIT_AS)
-    if soft != resource.RLIM_INFINITY and soft < 64 << 30:
-        return f"chromium reserves more address space than this process's RLIMIT_AS ({soft >> 20} MiB) allows"
-    return None
 
 
 pytestmark = [pytest.mark.skipif(_missing() is not None, reason=_missing() or ""),
