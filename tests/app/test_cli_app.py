@@ -20,8 +20,11 @@ def _env():
 
 
 def test_app_prints_its_url_serves_and_stops_on_ctrl_c(tmp_path):
+    # SIGINT as a terminal delivers it: under pytest-xdist the worker ignores SIGINT and a child
+    # inherits that, so Python would install no KeyboardInterrupt handler and Ctrl-C would do nothing
     proc = subprocess.Popen([sys.executable, "-m", "profilegen", "app", "--port", "0", "--workspace", str(tmp_path)],
-                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_env(), cwd=tmp_path)
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=_env(), cwd=tmp_path,
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         line = proc.stdout.readline()
         m = re.match(r"profilegen app: (http://127\.0\.0\.1:(\d+)/) ", line)
