@@ -1,8 +1,9 @@
 """The app's one way to compute a design: :func:`redesign`.
 
-Every design the workbench shows goes through here, so that an incremental engine (stage
-results cached by the inputs they read) can take this function's place without the app
-changing. Today it calls :func:`profilegen.design`.
+Every design the workbench shows goes through here: the process's shared engine
+(:func:`profilegen.engine.cached_design`), whose stage results are cached by the inputs they read,
+so a torque change re-solves only the contact and the stresses, and every tab shares what the
+others computed. The results are those of :func:`profilegen.design` (tests/unit/test_engine.py).
 """
 
 from __future__ import annotations
@@ -21,6 +22,6 @@ def redesign(gearset: GearSet, scene: str, *, progress: Callable[[str], None] | 
     ``progress`` is told each stage's name as it starts (it may raise to abandon the run: a
     newer request supersedes this one); ``on_profile`` gets the design once the CS profile is
     fitted, ``on_stage`` each partial design as the slower stages add to it."""
-    from ..pipeline import design
+    from ..engine import cached_design
 
-    return design(gearset, scene=scene, progress=progress, on_profile=on_profile, on_stage=on_stage)
+    return cached_design(gearset, scene=scene, progress=progress, on_profile=on_profile, on_stage=on_stage)
