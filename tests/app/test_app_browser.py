@@ -24,7 +24,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.chromium import CHROMEDRIVER, CHROMIUM, missing as _missing
+from tests.chromium import driver as chrome_driver, missing as _missing
 
 SCREEN = (1440, 900)
 SHOTS_ENV = "PROFILEGEN_APP_SHOTS"
@@ -53,21 +53,8 @@ def app(workspace):
 
 @pytest.fixture(scope="module")
 def browser(tmp_path_factory):
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-
-    opts = webdriver.ChromeOptions()
-    opts.binary_location = CHROMIUM
-    for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                 "--hide-scrollbars", f"--window-size={SCREEN[0]},{SCREEN[1]}",
-                 f"--user-data-dir={tmp_path_factory.mktemp('chromium-profile')}"):
-        opts.add_argument(flag)
-    opts.set_capability("goog:loggingPrefs", {"browser": "ALL"})
-    driver = webdriver.Chrome(service=Service(executable_path=CHROMEDRIVER), options=opts)
+    driver = chrome_driver(tmp_path_factory.mktemp("chromium-profile"), SCREEN, {"browser": "ALL"})
     try:
-        driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
-                               {"width": SCREEN[0], "height": SCREEN[1], "deviceScaleFactor": 1, "mobile": False})
         yield driver
     finally:
         driver.quit()

@@ -32,15 +32,9 @@ import test_app_browser as tb  # noqa: E402  (the browser tests' helpers)
 
 
 def _browser(tmp: Path):
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
+    from tests.chromium import driver
 
-    opts = webdriver.ChromeOptions()
-    opts.binary_location = tb.CHROMIUM
-    for flag in ("--headless", "--no-sandbox", "--disable-gpu", f"--window-size={tb.SCREEN[0]},{tb.SCREEN[1]}",
-                 f"--user-data-dir={tmp / 'chromium'}"):
-        opts.add_argument(flag)
-    return webdriver.Chrome(service=Service(executable_path=tb.CHROMEDRIVER), options=opts)
+    return driver(tmp / "chromium", tb.SCREEN, {"browser": "ALL"})
 
 
 def _changes(driver, path: str, values, *, until_done: bool, n: int) -> list[float]:

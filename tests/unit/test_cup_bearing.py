@@ -25,24 +25,9 @@ import pytest
 
 from profilegen.rim.cup import CupError, CupGeometry, harmonic_stiffness, meridional_mesh, press_cup
 from profilegen.rim.cup.bearing import FREE_FRACTION, BearingRace, cup_tier_race
-from profilegen.wavegen import CosineCam, EllipticalCam, ellipse_perimeter
+from profilegen.wavegen import CosineCam
 
-E, NU = 209000.0, 0.295
-R_M, T = 48.95, 0.9
-R_B = R_M - 0.5 * T
-W0 = 0.5
-
-
-def cup(length=60.0, **kw):
-    return CupGeometry(R_M, T, length, 20.0, T, 0.5 * R_M, E, NU, **kw)
-
-
-def cam(w0=W0):
-    """An elliptical cam of the bore's perimeter, major radius r_bore + w0."""
-    from scipy.optimize import brentq
-
-    a = R_B + w0
-    return EllipticalCam(a, brentq(lambda b: ellipse_perimeter(a, b) - 2 * math.pi * R_B, 0.5 * a, a))
+from tests.cups import NU, R_M, T, W0, E, cam, cup
 
 
 def race(geom, **kw):

@@ -21,27 +21,12 @@ import math
 import numpy as np
 import pytest
 
-from profilegen.rim.cup import CupGeometry, harmonic_stiffness, meridional_mesh, press_cup
+from profilegen.rim.cup import harmonic_stiffness, meridional_mesh, press_cup
 from profilegen.rim.cup.contact import DisplacedHalves
 from profilegen.rim.cup.nonlinear import HarmonicTotalLagrangian
 from profilegen.wavegen import EllipticalCam, ellipse_perimeter
 
-E, NU = 209000.0, 0.295
-R_M, T = 48.95, 0.9
-R_B = R_M - 0.5 * T
-W0 = 0.5
-
-
-def cup(length=60.0, **kw):
-    return CupGeometry(R_M, T, length, 20.0, T, 0.5 * R_M, E, NU, **kw)
-
-
-def cam(w0=W0):
-    """The default set's elliptical cam (no bearing): major radius r_bore + w0, the bore's perimeter."""
-    from scipy.optimize import brentq
-
-    a = R_B + w0
-    return EllipticalCam(a, brentq(lambda b: ellipse_perimeter(a, b) - 2 * math.pi * R_B, 0.5 * a, a))
+from tests.cups import NU, R_B, R_M, T, W0, E, cam, cup
 
 
 GEOM = cup()

@@ -26,7 +26,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.chromium import CHROMEDRIVER, CHROMIUM, missing as _missing
+from tests.chromium import driver as chrome_driver, missing as _missing
 
 SCREEN = (1366, 768)
 SHOT_ENV = "PROFILEGEN_DESIGN_SHEET_PNG"
@@ -51,22 +51,8 @@ def report(tmp_path_factory) -> Path:
 
 @pytest.fixture(scope="module")
 def browser(tmp_path_factory):
-    from selenium import webdriver
-    from selenium.webdriver.chrome.service import Service
-
-    opts = webdriver.ChromeOptions()
-    opts.binary_location = CHROMIUM
-    for flag in ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
-                 "--disable-background-networking", "--disable-component-update", "--disable-sync",
-                 "--hide-scrollbars", f"--window-size={SCREEN[0]},{SCREEN[1]}",
-                 f"--user-data-dir={tmp_path_factory.mktemp('chromium-profile')}"):
-        opts.add_argument(flag)
-    opts.set_capability("goog:loggingPrefs", {"browser": "ALL", "performance": "ALL"})
-    driver = webdriver.Chrome(service=Service(executable_path=CHROMEDRIVER), options=opts)
+    driver = chrome_driver(tmp_path_factory.mktemp("chromium-profile"), SCREEN, {"browser": "ALL", "performance": "ALL"})
     try:
-        # the viewport (not the window, which includes the browser's own bars) is the screen
-        driver.execute_cdp_cmd("Emulation.setDeviceMetricsOverride",
-                               {"width": SCREEN[0], "height": SCREEN[1], "deviceScaleFactor": 1, "mobile": False})
         yield driver
     finally:
         driver.quit()
