@@ -398,8 +398,11 @@ def test_ratcheting_and_transmission_error_in_the_outputs(sketch_design):
     head = design.to_dict()["contact"]
     assert head["ratcheting_torque_nm"] == ratchet.torque_nm
     assert head["transmission_error"]["peak_to_peak_arcsec"] == e["peak_to_peak_arcsec"]
-    # the verdict checks a bound, estimate / the model's largest overestimate, over the momentary torque
-    from profilegen.pipeline import RATCHETING_MODEL_OVER_CATALOGUE as overestimate
+    # the verdict checks a bound, estimate / the model's largest overestimate at the set's ratio, over the
+    # momentary torque
+    from profilegen.pipeline import ratcheting_overestimate
+
+    overestimate, _ = ratcheting_overestimate(design.gearset.ratio)
 
     need = 1200.0 * design.gearset.requirements.ratcheting_margin
     assert any("ratcheting" in f for f in design.verdict.failures) == (ratchet.torque_nm / overestimate < need)

@@ -18,7 +18,7 @@ from profilegen.errors import GearSetError
 from profilegen.gearset import load_gearset, parse_gearset, resolve_gearset
 from profilegen.gearset.requirements import REQUIREMENT_FIELDS, REQUIREMENT_GROUPS, Requirements
 from profilegen.pipeline import (FAIL, INCOMPLETE, NOT_CHECKED, PASS, RATCHETING_MODEL_OVER_CATALOGUE, Verdict,
-                                 VerdictCheck, design)
+                                 VerdictCheck, design, ratcheting_overestimate)
 from profilegen.stress.stage import CHECK_NAMES, StressInput, solve_stress
 
 #: seed 002's material has no strength limits; these are the default set's (35CrMnSiA, MPa)
@@ -122,21 +122,45 @@ def _ratchet(torque_nm, criterion="limit point"):
 
 
 def test_ratcheting_bound_is_below_every_catalogue_value_measured():
-    """The bound divides the estimate by the model's largest measured overestimate: for each
-    estimate measured against a catalogue ratcheting torque (issue 28 and this change's verify
-    runs; catalogue: profilegen.contact.catalogue.RATCHETING_TORQUE_NM) the bound is at most the
-    catalogue's value."""
+    """The bound divides the estimate by the model's largest measured overestimate in the set's
+    row of ratios: for each estimate measured against a catalogue ratcheting torque (issue 28 and
+    the verify runs of tests/benchmarks/catalogue_sizes.py; catalogue:
+    profilegen.contact.catalogue.RATCHETING_TORQUE_NM) the bound is at most the catalogue's value,
+    and every row's factor is needed (a smaller one would put some bound above its catalogue
+    value)."""
     from profilegen.contact.catalogue import RATCHETING_TORQUE_NM
+    from profilegen.pipeline import RATCHETING_OVERESTIMATE
 
-    measured = [(5096.0, RATCHETING_TORQUE_NM[(100, 40)]),  # seed000_csf40, verify scene
-                (2679.0, RATCHETING_TORQUE_NM[(100, 32)]),  # csf32_100, verify scene
-                (5672.0, RATCHETING_TORQUE_NM[(80, 32)]),  # a CSF-32-80 set (issue 28), verify scene
+    measured = [(5096.0, 100, 40),  # seed000_csf40, verify scene
+                (2679.0, 100, 32),  # csf32_100, verify scene
+                (5672.0, 80, 32),  # a user's CSF-32-80 set (issue 28), verify scene
                 # profilegen new sets, verify scene (tests/benchmarks/catalogue_sizes.py --scene verify)
-                (1431.0, RATCHETING_TORQUE_NM[(100, 25)]), (2787.0, RATCHETING_TORQUE_NM[(100, 32)]),
-                (5446.0, RATCHETING_TORQUE_NM[(100, 40)]),
-                (2582.0, RATCHETING_TORQUE_NM[(50, 25)]), (5572.0, RATCHETING_TORQUE_NM[(50, 32)])]
-    for estimate, catalogue in measured:
-        assert estimate / RATCHETING_MODEL_OVER_CATALOGUE <= catalogue * (1 + 1e-12)
+                (1431.0, 100, 25), (2787.0, 100, 32), (5446.0, 100, 40),
+                (1714.0, 80, 25), (3875.0, 80, 32), (6853.0, 80, 40),
+                (2582.0, 50, 25), (5572.0, 50, 32)]
+    tight = set()
+    for estimate, ratio, size in measured:
+        factor, _ = ratcheting_overestimate(ratio)
+        catalogue = RATCHETING_TORQUE_NM[(ratio, size)]
+        assert estimate / factor <= catalogue * (1 + 1e-12)
+        if estimate / factor > catalogue * (1 - 1e-3):
+            tight.add(factor)
+    assert tight == {f for _, f, _ in RATCHETING_OVERESTIMATE}
+    # below the lowest row measured there is no factor, and the largest is every row's largest
+    assert ratcheting_overestimate(30.0)[0] is None and "ratios 50 and above" in ratcheting_overestimate(30.0)[1]
+    assert RATCHETING_MODEL_OVER_CATALOGUE == max(ratcheting_overestimate(r)[0] for r in (50, 80, 100, 160))
+
+
+def test_ratcheting_below_the_measured_ratios_is_not_checked(default_sketch):
+    """A ratio below every row measured (here 30) gets no bound: NOT CHECKED, saying why, so the
+    verdict is not a PASS."""
+    gs = default_sketch.gearset
+    z1 = 60
+    low = gs.with_values({"gear.flexspline_teeth": z1, "gear.circular_spline_teeth": z1 + 2})
+    assert low.ratio == 30
+    d = dataclasses.replace(default_sketch, gearset=low, ratcheting=_ratchet(1e9))
+    [c] = _by_name(d.verdict, "ratcheting bound")
+    assert c.status == NOT_CHECKED and "ratio 30" in c.text and not d.verdict.passed
 
 
 def test_ratcheting_check_uses_the_bound_over_the_momentary_torque(default_sketch):
@@ -145,12 +169,14 @@ def test_ratcheting_check_uses_the_bound_over_the_momentary_torque(default_sketc
     line says it is a bound; a climb that did not settle, or met no criterion, is NOT CHECKED."""
     gs = default_sketch.gearset
     need = gs.torque.momentary_nm * gs.requirements.ratcheting_margin
-    at = need * RATCHETING_MODEL_OVER_CATALOGUE  # the estimate whose bound is exactly the need
+    factor, _ = ratcheting_overestimate(gs.ratio)
+    assert factor == pytest.approx(5672.0 / 1400.0)  # the default set's ratio 100: the row of ratios >= 80
+    at = need * factor  # the estimate whose bound is exactly the need
     above = dataclasses.replace(default_sketch, ratcheting=_ratchet(1.01 * at)).verdict
     below = dataclasses.replace(default_sketch, ratcheting=_ratchet(0.99 * at)).verdict
     [a] = _by_name(above, "ratcheting bound")
     [b] = _by_name(below, "ratcheting bound")
-    assert a.status == PASS and a.value == pytest.approx(1.01 * at / RATCHETING_MODEL_OVER_CATALOGUE / gs.torque.momentary_nm)
+    assert a.status == PASS and a.value == pytest.approx(1.01 * at / factor / gs.torque.momentary_nm)
     assert b.status == FAIL and "the bound" in b.text and f"momentary torque {gs.torque.momentary_nm:g} N·m" in b.text
     assert "bound" in a.text and "catalogue 2100 N·m" in a.text
     assert any(f.startswith("ratcheting: the bound") for f in below.failures)
@@ -167,7 +193,7 @@ def test_ratcheting_without_a_momentary_torque_uses_the_peak(default_sketch):
     d = dataclasses.replace(default_sketch, gearset=default_sketch.gearset.with_values({"torque.momentary_nm": None}))
     d = dataclasses.replace(d, ratcheting=_ratchet(1e6))
     [c] = _by_name(d.verdict, "ratcheting bound")
-    assert c.where.startswith("peak") and c.value == pytest.approx(1e6 / RATCHETING_MODEL_OVER_CATALOGUE
+    assert c.where.startswith("peak") and c.value == pytest.approx(1e6 / ratcheting_overestimate(d.gearset.ratio)[0]
                                                                      / d.gearset.torque.peak_nm)
 
 
