@@ -28,7 +28,15 @@ from .scenes import SCENES, Scene, resolve_scene  # noqa: F401  (SCENES: profile
 from .teeth import tooth_from_gearset
 
 if TYPE_CHECKING:  # pragma: no cover
+    from .contact.analysis import ContactResult
+    from .contact.chain import TorsionalCurve
+    from .contact.ratchet import Ratcheting
+    from .contact.transmission import TransmissionError
+    from .deformation import Deformation
+    from .face.stage import FaceWidth
     from .rim.stage import RimDeformation
+    from .stress.stage import StressResult
+    from .teeth import ToothProfile
 
 __all__ = ["StageReport", "CSProfile", "Design", "Verdict", "design", "check_gearset", "planned_stages"]
 
@@ -474,8 +482,8 @@ class Design:
 
     gearset: GearSet
     scene: Scene
-    tooth: object
-    deformation: object
+    tooth: ToothProfile
+    deformation: Deformation
     motion: HarmonicDriveMotion
     envelope: Envelope
     form: CircularSplineForm
@@ -483,16 +491,16 @@ class Design:
     warnings: tuple[str, ...] = field(default_factory=tuple)
     profile: "CSProfile | None" = None
     rim: RimDeformation | None = None
-    contact: object = None  # ContactResult at the gear set's torques (None when the scene skips it)
-    stress: object = None  # StressResult at the gear set's torques (None when skipped)
-    face: object = None  # FaceWidth across the tooth ring (profilegen.face; the cup3d rim tier only)
-    #: the whole gear's torsional curve (contact.chain.TorsionalCurve, both directions, with the
-    #: compliance chain), run with the contact; None when the contact was not run or it failed
-    torsional: object = None
-    #: the ratcheting estimate (contact.ratchet.Ratcheting) and the loaded transmission error over a
-    #: tooth passage (contact.transmission.TransmissionError), when the scene asks for them
-    ratcheting: object = None
-    transmission: object = None
+    contact: ContactResult | None = None  # at the gear set's torques (None when the scene skips it)
+    stress: StressResult | None = None  # at the gear set's torques (None when skipped)
+    face: FaceWidth | None = None  # across the tooth ring (profilegen.face; the cup3d rim tier only)
+    #: the whole gear's torsional curve (both directions, with the compliance chain), run with the
+    #: contact; None when the contact was not run or it failed
+    torsional: TorsionalCurve | None = None
+    #: the ratcheting estimate and the loaded transmission error over a tooth passage, when the
+    #: scene asks for them
+    ratcheting: Ratcheting | None = None
+    transmission: TransmissionError | None = None
 
     @property
     def time_s(self) -> float:
