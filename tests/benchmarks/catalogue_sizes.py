@@ -21,7 +21,12 @@ the catalogue row of that size and ratio (``profilegen.contact.catalogue.catalog
   eccentricity), the balls' rolling (the cage ripple) and the Hertz ball springs — so it is a
   floor of the catalogue's transmission accuracy (also an upper limit), not a comparable value;
 * the ratcheting estimate (verify scene only) against the catalogue's ratcheting torque where
-  published (sizes 25, 32, 40 at ratios 50, 80, 100; table 4 of the LLC catalogue).
+  published (sizes 25, 32, 40 at ratios 50, 80, 100; table 4 of the LLC catalogue);
+* the strength checks (``Design.stress``): the tooth ring's fatigue (Goodman at the rated torque)
+  and yield (momentary torque) safety and the cup bottom's yield safety, with the tooth-root
+  stress taken apart: the assembly stress σ_ass = K_σ · E δ/2 · Δκ (K_σ, and Δκ over the
+  ellipse value 3 w0/r_m², w0 the set's deflection, at the design section) and the load stress
+  σ_load at the rated torque. The fatigue check's amplitude is σ_ass + σ_load/2, its mean σ_load/2.
 
 It prints one table, writes it as CSV (default /tmp/catalogue_sizes.csv) and as JSON, and draws
 model/catalogue against size (one line per quantity, a ±30 % band and the 1.5× lines of the
@@ -58,6 +63,8 @@ COLUMNS = ("size", "ratio", "scene", "verdict", "seconds",
            "te_pp_arcsec", "te_torque_nm", "te_limit_arcsec",
            "ratchet_model_nm", "ratchet_cat_nm", "ratchet_ratio",
            "K1_one_section_ratio", "K2_one_section_ratio", "K3_one_section_ratio", "crowning_um", "taper_um_per_mm",
+           "ring_fatigue_safety", "ring_yield_safety", "bottom_yield_safety", "rim_per_neutral_radius",
+           "stress_factor", "curvature_over_ellipse", "assembly_mpa", "load_rated_mpa", "load_momentary_mpa",
            "failed_checks", "error")
 
 
@@ -103,6 +110,7 @@ def measure(size: int, ratio: int, scene: str) -> dict:
         lm, limit = head["lost_motion_arcmin"], row.get("lost_motion_max_arcmin")
         out.update(lost_motion_arcmin=lm, lost_motion_limit_arcmin=limit,
                    lost_motion_ratio=None if limit is None else lm / limit)
+    strength(d, gs, out)
     te = d.transmission
     if te is not None:
         out.update(te_pp_arcsec=te.peak_to_peak_arcsec, te_torque_nm=te.torque_nm,
@@ -117,6 +125,38 @@ def measure(size: int, ratio: int, scene: str) -> dict:
         out.update(ratchet_model_nm=r.torque_nm, ratchet_cat_nm=cat,
                    ratchet_ratio=None if cat is None or not math.isfinite(r.torque_nm) else r.torque_nm / cat)
     return out
+
+
+def strength(d, gs, out: dict) -> None:
+    """The strength checks and the tooth-root stress taken apart (module docstring), into ``out``."""
+    st = d.stress
+    if st is None:
+        return
+    safety = {c.name: c.value for c in st.checks}
+    ring, g = st.tooth_ring, gs.gear
+    ellipse = 3.0 * gs.deflection_mm / g.neutral_radius_mm**2  # Δκ(0) of ω = w0 cos 2φ, to first order
+    out.update(ring_fatigue_safety=safety.get("tooth ring fatigue"), ring_yield_safety=safety.get("tooth ring yield"),
+               bottom_yield_safety=safety.get("cup bottom yield"),
+               rim_per_neutral_radius=g.rim_thickness_mm / g.neutral_radius_mm,
+               stress_factor=ring[0].stress_influence_factor,
+               curvature_over_ellipse=ring[0].curvature_change_mm_inv / ellipse,
+               assembly_mpa=ring[0].assembly_stress_mpa, load_rated_mpa=ring[0].load_stress_mpa,
+               load_momentary_mpa=ring[-1].load_stress_mpa)
+
+
+def strength_table(rows: list) -> str:
+    """The strength columns as a markdown table."""
+    head = ("size", "ratio", "δ/r_m", "K_σ", "Δκ / ellipse", "σ_ass MPa", "σ_load rated MPa", "σ_load momentary MPa",
+            "ring fatigue", "ring yield", "bottom yield")
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in rows:
+        cells = (r["size"], r["ratio"], fmt(r.get("rim_per_neutral_radius"), ".4f"), fmt(r.get("stress_factor"), ".2f"),
+                 fmt(r.get("curvature_over_ellipse"), ".2f"), fmt(r.get("assembly_mpa"), ".0f"),
+                 fmt(r.get("load_rated_mpa"), ".0f"), fmt(r.get("load_momentary_mpa"), ".0f"),
+                 fmt(r.get("ring_fatigue_safety"), ".2f"), fmt(r.get("ring_yield_safety"), ".2f"),
+                 fmt(r.get("bottom_yield_safety"), ".2f"))
+        lines.append("| " + " | ".join(map(str, cells)) + " |")
+    return "\n".join(lines)
 
 
 def fmt(v, spec=".3g") -> str:
@@ -216,6 +256,8 @@ def main(argv=None) -> None:
             if key not in best or r["scene"] == "verify":
                 best[key] = r
         print(table(rows))
+        print()
+        print(strength_table(rows))
         plot(sorted(best.values(), key=lambda r: (r["ratio"], r["size"])), a.png)
         return
     resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, 4_000_000_000))
@@ -227,7 +269,8 @@ def main(argv=None) -> None:
             rows.append(r)
             print(f"size {size} ratio {ratio} ({a.scene}): {r['seconds']:.0f} s, K1/K2/K3 m/c "
                   f"{fmt(r['K1_ratio'], '.2f')}/{fmt(r['K2_ratio'], '.2f')}/{fmt(r['K3_ratio'], '.2f')}, "
-                  f"φ(T2) m/c {fmt(r['phi_T2_ratio'], '.2f')}, ratchet {fmt(r['ratchet_model_nm'], '.4g')}"
+                  f"φ(T2) m/c {fmt(r['phi_T2_ratio'], '.2f')}, ratchet {fmt(r['ratchet_model_nm'], '.4g')}, "
+                  f"ring fatigue/yield {fmt(r['ring_fatigue_safety'], '.2f')}/{fmt(r['ring_yield_safety'], '.2f')}"
                   + (f"  [{r['error']}]" if r["error"] else ""), flush=True)
             # write as we go: a long verify run stopped half way keeps what it measured
             with a.csv.open("w", newline="") as f:
@@ -237,6 +280,8 @@ def main(argv=None) -> None:
             json_path.write_text(json.dumps(rows, indent=1, default=str))
     print()
     print(table(rows))
+    print()
+    print(strength_table(rows))
     print(f"\ncsv: {a.csv}; json: {json_path}")
     plot(rows, a.png)
 
