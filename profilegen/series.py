@@ -628,7 +628,7 @@ class GeneralSineDeformation:
     def to_dict(self) -> dict:
         return {
             "tier": self.tier,
-            "source": "general sine series (seed 004 form)",
+            "source": "general sine series",
             "waves": self.waves,
             "symmetric": False,
             "omega": self.omega_fit.to_dict(),

@@ -65,13 +65,13 @@ REQUIREMENT_FIELDS: tuple[RequirementField, ...] = (
     RequirementField("cup_bottom_fatigue_safety", "", "min", 1.5, **_SAFETY_RANGE,
                      meaning="cup bottom (diaphragm plate): Goodman safety at the rated torque", source=_FKM_FATIGUE),
     RequirementField("diaphragm_fatigue_safety", "", "min", 1.5, **_SAFETY_RANGE,
-                     meaning="diaphragm at the boss corner: Goodman safety in shear at the rated torque (seed 000)",
+                     meaning="diaphragm at the boss corner: Goodman safety in shear at the rated torque",
                      source=_FKM_FATIGUE),
     RequirementField("ratcheting_margin", "", "min", 1.0, **_SAFETY_RANGE,
                      meaning="the ratcheting torque's conservative bound over the momentary torque (the peak torque "
                              "when the set gives no momentary torque)",
                      source="Harmonic Drive catalogues: the momentary maximum torque lies below the ratcheting torque "
-                            "(seed 001: 304 N·m against 680 N·m, seed 002: 395 against 500 N·m, CSF catalogue table 4)"),
+                            "(an SHF-25-80: 304 N·m against 680 N·m; a CSG-25-100: 395 against 500 N·m; CSF catalogue table 4)"),
     RequirementField("max_backlash_mm", "mm", "max", None, 0.0, 1.0, True,
                      meaning="largest backlash (normal gap) the fitted CS flank leaves to the exact flank",
                      source="not required: the fit's backlash is a design choice, and the catalogues give lost motion, "

@@ -62,13 +62,13 @@ def _start(figures, draw: bool) -> None:
     from . import report
 
     if not draw:  # the workers fork now, start on the seed tables (no design needed) and ezdxf's import (~0.4 s)
-        figures.submit(report.SEED_TABLES_JOB)
+        figures.submit(report.WARM_UP_JOB)
         figures.submit({"ezdxf": (_import_ezdxf, ())})
     elif figures.workers >= 2:  # with the PNGs one server process forks now and imports matplotlib and the
         # stage modules the jobs name, once, on the CPU the stages leave free; its workers fork from it
         # (report._pool). One worker forks when the profile comes (profile_figures), inheriting the stage
         # modules the parent has loaded by then (~0.6 s CPU to import for unpickling the jobs)
-        figures.submit(report.SEED_TABLES_JOB)
+        figures.submit(report.WARM_UP_JOB)
 
 
 def _import_ezdxf() -> None:

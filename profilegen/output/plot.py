@@ -534,7 +534,7 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
         ax.text(xi, a + b, f"{a + b:.0f} MPa\nF_t {f:.0f} N", ha="center", va="bottom", fontsize=7)
     ax.set_xticks(x, [f"{t:g} N·m" for t in result.torques_nm])
     ax.set_ylabel("tooth-root stress on the major axis (MPa)")
-    ax.set_title("tooth ring (seed 001)", fontsize=9)
+    ax.set_title("tooth ring", fontsize=9)
     ax.legend(fontsize=7, loc="upper left")
     ax.set_ylim(0, 1.3 * max(a + b for a, b in zip(ass, load)))
     ax.grid(True, axis="y", color="0.9", lw=0.5)
@@ -552,11 +552,11 @@ def stress_figure(result: Any, *, title: str = "", path: str | os.PathLike | Non
     fig.colorbar(mesh, ax=ax, label="von Mises (MPa)", fraction=0.05, pad=0.02)
     ax.set_xlabel("φ from the major axis (deg)")
     ax.set_ylabel("radius r (mm), boss → wall")
-    ax.set_title(f"cup bottom (seed 002, consistent plate) at {result.torques_nm[-1]:g} N·m", fontsize=9)
+    ax.set_title(f"cup bottom (plate) at {result.torques_nm[-1]:g} N·m", fontsize=9)
     ax.legend(fontsize=7, loc="upper right")
 
     _diaphragm_panel(result.diaphragm[0], axes[1, 0])
-    axes[1, 0].set_title(f"diaphragm corner (seed 000) at {result.torques_nm[0]:g} N·m", fontsize=9)
+    axes[1, 0].set_title(f"diaphragm corner at {result.torques_nm[0]:g} N·m", fontsize=9)
 
     ax = axes[1, 1]
     names = [c.name for c in result.checks]

@@ -2,7 +2,7 @@
 
 ``design_report_html(design)`` — the whole design on one page: the profile and its fit
 error, the loaded contact, the flexspline stresses with every safety factor against the
-material's limits (pass/fail), and the seed papers' numbers next to ours.
+material's limits (pass/fail).
 
 ``fit_report_html(design, fits, clearance)`` — for every arc–line–arc fit method:
 the error along the flank, max/RMS and where, the one-sided fit's backlash, ridges,
@@ -36,24 +36,6 @@ __all__ = ["deformation_fit_dict", "deformation_section_html", "design_report_ht
            "png_jobs", "rendering", "FigureWorkers"]
 
 log = logging.getLogger(__name__)
-
-# Seed 004 reports ω_max = 0.553 mm for w0 = 0.5 mm. What the 2D experiments and the 3D cup show
-# (python tests/benchmarks/rim_wmax.py, python tests/benchmarks/seed004_cup.py; docs/seed004_cup.md):
-WMAX_FINDING = (
-    "Seed 004 reports ω(0) = 0.553, ω(90°) = −0.557 and |υ|max = 0.293 mm for w0 = 0.5 mm. No 2D modelling choice "
-    "reaches them (python tests/benchmarks/rim_wmax.py): on a rigid contour the bore stays on it at the major axis, "
-    "so ω(0) = w0 at the bore. The 3D cup (rim tier cup3d, nonlinear, exact gap; python tests/benchmarks/"
-    "seed004_cup.py, docs/seed004_cup.md) does cone — on the default set ω(0) = 0.500 / 0.546 / 0.635 mm at the "
-    "diaphragm end / mid-face / open end of the tooth ring, |υ|max 0.221 / 0.257 / 0.294 mm — but no wave-generator "
-    "model and section reproduces all three numbers to better than 20 µm: on the seed's rigid offset contour the "
-    "bore rests on the cam's minor radius wherever the bearing covers it, so ω(90°) ≥ −0.503 mm for every cup "
-    "length from 45 to 240 mm (nearest miss 54 µm); halves of the cam or of the bore pushed ±w0 give ω(0) ≈ 1.0 mm "
-    "or ω(90°) ≈ 0; half-ellipses that need no stretching of the bore come within 20–41 µm. The seed's ω pair is "
-    "its middle section's (its own printed fits peak at 0.554 / −0.555 mm) and its υ the open end's. In "
-    "profilegen w0 is the deflection at the wave generator's contact section, and a flat rim on a rigid cam "
-    "reproduces it exactly."
-)
-
 
 def figure_png(fig, dpi: int = 130) -> str:
     """A matplotlib Figure as a base64 PNG data URI."""
@@ -274,7 +256,7 @@ def deformation_fit_dict(design) -> dict:
     """Contents of ``deformation_fit.json``: FEM samples (φ in deg), both fits, ring theory, the wrap."""
     rim = design.rim
     out = {"gearset": design.gearset.name, "scene": design.scene.name, "deflection_w0_mm": design.gearset.deflection_mm,
-           "rim": None if rim is None else rim.tier.label(), "omega_max_finding": WMAX_FINDING}
+           "rim": None if rim is None else rim.tier.label()}
     if rim is None or rim.fem is None:
         out["model"] = design.deformation.to_dict()
         out["note"] = "ring theory: no FEM samples and no fit at this tier"
@@ -308,14 +290,13 @@ def deformation_section_html(design, images: dict | None = None) -> str:
     if rim is None or rim.fem is None:
         return (f"<h2>Deformation</h2><p>{html.escape(design.deformation.source)}: the analytic model of the "
                 f"<b>{html.escape(design.scene.name)}</b> scene, no FEM samples to fit. Run the <code>design</code> or "
-                "<code>verify</code> scene for the FEM rim and its fit.</p>"
-                f"<p>{html.escape(WMAX_FINDING)}</p>")
+                "<code>verify</code> scene for the FEM rim and its fit.</p>")
     fem = rim.fem
     samples_png = _image(images, "deformation_samples", deformation_samples_png, rim)
     residual_png = _image(images, "deformation_residuals", deformation_residuals_png, rim)
     rows = _stats_rows(f"Fourier (order {rim.model.order})", rim.model.omega_stats, rim.model.upsilon_stats)
     if rim.sine is not None:
-        rows += _stats_rows("general sine (seed 004 form)", rim.sine.omega_fit.stats, rim.sine.upsilon_fit.stats)
+        rows += _stats_rows("general sine series Σ a_i sin(b_i φ + c_i)", rim.sine.omega_fit.stats, rim.sine.upsilon_fit.stats)
     wrap = next((w for w in fem.warnings if "ill-conditioned" in w), "")
     est = "—" if rim.error_estimate_mm is None else f"{rim.error_estimate_mm * 1e3:.3g} µm"
     return f"""<h2>Deformation: {html.escape(rim.tier.label())}</h2>
@@ -327,7 +308,6 @@ def deformation_section_html(design, images: dict | None = None) -> str:
 <table><tr><th>fit</th><th>parameters</th><th>SSE (mm²)</th><th>RMSE (µm)</th><th>R²</th><th>adjusted R²</th>
 <th>max |error| (µm)</th><th>periodicity defect f(2π) − f(0) (µm)</th></tr>{rows}</table>
 <p>Contact (wrap) angle: {fem.contact_angle_deg:.2f}° from the major axis. <b>Warning:</b> {html.escape(wrap)}.</p>
-<p>{html.escape(WMAX_FINDING)}</p>
 """
 
 
@@ -703,8 +683,6 @@ def _workers_ready() -> None:
 #: A first job for the figure workers, handed over before the design has its profile, so that
 #: they fork (and import what they draw with) while the stages run.
 WARM_UP_JOB = {"workers_ready": (_workers_ready, ())}
-#: the name output/files.py hands over (it was report.html's seed tables): WARM_UP_JOB
-SEED_TABLES_JOB = WARM_UP_JOB
 
 #: The HTML pieces of :func:`report_pieces` (not pictures: made in every run).
 _HTML_PIECES = ("cs_figure",)
