@@ -7,7 +7,8 @@ run again. Each stage is keyed by what it reads (:data:`STAGE_INPUTS`): the gear
 the scene keys, its own arguments and its upstream stage's key — so
 
 * a torque change re-solves the contact and the stresses only (the torques are read by no
-  stage before them);
+  stage before them), and inside the contact stage it builds neither flank's points nor their
+  compliance (:func:`reuse`: they read no torque);
 * a tooth change starts at the tooth (the rim of the sketch and design scenes does not read it;
   the face stage, the envelope and everything after it do);
 * a requirements change re-runs the stresses only (the checks carry their required values);
@@ -69,7 +70,8 @@ import numpy as np
 
 from .gearset import GearSet
 
-__all__ = ["Engine", "Cancelled", "checkpoint", "STAGE_INPUTS", "DEFAULT_MEMORY_BYTES", "default_engine", "cached_design"]
+__all__ = ["Engine", "Cancelled", "checkpoint", "reuse", "STAGE_INPUTS", "DEFAULT_MEMORY_BYTES", "default_engine",
+           "cached_design"]
 
 log = logging.getLogger(__name__)
 
@@ -115,6 +117,24 @@ def checkpoint() -> None:
     from .pipeline import stage_checkpoint
 
     stage_checkpoint()
+
+
+def reuse(name: str, compute: Callable, *, gearset: GearSet, sections: tuple[str, ...], key: tuple = (),
+          owners: tuple = ()):
+    """``compute()``, or inside an engine's design its value from an earlier design of that engine
+    with the same inputs: the gear-set ``sections`` (of ``GearSet.to_dict()``) ``compute`` reads, the
+    plain values of ``key`` (compared by ``repr``) and the ``owners`` — objects it reads, compared by
+    identity (the stage cache's results: the same object on a hit), which the entry keeps alive so
+    an id cannot be reused while it lives. For work inside a stage that reads less than the stage:
+    the contact stage's flanks (points and compliance) do not read the torques, so a torque change
+    builds neither (:func:`profilegen.contact.analysis.flank`). Outside an engine: ``compute()``.
+    Counted in the engine's ``runs`` and ``hits`` under ``name``; not a stage of ``last_run``."""
+    from .pipeline import STAGE_CACHE
+
+    run = STAGE_CACHE.get()
+    if run is None:
+        return compute()
+    return run.reuse(name, compute, gearset, tuple(sections), tuple(key), tuple(owners))
 
 
 def _rim_sections(tier) -> tuple[str, ...]:
@@ -222,6 +242,23 @@ class _Run:
         digests = self._section_digests(gearset)
         return _digest(name, [(s, digests[s]) for s in sections], [(k, getattr(scene, k)) for k in scene_keys],
                        extra, parent)
+
+    def reuse(self, name: str, compute: Callable, gearset: GearSet, sections: tuple[str, ...], key: tuple,
+              owners: tuple):
+        """:func:`reuse` inside this run (see there)."""
+        self.checkpoint()
+        digests = self._section_digests(gearset)
+        k = _digest("reuse", name, [(s, digests[s]) for s in sections], key, [id(o) for o in owners])
+        found, entry = self.engine._get(k)
+        if found and all(a is b for a, b in zip(entry[0], owners)):
+            with self.engine._lock:
+                self.engine.hits[name] += 1
+            return entry[1]
+        value = compute()
+        with self.engine._lock:
+            self.engine.runs[name] += 1
+        self.engine._put(k, (tuple(owners), value), size=nbytes(value))
+        return value
 
     def stage(self, name: str, parent, compute: Callable, gearset: GearSet, scene, extra: tuple,
               on_hit: Callable[[], None] | None):
@@ -332,10 +369,10 @@ class Engine:
             self._cache.move_to_end(key)
             return True, hit[0]
 
-    def _put(self, key: str, value) -> None:
+    def _put(self, key: str, value, size: int | None = None) -> None:
         if self.memory_bytes <= 0:
             return
-        size = nbytes(value)
+        size = nbytes(value) if size is None else size
         if size > self.memory_bytes:
             log.info("engine: a stage result of %d bytes is over the budget of %d: not kept", size, self.memory_bytes)
             return

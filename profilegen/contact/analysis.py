@@ -31,7 +31,7 @@ from .inputs import ContactInput
 from .solvers import ContactError, ContactSolution, solve_lemke, solve_qp_active_set
 from ..results import readonly as _readonly
 
-__all__ = ["ContactResult", "LoadCase", "analyse_contact", "solve_contact"]
+__all__ = ["ContactResult", "FLANK_SECTIONS", "LoadCase", "analyse_contact", "flank", "solve_contact"]
 
 ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi
 
@@ -266,6 +266,32 @@ def _solve_every_ball(points, compliance, torque_nm: float, solver: str, bearing
             BallReactions(compliance.ball_angle_rad, out["reactions"], out["active"]))
 
 
+def flank(inputs: ContactInput, side: int = 1, *, stations: int = 5, max_gap_mm: float = 0.12, **build):
+    """(points, compliance) of one flank: :func:`~profilegen.contact.points.contact_points` and
+    :meth:`ContactCompliance.build <profilegen.contact.compliance.ContactCompliance.build>` (its
+    keyword arguments ``build``). Neither reads the torques: inside an engine's design
+    (:func:`profilegen.engine.reuse`) a flank built for the same geometry — the gear set's sections
+    but its torques and requirements, the same FS tooth, deformation and CS space objects — is
+    taken from the engine's cache, so a torque change re-solves the contact without building it."""
+    from ..engine import reuse
+    from .compliance import ContactCompliance
+    from .points import contact_points
+
+    def make():
+        pts = contact_points(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm)
+        return pts, ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm, **build)
+
+    m = inputs.motion
+    key = (side, stations, max_gap_mm, sorted(build.items()), inputs.cs_tip_radius_mm, inputs.rim_contact_angle_rad,
+           m.neutral_radius_mm, m.waves, m.cs_teeth)
+    return reuse("contact_flank", make, gearset=inputs.gearset, sections=FLANK_SECTIONS, key=key,
+                 owners=(inputs.tooth, m.deformation, inputs.cs_space))
+
+
+#: the gear-set sections a flank's points and compliance read: all but the torques and the requirements
+FLANK_SECTIONS = ("gear", "tooth", "wave_generator", "material", "circular_spline", "cup", "face")
+
+
 def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: int = 5, max_gap_mm: float = 0.12,
                   solver: str = "lemke", face_width_mm: float | None = None, settle_iterations: int = 20,
                   points=None, compliance=None, race_thickness_mm: float | None = None,
@@ -297,9 +323,6 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
     the bore (see :meth:`ContactCompliance.build`; 0 = none; both ignored when ``compliance``
     is given)."""
 
-    from .compliance import ContactCompliance
-    from .points import contact_points
-
     t0 = time.perf_counter()
     inputs = ContactInput.from_design(inputs, name="inputs")  # a ContactInput passes as it is
     torques = _checked_torques(torques_nm, solver)
@@ -309,11 +332,9 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
     if (points is None) != (compliance is None):
         raise ContactError("points, compliance: pass both (from an earlier solve_contact result) or neither")
     if points is None:
-        points = contact_points(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm)
-        compliance = ContactCompliance.build(inputs, points.fs_point_mm, points.normal, points.tooth,
-                                             points.cs_point_mm, face_width_mm=face_width_mm,
-                                             race_thickness_mm=race_thickness_mm, race_interface=race_interface,
-                                             ball_supports=ball_supports)
+        points, compliance = flank(inputs, side, stations=stations, max_gap_mm=max_gap_mm, face_width_mm=face_width_mm,
+                                   race_thickness_mm=race_thickness_mm, race_interface=race_interface,
+                                   ball_supports=ball_supports)
     every_ball = getattr(compliance, "ball_supports", "window") == "all"
     if bearing is not None and not every_ball:
         raise ContactError("bearing: Hertz springs at the balls need ball_supports = 'all' (the window's balls are "

@@ -945,9 +945,9 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
     run without a face stage gets the one-section curve and a warning saying so."""
     from dataclasses import replace
 
+    from .analysis import flank
     from .compliance import ContactCompliance
     from .inputs import ContactInput
-    from .points import contact_points
 
     inputs = ContactInput.from_design(design, name="design")
     gs = inputs.gearset
@@ -963,11 +963,10 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
     if sides is None and contact is not None and getattr(contact, "compliance", None) is not None:
         pts = contact.points
         if pts.side == 1 and pts.stations == stations and pts.max_gap_mm == max_gap:
-            left = contact_points(inputs, side=-1, stations=stations, max_gap_mm=max_gap)
             # the right flank's wrap angle: without a rim FEM (sketch) it is a flat-ring solve, the same for both
             wrap = contact.compliance.wrap_half_angle_rad
-            comp = ContactCompliance.build(inputs, left.fs_point_mm, left.normal, left.tooth, left.cs_point_mm,
-                                           wrap_half_angle_rad=wrap, ball_supports=supports)
+            left, comp = flank(inputs, -1, stations=stations, max_gap_mm=max_gap, wrap_half_angle_rad=wrap,
+                               ball_supports=supports)  # (an engine's design: built once for the geometry)
             right = contact.compliance
             if right.ball_supports != supports:  # a contact solved with other balls: the right flank again
                 right = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,

@@ -75,9 +75,19 @@ def test_a_torque_change_with_the_contact_resolves_contact_and_stresses(base):
     plain = pg.design(base, scene=SKETCH, contact=True, on_stage=recorder("plain"))
     assert first_difference(comparable(cached), comparable(plain)) is None
     assert seen["engine"] == seen["plain"] and len(seen["plain"]) == 3
-    d = engine.design(base.with_values({"torque.rated_nm": 200.0}), scene=SKETCH, contact=True)
+    assert engine.runs["contact_flank"] == 2 and not engine.hits["contact_flank"]  # the right and the left flank
+    torque = base.with_values({"torque.rated_nm": 200.0})
+    d = engine.design(torque, scene=SKETCH, contact=True)
     assert engine.last_run == ("contact", "stress")
     assert d.contact.torques_nm[0] == 200.0
+    # the flanks (points, compliance) read no torque: both taken from the first design, the same objects
+    assert engine.runs["contact_flank"] == 2 and engine.hits["contact_flank"] == 2
+    assert d.contact.compliance is cached.contact.compliance
+    assert first_difference(comparable(d), comparable(pg.design(torque, scene=SKETCH, contact=True))) is None
+    # the compliance reads the material: a stiffer FS builds both flanks again
+    stiffer = engine.design(base.with_values({"material.youngs_modulus_mpa": 230000.0}), scene=SKETCH, contact=True)
+    assert engine.runs["contact_flank"] == 4
+    assert stiffer.contact.compliance.matrix_mm_per_n[0, 0] < cached.contact.compliance.matrix_mm_per_n[0, 0]
 
 
 def test_a_requirements_change_reruns_the_checks_only(warm, base):
