@@ -67,16 +67,31 @@ def _one_line(exc) -> str:
 # ----------------------------------------------------------------------------- the lock
 
 
-def test_a_lock_file_planted_as_a_link_is_refused_and_its_target_untouched(tmp_path):
+def test_a_lock_file_planted_as_a_link_is_refused_and_its_target_untouched(tmp_path, monkeypatch):
+    """The planted link is refused by name, and its target is never even opened (opening a device
+    or FIFO can act on it). An open that reaches the target fails the test at once: a lock opened
+    through the link would otherwise be locked, found not to be the name's file, and opened again
+    for ever (the mutant folder-lock-follows-link hung here until the mutation run's timeout)."""
     victim = tmp_path / "victim.txt"
     victim.write_text("root-owned content\n")
     before = sha(victim)
     shared = tmp_path / "shared"
     shared.mkdir()
     os.symlink(victim, shared / ".run.lock")
+    real_open = os.open
+
+    def guarded_open(path, flags, *args, **kw):
+        fd = real_open(path, flags, *args, **kw)
+        if os.path.samestat(os.fstat(fd), os.stat(victim)):
+            os.close(fd)
+            raise AssertionError(f"the lock file's open followed the planted link {path} to {victim}")
+        return fd
+
+    monkeypatch.setattr(os, "open", guarded_open)
     with pytest.raises(ExportError, match="symbolic link") as info:
         with outfolder.replacing(shared / "run", ours=OURS) as staging:
             (staging / "a.txt").write_text("x")
+    monkeypatch.undo()
     assert ".run.lock" in _one_line(info)
     assert sha(victim) == before and sorted(os.listdir(shared)) == [".run.lock"]
 
