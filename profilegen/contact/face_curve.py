@@ -172,6 +172,21 @@ def flank_offset_gap_mm(points, motion, thickness_change_mm) -> np.ndarray:
     return -np.einsum("ij,ij->i", np.asarray(points.normal, dtype=float), d_turned)
 
 
+def radial_offset_gap_mm(points, motion, radial_shift_mm) -> np.ndarray:
+    """Δe_k (mm) of the whole FS tooth moved radially by Δy (> 0 away from the gear centre, along
+    the tooth frame's y), as :func:`profilegen.face.modification.modified_tooth` shifts it: each
+    point moves by Δy e_r(Φ), its separation by −n_k · that (as :func:`flank_offset_gap_mm`)."""
+    local = np.asarray(points.local_mm, dtype=float)
+    dy = np.broadcast_to(np.asarray(radial_shift_mm, dtype=float), (local.shape[0],))
+    move = np.column_stack([np.zeros(local.shape[0]), dy])
+    pose = motion.pose(np.asarray(points.phi_rad, dtype=float))
+    d = pose.to_cs(local + move) - pose.to_cs(local)
+    angle = 2.0 * math.pi * np.asarray(points.tooth, dtype=float) / motion.cs_teeth
+    c, s = np.cos(angle), np.sin(angle)
+    d_turned = np.column_stack([d[:, 0] * c + d[:, 1] * s, d[:, 1] * c - d[:, 0] * s])
+    return -np.einsum("ij,ij->i", np.asarray(points.normal, dtype=float), d_turned)
+
+
 def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=None, design_z_mm: float | None = None,
                      modification=None, nodes: str = "midpoint") -> tuple[np.ndarray, np.ndarray]:
     """(z_i (N,) mm, Δe (N, n) mm): the slices' sections (:func:`slice_layout` with ``nodes``,
@@ -214,6 +229,9 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
                               ring_span_mm=(zc - 0.5 * b, zc + 0.5 * b))
         unit = flank_offset_gap_mm(points, motion, 1.0)  # linear in Δs
         out = out + ds[:, None] * unit[None, :]
+        shift = 0.0 if isinstance(modification, tuple | list) else float(getattr(modification, "shift_mm_per_mm", 0.0))
+        if shift != 0.0:  # the face stage's radial shift of the whole tooth, Δy = shift·(z − z_d)
+            out = out + (shift * (z - zd))[:, None] * radial_offset_gap_mm(points, motion, 1.0)[None, :]
     return z, out
 
 

@@ -74,16 +74,23 @@ def modification_lines(design) -> list[str]:
     z = face.design_section_z_mm
     lines = [f"CS profile: the design section z = {z:g} mm from the cup bottom ({face.design_choice})."]
     mod = face.modification
-    if mod is None or (abs(mod.taper_mm_per_mm) < 1e-9 and abs(mod.crowning_mm) < 1e-9):
+    shift = 0.0 if mod is None else float(getattr(mod, "shift_mm_per_mm", 0.0))
+    if mod is None or (abs(mod.taper_mm_per_mm) < 1e-9 and abs(mod.crowning_mm) < 1e-9 and abs(shift) < 1e-9):
         lines.append("FS teeth: no modification along the face (straight teeth)." if mod is not None or
                      face.max_interference_mm <= face.interference_tol_mm else
                      f"FS teeth: UNMODIFIED, and they interfere with this CS by {face.max_interference_mm * 1e3:.3g} um "
                      "at some section: a modification is required.")
         return lines
     ds = [float(v) for v in mod.thickness_change_mm]
-    crown = ("" if abs(mod.crowning_mm) < 1e-9 else
-             f" and by -{mod.crowning_mm * 1e3:.4g} um at the face ends against mid-face (crowning)")
-    lines.append(f"FS teeth MODIFIED along the face: tooth thickness on the pitch line changes by "
-                 f"{mod.taper_mm_per_mm * 1e3:.4g} um per mm toward the open end (taper){crown}, 0 at z = {z:g} mm; "
-                 f"from {min(ds) * 1e3:.3g} to {max(ds) * 1e3:.3g} um over the face.")
+    if abs(mod.taper_mm_per_mm) >= 1e-9 or abs(mod.crowning_mm) >= 1e-9:
+        crown = ("" if abs(mod.crowning_mm) < 1e-9 else
+                 f" and by -{mod.crowning_mm * 1e3:.4g} um at the face ends against mid-face (crowning)")
+        lines.append(f"FS teeth MODIFIED along the face: tooth thickness on the pitch line changes by "
+                     f"{mod.taper_mm_per_mm * 1e3:.4g} um per mm toward the open end (taper){crown}, 0 at z = {z:g} mm; "
+                     f"from {min(ds) * 1e3:.3g} to {max(ds) * 1e3:.3g} um over the face.")
+    if abs(shift) >= 1e-9:
+        dy = [float(v) for v in mod.radial_shift_mm]
+        lines.append(f"FS teeth SHIFTED radially along the face (conical FS, tip and root circles alike): the whole "
+                     f"tooth moves outward by {shift * 1e3:.4g} um per mm toward the open end, 0 at z = {z:g} mm; "
+                     f"from {min(dy) * 1e3:.3g} to {max(dy) * 1e3:.3g} um over the face.")
     return lines

@@ -25,8 +25,22 @@ backlash is kept (none: the last step, with a warning).
 What a thickness change cannot do: where a section's tooth goes deeper into the space than the
 design section's (more ω on the major axis) its tip corners meet the CS flank near the top of
 the space, and where it deflects less on the minor axis its root lands meet the CS tips — radial
-interference that thinning barely relieves; the LP is then infeasible (a warning) and the
-design section must move (the default choice avoids it).
+interference that thinning barely relieves; the LP is then infeasible (a warning).
+
+The radial shift (``shift_mm_per_mm``): the whole FS tooth, root to tip, moved radially by
+Δy(z) = shift · (z − z_d) (> 0 away from the gear centre; 0 at the design section) — a profile
+shift that varies linearly along the face, the tooth cut with the hob's radial position fed
+with its axial one (a conical FS: tip and root circles tapered by Δy). It is what a cone of
+the cup about the bearing's ball row asks for: with the race free to tilt each section is the
+design section's deformation scaled (ω ∝ z), and a section that deflects less than the design
+section sits radially further out on its way in and out of mesh (φ ≈ ±60°), where its tooth
+meets the CS flank along the whole flank (seed000_csf40, ring race, design section at the open
+end: 74 µm at the diaphragm end; still 10 µm with the tooth 200 µm thinner, 43 µm with its tip
+200 µm lower; moved 100 µm inward it clears). Searched (:func:`_search_on_maps`) only when the
+thickness taper and crowning find no interference-free part: the smallest shift, toward the
+gear centre at the worst section, that is interference-free on the exact maps. The shifted
+tooth is built with the neutral radius r_m − Δy (its levels r₁ − r_m + … are Δy higher in the
+tooth frame) and placed by the section's own motion on the real neutral line.
 """
 
 from __future__ import annotations
@@ -45,13 +59,16 @@ from .sections import FaceError, cup_deformation, ring_span
 if TYPE_CHECKING:  # pragma: no cover
     from .stage import FaceWidth
 
-__all__ = ["ToothModification", "apply_modification", "modified_tooth", "solve_modification", "thickness_change"]
+__all__ = ["ToothModification", "apply_modification", "modified_tooth", "radial_shift", "solve_modification",
+           "thickness_change"]
 
 #: the finite-difference step of the first sensitivity (mm of tooth thickness): thinner, the way
 #: interference is removed (the clearance is a minimum over contacts: its one-sided slopes differ)
 FD_STEP_MM = -4e-3
 #: the LP steps stop when the thickness change moves by less than this at every section (mm)
 STOP_MM = 2e-4
+#: the radial shift's range searched (mm per mm of face; 0.02: 400 µm over a 20 mm face)
+SHIFT_MAX_MM_PER_MM = 0.02
 
 
 class _ToothFields:
@@ -64,24 +81,45 @@ class _ToothFields:
         return getattr(self._tooth, name)
 
 
+class _GearView:
+    """A gear section with ``neutral_radius_mm`` replaced (a tooth shifted radially, module docstring)."""
+
+    def __init__(self, gear, neutral_radius_mm: float):
+        self._gear, self.neutral_radius_mm = gear, neutral_radius_mm
+
+    def __getattr__(self, name):
+        return getattr(self._gear, name)
+
+
 class _GearSetView:
-    def __init__(self, gearset, tooth):
-        self.gear, self.tooth = gearset.gear, tooth
+    def __init__(self, gearset, tooth, gear=None):
+        self.gear, self.tooth = gearset.gear if gear is None else gear, tooth
 
 
-def modified_tooth(gearset, thickness_change_mm: float):
+def modified_tooth(gearset, thickness_change_mm: float, radial_shift_mm: float = 0.0):
     """The gear set's FS tooth with its thickness on the pitch line changed by
-    ``thickness_change_mm`` (half on each flank)."""
+    ``thickness_change_mm`` (half on each flank) and, root to tip, moved radially by
+    ``radial_shift_mm`` (> 0 away from the gear centre) against the neutral line: in the tooth
+    frame (origin on the neutral line) its levels are that much higher. A shifted tooth carries
+    the neutral radius r_m − Δy; it is placed by the section's motion (the real neutral line)."""
     from ..teeth import tooth_from_gearset
 
     t = gearset.tooth
     if getattr(t, "kind", None) not in ("dcta", "involute"):
         raise FaceError(f"face.taper_mm_per_mm / face.crowning_mm: a tooth of kind {getattr(t, 'kind', None)!r} "
                         "cannot be modified (its thickness is not a field); tooth.kind must be dcta or involute")
-    if thickness_change_mm == 0.0:
+    if thickness_change_mm == 0.0 and radial_shift_mm == 0.0:
         return tooth_from_gearset(gearset)
     h = float(t.half_thickness_mm) + 0.5 * float(thickness_change_mm)
-    return tooth_from_gearset(_GearSetView(gearset, _ToothFields(t, h)))
+    gear = None
+    if radial_shift_mm != 0.0:
+        gear = _GearView(gearset.gear, float(gearset.gear.neutral_radius_mm) - float(radial_shift_mm))
+    return tooth_from_gearset(_GearSetView(gearset, _ToothFields(t, h), gear))
+
+
+def radial_shift(z_mm, *, shift_mm_per_mm: float, design_z_mm: float) -> np.ndarray:
+    """Δy(z) = shift · (z − z_d) of the module docstring (mm, > 0 away from the gear centre)."""
+    return shift_mm_per_mm * (np.asarray(z_mm, dtype=float) - design_z_mm)
 
 
 def thickness_change(z_mm, *, taper_mm_per_mm: float, crowning_mm: float, design_z_mm: float,
@@ -99,7 +137,8 @@ class ToothModification:
     ``source`` ("computed" or "given"), the thickness change of each section
     ``thickness_change_mm``, its ``table`` (SectionClearance rows) and clearance map
     ``clearance_mm`` (sections × φ) against the same CS; ``iterations`` of the LP, the
-    ``predicted_backlash_mm`` of the last LP (the recomputed one is in the table)."""
+    ``predicted_backlash_mm`` of the last LP (the recomputed one is in the table); the radial
+    shift ``shift_mm_per_mm`` and each section's ``radial_shift_mm`` (module docstring)."""
 
     taper_mm_per_mm: float
     crowning_mm: float
@@ -113,10 +152,14 @@ class ToothModification:
     predicted_backlash_mm: float | None
     time_s: float
     warnings: tuple = field(default=())
+    shift_mm_per_mm: float = 0.0
+    radial_shift_mm: np.ndarray | None = None
 
     def __post_init__(self):
         object.__setattr__(self, "thickness_change_mm", readonly(self.thickness_change_mm))
         object.__setattr__(self, "clearance_mm", readonly(self.clearance_mm))
+        shift = np.zeros(len(self.thickness_change_mm)) if self.radial_shift_mm is None else self.radial_shift_mm
+        object.__setattr__(self, "radial_shift_mm", readonly(shift))
 
     @property
     def max_interference_mm(self) -> float:
@@ -131,17 +174,22 @@ class ToothModification:
             "taper_mm_per_mm": self.taper_mm_per_mm, "crowning_mm": self.crowning_mm, "source": self.source,
             "method": self.method,
             "definition": "tooth thickness change on the pitch line Δs(z) = taper·(z − z_d) − crowning·(u² − u_d²), "
-                          "u = (z − z_mid)/(b/2); zero at the design section",
+                          "u = (z − z_mid)/(b/2); zero at the design section. Radial shift of the whole tooth "
+                          "Δy(z) = shift·(z − z_d), > 0 away from the gear centre",
+            "shift_mm_per_mm": self.shift_mm_per_mm, "radial_shift_mm": self.radial_shift_mm,
             "sections": [r.to_dict() for r in self.table],
             "max_interference_mm": self.max_interference_mm, "max_backlash_mm": self.max_backlash_mm,
             "iterations": self.iterations, "predicted_backlash_mm": self.predicted_backlash_mm,
             "time_s": self.time_s, "warnings": list(self.warnings)})
 
 
-def _modified_sections(gearset, face: FaceWidth, ds: np.ndarray):
-    """The sections with their teeth modified by ``ds`` (same motion; the envelope is not traced)."""
-    return [s if abs(d) < 1e-12 else replace(s, tooth=modified_tooth(gearset, float(d)), envelope=None)
-            for s, d in zip(face.sections, ds)]
+def _modified_sections(gearset, face: FaceWidth, ds: np.ndarray, dy: np.ndarray | None = None):
+    """The sections with their teeth modified by ``ds`` and shifted by ``dy`` (same motion; the
+    envelope is not traced)."""
+    dy = np.zeros(len(ds)) if dy is None else dy
+    return [s if abs(d) < 1e-12 and abs(y) < 1e-12 else
+            replace(s, tooth=modified_tooth(gearset, float(d), float(y)), envelope=None)
+            for s, d, y in zip(face.sections, ds, dy)]
 
 
 class _Stored:
@@ -159,28 +207,30 @@ class _MapCache:
     def __init__(self, face):
         self.face, self.maps = face, {}
 
-    def get(self, k: int, section, ds_k: float):
-        if abs(ds_k) < 1e-12:
+    def get(self, k: int, section, ds_k: float, dy_k: float = 0.0):
+        if abs(ds_k) < 1e-12 and abs(dy_k) < 1e-12:
             return _Stored(self.face.phi_rad, self.face.clearance_mm[k])
-        key = (k, float(ds_k))
+        key = (k, float(ds_k), float(dy_k))
         if key not in self.maps:
             self.maps[key] = section_map(self.face.form, section, self.face.map_samples)
         return self.maps[key]
 
 
 def _finish(gearset, face, secs, ds, taper, crown, source, method, iterations, predicted, start, warnings,
-            cache: _MapCache | None = None):
+            cache: _MapCache | None = None, shift: float = 0.0, dy: np.ndarray | None = None):
     cache = _MapCache(face) if cache is None else cache
+    dy = np.zeros(len(ds)) if dy is None else np.asarray(dy, dtype=float)
     rows, cmap = [], []
-    for k, (s, d) in enumerate(zip(secs, ds)):
+    for k, (s, d, y) in enumerate(zip(secs, ds, dy)):
+        same = abs(d) < 1e-12 and abs(y) < 1e-12
         row, _, c = section_clearance(face.form, s, face.engaged, samples=face.map_samples, thickness_change_mm=float(d),
-                                      cmap=cache.get(k, s, float(d)),
-                                      min_gap_mm=face.table[k].min_gap_mm if abs(d) < 1e-12 else None)
+                                      cmap=cache.get(k, s, float(d), float(y)),
+                                      min_gap_mm=face.table[k].min_gap_mm if same else None)
         rows.append(row)
         cmap.append(c)
     cmap = np.array(cmap)
     mod = ToothModification(float(taper), float(crown), source, method, ds, tuple(secs), tuple(rows), cmap,
-                            iterations, predicted, time.perf_counter() - start, tuple(warnings))
+                            iterations, predicted, time.perf_counter() - start, tuple(warnings), float(shift), dy)
     if mod.max_interference_mm > face.interference_tol_mm:
         warnings.append(f"with the tooth modification the CS still interferes by {mod.max_interference_mm * 1e3:.3g} µm")
         mod = replace(mod, warnings=tuple(warnings))
@@ -188,8 +238,9 @@ def _finish(gearset, face, secs, ds, taper, crown, source, method, iterations, p
 
 
 def apply_modification(gearset, deformation, face: FaceWidth, taper_mm_per_mm: float,
-                       crowning_mm: float) -> ToothModification:
-    """The face with a given modification (gear-set fields ``[face] taper_mm_per_mm``, ``crowning_mm``)."""
+                       crowning_mm: float, shift_mm_per_mm: float = 0.0) -> ToothModification:
+    """The face with a given modification (gear-set fields ``[face] taper_mm_per_mm``, ``crowning_mm``;
+    ``shift_mm_per_mm`` the radial shift, module docstring, not a gear-set field)."""
     start = time.perf_counter()
     deformation = cup_deformation(deformation)
     taper = checks.number("face.taper_mm_per_mm", taper_mm_per_mm, "mm/mm", -0.01, 0.01, low_open=False,
@@ -198,8 +249,11 @@ def apply_modification(gearset, deformation, face: FaceWidth, taper_mm_per_mm: f
                           error=FaceError)
     ds = thickness_change(face.z_mm, taper_mm_per_mm=taper, crowning_mm=crown, design_z_mm=face.design_section_z_mm,
                           ring_span_mm=ring_span(deformation))
-    secs = _modified_sections(gearset, face, ds)
-    return _finish(gearset, face, secs, ds, taper, crown, "given", "as given", 0, None, start, [])
+    shift = checks.number("shift_mm_per_mm", shift_mm_per_mm, "mm/mm", -SHIFT_MAX_MM_PER_MM, SHIFT_MAX_MM_PER_MM,
+                          low_open=False, high_open=False, error=FaceError)
+    dy = radial_shift(face.z_mm, shift_mm_per_mm=shift, design_z_mm=face.design_section_z_mm)
+    secs = _modified_sections(gearset, face, ds, dy)
+    return _finish(gearset, face, secs, ds, taper, crown, "given", "as given", 0, None, start, [], shift=shift, dy=dy)
 
 
 def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool = True,
@@ -272,31 +326,45 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
                 best = (backlash, taper, crown, ds, secs, predicted)
             if moved < STOP_MM:
                 break
+    shift, dy = 0.0, None
     if best is None:
         found = _search_on_maps(gearset, face, a, c if crowning else None, cache=cache)
-        if found is None:
-            warnings.append(f"tooth modification: still interfering after {done} LP steps and the search along "
-                            "the taper and crowning")
-        else:
+        if found is not None:
             warnings.append(f"tooth modification: the LP found no interference-free step ({done} steps: the "
                             "clearance is not linear in the thickness there); a search (regula falsi) on the exact maps "
                             "along the taper or the crowning found one")
-            backlash, taper, crown, ds, secs = found
-            predicted = None
             method += "; fallback: regula falsi on the exact maps along the taper, then the crowning"
+        else:
+            found = _search_on_maps(gearset, face, a, None, cache=cache, shift=True)
+            if found is None:
+                warnings.append(f"tooth modification: still interfering after {done} LP steps and the search along "
+                                "the taper and crowning and along the radial shift")
+            else:
+                warnings.append(f"tooth modification: no thickness taper or crowning clears the face ({done} LP steps "
+                                "and the search along them); the FS tooth is shifted radially along the face (a conical "
+                                f"FS: {found[5] * 1e3:.3g} µm/mm, {np.min(found[6]) * 1e3:.3g} … "
+                                f"{np.max(found[6]) * 1e3:.3g} µm over the face, > 0 outward)")
+                method += ("; fallback: regula falsi on the exact maps along the taper, then the crowning, then the "
+                           "radial shift of the whole tooth")
+        if found is not None:
+            backlash, taper, crown, ds, secs, shift, dy = found
+            predicted = None
     else:
         _, taper, crown, ds, secs, predicted = best
-    return _finish(gearset, face, secs, ds, taper, crown, "computed", method, done, predicted, start, warnings, cache)
+    return _finish(gearset, face, secs, ds, taper, crown, "computed", method, done, predicted, start, warnings, cache,
+                   shift, dy)
 
 
 def _search_on_maps(gearset, face: FaceWidth, a: np.ndarray, c: np.ndarray | None, *, steps: int = 9,
-                    cache: _MapCache | None = None):
+                    cache: _MapCache | None = None, shift: bool = False):
     """When the LP's linearisation finds no interference-free step (the clearance is a minimum over
     contacts, and where the nearest contact changes a finite-difference slope says little): along the
     taper (its sign thins the worst-interfering section) and then the crowning, the smallest multiple
     within the field's range that is interference-free on the exact recomputed maps (to a tenth of the
     interference tolerance: the margin is real, not the tolerance's), to 2^-``steps`` of the range
-    (1/512). Returns (largest backlash, taper, crowning, Δs, sections) of the better one, or None.
+    (1/512). Returns (largest backlash, taper, crowning, Δs, sections, shift, Δy) of the better one,
+    or None. ``shift``: along the radial shift instead (:data:`SHIFT_MAX_MM_PER_MM`, its sign moves
+    the worst-interfering section toward the gear centre), the thickness unchanged.
 
     The multiple is bracketed by the Illinois variant of regula falsi on the lowest clearance of the
     *active* sections — at first only the worst-interfering one, whose map alone is recomputed at each
@@ -308,31 +376,45 @@ def _search_on_maps(gearset, face: FaceWidth, a: np.ndarray, c: np.ndarray | Non
     c0 = face.clearance_mm
     worst = int(np.argmin(c0.min(axis=1)))
     tol = 0.1 * face.interference_tol_mm
+    own = face.design_index
     directions = []
-    if abs(a[worst]) > 0:
-        directions.append((-np.sign(a[worst]) * 0.01, 0.0))  # taper to its bound, thinning the worst section
-    if c is not None and c[worst] < 0:
-        directions.append((0.0, 0.1))  # crowning to its bound (thins the ends against the design section)
+    if shift:
+        if abs(a[worst]) > 0:  # the worst section moved toward the gear centre, to the shift's bound
+            directions.append((0.0, 0.0, -np.sign(a[worst]) * SHIFT_MAX_MM_PER_MM))
+    else:
+        if abs(a[worst]) > 0:
+            directions.append((-np.sign(a[worst]) * 0.01, 0.0, 0.0))  # taper to its bound, thinning the worst section
+        if c is not None and c[worst] < 0:
+            directions.append((0.0, 0.1, 0.0))  # crowning to its bound (thins the ends against the design section)
     best = None
     width = 2.0 ** -steps
     cache = _MapCache(face) if cache is None else cache
 
-    def thickness(mult, taper_max, crown_max):
-        return a * (mult * taper_max) + (0.0 if c is None else c * (mult * crown_max))
+    def thickness(mult, taper_max, crown_max, shift_max):
+        """(Δs, Δy) of the sections at ``mult`` of the direction."""
+        return a * (mult * taper_max) + (0.0 if c is None else c * (mult * crown_max)), a * (mult * shift_max)
 
-    def lowest(ds, ks):
-        """The lowest clearance (as the rows report it) of sections ``ks`` with thickness change ``ds``."""
-        secs = _modified_sections(gearset, face, ds)
+    def lowest(dsy, ks):
+        """The lowest clearance (as the rows report it) of sections ``ks`` with thickness change and
+        radial shift ``dsy``."""
+        ds, dy = dsy
+        secs = _modified_sections(gearset, face, ds, dy)
         rows = {}
         for k in ks:
-            rows[k] = cache.get(k, secs[k], float(ds[k])).clearance_mm
-        return min(parabolic_minimum(face.phi_rad, rows[k])[0] for k in ks), rows, secs
+            rows[k] = cache.get(k, secs[k], float(ds[k]), float(dy[k])).clearance_mm
+        return min(level(k, rows[k]) for k in ks), rows, secs
 
-    for taper_max, crown_max in directions:
+    def level(k, clearance):
+        """Section k's lowest clearance; the design section's tooth is never modified (its map is the
+        stage's own, ~0 within the chord), so it is held to the stage's tolerance, not a tenth of it."""
+        return parabolic_minimum(face.phi_rad, clearance)[0] + (face.interference_tol_mm - tol if k == own else 0.0)
+
+    for taper_max, crown_max, shift_max in directions:
+        direction = (taper_max, crown_max, shift_max)
         active = [worst]
         low, high = 0.0, 1.0
         f_low = float(c0[worst].min()) + tol  # < 0: the worst section interferes unmodified
-        f_high = lowest(thickness(1.0, taper_max, crown_max), active)[0] + tol
+        f_high = lowest(thickness(1.0, *direction), active)[0] + tol
         if f_high < 0.0:
             continue
         side, found = 0, None
@@ -340,7 +422,7 @@ def _search_on_maps(gearset, face: FaceWidth, a: np.ndarray, c: np.ndarray | Non
             if high - low > width:
                 mid = high - f_high * (high - low) / (f_high - f_low) if f_high != f_low else 0.5 * (low + high)
                 mid = min(max(mid, low + 0.01 * (high - low)), high - 0.01 * (high - low))
-                f_mid = lowest(thickness(mid, taper_max, crown_max), active)[0] + tol
+                f_mid = lowest(thickness(mid, *direction), active)[0] + tol
                 if f_mid >= 0.0:
                     high, f_high = mid, f_mid
                     f_low = 0.5 * f_low if side == 1 else f_low  # Illinois: the stale end's value halved
@@ -350,25 +432,25 @@ def _search_on_maps(gearset, face: FaceWidth, a: np.ndarray, c: np.ndarray | Non
                     f_high = 0.5 * f_high if side == -1 else f_high
                     side = -1
                 continue
-            ds = thickness(high, taper_max, crown_max)
-            everyone = list(range(ds.size))
-            value, rows, secs = lowest(ds, everyone)
+            dsy = thickness(high, *direction)
+            everyone = list(range(dsy[0].size))
+            value, rows, secs = lowest(dsy, everyone)
             if value >= -tol:
                 cmaps = np.array([rows[k] for k in everyone])
-                found = (float(np.max(cmaps[:, face.engaged])), high, ds, secs)
+                found = (float(np.max(cmaps[:, face.engaged])), high, dsy, secs)
                 break
-            bad = [k for k in everyone if k not in active and parabolic_minimum(face.phi_rad, rows[k])[0] < -tol]
+            bad = [k for k in everyone if k not in active and level(k, rows[k]) < -tol]
             active += bad
-            f_high = lowest(thickness(1.0, taper_max, crown_max), active)[0] + tol
+            f_high = lowest(thickness(1.0, *direction), active)[0] + tol
             if f_high < 0.0:
                 break
             high, side = 1.0, 0
-            f_low = lowest(thickness(low, taper_max, crown_max), active)[0] + tol if low > 0 else \
+            f_low = lowest(thickness(low, *direction), active)[0] + tol if low > 0 else \
                 min(float(c0[k].min()) for k in active) + tol
         if found is None:
             continue
-        backlash, mult, ds, secs = found
-        candidate = (backlash, mult * taper_max, mult * crown_max, ds, secs)
+        backlash, mult, (ds, dy), secs = found
+        candidate = (backlash, mult * taper_max, mult * crown_max, ds, secs, mult * shift_max, dy)
         if best is None or candidate[0] < best[0]:
             best = candidate
     return best

@@ -22,6 +22,15 @@ root) to every section's swept boundary says whether d's CS is interference-free
 face maps of the interference-free candidates give their largest backlash, and the least wins
 (if none is interference-free, the one with the least interference, with a warning). A number picks that
 section, which is then one of the sections computed.
+
+When no candidate is interference-free, the design section is the one of deepest engagement
+(the most ω on the major axis): every other section's tooth then goes less deep into the CS
+space, so what it needs is relief (a thinner tooth or one moved toward the gear centre,
+:mod:`profilegen.face.modification`), never added depth. The least interfering section is no
+such choice: with the wave generator's race free to tilt the cup cones about the ball row and
+the mid-face section is the least interfering (seed000_csf40, 58 µm), but the open end's tooth
+sits 53 µm deeper at φ = 0 there, which no thinning or inward shift of the other sections can
+undo. On the rigid band the two rules pick the same section for every bundled set (the open end).
 """
 
 from __future__ import annotations
@@ -119,6 +128,7 @@ class FaceWidth:
             "max_backlash_mm": self.max_backlash_mm,
             "taper_mm_per_mm": None if mod is None else mod.taper_mm_per_mm,
             "crowning_mm": None if mod is None else mod.crowning_mm,
+            "shift_mm_per_mm": None if mod is None else mod.shift_mm_per_mm,
             "modification": None if mod is None else mod.to_dict(),
             "cs_profile": "the polyline CS outline (gearform) of the design section's envelope",
             "backlash_measure": ("the section's largest clearance (mm) over the FS poses where the design section's "
@@ -215,9 +225,13 @@ def face_width(
         worst = min_gap.min(axis=1)
         ok = np.flatnonzero(worst >= -tol)
         if not ok.size:
-            ok = np.array([int(np.argmax(worst))])
-            warnings.append(f"no computed section's CS is interference-free over the face; the least interfering "
-                            f"(z = {z[ok[0]]:g} mm, {-worst[ok[0]] * 1e3:.3g} µm) is the design section")
+            deepest = int(np.argmax([s.omega_major_mm for s in secs]))
+            ok = np.array([deepest])
+            warnings.append(f"no computed section's CS is interference-free over the face; the section of deepest "
+                            f"engagement (z = {z[deepest]:g} mm, the most ω on the major axis: "
+                            f"{secs[deepest].omega_major_mm:.4g} mm) is the design section, its CS interfering by "
+                            f"{-worst[deepest] * 1e3:.3g} µm with the unmodified teeth (the least: "
+                            f"{-worst.max() * 1e3:.3g} µm at z = {z[int(np.argmax(worst))]:g} mm)")
         if ok.size == 1:
             d = int(ok[0])
         else:  # several interference-free candidates: their maps' largest backlash decides

@@ -82,6 +82,7 @@ def face_png(z_mm, phi_rad, clearance_mm, design_z_mm: float, modified_mm=None, 
 def write_face_dxfs(staging: Path, design) -> list[str]:
     """One FS tooth DXF per section into ``staging``: the section's tooth (modified when the face
     has a modification), undeformed, lines and arcs; returns the names written."""
+    from ..face.modification import modified_tooth
     from ..fsform import flexspline_tooth_chain
     from . import cad
     from .flexspline import FIT_TOL_MM, tooth_layers
@@ -93,14 +94,17 @@ def write_face_dxfs(staging: Path, design) -> list[str]:
     g = design.gearset
     names = []
     for k, section in enumerate(face.sections):
-        tooth = section.tooth if mod is None else mod.sections[k].tooth
         ds = 0.0 if mod is None else float(mod.thickness_change_mm[k])
+        dy = 0.0 if mod is None else float(getattr(mod, "radial_shift_mm", np.zeros(len(face.sections)))[k])
+        # a shifted tooth is drawn at the gear's neutral radius, its shift in the note
+        tooth = section.tooth if mod is None else (mod.sections[k].tooth if dy == 0.0 else modified_tooth(g, ds))
         chain, dev = flexspline_tooth_chain(tooth, g.gear, tol_mm=FIT_TOL_MM)
         note = (f"{g.name}: flexspline tooth at face section z = {section.z_mm:g} mm (from the cup bottom), "
                 f"m {tooth.module_mm:g} mm, z1 {tooth.teeth}, {tooth.kind}, undeformed, mm",
                 f"tooth thickness change {ds * 1e3:+.3f} um against the design section z = "
-                f"{face.design_section_z_mm:g} mm" + ("" if tooth.kind == "dcta" else
-                f"; flank: arcs within {dev * 1e3:.4f} um"))
+                f"{face.design_section_z_mm:g} mm" + ("" if dy == 0.0 else
+                f"; whole tooth (tip and root circles) moved radially {dy * 1e3:+.3f} um, not drawn")
+                + ("" if tooth.kind == "dcta" else f"; flank: arcs within {dev * 1e3:.4f} um"))
         layers, texts = tooth_layers(tooth, chain, note)
         name = FILES[k]
         cad.write_contours_dxf(Path(staging) / name, layers, texts=texts)

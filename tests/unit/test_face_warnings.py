@@ -61,15 +61,19 @@ def test_one_cs_profile_interferes_warns(designed):
 
 
 def test_no_section_interference_free_warns(designed):
-    # the default set's every candidate CS interferes somewhere over the face (the least, at the open
-    # end, by the 4.67 µm above): the face stage says so and names the least interfering section
+    # the default set's every candidate CS interferes somewhere over the face: the face stage says so,
+    # takes the section of deepest engagement (the most ω on the major axis) and names it and the least
+    # interfering one
     _, d = designed
     f = d.face
     worst = f.candidate_min_gap_mm.min(axis=1)
     assert worst.max() < -f.interference_tol_mm  # the condition, from the candidates' own gap matrix
+    deepest = int(np.argmax([s.omega_major_mm for s in f.sections]))
+    assert f.design_index == deepest
     hits = [w for w in f.warnings if w.startswith("no computed section's CS is interference-free")]
     assert len(hits) == 1
-    assert f"z = {f.z_mm[int(np.argmax(worst))]:g} mm" in hits[0] and "µm" in hits[0]
+    assert f"deepest engagement (z = {f.z_mm[deepest]:g} mm" in hits[0] and "µm" in hits[0]
+    assert f"at z = {f.z_mm[int(np.argmax(worst))]:g} mm" in hits[0]
 
 
 class _Uniform:
