@@ -40,10 +40,10 @@ CLASS_STYLE: dict[str, dict[str, Any]] = {
     "tip_path": {"color": "#2ca02c", "linewidth": 2.2, "zorder": 4},
     "interfering": {"color": "#d62728", "linewidth": 0.7, "zorder": 3},
 }
-_OTHER_STYLE = {"color": "0.3", "linewidth": 1.0, "zorder": 3}
+_OTHER_STYLE: dict[str, Any] = {"color": "0.3", "linewidth": 1.0, "zorder": 3}
 _FAMILY_COLOR = "0.80"
-_RIDGE_STYLE = {"marker": "o", "color": "k", "markersize": 4.5, "linestyle": "none", "zorder": 6}
-_FOLD_STYLE = {"marker": "^", "color": "#c000c0", "markersize": 5.5, "linestyle": "none", "zorder": 6}
+_RIDGE_STYLE: dict[str, Any] = {"marker": "o", "color": "k", "markersize": 4.5, "linestyle": "none", "zorder": 6}
+_FOLD_STYLE: dict[str, Any] = {"marker": "^", "color": "#c000c0", "markersize": 5.5, "linestyle": "none", "zorder": 6}
 
 #: Font sizes and line widths for paper figures (used by the functions that create a figure).
 PAPER_RC: dict[str, Any] = {
@@ -209,7 +209,7 @@ def envelope(
     if ax is None:
         ax = _new_axes((5.0, 5.0))
     if tooth is not None:
-        phi = np.linspace(*env.phi_range, int(family)) if family > 1 else np.array([np.mean(env.phi_range)])
+        phi = np.linspace(env.phi_range[0], env.phi_range[1], int(family)) if family > 1 else np.array([np.mean(env.phi_range)])
         ax.add_collection(LineCollection(family_outlines(tooth, motion, phi), colors=_FAMILY_COLOR,
                                          linewidths=0.45, zorder=1, label="_family"))
     handles = []
@@ -245,7 +245,7 @@ def envelope(
     ax.set_ylabel("y (mm)")
     _tidy(ax)
     if legend and markers:
-        ax.add_artist(Legend(ax, markers, [m.get_label() for m in markers], loc="lower left"))
+        ax.add_artist(Legend(ax, markers, [str(m.get_label()) for m in markers], loc="lower left"))
     if legend and handles:
         ax.legend(handles=handles, loc="lower right" if markers else "best")
     return ax
@@ -288,13 +288,16 @@ def envelope_figure(
     """
     fig, png = _envelope_figure(env, tooth, motion, title=title, png=path is not None)
     if path is not None:
+        assert png is not None  # asked for (png=True)
         _save(png, path)
     return fig
 
 
 def envelope_png(env: Any, tooth: Any, motion: Any, *, title: str = "") -> bytes:
     """:func:`envelope_figure` as PNG bytes (150 dpi)."""
-    return _envelope_figure(env, tooth, motion, title=title, png=True)[1]
+    png = _envelope_figure(env, tooth, motion, title=title, png=True)[1]
+    assert png is not None  # asked for (png=True)
+    return png
 
 
 def _envelope_figure(env: Any, tooth: Any, motion: Any, *, title: str, png: bool) -> tuple["Figure", bytes | None]:
@@ -308,7 +311,7 @@ def _envelope_figure(env: Any, tooth: Any, motion: Any, *, title: str, png: bool
     right = np.asarray(flank.get("right", boundary[boundary[:, 0] >= 0]), dtype=float)
     if len(right) < 2:
         right = boundary
-    with matplotlib.rc_context(PAPER_RC):
+    with matplotlib.rc_context(PAPER_RC):  # type: ignore[arg-type]  # (its stubs: rc keys a Literal of names)
         # two square panels (equal aspect) between a title band and a band for x labels and the legend
         fig, (ax_all, ax_zoom) = fixed_figure((7.2, 4.3), 1, 2, left=0.62, right=0.1, bottom=0.78,
                                               top=0.55 if title else 0.3, wgap=0.62,
@@ -609,6 +612,7 @@ def plot_goodman(result: DiaphragmStress, ax=None):
         FigureCanvasAgg(fig)
         ax = fig.add_subplot()
     tau_e, tau_u = result.shear_endurance_limit_mpa, result.shear_ultimate_mpa
+    assert tau_e is not None and tau_u is not None  # set with safety_factor (fatigue=True)
     tau_m, tau_a, n = result.mean_shear_mpa, result.shear_amplitude_mpa, result.safety_factor
     ax.plot([0.0, tau_u], [tau_e, 0.0], "k-", label="Goodman: τ_a/τ_-1 + τ_m/τ_u = 1")
     if math.isfinite(n) and n > 0:
@@ -681,12 +685,14 @@ def sweep_figure(rows, fields, output: str, *, title: str, ax=None, path=None):
             a.set_xticks(range(len(labels)), labels)
         ran = [(x, r[output], r.get("verdict")) for x, r in zip(xs, rows) if r["status"] == "ok" and r[output] is not None]
         bad = [x for x, r in zip(xs, rows) if r["status"] != "ok"]
+        style: dict[str, Any]
         for verdict, style, label in ((None, dict(color="#1f5fbf"), "ok"), ("PASS", dict(color="#1f5fbf"), "PASS"),
                                       ("INCOMPLETE", dict(color="#1f5fbf", mfc="none"), "INCOMPLETE (not all checked)"),
                                       ("FAIL", dict(color="#d62728", mfc="none", markersize=7), "FAIL (infeasible)")):
             pts = [(x, y) for x, y, v in ran if v == verdict]  # each point as its design's verdict judged it
             if pts:
-                a.plot(*zip(*pts), "o", **{"markersize": 4, **style}, label=f"{label} ({len(pts)})")
+                marker: dict[str, Any] = {"markersize": 4, **style}
+                a.plot(*zip(*pts), "o", **marker, label=f"{label} ({len(pts)})")
         if bad:
             a.plot(bad, [0.0] * len(bad), "x", color="#d62728", markersize=6, transform=a.get_xaxis_transform(),
                    clip_on=False, label=f"failed ({len(bad)})")
