@@ -392,8 +392,9 @@ def _register(app, sessions: Sessions) -> None:
             out[4], out[5] = _progress_text(snap), snap.version
             design = snap.design
             if design is not None and design.profile is not None:
-                # the figures once per profile (the design that adds the contact and stresses keeps it)
-                key = f"{snap.job}:{id(design.profile)}:{id(s.pinned)}"
+                # the figures once per profile: the partial designs that add the contact and stresses keep
+                # it, and so does a later job that changed no geometry (a torque, a requirement)
+                key = f"{s.profile_token(design.profile, snap.job)}:{id(s.pinned)}"
                 s.drawn(snap)
                 if force or key != drawn:
                     out[6] = key

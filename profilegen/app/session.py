@@ -348,6 +348,7 @@ class Session:
         self.before: Snapshot | None = None  # the final one drawn before that
         self.errors: dict[str, str] = {}
         self.used = time.monotonic()
+        self._profiles: OrderedDict[int, tuple[Any, int]] = OrderedDict()  # id(profile) -> (profile, token)
 
     @property
     def gearset(self) -> GearSet:
@@ -433,6 +434,21 @@ class Session:
         with self.lock:
             if snap.done and snap.design is not None and (self.shown is None or snap.job != self.shown.job):
                 self.before, self.shown = self.shown, snap
+
+    def profile_token(self, profile, job: int) -> int:
+        """The job that first drew ``profile`` (this very object) among the tab's last few
+        profiles, else ``job``: the figures are sent again only when the token changes — a torque
+        change keeps the profile (the engine's cached object), so only the numbers and the verdict
+        travel. The profiles are held here, so an id cannot be reused while it counts."""
+        with self.lock:
+            hit = self._profiles.get(id(profile))
+            if hit is not None and hit[0] is profile:
+                self._profiles.move_to_end(id(profile))
+                return hit[1]
+            self._profiles[id(profile)] = (profile, job)
+            while len(self._profiles) > 8:
+                self._profiles.popitem(last=False)
+            return job
 
     def close(self) -> None:
         self.computer.close()

@@ -12,9 +12,24 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Row", "changes", "error_figure", "numbers", "space_figure", "verdict_parts"]
+__all__ = ["Row", "SCREEN_CHORD_MM", "changes", "error_figure", "numbers", "space_figure", "space_name",
+           "verdict_parts"]
 
 PINNED_COLOR = "#d62728"
+#: the chord tolerance the workbench samples the fitted arcs at (mm): 0.2 nm, a tenth of a pixel of
+#: the 520-px figure zoomed to a 1 µm window (report.html's figure samples them at 1e-8 mm: 5× the
+#: points of the CS space, most of the payload after the FS poses)
+SCREEN_CHORD_MM = 2e-7
+#: how report.html's figure (profilegen.output.interactive.flank_figure) names the fitted CS space
+_SPACE = "CS space to cut"
+_FIT = " fit (right flank)"
+
+
+def space_name(design) -> str:
+    """The fitted CS space's legend entry: "CS space to cut" once a face stage has chosen the
+    design section (the design and verify scenes; as the design sheet's "To cut"), else it says
+    that this profile is not the part to cut (the sketch scene decides no section)."""
+    return _SPACE if getattr(design, "face", None) is not None else "CS space (sketch: not the part to cut)"
 
 
 def _xy(points) -> tuple[list, list]:
@@ -29,8 +44,17 @@ def space_figure(design, *, pinned=None, job: int | None = None, height_px: int 
     from ..output.interactive import flank_figure
 
     fig = flank_figure(design, height_px=height_px)
+    prof, name = design.profile, space_name(design)
+    for trace in fig["data"] if prof is not None else ():
+        label = trace.get("name", "")
+        if label.startswith(_SPACE):  # the fitted space at the screen's chord, under the scene's name
+            trace["x"], trace["y"] = _xy(_sampled(prof.space.elements))
+            trace["name"] = name + label[len(_SPACE):]
+            trace["hovertemplate"] = trace.get("hovertemplate", "").replace(label, trace["name"])
+        elif label.endswith(_FIT) and prof.fits.get(label[:-len(_FIT)]) is not None:  # the other fits (hidden)
+            trace["x"], trace["y"] = _xy(_sampled(prof.fits[label[:-len(_FIT)]].chain.elements))
     if pinned is not None and pinned.profile is not None:
-        space = np.vstack([e.sample(1e-8) for e in pinned.profile.space.elements])
+        space = _sampled(pinned.profile.space.elements)
         x, y = _xy(space)
         fig["data"].append({"type": "scatter", "mode": "lines", "name": "A (pinned): CS space", "x": x, "y": y,
                             "line": {"color": PINNED_COLOR, "width": 1.4, "dash": "dash"}, "legendrank": 25,
@@ -44,6 +68,10 @@ def space_figure(design, *, pinned=None, job: int | None = None, height_px: int 
     layout["meta"] = {"job": job, "gearset": design.gearset.name}
     layout["title"]["text"] = "CS tooth space, FS tooth poses (drag: zoom)"
     return fig
+
+
+def _sampled(elements) -> np.ndarray:
+    return np.vstack([e.sample(SCREEN_CHORD_MM) for e in elements])
 
 
 def _fit_traces(design, *, name: str, color: str, dash: str = "solid") -> list[dict]:

@@ -78,10 +78,12 @@ def _no_console_errors(browser) -> None:
 _STATE = """
 const g = document.querySelector('#space .js-plotly-plot');
 const fl = g && g._fullLayout;
-const space = g && g.data ? g.data.find(t => (t.name || '').startsWith('CS space to cut')) : null;
+const space = g && g.data ? g.data.find(t => (t.name || '').startsWith('CS space')) : null;
 const v = document.getElementById('verdict-status');
 const p = document.getElementById('progress');
-return {job: fl && fl.meta ? fl.meta.job : null, traces: g && g.data ? g.data.map(t => t.name) : [],
+const job = p ? /^job (\d+),/.exec(p.textContent) : null;
+return {job: job ? Number(job[1]) : null, figure_job: fl && fl.meta ? fl.meta.job : null,
+        traces: g && g.data ? g.data.map(t => t.name) : [], space_name: space ? space.name : null,
         space: space ? [space.x.length, space.x[0], space.y[0], space.x[space.x.length - 1]] : null,
         status: v ? v.textContent : null, line: (document.getElementById('verdict-line') || {}).textContent || null,
         done: p ? p.textContent.includes(', done') : false, progress: p ? p.textContent : '',
@@ -158,6 +160,9 @@ def test_a_field_change_redraws_the_profile_and_a_torque_change_fails_the_verdic
     first = _open(browser, app)
     assert "FS tooth, poses through the mesh" in first["traces"] and first["space"] is not None
     assert first["status"] in ("PASS", "INCOMPLETE")  # the sketch scene checks no contact: INCOMPLETE
+    # the sketch scene chooses no design section: its legend does not call the space the part to cut
+    assert first["space_name"].startswith("CS space (sketch: not the part to cut)")
+    assert not any("to cut" in t and "not the part" not in t for t in first["traces"])
     _shot(browser, tmp_path, "default")
     # a deeper deflection: another envelope, another CS space
     _type(browser, "wave_generator.deflection_coefficient", "1.1")
@@ -170,6 +175,7 @@ def test_a_field_change_redraws_the_profile_and_a_torque_change_fails_the_verdic
     assert third["status"] == "FAIL"
     assert "yield safety" in third["line"] and "3000 N·m" in third["line"]
     assert third["space"] == second["space"]  # the torque does not move the profile
+    assert third["figure_job"] == second["figure_job"] == second["job"]  # so its figures were not sent again
     _shot(browser, tmp_path, "fail")
     # undo: the torque back, the verdict back
     _click(browser, "undo")
