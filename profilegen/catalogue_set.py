@@ -30,7 +30,15 @@ value in the file, with its source:
 * **cup**: length 0.6 d, face width 0.2 d, bottom thickness = wall = δ, boss radius r_m/2,
   root fillet 0.6 m, the bearing as wide as the face and centred on it (the reader's defaults,
   docs/gearset.md, written out).
-* **material**: seed000_csf40's 4340-type steel (handbook values).
+* **material**: the flexspline steel of the published FEA-deformation study (seed 004, the
+  bundled ``default`` set): 35CrMnSiA, heat-treated and nitrided, E = 209 GPa, ν = 0.295 (the
+  study's values); strength limits as ``profiles/default.toml`` estimates them (ESTIMATES: the
+  usual minimum tensile/yield strength of 35CrMnSiA quenched and low-temperature tempered,
+  1620/1280 MPa; σ_-1 ≈ 0.4 R_m, τ_-1 ≈ 0.58 σ_-1). Before: seed000_csf40's 4340-type steel
+  (1100/950 MPa, σ_-1 = 495 MPa), which no source names for a flexspline (seed 000 names no
+  material). With it the tooth ring's fatigue safety of every ratio-100 set was 1.35 < 1.5
+  (design scene: σ_ass = 325 MPa, σ_load = 57 MPa at the rated torque); with 35CrMnSiA 1.78.
+  Ratio 50 fails with either (docs/validation/catalogue-sizes.md, "Strength").
 * **torques**: rated T = k·d²·b (:attr:`profilegen.gearset.GearSet.size_torque_nm`, the law the
   gear set's own torque check uses); peak and momentary ×167/67 and ×304/67 (seed 001's
   SHF-25-80 catalogue torques); CSG: ×1.3 (Harmonic Drive LLC's CSF & CSG catalogue, "Harmonic
@@ -207,14 +215,17 @@ contour = "elliptical_cam"    # cup-type sets: an elliptical cam under a flexibl
 bearing_thickness_mm = {_g(bearing, 2)}
 
 [material]
-# ESTIMATE: seed000_csf40's 4340-type steel (handbook values; endurance limits sigma_-1 ~ 0.45 R_m,
-# tau_-1 ~ 0.58 sigma_-1).
-youngs_modulus_mpa = 206000.0
-poisson_ratio = 0.3
-yield_strength_mpa = 950.0
-ultimate_strength_mpa = 1100.0
-bending_endurance_limit_mpa = 495.0
-shear_endurance_limit_mpa = 285.0
+# The flexspline steel of the published FEA-deformation study (seed 004; the bundled default set):
+# 35CrMnSiA, heat-treated and nitrided, E = 209 GPa, nu = 0.295 (the study's values).
+youngs_modulus_mpa = 209000.0
+poisson_ratio = 0.295
+# ESTIMATES (not in the study): the usual minimum tensile/yield strength of 35CrMnSiA quenched and
+# low-temperature tempered; endurance limits sigma_-1 ~ 0.4 R_m, tau_-1 ~ 0.58 sigma_-1.
+# Check them against a material certificate.
+yield_strength_mpa = 1280.0
+ultimate_strength_mpa = 1620.0
+bending_endurance_limit_mpa = 650.0
+shear_endurance_limit_mpa = 375.0
 
 [torque]
 {rule}
