@@ -80,6 +80,7 @@ from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from itertools import pairwise
+from typing import Any
 
 import numpy as np
 from scipy.optimize import least_squares, linprog, minimize
@@ -305,6 +306,7 @@ def composite(params) -> Chain:
     x0, y0, th0, k1, s1, L, k2, s2 = _as_vector(params)
     elements = []
     start, th = np.array([x0, y0]), th0
+    el: Arc | Line
     for k, length, is_arc in ((k1, s1, True), (0.0, L, False), (k2, s2, True)):
         if length < MIN_ELEMENT_MM:
             continue
@@ -460,7 +462,7 @@ class _Problem:
 
 
 def _lsq(prob: _Problem, q0: np.ndarray, idx, max_nfev: int = 200):
-    cache = {}
+    cache: dict = {}
 
     def both(z):
         key = z.tobytes()
@@ -658,10 +660,14 @@ def _polish(prob: _Problem, q, act, one_sided: bool, rounds: int = 8):
         add_r, add_s, add_l = [], [], []
         if len(over):
             i = int(over[np.argmax(np.abs(D[over]))])
-            add_r.append(i), add_s.append(1.0 if (one_sided or D[i] >= 0) else -1.0), add_l.append(1.0)
+            add_r.append(i)
+            add_s.append(1.0 if (one_sided or D[i] >= 0) else -1.0)
+            add_l.append(1.0)
         if len(under):
             i = int(under[np.argmin(D[under])])
-            add_r.append(i), add_s.append(-1.0), add_l.append(0.0)
+            add_r.append(i)
+            add_s.append(-1.0)
+            add_l.append(0.0)
         rows = np.concatenate([rows, add_r]).astype(int)
         sig = np.concatenate([sig, add_s])
         lvl = np.concatenate([lvl, add_l])
@@ -908,7 +914,8 @@ class ProfileFit:
     @property
     def at_max_mm(self) -> tuple[float, float]:
         """(x, y) of the data point with the largest |error| (mm)."""
-        return tuple(float(v) for v in self.points_mm[int(np.argmax(np.abs(self.error_mm)))])
+        x, y = self.points_mm[int(np.argmax(np.abs(self.error_mm)))]
+        return float(x), float(y)
 
     @property
     def max_backlash_mm(self) -> float | None:
@@ -1010,10 +1017,10 @@ def _check_swept(chain: Chain, swept, tol: float, spacing: float, contacts: np.n
     """Sample the fitted chain (evenly, and densely around the data points where the
     clearance is ~0) and check it against the swept region."""
     n = int(np.clip(math.ceil(chain.length / max(spacing, 1e-12)), 100, 400))
-    pts = [_sample_chain(chain, n)]
+    parts = [_sample_chain(chain, n)]
     for c in contacts:  # 41 points over ±3 data spacings around each contact
-        pts.append(_nearest_on_chain(chain, c, 3.0 * spacing, 41))
-    pts = np.vstack(pts)
+        parts.append(_nearest_on_chain(chain, c, 3.0 * spacing, 41))
+    pts = np.vstack(parts)
     depth = np.asarray(swept(pts), float)
     k = int(np.argmax(depth))
     out = {"swept_samples": len(pts), "swept_max_depth_mm": float(depth[k]), "swept_at_mm": pts[k].tolist(), "swept_tol_mm": tol}
@@ -1147,7 +1154,7 @@ def _converged_at(prob: _Problem, q: np.ndarray, F_mm: float, imp: float | None 
     OpenBLAS's Sandybridge kernel, below 1e-6 with Haswell's)."""
     if imp is None:
         imp = _lp_improvement(prob, q, False)
-    return imp <= 1e-6 or imp * F_mm <= prob.noise
+    return bool(imp <= 1e-6 or imp * F_mm <= prob.noise)
 
 
 def _restarted(prob: _Problem, run: tuple, *, max_iter: int, restarts: int = 3) -> tuple:
@@ -1407,7 +1414,7 @@ def fit_profile_per_branch(
     for a, b in pairwise(bounds):
         if b - a + 1 < MIN_POINTS:
             raise FitError(f"ridges: the branch between data points {a} and {b} has {b - a + 1} points, fewer than {MIN_POINTS}")
-    options = {"method": method, "space_side": side, "swept_tol_mm": swept_tol_mm, "starts": starts, "max_points": max_points, "max_iter": max_iter, "seed": seed}
+    options: dict[str, Any] = {"method": method, "space_side": side, "swept_tol_mm": swept_tol_mm, "starts": starts, "max_points": max_points, "max_iter": max_iter, "seed": seed}
     fits = tuple(fit_profile(p[a : b + 1], swept=swept, **options) for a, b in pairwise(bounds))
     full = fit_profile(p, swept=None, **options) if whole else None
     return BranchFits(fits, tuple(cut), full)

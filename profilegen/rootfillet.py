@@ -26,6 +26,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -363,7 +364,7 @@ def round_space(space: Chain, *, radius_mm: float, tip_radius_mm: float, cs_teet
     if not (isinstance(radius_mm, (int, float)) and math.isfinite(radius_mm) and radius_mm > 0.0):
         raise FilletError(f"{field}: the corner radius (wire radius + spark gap) must be finite and > 0 mm, "
                           f"got {radius_mm!r}")
-    kw = dict(tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
+    kw: dict[str, Any] = dict(tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
     # the wire's own limit first: room for the inside fillets
     try:
         _round(space, radius_mm, inside_only=True, **kw)

@@ -33,6 +33,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 from .errors import GearSetError
 from .gearset import SCENE_NAMES, looks_like_path
@@ -55,7 +56,7 @@ class SceneError(GearSetError):
 #: the finest chord tolerance a scene may ask for, mm (the envelope's points grow as 1/√tol)
 CHORD_TOL_MIN_MM = 1e-9
 
-_KEYS: dict[str, tuple[str, bool, tuple[float, float] | None]] = {
+_KEYS: dict[str, tuple[str, bool, tuple[float, float] | tuple[str, ...] | None]] = {
     "rim": ("text", True, None),
     # [lo, hi]: 1e-9 mm (1 pm) traced the default set in 16 s and 0.39 GB (8.4 M outline points, ~1/√tol:
     # 1e-12 would be ~30× that), 100× finer than the verify scene; finer is no design's need
@@ -140,7 +141,7 @@ def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:
         for key in table:
             if key not in _KEYS:
                 problems.append(f"{where}: {key}: unknown key (allowed: {', '.join(_KEYS)})")
-        values = {}
+        values: dict[str, Any] = {}
         for key, (kind, required, rng) in _KEYS.items():
             if key not in table:
                 if required:
@@ -152,7 +153,7 @@ def parse_scenes(data: Mapping, *, origin: str = "<dict>") -> dict[str, Scene]:
                 problems.append(f"{where}: {key} = {shown!r}: {problem}")
             else:
                 values[key] = float(table[key]) if kind == "mm" else table[key]
-        tier = values.get("tier", name if name in SCENE_NAMES else None)
+        tier: Any = values.get("tier", name if name in SCENE_NAMES else None)  # the file's value, checked below
         if "tier" in table and "tier" not in values:
             pass  # reported above
         elif tier is None:

@@ -22,6 +22,7 @@ Sources of the defaults (each field says which it uses):
 from __future__ import annotations
 
 from dataclasses import dataclass, fields
+from typing import Any
 
 __all__ = ["NOT_REQUIRED", "REQUIREMENT_FIELDS", "REQUIREMENT_GROUPS", "RequirementField", "Requirements"]
 
@@ -51,7 +52,7 @@ _FKM_YIELD = ("FKM guideline (6th ed. 2012), static strength of ductile steel: j
               "safe side)")
 _FKM_FATIGUE = ("FKM guideline (6th ed. 2012), fatigue of non-welded steel: j_D = j_F·j_S = 1.5 (j_F = 1.5: no "
                 "regular inspection, severe consequences; j_S = 1)")
-_SAFETY_RANGE = dict(lo=1.0, hi=10.0, lo_open=False)
+_SAFETY_RANGE: dict[str, Any] = dict(lo=1.0, hi=10.0, lo_open=False)
 
 REQUIREMENT_FIELDS: tuple[RequirementField, ...] = (
     RequirementField("tooth_ring_yield_safety", "", "min", 1.5, **_SAFETY_RANGE,

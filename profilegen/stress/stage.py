@@ -45,6 +45,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -57,6 +58,9 @@ from ..teeth import ToothProfile
 from .diaphragm import DiaphragmStress, diaphragm_stress, goodman_safety_factor as _goodman
 from .plate import CupBottomStress, cup_bottom_stress, edge_displacement
 from .tooth_ring import ToothRingStress, section_curvature, tangential_force_estimate_n, tooth_ring_stress
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..contact.analysis import ContactResult
 
 __all__ = ["SafetyCheck", "StressInput", "StressResult", "solve_stress"]
 
@@ -86,7 +90,7 @@ class StressInput:
     gearset: GearSet
     tooth: ToothProfile
     deformation: DeformationFit | HarmonicDeformation
-    contact: object = None  # ContactResult | None
+    contact: ContactResult | None = None
 
     def __post_init__(self):
         _typed("gearset", self.gearset, GearSet, "a GearSet")
@@ -155,8 +159,8 @@ class StressResult:
 
     @property
     def min_safety(self) -> SafetyCheck | None:
-        ran = [c for c in self.checks if c.value is not None]
-        return min(ran, key=lambda c: c.value / c.required) if ran else None
+        ran = [(c.value / c.required, i) for i, c in enumerate(self.checks) if c.value is not None]
+        return self.checks[min(ran)[1]] if ran else None
 
     def headline(self) -> dict:
         """The figures design.json carries (MPa at each torque; safety factors)."""
@@ -312,7 +316,7 @@ def solve_stress(inputs: StressInput, *, fatigue: bool | None = None,
         for f in forces)
 
     edge = edge_displacement(radial, mean_radius_mm=r_m, length_mm=cup.length_mm)
-    plate_kw = dict(boss_radius_mm=cup.boss_radius_mm, thickness_mm=cup.bottom_thickness_mm,
+    plate_kw: dict[str, Any] = dict(boss_radius_mm=cup.boss_radius_mm, thickness_mm=cup.bottom_thickness_mm,
                     youngs_modulus_mpa=mat.youngs_modulus_mpa, poisson_ratio=mat.poisson_ratio)
     assembly = cup_bottom_stress(edge, torque_nmm=0.0, **plate_kw)
     bottom = tuple(cup_bottom_stress(edge, torque_nmm=t * 1e3, **plate_kw) for t in torques)
@@ -331,7 +335,8 @@ def solve_stress(inputs: StressInput, *, fatigue: bool | None = None,
                                ("cup bottom yield", bottom[i_mom].max_von_mises_mpa, "largest von Mises stress")):
         checks.append(SafetyCheck(name, f"σ_y / σ ({what})", torques[i_mom], None if y is None else y / stress,
                                   required[name], "" if y is not None else "no material.yield_strength_mpa"))
-    if fatigue:
+    if fatigue:  # _limits: the material gives its endurance limits and ultimate strength
+        assert mat.bending_endurance_limit_mpa is not None and mat.ultimate_strength_mpa is not None
         r = ring[i_rated]
         amp, mean = r.assembly_stress_mpa + 0.5 * r.load_stress_mpa, 0.5 * r.load_stress_mpa
         checks.append(SafetyCheck(
