@@ -50,6 +50,7 @@ import logging
 import math
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -57,6 +58,12 @@ from .. import series
 from ..deformation import ring_theory
 from ..blas import forget_blas_controller, one_blas_thread
 from .ring import WRAP_WARNING, RingResult, solve_ring
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..deformation import HarmonicDeformation
+    from ..series import DeformationFit, GeneralSineDeformation
+    from .cup.contact import CupContact
+    from .cup.fourier import CupDeformation
 
 __all__ = ["RIM_TIERS", "CupSection", "RimDeformation", "RimTier", "design_section_z", "one_period", "solve_rim"]
 
@@ -204,18 +211,18 @@ class RimDeformation:
     """
 
     tier: RimTier
-    model: object
+    model: DeformationFit | HarmonicDeformation
     fem: RingResult | CupSection | None
     coarse: RingResult | CupSection | None
-    sine: object
-    reference: object
+    sine: GeneralSineDeformation | None
+    reference: HarmonicDeformation
     fem_time_s: float
     fit_time_s: float
     error_estimate_mm: float | None
     error_measure: str
     warnings: tuple[str, ...] = field(default=())
-    cup: object = None
-    cup_contact: object = None
+    cup: CupDeformation | None = None
+    cup_contact: CupContact | None = None
     section_z_mm: float | None = None
 
     @property
@@ -229,7 +236,7 @@ class RimDeformation:
         error estimate stay: it is taken over the whole tooth ring, not at one section."""
         from .cup.geometry import CupError
 
-        if self.cup_contact is None:
+        if self.cup is None or self.cup_contact is None:
             raise CupError(f"at_section: the {self.tier.name} tier has one section (only the cup tier has others)")
         from .. import checks
 
@@ -267,6 +274,7 @@ def _cup_summary(rim: RimDeformation) -> dict:
     design section, ω on the axes and max |υ| at the tooth ring's diaphragm end, mid-face and
     open end, where the cam touches the bore on the axes."""
     d, c = rim.cup, rim.cup_contact
+    assert d is not None  # the cup tier's
     g = d.geometry
     lo, hi = g.ring_span_mm
     phi = np.linspace(0.0, 0.5 * math.pi, 91)
@@ -287,7 +295,7 @@ def _cup_summary(rim: RimDeformation) -> dict:
             "max_penetration_mm": None if c is None else c.max_penetration_mm}
 
 
-def one_period(res: RingResult) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def one_period(res: RingResult | CupSection) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A ring solution's neutral-line samples (φ, ω, υ) on 0 ≤ φ ≤ π/2 mirrored to one wave
     period 0 ≤ φ < π with ω(π − φ) = ω(φ), υ(π − φ) = −υ(φ): the samples the rim stage fits."""
     phi, w, u = res.phi_rad, res.omega_mm, res.upsilon_mm
@@ -590,6 +598,7 @@ def solve_rim(gearset, *, tier: str | RimTier = "design", z_mm: float | None = N
         return fit, sine, time.perf_counter() - t0
 
     if tier.model == "toothed":  # the fits made while the coarse mesh's worker still solves
+        assert per_pitch is not None
         fem, coarse, fem_time, (fit, sine, fit_time) = _solve_toothed_pair(gearset, tier, contour, per_pitch, t0,
                                                                            fits)
     else:
@@ -599,10 +608,13 @@ def solve_rim(gearset, *, tier: str | RimTier = "design", z_mm: float | None = N
         fit, sine, fit_time = fits(fem)
     d_w, d_u = _mesh_change(fem, coarse)
     error = float(max(d_w, d_u))
-    measure = ("max |Δω|, |Δυ| on the neutral line between this mesh and one with half the circumferential "
-               "divisions (mm; an upper estimate of this mesh's discretisation error)" if tier.model == "flat" else
-               f"max |Δω|, |Δυ| on the neutral line between {per_pitch} and {per_pitch - 2} element columns per "
-               "tooth pitch (mm)")
+    if tier.model == "flat":
+        measure = ("max |Δω|, |Δυ| on the neutral line between this mesh and one with half the circumferential "
+                   "divisions (mm; an upper estimate of this mesh's discretisation error)")
+    else:
+        assert per_pitch is not None  # the toothed tier's
+        measure = (f"max |Δω|, |Δυ| on the neutral line between {per_pitch} and {per_pitch - 2} element columns "
+                   "per tooth pitch (mm)")
     # "order picked = max_order": the wrap edge (a jump of ω'') holds every harmonic; the fit
     # residual is reported as the fit stage's error instead of as a warning
     warnings += [w_ for w_ in fem.warnings if w_ != WRAP_WARNING]
