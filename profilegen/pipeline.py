@@ -28,13 +28,17 @@ from .scenes import SCENES, Scene, resolve_scene  # noqa: F401  (SCENES: profile
 from .teeth import tooth_from_gearset
 
 if TYPE_CHECKING:  # pragma: no cover
+    from .arcfit import BranchFits, ProfileFit
     from .contact.analysis import ContactResult
     from .contact.chain import TorsionalCurve
     from .contact.ratchet import Ratcheting
     from .contact.transmission import TransmissionError
-    from .deformation import Deformation
+    from .deformation import HarmonicDeformation
     from .face.stage import FaceWidth
+    from .gearform import ClearanceMap
     from .rim.stage import RimDeformation
+    from .rootfillet import CSChain
+    from .series import DeformationFit
     from .stress.stage import StressResult
     from .teeth import ToothProfile
 
@@ -79,18 +83,18 @@ class CSProfile:
     closed CS; ``clearance``: the fitted outline against the FS tooth family.
     """
 
-    fits: dict
+    fits: dict[str, ProfileFit]
     method: str
-    branches: object
-    space: object
-    outline: object
-    clearance: object
+    branches: BranchFits | None
+    space: Chain
+    outline: Chain
+    clearance: ClearanceMap
     positions: int
-    notes: tuple = ()
-    corners: object = None  # the rounded corners (profilegen.rootfillet.CSChain), None for a bare cs_chain
+    notes: tuple[str, ...] = ()
+    corners: CSChain | None = None  # the rounded corners, None for a bare cs_chain
 
     @property
-    def flank_fit(self):
+    def flank_fit(self) -> ProfileFit | None:
         """The whole-flank fit of the CAD method (None if it failed on a flank with ridges)."""
         return self.fits.get(self.method)
 
@@ -483,7 +487,7 @@ class Design:
     gearset: GearSet
     scene: Scene
     tooth: ToothProfile
-    deformation: Deformation
+    deformation: DeformationFit | HarmonicDeformation
     motion: HarmonicDriveMotion
     envelope: Envelope
     form: CircularSplineForm
