@@ -12,10 +12,14 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .errors import ProfilegenError
+
+if TYPE_CHECKING:  # pragma: no cover
+    from numpy.typing import ArrayLike
 
 __all__ = ["Line", "Arc", "Polyline", "Chain", "ContourError"]
 
@@ -36,6 +40,9 @@ class Line:
 
     start: np.ndarray
     end: np.ndarray
+
+    if TYPE_CHECKING:  # the constructor takes any (x, y) pair; __post_init__ makes it a read-only array
+        def __init__(self, start: ArrayLike, end: ArrayLike) -> None: ...
 
     def __post_init__(self):
         object.__setattr__(self, "start", _pt(self.start))
@@ -83,6 +90,9 @@ class Arc:
     radius: float
     start_angle: float
     sweep: float
+
+    if TYPE_CHECKING:  # the centre may be any (x, y) pair; __post_init__ makes it a read-only array
+        def __init__(self, centre: ArrayLike, radius: float, start_angle: float, sweep: float) -> None: ...
 
     def __post_init__(self):
         object.__setattr__(self, "centre", _pt(self.centre))
@@ -294,7 +304,7 @@ class Chain:
         p = np.atleast_2d(points)
         pack = self._pack()
         dist = np.empty((len(self.elements), len(p)))
-        foot = np.empty((len(self.elements), len(p), 2)) if feet else None
+        foot: Any = np.empty((len(self.elements), len(p), 2)) if feet else None  # written only with feet
         if pack["lines"]:
             start, d, dd = pack["line_start"], pack["line_d"], pack["line_dd"]
             s = np.clip(np.matmul(p[None] - start, d[..., None])[..., 0] / dd, 0.0, 1.0)
