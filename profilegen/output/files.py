@@ -10,7 +10,7 @@ from __future__ import annotations
 import contextlib
 import os
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -129,9 +129,10 @@ def file_jobs(design: Design) -> dict:
         return {}
     # the files read the form's radii and tooth count, not its polygon outline of the whole CS (4 MB:
     # ~60 ms to pickle per job, on the main process's path)
-    form = None if design.form is None else replace(design.form, outline=None)
-    slim = replace(design, envelope=None, rim=None, contact=None, stress=None, face=None, torsional=None,
-                   ratcheting=None, transmission=None, form=form)
+    # (fields the files do not read emptied: passed as a dict[str, Any], as a finished design's types have no None)
+    form = None if design.form is None else replace(design.form, **_none("outline"))
+    slim = replace(design, **_none("envelope", "rim", "contact", "stress", "face", "torsional", "ratcheting",
+                                   "transmission"), form=form)
     return {"files:drawing": (_drawing_files, (slim, date)), **flexspline_jobs(design)}
 
 
@@ -140,10 +141,15 @@ def flexspline_jobs(design: Design) -> dict:
     the gear set, so a design without its profile gives the same bytes."""
     from dataclasses import replace
 
-    tooth_only = replace(design, envelope=None, rim=None, contact=None, stress=None, face=None, torsional=None,
-                         ratcheting=None, transmission=None, deformation=None, motion=None, form=None, profile=None,
+    tooth_only = replace(design, **_none("envelope", "rim", "contact", "stress", "face", "torsional", "ratcheting",
+                                         "transmission", "deformation", "motion", "form", "profile"),
                          stages=(), warnings=())
     return {"files:flexspline": (_flexspline_files, (tooth_only,))}
+
+
+def _none(*fields: str) -> dict[str, Any]:
+    """``{field: None}``: a result's fields emptied for a worker that does not read them."""
+    return dict.fromkeys(fields)
 
 
 def _drawing_files(design: Design, date: str) -> dict[str, bytes]:
@@ -198,6 +204,7 @@ def _write_assembly(folder: Path, result: Design, fs_tooth) -> None:
 def _note(result: Design) -> list:
     """The CAD files' note: the gear set and the flank's fit, below the gear."""
     prof, g = result.profile, result.gearset
+    assert prof is not None  # the files are a finished design's
     label = (f"{g.name}: m {g.gear.module_mm:g} mm, z1 {g.gear.flexspline_teeth}, z2 {g.gear.circular_spline_teeth}, "
              f"w* {g.wave_generator.deflection_coefficient:g}; CS flank: arc-line-arc ({prof.method}), "
              f"max deviation {prof.max_error_mm * 1e3:.3f} um")
@@ -268,6 +275,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
         export.write_envelope_csv(staging / "envelope.csv", result.envelope)
         data = result.to_dict()
         prof = result.profile
+        assert prof is not None  # the files are a finished design's
         circles = [Arc(np.zeros(2), r, 0.0, 2 * np.pi) for r in (result.form.tip_radius_mm, result.form.root_radius_mm)]
         g = result.gearset
         cad.write_contours_dxf(staging / "circular_spline.dxf", {"CS": [prof.outline], "construction": circles},
@@ -351,7 +359,8 @@ def _space_guides(result: Design) -> list:
     f = result.form
     half = 1.5 * np.pi / f.cs_teeth
     arcs = [Arc(np.zeros(2), r, np.pi / 2 - half, 2 * half) for r in (f.tip_radius_mm, f.root_radius_mm)]
-    return arcs + [Line((0.0, f.tip_radius_mm - 0.2), (0.0, f.root_radius_mm + 0.2))]
+    guides: list[Arc | Line] = [*arcs, Line((0.0, f.tip_radius_mm - 0.2), (0.0, f.root_radius_mm + 0.2))]
+    return guides
 
 
 def _assembly_layers(result: Design, fs_tooth) -> dict:
@@ -369,6 +378,7 @@ def _assembly_layers(result: Design, fs_tooth) -> dict:
 
     bore = r_bore[:, None] * unit_radial(phi) + u[:, None] * unit_tangential(phi)
     bore[-1] = bore[0]
+    assert result.profile is not None  # the files are a finished design's
     return {"CS": [result.profile.outline], "FS": fs + [Polyline(bore)], "WG": [Polyline(bore)]}
 
 

@@ -23,6 +23,7 @@ import logging
 import os
 import signal
 from collections.abc import Callable, Iterator
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -31,6 +32,11 @@ from .forkserver import die_with as _die_with
 from .interactive import figure_html
 from ..pipeline import interference_tol_mm
 from .sheet import format_clearance, sheet_html
+
+if TYPE_CHECKING:  # pragma: no cover
+    from concurrent.futures import Future, ProcessPoolExecutor
+
+    from .forkserver import ServerPool
 
 __all__ = ["deformation_fit_dict", "deformation_section_html", "design_report_html", "fit_report_html", "figure_png",
            "png_jobs", "rendering", "FigureWorkers"]
@@ -786,7 +792,7 @@ def _signals_blocked() -> Iterator[None]:
     try:
         yield
     finally:
-        if masked:
+        if old is not None:  # (masked)
             signal.pthread_sigmask(signal.SIG_SETMASK, old)
 
 
@@ -802,8 +808,8 @@ def _init_worker(parent: int, matplotlib: bool = True) -> None:
     _die_with(parent)
     if not matplotlib:
         return
-    import matplotlib.backends.backend_agg  # noqa: F401
-    import matplotlib.figure  # noqa: F401
+    from matplotlib import figure  # noqa: F401
+    from matplotlib.backends import backend_agg  # noqa: F401
 
 
 #: What the figure server imports before it forks its workers (:func:`_pool`): matplotlib, and the
@@ -815,7 +821,7 @@ PRELOAD = ("matplotlib.figure", "matplotlib.backends.backend_agg", "profilegen.o
            "ezdxf", "profilegen.output.drawing", "profilegen.output.flexspline")  # the files of files.file_jobs
 
 
-def _pool(workers: int, matplotlib: bool = True):
+def _pool(workers: int, matplotlib: bool = True) -> ServerPool | ProcessPoolExecutor:
     """``workers`` figure workers (ValueError where fork is not available): with ``matplotlib`` and two
     or more, a :class:`~profilegen.output.forkserver.ServerPool` — one server process imports
     matplotlib and :data:`PRELOAD` once and forks the workers from itself; else a fork-based
@@ -854,8 +860,8 @@ class FigureWorkers:
     def __init__(self, workers: int | None = None, *, matplotlib: bool = True):
         self.workers = _default_workers() if workers is None else int(workers)
         self._matplotlib = bool(matplotlib)
-        self._executor = None
-        self._futures: dict[str, object] = {}
+        self._executor: ServerPool | ProcessPoolExecutor | None = None
+        self._futures: dict[str, Future] = {}
         self._jobs: dict[str, tuple[Callable, tuple]] = {}
         self._no_pool = self.workers < 1
 
@@ -892,7 +898,7 @@ class FigureWorkers:
             self._no_pool = True
             return None
 
-    def collect(self, jobs: dict[str, tuple[Callable, tuple]], steal: tuple[str, ...] = ()) -> dict[str, bytes]:
+    def collect(self, jobs: dict[str, tuple[Callable, tuple]], steal: tuple[str, ...] = ()) -> dict[str, Any]:
         self.submit(jobs)
         out = {}
         for name in steal:
