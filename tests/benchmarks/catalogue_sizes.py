@@ -1,7 +1,8 @@
 """The model against the catalogue at every size (issue 29, build item 3).
 
     python tests/benchmarks/catalogue_sizes.py [--scene design|verify] [--sizes 14 17 ...] [--ratios 100 50]
-                                              [--csv FILE] [--png FILE] [--json FILE] [--plot-only JSON]
+                                              [--rim 0.024] [--csv FILE] [--png FILE] [--json FILE]
+                                              [--plot-only JSON]
 
 For each size (default 14, 17, 20, 25, 32, 40, 50, 58) and ratio (default 100): the gear set
 ``profilegen.new_gearset(size, ratio)`` writes (catalogue proportions, no per-size fitting: one
@@ -22,6 +23,9 @@ the catalogue row of that size and ratio (``profilegen.contact.catalogue.catalog
   floor of the catalogue's transmission accuracy (also an upper limit), not a comparable value;
 * the ratcheting estimate (verify scene only) against the catalogue's ratcheting torque where
   published (sizes 25, 32, 40 at ratios 50, 80, 100; table 4 of the LLC catalogue);
+* with ``--rim F`` the sets' rim (and cup wall and bottom) at δ/r_m = F instead of the rule's 3 %:
+  a study of the rim (the strength section of docs/validation/catalogue-sizes.md), not what
+  ``new`` writes;
 * the strength checks (``Design.stress``): the tooth ring's fatigue (Goodman at the rated torque)
   and yield (momentary torque) safety and the cup bottom's yield safety, with the tooth-root
   stress taken apart: the assembly stress σ_ass = K_σ · E δ/2 · Δκ (K_σ, and Δκ over the
@@ -68,12 +72,30 @@ COLUMNS = ("size", "ratio", "scene", "verdict", "seconds",
            "failed_checks", "error")
 
 
-def measure(size: int, ratio: int, scene: str) -> dict:
+def with_rim(made, rim_per_neutral_radius: float):
+    """The set ``made`` (a :class:`profilegen.catalogue_set.CatalogueSet`) with its rim, cup wall and
+    cup bottom at δ/r_m = ``rim_per_neutral_radius`` instead of the rule's 3 % (δ solved from
+    r_m = d/2 − 1.2 m − δ/2, as the rule does): a study of the rim, not a set ``new`` writes."""
+    import tomllib
+
+    from profilegen.gearset import parse_gearset
+
+    data = tomllib.loads(made.text)
+    g = data["gear"]
+    frac = float(rim_per_neutral_radius)
+    delta = round(frac * (g["module_mm"] * g["flexspline_teeth"] / 2.0 - 1.2 * g["module_mm"]) / (1.0 + frac / 2.0), 4)
+    g["rim_thickness_mm"] = delta
+    data["cup"]["wall_thickness_mm"] = data["cup"]["bottom_thickness_mm"] = delta
+    return parse_gearset(data)
+
+
+def measure(size: int, ratio: int, scene: str, rim: float | None = None) -> dict:
     out = dict.fromkeys(COLUMNS)
     out.update(size=size, ratio=ratio, scene=scene)
     row = catalogue_row(size, ratio)
     out["ratchet_cat_nm"] = row.get("ratcheting_torque_nm")
-    gs = pg.new_gearset(size, ratio).gearset
+    made = pg.new_gearset(size, ratio)
+    gs = made.gearset if rim is None else with_rim(made, rim)
     t0 = time.perf_counter()
     try:
         d = pg.design(gs, scene=scene)
@@ -238,6 +260,8 @@ def main(argv=None) -> None:
     ap.add_argument("--scene", default="verify", help="design scene (default verify; 'design' is the quick pass)")
     ap.add_argument("--sizes", type=int, nargs="+", default=list(SIZES))
     ap.add_argument("--ratios", type=int, nargs="+", default=[100])
+    ap.add_argument("--rim", type=float, default=None,
+                    help="a study of the rim: δ/r_m (e.g. 0.024) instead of the rule's 0.03, rim = wall = bottom")
     ap.add_argument("--csv", type=Path, default=Path("/tmp/catalogue_sizes.csv"))
     ap.add_argument("--json", type=Path, default=None, help="default: the CSV's path with .json")
     ap.add_argument("--png", type=Path, default=ROOT / "docs" / "img" / "catalogue_sizes.png")
@@ -265,7 +289,7 @@ def main(argv=None) -> None:
     json_path = a.json or a.csv.with_suffix(".json")
     for ratio in a.ratios:
         for size in a.sizes:
-            r = measure(size, ratio, a.scene)
+            r = measure(size, ratio, a.scene, a.rim)
             rows.append(r)
             print(f"size {size} ratio {ratio} ({a.scene}): {r['seconds']:.0f} s, K1/K2/K3 m/c "
                   f"{fmt(r['K1_ratio'], '.2f')}/{fmt(r['K2_ratio'], '.2f')}/{fmt(r['K3_ratio'], '.2f')}, "
