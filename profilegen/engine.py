@@ -27,11 +27,14 @@ each entry sized once when stored (its arrays and containers, walked).
 Cancellation: :meth:`Engine.cancel` — or a newer :meth:`Engine.design` call from another thread,
 which supersedes the running one — makes the running design raise :class:`Cancelled` at its next
 checkpoint: before every stage, at every progress line and inside the pipeline's longer loops
-(each fit method, the clearance maps, each step of the contact stage; :func:`checkpoint` is the
-hook a stage's own loop may call). A stage without one inside (the face stage, the rim FEM) runs
-to its end first: ``tests/benchmarks/engine.py --cancel`` measures the delay. One design runs at a
-time per engine (``supersede=True``, the default); a superseding call waits for the running one
-to stop, then runs.
+(each fit method and each of its SLP steps, before the clearance maps, each flank's points and
+its FS and CS compliance, each torque of the contact solves and of the torsional curve's
+continuation; :func:`checkpoint` is the hook a stage's own loop may call). A stage without one
+inside (the face stage, the rim FEM, a clearance map) runs to its end first:
+``tests/benchmarks/engine.py --cancel`` measures the delay. One design runs at a time per engine
+(``supersede=True``, the default); a superseding call waits for the running one to stop, then
+runs. On an engine shared by threads (``supersede=False``) a design's own ``stop`` callable
+(:meth:`Engine.design`) is its cancellation: the app's tabs pass "a newer request came".
 
 In an interactive application, one engine per user (or browser tab), each change designed in a
 worker thread; a change that arrives while one is designed supersedes it::
@@ -219,14 +222,16 @@ class _Run:
     """One :meth:`Engine.design` call: the stage lookups of :func:`profilegen.pipeline._stage`
     (this object is :data:`profilegen.pipeline.STAGE_CACHE` while it runs) and its checkpoint."""
 
-    def __init__(self, engine: "Engine", generation: int):
-        self.engine, self.generation = engine, generation
+    def __init__(self, engine: "Engine", generation: int, stop: Callable[[], bool] | None = None):
+        self.engine, self.generation, self.stop = engine, generation, stop
         self.ran: list[str] = []
         self._sections: tuple[int, dict] | None = None
 
     def checkpoint(self) -> None:
         if self.engine._generation != self.generation:
             raise Cancelled("the design was cancelled (Engine.cancel, or a newer Engine.design call)")
+        if self.stop is not None and self.stop():
+            raise Cancelled("the design was cancelled (its stop() said so)")
 
     def _section_digests(self, gearset: GearSet) -> dict:
         if self._sections is None or self._sections[0] is not gearset:
@@ -314,10 +319,13 @@ class Engine:
     # ------------------------------------------------------------------ the public API
     def design(self, gearset: GearSet, *, scene=None, fit_method: str | None = None,
                progress: Callable[[str], None] | None = None, contact: bool | None = None, stress: bool = True,
-               on_profile=None, on_stage=None):
+               on_profile=None, on_stage=None, stop: Callable[[], bool] | None = None):
         """:func:`profilegen.design` with the same arguments and the same result, reusing every
         stage whose inputs an earlier design of this engine had. Raises :class:`Cancelled` when
-        :meth:`cancel` is called, or a newer :meth:`design` starts, before it finishes."""
+        :meth:`cancel` is called, or a newer :meth:`design` starts, before it finishes — or when
+        ``stop()`` returns True at a checkpoint: this one design's own cancellation, for callers
+        that share an engine (``supersede=False``: the app's tabs, each superseding only its own
+        designs; ``stop`` is called at every checkpoint, so it must be quick)."""
         from . import pipeline
 
         with self._lock:
@@ -325,7 +333,7 @@ class Engine:
                 self._generation += 1  # supersedes a running design: it stops at its next checkpoint
             generation = self._generation
         with self._running if self.supersede else contextlib.nullcontext():
-            run = _Run(self, generation)
+            run = _Run(self, generation, stop)
             run.checkpoint()  # superseded while it waited
             say = progress
 

@@ -18,6 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Any, Callable
 
+from ..engine import Cancelled
 from ..errors import ProfilegenError
 from ..gearset import GearSet, load_gearset
 from . import schema
@@ -294,9 +295,12 @@ class Computer:
                 self._publish(Snapshot(**base, design=design, stages=tuple(stages),
                                        has_profile=design.profile is not None))
 
+        def stop() -> bool:  # read without the lock: an int compared at every checkpoint of the engine
+            return job != self._next
+
         try:
-            design = self._compute(gearset, scene, progress=progress, on_profile=partial, on_stage=partial)
-        except Superseded:
+            design = self._compute(gearset, scene, progress=progress, on_profile=partial, on_stage=partial, stop=stop)
+        except (Superseded, Cancelled):
             return
         except ProfilegenError as exc:
             with self._cv:

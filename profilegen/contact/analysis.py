@@ -273,12 +273,13 @@ def flank(inputs: ContactInput, side: int = 1, *, stations: int = 5, max_gap_mm:
     (:func:`profilegen.engine.reuse`) a flank built for the same geometry — the gear set's sections
     but its torques and requirements, the same FS tooth, deformation and CS space objects — is
     taken from the engine's cache, so a torque change re-solves the contact without building it."""
-    from ..engine import reuse
+    from ..engine import checkpoint, reuse
     from .compliance import ContactCompliance
     from .points import contact_points
 
     def make():
         pts = contact_points(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm)
+        checkpoint()
         return pts, ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm, **build)
 
     m = inputs.motion
@@ -323,6 +324,8 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
     the bore (see :meth:`ContactCompliance.build`; 0 = none; both ignored when ``compliance``
     is given)."""
 
+    from ..engine import checkpoint
+
     t0 = time.perf_counter()
     inputs = ContactInput.from_design(inputs, name="inputs")  # a ContactInput passes as it is
     torques = _checked_torques(torques_nm, solver)
@@ -343,6 +346,7 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
     cases, warnings = [], []
     with one_blas_thread():  # n ≈ 200: threads only add overhead (9 → 1 ms per check)
         for torque in torques:
+            checkpoint()  # an engine's design stops here when superseded
             if every_ball:
                 sol, balls = _solve_every_ball(points, compliance, float(torque), solver, bearing, settle_iterations)
                 case, notes = load_case(points, torque, sol, balls)

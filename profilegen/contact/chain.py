@@ -120,6 +120,7 @@ import numpy as np
 
 from .. import checks
 from ..blas import one_blas_thread
+from ..engine import checkpoint
 from ..errors import ConvergenceError
 from ..results import json_ready, readonly as _readonly
 from ..wgbearing import BallBearing, ChainError, HertzContact, hertz_point_contact  # noqa: F401 (re-exported: the chain's bearing)
@@ -821,6 +822,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     def solve(side: int, magnitude: float):
         key = (side, float(magnitude))
         if key not in cache:
+            checkpoint()
             pts, comp = sides[side]
             phi_r, phi_b, sol, rigid_sol, settled, springs = _solve_side(
                 pts, comp, magnitude, chain.bearing, settle_iterations=settle_iterations,
@@ -843,6 +845,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
         for m in sorted(magnitudes):
             if (side, m) in cache:
                 continue
+            checkpoint()  # an engine's design stops here when superseded (a torque's solve: milliseconds)
             tm = time.perf_counter()
             rigid = zone.solve(m, rigid_state, springs_on=False, max_iterations=cap, spring_tol=spring_tol)
             loaded, active, x = spring_state

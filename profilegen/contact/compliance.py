@@ -1613,6 +1613,9 @@ class ContactCompliance:
                           tooth_layers=_whole("tooth_layers", tooth_layers, 1), tol_mm=tol,
                           race_thickness_mm=race, race_layers=race_layers,
                           race_sliding=race_interface == "sliding", substructure=bool(substructure))
+            from ..engine import checkpoint
+
+            checkpoint()  # an engine's design stops here when superseded (between the FS and the CS)
             cs = _cs_flex(inputs.cs_space, gearset, cs_points, cs_normals, margin=margin,
                           per_pitch=_whole("cs_per_pitch", cs_per_pitch, 2),
                           tooth_layers=_whole("cs_tooth_layers", cs_tooth_layers, 1),

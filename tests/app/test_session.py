@@ -81,7 +81,7 @@ class _Gate:
         self.started = threading.Event()
         self.finished = []
 
-    def __call__(self, gearset, scene, *, progress, on_profile, on_stage):
+    def __call__(self, gearset, scene, *, progress, on_profile, on_stage, stop=None):
         progress("tooth")
         self.started.set()
         assert self.release.wait(10)
@@ -122,7 +122,7 @@ def test_a_stale_result_is_never_published(gearset):
     started = [threading.Event(), threading.Event()]
     calls = []
 
-    def stubborn(gs, scene, *, progress, on_profile, on_stage):
+    def stubborn(gs, scene, *, progress, on_profile, on_stage, stop=None):  # never asks stop()
         i = len(calls)
         calls.append(i)
         started[i].set()
@@ -140,6 +140,35 @@ def test_a_stale_result_is_never_published(gearset):
     snap = c.wait(two, profile=False, timeout=10)
     assert snap.design.key == 1.1
     assert c.final.job == two and c.final.design.key == 1.1
+    c.close()
+
+
+def test_a_superseded_computation_stops_inside_its_stage_at_its_next_checkpoint(gearset):
+    """The tab's stop() is the engine's checkpoint inside a stage: a long loop that asks it between
+    its steps (as the contact's continuation does between torques) stops at the next step once a
+    newer request came, without waiting for the stage's end; the newer request runs next."""
+    from profilegen.engine import Cancelled
+
+    steps, started = [], threading.Event()
+
+    def looping(gs, scene, *, progress, on_profile, on_stage, stop):
+        progress("contact")
+        for i in range(1000):  # 1000 steps of 10 ms: 10 s without the checkpoint
+            if stop():
+                raise Cancelled("superseded")
+            steps.append((gs.torque.rated_nm, i))
+            started.set()
+            time.sleep(0.01)
+        return _Fake(gs.torque.rated_nm)
+
+    c = Computer(looping)
+    c.submit(gearset, "design")
+    assert started.wait(10)
+    two = c.submit(gearset.with_values({"torque.rated_nm": 200.0}), "design")
+    snap = c.wait(two, profile=False, timeout=30)
+    assert snap is not None and snap.error is None and snap.design.key == 200.0
+    first = [i for t, i in steps if t != 200.0]
+    assert 1 <= len(first) < 100  # stopped within a few steps, not after the loop's 1000
     c.close()
 
 

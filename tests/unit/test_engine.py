@@ -127,6 +127,24 @@ def test_cancel_stops_the_design_and_the_engine_goes_on(base):
     assert first_difference(comparable(d), comparable(pg.design(base, scene=SKETCH))) is None
 
 
+def test_stop_cancels_its_own_design_only_on_a_shared_engine(base):
+    """An engine shared by threads (supersede=False, as the app's tabs share the process's engine):
+    one design's stop() ends that design at its next checkpoint — inside a stage too: asked in the
+    gearform stage (before its clearance map), the form is never kept — while the next design on
+    the same engine, with a stop() that stays False, runs to the end."""
+    engine = Engine(supersede=False)
+    asked = []
+
+    def progress(name):
+        asked.append(name)
+
+    with pytest.raises(Cancelled):
+        engine.design(base, scene=SKETCH, progress=progress, stop=lambda: "gearform" in asked)
+    assert asked[-1] == "gearform" and "gearform" not in engine.last_run
+    d = engine.design(base, scene=SKETCH, stop=lambda: False)
+    assert "gearform" in engine.last_run and d.profile is not None
+
+
 def test_a_newer_design_supersedes_the_running_one(base):
     engine = Engine()
     in_fit, errors, results = threading.Event(), [], []
