@@ -52,7 +52,7 @@ from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import Executor, as_completed
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
@@ -120,7 +120,7 @@ def _stage_time(stage: str) -> Callable[[Design], float | None]:
     return get
 
 
-def _fit_error(method: str) -> Callable[[Design], float | None]:
+def _fit_error(method: str) -> Callable[[Any], float | None]:
     return lambda d: d.profile.fits[method].max_error_mm
 
 
@@ -133,15 +133,15 @@ def _worst(values) -> float | None:
     return max(values) if values else None
 
 
-def _min_safety(d: Design):
+def _min_safety(d: Any) -> float | None:
     safety = d.stress.headline()["safety"]
     values = [v for v in safety.values() if v is not None]
     return min(values) if values else None
 
 
-def _min_safety_name(d: Design):
+def _min_safety_name(d: Any) -> str | None:
     safety = {k: v for k, v in d.stress.headline()["safety"].items() if v is not None}
-    return min(safety, key=safety.get) if safety else None
+    return min(safety, key=lambda k: safety[k]) if safety else None
 
 
 def _verdict(d: Design) -> str | None:
@@ -159,8 +159,9 @@ _STAGES = ("tooth", "rim", "deformation fit", "envelope", "gearform", "arcfit", 
 
 #: (column, type, getter): the headline outputs of a design, one column each. A getter
 #: that fails (the design has no such part: no contact in the sketch scene, no stress, a
-#: fit left out) gives an empty cell.
-OUTPUTS: tuple[tuple[str, type, Callable[[Design], Any]], ...] = (
+#: fit left out) gives an empty cell. (A getter takes the Design typed Any: it reads parts a design
+#: may not have, and the AttributeError of a missing one is that empty cell.)
+OUTPUTS: tuple[tuple[str, type, Callable[[Any], Any]], ...] = (
     ("deflection_mm", float, lambda d: d.gearset.deflection_mm),
     ("min_clearance_mm", float, lambda d: d.form.clearance.min_mm),
     ("profile_min_clearance_mm", float, lambda d: d.profile.clearance.min_mm),
@@ -260,7 +261,7 @@ def sample_points(ranges: Mapping[str, Sequence], n: int, *, method: str = "lhs"
         u = np.random.default_rng(seed).random((n, len(fields)))
     points = []
     for row in u:
-        point = {}
+        point: dict[str, float] = {}
         for f, x in zip(fields, row):
             lo, hi = ranges[f]
             if _is_int(lo) and _is_int(hi):
@@ -454,7 +455,7 @@ def _text(data: Mapping, key: str, default: str, fail) -> str:
     return value
 
 
-def _base_gearset(text: str, base: Path, fail) -> GearSet:
+def _base_gearset(text: str, base: Path, fail: Callable[[str, str], NoReturn]) -> GearSet:
     from .gearset import load_gearset, resolve_gearset
 
     path: str | Path = text  # what the message names if the name does not resolve
