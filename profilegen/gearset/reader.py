@@ -422,7 +422,8 @@ class _Reader:
         wave_generator = self.read_wave_generator(self.section(data, "wave_generator"), gear_raw, gear)
         material = self.read_material(self.section(data, "material"))
         torque = self.read_torque(self.section(data, "torque"))
-        reach = (None if None in (gear, tooth, wave_generator) else  # the FS tip's farthest radius, undeformed + w0
+        # the FS tip's farthest radius, undeformed + w0
+        reach = (None if gear is None or tooth is None or wave_generator is None else
                  gear.pitch_radius_mm + tooth.addendum_mm + wave_generator.deflection_coefficient * gear.module_mm)
         circular_spline = self.read_circular_spline(
             self.section(data, "circular_spline", required=False), m, fs_reach_mm=reach
@@ -431,7 +432,7 @@ class _Reader:
         face = self.read_face(self.section(data, "face", required=False), cup)
         requirements = self.read_requirements(self.section(data, "requirements", required=False))
         rim = gear_raw.get("rim_thickness_mm")
-        if None not in (rim, m, wave_generator):
+        if rim is not None and m is not None and wave_generator is not None:
             w0 = wave_generator.deflection_coefficient * m
             if rim < RIM_PER_DEFLECTION_MIN * w0:
                 self.problem(
@@ -1030,7 +1031,8 @@ class _Reader:
             return Requirements()
         p = "requirements"
         self.unknown_keys(t, p, REQUIREMENTS_KEYS)
-        v, ok = {}, True
+        v: dict[str, Any] = {}
+        ok = True
         for f in REQUIREMENT_FIELDS:
             if isinstance(t.get(f.key), str):
                 self.given.add(f"{p}.{f.key}")

@@ -154,10 +154,8 @@ _SECTION_KEYS = {
 
 # --------------------------------------------------------------------------- types
 
-FROZEN = dict(frozen=True, slots=True, eq=False, kw_only=True)
 
-
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class Gear:
     """Gear data of the set: module, teeth, waves and the flexspline rim."""
 
@@ -195,7 +193,7 @@ class Gear:
         return self.pitch_radius_mm - self.neutral_radius_mm
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class DctaTooth:
     """Double-circular-arc tooth with a common tangent (DCTA), pitch frame.
 
@@ -228,7 +226,7 @@ class DctaTooth:
         return math.radians(self.pressure_angle_deg)
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class InvoluteTooth:
     """Standard involute tooth (pitch frame): pressure angle, addendum, dedendum, thickness."""
 
@@ -245,7 +243,7 @@ class InvoluteTooth:
         return math.radians(self.pressure_angle_deg)
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class PointsTooth:
     """A tooth given by points of its right flank (pitch frame, root to tip, mm).
 
@@ -292,7 +290,7 @@ Tooth = DctaTooth | InvoluteTooth | PointsTooth
 _TOOTH_TYPES = (DctaTooth, InvoluteTooth, PointsTooth)
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class WaveGenerator:
     """Wave generator: deflection coefficient ω* (w0 = ω*·m) and contour.
 
@@ -313,7 +311,7 @@ class WaveGenerator:
         return None if self.roller_angle_deg is None else math.radians(self.roller_angle_deg)
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class Material:
     """Flexspline material (linear elastic) and optional strength limits (MPa)."""
 
@@ -330,7 +328,7 @@ class Material:
         return self.youngs_modulus_mpa / (2.0 * (1.0 + self.poisson_ratio))
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class Torque:
     """Output torques (N·m, as in the files); ``*_nmm`` give N·mm."""
 
@@ -351,7 +349,7 @@ class Torque:
         return None if self.momentary_nm is None else self.momentary_nm * 1e3
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class CircularSpline:
     """Radial clearances of the CS against the FS tooth (mm, resolved) and how its flank is
     fitted with an arc–line–arc (``one_sided``: never inside the swept region)."""
@@ -373,7 +371,7 @@ class CircularSpline:
         return self.wire_radius_mm + self.spark_gap_mm
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class Cup:
     """The cup flexspline beyond its tooth ring (mm), for the loaded contact and the stress
     stage: ``length_mm`` l, from the cup bottom to the tooth ring's mid-face (the
@@ -398,7 +396,7 @@ class Cup:
     bearing_center_mm: float | None = None
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class Face:
     """The face width (:mod:`profilegen.face`, the cup3d rim tier): ``design_section_z_mm`` the
     axial section whose envelope the one CS profile is cut from (z from the cup bottom's

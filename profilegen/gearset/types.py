@@ -27,7 +27,6 @@ from .sections import (
     CIRCULAR_SPLINE_KEYS,
     CUP_KEYS,
     FACE_KEYS,
-    FROZEN,
     GEAR_KEYS,
     MATERIAL_KEYS,
     SECTION_TYPES,
@@ -109,7 +108,7 @@ def _twin_keys(parts: list[str]) -> tuple[str, ...]:
     return ()
 
 
-@dataclass(**FROZEN)
+@dataclass(frozen=True, slots=True, eq=False, kw_only=True)
 class GearSet:
     """One validated strain wave gear set (see ``docs/gearset.md``).
 
