@@ -14,7 +14,7 @@ tilt and the ball row's force at the major axis.
 
 Part 2 (``--part scenes``): ``profilegen design NAME --scene S`` in a subprocess per set and
 race model (the model set by :data:`~profilegen.rim.cup.bearing.CUP_TIER_RACE`), its
-design.json read: ω at the face ends, the design section, the FS taper and crowning, the
+design.json read: ω at the face ends, the design section, the FS taper, crowning and radial shift, the
 backlash and interference with the modification, the tooth-ring safety factors, K1 (sliced and
 one section) against the catalogue, the verdict. One run at a time (20-190 s each on a loaded
 2-core machine).
@@ -121,7 +121,7 @@ def row(folder: Path) -> dict:
         cat.get("K1_nm_per_rad") else None
     return {"ω dia": secs["diaphragm end"]["omega_major_mm"], "ω open": secs["open end"]["omega_major_mm"],
             "z design": face.get("design_section_z_mm"), "taper µm/mm": 1e3 * (mod.get("taper_mm_per_mm") or 0.0),
-            "crown µm": 1e3 * (mod.get("crowning_mm") or 0.0),
+            "crown µm": 1e3 * (mod.get("crowning_mm") or 0.0), "shift µm/mm": 1e3 * (mod.get("shift_mm_per_mm") or 0.0),
             "backlash µm": 1e3 * mod["max_backlash_mm"] if mod.get("max_backlash_mm") is not None else None,
             "interf µm": 1e3 * (mod.get("max_interference_mm") or 0.0),
             "SF yield": safety.get("tooth ring yield"), "SF fatigue": safety.get("tooth ring fatigue"),

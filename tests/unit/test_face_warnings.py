@@ -212,3 +212,21 @@ def test_flanks_overlap_when_the_tooth_thickens_along_the_face(flanks, taper, wa
         # the slices' mid-planes are b/6, b/2, 5b/6 from z_d: all three thicker, most the last
         assert "3 slices, none coning" in hits[0] and "in 3 slice(s)" in hits[0]
         assert f"most at z = {cup.length_mm + cup.face_width_mm / 3:.4g} mm" in hits[0]
+
+
+@pytest.mark.parametrize("shift, warns", [(2e-3, True), (-2e-3, False)])
+def test_flanks_overlap_when_the_tooth_moves_out_along_the_face(flanks, shift, warns):
+    # the face stage's radial shift in the slices (contact.face_curve): no coning, the CS conjugate to the
+    # diaphragm end's slice; the whole tooth moved away from the gear centre toward the open end (Δy > 0)
+    # goes deeper into the space, whose flanks close in toward its root: both flanks' gaps close and they
+    # overlap; moved toward the centre (Δy < 0) the tooth leaves the space and both gaps open
+    d, sides, chain = flanks
+    cup = d.gearset.cup
+    mod = SimpleNamespace(taper_mm_per_mm=0.0, crowning_mm=0.0, shift_mm_per_mm=shift)
+    spec = FaceSlices(3, "none", design_z_mm=cup.length_mm - 0.5 * cup.face_width_mm, modification=mod)
+    _, _, warnings = spec.apply(d, sides, chain)
+    hits = [w for w in warnings if "the two flanks overlap at no load" in w]
+    assert len(hits) == int(warns)
+    if warns:
+        assert "in 3 slice(s)" in hits[0]
+        assert f"most at z = {cup.length_mm + cup.face_width_mm / 3:.4g} mm" in hits[0]
