@@ -22,7 +22,9 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -31,11 +33,15 @@ from .inputs import ContactInput
 from .solvers import ContactError, ContactSolution, solve_lemke, solve_qp_active_set
 from ..results import readonly as _readonly
 
+if TYPE_CHECKING:  # pragma: no cover
+    from .compliance import ContactCompliance
+    from .points import ContactPoints
+
 __all__ = ["ContactResult", "FLANK_SECTIONS", "LoadCase", "analyse_contact", "flank", "solve_contact"]
 
 ARCMIN_PER_RAD = 180.0 * 60.0 / math.pi
 
-_SOLVERS = {"lemke": solve_lemke, "active_set": solve_qp_active_set}
+_SOLVERS: dict[str, Callable[..., ContactSolution]] = {"lemke": solve_lemke, "active_set": solve_qp_active_set}
 
 
 
@@ -124,14 +130,14 @@ class LoadCase:
 class ContactResult:
     """Loaded contact at several torques, and the torsional stiffness curve they make."""
 
-    points: object
+    points: ContactPoints
     cases: tuple[LoadCase, ...]
     zones: int
     solver: str
     compliance_info: dict
     time_s: float
     warnings: tuple[str, ...] = field(default=())
-    compliance: object = None  # the ContactCompliance (reuse it for further torques)
+    compliance: ContactCompliance | None = None  # reuse it for further torques
 
     @property
     def torques_nm(self) -> np.ndarray:
@@ -190,8 +196,9 @@ def load_case(points, torque: float, sol: ContactSolution, balls=None) -> tuple[
     tooth_phi = np.zeros(teeth.size)
     tooth_phi[slot] = points.phi_rad
     per_tooth = np.bincount(slot, weights=sol.force_n, minlength=teeth.size)
-    extra = ((np.zeros(0), np.zeros(0), np.zeros(0, bool)) if balls is None else
-             (balls.ball_angle_rad, balls.ball_reactions(sol.force_n), balls.ball_active))
+    extra: tuple[np.ndarray, np.ndarray, np.ndarray] = (
+        (np.zeros(0), np.zeros(0), np.zeros(0, bool)) if balls is None else
+        (balls.ball_angle_rad, balls.ball_reactions(sol.force_n), balls.ball_active))
     case = LoadCase(float(torque), float(torque / points.zones), sol, teeth, tooth_phi, per_tooth, *extra,
                     reach_mm=float(sol.phi_rad * points.lever_mm.max()), max_gap_mm=float(points.max_gap_mm))
     warnings = []

@@ -462,9 +462,9 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
         best = max(pts, key=lambda x: x.torque_nm)
         return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "end of path", tuple(warnings))
     if hit is None:
-        best = max(pts, key=lambda x: x.torque_nm) if pts else None
+        top = max(pts, key=lambda x: x.torque_nm) if pts else None
         warnings.append("no criterion was met on the path followed: the estimate is its largest torque")
-        return ClimbPath(tuple(pts), best.torque_nm if best else math.nan, best.phi_rad if best else math.nan,
+        return ClimbPath(tuple(pts), top.torque_nm if top else math.nan, top.phi_rad if top else math.nan,
                          "none", tuple(warnings))
     crit, k = hit
     a, b = pts[k - 1] if k else pts[k], pts[k]
@@ -996,6 +996,16 @@ class DesignClimb:
 
 class _Subset:
     """The rows ``keep`` of a ContactPoints (the fields the climb reads)."""
+
+    tooth: np.ndarray
+    phi_rad: np.ndarray
+    t_mm: np.ndarray
+    local_mm: np.ndarray
+    fs_point_mm: np.ndarray
+    cs_point_mm: np.ndarray
+    normal: np.ndarray
+    gap_mm: np.ndarray
+    lever_mm: np.ndarray
 
     def __init__(self, p, keep):
         for name in ("tooth", "phi_rad", "t_mm", "local_mm", "fs_point_mm", "cs_point_mm", "normal", "gap_mm",

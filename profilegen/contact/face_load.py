@@ -95,6 +95,7 @@ import math
 import time
 from dataclasses import dataclass, field
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -102,6 +103,9 @@ from .. import checks
 from ..errors import ProfilegenError
 from ..kinematics import HarmonicDriveMotion
 from ..results import json_ready, readonly as _readonly
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..deformation import Deformation
 
 __all__ = [
     "FaceLoad",
@@ -166,7 +170,7 @@ def slice_coupling(slices: int, coupling_length_mm: float, slice_width_mm: float
 class _ScaledDeformation:
     """A deformation times a factor (ω, υ and their φ-derivatives all scaled)."""
 
-    base: object
+    base: Deformation
     factor: float
 
     def evaluate(self, phi, order: int = 3):
@@ -449,6 +453,7 @@ def face_load(inputs, torque_nm: float, *, slices: int = 8, cup=None, coning: st
     z = slice_positions(b, slices, z0)
     res = solve_contact(inputs, [torque_nm], side=side, points=points, compliance=compliance)
     pts, comp = res.points, res.compliance
+    assert comp is not None  # solve_contact returns the compliance it solved with
     settled = comp.with_balls(res.cases[0].ball_active)
     shifts = coning_gap_shifts(pts, inputs.motion, gs, z0, z, coning=coning, cup=cup)
     if getattr(comp, "ball_supports", "window") == "all":

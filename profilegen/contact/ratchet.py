@@ -637,7 +637,8 @@ def ratcheting_torque(design, *, catalogue: dict | None = CATALOGUE_RATCHETING,
         ring = cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
                                          youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
         ring_info = {"mean_radius_mm": r_mean, "thickness_mm": thick, "width_mm": width}
-    rows, flags, warnings, every = [], [], [], []
+    rows, flags, every = [], [], []
+    warnings: list[str] = []
     from .analysis import load_case
 
     with one_blas_thread():

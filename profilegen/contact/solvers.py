@@ -523,7 +523,7 @@ def solve_lemke(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *, max_pi
     row = int(np.argmin(q))
     leaving = tab.pivot(row, tab.column(Z0), Z0)
     pivots = 1
-    path = []  # (pivot, entering variable, leaving variable) – the loading history, kept short
+    path: list[tuple[int, str, str]] = []  # (pivot, entering variable, leaving variable) – the loading history, kept short
     while True:
         entering = leaving + N if leaving < N else leaving - N  # complement of the variable that left
         col = tab.column(entering)

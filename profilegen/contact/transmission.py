@@ -93,6 +93,7 @@ import os
 import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -265,7 +266,7 @@ class TransmissionError:
 # --------------------------------------------------------------------------- one position
 
 #: what the forked workers inherit: (inputs, options) of the run in progress
-_JOB: tuple | None = None
+_JOB: Any = None  # (inputs, options) in a worker process
 
 
 def _position(inputs, psi: float, opts: dict):
