@@ -972,7 +972,9 @@ def _with_face(gearset: GearSet, rim, step):
         f"design section z = {face.design_section_z_mm:g} mm ({face.design_choice}); largest backlash "
         f"{face.max_backlash_mm * 1e3:.2f} µm" + ("" if mod is None else
         f"; with the tooth modification (taper {mod.taper_mm_per_mm * 1e3:.3g} µm/mm, crowning "
-        f"{mod.crowning_mm * 1e3:.3g} µm, {mod.source}) {mod.max_backlash_mm * 1e3:.2f} µm, interference "
+        f"{mod.crowning_mm * 1e3:.3g} µm"
+        + ("" if not getattr(mod, "shift_mm_per_mm", 0.0) else f", radial shift {mod.shift_mm_per_mm * 1e3:.3g} µm/mm")
+        + f", {mod.source}) {mod.max_backlash_mm * 1e3:.2f} µm, interference "
         f"{mod.max_interference_mm * 1e3:.3g} µm") + note)
     return rim, face, report
 

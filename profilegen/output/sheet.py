@@ -263,6 +263,12 @@ def _geometry_rows(design) -> str:
             if abs(mod.crowning_mm) >= 1e-9:
                 rows.append(_row("FS crowning", f"{mod.crowning_mm * 1e3:.4g} µm" + _est(design, "fs_crowning_um", mod.crowning_mm * 1e3),
                                  "thinner at both face ends"))
+            shift = float(getattr(mod, "shift_mm_per_mm", 0.0))
+            if abs(shift) >= 1e-9:
+                dy = [float(v) * 1e3 for v in mod.radial_shift_mm]
+                rows.append(_row("FS radial shift", f"<b>{shift * 1e3:.4g} µm/mm</b>",
+                                 f"the whole tooth (tip and root circles) outward, toward the open end, 0 at the design "
+                                 f"section ({min(dy):.3g} … {max(dy):.3g} µm over the face)"))
     bl = prof.max_backlash_mm
     rows.append(_row("backlash (largest)", "—" if bl is None else html.escape(format_um(bl)) + _est(design, "backlash_mm", bl),
                      "normal gap the fit leaves to the exact flank" if bl is not None

@@ -75,3 +75,20 @@ def test_a_shift_out_of_range_names_the_field(ring_face):
     gs, cup, f = ring_face
     with pytest.raises(pg.face.FaceError, match="shift_mm_per_mm"):
         apply_modification(gs, cup, f, 0.0, 0.0, 0.5)
+
+
+def test_the_drawings_say_the_shift_and_its_range(ring_face):
+    # the notes of the FS drawings (face.coning.modification_lines): the shift per mm and Δy at the
+    # face ends, shift · (z − z_d) at the diaphragm end and 0 at the design section (the open end)
+    from types import SimpleNamespace
+
+    from profilegen.face.coning import modification_lines
+
+    _, _, f = ring_face
+    lines = modification_lines(SimpleNamespace(face=f))
+    shifted = [line for line in lines if line.startswith("FS teeth SHIFTED radially")]
+    assert len(shifted) == 1
+    shift = f.modification.shift_mm_per_mm
+    end = shift * (f.z_mm[0] - f.design_section_z_mm) * 1e3
+    assert f"{shift * 1e3:.4g} um per mm" in shifted[0] and f"from {end:.3g} to 0 um" in shifted[0]
+    assert not [line for line in lines if line.startswith("FS teeth MODIFIED")]  # no thickness change here
