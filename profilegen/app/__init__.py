@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-__all__ = ["make_app", "serve", "show", "start"]
+__all__ = ["Notebook", "make_app", "serve", "show", "start"]
 
 
 def make_app(gearset=None, *, workspace: str | Path = ".", scene: str | None = None):
@@ -41,9 +41,32 @@ def start(gearset=None, *, workspace: str | Path = ".", scene: str | None = None
     return _start(gearset, workspace=workspace, scene=scene, host=host, port=port)
 
 
-def show(gearset=None, *, workspace: str | Path = ".", scene: str | None = None, port: int = 8050,
-         height: int = 950):
-    """The workbench inside a Jupyter cell (Dash's inline mode), served from this kernel."""
-    app = make_app(gearset, workspace=workspace, scene=scene)
-    app.run(jupyter_mode="inline", host="127.0.0.1", port=port, jupyter_height=height)
-    return app
+def show(gearset=None, *, workspace: str | Path = ".", scene: str | None = None, host: str = "127.0.0.1",
+         port: int = 0, height: int = 950) -> "Notebook":
+    """The workbench inside a Jupyter cell: the app served from this kernel on a background thread
+    (:func:`start`; ``port=0``: a free port), shown by the returned :class:`Notebook`'s HTML — an
+    ``<iframe>`` of ``height`` pixels — when it is the cell's last expression. The cell does not
+    block; ``.stop()`` ends the server (a new ``show()`` starts another). Outside a notebook it
+    serves all the same (``.url`` is the page's address)."""
+    return Notebook(start(gearset, workspace=workspace, scene=scene, host=host, port=port), height=height)
+
+
+class Notebook:
+    """A workbench served for a notebook (:func:`show`): ``url``, ``app`` (the Dash app),
+    :meth:`stop`, and the ``<iframe>`` Jupyter draws (``_repr_html_``)."""
+
+    def __init__(self, running, *, height: int = 950):
+        self.running, self.height = running, int(height)
+        self.url, self.app = running.url, running.app
+
+    def _repr_html_(self) -> str:
+        from html import escape
+
+        return (f'<iframe src="{escape(self.url)}" width="100%" height="{self.height}" '
+                'style="border:1px solid #ddd" title="profilegen workbench"></iframe>')
+
+    def __repr__(self) -> str:
+        return f"profilegen workbench at {self.url}"
+
+    def stop(self) -> None:
+        self.running.stop()

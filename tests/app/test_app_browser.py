@@ -272,3 +272,37 @@ def test_export_writes_the_design_folder_and_the_dxf_reads_back(browser, app, wo
 
     assert pg.load_gearset(workspace / "export" / "default.toml").gear.circular_spline_teeth == 202
     _no_console_errors(browser)
+
+
+def test_two_tabs_edit_independently(browser, app):
+    """Each tab is its own session: an edit, its design and its undo history in one tab leave the
+    other's field, drawn design and history as they were."""
+    path = "tooth.addendum_coefficient"
+    first = _open(browser, app)
+    tab_a = browser.current_window_handle
+    value_a = _field(browser, path).get_attribute("value")
+    undo_a = _by_id_plain(browser, "undo").get_attribute("disabled")
+    browser.switch_to.new_window("tab")
+    try:
+        browser.get(app.url)
+        b0 = _settled(browser)
+        assert _field(browser, path).get_attribute("value") == "0.8"  # a new tab starts from the set as given
+        _type(browser, path, "0.83")
+        b1 = _settled(browser, after_job=b0["job"])
+        assert b1["space"] != b0["space"] and _by_id_plain(browser, "undo").get_attribute("disabled") is None
+        _no_console_errors(browser)
+    finally:
+        browser.close()
+        browser.switch_to.window(tab_a)
+    time.sleep(3 * 0.15)  # a few of the tab's polls: nothing new for it
+    a = _state(browser)
+    assert _field(browser, path).get_attribute("value") == value_a
+    assert (a["job"], a["figure_job"], a["space"]) == (first["job"], first["figure_job"], first["space"])
+    assert _by_id_plain(browser, "undo").get_attribute("disabled") == undo_a
+    _no_console_errors(browser)
+
+
+def _by_id_plain(browser, element_id: str):
+    from selenium.webdriver.common.by import By
+
+    return browser.find_element(By.ID, element_id)
