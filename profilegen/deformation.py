@@ -17,12 +17,15 @@ one-harmonic case ``a_1 = w0``, ``b_1 = −w0/U`` (inextensible neutral line:
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from .errors import GearSetError
 from .results import readonly as _readonly
+
+if TYPE_CHECKING:  # pragma: no cover
+    from numpy.typing import ArrayLike
 
 __all__ = ["Deformation", "HarmonicDeformation", "ring_theory"]
 
@@ -30,8 +33,11 @@ __all__ = ["Deformation", "HarmonicDeformation", "ring_theory"]
 class Deformation(Protocol):
     """What the kinematics needs from any deformation model."""
 
-    tier: str
-    waves: int
+    @property
+    def tier(self) -> str: ...
+
+    @property
+    def waves(self) -> int: ...
 
     def evaluate(self, phi: np.ndarray, order: int = 3) -> tuple[np.ndarray, np.ndarray]:
         """ω and υ with derivatives 0..order at φ (rad), each (order + 1, n), in mm."""
@@ -82,7 +88,7 @@ class HarmonicDeformation:
         """Radial displacement on the major axis, ω(0) (mm)."""
         return float(self.mean_mm + self.cos_mm.sum())
 
-    def evaluate(self, phi, order: int = 3) -> tuple[np.ndarray, np.ndarray]:
+    def evaluate(self, phi: ArrayLike, order: int = 3) -> tuple[np.ndarray, np.ndarray]:
         phi = np.atleast_1d(np.asarray(phi, dtype=float))
         freq = self.waves * np.arange(1, self.cos_mm.size + 1)  # (n_h,)
         arg = np.multiply.outer(phi, freq)  # (n, n_h)

@@ -28,11 +28,16 @@ motion in the tests) plugs into the same envelope code.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Protocol
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
 from .deformation import Deformation
+
+if TYPE_CHECKING:  # pragma: no cover
+    from numpy.typing import ArrayLike
+
+    from .gearset import GearSet
 
 __all__ = ["Pose", "Motion", "HarmonicDriveMotion", "RackMotion", "turn", "unit_radial", "unit_tangential"]
 
@@ -131,7 +136,7 @@ class HarmonicDriveMotion:
     cs_teeth: int
 
     @classmethod
-    def from_gearset(cls, gearset, deformation=None) -> "HarmonicDriveMotion":
+    def from_gearset(cls, gearset: GearSet, deformation: Deformation | None = None) -> "HarmonicDriveMotion":
         """The motion of a gear set's FS tooth; ring theory unless a deformation is given."""
         g = gearset.gear
         if deformation is None:
@@ -150,7 +155,7 @@ class HarmonicDriveMotion:
         """dβ/dφ = U/z2."""
         return self.waves / self.cs_teeth
 
-    def pose(self, phi) -> Pose:
+    def pose(self, phi: ArrayLike) -> Pose:
         phi = np.atleast_1d(np.asarray(phi, dtype=float))
         (w, w1, w2, w3), (u, u1, u2, u3) = self.deformation.evaluate(phi, order=3)
         k, rm = self.beta_rate, self.neutral_radius_mm
@@ -184,7 +189,7 @@ class HarmonicDriveMotion:
             angle_d2=tilt_d2,
         )
 
-    def neutral_point(self, phi) -> tuple[np.ndarray, np.ndarray]:
+    def neutral_point(self, phi: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Polar radius ρ and angle γ of the tooth-frame origin (the seed's ρ, γ)."""
         phi = np.atleast_1d(np.asarray(phi, dtype=float))
         (w,), (u,) = self.deformation.evaluate(phi, order=0)
@@ -205,7 +210,7 @@ class RackMotion:
 
     pitch_radius_mm: float
 
-    def pose(self, phi) -> Pose:
+    def pose(self, phi: ArrayLike) -> Pose:
         phi = np.atleast_1d(np.asarray(phi, dtype=float))
         r = self.pitch_radius_mm
         # O = (rφ) e_t(−φ) + r e_r(−φ);  d/dφ e_t(−φ) = +e_r(−φ), d/dφ e_r(−φ) = −e_t(−φ)

@@ -453,7 +453,7 @@ class Ratcheting:
         """The force-weighted margin h̄ − Δr̄ of the loaded teeth, per solved torque (mm; ≤ 0: ratcheted)."""
         return self.mean_depth_mm - self.mean_separation_mm
 
-    def flag(self, torque_nm) -> str | None:
+    def flag(self, torque_nm: float) -> str | None:
         """Why ``torque_nm`` (N·m, either sign) is beyond the ratcheting estimate, or None.
         Zero or a non-finite torque: :class:`RatchetingError`."""
         t = abs(_torque("torque_nm", torque_nm))

@@ -20,6 +20,7 @@ from . import face as face_files
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..pipeline import Design
+    from .report import FigureWorkers
 
 __all__ = ["OUTPUT_FILES", "WORKER_FILES", "figure_workers", "file_jobs", "flexspline_jobs", "profile_figures",
            "stage_figures", "write_design"]
@@ -212,7 +213,8 @@ def _note(result: Design) -> list:
     return [("annotation", (-0.6 * r_out, -1.15 * r_out), 0.02 * r_out, label)]
 
 
-def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True, figures=None,
+def write_design(result: Design, out_dir: str | os.PathLike, *, figure: bool = True,
+                 figures: FigureWorkers | None = None,
                  step: bool = False, draw: bool | None = None) -> list[Path]:
     """Write every output file of a design into out_dir (see the README, "Outputs"); returns their paths.
 

@@ -61,6 +61,7 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 import scipy.sparse as sp
@@ -70,6 +71,10 @@ from .. import checks, series
 from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..gearset import GearSet
+    from ..wavegen import Contour
 
 __all__ = ["ConvergenceError", "RingError", "RingParameters", "RingResult", "solve_ring"]
 
@@ -721,9 +726,9 @@ def _contact_set(compliance, base, x_now, contour, *, bilateral, gap_tol_mm, max
 
 
 def solve_ring(
-    gearset_or_parameters,
+    gearset_or_parameters: GearSet | RingParameters,
     *,
-    contour,
+    contour: Contour,
     layers: int = 4,
     divisions: int = 64,
     bilateral: bool = False,

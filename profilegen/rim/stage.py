@@ -61,6 +61,7 @@ from .ring import WRAP_WARNING, RingResult, solve_ring
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..deformation import HarmonicDeformation
+    from ..gearset import GearSet
     from ..series import DeformationFit, GeneralSineDeformation
     from .cup.contact import CupContact
     from .cup.fourier import CupDeformation
@@ -545,7 +546,7 @@ def _solve_cup(gearset, tier: RimTier, contour, z_mm: float | None, reference, w
                           tuple(warnings), cup=fine.deformation, cup_contact=fine, section_z_mm=z)
 
 
-def solve_rim(gearset, *, tier: str | RimTier = "design", z_mm: float | None = None) -> RimDeformation:
+def solve_rim(gearset: GearSet, *, tier: str | RimTier = "design", z_mm: float | None = None) -> RimDeformation:
     """ω(φ), υ(φ) of the gear set's rim on its wave generator, fitted for the kinematics.
 
     ``z_mm``: the cup tier's design section (mm from the cup bottom's mid-plane; see
