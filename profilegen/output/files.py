@@ -132,8 +132,8 @@ def file_jobs(design: Design) -> dict:
     # ~60 ms to pickle per job, on the main process's path)
     # (fields the files do not read emptied: passed as a dict[str, Any], as a finished design's types have no None)
     form = None if design.form is None else replace(design.form, **_none("outline"))
-    slim = replace(design, **_none("envelope", "rim", "contact", "stress", "face", "torsional", "ratcheting",
-                                   "transmission"), form=form)
+    slim = replace(design, **_none("envelope", "rim", "contact", "stress", "torsional", "ratcheting",
+                                   "transmission"), form=form, face=_face_notes(design.face))
     return {"files:drawing": (_drawing_files, (slim, date)), **flexspline_jobs(design)}
 
 
@@ -142,10 +142,28 @@ def flexspline_jobs(design: Design) -> dict:
     the gear set, so a design without its profile gives the same bytes."""
     from dataclasses import replace
 
-    tooth_only = replace(design, **_none("envelope", "rim", "contact", "stress", "face", "torsional", "ratcheting",
+    tooth_only = replace(design, **_none("envelope", "rim", "contact", "stress", "torsional", "ratcheting",
                                          "transmission", "deformation", "motion", "form", "profile"),
-                         stages=(), warnings=())
+                         stages=(), warnings=(), face=_face_notes(design.face))
     return {"files:flexspline": (_flexspline_files, (tooth_only,))}
+
+
+def _face_notes(face: Any) -> Any:
+    """The face stage's result as the drawings' notes read it (``face.coning.modification_lines``:
+    the design section, the choice, the modification, the interference), without the sections'
+    maps and envelopes; None stays None. The drawings of a design with a face stage must say its
+    design section and FS modification, not "no face stage", whichever process draws them."""
+    from dataclasses import replace
+    from types import SimpleNamespace
+
+    if face is None:
+        return None
+    mod = face.modification
+    if mod is not None:
+        mod = replace(mod, sections=(), table=(), clearance_mm=np.zeros(0))
+    return SimpleNamespace(design_section_z_mm=face.design_section_z_mm, design_choice=face.design_choice,
+                           modification=mod, max_interference_mm=face.max_interference_mm,
+                           interference_tol_mm=face.interference_tol_mm)
 
 
 def _none(*fields: str) -> dict[str, Any]:

@@ -179,3 +179,30 @@ def test_bad_date_and_unwritable_path(design, tmp_path, monkeypatch):
     with pytest.raises(ExportError, match="file"):
         write_cs_drawing(blocker / "x.dxf", design, date="2026-01-31")
     assert sorted(p.name for p in tmp_path.iterdir()) == ["file"]  # nothing partial
+
+
+def test_drawings_made_by_the_figure_workers_carry_the_face_stage(default_design_scene):
+    """The CS and FS drawings made by the figure workers' jobs (output.files.file_jobs: the
+    design slimmed to what the files read) say the face stage's design section and FS
+    modification, as the drawings made in this process do — not "NOT THE PART TO CUT: this scene
+    has no face stage" for a design scene that ran it (it did before 2026-11-28: the jobs emptied
+    ``face``, so `profilegen design`'s own drawings of the default set said so)."""
+    import io
+
+    from profilegen.face.coning import UNDECIDED, modification_lines
+    from profilegen.output import files
+
+    d = default_design_scene
+    assert d.face is not None
+    want = modification_lines(d)
+    assert want != [UNDECIDED] and "design section z =" in want[0]
+    made = {}
+    for fn, args in files.file_jobs(d).values():
+        made.update(fn(*args))
+    for name in ("circular_spline_drawing.dxf", "flexspline_tooth.dxf", "flexspline.dxf"):
+        text = " ".join(e.dxf.text if e.dxftype() == "TEXT" else e.text
+                        for e in ezdxf.read(io.StringIO(made[name].decode("utf-8"))).modelspace()
+                        if e.dxftype() in ("TEXT", "MTEXT"))
+        flat = re.sub(r"\s+", " ", text)
+        assert "NOT THE PART TO CUT" not in flat, name
+        assert f"design section z = {d.face.design_section_z_mm:g} mm" in flat, name
