@@ -57,6 +57,7 @@ def load_benchmark(name: str) -> ModuleType:
             return module
     qualified = f"profilegen_benchmark_{name}"
     spec = importlib.util.spec_from_file_location(qualified, path)
+    assert spec is not None and spec.loader is not None  # a .py file's
     module = importlib.util.module_from_spec(spec)
     sys.modules[qualified] = module
     try:

@@ -44,6 +44,7 @@ import math
 import os
 import resource
 from dataclasses import dataclass
+from typing import cast
 
 from .errors import GearSetError
 
@@ -228,7 +229,7 @@ def check_budget(gearset, scene, *, budget: float | None | str = "auto") -> Esti
     """Raise a :class:`BudgetError` if an item of :func:`estimate` is over ``budget`` bytes
     (``"auto"``: :func:`budget_bytes`; None: no limit); returns the estimate."""
     est = estimate(gearset, scene)
-    limit = budget_bytes() if budget == "auto" else budget
+    limit = budget_bytes() if budget == "auto" else cast("float | None", budget)
     if limit is None:
         return est
     over = [c for c in est.costs if c.bytes > limit]

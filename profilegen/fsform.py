@@ -193,6 +193,7 @@ def flank_elements(tooth: ToothProfile, *, shift_mm: float = 0.0, tol_mm: float 
     shift = np.array([0.0, float(shift_mm)])
     out: list[Line | Arc] = []
     worst = 0.0
+    els: list[Line | Arc]
     for seg in tooth.segments:
         if isinstance(seg, LineSegment):
             els = [Line(seg.start + shift, seg.end + shift)]

@@ -181,7 +181,7 @@ def evaluate_points(points: Sequence[Mapping[str, Any]], *, variables: Sequence[
     rows = []
     for i, pid in enumerate(ids):
         cells = done[pid]
-        row: dict[str, Any] = {"point_id": pid, **dict(points[i])}
+        row = {"point_id": pid, **dict(points[i])}
         for c in (*outputs, *STATUS_COLUMNS):
             row[c] = _parse(cells.get(c, ""), c)
         rows.append(row)

@@ -226,6 +226,7 @@ def cs_drawing_dxf(design: Design, *, date: _dt.date | str | None = None) -> str
     from .. import __version__
 
     prof, form = design.profile, design.form
+    assert prof is not None  # the drawing is a finished design's
     space: Chain = prof.space
     sheet = _Sheet()
     W, H = _SHEET
@@ -605,6 +606,7 @@ class _Layout:
             if chosen:
                 break
         if chosen is None:
+            assert best is not None  # every strip was tried
             chosen = (best[1], *strip(best[1], best[2]))
         k, c, mpoint, u, rect = chosen
         self.add_rect(rect)

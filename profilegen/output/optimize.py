@@ -86,7 +86,8 @@ def front_figure(objectives: Sequence[tuple[str, str]], evaluated: Sequence[Mapp
     from matplotlib.figure import Figure
 
     names = [o for o, _ in objectives]
-    pairs = [(names[i], names[j]) for i in range(len(names)) for j in range(i + 1, len(names))] or [(names[0], None)]
+    pairs: list[tuple[str, str | None]] = [(names[i], names[j]) for i in range(len(names))
+                                           for j in range(i + 1, len(names))] or [(names[0], None)]
     if ax is None:
         fig = Figure(figsize=(4.6 * len(pairs), 4.0), layout="constrained")
         FigureCanvasAgg(fig)
@@ -171,7 +172,8 @@ def front_in_words(front: Sequence[Mapping], start: Mapping | None, *, variables
     for k, r in enumerate(front):
         changes = [f"{v} {_num(start.get(v))} → {_num(r.get(v))}" for v in variables
                    if start is not None and r.get(v) is not None and r.get(v) != start.get(v)]
-        gains, costs = [], []
+        gains: list[str] = []
+        costs: list[str] = []
         for o, sense in objectives:
             s = None if start is None else start.get(f"confirm_{o}", start.get(o))
             v = r.get(f"confirm_{o}", r.get(o))

@@ -166,8 +166,8 @@ def flank_elements(fit) -> list[FlankElement]:
                                     shape="concave" if concave else "convex"))
         else:
             out.append(FlankElement("line", "line", float(el.length),
-                                    start_mm=tuple(float(v) for v in el.start),
-                                    end_mm=tuple(float(v) for v in el.end)))
+                                    start_mm=(float(el.start[0]), float(el.start[1])),
+                                    end_mm=(float(el.end[0]), float(el.end[1]))))
     if arcs == 1 and out[0].kind == "line":  # the tip arc dropped out: the one arc left is R2
         out[-1] = replace(out[-1], label="R2")
     return out

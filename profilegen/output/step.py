@@ -416,6 +416,7 @@ def cs_outer_radius_mm(design: Design) -> float:
     checked against the design's root circle: a wall of at least ``CS_MIN_WALL_PER_MODULE`` · m."""
     g = design.gearset
     wall = CS_MIN_WALL_PER_MODULE * g.gear.module_mm
+    assert design.profile is not None  # the CS of a finished design
     r_max = max(design.form.root_radius_mm, _radius_range_mm(design.profile.outline)[1])
     d_out = g.circular_spline.outer_diameter_mm
     d_out = float(math.ceil(CS_OUTER_DIAMETER_PER_ROOT * 2.0 * r_max) if d_out is None else d_out)
@@ -429,6 +430,7 @@ def cs_outer_radius_mm(design: Design) -> float:
 def write_cs_step(path: str | os.PathLike, design: Design) -> Path:
     """Write ``circular_spline.step``: the CS ring with its z2 tooth spaces (see :func:`cs_solid`)."""
     r_out = cs_outer_radius_mm(design)
+    assert design.profile is not None  # the CS of a finished design
     solid = cs_solid(design.profile.outline, outer_radius_mm=r_out, face_width_mm=design.gearset.cup.face_width_mm)
     return _write(path, step_bytes(solid, "circular_spline"))
 
