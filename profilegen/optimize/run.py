@@ -113,6 +113,7 @@ def optimize(spec: OptimizeSpec | str | os.PathLike, out_dir: str | os.PathLike 
 
             with signals_deferred():
                 executor = ProcessPoolExecutor(max_workers=workers or os.cpu_count() or 1, initializer=init_worker)
+        assert executor is not None  # given, or the pool made above
         try:
             result = _run(spec, out, owned, executor, progress, figure, t0)
             if own:
@@ -183,10 +184,10 @@ def _run(spec: OptimizeSpec, out: Path, owned, executor: Executor, progress, fig
     from ..output import folder
 
     with owned.stage(keep=JOURNALS) as staging:  # the new set with the journals, swapped in as one
-        names = [p.relative_to(staging).as_posix() for p in _write(spec, staging, res, front_rows, start, summary,
-                                                                   figure)]
-        folder.write_marker(staging, "optimize", [*names, *(j for j in JOURNALS if (owned.out / j).is_file())])
-    files = tuple(out / n for n in names)
+        written = [p.relative_to(staging).as_posix() for p in _write(spec, staging, res, front_rows, start, summary,
+                                                                     figure)]
+        folder.write_marker(staging, "optimize", [*written, *(j for j in JOURNALS if (owned.out / j).is_file())])
+    files = tuple(out / n for n in written)
     log.info("optimize %s: %d candidates (%d run), front of %d, %d dominate the start", spec.name, len(res.rows),
              res.computed, len(front_rows), summary["dominating_start"])
     return OptimizeResult(spec, res, tuple(front_rows), start, summary, files, time.perf_counter() - t0)
@@ -207,7 +208,7 @@ def _objectives(problem: Problem, row: dict, prefix: str) -> np.ndarray | None:
     vals = [row.get(prefix + o.output) for o in problem.objectives]
     if any(v is None for v in vals):
         return None
-    return np.array([o.sign * v for o, v in zip(problem.objectives, vals)], float)
+    return np.array([o.sign * v for o, v in zip(problem.objectives, vals) if v is not None], float)
 
 
 def _disagreement(cheap: Problem, fine: Problem, front: list[dict]) -> dict:

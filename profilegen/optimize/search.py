@@ -229,10 +229,10 @@ def search(problem: Problem, *, journal: str | Path, executor: Executor, populat
     return SearchResult(all_rows, tuple(int(i) for i in front), computed, reused, generation)
 
 
-def dominates(a: Sequence[float], b: Sequence[float]) -> bool:
+def dominates(a: Sequence[float] | np.ndarray, b: Sequence[float] | np.ndarray) -> bool:
     """a (minimised) no worse than b in every objective and better in one."""
-    a, b = np.asarray(a, float), np.asarray(b, float)
-    return bool(np.all(a <= b) and np.any(a < b)) and bool(np.all(np.isfinite(a)))
+    x, y = np.asarray(a, float), np.asarray(b, float)
+    return bool(np.all(x <= y) and np.any(x < y)) and bool(np.all(np.isfinite(x)))
 
 
 def rank_disagreement(cheap: np.ndarray, fine: np.ndarray) -> tuple[int, int]:

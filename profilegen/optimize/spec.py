@@ -36,7 +36,7 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, NoReturn
 
 from ..errors import GearSetError, OptimizeSpecError
 from ..gearset import GearSet
@@ -120,7 +120,7 @@ def parse_optimize_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str 
                         default_name: str = "optimize") -> OptimizeSpec:
     """Validate a spec mapping (the TOML's tables) and build the :class:`OptimizeSpec`."""
 
-    def fail(key: str, problem: str):
+    def fail(key: str, problem: str) -> NoReturn:
         raise OptimizeSpecError(f"{origin}: {key}: {problem}")
 
     name, description, base, gearset = spec_header(data, _TOP_KEYS, fail, what="an optimisation spec",
@@ -215,9 +215,9 @@ def parse_optimize_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str 
         lo, hi = bounds.get("min"), bounds.get("max")
         if lo is None and hi is None:
             fail(key, "needs min, max or both")
-        for k, v in (("min", lo), ("max", hi)):
-            if v is not None and not _number(v):
-                fail(f"{key}.{k}", f"must be a finite number, got {v!r}")
+        for k, given in (("min", lo), ("max", hi)):
+            if given is not None and not _number(given):
+                fail(f"{key}.{k}", f"must be a finite number, got {given!r}")
         if lo is not None and hi is not None and lo > hi:
             fail(key, f"min {lo!r} > max {hi!r}")
         default_scale = max(abs(x) for x in (lo, hi) if x is not None) or 1.0
