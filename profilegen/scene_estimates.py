@@ -33,6 +33,7 @@ import dataclasses
 import functools
 import math
 from dataclasses import dataclass
+from typing import Any
 
 __all__ = ["ESTIMATES", "MEASURED", "NEXT_SCENE", "NUMBERS", "SAFETY_FACTOR", "Estimate", "NotEstimated",
            "check_key", "difference", "estimate_for", "note", "numbers_of", "report", "sheet_numbers"]
@@ -222,7 +223,7 @@ class NotEstimated:
 
 # --- the measurement: written by `python tests/benchmarks/scene_estimates.py table --write-module` ---
 #: How the estimates were measured.
-MEASURED = {
+MEASURED: dict[str, Any] = {
     "corpus": "tests/corpus: 24 profilegen new sets (sizes 14-58, ratios 50-160, CSF/SHF) + 5 bundled sets",
     "sets": 29,
     "commit": "398c557f3f205759d81ed85ead4280b4392171d6",

@@ -61,12 +61,12 @@ def swept_region(tooth, motion, *, cs_teeth: int, waves: int, n_phi: int, neighb
     m = len(outline)
     # every placement at once: to_cs broadcasts one pose per row of the last-but-one axis
     placed = pose.to_cs(np.broadcast_to(outline[:, None, :], (m, n_phi, 2))).transpose(1, 0, 2)
-    polygons = []
+    parts = []
     for k in range(-neighbours, neighbours + 1):
         rings = turn(placed, k * 2.0 * np.pi / cs_teeth).reshape(-1, 2)
         idx = np.repeat(np.arange(n_phi), m)
-        polygons.append(shapely.polygons(shapely.linearrings(rings, indices=idx)))
-    polygons = np.concatenate(polygons)
+        parts.append(shapely.polygons(shapely.linearrings(rings, indices=idx)))
+    polygons = np.concatenate(parts)
     # a placement polygon is simple (an outline moved rigidly); make_valid guards rounding only
     return shapely.union_all(shapely.make_valid(polygons))
 

@@ -175,7 +175,7 @@ def _toml_reason(exc: Exception) -> str:
     return f"{where}: {what}" if where else what
 
 
-def read_toml(path: Path, error: type[Exception], what: str, *, limit: int = MAX_TOML_BYTES) -> dict:
+def read_toml(path: str | os.PathLike, error: type[Exception], what: str, *, limit: int = MAX_TOML_BYTES) -> dict:
     """The TOML file at ``path`` as a dict; every failure (missing, a folder, a device or
     FIFO, over ``limit`` bytes, unreadable, malformed, not UTF-8) is an ``error`` naming
     the file, the line and ``what`` it should be, never quoting the file."""

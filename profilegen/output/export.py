@@ -109,6 +109,7 @@ def atomic_write(path: str | os.PathLike, mode: str = "w", *, encoding: str = "u
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+        f: IO[Any]
         if "b" in mode:
             f = os.fdopen(fd, "wb")
         else:

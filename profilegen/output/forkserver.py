@@ -34,6 +34,8 @@ import threading
 from collections.abc import Callable, Sequence
 from concurrent.futures import Future
 from concurrent.futures.process import BrokenProcessPool
+from functools import partial
+from typing import Any
 
 __all__ = ["ServerPool", "NICE", "die_with"]
 
@@ -134,10 +136,10 @@ def _serve(conn, other_end, parent: int, workers: int, preload: Sequence[str], n
             if kind == "job":
                 fut = pool.submit(_run, msg[2])
                 running[jid] = fut
-                fut.add_done_callback(lambda f, jid=jid: deliver(jid, f))
+                fut.add_done_callback(partial(deliver, jid))
             elif kind == "cancel":
-                fut = running.get(jid)
-                ok = fut is not None and fut.cancel()
+                pending = running.get(jid)
+                ok = pending is not None and pending.cancel()
                 with send:
                     conn.send(("cancelled", jid, ok))
     finally:
@@ -225,7 +227,7 @@ class ServerPool:
         return job
 
     def _cancel(self, jid: int) -> bool:
-        answer = [threading.Event(), False]
+        answer: list[Any] = [threading.Event(), False]
         with self._lock:
             if self._broken or jid not in self._jobs:
                 return False

@@ -230,6 +230,9 @@ def diaphragm_stress(*, cup_radius_mm: float, boss_radius_mm: float, diaphragm_t
                           f"got {offset!r}")
     if isinstance(samples, bool) or not isinstance(samples, (int, np.integer)) or samples < 3:
         raise StressError(f"samples must be an integer in [3, inf), got {samples!r}")
+    tau_e: float | None
+    tau_u: float | None
+    n: float | None
     if fatigue:
         tau_e = _limit("shear_endurance_limit_mpa", shear_endurance_limit_mpa, "MPa")
         sigma_u = _limit("ultimate_strength_mpa", ultimate_strength_mpa, "MPa")
@@ -257,6 +260,7 @@ def diaphragm_stress(*, cup_radius_mm: float, boss_radius_mm: float, diaphragm_t
     tau_m = mean_shear_stress_mpa(torque, r0, t)
     warnings = []
     if fatigue:
+        assert tau_e is not None and tau_u is not None  # read above
         n = goodman_shear_safety_factor(tau_a, tau_m, tau_e, tau_u)
         if n < 1.0:
             warnings.append(f"Goodman safety factor {n:.3g} < 1: the diaphragm corner is expected to fail in fatigue")

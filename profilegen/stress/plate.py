@@ -253,7 +253,7 @@ def edge_displacement(radial_cos_mm: Mapping[int, float], *, mean_radius_mm: flo
 def _radial_coefficients(radial_cos_mm: Mapping[int, float]) -> dict[int, float]:
     if not isinstance(radial_cos_mm, Mapping) or not radial_cos_mm:
         raise StressError(f"radial_cos_mm must be a non-empty mapping order → mm, got {radial_cos_mm!r}")
-    out = {}
+    out: dict[int, float] = {}
     for k, c in radial_cos_mm.items():
         k = _count("radial_cos_mm order", k, 0)
         out[k] = out.get(k, 0.0) + _finite(f"radial_cos_mm[{k}]", c, "mm")

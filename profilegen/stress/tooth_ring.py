@@ -138,11 +138,11 @@ def equal_perimeter_minor_semi_axis(neutral_radius_mm: float, major_semi_axis_mm
     from scipy.special import ellipe
 
     r_m = _positive("neutral_radius_mm", neutral_radius_mm, "mm")
-    a = _finite_array("major_semi_axis_mm", major_semi_axis_mm, "mm")
-    if a.ndim or not r_m <= float(a) < 1.5 * r_m:
+    given = _finite_array("major_semi_axis_mm", major_semi_axis_mm, "mm")
+    if given.ndim or not r_m <= float(given) < 1.5 * r_m:
         raise StressError(f"major_semi_axis_mm must be in [neutral_radius_mm = {r_m!r}, {1.5 * r_m!r}) mm, "
                           f"got {major_semi_axis_mm!r}")
-    a = float(a)
+    a = float(given)
     if a == r_m:
         return r_m
     target = 2.0 * math.pi * r_m
@@ -753,15 +753,15 @@ def tooth_ring_study(case: ToothRingCase, torques_nm, *,
                                 slot_ratio=case.slot_ratio)
     d_opt, d_val, d_in = _grid_minimum(x_d, ass + load)
 
-    s_r = sum(case_stress_mpa(case, tq, thickness_ratio=case.thickness_ratio, fillet_ratio=x_r[None, :],
-                              slot_ratio=case.slot_ratio))
+    s_r = np.add(*case_stress_mpa(case, tq, thickness_ratio=case.thickness_ratio, fillet_ratio=x_r[None, :],
+                                  slot_ratio=case.slot_ratio))
     r_opt, _, r_in = _grid_minimum(x_r, s_r)
     s_f = root_thickness_from_slot_ratio(case.slot_ratio, case.module_mm, case.dedendum_mm, case.flank_angle_rad)
     r_at_opt = (0.693 * d_opt * case.neutral_radius_mm - 0.482 * s_f) / case.module_mm
 
     def optimum_over_thickness(nus: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        s = sum(case_stress_mpa(case, tq[:, :, None], thickness_ratio=x_d[None, None, :],
-                                fillet_ratio=case.fillet_ratio, slot_ratio=nus[None, :, None]))
+        s = np.add(*case_stress_mpa(case, tq[:, :, None], thickness_ratio=x_d[None, None, :],
+                                    fillet_ratio=case.fillet_ratio, slot_ratio=nus[None, :, None]))
         x_star, y_star, _ = _grid_minimum(x_d, s)
         return x_star, y_star
 
