@@ -34,7 +34,7 @@ KNOWN_ERRORS: dict[str, int] = {
     "profilegen/app/server.py": 9,
     "profilegen/app/session.py": 3,
     "profilegen/cli.py": 1,
-    "profilegen/contact/chain.py": 7,
+    "profilegen/contact/chain.py": 1,
     "profilegen/contact/compliance.py": 8,
     "profilegen/contact/face_curve.py": 1,
     "profilegen/contact/ratchet.py": 2,

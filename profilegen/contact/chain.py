@@ -197,10 +197,10 @@ def curve_torques_nm(gearset, breakpoints_nm=None, *, count: int = 12) -> np.nda
     tq = gearset.torque
     rated, peak = float(tq.rated_nm), float(tq.peak_nm)
     top = float(tq.momentary_nm) if tq.momentary_nm is not None else peak
-    mags = set(np.geomspace(0.03 * rated, top, count).round(6).tolist()) | {rated, peak, top}
+    levels = set(np.geomspace(0.03 * rated, top, count).round(6).tolist()) | {rated, peak, top}
     if breakpoints_nm is not None:
-        mags |= {float(t) for t in breakpoints_nm}
-    mags = np.array(sorted(m for m in mags if m > 0.0))
+        levels |= {float(t) for t in breakpoints_nm}
+    mags = np.array(sorted(m for m in levels if m > 0.0))
     return np.concatenate([-mags[::-1], mags])
 
 
@@ -539,7 +539,7 @@ class TorsionalCurve:
         add("K3_nm_per_rad", k["K3"], cat.get("K3_nm_per_rad"))
         if k1 is not None:
             add("secant_T1_nm_per_rad", k["secant_T1"], k1)
-        if None not in (k1, k2, t1, t2):
+        if k1 is not None and k2 is not None and t1 is not None and t2 is not None:
             add("secant_T2_nm_per_rad", k["secant_T2"], t2 / (t1 / k1 + (t2 - t1) / k2))
         add("lost_motion_arcmin", self.lost_motion_rad["total"] * ARCMIN_PER_RAD, cat.get("lost_motion_arcmin"))
         return json_ready({**cat, "compared": compared,
@@ -881,7 +881,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
             rows.append((sign * phi_r, sign * phi_b, sign * (phi_b + abs(t) * series), case))
             warnings += notes
         theta0 = {s: float(np.min(sides[s][0].theta_rad)) for s in (1, -1)}
-        k = {}
+        k: dict = {}
         lost = {}
         for label, pick in (("mesh", 0), ("mesh_balls", 1), ("total", None)):
             k[label] = {}
@@ -959,7 +959,8 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
         bp, source = (float(cat["T1_nm"]), float(cat["T2_nm"])), "catalogue"
     else:
         rated = float(gs.torque.rated_nm)
-        bp, source = tuple(f * rated for f in ESTIMATED_BREAKPOINTS_PER_RATED), "estimate"
+        low, high = ESTIMATED_BREAKPOINTS_PER_RATED
+        bp, source = (low * rated, high * rated), "estimate"
     stations, max_gap = options.get("stations", 5), options.get("max_gap_mm", 0.12)
     supports = options.get("ball_supports", "all")
     sides = options.pop("sides", None)
