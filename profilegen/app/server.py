@@ -31,6 +31,11 @@ log = logging.getLogger(__name__)
 
 SCENES = ("sketch", "design", "verify")
 POLL_MS = 150
+#: how long a poll waits on the server for the next snapshot (a long poll): a design finished
+#: between two polls reaches the page at once, not on the next tick (up to POLL_MS later); less
+#: than POLL_MS, so a poll has returned before the next one starts (Dash drops the response of a
+#: callback when a newer call of it is on its way)
+POLL_WAIT_S = 0.12
 
 
 _CSS = """
@@ -135,9 +140,10 @@ def _page(s: Session):
 
     return html.Div([
         dcc.Store(id="sid", data=s.id), dcc.Store(id="req", data=0), dcc.Store(id="shown", data=0),
-        dcc.Store(id="latest", data=0), dcc.Store(id="drawn", data=""),
+        dcc.Store(id="latest", data=0), dcc.Store(id="drawn", data=""), dcc.Store(id="figkey", data=""),
         # always on: re-enabling a disabled Interval from a callback did not restart it reliably (Dash 4.4,
-        # seen in the browser tests); an idle tick is answered with 204 (nothing new) in well under 1 ms
+        # seen in the browser tests); an idle tick waits POLL_WAIT_S on the server for a new snapshot,
+        # then is answered with 204 (nothing new)
         dcc.Interval(id="poll", interval=POLL_MS),
         html.Div(className="pg-head", children=[
             html.H1("profilegen workbench"),
@@ -228,13 +234,15 @@ def _numbers_children(snap: Snapshot, before: Snapshot | None, pinned: Snapshot 
     return [html.Table([html.Thead(html.Tr(head)), html.Tbody(body)]), html.Div(note, style={"fontSize": "10px"})]
 
 
-def _progress_text(snap: Snapshot) -> str:
+def _progress_text(snap: Snapshot, profile_job: int | None = None) -> str:
     done = snap.stages if snap.done else snap.stages[:-1]
     running = None if snap.done or not snap.stages else snap.stages[-1]
     parts = [f"{n} ✓" if n in done else (f"{n} …" if n == running else n) for n in (snap.planned or snap.stages)]
     took = time.perf_counter() - snap.started
     state = "done" if snap.done else "computing"
-    return f"job {snap.job}, {snap.scene} scene, {state} ({took:.2f} s): " + " → ".join(parts)
+    # the job whose figures show this profile (an earlier one when only the loads changed)
+    profile = "" if profile_job is None else f", profile of job {profile_job}"
+    return f"job {snap.job}, {snap.scene} scene, {state} ({took:.2f} s){profile}: " + " → ".join(parts)
 
 
 # ------------------------------------------------------------------------------------------ callbacks
@@ -349,71 +357,102 @@ def _register(app, sessions: Sessions) -> None:
             out[4] = _bad(_failure(exc))
             return out
 
-    @app.callback(Output("latest", "data"), Input("poll", "n_intervals"), State("sid", "data"),
-                  State("latest", "data"), prevent_initial_call=True)
-    def tick(_n, sid, seen):
-        """The newest snapshot's version when it is new (the render follows), else nothing."""
+    @app.callback(Output("latest", "data"), Output("figkey", "data"), Input("poll", "n_intervals"),
+                  State("sid", "data"), State("latest", "data"), State("figkey", "data"), prevent_initial_call=True)
+    def tick(_n, sid, seen, figkey):
+        """The newest snapshot's version when it is new (the render follows), else nothing —
+        waiting up to POLL_WAIT_S for one; and the profile's token when the profile changed (the
+        figures follow, once per profile)."""
         s = sessions.get(sid)
-        snap = None if s is None else s.computer.latest()
-        if snap is None or snap.version == seen:
+        snap = None if s is None else s.computer.newer(seen, timeout=POLL_WAIT_S)
+        if snap is None:
             raise PreventUpdate
-        return snap.version
+        key = no_update
+        if snap.design is not None and snap.design.profile is not None:
+            token = str(s.profile_token(snap.design.profile, snap.job))
+            with s.lock:
+                s.profile_snap = snap
+            if token != figkey:
+                key = token
+        return snap.version, key
 
     @app.callback(
-        Output("space", "figure"), Output("fit-error", "figure"), Output("verdict", "children"),
-        Output("numbers", "children"), Output("progress", "children"), Output("shown", "data"),
-        Output("drawn", "data"),
+        Output("verdict", "children"), Output("numbers", "children"), Output("progress", "children"),
+        Output("shown", "data"),
         Input("req", "data"), Input("latest", "data"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
-        State("sid", "data"), State("shown", "data"), State("drawn", "data"),
+        State("sid", "data"), State("shown", "data"),
         prevent_initial_call=True,
     )
-    def render(req, _latest, _pin, _unpin, sid, shown, drawn):
-        # the browser may drop a response when a newer one of this callback is on its way, so what the
-        # page holds is read from the page (``drawn``: the design its figures show), not remembered here
+    def render(req, _latest, pin, unpin, sid, shown):
+        """The verdict, the numbers and the progress line of the newest snapshot (the figures are
+        :func:`figures`', sent once per profile)."""
         trig = ctx.triggered_id
         try:
             s = session(sid)
             force = trig in ("pin", "unpin")
             if trig == "req":
-                if not req:
-                    raise PreventUpdate
-                snap = s.computer.wait(req)  # the profile as soon as it is fitted
-                if snap is None:
+                # the request's first snapshot, at once: the rest comes by the poll (a long poll: each
+                # snapshot as soon as it is published)
+                snap = s.computer.latest() if req else None
+                if snap is None or snap.job != req:
                     raise PreventUpdate  # superseded: the newer request draws
             else:
-                if trig == "pin":
-                    s.pin()
-                elif trig == "unpin":
-                    s.unpin()
+                if force:
+                    s.clicked(trig, pin if trig == "pin" else unpin)
                 snap = s.computer.latest()
                 if snap is None or (shown and snap.version <= shown and not force):
                     raise PreventUpdate  # nothing newer than what is drawn
-            out = [no_update] * 7
-            out[4], out[5] = _progress_text(snap), snap.version
+            out = [no_update] * 4
             design = snap.design
-            if design is not None and design.profile is not None:
-                # the figures once per profile: the partial designs that add the contact and stresses keep
-                # it, and so does a later job that changed no geometry (a torque, a requirement)
-                key = f"{s.profile_token(design.profile, snap.job)}:{id(s.pinned)}"
+            token = None if design is None or design.profile is None else s.profile_token(design.profile, snap.job)
+            out[2], out[3] = _progress_text(snap, token), snap.version
+            if token is not None:
                 s.drawn(snap)
-                if force or key != drawn:
-                    out[6] = key
-                    pinned = s.pinned.design if s.pinned is not None else None
-                    out[0] = views.space_figure(design, pinned=pinned, job=snap.job)
-                    out[1] = views.error_figure(design, pinned=pinned)
                 before = s.before if snap.done else s.shown
                 if before is not None and before.job == snap.job:
                     before = s.before
-                out[3] = _numbers_children(snap, before, s.pinned)
-            out[2] = _verdict_children(snap, s.pinned)
+                out[1] = _numbers_children(snap, before, s.pinned)
+            out[0] = _verdict_children(snap, s.pinned)
             return out
         except PreventUpdate:
             raise
         except Exception as exc:  # noqa: BLE001
             from dash import html
 
-            return (no_update,) * 2 + ([html.Span("ERROR", className="pg-badge pg-ERROR"), _bad(_failure(exc))],) \
-                + (no_update,) * 4
+            return ([html.Span("ERROR", className="pg-badge pg-ERROR"), _bad(_failure(exc))],) + (no_update,) * 3
+
+    @app.callback(
+        Output("space", "figure"), Output("fit-error", "figure"), Output("drawn", "data"),
+        Input("figkey", "data"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
+        State("sid", "data"), State("drawn", "data"),
+        prevent_initial_call=True,
+    )
+    def figures(_figkey, pin, unpin, sid, drawn):
+        """The CS space and the error figures: once per profile (the poll's ``figkey`` changes with
+        it: a torque change keeps it) and on pin / unpin. A callback of their own, so that the
+        snapshots that only add numbers never overlap a render that sends them (the browser keeps
+        only the newest response of a callback: what the page shows is read from ``drawn``)."""
+        trig = ctx.triggered_id
+        try:
+            s = session(sid)
+            if trig in ("pin", "unpin"):
+                s.clicked(trig, pin if trig == "pin" else unpin)
+            with s.lock:
+                snap, pinned = s.profile_snap, s.pinned
+            if snap is None:
+                raise PreventUpdate
+            design = snap.design
+            token = s.profile_token(design.profile, snap.job)
+            key = f"{token}:{id(pinned)}"
+            if key == drawn:
+                raise PreventUpdate
+            a = pinned.design if pinned is not None else None
+            return views.space_figure(design, pinned=a, job=token), views.error_figure(design, pinned=a), key
+        except PreventUpdate:
+            raise
+        except Exception as exc:  # noqa: BLE001 — the status bar says it (the figures stay)
+            log.warning("profilegen app: the figures failed: %s", _failure(exc))
+            raise PreventUpdate from None
 
     @app.callback(
         Output("status", "children", allow_duplicate=True), Output("load-name", "options"),

@@ -225,6 +225,18 @@ class Computer:
         with self._cv:
             return self._snap
 
+    def newer(self, version, *, timeout: float) -> Snapshot | None:
+        """The newest snapshot once its version differs from ``version`` (the one the page
+        shows), waiting up to ``timeout`` s for one to be published; None if none came."""
+        end = time.monotonic() + timeout
+        with self._cv:
+            while self._snap is None or self._snap.version == version:
+                left = end - time.monotonic()
+                if left <= 0 or self._closed:
+                    return None
+                self._cv.wait(left)
+            return self._snap
+
     @property
     def final(self) -> Snapshot | None:
         """The newest finished request's snapshot (a complete design or an error)."""
@@ -353,6 +365,8 @@ class Session:
         self.errors: dict[str, str] = {}
         self.used = time.monotonic()
         self._profiles: OrderedDict[int, tuple[Any, int]] = OrderedDict()  # id(profile) -> (profile, token)
+        self.profile_snap: Snapshot | None = None  # the newest snapshot with a profile (the figures' design)
+        self._clicks: dict[str, Any] = {}
 
     @property
     def gearset(self) -> GearSet:
@@ -432,6 +446,15 @@ class Session:
     def unpin(self) -> None:
         with self.lock:
             self.pinned = None
+
+    def clicked(self, button: str, n_clicks) -> None:
+        """Pin or unpin for the page's click ``n_clicks`` of ``button`` ("pin", "unpin"), once: the
+        page's callbacks that a click triggers each call this, whichever runs first acts."""
+        with self.lock:
+            if self._clicks.get(button) == n_clicks:
+                return
+            self._clicks[button] = n_clicks
+            self.pin() if button == "pin" else self.unpin()
 
     def drawn(self, snap: Snapshot) -> None:
         """Note that ``snap`` was drawn: a new complete design moves the previous one to 'before'."""

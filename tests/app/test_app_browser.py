@@ -81,8 +81,10 @@ const fl = g && g._fullLayout;
 const space = g && g.data ? g.data.find(t => (t.name || '').startsWith('CS space')) : null;
 const v = document.getElementById('verdict-status');
 const p = document.getElementById('progress');
-const job = p ? /^job (\d+),/.exec(p.textContent) : null;
+const job = p ? /^job ([0-9]+),/.exec(p.textContent) : null;
+const profile = p ? /, profile of job ([0-9]+)/.exec(p.textContent) : null;
 return {job: job ? Number(job[1]) : null, figure_job: fl && fl.meta ? fl.meta.job : null,
+        profile_job: profile ? Number(profile[1]) : null,
         traces: g && g.data ? g.data.map(t => t.name) : [], space_name: space ? space.name : null,
         space: space ? [space.x.length, space.x[0], space.y[0], space.x[space.x.length - 1]] : null,
         status: v ? v.textContent : null, line: (document.getElementById('verdict-line') || {}).textContent || null,
@@ -96,14 +98,16 @@ def _state(browser) -> dict:
 
 
 def _settled(browser, *, after_job: int = 0) -> dict:
-    """The page once a design newer than ``after_job`` is drawn and finished (verdict shown)."""
+    """The page once a design newer than ``after_job`` is drawn and finished: its verdict shown and
+    the figures of its profile (those of the job that first drew it: the figures travel apart from
+    the numbers, once per profile)."""
     from selenium.common.exceptions import TimeoutException
     from selenium.webdriver.support.ui import WebDriverWait
 
     try:
         WebDriverWait(browser, WAIT_S, poll_frequency=0.05).until(
-            lambda d: (lambda s: s["job"] is not None and s["job"] > after_job and s["done"] and s["status"])(
-                _state(d)))
+            lambda d: (lambda s: s["job"] is not None and s["job"] > after_job and s["done"] and s["status"]
+                       and s["figure_job"] == s["profile_job"])(_state(d)))
     except TimeoutException:
         import sys
         import threading

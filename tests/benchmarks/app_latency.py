@@ -1,22 +1,35 @@
 """How long a change in ``profilegen app`` takes to reach the screen, against the cold CLI.
 
-For a sketch-scene tooth change (addendum coefficient 0.80 <-> 0.81) and a design-scene torque
-change (rated torque 265 <-> 266 N·m), median of ``-n`` changes each:
+Three changes, each to a value this process has never designed (the engine's cache would
+otherwise answer a value seen before at once), median of ``-n`` changes each:
 
-* drawn: from the field's Enter in a headless chromium to the new design drawn (the tooth change:
-  the new profile in the figure; the torque change: the finished design's numbers and verdict);
-* compute: ``profilegen.app.compute.redesign`` alone for the same change, in this warm process;
-* cold CLI: ``profilegen design --scene S`` in a fresh process (imports, compute, files);
+* sketch scene, a tooth change (addendum coefficient 0.800 + 0.001 k): drawn = from the field's
+  Enter in a headless chromium to the new CS space in the figure;
+* design scene, a torque change (rated torque 265 + 0.7 k N·m): drawn = to the finished design's
+  verdict and numbers on the page (the figures stay: the profile did not change);
+* design scene, a tooth change (addendum coefficient): drawn = to the new CS space in the figure;
 
-and the app's cold start to its first render. Needs /usr/bin/chromium and /usr/bin/chromedriver.
+and for each: compute = ``profilegen.app.compute.redesign`` alone for the same kind of change in this
+warm process; bytes = what the page received for the change (the Dash responses' bodies, the
+browser's resource timing); cold CLI = ``profilegen design --scene S`` in a fresh process (imports,
+compute, files), as a ratio to the drawn time; and the app's cold start to its first render.
 
-    python tests/benchmarks/app_latency.py -n 5
+``--cancel N``: the cancellation latency as well — a design-scene change superseded at a random
+moment (N times each for the tooth and the torque change), the time from the newer request until
+the tab's computation thread takes it up, with the stage that was running.
+
+Needs /usr/bin/chromium and /usr/bin/chromedriver.
+
+    python tests/benchmarks/app_latency.py -n 5 --cancel 6
 """
 
 from __future__ import annotations
 
 import argparse
+import collections
 import json
+import os
+import random
 import statistics
 import subprocess
 import sys
@@ -30,6 +43,16 @@ sys.path.insert(0, str(ROOT))  # tests.chromium, which the browser tests import
 
 import test_app_browser as tb  # noqa: E402  (the browser tests' helpers)
 
+#: (scene, field, first value, step, what "drawn" waits for)
+CASES = (("sketch", "tooth.addendum_coefficient", 0.800, 0.001, "figure"),
+         ("design", "torque.rated_nm", 265.0, 0.7, "done"),
+         ("design", "tooth.addendum_coefficient", 0.800, 0.001, "figure"))
+
+_BYTES = """
+return performance.getEntriesByType('resource').filter(e => e.name.includes('_dash-update-component'))
+    .reduce((a, e) => a + (e.encodedBodySize || 0), 0);
+"""
+
 
 def _browser(tmp: Path):
     from tests.chromium import driver
@@ -37,33 +60,34 @@ def _browser(tmp: Path):
     return driver(tmp / "chromium", tb.SCREEN, {"browser": "ALL"})
 
 
-def _changes(driver, path: str, values, *, until_done: bool, n: int) -> list[float]:
-    times = []
-    for i in range(n):
+def _changes(driver, path: str, values, *, until: str) -> tuple[list[float], list[int]]:
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    times, sizes = [], []
+    for v in values:
         before = tb._state(driver)
+        driver.execute_script("performance.clearResourceTimings()")
         t0 = time.perf_counter()
-        tb._type(driver, path, values[(i + 1) % 2])
-        if until_done:
+        tb._type(driver, path, f"{v:.6g}")
+        if until == "done":
             tb._settled(driver, after_job=before["job"])
         else:
-            from selenium.webdriver.support.ui import WebDriverWait
-
-            WebDriverWait(driver, 120, poll_frequency=0.01).until(
-                lambda d, job=before["job"]: (tb._state(d)["job"] or 0) > job)
+            WebDriverWait(driver, 300, poll_frequency=0.005).until(
+                lambda d, job=before["job"]: (tb._state(d)["figure_job"] or 0) > job)
         times.append(time.perf_counter() - t0)
         tb._settled(driver, after_job=before["job"])  # let the rest finish before the next change
-    return times
+        sizes.append(int(driver.execute_script(_BYTES)))
+    return times, sizes
 
 
-def _compute(gearset, scene: str, path: str, values, n: int) -> list[float]:
+def _compute(gearset, scene: str, path: str, values) -> list[float]:
     from profilegen.app.compute import redesign
 
-    sets = [gearset.with_values({path: float(v)}) for v in values]
-    redesign(sets[0], scene)  # warm
     times = []
-    for i in range(n):
+    for v in values:
+        gs = gearset.with_values({path: float(v)})
         t0 = time.perf_counter()
-        redesign(sets[(i + 1) % 2], scene)
+        redesign(gs, scene)
         times.append(time.perf_counter() - t0)
     return times
 
@@ -78,46 +102,103 @@ def _cold_cli(scene: str, n: int, tmp: Path) -> list[float]:
     return times
 
 
+def _cancel(gearset, trials: int, seed: int = 1) -> dict:
+    """Design-scene changes superseded at a random moment of their computation (the tab's
+    Computer, the real engine): the time until the computation thread takes up the newer request."""
+    from profilegen.app.session import Computer
+
+    c = Computer()
+    rng = random.Random(seed)
+
+    def run(gs) -> float:
+        t0 = time.perf_counter()
+        c.wait(c.submit(gs, "design"), profile=False, timeout=900)
+        return time.perf_counter() - t0
+
+    run(gearset)
+    kinds = {"torque": ("torque.rated_nm", 400.0, 0.7), "tooth": ("tooth.addendum_coefficient", 0.750, 0.001)}
+    count = collections.Counter()
+
+    def fresh(kind):
+        path, first, step = kinds[kind]
+        count[kind] += 1
+        return gearset.with_values({path: first + step * count[kind]})
+
+    took = {k: run(fresh(k)) for k in kinds}
+    rows = []
+    for _ in range(trials):
+        for kind in kinds:
+            job = c.submit(fresh(kind), "design")
+            time.sleep(rng.uniform(0.0, took[kind]))
+            snap = c.latest()
+            if snap is None or snap.job != job or snap.done:
+                continue  # finished before the newer request: nothing to cancel
+            stage = snap.stages[-1] if snap.stages else "queued"
+            t0 = time.perf_counter()
+            newer = c.submit(gearset, "design")  # designed before: every stage cached
+            while newer not in c.ran:
+                time.sleep(0.0005)
+            rows.append((kind, stage, time.perf_counter() - t0))
+            c.wait(newer, profile=False, timeout=900)
+    c.close()
+    by_stage = collections.defaultdict(list)
+    for kind, stage, s in rows:
+        by_stage[stage].append(s)
+    return {"trials": len(rows), "median_s": statistics.median(r[2] for r in rows),
+            "max_s": max(r[2] for r in rows),
+            "by_kind": {k: statistics.median(r[2] for r in rows if r[0] == k) for k in kinds
+                        if any(r[0] == k for r in rows)},
+            "by_stage": {k: {"n": len(v), "median_s": statistics.median(v), "max_s": max(v)}
+                         for k, v in by_stage.items()}}
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("-n", type=int, default=5, help="changes per case (default 5)")
     ap.add_argument("--cli-runs", type=int, default=2, help="cold CLI runs per scene (default 2)")
+    ap.add_argument("--cancel", type=int, default=0, help="superseded designs per kind (default 0: none)")
     args = ap.parse_args()
     import profilegen as pg
     from profilegen.app import start
 
     gs = pg.load_gearset(pg.default_gearset_path())
-    rows = {}
+    rows, cli = {}, {}
     with tempfile.TemporaryDirectory() as tmp_name:
         tmp = Path(tmp_name)
         driver = _browser(tmp)
         try:
-            for scene, path, values, done in (("sketch", "tooth.addendum_coefficient", ("0.8", "0.81"), False),
-                                              ("design", "torque.rated_nm", ("265", "266"), True)):
+            for i, (scene, path, first, step, until) in enumerate(CASES):
                 t0 = time.perf_counter()
                 app = start(workspace=tmp, scene=scene)
                 try:
                     driver.get(app.url)
                     tb._settled(driver)
-                    first = time.perf_counter() - t0
-                    drawn = _changes(driver, path, values, until_done=done, n=args.n)
+                    first_render = time.perf_counter() - t0
+                    # the browser's values and the compute's: each fresh (never designed in this process)
+                    drawn, sizes = _changes(driver, path, [first + step * (k + 1) for k in range(args.n)], until=until)
                 finally:
                     app.stop()
-                compute = _compute(gs, scene, path, values, args.n)
-                cli = _cold_cli(scene, args.cli_runs, tmp)
+                compute = _compute(gs, scene, path, [first - step * (k + 1) for k in range(args.n)])
+                if scene not in cli:
+                    cli[scene] = statistics.median(_cold_cli(scene, args.cli_runs, tmp))
                 rows[f"{scene}: {path}"] = {
-                    "first_render_s": first, "drawn_s": statistics.median(drawn),
-                    "compute_s": statistics.median(compute), "cold_cli_s": statistics.median(cli),
-                    "cli_over_drawn": statistics.median(cli) / statistics.median(drawn)}
+                    "first_render_s": first_render, "drawn_s": statistics.median(drawn),
+                    "compute_s": statistics.median(compute), "bytes": statistics.median(sizes),
+                    "cold_cli_s": cli[scene], "cli_over_drawn": cli[scene] / statistics.median(drawn)}
         finally:
             driver.quit()
-    import os
-
+    cancel = _cancel(gs, args.cancel) if args.cancel else None
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs (medians of -n {args.n})")
     for name, r in rows.items():
-        print(f"{name}: drawn {r['drawn_s']:.3f} s, compute {r['compute_s']:.3f} s, cold CLI {r['cold_cli_s']:.2f} s "
-              f"({r['cli_over_drawn']:.1f}x the drawn change); app cold start to first render {r['first_render_s']:.2f} s")
-    print(json.dumps(rows, indent=1))
+        print(f"{name}: drawn {r['drawn_s']:.3f} s, compute {r['compute_s']:.3f} s, {r['bytes'] / 1e3:.0f} kB to the "
+              f"page, cold CLI {r['cold_cli_s']:.2f} s ({r['cli_over_drawn']:.1f}x the drawn change); app cold start "
+              f"to first render {r['first_render_s']:.2f} s")
+    if cancel is not None:
+        print(f"cancellation (design scene, {cancel['trials']} superseded designs): median {cancel['median_s']:.3f} s, "
+              f"max {cancel['max_s']:.3f} s; by kind " + ", ".join(f"{k} {v:.3f} s" for k, v in cancel["by_kind"].items())
+              + "; by stage " + ", ".join(f"{k} {v['median_s']:.3f} s (n {v['n']}, max {v['max_s']:.3f})"
+                                          for k, v in cancel["by_stage"].items()))
+    print(json.dumps({"cases": rows, "cancel": cancel}, indent=1))
 
 
 if __name__ == "__main__":
