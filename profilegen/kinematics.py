@@ -28,7 +28,7 @@ motion in the tests) plugs into the same envelope code.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Protocol
+from typing import TYPE_CHECKING, Any, Protocol
 
 import numpy as np
 
@@ -36,8 +36,6 @@ from .deformation import Deformation
 
 if TYPE_CHECKING:  # pragma: no cover
     from numpy.typing import ArrayLike
-
-    from .gearset import GearSet
 
 __all__ = ["Pose", "Motion", "HarmonicDriveMotion", "RackMotion", "turn", "unit_radial", "unit_tangential"]
 
@@ -136,8 +134,10 @@ class HarmonicDriveMotion:
     cs_teeth: int
 
     @classmethod
-    def from_gearset(cls, gearset: GearSet, deformation: Deformation | None = None) -> "HarmonicDriveMotion":
-        """The motion of a gear set's FS tooth; ring theory unless a deformation is given."""
+    def from_gearset(cls, gearset: Any, deformation: Deformation | None = None) -> "HarmonicDriveMotion":
+        """The motion of a gear set's FS tooth; ring theory unless a deformation is given. (``gearset``:
+        a :class:`~profilegen.gearset.GearSet`, typed Any: the gear-set reader imports this module
+        through the budget, so naming GearSet here would close an import cycle.)"""
         g = gearset.gear
         if deformation is None:
             from .deformation import ring_theory
