@@ -30,6 +30,7 @@ from one piece to another are the branch-switch ridges.
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import time
 from dataclasses import dataclass, field
@@ -721,6 +722,9 @@ class Envelope:
     residual: float
     time_s: float
     diagnostics: dict = field(default_factory=dict)
+    #: (tooth, motion) that generated it (``envelope_of``; None from ``solve_envelope``): a failure
+    #: further on (the CS form's ``gearform`` stage) computes from them which gear-set field to change
+    generator: tuple | None = field(default=None, repr=False)
 
     def counts(self) -> dict:
         """Number of pieces and their total length per class."""
@@ -1083,8 +1087,67 @@ def tooth_curves(tooth) -> tuple[list[Curve], dict[str, np.ndarray], ToothShape]
     curves = [right, left]
     if tip[0] > 0:
         curves.append(line_curve("top", tip, mirror))
-    shape = ToothShape.from_flank(right, neutral_radius_mm=tooth.neutral_radius_mm, teeth=tooth.teeth)
+    try:
+        shape = ToothShape.from_flank(right, neutral_radius_mm=tooth.neutral_radius_mm, teeth=tooth.teeth)
+    except EnvelopeError:
+        raise EnvelopeError(_flank_fold_message(tooth)) from None
     return curves, {"right": tip, "left": mirror}, shape
+
+
+def _fmt(v: float) -> str:
+    return f"{v:.4g}"
+
+
+def _flank_fold_message(tooth, samples: int = 8001) -> str:
+    """Why a ``teeth.ToothProfile``'s flank fails :meth:`ToothShape.from_flank` (it must narrow from
+    root to tip, x falling), in the gear set's terms: where it widens (y in the pitch frame, the
+    frame of ``tooth.points``), by how much, and one change that makes the flank narrow all the
+    way, computed from the flank itself — for a point list, where to end (or start) the points;
+    for an analytic tooth, the largest dedendum (addendum) that leaves out the widening stretch
+    (the flank above (below) is unchanged by it)."""
+    t = np.linspace(0.0, float(tooth.length_mm), samples)  # root → tip, as from_flank samples it
+    p = tooth.point(t)
+    x, y = p[:, 0], p[:, 1] - tooth.pitch_y_mm
+    bad = np.flatnonzero(np.diff(x) >= 0.0)  # step k (sample k → k + 1) does not narrow
+    if bad.size == 0:  # pragma: no cover — only called when from_flank refused the flank
+        return "tooth: the flank must narrow from root to tip (x falling) for the swept-region test"
+    runs = np.split(bad, np.flatnonzero(np.diff(bad) > 1) + 1)
+    rises = [float(x[r[-1] + 1] - x[r[0]]) for r in runs]
+    big = int(np.argmax(rises))
+    span = y[np.concatenate([bad, bad + 1])]
+    lo, hi = float(span.min()), float(span.max())
+    where = (f"between y = {_fmt(lo)} and {_fmt(hi)} mm" if len(runs) == 1 else
+             f"in {len(runs)} places between y = {_fmt(lo)} and {_fmt(hi)} mm")
+    rise = f"x must fall from root to tip; it rises by up to {rises[big]:.3g} mm, near y = {_fmt(float(y[runs[big][0]]))} mm"
+    height = float(y[-1] - y[0])
+    keep_low, keep_high = lo - float(y[0]), float(y[-1]) - hi
+    if tooth.kind == "points":
+        head = f"tooth.points: the flank through the points widens toward the tip {where} (pitch frame; {rise})"
+        margin = 0.02 * height  # the refitted spline's end moves a little
+        end_at, start_at = lo - margin, hi + margin
+        noise = len(runs) >= 3 and rises[big] <= min(0.1, 0.05 * tooth.module_mm)
+        if noise:
+            change = (f"{len(runs)} small rises are noise the fit follows (its RMS distance to the points is "
+                      f"{tooth.fit_rms_mm:.2g} mm): smooth it out with tooth.smoothing_mm of about {rises[big]:.2g} mm")
+        elif keep_low >= keep_high and keep_low >= 0.5 * height and end_at > 0.0:
+            change = (f"end the points at y <= {_fmt(end_at)} mm (the flank from the root at "
+                      f"y = {_fmt(float(y[0]))} mm up to there narrows all the way)")
+        elif keep_high >= 0.5 * height and start_at < 0.0:
+            change = (f"start the points at y >= {_fmt(start_at)} mm (the flank from there to the tip at "
+                      f"y = {_fmt(float(y[-1]))} mm narrows all the way)")
+        else:
+            change = f"move the points between y = {_fmt(lo)} and {_fmt(hi)} mm so that x falls there"
+        return f"{head}: {change}"
+    dedendum, addendum = -float(y[0]), float(y[-1])
+    head = f"tooth: the {tooth.kind} flank widens toward the tip {where} (pitch frame; {rise})"
+    if bad[0] == 0 and hi < 0.0:  # from the root up: a shorter dedendum leaves it out
+        change = f"tooth.dedendum_mm = {_fmt(dedendum)} mm: at most {_fmt(-hi)} mm leaves it out"
+    elif bad[-1] == samples - 2 and lo > 0.0:  # up to the tip: a shorter addendum leaves it out
+        change = f"tooth.addendum_mm = {_fmt(addendum)} mm: at most {_fmt(lo)} mm leaves it out"
+    else:
+        change = ("raise tooth.pressure_angle_deg (the flank leans too little) or shorten "
+                  f"tooth.dedendum_mm = {_fmt(dedendum)} mm / tooth.addendum_mm = {_fmt(addendum)} mm")
+    return f"{head}: {change}"
 
 
 def envelope_of(
@@ -1105,7 +1168,7 @@ def envelope_of(
     curves, corners, shape = tooth_curves(tooth)
     if symmetric is None:
         symmetric = bool(getattr(motion, "symmetric", False))
-    return solve_envelope(
+    env = solve_envelope(
         curves,
         corners,
         motion,
@@ -1117,3 +1180,4 @@ def envelope_of(
         n_phi=n_phi,
         symmetric=symmetric,
     )
+    return dataclasses.replace(env, generator=(tooth, motion))

@@ -73,8 +73,102 @@ def _leave_point(flank: np.ndarray, max_angle_deg: float = 45.0) -> int:
     cosang = np.abs(np.sum(d * radial, 1)) / np.maximum(np.hypot(d[:, 0], d[:, 1]), 1e-300)
     steep = np.nonzero(cosang >= np.cos(np.radians(max_angle_deg)))[0]
     if steep.size == 0:
-        raise EnvelopeError("gearform: the CS flank is nowhere steeper than 45° from radial — no working flank")
+        raise _NoWorkingFlank(float(np.degrees(np.arccos(np.clip(cosang.max(), 0.0, 1.0)))))
     return int(steep[-1]) + 1
+
+
+class _NoWorkingFlank(EnvelopeError):
+    """No stretch of the flank within 45° of radial (``steepest_deg``: its steepest stretch)."""
+
+    def __init__(self, steepest_deg: float):
+        self.steepest_deg = steepest_deg
+        super().__init__(f"gearform: the CS flank is nowhere steeper than 45° from radial (at most {steepest_deg:.1f}°)")
+
+
+def _angle_from_radial(points: np.ndarray) -> np.ndarray:
+    """Angle (deg) of each step of a polyline from the radial direction at its middle."""
+    d = np.diff(points, axis=0)
+    mid = 0.5 * (points[1:] + points[:-1])
+    cosang = np.abs(np.sum(d * mid, 1)) / np.maximum(np.hypot(*d.T) * np.hypot(*mid.T), 1e-300)
+    return np.degrees(np.arccos(np.clip(cosang, 0.0, 1.0)))
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _ScaledDeformation:
+    """A deformation with ω and υ times ``factor``: the same wave generator at another deflection."""
+
+    base: object
+    factor: float
+
+    @property
+    def symmetric(self) -> bool:
+        return bool(getattr(self.base, "symmetric", False))
+
+    def evaluate(self, phi, order: int = 3):
+        omega, upsilon = self.base.evaluate(phi, order=order)
+        return self.factor * np.asarray(omega), self.factor * np.asarray(upsilon)
+
+
+def _tip_path_steepest(tooth, motion, phi_range, factor: float = 1.0, n: int = 4001) -> float:
+    """Smallest angle (deg) from radial of the path of the FS tooth's tip (the top land's middle)
+    over one pass, the deflection scaled by ``factor``. The top of the swept boundary follows
+    this path: its steepest stretch is the swept flank's (0.02° apart on a ring-theory set at
+    ω* 0.3–0.55)."""
+    import dataclasses
+
+    if factor != 1.0:
+        motion = dataclasses.replace(motion, deformation=_ScaledDeformation(motion.deformation, factor))
+    pose = motion.pose(np.linspace(*phi_range, n))
+    tip = pose.to_cs(np.broadcast_to(np.array([0.0, tooth.addendum_y_mm]), (n, 2)))
+    return float(_angle_from_radial(tip).min())
+
+
+def _no_working_flank(envelope, side: np.ndarray, r_mid: float, tip_clearance_mm: float, steepest_deg: float,
+                      max_angle_deg: float = 45.0) -> str:
+    """The message for a CS space with no working flank, naming the gear-set field to change and
+    to what: ``circular_spline.tip_clearance_mm`` when the flank below the tip circle has a steep
+    stretch (the largest clearance that keeps it), else ``wave_generator.deflection_coefficient``
+    (the smallest that makes the tooth tip's path, and so the swept flank, steep enough: found
+    by bisection on the deflection, the wave generator's shape kept)."""
+    head = (f"gearform: no working flank — the CS space's flank above its tip circle is nowhere steeper than "
+            f"{max_angle_deg:g}° from radial (at most {steepest_deg:.1f}°)")
+    top = int(np.argmax(np.hypot(side[:, 0], side[:, 1])))
+    below = side[: top + 1]
+    ang = _angle_from_radial(below)
+    steep = np.flatnonzero(ang <= max_angle_deg)
+    if steep.size:
+        r_steep = float(np.hypot(*below[steep[-1] + 1]))
+        most = r_steep - r_mid
+        if most > 0.0:
+            return (f"{head}: circular_spline.tip_clearance_mm = {tip_clearance_mm:g} mm puts the tip circle above "
+                    f"the flank's steep stretch; at most {0.9 * most:.4g} mm keeps it")
+    gen = getattr(envelope, "generator", None)
+    if gen is None:  # pragma: no cover — an envelope not made by envelope_of
+        return f"{head}: the tooth moves too little radially; raise wave_generator.deflection_coefficient"
+    tooth, motion = gen
+    m = float(tooth.module_mm)
+    w0 = float(motion.deformation.evaluate(np.zeros(1), order=0)[0][0, 0])
+    now = w0 / m
+    target = max_angle_deg - 1.0
+    hi_factor = 3.0 / now  # wave_generator.deflection_coefficient ≤ 3
+    if _tip_path_steepest(tooth, motion, envelope.phi_range, hi_factor) > target:
+        return (f"{head}: wave_generator.deflection_coefficient = {now:.4g} (w0 = {w0:.4g} mm): even 3 leaves the "
+                "tooth's path too flat; a taller tooth (tooth.addendum_mm) or another wave generator is needed")
+    lo, hi = 1.0, hi_factor
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        if _tip_path_steepest(tooth, motion, envelope.phi_range, mid) <= target:
+            hi = mid
+        else:
+            lo = mid
+        if hi - lo < 1e-3:
+            break
+    need = math.ceil(now * hi * 100.0) / 100.0
+    return (f"{head}: the tooth moves too little radially for its slide (its tip's path is at least "
+            f"{_tip_path_steepest(tooth, motion, envelope.phi_range):.1f}° from radial); raise "
+            f"wave_generator.deflection_coefficient = {now:.4g} to at least {need:g} (w0 = {w0:.4g} mm → "
+            f"{need * m:.4g} mm at gear.module_mm = {m:g} mm; gear.rim_thickness_mm must stay >= 0.5·w0 = "
+            f"{0.5 * need * m:.4g} mm)")
 
 
 def _tangent_to_circle(p: np.ndarray, direction: np.ndarray, radius: float) -> np.ndarray:
@@ -182,7 +276,10 @@ def circular_spline_form(
         flank = np.vstack([p_tip, ch[k:]])
         top = int(np.argmax(np.hypot(flank[:, 0], flank[:, 1])))
         flank = flank[: top + 1]
-        j = _leave_point(flank)
+        try:
+            j = _leave_point(flank)
+        except _NoWorkingFlank as exc:
+            raise EnvelopeError(_no_working_flank(envelope, ch, r_mid, tip_clearance_mm, exc.steepest_deg)) from None
         work = flank[: j + 1]
         p_root = _tangent_to_circle(work[-1], work[-1] - work[-2], root_r)
         sides[name] = (work, p_root)
