@@ -41,7 +41,8 @@ has not). Outcomes: ``ok`` (exit 0, no traceback), ``named`` (exit 2, one line o
 traceback; ``check``: one line per problem, each naming the file and the field) and anything
 else, by name: ``TRACEBACK``, ``EXIT-<n>``, ``MULTI-LINE`` (exit 2 with more than one line),
 ``TIMEOUT``, ``KILLED``. The summary also counts the named errors whose line names no field,
-scene key or option.
+scene key or option: a field of the schema (a gear-set ``section.key`` of
+profilegen.gearset.sections, a spec table's key, a scene or spec key, ``names_a_field``).
 
     python tests/benchmarks/fuzz.py --cli [--examples 2000] [--workers 2] [--time-limit-s 90]
 """
@@ -509,18 +510,42 @@ def _cli_worker(job: tuple[int, int, float, str, bool]) -> dict:
     return {"rows": rows, "failures": failures}
 
 
-FIELD_WORD = re.compile(r"\b[a-z][a-z0-9_]*\.[a-z][a-z0-9_]*\b|--[a-z]|\b(" + "|".join(
-    ["chord_tol_mm", "n_t", "n_phi", "clearance_samples", "fit_check_positions", "face_slices", "brute_force_check",
-     "figures", "tier", "rim", "contact", "name", "gearset", "scene", "plot", "grid", "sample", "search",
-     "variables", "objectives", "constraints", "confirm_scene", "description"]) + r")\b")
+def schema_fields() -> tuple[set[str], set[str]]:
+    """What a user can change, from the schema itself: (dotted paths — every gear-set
+    ``section.key`` of profilegen.gearset.sections, every kind's tooth keys, the sweep/optimize spec
+    tables' keys —, bare keys — the scene keys of profilegen.scenes and the specs' top-level keys)."""
+    from profilegen import scenes
+    from profilegen.gearset import sections as sec
+    from profilegen.optimize import spec as ospec
+    from profilegen import sweep
+
+    tables = {"gear": sec.GEAR_KEYS, "wave_generator": sec.WAVE_GENERATOR_KEYS, "material": sec.MATERIAL_KEYS,
+              "torque": sec.TORQUE_KEYS, "circular_spline": sec.CIRCULAR_SPLINE_KEYS, "cup": sec.CUP_KEYS,
+              "face": sec.FACE_KEYS, "requirements": sec.REQUIREMENTS_KEYS,
+              "tooth": tuple({k for keys in sec.TOOTH_KEYS.values() for k in keys} | {"kind", "points", "points_file"}),
+              "search": ospec._SEARCH_KEYS, "sample": sweep._SAMPLE_KEYS}
+    dotted = {f"{t}.{k}" for t, keys in tables.items() for k in keys}
+    bare = set(scenes._KEYS) | set(sec.TOP_KEYS) | set(sweep._TOP_KEYS) | set(ospec._TOP_KEYS)
+    bare |= {"constraints", "objectives", "variables"}
+    return dotted, bare - {"n", "seed", "min", "max", "description", "source"}
+
+
+_FIELDS: re.Pattern | None = None
 
 
 def names_a_field(line: str) -> bool:
-    """Whether an error line names something the user can change: a ``section.key`` field path
-    (gear-set, spec table), a scene or spec key, or a command-line option."""
+    """Whether an error line names something the user can change: a field of the schema
+    (:func:`schema_fields`: a gear-set ``section.key``, a spec table's key, a scene or spec key)
+    or a command-line option (``--name``). A section alone (``tooth: ...``) names no field."""
+    global _FIELDS
+    if _FIELDS is None:
+        dotted, bare = schema_fields()
+        words = sorted(dotted | bare, key=len, reverse=True)
+        _FIELDS = re.compile(r"(?<![\w.])(" + "|".join(map(re.escape, words)) + r")(?![\w])|(?<![\w-])--[a-z]")
     body = line.removeprefix("profilegen: error: ")
     body = re.sub(r"^\S+\.toml: ", "", body)  # the file's own name is not a field
-    return bool(FIELD_WORD.search(body))
+    # an unknown key the user wrote is named as written ("circular_spline.spark_gap_mm_typo: unknown key")
+    return bool(_FIELDS.search(body) or re.search(r"\b[a-z_]+\.\S+: unknown key", body))
 
 
 def _stage_part(line: str) -> str:
@@ -585,6 +610,7 @@ def cli_main(args) -> int:
     summary = {"command": "python tests/benchmarks/fuzz.py " + " ".join(sys.argv[1:]), "examples": len(rows),
                "wall_s": wall, "outcomes": dict(Counter(r[1] for r in rows)),
                "by_kind": {k: dict(Counter(r[1] for r in rows if r[0] == k)) for k in CLI_KINDS},
+               "named_no_field": sum(r[1] == "named" and not names_a_field(r[3]) for r in rows),
                "failures": [{k: v for k, v in f.items() if k != "files"} for f in failures]}
     (out / "fuzz_cli.json").write_text(json.dumps(summary, indent=1))
     print(f"written: {out / 'fuzz_cli.json'}; replay one: python tests/benchmarks/fuzz.py --replay-cli FILE")
