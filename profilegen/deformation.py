@@ -122,8 +122,8 @@ def ring_theory(deflection_mm: float, waves: int = 2) -> HarmonicDeformation:
     _check_waves(waves)
     return HarmonicDeformation(
         waves=waves,
-        cos_mm=[deflection_mm],
-        sin_mm=[-deflection_mm / waves],
+        cos_mm=np.array([deflection_mm]),
+        sin_mm=np.array([-deflection_mm / waves]),
         tier="sketch",
         source="ring theory (w0 cos Uφ, −w0/U sin Uφ)",
     )

@@ -658,13 +658,13 @@ def ratcheting_torque(design, *, catalogue: dict | None = CATALOGUE_RATCHETING,
             per_tooth = case.tooth_force_n
             k = int(np.argmax(per_tooth))
             on = slot == k
-            alpha = float(np.degrees(np.arcsin(np.clip(np.sum(f[on] * sin_alpha[on]) / max(np.sum(f[on]), 1e-300),
+            angle = float(np.degrees(np.arcsin(np.clip(np.sum(f[on] * sin_alpha[on]) / max(np.sum(f[on]), 1e-300),
                                                        -1.0, 1.0))))
             total = sep_fs + sep_cs
             w = per_tooth / per_tooth.sum()
             every.append((float(w @ depth), float(w @ total)))
             rows.append((int(teeth[k]), math.degrees(phis[k]), float(depth[k]), float(sep_fs[k] + sep_cs[k]),
-                         float(sep_fs[k]), float(sep_cs[k]), alpha))
+                         float(sep_fs[k]), float(sep_cs[k]), angle))
     tooth_k, phi_k, h, sep, sep_fs, sep_cs, alpha = (np.array(c) for c in zip(*rows))
     valid = np.array([fl is None for fl in flags])
     rated = float(gs.torque.rated_nm)
