@@ -42,6 +42,7 @@ from __future__ import annotations
 import json
 import logging
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from numbers import Integral, Real
 from typing import Any
@@ -1100,8 +1101,9 @@ def tooth_from_gearset(gearset: Any) -> ToothProfile:
                   teeth=getattr(gear, "flexspline_teeth", None),
                   neutral_radius_mm=getattr(gear, "neutral_radius_mm", None))
     kind = getattr(tooth, "kind", None)
-    table = {"dcta": (dcta_tooth, _DCTA_FIELDS), "involute": (involute_tooth, _INVOLUTE_FIELDS),
-             "points": (points_tooth, _POINTS_FIELDS)}
+    table: dict[str, tuple[Callable[..., ToothProfile], tuple[str, ...]]] = {
+        "dcta": (dcta_tooth, _DCTA_FIELDS), "involute": (involute_tooth, _INVOLUTE_FIELDS),
+        "points": (points_tooth, _POINTS_FIELDS)}
     if kind not in table:
         raise ToothError(f"tooth.kind must be one of {sorted(table)}, got {kind!r}")
     fn, names = table[kind]
