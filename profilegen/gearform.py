@@ -23,6 +23,7 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
@@ -30,6 +31,9 @@ import shapely
 from .errors import EnvelopeError
 from .kinematics import turn
 from .results import readonly as _readonly
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .deformation import Deformation
 
 __all__ = ["CircularSplineForm", "ClearanceMap", "PolylineDistance", "circular_spline_form", "clearance_map", "cs_chain",
            "cs_outline", "cs_space"]
@@ -97,7 +101,7 @@ def _angle_from_radial(points: np.ndarray) -> np.ndarray:
 class _ScaledDeformation:
     """A deformation with ω and υ times ``factor``: the same wave generator at another deflection."""
 
-    base: object
+    base: Deformation
     factor: float
 
     @property
@@ -118,7 +122,7 @@ def _tip_path_steepest(tooth, motion, phi_range, factor: float = 1.0, n: int = 4
 
     if factor != 1.0:
         motion = dataclasses.replace(motion, deformation=_ScaledDeformation(motion.deformation, factor))
-    pose = motion.pose(np.linspace(*phi_range, n))
+    pose = motion.pose(np.linspace(phi_range[0], phi_range[1], n))
     tip = pose.to_cs(np.broadcast_to(np.array([0.0, tooth.addendum_y_mm]), (n, 2)))
     return float(_angle_from_radial(tip).min())
 
@@ -405,7 +409,7 @@ def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples
     surface_pts = tooth.surface(n_per_mm=search_per_mm)  # to find the candidates
     cs = _local_outline(form) if cs_points is None else np.asarray(cs_points, float)
     tree = cKDTree(cs, leafsize=64, compact_nodes=False, balanced_tree=False)  # faster on dense outlines (measured)
-    phis = np.linspace(*phi_range, samples)
+    phis = np.linspace(phi_range[0], phi_range[1], samples)
     pose = motion.pose(phis)
     cos, sin = np.cos(pose.angle), np.sin(pose.angle)
     # every pose's candidates at once: the surface points nearest the CS, nearest first

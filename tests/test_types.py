@@ -46,7 +46,6 @@ KNOWN_ERRORS: dict[str, int] = {
     "profilegen/face/modification.py": 2,
     "profilegen/face/sections.py": 1,
     "profilegen/face/stage.py": 4,
-    "profilegen/gearform.py": 1,
     "profilegen/gearset/reader.py": 2,
     "profilegen/output/export.py": 3,
     "profilegen/output/folder.py": 4,
