@@ -140,7 +140,7 @@ def _page(s: Session):
 
     return html.Div([
         dcc.Store(id="sid", data=s.id), dcc.Store(id="req", data=0), dcc.Store(id="shown", data=0),
-        dcc.Store(id="latest", data=0), dcc.Store(id="drawn", data=""), dcc.Store(id="figkey", data=""),
+        dcc.Store(id="drawn", data=""), dcc.Store(id="figkey", data=""),
         # always on: re-enabling a disabled Interval from a callback did not restart it reliably (Dash 4.4,
         # seen in the browser tests); an idle tick waits POLL_WAIT_S on the server for a new snapshot,
         # then is answered with 204 (nothing new)
@@ -357,56 +357,46 @@ def _register(app, sessions: Sessions) -> None:
             out[4] = _bad(_failure(exc))
             return out
 
-    @app.callback(Output("latest", "data"), Output("figkey", "data"), Input("poll", "n_intervals"),
-                  State("sid", "data"), State("latest", "data"), State("figkey", "data"), prevent_initial_call=True)
-    def tick(_n, sid, seen, figkey):
-        """The newest snapshot's version when it is new (the render follows), else nothing —
-        waiting up to POLL_WAIT_S for one; and the profile's token when the profile changed (the
-        figures follow, once per profile)."""
-        s = sessions.get(sid)
-        snap = None if s is None else s.computer.newer(seen, timeout=POLL_WAIT_S)
-        if snap is None:
-            raise PreventUpdate
-        key = no_update
-        if snap.design is not None and snap.design.profile is not None:
-            token = str(s.profile_token(snap.design.profile, snap.job))
-            with s.lock:
-                s.profile_snap = snap
-            if token != figkey:
-                key = token
-        return snap.version, key
-
     @app.callback(
         Output("verdict", "children"), Output("numbers", "children"), Output("progress", "children"),
-        Output("shown", "data"),
-        Input("req", "data"), Input("latest", "data"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
-        State("sid", "data"), State("shown", "data"),
+        Output("shown", "data"), Output("figkey", "data"),
+        Input("req", "data"), Input("poll", "n_intervals"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
+        State("sid", "data"), State("shown", "data"), State("figkey", "data"),
         prevent_initial_call=True,
     )
-    def render(req, _latest, pin, unpin, sid, shown):
-        """The verdict, the numbers and the progress line of the newest snapshot (the figures are
-        :func:`figures`', sent once per profile)."""
+    def render(req, _n, pin, unpin, sid, shown, figkey):
+        """The verdict, the numbers and the progress line of the newest snapshot, and the token of
+        its profile (``figkey``: the figures follow in :func:`figures`, once per profile). On the
+        poll it is a long poll: it waits up to POLL_WAIT_S for a snapshot newer than the page's
+        (``shown``) and draws it in the same response."""
         trig = ctx.triggered_id
         try:
-            s = session(sid)
-            force = trig in ("pin", "unpin")
+            s = sessions.get(sid) if trig == "poll" else session(sid)
+            if s is None:
+                raise PreventUpdate
             if trig == "req":
-                # the request's first snapshot, at once: the rest comes by the poll (a long poll: each
-                # snapshot as soon as it is published)
+                # the request's first snapshot, at once: the rest comes by the poll
                 snap = s.computer.latest() if req else None
                 if snap is None or snap.job != req:
                     raise PreventUpdate  # superseded: the newer request draws
+            elif trig == "poll":
+                snap = s.computer.newer(shown, timeout=POLL_WAIT_S)
+                if snap is None:
+                    raise PreventUpdate  # nothing new (answered with 204)
             else:
-                if force:
-                    s.clicked(trig, pin if trig == "pin" else unpin)
+                s.clicked(trig, pin if trig == "pin" else unpin)
                 snap = s.computer.latest()
-                if snap is None or (shown and snap.version <= shown and not force):
-                    raise PreventUpdate  # nothing newer than what is drawn
-            out = [no_update] * 4
+                if snap is None:
+                    raise PreventUpdate
+            out = [no_update] * 5
             design = snap.design
             token = None if design is None or design.profile is None else s.profile_token(design.profile, snap.job)
             out[2], out[3] = _progress_text(snap, token), snap.version
             if token is not None:
+                with s.lock:
+                    s.profile_snap = snap
+                if str(token) != figkey:
+                    out[4] = str(token)
                 s.drawn(snap)
                 before = s.before if snap.done else s.shown
                 if before is not None and before.job == snap.job:
@@ -419,7 +409,7 @@ def _register(app, sessions: Sessions) -> None:
         except Exception as exc:  # noqa: BLE001
             from dash import html
 
-            return ([html.Span("ERROR", className="pg-badge pg-ERROR"), _bad(_failure(exc))],) + (no_update,) * 3
+            return ([html.Span("ERROR", className="pg-badge pg-ERROR"), _bad(_failure(exc))],) + (no_update,) * 4
 
     @app.callback(
         Output("space", "figure"), Output("fit-error", "figure"), Output("drawn", "data"),
