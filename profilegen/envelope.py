@@ -33,6 +33,7 @@ from __future__ import annotations
 import dataclasses
 import logging
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import contourpy
@@ -79,7 +80,7 @@ class Curve:
 
     name: str
     length: float
-    evaluate: object  # callable t -> (p, dp, ddp)
+    evaluate: Callable[[np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]]  # t -> (p, dp, ddp)
 
     def terms(self, t) -> tuple[np.ndarray, np.ndarray]:
         """t-terms of the meshing function and their t-derivative, each (3, n)."""
@@ -526,7 +527,7 @@ def trace_corner_path(
     corner: np.ndarray, motion: Motion, name: str, *, phi_range, chord_tol_mm: float, n_phi: int = 121, max_rounds: int = 40
 ) -> RootCurve:
     """Path of a tooth-frame point over the pass, subdivided to the chord tolerance."""
-    phi = np.linspace(*phi_range, n_phi)
+    phi = np.linspace(phi_range[0], phi_range[1], n_phi)
     corner = np.asarray(corner, float)
 
     def image(ph):
@@ -940,7 +941,7 @@ def solve_envelope(
         folds=tuple(folds),
         no_root=no_root,
         flank=_flanks(pieces),
-        phi_range=tuple(map(float, phi_range)),
+        phi_range=(float(phi_range[0]), float(phi_range[1])),
         chord_tol_mm=chord_tol_mm,
         residual=max(r.residual for r in roots),
         time_s=time.perf_counter() - t0,
@@ -1069,7 +1070,8 @@ def _ridges(pieces: list[EnvelopePiece], tangent, tol: float = 1e-9, min_kink_de
                     # both tangents point away from the junction; a smooth join has them opposite
                     kink = float(np.degrees(np.pi - np.arccos(np.clip(np.dot(tangent(a, ea), tangent(b, eb)), -1, 1))))
                     if kink > min_kink_deg:
-                        out.append(Ridge(tuple(map(float, a.points[ea])), (a.source, b.source), (float(a.phi[ea]), float(b.phi[eb])), kink))
+                        x, y = a.points[ea]
+                        out.append(Ridge((float(x), float(y)), (a.source, b.source), (float(a.phi[ea]), float(b.phi[eb])), kink))
     return out
 
 
