@@ -67,11 +67,15 @@ import sys
 import threading
 import types
 from collections import Counter, OrderedDict
-from typing import Callable
+from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
 from .gearset import GearSet
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .pipeline import Design
+    from .scenes import Scene
 
 __all__ = ["Engine", "Cancelled", "checkpoint", "reuse", "STAGE_INPUTS", "DEFAULT_MEMORY_BYTES", "default_engine",
            "cached_design"]
@@ -317,9 +321,10 @@ class Engine:
         self.last_run: tuple[str, ...] = ()
 
     # ------------------------------------------------------------------ the public API
-    def design(self, gearset: GearSet, *, scene=None, fit_method: str | None = None,
+    def design(self, gearset: GearSet, *, scene: str | os.PathLike | Scene | None = None, fit_method: str | None = None,
                progress: Callable[[str], None] | None = None, contact: bool | None = None, stress: bool = True,
-               on_profile=None, on_stage=None, stop: Callable[[], bool] | None = None):
+               on_profile: Callable[[Design], None] | None = None, on_stage: Callable[[Design], None] | None = None,
+               stop: Callable[[], bool] | None = None) -> Design:
         """:func:`profilegen.design` with the same arguments and the same result, reusing every
         stage whose inputs an earlier design of this engine had. Raises :class:`Cancelled` when
         :meth:`cancel` is called, or a newer :meth:`design` starts, before it finishes — or when

@@ -35,6 +35,7 @@ import logging
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import contourpy
 import numpy as np
@@ -43,6 +44,9 @@ import shapely
 from .errors import ConvergenceError, EnvelopeError
 from .kinematics import Motion, turn, unit_radial, unit_tangential
 from .results import readonly as _readonly
+
+if TYPE_CHECKING:  # pragma: no cover
+    from .teeth import ToothProfile
 
 __all__ = [
     "CONJUGATE",
@@ -1153,8 +1157,8 @@ def _flank_fold_message(tooth, samples: int = 8001) -> str:
 
 
 def envelope_of(
-    tooth,
-    motion,
+    tooth: ToothProfile,
+    motion: Motion,
     *,
     cs_teeth: int,
     waves: int,

@@ -34,6 +34,9 @@ from .results import readonly as _readonly
 
 if TYPE_CHECKING:  # pragma: no cover
     from .deformation import Deformation
+    from .envelope import Envelope
+    from .kinematics import Motion
+    from .teeth import ToothProfile
 
 __all__ = ["CircularSplineForm", "ClearanceMap", "PolylineDistance", "circular_spline_form", "clearance_map", "cs_chain",
            "cs_outline", "cs_space"]
@@ -247,7 +250,7 @@ class CircularSplineForm:
 
 
 def circular_spline_form(
-    envelope,
+    envelope: Envelope,
     *,
     cs_teeth: int,
     tip_clearance_mm: float,
@@ -382,7 +385,8 @@ def _local_outline(form: CircularSplineForm, neighbours: int = 1) -> np.ndarray:
     return np.vstack(parts)
 
 
-def clearance_map(form: CircularSplineForm, tooth, motion, *, phi_range, samples: int = 361, candidates: int = 32,
+def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion, *, phi_range: tuple[float, float],
+                  samples: int = 361, candidates: int = 32,
                   cs_points: np.ndarray | None = None, search_per_mm: float = 800.0, neighbours: int = 4,
                   deep_check_mm: float = 1e-7) -> ClearanceMap:
     """Signed distance between the FS tooth (with root lands) and the CS outline at each φ.

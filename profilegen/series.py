@@ -39,6 +39,7 @@ import numbers
 import time
 from dataclasses import dataclass
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 from scipy.linalg import lapack, solve_triangular
@@ -48,6 +49,9 @@ from . import checks
 from .deformation import HarmonicDeformation
 from .errors import ConvergenceError, ProfilegenError
 from .results import readonly as _readonly
+
+if TYPE_CHECKING:  # pragma: no cover
+    from numpy.typing import ArrayLike
 
 __all__ = [
     "DeformationFit",
@@ -356,9 +360,9 @@ def _aicc(sse: float, n: int, p: int, floor: float) -> float:
 
 
 def fit_fourier(
-    phi,
-    omega,
-    upsilon,
+    phi: ArrayLike,
+    omega: ArrayLike,
+    upsilon: ArrayLike,
     *,
     waves: int = 2,
     order: int | None = None,
@@ -831,7 +835,7 @@ def _lm(fun, jac, x0, max_nfev):
     return x, 0.5 * float(f @ f), int(info["nfev"]), ier in (1, 2, 3, 4)
 
 
-def fit_sine_series(phi, values, *, terms: int = 3, starts: int = 20, seed: int | None = 0,
+def fit_sine_series(phi: ArrayLike, values: ArrayLike, *, terms: int = 3, starts: int = 20, seed: int | None = 0,
                     _reference: bool = False) -> SeriesFit:
     """Fit seed 004's f(φ) = Σ_{i=1..terms} a_i sin(b_i φ + c_i) to samples (mm).
 

@@ -20,6 +20,7 @@ import math
 import time
 from dataclasses import dataclass
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 import shapely
@@ -27,6 +28,12 @@ import shapely
 from .. import checks
 from ..errors import ProfilegenError
 from ..results import readonly
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..envelope import Envelope
+    from ..kinematics import HarmonicDriveMotion
+    from ..series import DeformationFit
+    from ..teeth import ToothProfile
 
 __all__ = ["FaceError", "FaceSection", "cup_deformation", "ring_span", "section_fit", "signed_gap",
            "solve_section", "SweptRegion"]
@@ -100,10 +107,10 @@ class FaceSection:
     omega_major_mm: float
     omega_minor_mm: float
     upsilon_max_mm: float
-    fit: object
-    motion: object
-    envelope: object
-    tooth: object
+    fit: DeformationFit
+    motion: HarmonicDriveMotion
+    envelope: Envelope
+    tooth: ToothProfile
     time_s: float
 
     @property

@@ -39,14 +39,18 @@ import logging
 import math
 import time
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import checks
 from ..results import json_ready, readonly
 from .clearance import ENGAGED_MM, MAP_SAMPLES, face_map
-from .modification import apply_modification, solve_modification
+from .modification import ToothModification, apply_modification, solve_modification
 from .sections import FaceError, FaceSection, SweptRegion, cup_deformation, ring_span, solve_section
+
+if TYPE_CHECKING:  # pragma: no cover
+    from ..gearform import CircularSplineForm
 
 __all__ = ["FaceWidth", "face_width"]
 
@@ -74,7 +78,7 @@ class FaceWidth:
     sections: tuple
     design_index: int
     design_choice: str
-    form: object
+    form: CircularSplineForm
     phi_rad: np.ndarray
     clearance_mm: np.ndarray
     table: tuple
@@ -87,7 +91,7 @@ class FaceWidth:
     envelope_s: float
     map_s: float
     time_s: float
-    modification: object = None
+    modification: ToothModification | None = None
     warnings: tuple = field(default=())
 
     def __post_init__(self):
