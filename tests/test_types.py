@@ -39,7 +39,6 @@ KNOWN_ERRORS: dict[str, int] = {
     "profilegen/contact/chain.py": 1,
     "profilegen/contact/compliance.py": 8,
     "profilegen/contact/face_curve.py": 1,
-    "profilegen/contact/solvers.py": 2,
     "profilegen/engine.py": 4,
     "profilegen/envelope.py": 5,
     "profilegen/face/clearance.py": 4,

@@ -288,7 +288,7 @@ def scale_problem(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm) -> _Sca
         raise ContactError("compliance_mm_per_n must be symmetric positive definite (mm/N), got all zeros (singular)")
     asym = float(np.max(np.abs(S - S.T))) / smax
     if asym > _SYM_TOL:
-        i, j = np.unravel_index(int(np.argmax(np.abs(S - S.T))), S.shape)
+        i, j = (int(v) for v in np.unravel_index(int(np.argmax(np.abs(S - S.T))), S.shape))
         raise ContactError(
             f"compliance_mm_per_n must be symmetric (mm/N, relative asymmetry ≤ {_SYM_TOL:g}), got "
             f"S[{i}, {j}] = {S[i, j]!r} vs S[{j}, {i}] = {S[j, i]!r} (relative asymmetry {asym:.3g})"
@@ -520,6 +520,7 @@ def solve_lemke(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *, max_pi
     basis = tab.basis
 
     # initial pivot: z0 in on the row of the most negative q (the equilibrium row, q = −1)
+    row: int | None  # None: a ray (ratio_row)
     row = int(np.argmin(q))
     leaving = tab.pivot(row, tab.column(Z0), Z0)
     pivots = 1
