@@ -522,10 +522,12 @@ def read_dxf_polylines(path: str | os.PathLike) -> dict[str, list[np.ndarray]]:
     and ``ezdxf.DXFStructureError`` for a broken one.
     """
     import ezdxf
+    from ezdxf.entities import LWPolyline
 
     doc = ezdxf.readfile(os.fspath(path))
     out: dict[str, list[np.ndarray]] = {}
     for e in doc.modelspace().query("LWPOLYLINE"):
+        assert isinstance(e, LWPolyline)  # what the query selects
         p = np.array(list(e.get_points("xy")), dtype=float).reshape(-1, 2)
         if e.closed and len(p):
             p = np.vstack([p, p[:1]])
