@@ -10,7 +10,9 @@ otherwise answer a value seen before at once), median of ``-n`` changes each:
   verdict and numbers on the page (the figures stay: the profile did not change);
 * design scene, a tooth change (addendum coefficient): drawn = to the new CS space in the figure;
 
-and for each: compute = ``profilegen.app.compute.redesign`` alone for the same kind of change in this
+The app runs as ``profilegen app --port 0`` in a process of its own, started afresh for each case
+(the browser's driver in the app's process took its interpreter lock at every poll of the page,
+slowing the computation it measures). For each: compute = ``profilegen.app.compute.redesign`` alone for the same kind of change in this
 warm process; bytes = what the page received for the change (the Dash responses' bodies, the
 browser's resource timing); cold CLI = ``profilegen design --scene S`` in a fresh process (imports,
 compute, files), as a ratio to the drawn time; and the app's cold start to its first render.
@@ -78,7 +80,7 @@ def _changes(driver, path: str, values, *, until: str) -> tuple[list[float], lis
         if until == "done":
             tb._settled(driver, after_job=before["job"])
         else:
-            WebDriverWait(driver, 300, poll_frequency=0.005).until(
+            WebDriverWait(driver, 300, poll_frequency=0.02).until(
                 lambda d, job=before["job"]: (tb._state(d)["figure_job"] or 0) > job)
         times.append(time.perf_counter() - t0)
         tb._settled(driver, after_job=before["job"])  # let the rest finish before the next change
@@ -86,9 +88,39 @@ def _changes(driver, path: str, values, *, until: str) -> tuple[list[float], lis
     return times, sizes
 
 
+class _Served:
+    """``profilegen app`` in its own process (as a user runs it): the browser's driver in this one
+    would take the GIL from the app's computation at every poll of the page."""
+
+    def __init__(self, scene: str, workspace: Path):
+        import re
+        import signal
+
+        self.proc = subprocess.Popen(
+            [sys.executable, "-m", "profilegen", "app", "--scene", scene, "--port", "0", "--workspace", str(workspace)],
+            cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+        line = self.proc.stdout.readline()
+        found = re.search(r"(http://\S+/)", line)
+        if not found:
+            self.proc.kill()
+            raise RuntimeError(f"profilegen app did not say its address: {line!r}")
+        self.url = found.group(1)
+
+    def stop(self) -> None:
+        import signal
+
+        self.proc.send_signal(signal.SIGINT)
+        try:
+            self.proc.wait(30)
+        except subprocess.TimeoutExpired:
+            self.proc.kill()
+
+
 def _compute(gearset, scene: str, path: str, values) -> list[float]:
     from profilegen.app.compute import redesign
 
+    redesign(gearset, scene)  # warm: the set as given (the app's first design)
     times = []
     for v in values:
         gs = gearset.with_values({path: float(v)})
@@ -165,7 +197,6 @@ def main() -> None:
     ap.add_argument("--cancel", type=int, default=0, help="superseded designs per kind (default 0: none)")
     args = ap.parse_args()
     import profilegen as pg
-    from profilegen.app import start
 
     gs = pg.load_gearset(pg.default_gearset_path())
     rows, cli = {}, {}
@@ -175,7 +206,7 @@ def main() -> None:
         try:
             for i, (scene, path, first, step, until) in enumerate(CASES):
                 t0 = time.perf_counter()
-                app = start(workspace=tmp, scene=scene)
+                app = _Served(scene, tmp)  # a fresh process: the cold start is the user's
                 try:
                     driver.get(app.url)
                     tb._settled(driver)
