@@ -502,10 +502,10 @@ def fit_fourier(
         picked=best,
         noise_pick=noise_pick,
         aicc_pick=aicc_pick,
-        orders=orders,
+        orders=np.asarray(orders),
         omega_rmse_mm=rmse_w_arr,
         upsilon_rmse_mm=rmse_u_arr,
-        aicc=aiccs,
+        aicc=np.asarray(aiccs),
         omega_noise_floor_mm=noise_w,
         upsilon_noise_floor_mm=noise_u,
     )
