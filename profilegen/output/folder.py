@@ -68,7 +68,7 @@ from ..errors import ExportError
 try:
     import fcntl
 except ImportError:  # pragma: no cover — not POSIX: no lock, the swap still holds
-    fcntl = None
+    fcntl = None  # type: ignore[assignment]
 
 __all__ = ["LOCK_WAIT_S", "MARKER", "Owned", "check", "foreign_entries", "leftovers", "lock_path", "owning", "recover",
            "replacing", "write_marker"]
@@ -386,7 +386,7 @@ def recover(out: str | os.PathLike, *, ours: Collection[str], marker: str = DESI
     """
     out = _real(out)
     pats = _patterns(out.name)
-    done = []
+    done: list[str] = []
     try:
         names = sorted(os.listdir(out.parent))
     except (FileNotFoundError, NotADirectoryError):
@@ -524,6 +524,7 @@ class Owned:
     def stage(self, keep: Collection[str] = ()) -> Iterator[Path]:
         """Yield an empty staging folder; when the block ends normally, the files ``keep`` of the
         live folder (the journals) are linked into it, and it becomes the folder as a whole."""
+        staging: Path | None  # the new set, then the old one to delete, then None
         staging = self.out.parent / f".{self.out.name}.staging-{secrets.token_hex(4)}"
         os.mkdir(staging)
         os.chmod(staging, _folder_mode(self.out))
