@@ -54,13 +54,12 @@ KNOWN_ERRORS: dict[str, int] = {
     "profilegen/rim/toothed.py": 6,
 }
 
-#: public callable → its parameters (and "return") left bare, each in a module another engineer was
-#: changing when this list was made. May only shrink.
+#: public callable → its parameters (and "return") left bare, each with its reason. May only shrink.
 KNOWN_GAPS: dict[str, list[str]] = {
     "profilegen.solve_ring": ["mesh"],  # rim/ring.py: a (mesh, θ, r) triple or a ToothedRimMesh, unpacked in place
 }
 
-#: result fields typed ``object``, in a module another engineer was changing. May only shrink.
+#: result fields typed ``object``, each with its reason. May only shrink.
 KNOWN_UNTYPED_FIELDS: list[str] = []
 
 #: the result classes a design hands back (Design's fields and what they hold), besides ``__all__``'s
