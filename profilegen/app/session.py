@@ -194,6 +194,7 @@ class Computer:
         self._snap: Snapshot | None = None
         self._final: Snapshot | None = None
         self._version = 0
+        self._profile_version = 0  # the version that first had the running job's profile
         self._thread: threading.Thread | None = None
         self._closed = False
         self.ran: list[int] = []  # the jobs the thread started (for the tests)
@@ -226,16 +227,22 @@ class Computer:
             return self._snap
 
     def newer(self, version, *, timeout: float) -> Snapshot | None:
-        """The newest snapshot once its version differs from ``version`` (the one the page
-        shows), waiting up to ``timeout`` s for one to be published; None if none came."""
+        """The newest snapshot when its version differs from ``version`` (the one the page shows),
+        waiting up to ``timeout`` s: at once for a finished design (or error) or a profile the page
+        has not had, else at the timeout (the progress lines of a running design coalesce: each
+        drawn one takes the interpreter from the computation); None if nothing new came."""
         end = time.monotonic() + timeout
+        seen = version if isinstance(version, int) else 0
         with self._cv:
-            while self._snap is None or self._snap.version == version:
+            while True:
+                snap = self._snap
+                new = snap is not None and snap.version != version
+                if new and (snap.done or self._profile_version > seen):
+                    return snap
                 left = end - time.monotonic()
                 if left <= 0 or self._closed:
-                    return None
+                    return snap if new else None
                 self._cv.wait(left)
-            return self._snap
 
     @property
     def final(self) -> Snapshot | None:
@@ -272,6 +279,9 @@ class Computer:
             return  # stale: a newer request came meanwhile
         self._version += 1
         snap = Snapshot(**{**snap.__dict__, "version": self._version})
+        before = self._snap
+        if snap.has_profile and not (before is not None and before.job == snap.job and before.has_profile):
+            self._profile_version = self._version
         self._snap = snap
         if snap.done:
             self._final = snap

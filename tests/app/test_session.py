@@ -173,21 +173,24 @@ def test_a_superseded_computation_stops_inside_its_stage_at_its_next_checkpoint(
 
 
 def test_a_poll_waits_for_the_next_snapshot_and_returns_it_at_once(gearset):
-    """Computer.newer (the page's long poll): a snapshot the page has not seen is returned at once;
-    with none, the call waits for the next one to be published and returns when it is, not at its
-    timeout; with none coming it returns None after the timeout."""
+    """Computer.newer (the page's long poll): a progress line the page has not seen comes at the
+    poll's timeout (they coalesce); the finished design comes as soon as it is published, not at
+    the timeout; with nothing new the poll returns None after its timeout."""
     gate = _Gate()
     c = Computer(gate)
     job = c.submit(gearset, "sketch")
     assert gate.started.wait(10)
     seen = c.latest().version
-    assert c.newer(seen - 1, timeout=5).version == seen  # not seen yet: at once
+    t0 = time.monotonic()
+    assert c.newer(seen - 1, timeout=0.3).version == seen  # a progress line: at the timeout
+    assert time.monotonic() - t0 >= 0.29
     t0 = time.monotonic()
     assert c.newer(seen, timeout=0.2) is None and time.monotonic() - t0 >= 0.19
     threading.Timer(0.1, gate.release.set).start()  # the design goes on (a progress line, then its end)
     t0 = time.monotonic()
     snap = c.newer(seen, timeout=20)
-    assert snap is not None and snap.version > seen and snap.job == job and time.monotonic() - t0 < 10
+    assert snap is not None and snap.done and snap.job == job and time.monotonic() - t0 < 10
+    assert c.newer(seen, timeout=20).version == snap.version  # not seen yet: at once
     c.close()
 
 
