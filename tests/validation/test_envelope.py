@@ -432,7 +432,10 @@ def test_flank_not_monotone_in_x_is_a_named_error():
     # a vertical flank line (pressure angle 0): x does not decrease toward the tip
     with pytest.raises(EnvelopeError, match="tooth") as info:
         _env(dcta_tooth(**GEAR, pressure_angle_deg=0.0), 0.5)
-    assert isinstance(info.value, RuntimeError) and "monotone" in str(info.value)
+    # it says where the flank widens and which gear-set fields to change (issue 26 item 4)
+    text = str(info.value)
+    assert isinstance(info.value, RuntimeError) and "widens toward the tip" in text
+    assert "tooth.pressure_angle_deg" in text
 
     # an undercut flank: a half circle bulging outward (x rises, then falls, toward the tip)
     def bulge(t):
