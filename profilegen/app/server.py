@@ -30,12 +30,13 @@ __all__ = ["make_app", "serve", "start"]
 log = logging.getLogger(__name__)
 
 SCENES = ("sketch", "design", "verify")
-POLL_MS = 150
+POLL_MS = 200
 #: how long a poll waits on the server for the next snapshot (a long poll): a design finished
-#: between two polls reaches the page at once, not on the next tick (up to POLL_MS later); less
-#: than POLL_MS, so a poll has returned before the next one starts (Dash drops the response of a
-#: callback when a newer call of it is on its way)
-POLL_WAIT_S = 0.12
+#: while a poll waits reaches the page at once, not on the next tick; well under POLL_MS, so a
+#: poll's response is back before the next one starts (Dash drops the response of a callback
+#: when a newer call of it is on its way: with 0.12 s of 0.15 s, seen in the browser, one poll
+#: in three was dropped under load and its snapshot sent again)
+POLL_WAIT_S = 0.1
 
 
 _CSS = """
