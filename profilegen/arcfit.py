@@ -706,7 +706,7 @@ def _solve(prob: _Problem, q, *, one_sided: bool, max_iter: int):
     T = _metric(G)
     delta, lps, polished, gn, how, failed = F, 0, 0, 0, "iterations", None
     it = 0
-    from .engine import checkpoint
+    from .stagecache import checkpoint
 
     for it in range(1, max_iter + 1):
         checkpoint()  # an engine's design stops here when superseded (an SLP step: milliseconds)

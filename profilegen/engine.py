@@ -72,6 +72,7 @@ from typing import TYPE_CHECKING, Callable
 import numpy as np
 
 from .gearset import GearSet
+from .stagecache import STAGE_CACHE, checkpoint, reuse
 
 if TYPE_CHECKING:  # pragma: no cover
     from .pipeline import Design
@@ -117,31 +118,7 @@ class Cancelled(Exception):
     failure of the design (the contact stage turns those into warnings)."""
 
 
-def checkpoint() -> None:
-    """Where a long computation may stop: raises :class:`Cancelled` when the engine design running
-    in this thread was cancelled or superseded; nothing outside an engine's design (a few µs). A
-    stage's own loop may call it (between face sections, FEM iterations, ...) for a quicker stop."""
-    from .pipeline import stage_checkpoint
-
-    stage_checkpoint()
-
-
-def reuse(name: str, compute: Callable, *, gearset: GearSet, sections: tuple[str, ...], key: tuple = (),
-          owners: tuple = ()):
-    """``compute()``, or inside an engine's design its value from an earlier design of that engine
-    with the same inputs: the gear-set ``sections`` (of ``GearSet.to_dict()``) ``compute`` reads, the
-    plain values of ``key`` (compared by ``repr``) and the ``owners`` — objects it reads, compared by
-    identity (the stage cache's results: the same object on a hit), which the entry keeps alive so
-    an id cannot be reused while it lives. For work inside a stage that reads less than the stage:
-    the contact stage's flanks (points and compliance) do not read the torques, so a torque change
-    builds neither (:func:`profilegen.contact.analysis.flank`). Outside an engine: ``compute()``.
-    Counted in the engine's ``runs`` and ``hits`` under ``name``; not a stage of ``last_run``."""
-    from .pipeline import STAGE_CACHE
-
-    run = STAGE_CACHE.get()
-    if run is None:
-        return compute()
-    return run.reuse(name, compute, gearset, tuple(sections), tuple(key), tuple(owners))
+# checkpoint() and reuse() live below the stages (profilegen.stagecache); the engine's API re-exports them
 
 
 def _rim_sections(tier) -> tuple[str, ...]:
@@ -224,7 +201,7 @@ def nbytes(value) -> int:
 
 class _Run:
     """One :meth:`Engine.design` call: the stage lookups of :func:`profilegen.pipeline._stage`
-    (this object is :data:`profilegen.pipeline.STAGE_CACHE` while it runs) and its checkpoint."""
+    (this object is :data:`profilegen.stagecache.STAGE_CACHE` while it runs) and its checkpoint."""
 
     def __init__(self, engine: "Engine", generation: int, stop: Callable[[], bool] | None = None):
         self.engine, self.generation, self.stop = engine, generation, stop
@@ -347,12 +324,12 @@ class Engine:
                 if say is not None:
                     say(name)
 
-            token = pipeline.STAGE_CACHE.set(run)
+            token = STAGE_CACHE.set(run)
             try:
                 return pipeline.design(gearset, scene=scene, fit_method=fit_method, progress=checked,
                                        contact=contact, stress=stress, on_profile=on_profile, on_stage=on_stage)
             finally:
-                pipeline.STAGE_CACHE.reset(token)
+                STAGE_CACHE.reset(token)
                 self.last_run = tuple(run.ran)
 
     def cancel(self) -> None:

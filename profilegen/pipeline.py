@@ -11,7 +11,6 @@ from __future__ import annotations
 import logging
 import os
 import time
-from contextvars import ContextVar
 from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING, Callable
 
@@ -25,6 +24,7 @@ from .gearset import FIT_METHODS, GearSet
 from .contour import Chain, Line
 from .kinematics import HarmonicDriveMotion
 from .scenes import SCENES, Scene, resolve_scene  # noqa: F401  (SCENES: profilegen.pipeline.SCENES, as before)
+from .stagecache import STAGE_CACHE, checkpoint as stage_checkpoint  # noqa: F401  (pipeline.stage_checkpoint, as before)
 from .teeth import tooth_from_gearset
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -662,11 +662,6 @@ def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None 
     return tuple(names)
 
 
-#: the stage cache :func:`design` looks each stage up in: set by :class:`profilegen.engine.Engine`
-#: for its own runs (per thread, a ContextVar); None — every plain :func:`design` call — runs every
-#: stage. The cache keys each stage by the gear-set fields and scene keys it reads and by its
-#: upstream stage's key (profilegen.engine.STAGE_INPUTS says which).
-STAGE_CACHE: ContextVar = ContextVar("profilegen_stage_cache", default=None)
 
 
 def _stage(name: str, parent, compute: Callable, gearset: GearSet, scene: Scene, extra: tuple = (),
@@ -679,14 +674,6 @@ def _stage(name: str, parent, compute: Callable, gearset: GearSet, scene: Scene,
     if cache is None:
         return compute(), None
     return cache.stage(name, parent, compute, gearset, scene, extra, on_hit)
-
-
-def stage_checkpoint() -> None:
-    """Where a long stage may stop: the engine's cancellation check (profilegen.engine.Cancelled);
-    nothing without an engine."""
-    run = STAGE_CACHE.get()
-    if run is not None:
-        run.checkpoint()
 
 
 def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Scene,

@@ -236,12 +236,12 @@ class Computer:
         with self._cv:
             while True:
                 snap = self._snap
-                new = snap is not None and snap.version != version
-                if new and (snap.done or self._profile_version > seen):
-                    return snap
+                fresh = snap if snap is not None and snap.version != version else None
+                if fresh is not None and (fresh.done or self._profile_version > seen):
+                    return fresh
                 left = end - time.monotonic()
                 if left <= 0 or self._closed:
-                    return snap if new else None
+                    return fresh
                 self._cv.wait(left)
 
     @property

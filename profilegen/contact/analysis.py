@@ -280,7 +280,7 @@ def flank(inputs: ContactInput, side: int = 1, *, stations: int = 5, max_gap_mm:
     (:func:`profilegen.engine.reuse`) a flank built for the same geometry — the gear set's sections
     but its torques and requirements, the same FS tooth, deformation and CS space objects — is
     taken from the engine's cache, so a torque change re-solves the contact without building it."""
-    from ..engine import checkpoint, reuse
+    from ..stagecache import checkpoint, reuse
     from .compliance import ContactCompliance
     from .points import contact_points
 
@@ -331,7 +331,7 @@ def solve_contact(inputs: ContactInput, torques_nm, *, side: int = 1, stations: 
     the bore (see :meth:`ContactCompliance.build`; 0 = none; both ignored when ``compliance``
     is given)."""
 
-    from ..engine import checkpoint
+    from ..stagecache import checkpoint
 
     t0 = time.perf_counter()
     inputs = ContactInput.from_design(inputs, name="inputs")  # a ContactInput passes as it is

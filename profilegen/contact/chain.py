@@ -120,7 +120,7 @@ import numpy as np
 
 from .. import checks
 from ..blas import one_blas_thread
-from ..engine import checkpoint
+from ..stagecache import checkpoint
 from ..errors import ConvergenceError
 from ..results import json_ready, readonly as _readonly
 from ..wgbearing import BallBearing, ChainError, HertzContact, hertz_point_contact  # noqa: F401 (re-exported: the chain's bearing)

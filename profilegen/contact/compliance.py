@@ -1613,7 +1613,7 @@ class ContactCompliance:
                           tooth_layers=_whole("tooth_layers", tooth_layers, 1), tol_mm=tol,
                           race_thickness_mm=race, race_layers=race_layers,
                           race_sliding=race_interface == "sliding", substructure=bool(substructure))
-            from ..engine import checkpoint
+            from ..stagecache import checkpoint
 
             checkpoint()  # an engine's design stops here when superseded (between the FS and the CS)
             cs = _cs_flex(inputs.cs_space, gearset, cs_points, cs_normals, margin=margin,
