@@ -415,7 +415,8 @@ MUTANTS: tuple[Mutant, ...] = (
            (U + "test_catalogue_set.py", U + "test_catalogue_set_rules.py"), "ratio 30, the range's lower end, refused"),
     # ------------------------------------------------------------------ requirements (gearset/requirements.py)
     Mutant("require-safety-range-open", "profilegen/gearset/requirements.py",
-           "_SAFETY_RANGE = dict(lo=1.0, hi=10.0, lo_open=False)", "_SAFETY_RANGE = dict(lo=1.0, hi=10.0, lo_open=True)",
+           "_SAFETY_RANGE: dict[str, Any] = dict(lo=1.0, hi=10.0, lo_open=False)",
+           "_SAFETY_RANGE: dict[str, Any] = dict(lo=1.0, hi=10.0, lo_open=True)",
            (U + "test_verdict.py",), "a required safety of exactly 1 refused (the range's closed end)"),
     Mutant("require-fatigue-group", "profilegen/gearset/requirements.py",
            '"fatigue_safety": tuple(f.key for f in REQUIREMENT_FIELDS if f.key.endswith("_fatigue_safety")),',
