@@ -164,6 +164,12 @@ def flank_offset_gap_mm(points, motion, thickness_change_mm) -> np.ndarray:
     local = np.asarray(points.local_mm, dtype=float)
     ds = np.broadcast_to(np.asarray(thickness_change_mm, dtype=float), (local.shape[0],))
     move = np.column_stack([0.5 * ds * np.sign(local[:, 0]), np.zeros(local.shape[0])])
+    return _moved_gap_mm(points, motion, local, move)
+
+
+def _moved_gap_mm(points, motion, local, move) -> np.ndarray:
+    """−n_k · (the CS-frame move of each point when its tooth-frame position ``local`` moves by
+    ``move``), turned into CS space 0's frame: the change in each point's separation."""
     pose = motion.pose(np.asarray(points.phi_rad, dtype=float))
     d = pose.to_cs(local + move) - pose.to_cs(local)
     angle = 2.0 * math.pi * np.asarray(points.tooth, dtype=float) / motion.cs_teeth
@@ -179,12 +185,7 @@ def radial_offset_gap_mm(points, motion, radial_shift_mm) -> np.ndarray:
     local = np.asarray(points.local_mm, dtype=float)
     dy = np.broadcast_to(np.asarray(radial_shift_mm, dtype=float), (local.shape[0],))
     move = np.column_stack([np.zeros(local.shape[0]), dy])
-    pose = motion.pose(np.asarray(points.phi_rad, dtype=float))
-    d = pose.to_cs(local + move) - pose.to_cs(local)
-    angle = 2.0 * math.pi * np.asarray(points.tooth, dtype=float) / motion.cs_teeth
-    c, s = np.cos(angle), np.sin(angle)
-    d_turned = np.column_stack([d[:, 0] * c + d[:, 1] * s, d[:, 1] * c - d[:, 0] * s])
-    return -np.einsum("ij,ij->i", np.asarray(points.normal, dtype=float), d_turned)
+    return _moved_gap_mm(points, motion, local, move)
 
 
 def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=None, design_z_mm: float | None = None,
