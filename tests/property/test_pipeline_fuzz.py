@@ -37,9 +37,12 @@ from tests.property.gearsets import gear_sets
 #: CPU (a third to a half of the stratum) and varied sets already drawn (in one run 11 results of
 #: two sets, m 0.5 z1 260 and m 1 z1 498); in the two runs measured, alone and after the DCTA
 #: stratum, the first result came at example 3 and 5, and 30 examples reached 5 and 9 results.
-#: (Hypothesis mixes constants from the package modules already imported into its draws, so the
-#: sequence depends on what the process ran before: the check below guards the stratum's reach.)
-VALID = {"dcta": 20, "involute": 30, "points": 20}
+#: The involute stratum 30 -> 15 (2026-11-28, the suite's time): with the draws now the same in
+#: every run (_same_draws_whatever_ran_before), its examples 16 and 17 are two sets with a 0.145 mm
+#: wire in a module-0.4 space whose arc fit runs ~4400 SLP steps (and its retry) before the wire's
+#: FilletError, 13 and 5 s; the first 15 reach 2 results and 3 kinds of named error in ~6 s.
+#: (tests/benchmarks/fuzz.py keeps the volume: 2000 examples across the scenes.)
+VALID = {"dcta": 20, "involute": 15, "points": 20}
 SPOILED = 90
 WRITE_EVERY = 3  # write the files of every third result (write_design costs about what the sketch design does)
 TIME_LIMIT_S = 120.0  # per example; the slowest sketch example measured ~10 s on the busy machine
@@ -48,10 +51,27 @@ FUZZ = dict(deadline=None, derandomize=True, database=None,
             suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much, HealthCheck.data_too_large])
 
 
+def _same_draws_whatever_ran_before(monkeypatch):
+    """Hypothesis mixes constants from the source of every local module already imported into its
+    draws, so the examples of a derandomized run depended on what the xdist worker had run before
+    (alone the involute stratum took 10 s; in the suite 30-35 s, drawing other sets). Without
+    those constants the draws are the strategy's alone: the same sets in every run and order.
+    (Internal names of hypothesis 6.13x; where they are gone the draws just stay order-dependent.)"""
+    try:
+        from hypothesis.internal.conjecture import providers
+        from hypothesis.internal.constants_ast import Constants
+    except ImportError:
+        return
+    if hasattr(providers, "_get_local_constants") and hasattr(getattr(providers, "CONSTANTS_CACHE", None), "max_size"):
+        monkeypatch.setattr(providers, "_get_local_constants", Constants)
+        monkeypatch.setattr(providers, "CONSTANTS_CACHE", type(providers.CONSTANTS_CACHE)(providers.CONSTANTS_CACHE.max_size))
+
+
 @pytest.mark.parametrize("kind", sorted(VALID))
 @pytest.mark.parametrize("spoil", [pytest.param(False, id="valid", marks=pytest.mark.slow),
                                    pytest.param(True, id="spoiled")])
-def test_every_gear_set_gives_a_result_or_a_named_error(kind, spoil, tmp_path):
+def test_every_gear_set_gives_a_result_or_a_named_error(kind, spoil, tmp_path, monkeypatch):
+    _same_draws_whatever_ran_before(monkeypatch)
     n = SPOILED if spoil else VALID[kind]
     seen: dict[str, int] = {}
 
