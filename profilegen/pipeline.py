@@ -9,6 +9,7 @@ checked against.
 from __future__ import annotations
 
 import logging
+import math
 import os
 import time
 from dataclasses import dataclass, field, replace
@@ -46,6 +47,12 @@ __all__ = ["StageReport", "CSProfile", "Design", "Verdict", "design", "check_gea
 
 MIN_BRANCH_POINTS = 12  # flank points a branch needs for its own arc–line–arc fit
 FIT_MAX_ITER = 200  # SLP iterations per start of the minimax / one-sided fits
+FIT_POINTS_MAX = 5000
+"""The most flank points the arc fit takes. The traced flank has ~0.77 points per ``n_t`` (seed002:
+79 at n_t = 96, 23 111 at 30 000) and the fit's linear programs grow faster than their rows (1.4 s
+at 2 316 points, 5.0 s at 7 707, 25 s at 23 111; 980 s at 282 779, n_t = 100 000): a longer flank
+is thinned to every k-th point (its ends kept), the spacing a grid of ~6 500 would trace. No
+bundled scene comes near it; the clearance map still checks the fitted outline on its own poses."""
 
 log = logging.getLogger(__name__)
 
@@ -1185,7 +1192,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     from .arcfit import fit_profile, fit_profile_per_branch, swept_depth_function
     from .rootfillet import filleted_cs_chain
 
-    flank = form.working_flank["right"]
+    flank, thinned = _fit_points(form.working_flank["right"])
     swept = swept_depth_function(tooth, motion, cs_teeth=form.cs_teeth, phi_range=env.phi_range)
 
     # a one-sided fit touches the envelope's vertices; between them it can be inside by up to
@@ -1196,7 +1203,8 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     # ridges on the fitted part of the right flank: one composite per branch is used, and one
     # composite over the whole flank (which cannot follow the kink) is only for comparison
     lo, hi = np.hypot(*flank[0]), np.hypot(*flank[-1])
-    ridges, notes = [], []
+    ridges: list = []
+    notes = [] if thinned is None else [thinned]
     for r in env.ridges:
         if r.point[0] <= 0 or not lo < np.hypot(*r.point) < hi:
             continue
@@ -1253,6 +1261,19 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     stage_checkpoint()
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
     return CSProfile(fits, method, branches, space, outline, cmap, positions, tuple(notes), corners)
+
+
+def _fit_points(flank: np.ndarray) -> tuple[np.ndarray, str | None]:
+    """``flank`` as the arc fit takes it: at most :data:`FIT_POINTS_MAX` points (every k-th, both
+    ends kept), and a note when it was thinned (None otherwise)."""
+    n = len(flank)
+    if n <= FIT_POINTS_MAX:
+        return flank, None
+    step = math.ceil((n - 1) / (FIT_POINTS_MAX - 1))
+    keep = np.unique(np.r_[np.arange(0, n, step), n - 1])
+    return flank[keep], (f"the arc fit took every {step}th of the flank's {n} traced points ({len(keep)}, at most "
+                         f"{FIT_POINTS_MAX}: a finer n_t adds points, not accuracy, and the fit's cost grows faster "
+                         f"than its points); the clearance map checks the fitted outline on its own")
 
 
 #: the CAD fit's second try when the first does not converge (:func:`_fit_again`): more SLP
