@@ -270,10 +270,10 @@ bearing_center_mm = {_g(length, 3)}
         lines.append("# given: rated torque (profilegen new --torque-rated)")
     if peak is None:
         peak = float(f"{max(rated * PEAK_PER_RATED, rated):.3g}")
-        lines.append("# ESTIMATE: peak = rated x 167/67 (seed 001's SHF-25-80 catalogue torques), 3 digits.")
+        lines.append("# ESTIMATE: peak = rated x 167/67 (the SHF-25-80's catalogue torques, as the SHF-25 tooth-ring study quotes them), 3 digits.")
     if momentary is None:
         momentary = float(f"{max(rated * MOMENTARY_PER_RATED, peak):.3g}")
-        lines.append("# ESTIMATE: momentary = rated x 304/67 (seed 001's SHF-25-80 catalogue torques), 3 digits.")
+        lines.append("# ESTIMATE: momentary = rated x 304/67 (the SHF-25-80's catalogue torques, as the SHF-25 tooth-ring study quotes them), 3 digits.")
     text = text_for(rated, peak, momentary, "\n".join(lines))
     try:
         gearset = parse_gearset(tomllib.loads(text))

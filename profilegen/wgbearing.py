@@ -136,13 +136,13 @@ class BallBearing:
                      race_thickness_mm: float | None = None, groove_conformity: float | None = None) -> "BallBearing":
         """The bearing under the FS bore: the outer race's raceway at r_bore − t_race
         (``race_thickness_mm``: default the compliance model's :func:`default_race_thickness_mm`), ball centres D/2 inside it. Defaults, ESTIMATES:
-        23 balls (seed 000's CSF40-100), D = 0.075 × the FS pitch diameter (7.5 mm for 100 mm),
+        23 balls (the CSF-40 diaphragm study's CSF40-100), D = 0.075 × the FS pitch diameter (7.5 mm for 100 mm),
         f = 0.52 (a deep-groove ball bearing's usual conformity)."""
         g = gearset.gear
         estimates = []
         if ball_count is None:
             ball_count = DEFAULT_BALL_COUNT
-            estimates.append(f"ball_count = {ball_count} (seed 000's CSF40-100)")
+            estimates.append(f"ball_count = {ball_count} (the CSF-40 diaphragm study's CSF40-100)")
         if ball_diameter_mm is None:
             ball_diameter_mm = 0.075 * 2.0 * float(g.pitch_radius_mm)
             estimates.append(f"ball_diameter_mm = {ball_diameter_mm:.4g} (0.075 × the FS pitch diameter)")

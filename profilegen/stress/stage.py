@@ -234,8 +234,8 @@ def unsupported(gearset) -> str:
     """Why the stress models cannot take this gear set ('' if they can): they are for two
     waves (ρ_a, ρ_b on the axes of an ellipse)."""
     waves = gearset.gear.waves
-    return "" if waves == 2 else (f"gear.waves = {waves}: the tooth-ring (seed 001), cup-bottom (seed 002) and "
-                                  f"diaphragm (seed 000) models are for two waves (ρ_a, ρ_b on the axes of an "
+    return "" if waves == 2 else (f"gear.waves = {waves}: the tooth-ring (SHF-25 study), cup-bottom (short-cup "
+                                  f"study) and diaphragm (CSF-40 study) models are for two waves (ρ_a, ρ_b on the axes of an "
                                   f"ellipse): they need gear.waves = 2, got {waves}")
 
 

@@ -433,8 +433,8 @@ def _fillet_warnings(pitch: float, s_f: float, r1: float) -> list[str]:
     space = pitch - s_f
     if 2.0 * r1 > space:
         return [f"two dedendum fillets r1 = {r1:.4g} mm do not fit in the root space p − s_f = {space:.4g} mm: "
-                "if s_f is the thickness on the root circle, this fillet cannot be cut (seed 001 does not "
-                "define where s_f is measured)"]
+                "if s_f is the thickness on the root circle, this fillet cannot be cut (the SHF-25 tooth-ring study "
+                "does not define where s_f is measured)"]
     return []
 
 
