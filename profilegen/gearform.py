@@ -31,6 +31,7 @@ import shapely
 from .errors import EnvelopeError
 from .kinematics import turn
 from .results import readonly as _readonly
+from .stagecache import checkpoint
 
 if TYPE_CHECKING:  # pragma: no cover
     from .deformation import Deformation
@@ -535,6 +536,7 @@ def _nearest_pairs(tree, surface_pts: np.ndarray, cos: np.ndarray, sin: np.ndarr
     refs = np.unique(np.append(np.arange(0, m, _POSE_STRIDE), m - 1))
     pending, limit = refs, 0.05
     while pending.size:
+        checkpoint()  # an engine's design stops here when superseded (the face stage maps ~20 sections)
         dist, _ = tree.query(placed[pending].reshape(-1, 2), distance_upper_bound=limit)
         dist = dist.reshape(-1, nc)
         found = np.isfinite(dist)
@@ -596,6 +598,7 @@ def _query_within(tree, points: np.ndarray, bound: np.ndarray) -> tuple[np.ndarr
     idx = np.full(len(points), tree.n)
     e = np.frexp(bound)[1]
     for g in np.unique(e):
+        checkpoint()
         at = np.flatnonzero(e == g)
         dist[at], idx[at] = tree.query(points[at], distance_upper_bound=float(bound[at].max()))
     return dist, idx

@@ -45,6 +45,7 @@ import numpy as np
 
 from .. import checks
 from ..results import json_ready, readonly
+from ..stagecache import checkpoint
 from .clearance import ENGAGED_MM, MAP_SAMPLES, face_map
 from .modification import ToothModification, apply_modification, solve_modification
 from .sections import FaceError, FaceSection, SweptRegion, cup_deformation, ring_span, solve_section
@@ -212,8 +213,10 @@ def face_width(
 
     tooth = tooth_from_gearset(gearset)
     t0 = time.perf_counter()
-    secs = [solve_section(gearset, deformation, float(zk), tooth, chord_tol_mm=chord, n_t=n_t, n_phi=n_phi)
-            for zk in z]
+    secs = []
+    for zk in z:
+        checkpoint()  # an engine's design stops here when superseded (a section's envelope: ~0.1 s)
+        secs.append(solve_section(gearset, deformation, float(zk), tooth, chord_tol_mm=chord, n_t=n_t, n_phi=n_phi))
     envelope_s = time.perf_counter() - t0
 
     # candidates: each computed section's CS against every section's swept region

@@ -59,6 +59,7 @@ import numpy as np
 from ... import checks
 from ...errors import ConvergenceError
 from ...results import readonly
+from ...stagecache import checkpoint
 from .bearing import BearingRace
 from .fourier import CupDeformation, HarmonicBasis, harmonic_resultants, bore_load, harmonic_stiffness
 from .geometry import CupError, CupGeometry, meridional_mesh
@@ -560,6 +561,7 @@ def _solve(contact, response, solve_field, at_band, state, hb, orders, nonlinear
         mixed: list[tuple[np.ndarray, np.ndarray]] = []  # Anderson history: (x_k + Δx_k, Δx_k)
         best = math.inf
         for newton in range(1, max_iterations + 1):
+            checkpoint()  # an engine's design stops here when superseded (a Newton step: ~25 ms)
             internal = body.force(x)
             du = solve_field(lambda k, internal=internal: -internal[k])
             now_r, now_t = at_band(x)
