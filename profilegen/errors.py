@@ -6,6 +6,8 @@ either ``GearSetError`` or plain ``ValueError``.
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 __all__ = [
     "ProfilegenError",
     "GearSetError",
@@ -19,7 +21,17 @@ __all__ = [
     "OptimizeSpecError",
     "BenchmarkNotFoundError",
     "FilletError",
+    "did_you_mean",
 ]
+
+
+def did_you_mean(word: str, choices: Iterable[object]) -> str:
+    """``"; did you mean 'x'?"`` (or ``'x' or 'y'``) for the choices closest to a misspelt ``word``
+    (difflib's ratio ≥ 0.6), ``""`` when none is close: the tail of a one-line error."""
+    import difflib
+
+    close = difflib.get_close_matches(str(word)[:100], [str(c) for c in choices], n=2)
+    return f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
 
 
 class ProfilegenError(Exception):

@@ -35,7 +35,7 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from .errors import GearSetError
+from .errors import GearSetError, did_you_mean
 from .gearset import SCENE_NAMES, looks_like_path
 
 __all__ = ["RIM_TIER_NAMES", "SCENES", "SCENE_NAMES", "Scene", "SceneError", "bundled_scenes_path", "parse_scenes",
@@ -200,12 +200,13 @@ def resolve_scene(scene: str | os.PathLike | Scene, *, default: str = "design") 
         return SCENES[scene]
     text = os.fspath(scene) if isinstance(scene, (str, os.PathLike)) else None
     if text is None or not (isinstance(scene, os.PathLike) or looks_like_path(text)):
-        raise SceneError(f"scene = {scene!r}: must be one of {', '.join(SCENES)} or a scene TOML file")
+        raise SceneError(f"scene = {scene!r}: must be one of {', '.join(SCENES)} or a scene TOML file"
+                         + (did_you_mean(scene, SCENES) if isinstance(scene, str) else ""))
     text, _, wanted = text.partition("#") if "#" in text else (text, "", "")
     scenes = read_scenes(text)
     if wanted:
         if wanted not in scenes:
-            raise SceneError(f"{text}: no scene {wanted!r}; the file has {', '.join(scenes)}")
+            raise SceneError(f"{text}: no scene {wanted!r}; the file has {', '.join(scenes)}" + did_you_mean(wanted, scenes))
         return scenes[wanted]
     if len(scenes) == 1:
         return next(iter(scenes.values()))
@@ -223,7 +224,7 @@ def with_rim_tier(scene: Scene, tier: str | None) -> Scene:
     if tier is None or tier == scene.rim_tier:
         return scene
     if tier not in RIM_TIER_NAMES:
-        raise SceneError(f"rim tier = {tier!r}: must be one of {', '.join(RIM_TIER_NAMES)}")
+        raise SceneError(f"rim tier = {tier!r}: must be one of {', '.join(RIM_TIER_NAMES)}" + did_you_mean(tier, RIM_TIER_NAMES))
     return dataclasses.replace(scene, tier=tier, rim=RIM_TIER_LABELS[tier])
 
 

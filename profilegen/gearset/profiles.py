@@ -11,7 +11,7 @@ import os
 import sys
 from pathlib import Path
 
-from ..errors import GearSetError
+from ..errors import GearSetError, did_you_mean
 from .reader import _show
 
 __all__ = ["default_gearset_path", "list_profiles", "looks_like_path", "profiles_dir", "resolve_gearset"]
@@ -93,5 +93,7 @@ def resolve_gearset(name_or_path: str | os.PathLike) -> Path:
         return folder / f"{text}.toml"
     if _exists(candidate):
         return candidate
-    known = ", ".join(p.stem for p in list_profiles()) if folder is not None else "none found"
-    raise GearSetError(f"gear set {text!r}: no such profile (known profiles: {known}) and no such file")
+    names = [p.stem for p in list_profiles()] if folder is not None else []
+    known = ", ".join(names) or "none found"
+    raise GearSetError(f"gear set {text!r}: no such profile (known profiles: {known}) and no such file"
+                       + did_you_mean(text, names))
