@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 import subprocess
 import sys
 from pathlib import Path
 
 import numpy as np
+
 import pytest
 
 from profilegen.output import plot
@@ -173,6 +175,25 @@ def test_stress_figure_every_text_inside_the_figure(sketch_stress):
     assert len(labels) == len(sketch_stress.checks)
     for t, c in zip(labels, sketch_stress.checks):
         assert t.get_position()[0] == pytest.approx(c.value)
+
+
+def test_stress_figure_safety_axis_labels_do_not_run_together(sketch_stress):
+    """The safety factors' log axis is labelled with plain 1-2-5 numbers and its minor ticks not
+    at all (matplotlib labelled every minor tick of a short range: "2×10⁰3×10⁰4×10⁰" overlapped);
+    the drawn labels' boxes are disjoint."""
+    fig = plot.stress_figure(sketch_stress)
+    fig.canvas.draw()
+    sf = fig.axes[3]
+    lo, hi = sorted(sf.get_xlim())
+    drawn = [t for t in sf.get_xticklabels() if lo <= t.get_position()[0] <= hi and t.get_text()]
+    assert len(drawn) >= 2
+    for t in drawn:
+        value = float(t.get_text())
+        mantissa = value / 10 ** math.floor(math.log10(value))
+        assert round(mantissa, 9) in (1.0, 2.0, 5.0) and value == pytest.approx(t.get_position()[0])
+    assert not any(t.get_text() for t in sf.get_xticklabels(minor=True))
+    boxes = sorted((t.get_window_extent() for t in drawn), key=lambda b: b.x0)
+    assert all(a.x1 < b.x0 for a, b in zip(boxes, boxes[1:]))
 
 
 def test_stress_figure_all_checks_skipped(sketch_stress):
