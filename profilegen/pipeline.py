@@ -985,8 +985,8 @@ def _with_stress(result: Design, step, solved=None) -> Design:
     step("stress")
 
     res = solve_stress(StressInput.from_design(result)) if solved is None else solved
-    worst = res.min_safety
-    head = "" if worst is None else f"; lowest safety factor {worst.value:.2f} ({worst.name})"
+    worst = res.min_safety_check
+    head = "" if worst is None else f"; lowest safety factor {res.min_safety:.2f} ({worst.name})"
     report = StageReport(
         "stress", f"tooth ring + cup bottom + diaphragm, forces from {res.force_source}", len(res.checks), res.time_s,
         max(c.error_estimate_mpa for c in res.cup_bottom),

@@ -134,14 +134,12 @@ def _worst(values) -> float | None:
 
 
 def _min_safety(d: Any) -> float | None:
-    safety = d.stress.headline()["safety"]
-    values = [v for v in safety.values() if v is not None]
-    return min(values) if values else None
+    return d.stress.min_safety
 
 
 def _min_safety_name(d: Any) -> str | None:
-    safety = {k: v for k, v in d.stress.headline()["safety"].items() if v is not None}
-    return min(safety, key=lambda k: safety[k]) if safety else None
+    worst = d.stress.min_safety_check
+    return None if worst is None else worst.name
 
 
 def _verdict(d: Design) -> str | None:

@@ -158,8 +158,16 @@ class StressResult:
         return all(c.passed is not False for c in self.checks)
 
     @property
-    def min_safety(self) -> SafetyCheck | None:
-        ran = [(c.value / c.required, i) for i, c in enumerate(self.checks) if c.value is not None]
+    def min_safety(self) -> float | None:
+        """The lowest safety factor of the checks that ran (None: none ran); its check is
+        :attr:`min_safety_check`."""
+        worst = self.min_safety_check
+        return None if worst is None or worst.value is None else float(worst.value)
+
+    @property
+    def min_safety_check(self) -> SafetyCheck | None:
+        """The check with the lowest safety factor (the first of equals; None: none ran)."""
+        ran = [(c.value, i) for i, c in enumerate(self.checks) if c.value is not None]
         return self.checks[min(ran)[1]] if ran else None
 
     def headline(self) -> dict:

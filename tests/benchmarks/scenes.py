@@ -78,9 +78,7 @@ def _rated(design) -> tuple[float | None, float | None]:
 
 
 def _min_safety(design) -> float | None:
-    s = design.stress
-    worst = None if s is None else s.min_safety
-    return None if worst is None else float(worst.value)
+    return None if design.stress is None else design.stress.min_safety
 
 
 def scene_benchmark(gearset, *, scenes=("sketch", "design", "verify"), repeats: int = 3,

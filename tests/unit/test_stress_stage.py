@@ -32,6 +32,19 @@ def test_the_design_carries_its_stresses(sketch):
     assert all(v is not None and v > 0 for v in head["safety"].values())
 
 
+def test_min_safety_is_the_lowest_safety_factor_with_its_check_beside_it(sketch):
+    """A script reads d.stress.min_safety as a number (issue 30): the smallest value of the checks
+    that ran, min_safety_check the check it belongs to; None when no check ran."""
+    import dataclasses
+
+    res = sketch.stress
+    values = [c.value for c in res.checks if c.value is not None]
+    assert isinstance(res.min_safety, float) and res.min_safety == min(values)
+    assert res.min_safety_check.value == res.min_safety and res.min_safety_check in res.checks
+    skipped = dataclasses.replace(res, checks=tuple(dataclasses.replace(c, value=None) for c in res.checks))
+    assert skipped.min_safety is None and skipped.min_safety_check is None
+
+
 def test_tangential_forces_carry_the_zone_torque(loaded):
     """Σ over the teeth of F_t × |p| = Σ F_k r_k = T / U (the contact's equilibrium), and the
     largest tooth's F_t is at most its normal force."""
