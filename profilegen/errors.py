@@ -25,12 +25,12 @@ __all__ = [
 ]
 
 
-def did_you_mean(word: str, choices: Iterable[object]) -> str:
-    """``"; did you mean 'x'?"`` (or ``'x' or 'y'``) for the choices closest to a misspelt ``word``
-    (difflib's ratio ≥ 0.6), ``""`` when none is close: the tail of a one-line error."""
+def did_you_mean(word: object, choices: Iterable[object], n: int = 2) -> str:
+    """``"; did you mean 'x'?"`` (or ``'x' or 'y'``) for the ``n`` choices closest to a misspelt
+    ``word`` (difflib's ratio ≥ 0.6), ``""`` when none is close: the tail of a one-line error."""
     import difflib
 
-    close = difflib.get_close_matches(str(word)[:100], [str(c) for c in choices], n=2)
+    close = difflib.get_close_matches(str(word)[:100], [str(c) for c in choices], n=n)
     return f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
 
 

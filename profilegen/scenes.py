@@ -201,7 +201,7 @@ def resolve_scene(scene: str | os.PathLike | Scene, *, default: str = "design") 
     text = os.fspath(scene) if isinstance(scene, (str, os.PathLike)) else None
     if text is None or not (isinstance(scene, os.PathLike) or looks_like_path(text)):
         raise SceneError(f"scene = {scene!r}: must be one of {', '.join(SCENES)} or a scene TOML file"
-                         + (did_you_mean(scene, SCENES) if isinstance(scene, str) else ""))
+                         + did_you_mean(scene, SCENES))
     text, _, wanted = text.partition("#") if "#" in text else (text, "", "")
     scenes = read_scenes(text)
     if wanted:

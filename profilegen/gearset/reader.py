@@ -26,7 +26,7 @@ from typing import Any
 import numpy as np
 
 from ..budget import MODULE_MIN_MM  # the smallest module the arc fit resolves (1e-6 failed deep in it)
-from ..errors import GearSetError
+from ..errors import GearSetError, did_you_mean
 from ..teeth import MAX_POINTS  # most points a kind = "points" tooth may have: one limit, the tooth builder's
 from .sections import (
     CIRCULAR_SPLINE_KEYS,
@@ -294,11 +294,7 @@ class _Reader:
             if key in allowed:
                 continue
             path = f"{prefix}.{_key(key)}" if prefix else _key(key)
-            hint = difflib.get_close_matches(str(key)[:100], list(allowed), n=1)
-            line = f"{path}: unknown key{what} (allowed: {', '.join(allowed)})"
-            if hint:
-                line += f"; did you mean {hint[0]!r}?"
-            self.problem(line)
+            self.problem(f"{path}: unknown key{what} (allowed: {', '.join(allowed)})" + did_you_mean(key, allowed, n=1))
 
     def section(self, data: Mapping, name: str, *, required: bool = True) -> Mapping | None:
         if name not in data:
@@ -539,12 +535,11 @@ class _Reader:
                 continue
             owners = [k for k, keys in TOOTH_KEYS.items() if key in keys]
             belongs = f"belongs to kind {', '.join(map(_show, owners))}; " if owners else ""
-            hint = difflib.get_close_matches(str(key)[:100], list(allowed), n=1)
             line = (
                 f"tooth.{_key(key)}: unknown key for kind {_show(kind)} "
                 f"({belongs}allowed: {', '.join(allowed)})"
             )
-            self.problem(line + (f"; did you mean {hint[0]!r}?" if hint and not owners else ""))
+            self.problem(line + ("" if owners else did_you_mean(key, allowed, n=1)))
         if kind == "dcta":
             return self.read_dcta(t, m)
         if kind == "involute":
