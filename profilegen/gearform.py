@@ -705,7 +705,7 @@ def cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: in
     return space, cs_outline(space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
 
 
-def cs_space(flank, *, tip_radius_mm: float, root_radius_mm: float):
+def cs_space(flank, *, tip_radius_mm: float, root_radius_mm: float, swept=None, swept_tol_mm: float = 0.0):
     """One CS tooth space as true arcs and lines, from a fitted right flank.
 
     ``flank`` is a contour.Chain in the CS frame running up the right flank of space 0
@@ -714,7 +714,11 @@ def cs_space(flank, *, tip_radius_mm: float, root_radius_mm: float):
     left flank is the mirror image; the root is an arc of the root circle; neighbouring
     spaces are joined by arcs of the tip circle. Where the two end tangents meet on the
     space's axis before the root circle (a narrow space), one arc centred on the axis and
-    tangent to both flank ends closes the space instead, short of the root circle. Returns the
+    tangent to both flank ends closes the space instead, short of the root circle. Given
+    ``swept`` (the FS tooth family's swept-region depth, mm > 0 inside:
+    :func:`profilegen.arcfit.swept_depth_function`), where that arc would enter the swept
+    region by more than ``swept_tol_mm`` (the FS tip land's corners pass under it), each flank
+    first runs on along its end tangent by the shortest line that keeps the arc out. Returns the
     chain of one space (left tip point → right tip point); its corners are sharp
     (:mod:`profilegen.rootfillet` rounds them).
     """
@@ -743,13 +747,66 @@ def cs_space(flank, *, tip_radius_mm: float, root_radius_mm: float):
         if d[1] <= 0.0:
             raise EnvelopeError("gearform: the fitted flank turns back toward the tip circle at its end; the space "
                                 "cannot be closed — check the tooth and circular_spline.root_clearance_mm")
-        radius = end[0] / d[1]  # centre (0, c_y) on the flank end's normal
-        centre = np.array([0.0, end[1] + radius * d[0]])
+        run = 0.0 if swept is None else _closure_run(end, d, swept, swept_tol_mm)
+        if run > 0.0:
+            els.append(Line(end, end + run * d))
+            end = end + run * d
+        root = _closure_arc(end, d)
         right = Chain(tuple(els))
         left_up = right.transformed(_MIRROR)
-        a_right = _math_angle(end - centre)
-        root = Arc(centre, radius, np.pi - a_right, 2 * a_right - np.pi)  # clockwise across the top
     return Chain(tuple(left_up.elements) + (root,) + tuple(right.reversed().elements))
+
+
+def _closure_arc(end: np.ndarray, d: np.ndarray):
+    """The arc centred on the space's axis, tangent to the right flank's end (``end``, unit end
+    tangent ``d``) and to its mirror image, clockwise across the top."""
+    from .contour import Arc
+
+    radius = end[0] / d[1]  # centre (0, c_y) on the flank end's normal
+    centre = np.array([0.0, end[1] + radius * d[0]])
+    a_right = _math_angle(end - centre)
+    return Arc(centre, radius, np.pi - a_right, 2 * a_right - np.pi)
+
+
+#: points sampled on a narrow space's closing arc and its run-on line for the swept-region check
+_CLOSURE_POINTS = 64
+
+
+def _closure_run(end: np.ndarray, d: np.ndarray, swept, tol: float) -> float:
+    """The run-on s ≥ 0 along the flank's end tangent before the closing arc
+    (:func:`_closure_arc`): 0 when the arc at the flank's end stays within ``tol`` of the swept
+    region (the verdict's tolerance), else the shortest after which the arc and the run-on line
+    are out of it (depth ≤ 0, no part of the tolerance spent), by bisection to 1 nm — a longer
+    run lifts the arc's apex away from the FS tip land's corners that pass under it. 0 too when
+    no run-on up to the tangents' meeting on the axis clears it: the clearance map then reports
+    the interference."""
+    def on_arc(arc, u):
+        a = arc.start_angle + u * arc.sweep
+        return arc.centre + arc.radius * np.column_stack([np.cos(a), np.sin(a)])
+
+    def depth(s: float) -> float:  # the deepest point: the arc's samples, then 32 more about the worst
+        arc = _closure_arc(end + s * d, d)
+        u = np.linspace(0.0, 1.0, _CLOSURE_POINTS)
+        coarse = swept(on_arc(arc, u))
+        k = int(np.argmax(coarse))
+        fine = swept(on_arc(arc, np.linspace(u[max(k - 1, 0)], u[min(k + 1, len(u) - 1)], 32)))
+        deepest = max(float(np.max(coarse)), float(np.max(fine)))
+        if s > 0.0:  # and the run-on line
+            deepest = max(deepest, float(np.max(swept(end + np.outer(np.linspace(0.0, s, 16), d)))))
+        return deepest
+
+    if depth(0.0) <= tol:
+        return 0.0
+    if d[0] >= 0.0:  # the tangent does not run toward the axis: a run-on only widens the arc
+        return 0.0
+    hi = 0.999 * end[0] / -d[0]  # just short of the tangents' meeting on the axis (radius → 0)
+    if depth(hi) > 0.0:
+        return 0.0
+    lo = 0.0
+    while hi - lo > 1e-6:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if depth(mid) <= 0.0 else (mid, hi)
+    return hi
 
 
 def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):

@@ -471,7 +471,8 @@ def filleted_cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_
 
     if corners not in CORNERS:
         raise FilletError(f"circular_spline.corners = {corners!r}: must be one of {', '.join(CORNERS)}")
-    space = cs_space(flank, tip_radius_mm=tip_radius_mm, root_radius_mm=root_radius_mm)
+    space = cs_space(flank, tip_radius_mm=tip_radius_mm, root_radius_mm=root_radius_mm, swept=swept,
+                     swept_tol_mm=swept_tol_mm)
     if corners == "sharp":
         return CSChain(space, cs_outline(space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth), (), corners)
     if radius_mm is None:

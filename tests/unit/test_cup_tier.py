@@ -62,11 +62,16 @@ def default_rim():
 # --------------------------------------------------------------------------- the tier
 
 
-def test_long_cup_on_a_narrow_bearing_gives_the_2d_ring(default_data):
+def test_long_cup_on_a_narrow_bearing_gives_the_2d_ring(default_data, monkeypatch):
     """A 300 mm cup pressed over 2 mm at its mid-face by the default elliptical cam is the design
     tier's 2D flat ring (nonlinear, exact gap) at that section, within 1 % of w0. Measured:
     2.4 µm in ω, 0.7 µm in υ at 8 mm / 8 angles (4 mm / 16: 2.5, 0.7; at l = 150 mm: 3.2, 0.4).
-    The linear cup with the same exact gap is 15 µm off (the nonlinearity: DESIGN.md trap 7)."""
+    The linear cup with the same exact gap is 15 µm off (the nonlinearity). The 2D ring sits on
+    the rigid cam, so the cup does too here: the rigid band, not the outer race on its balls
+    (whose ovalisation and Hertz approach take 10.7 µm more off ω)."""
+    import profilegen.rim.cup.bearing as bearing
+
+    monkeypatch.setattr(bearing, "CUP_TIER_RACE", "rigid")
     gs = parse_gearset(_with_cup(default_data, length_mm=300.0, bearing_width_mm=2.0))
     cup = solve_rim(gs, tier=CHEAP)
     ring = solve_rim(gs, tier="design")
@@ -82,13 +87,21 @@ def test_long_cup_on_a_narrow_bearing_gives_the_2d_ring(default_data):
 
 
 def test_the_default_cup_cones_and_its_section_is_the_model(default_rim):
+    """The bore on the outer race, the race on its ball row at the bearing's mid-plane: on the
+    major axis the section over the balls sits on the cam, within 2 % of w0 (less the race's
+    ovalisation and the balls' Hertz approach: −3.2 µm on the nonlinear design mesh; +5.2 µm on
+    this coarse linear one), and the cup cones about it (ω ∝ z from the cup bottom: 50/60/70 mm
+    → 0.85/1/1.17 of the ball row's, z ratios 0.83/1.17)."""
     rim = default_rim
     g = rim.cup.geometry
     lo, hi = g.ring_span_mm
     w0 = 0.5
+    zc = g.bearing_center_mm
     assert rim.section_z_mm == g.length_mm
-    assert rim.cup.omega(0.0, lo) == pytest.approx(w0, abs=2e-3)  # the bearing's diaphragm-side edge on the cam
-    assert rim.cup.omega(0.0, hi) > 1.15 * w0  # the open end flares
+    at_balls = rim.cup.omega(0.0, zc)
+    assert at_balls == pytest.approx(w0, abs=0.02 * w0)
+    for z in (lo, hi):
+        assert rim.cup.omega(0.0, z) / at_balls == pytest.approx(z / zc, rel=0.03)  # the cone about the ball row
     phi, w, u = rim.samples
     fw, fu = rim.model.evaluate(phi, order=0)
     assert np.max(np.abs(fw[0] - w)) < 1e-6 and np.max(np.abs(fu[0] - u)) < 1e-6

@@ -27,6 +27,20 @@ def designed():
     return gs, d
 
 
+@pytest.fixture(scope="module")
+def designed_on_the_rigid_band():
+    """The default set with the bore pressed onto a rigid band (no outer race): there the face
+    stage's LP reaches a taper and crowning (with the race, the cup cones about the ball row and
+    the stage needs a radial shift, which the LP does not take)."""
+    import profilegen.rim.cup.bearing as bearing
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(bearing, "CUP_TIER_RACE", "rigid")
+        gs = pg.load_gearset("default")
+        d = pg.design(gs, scene="design", contact=False, stress=False)
+    return gs, d
+
+
 def _still(warnings):
     return [w for w in warnings if "with the tooth modification the CS still interferes" in w]
 
@@ -45,7 +59,7 @@ def test_modification_no_change_does_not_warn(designed):
     # the face stage's own computed modification, applied as given: interference-free
     gs, d = designed
     m = d.face.modification
-    mod = apply_modification(gs, d.rim.cup, d.face, m.taper_mm_per_mm, m.crowning_mm)
+    mod = apply_modification(gs, d.rim.cup, d.face, m.taper_mm_per_mm, m.crowning_mm, m.shift_mm_per_mm)
     assert mod.max_interference_mm <= d.face.interference_tol_mm
     assert not _still(mod.warnings)
 
@@ -139,10 +153,10 @@ def _failed_lp(*args, **kwargs):
     return SimpleNamespace(status=2, message="The problem is infeasible. (planted)", x=None)
 
 
-def test_lp_failure_then_the_search_finds_a_step_warns_both(designed, monkeypatch):
+def test_lp_failure_then_the_search_finds_a_step_warns_both(designed_on_the_rigid_band, monkeypatch):
     # the LP fails at once (no step): the warning quotes its message, and the regula-falsi search on
     # the exact maps (not the LP) gives the modification, said so
-    gs, d = designed
+    gs, d = designed_on_the_rigid_band
     monkeypatch.setattr(scipy.optimize, "linprog", _failed_lp)
     mod = solve_modification(gs, d.rim.cup, d.face)
     assert [w for w in mod.warnings if w.startswith("tooth modification: the LP failed")] == [
@@ -162,9 +176,10 @@ def test_lp_failure_and_no_search_step_warns_still_interfering(designed, monkeyp
     assert mod.taper_mm_per_mm == 0.0 and mod.crowning_mm == 0.0  # nothing found: the straight tooth
 
 
-def test_lp_that_solves_warns_of_nothing(designed):
-    # the default set's own face stage: the LP's steps reach an interference-free modification
-    _, d = designed
+def test_lp_that_solves_warns_of_nothing(designed_on_the_rigid_band):
+    # the default set's own face stage on the rigid band: the LP's steps reach an interference-free
+    # modification
+    _, d = designed_on_the_rigid_band
     mod = d.face.modification
     assert mod.source == "computed" and mod.iterations >= 1
     assert mod.max_interference_mm <= d.face.interference_tol_mm

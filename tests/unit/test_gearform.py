@@ -142,6 +142,49 @@ def test_cs_chain_closes_a_narrow_space_with_one_tangent_arc(form_default):
     assert end[1] < np.hypot(*top) < crossing < r_root
 
 
+def test_a_narrow_space_runs_its_flanks_on_until_the_closure_clears_the_swept_region(form_default):
+    """The closing arc of a narrow space passes over the FS tip land's corners. Where they reach
+    into it (here a disk of 20 µm radius standing for a corner's path, 3 µm into the arc's apex),
+    each flank runs on along its end tangent, G1, by the shortest line that lifts the arc out:
+    the result clears the disk, a run 1 µm shorter does not, and with the disk far below nothing
+    changes (a depth within the tolerance, or a disk far below)."""
+    from profilegen.gearform import _closure_arc, cs_space
+
+    f = form_default
+    r_root = f.root_radius_mm
+    end = np.array([0.07, r_root - 0.10])
+    t = np.array([-1.0, 1.0]) / np.sqrt(2.0)
+    flank = Chain((Line(end - 1.3 * t, end),))
+    plain = cs_space(flank, tip_radius_mm=f.tip_radius_mm, root_radius_mm=r_root)
+    arc = _closure_arc(end, t)
+    apex = arc.centre + [0.0, arc.radius]
+    centre, rho = np.array([0.0, apex[1] - 0.020 + 0.003]), 0.020  # a corner's path, 3 µm into the apex
+
+    def swept(points):  # depth > 0 inside the disk, exact
+        return rho - np.hypot(*(np.asarray(points) - centre).T)
+
+    def depth_of(space):
+        return float(np.max(swept(space.sample(1e-9))))
+
+    assert depth_of(plain) == pytest.approx(0.003, abs=1e-7)
+    fixed = cs_space(flank, tip_radius_mm=f.tip_radius_mm, root_radius_mm=r_root, swept=swept, swept_tol_mm=1e-5)
+    assert depth_of(fixed) <= 1e-7  # out, to 0.1 nm (the search samples the arc, refined at its worst point)
+    assert np.all(fixed.kinks_deg() < 1e-9)  # still G1: flank → run-on line → arc
+    np.testing.assert_allclose(fixed.start * [-1, 1], fixed.end, atol=1e-12)
+    runs = [el for el in fixed.elements if isinstance(el, Line) and el.length < 0.5]
+    assert len(runs) == 2  # one run-on line per flank
+    run = runs[0].length
+    assert 0.0 < run < end[0] / -t[0]  # short of the tangents' meeting on the axis
+    shorter = _closure_arc(end + (run - 1e-3) * t, t)
+    assert float(np.max(swept(shorter.sample(1e-9)))) > 0.0  # the shortest: 1 µm less enters the disk
+    # within the tolerance, or with the disk far below: the closure as before
+    for c in (centre - [0.0, 0.003 - 5e-6], centre - [0.0, 0.05]):
+        same = cs_space(flank, tip_radius_mm=f.tip_radius_mm, root_radius_mm=r_root,
+                        swept=lambda p, c=c: rho - np.hypot(*(np.asarray(p) - c).T), swept_tol_mm=1e-5)
+        assert len(same.elements) == len(plain.elements)
+        np.testing.assert_allclose(same.sample(1e-5), plain.sample(1e-5), atol=1e-12)
+
+
 def test_cs_chain_refuses_a_flank_past_the_axis(form_default):
     f = form_default
     flank = Chain((Line(np.array([0.2, f.tip_radius_mm + 0.01]), np.array([-0.01, f.root_radius_mm - 0.05])),))

@@ -205,18 +205,13 @@ class BearingRace:
 
 
 #: the race the rim stage's cup tier puts under the bore: ``"ring"`` (:meth:`BearingRace.from_gearset`
-#: with its defaults: tilt with the ring's stiffness, bent onto Hertz balls — the physics), ``"held"``
-#: (the tilt's upper bound), ``"free"`` (its lower bound) or ``"rigid"`` (no race: the bore pressed
-#: onto the contour over the bearing width, the model before the race). Still ``"rigid"``: with
-#: ``"ring"`` the face ends move 37–119 µm (the cup takes its own cone about the ball row); the face
-#: stage now clears every bundled set across the face (the design section at the deepest section and,
-#: where no thickness taper or crowning can, a radial shift of the FS tooth along the face), but the
-#: design section's CS then stops two sets elsewhere: on csf32_100 the wire fillet (0.145 mm) no
-#: longer fits the CS root (0.1448–0.1449 mm; ``profilegen design csf32_100`` exits with its error in
-#: the design and verify scenes), on seed001_shf25 the arc–line–arc fit cuts into the FS tooth by
-#: 0.064 µm (the verdict's tolerance 0.01 µm). docs/theory/cup.md, "The wave-generator bearing";
-#: tests/benchmarks/bearing_tilt.py runs the scenes with each.
-CUP_TIER_RACE = "rigid"
+#: with its defaults: tilt with the ring's stiffness, bent onto Hertz balls — the physics, the
+#: default), ``"held"`` (the tilt's upper bound), ``"free"`` (its lower bound) or ``"rigid"`` (no
+#: race: the bore pressed onto the contour over the bearing width — a bound, not the part: it
+#: holds the bore straight over the bearing and pushes the diaphragm end out by up to 119 µm).
+#: docs/theory/cup.md, "The wave-generator bearing"; tests/benchmarks/bearing_tilt.py runs the
+#: scenes with each.
+CUP_TIER_RACE = "ring"
 CUP_TIER_RACES = ("ring", "held", "free", "rigid")
 
 
