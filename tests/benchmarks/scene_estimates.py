@@ -558,6 +558,7 @@ def main(argv=None) -> int:
     sha, where = snapshot(args.commit)
     _SNAPSHOT.append(str(where))  # the workers import it; this process (the table) the working tree's
     if args.what != "table":
+        args.work.mkdir(parents=True, exist_ok=True)  # a new --work folder
         latest.write_text(sha + "\n", encoding="utf-8")
     args.work = args.work / sha[:7]
     args.work.mkdir(parents=True, exist_ok=True)
