@@ -784,7 +784,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
             2 * fit.order + 1, rim.fit_time_s,
             max(fit.omega_stats.max_error_mm, fit.upsilon_stats.max_error_mm),
             "max |fit − FEM sample| of ω and υ (mm)"))
-    if face_report is not None:
+    if face is not None and face_report is not None:
         stages.append(face_report)
         warnings += list(face.warnings)
     else:  # no face stage: the design section and the FS modification are not decided
@@ -835,8 +835,8 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
         "gearform", (k_tooth, k_deformation), gearform_stage, gearset, scene, on_hit=gearform_hit)
     stages.append(env_report)
     warnings += env_notes
-    if on_stage is not None and not envelope_stages:  # a cached trace: the partial design now
-        on_stage(Design(gearset, scene, tooth, deformation, motion, env, None, tuple(stages), tuple(warnings),
+    if on_stage is not None and not envelope_stages:  # a cached trace: the partial design now, with its form
+        on_stage(Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings),
                         rim=rim, face=face))
     stages.append(form_report)
     warnings += form_notes
@@ -920,7 +920,8 @@ class _EarlyStress:
     of :func:`design`), kept for the stress stage's report; a callback for each partial design."""
 
     def __init__(self, stress: bool, on_stage: Callable[[Design], None]):
-        self.stress, self.on_stage, self.solved = stress, on_stage, None
+        self.stress, self.on_stage = stress, on_stage
+        self.solved: StressResult | None = None
 
     def contact_solved(self, partial: Design) -> Design:
         """``partial``: the design with its contact (no torsional curve yet); returns it with its
@@ -949,6 +950,7 @@ def _with_face(gearset: GearSet, rim, step):
     t0 = time.perf_counter()
     f = gearset.face
     design_section = "auto" if f.design_section_z_mm is None else f.design_section_z_mm
+    modification: str | tuple[float, float]
     if f.taper_mm_per_mm is None and f.crowning_mm is None:
         modification = "auto"
     else:
@@ -1034,21 +1036,22 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, sta
         partial = stages_early.contact_solved(replace(result, contact=contact))
         t0 += time.perf_counter() - t_stress  # the contact stage's time without the stresses and the callback
     stage_checkpoint()
-    dof = int(sum(contact.compliance.dof.values()))
+    dof = 0 if contact.compliance is None else int(sum(contact.compliance.dof.values()))
     # the whole gear in torsion: both flanks (the left one built here), the compliance chain, K1–K3
     from .contact.chain import whole_gear_curve
 
     notes = list(contact.warnings)
+    torsional: TorsionalCurve | None = None
     try:
-        torsional = whole_gear_curve(result, contact)
+        curve = whole_gear_curve(result, contact)
     except ProfilegenError as exc:
-        torsional = None
         notes.append(f"torsional curve (both directions, compliance chain) failed, skipped: {exc}")
     else:
-        notes += [f"torsional curve: {w}" for w in torsional.warnings]
+        torsional = curve
+        notes += [f"torsional curve: {w}" for w in curve.warnings]
         if partial is not None:
             t_call = time.perf_counter()
-            stages_early.on_stage(replace(partial, torsional=torsional))
+            stages_early.on_stage(replace(partial, torsional=curve))
             t0 += time.perf_counter() - t_call
     whole = "" if torsional is None else (
         f"; whole gear K1/K2/K3 {torsional.k_nm_per_rad['total']['positive']['K1']:.3g}/"
@@ -1112,7 +1115,8 @@ def _whole_gear_extras(result: Design, contact, notes: list, early=None) -> tupl
         except BrokenProcessPool:  # the worker died: here after all
             ratchet = _ratcheting(inputs, cat, notes)
         finally:
-            pool.shutdown()
+            if pool is not None:
+                pool.shutdown()
     return ratchet, transmission
 
 
