@@ -44,6 +44,7 @@ import shapely
 from .errors import ConvergenceError, EnvelopeError
 from .kinematics import Motion, turn, unit_radial, unit_tangential
 from .results import readonly as _readonly
+from .stagecache import checkpoint
 
 if TYPE_CHECKING:  # pragma: no cover
     from .teeth import ToothProfile
@@ -831,6 +832,7 @@ def solve_envelope(
     traced: dict[str, list[RootCurve]] = {}
     folds: list[Fold] = []
     for c in curves:
+        checkpoint()  # an engine's design stops here when superseded (the face stage traces 5-10 sections)
         if symmetric and c.name == "left" and "right" in traced:
             continue
         traced[c.name], f = trace_meshing_roots(c, motion, phi_range=phi_range, n_t=n_t, n_phi=n_phi, chord_tol_mm=chord_tol_mm)
@@ -854,6 +856,7 @@ def solve_envelope(
             _readonly(len(r.phi) - 1 - r.coarse[::-1], int), r.coarse_sag[::-1],
         )
     t_trace = time.perf_counter() - t0
+    checkpoint()
     curves_all = roots + list(corner_paths.values())
     own = len(curves_all)
     # the neighbouring teeth's families are this one turned by ±2π/z2 (closure); their curves
@@ -923,6 +926,7 @@ def solve_envelope(
         else:
             cls = TIP_PATH if src.endswith("_tip") else CONJUGATE
         pieces.append(EnvelopePiece(src, cls, _readonly(pts), _readonly(ts), _readonly(ps), float(d)))
+    checkpoint()
     unresolved = _check_classification(pieces, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle,
                                        depth_tol_mm=depth_tol_mm, n_grid=min(swept_grid, 121))
     def tangent(piece: EnvelopePiece, end: int) -> np.ndarray:

@@ -444,7 +444,11 @@ def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion,
     d = cs[near[rows, cols]] - pose.origin[rows]
     c, s = cos[rows], sin[rows]
     q = np.stack([d[:, 0] * c - d[:, 1] * s, d[:, 0] * s + d[:, 1] * c], -1)  # (d·e_t, d·e_r)
-    exact = surface.distance(q)  # point by point: the same numbers as pose by pose
+    exact = np.empty(len(q))  # point by point: the same numbers as pose by pose
+    for k in range(0, len(q), _DISTANCE_CHUNK):
+        checkpoint()  # an engine's design stops here when superseded (2001 poses: ~0.3 s of distances)
+        exact[k:k + _DISTANCE_CHUNK] = surface.distance(q[k:k + _DISTANCE_CHUNK])
+    checkpoint()
     inside = shapely.contains_xy(poly, q[:, 0], q[:, 1])
     out = np.minimum.reduceat(np.where(inside, -exact, exact), np.concatenate([[0], np.cumsum(counts)[:-1]]))
     deep = np.nonzero(out < -deep_check_mm)[0]
@@ -452,6 +456,10 @@ def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion,
         out = out.copy()
         out[deep] = _deepest_inside(poly, surface, tree, cs, pose, deep, out[deep])
     return ClearanceMap(phis, out)
+
+
+#: candidate points measured between two checkpoints of the clearance map (~25 ms each)
+_DISTANCE_CHUNK = 16384
 
 
 def _deepest_inside(poly, surface, tree, cs: np.ndarray, pose, poses: np.ndarray, found: np.ndarray) -> np.ndarray:
@@ -467,6 +475,7 @@ def _deepest_inside(poly, surface, tree, cs: np.ndarray, pose, poses: np.ndarray
     radius = float(np.max(np.hypot(*(xy - centre).T))) * (1.0 + 1e-9) + 1e-9
     out = np.array(found, dtype=float)
     for k, i in enumerate(poses):
+        checkpoint()
         c, s = np.cos(pose.angle[i]), np.sin(pose.angle[i])
         g = np.array([centre[0] * c + centre[1] * s, centre[1] * c - centre[0] * s]) + pose.origin[i]
         idx = tree.query_ball_point(g, radius)
@@ -785,6 +794,7 @@ def _closure_run(end: np.ndarray, d: np.ndarray, swept, tol: float) -> float:
         return arc.centre + arc.radius * np.column_stack([np.cos(a), np.sin(a)])
 
     def depth(s: float) -> float:  # the deepest point: the arc's samples, then 32 more about the worst
+        checkpoint()  # an engine's design stops here when superseded (a swept-depth call)
         arc = _closure_arc(end + s * d, d)
         u = np.linspace(0.0, 1.0, _CLOSURE_POINTS)
         coarse = swept(on_arc(arc, u))

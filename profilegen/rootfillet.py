@@ -32,6 +32,7 @@ import numpy as np
 
 from .contour import Arc, Chain, Line
 from .errors import FilletError
+from .stagecache import checkpoint
 from .gearset.sections import CORNER_STYLES as CORNERS
 
 __all__ = ["Fillet", "RoundedSpace", "CSChain", "max_kink_deg", "round_space", "filleted_cs_chain", "CORNERS"]
@@ -298,6 +299,7 @@ def _round(space: Chain, radius: float, *, tip_radius_mm: float, cs_teeth: int, 
 
 def _fits(space, radius, *, tip_radius_mm, cs_teeth, swept, swept_tol_mm) -> bool:
     """Whether the inside corners take fillets of ``radius`` (room and the swept region)."""
+    checkpoint()  # an engine's design stops here when superseded (a bisection step: a swept-depth call)
     try:
         els, done = _round(space, radius, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth, inside_only=True)
     except _NoRoom:
@@ -337,6 +339,7 @@ def _largest_clear(space, radius, *, tip_radius_mm, cs_teeth, swept, swept_tol_m
     from scipy.optimize import brentq
 
     def excess(r):
+        checkpoint()
         _, done = _round(space, r, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth, inside_only=True)
         pts = [_arc_points(arc) for _, kind, arc, _, _ in done if kind == INSIDE and arc is not None]
         return float(np.max(swept(np.vstack(pts)))) - swept_tol_mm if pts else -1.0
