@@ -467,6 +467,13 @@ def _verdict(d) -> Verdict:
         if head is None:
             add(VerdictCheck("lost motion", "—", NOT_CHECKED, "lost motion", required=req.max_lost_motion_arcmin,
                              unit="arcmin", sense="<=", text=no_curve))
+        elif head["lost_motion_arcmin"] < 0.0:  # free play cannot be negative: the model's, not the gear's
+            add(VerdictCheck("lost motion", f"±{head['lost_motion_torque_nm']:.3g} N·m{across}", NOT_CHECKED,
+                             "lost motion", required=req.max_lost_motion_arcmin, unit="arcmin", sense="<=",
+                             text=f"the torsional curve gives {head['lost_motion_arcmin']:.3g} arcmin, below zero: its "
+                                  "two flanks overlap at no load (the sliced model's separations are linear in the "
+                                  "coning and the tooth modification), and it solves one flank at a time, so it "
+                                  "cannot give the free play of a preloaded mesh (a failed computation, not a value)"))
         else:
             lm = head["lost_motion_arcmin"]
             add(_judge("lost motion", f"±{head['lost_motion_torque_nm']:.3g} N·m{across}", "lost motion", lm,
@@ -1257,6 +1264,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     corners = filleted_cs_chain(chain, tip_radius_mm=form.tip_radius_mm, root_radius_mm=form.root_radius_mm,
                                 cs_teeth=form.cs_teeth, corners="sharp" if cs is None else cs.corners,
                                 radius_mm=None if cs is None else cs.corner_radius_mm, swept=swept, swept_tol_mm=tol)
+    stage_checkpoint()
     space, outline = corners.space, corners.outline
     notes += list(corners.warnings)
     n_unit = len(space.elements) + 1

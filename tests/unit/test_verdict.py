@@ -189,6 +189,28 @@ def test_ratcheting_check_uses_the_bound_over_the_momentary_torque(default_sketc
     assert n.status == NOT_CHECKED and "contact" in n.text
 
 
+def test_a_negative_lost_motion_is_not_checked_never_passed(default_sketch):
+    """Lost motion is free play: it cannot be below zero. A torsional curve that gives a negative
+    one (its flanks overlap at no load in a one-flank-at-a-time model) has failed to compute it,
+    and the check says so (NOT CHECKED, the verdict not PASS) instead of passing −0.99 ≤ 1 arcmin;
+    zero and positive values are judged against the requirement as before."""
+    req = default_sketch.gearset.requirements.max_lost_motion_arcmin
+
+    def curve(lm):
+        head = {"lost_motion_arcmin": lm, "lost_motion_torque_nm": 3.0, "k1_nm_per_rad": 1e5,
+                "model_over_catalogue": {}, "face_slices": 5}
+        return SimpleNamespace(headline=lambda: head, face=None)
+
+    seen = {}
+    for lm in (-0.99, -1e-9, 0.0, 0.5 * req, 2.0 * req):
+        d = dataclasses.replace(default_sketch, contact=SimpleNamespace(cases=()), torsional=curve(lm))
+        [c] = _by_name(d.verdict, "lost motion")
+        seen[lm] = c.status
+        if lm < 0:
+            assert "below zero" in c.text and "not a value" in c.text and not d.verdict.passed
+    assert seen == {-0.99: NOT_CHECKED, -1e-9: NOT_CHECKED, 0.0: PASS, 0.5 * req: PASS, 2.0 * req: FAIL}
+
+
 def test_ratcheting_without_a_momentary_torque_uses_the_peak(default_sketch):
     d = dataclasses.replace(default_sketch, gearset=default_sketch.gearset.with_values({"torque.momentary_nm": None}))
     d = dataclasses.replace(d, ratcheting=_ratchet(1e6))
