@@ -471,9 +471,8 @@ def _verdict(d) -> Verdict:
             add(VerdictCheck("lost motion", f"±{head['lost_motion_torque_nm']:.3g} N·m{across}", NOT_CHECKED,
                              "lost motion", required=req.max_lost_motion_arcmin, unit="arcmin", sense="<=",
                              text=f"the torsional curve gives {head['lost_motion_arcmin']:.3g} arcmin, below zero: its "
-                                  "two flanks overlap at no load (the sliced model's separations are linear in the "
-                                  "coning and the tooth modification), and it solves one flank at a time, so it "
-                                  "cannot give the free play of a preloaded mesh (a failed computation, not a value)"))
+                                  "two flanks overlap at no load, and it solves one flank at a time, so it cannot "
+                                  "give the free play of a preloaded mesh (a failed computation, not a value)"))
         else:
             lm = head["lost_motion_arcmin"]
             add(_judge("lost motion", f"±{head['lost_motion_torque_nm']:.3g} N·m{across}", "lost motion", lm,

@@ -4,7 +4,7 @@
 evenly over the face (S = S_2D/b, every axial position with the design section's gaps). The
 cup cones: its deformation ω(φ, z), υ(φ, z) grows from the diaphragm end toward the open end,
 so each axial position of a tooth stands a little differently in its CS space
-(:mod:`profilegen.contact.face_load`, :func:`~profilegen.contact.face_load.gap_shift_mm`). At
+(:func:`slice_gap_shifts`: each point's exact separation in the slice's section). At
 low torque only part of the face may carry load. This module turns one flank's 2D contact
 (its points and :class:`~profilegen.contact.compliance.ContactCompliance`) into the same
 problem on N slices, which the curve's own solvers (the continuation of
@@ -59,6 +59,7 @@ import numpy as np
 
 from .. import checks
 from ..errors import ProfilegenError
+from ..stagecache import checkpoint
 
 __all__ = [
     "FaceCurveError",
@@ -191,22 +192,31 @@ def radial_offset_gap_mm(points, motion, radial_shift_mm) -> np.ndarray:
 def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=None, design_z_mm: float | None = None,
                      modification=None, nodes: str = "midpoint") -> tuple[np.ndarray, np.ndarray]:
     """(z_i (N,) mm, Δe (N, n) mm): the slices' sections (:func:`slice_layout` with ``nodes``,
-    from the cup bottom) and each point's change of initial separation in each slice
-    (:func:`~profilegen.contact.face_load.gap_shift_mm`) for ``coning`` "cup" (the 3D cup's
-    sections, :func:`~profilegen.contact.face_load.cup_sections`; ``cup`` a CupContact /
-    CupDeformation, default :func:`~profilegen.rim.cup.contact.press_cup` of the
-    set), "semi_membrane" (the design deformation × z/z_d) or "none" (zeros).
+    from the cup bottom) and each point's change of initial separation in each slice, exact:
+    the signed distance of the point's CS point to the slice's FS tooth (the section's
+    deformation, the tooth modified for the slice) placed at the point's pose, less the same
+    distance at the design section (:func:`_signed_gaps`). Where the point touches at the design
+    section that distance is its separation (to rounding), so the slice's separation is exact
+    however far the coning and the modification move the tooth; the first-order shift
+    −n_k · Δp_k (:func:`~profilegen.contact.face_load.gap_shift_mm`, :func:`flank_offset_gap_mm`,
+    :func:`radial_offset_gap_mm`) is its limit for small moves and was 40–120 µm off for the
+    100–150 µm radial shifts and coning of a ratio-50 set, enough to make the flanks overlap
+    at no load where the face stage's exact maps find the part clear.
 
-    ``design_z_mm``: the section the CS is conjugate to (default the cup's ``length_mm``, the
-    mid-face: the design scene's 2D section; the verify scene's is its face stage's
-    ``design_section_z_mm``). The slices are centred on the face (the cup's ``length_mm``)
-    whatever it is. ``modification``: the FS tooth's thickness change along the face — a
-    (taper_mm_per_mm, crowning_mm) pair or an object with those fields (the face stage's
-    :class:`~profilegen.face.modification.ToothModification`) — applied per slice at its
-    mid-plane (:func:`profilegen.face.modification.thickness_change`,
-    :func:`flank_offset_gap_mm`); None: straight teeth."""
-    from ..face.modification import thickness_change
-    from .face_load import coning_gap_shifts
+    ``coning`` "cup" (the 3D cup's sections, :func:`~profilegen.contact.face_load.cup_sections`;
+    ``cup`` a CupContact / CupDeformation, default :func:`~profilegen.rim.cup.contact.press_cup`
+    of the set), "semi_membrane" (the design deformation × z/z_d) or "none" (the design
+    deformation in every slice). ``design_z_mm``: the section the CS is conjugate to (default
+    the cup's ``length_mm``, the mid-face: the design scene's 2D section; the verify scene's is
+    its face stage's ``design_section_z_mm``). The slices are centred on the face (the cup's
+    ``length_mm``) whatever it is. ``modification``: the FS tooth's change along the face — a
+    (taper_mm_per_mm, crowning_mm) pair or an object with those fields and
+    ``shift_mm_per_mm`` (the face stage's
+    :class:`~profilegen.face.modification.ToothModification`) — the slice's tooth is
+    :func:`profilegen.face.modification.modified_tooth` at its mid-plane; None: straight teeth."""
+    from ..face.modification import radial_shift, thickness_change
+    from ..kinematics import HarmonicDriveMotion
+    from .face_load import cup_sections, semi_membrane_sections
     from .inputs import ContactInput
 
     inputs = ContactInput.from_design(inputs, name="inputs")
@@ -220,20 +230,73 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
                                                         low_open=False, high_open=False, error=FaceCurveError)
     z = zc - 0.5 * b + slice_layout(b, n, nodes)[0]
     motion = inputs.motion
-    out = coning_gap_shifts(points, motion, gs, zd, z, coning=coning, cup=cup)
+    if coning == "cup":
+        if cup is None:
+            from ..rim.cup.contact import press_cup
+
+            cup = press_cup(gs)
+        secs = cup_sections(cup, np.r_[zd, z])
+    elif coning == "semi_membrane":
+        secs = [motion.deformation] + list(semi_membrane_sections(motion.deformation, z, zd))
+    else:
+        secs = [motion.deformation] * (n + 1)
+    ds, dy = np.zeros(n), np.zeros(n)
     if modification is not None:
         if isinstance(modification, tuple | list):
             taper, crown = (float(v) for v in modification)
+            shift = 0.0
         else:
             taper, crown = float(modification.taper_mm_per_mm), float(modification.crowning_mm)
+            shift = float(getattr(modification, "shift_mm_per_mm", 0.0))
         ds = thickness_change(z, taper_mm_per_mm=taper, crowning_mm=crown, design_z_mm=zd,
                               ring_span_mm=(zc - 0.5 * b, zc + 0.5 * b))
-        unit = flank_offset_gap_mm(points, motion, 1.0)  # linear in Δs
-        out = out + ds[:, None] * unit[None, :]
-        shift = 0.0 if isinstance(modification, tuple | list) else float(getattr(modification, "shift_mm_per_mm", 0.0))
-        if shift != 0.0:  # the face stage's radial shift of the whole tooth, Δy = shift·(z − z_d)
-            out = out + (shift * (z - zd))[:, None] * radial_offset_gap_mm(points, motion, 1.0)[None, :]
+        dy = radial_shift(z, shift_mm_per_mm=shift, design_z_mm=zd)
+
+    def placed(section):
+        return HarmonicDriveMotion(section, motion.neutral_radius_mm, motion.waves, motion.cs_teeth)
+
+    cs = _cs_outline_distance(inputs)
+    local = np.asarray(points.local_mm, dtype=float)
+    reference = _signed_gaps(points, local, placed(secs[0]), cs)
+    out = np.empty((n, points.count))
+    for i in range(n):
+        checkpoint()
+        # the same material points of the modified tooth: Δs/2 along e_t on each flank, Δy along e_r
+        moved = local + np.column_stack([0.5 * ds[i] * np.sign(local[:, 0]), np.full(len(local), dy[i])])
+        out[i] = _signed_gaps(points, moved, placed(secs[i + 1]), cs) - reference
     return z, out
+
+
+def _signed_gaps(points, tooth_local: np.ndarray, motion, cs) -> np.ndarray:
+    """Each point's FS point (tooth-frame ``tooth_local``, (n, 2) mm) placed by ``motion`` at the
+    point's pose, relative to its own CS space (the pose's frame is CS space 0's;
+    :func:`~profilegen.contact.points.contact_points` turns tooth i into space i): its signed
+    distance (mm, > 0 in the tooth space) to the CS outline ``cs`` (:func:`_cs_outline_distance`)."""
+    import shapely
+
+    distance, hollow = cs
+    p = motion.pose(np.asarray(points.phi_rad, dtype=float)).to_cs(tooth_local)  # CS space 0's frame
+
+    return np.where(shapely.contains_xy(hollow, p[:, 0], p[:, 1]), 1.0, -1.0) * distance.distance(p)
+
+
+def _cs_outline_distance(inputs):
+    """(PolylineDistance of CS spaces −1, 0, 1, the polygon of the CS's hollow) of the fitted CS
+    outline (``inputs.cs_space`` repeated, sampled to 0.1 nm)."""
+    import shapely
+
+    from ..gearform import PolylineDistance, cs_outline
+
+    g = inputs.gearset.gear
+    outline = cs_outline(inputs.cs_space, tip_radius_mm=float(inputs.cs_tip_radius_mm),
+                         cs_teeth=int(g.circular_spline_teeth))
+    n_unit = len(inputs.cs_space.elements) + 1
+    from ..contour import Chain
+
+    local = Chain(tuple(outline.elements[-n_unit:] + outline.elements[: 2 * n_unit])).sample(1e-7)
+    hollow = shapely.Polygon(outline.sample(1e-5))
+    shapely.prepare(hollow)
+    return PolylineDistance(local), hollow
 
 
 @dataclass(frozen=True, slots=True)
