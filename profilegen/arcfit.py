@@ -1024,7 +1024,12 @@ def _check_swept(chain: Chain, swept, tol: float, spacing: float, contacts: np.n
     for c in contacts:  # 41 points over ±3 data spacings around each contact
         parts.append(_nearest_on_chain(chain, c, 3.0 * spacing, 41))
     pts = np.vstack(parts)
-    depth = np.asarray(swept(pts), float)
+    from .stagecache import checkpoint
+
+    depth = np.empty(len(pts))
+    for i in range(0, len(pts), 128):  # ~0.3 ms a point: an engine's design may stop between the pieces
+        checkpoint()
+        depth[i:i + 128] = np.asarray(swept(pts[i:i + 128]), float)
     k = int(np.argmax(depth))
     out = {"swept_samples": len(pts), "swept_max_depth_mm": float(depth[k]), "swept_at_mm": pts[k].tolist(), "swept_tol_mm": tol}
     if not depth[k] <= tol:
