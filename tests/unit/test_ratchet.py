@@ -552,3 +552,26 @@ def test_running_sense_follows_the_retreat_along_the_zone(running, design):
     assert radial.sum() > 20
     np.testing.assert_array_equal(np.sign(m._sigma[radial]), -np.sign(kinematic[radial]))
     m.geometry(np.zeros(m.teeth.size))
+
+
+def test_the_climbs_polar_outline_fills_long_straight_steps():
+    """The climb tells a station's overlap from the CS space's outline in polar form, and refuses
+    an outline whose radius jumps (not single-valued). A contour's sample gives a line as its two
+    ends, so a large module's flank line (0.73 mm at size 58, ratio 50) read as a 0.73 mm jump and
+    the ratcheting estimate failed there. The outline is filled to 5 µm steps: every original
+    point kept, the new ones on the segments, no step longer than 5 µm."""
+    from profilegen.contact.climb import _dense
+
+    r = 75.0
+    pts = np.array([[-1.2604, 74.7774], [-1.1301, 75.5048], [-0.6096, 76.5095]])  # a line, then a chord
+    out = _dense(pts, 5e-3)
+    steps = np.hypot(*np.diff(out, axis=0).T)
+    assert steps.max() <= 5e-3 * (1 + 1e-12) and steps.min() > 0.0
+    assert all(np.min(np.hypot(*(out - p).T)) == 0.0 for p in pts)  # the ends are kept exactly
+    # every new point lies on its segment: zero cross product with the segment's direction
+    for a, b in zip(pts[:-1], pts[1:]):
+        on = out[(out[:, 1] >= min(a[1], b[1])) & (out[:, 1] <= max(a[1], b[1]))]
+        d = b - a
+        assert np.max(np.abs((on[:, 0] - a[0]) * d[1] - (on[:, 1] - a[1]) * d[0])) < 1e-12
+    radius = np.hypot(*out.T)
+    assert np.max(np.abs(np.diff(radius))) <= 5e-3 and radius.min() < r < radius.max()
