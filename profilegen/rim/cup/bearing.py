@@ -122,6 +122,8 @@ class BearingRace:
         if thickness_mm is None:
             thickness_mm = default_race_thickness_mm(gearset.gear)
             estimates.append(f"thickness_mm = {thickness_mm:.4g} (2.5 % of the FS pitch diameter)")
+        if g.bearing_width_mm is None or g.bearing_center_mm is None:  # CupGeometry.__post_init__ fills both
+            raise CupError("geometry: its bearing_width_mm and bearing_center_mm are not filled in")
         bearing = None
         if hertz:  # the balls of the contact model's bearing (its race thickness: the estimate)
             bearing = BallBearing.from_gearset(gearset)

@@ -29,11 +29,15 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ... import checks
 from ...errors import ProfilegenError
+
+if TYPE_CHECKING:
+    from skfem import MeshQuad
 
 __all__ = ["CupError", "CupGeometry", "CupMesh", "meridional_mesh"]
 
@@ -101,19 +105,26 @@ class CupGeometry:
                    mat.poisson_ratio, bearing_width_mm=bearing_width_mm, bearing_center_mm=bearing_center_mm,
                    ring_thickness_mm=gear.rim_thickness_mm)
 
+    def _filled(self, name: str) -> float:
+        """A field that may be given as None (ring, bearing): __post_init__ has filled it in."""
+        value = getattr(self, name)
+        if value is None:
+            raise CupError(f"{name}: not filled in (CupGeometry.__post_init__ sets it)")
+        return value
+
     @property
     def bore_radius_mm(self) -> float:
-        return self.neutral_radius_mm - 0.5 * self.ring_thickness_mm
+        return self.neutral_radius_mm - 0.5 * self._filled("ring_thickness_mm")
 
     @property
     def outer_radius_mm(self) -> float:
         """Outer radius of the tooth ring (mm)."""
-        return self.neutral_radius_mm + 0.5 * self.ring_thickness_mm
+        return self.neutral_radius_mm + 0.5 * self._filled("ring_thickness_mm")
 
     @property
     def wall_outer_radius_mm(self) -> float:
         """Outer radius of the wall between the bottom and the tooth ring, and of the bottom (mm)."""
-        if self.wall_thickness_mm >= self.ring_thickness_mm:  # one cylinder: exactly the ring's outer radius
+        if self.wall_thickness_mm >= self._filled("ring_thickness_mm"):  # one cylinder: exactly the ring's outer radius
             return self.outer_radius_mm
         return self.bore_radius_mm + self.wall_thickness_mm
 
@@ -129,8 +140,8 @@ class CupGeometry:
 
     @property
     def bearing_span_mm(self) -> tuple[float, float]:
-        return (self.bearing_center_mm - 0.5 * self.bearing_width_mm,
-                self.bearing_center_mm + 0.5 * self.bearing_width_mm)
+        center, width = self._filled("bearing_center_mm"), self._filled("bearing_width_mm")
+        return center - 0.5 * width, center + 0.5 * width
 
     def to_dict(self) -> dict:
         return {name: float(getattr(self, name)) for name in (
@@ -144,7 +155,7 @@ class CupMesh:
     breaks it was built on, and the element size along the meridian it was asked for."""
 
     geometry: CupGeometry
-    mesh: object
+    mesh: MeshQuad
     r_breaks: np.ndarray
     z_breaks: np.ndarray
     element_mm: float
@@ -169,7 +180,7 @@ def meridional_mesh(geometry: CupGeometry, *, element_mm: float = 1.0, layers: i
     bottom_layers = layers if bottom_layers is None else _whole("bottom_layers", bottom_layers, 1)
     fine = 0.5 * h if refine_mm is None else _number("refine_mm", refine_mm, "mm", 0.0)
     fine = min(fine, h)
-    decay = math.sqrt(g.neutral_radius_mm * g.ring_thickness_mm)
+    decay = math.sqrt(g.neutral_radius_mm * g._filled("ring_thickness_mm"))
     r_in, r_out, t_b = g.bore_radius_mm, g.outer_radius_mm, g.bottom_thickness_mm
     z_lo = 0.5 * t_b
     z_open = g.open_end_mm
