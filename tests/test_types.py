@@ -44,9 +44,6 @@ KNOWN_ERRORS: dict[str, int] = {
     "profilegen/face/clearance.py": 4,
     "profilegen/face/modification.py": 2,
     "profilegen/gearset/reader.py": 2,
-    "profilegen/rim/cup/contact.py": 2,
-    "profilegen/rim/cup/fourier.py": 7,
-    "profilegen/rim/cup/nonlinear.py": 6,
     "profilegen/rim/ring.py": 3,
     "profilegen/rim/toothed.py": 6,
 }

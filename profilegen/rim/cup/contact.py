@@ -53,6 +53,7 @@ import math
 import time
 from dataclasses import dataclass, field
 from functools import partial
+from typing import cast
 
 import numpy as np
 
@@ -246,7 +247,8 @@ def press_cup(
         if any(n % 2 for n in load):
             raise CupError("radial_mm: odd harmonics break the two symmetry planes the contact uses")
         phi = 0.5 * math.pi * np.arange(angles) / (angles - 1)
-        w_cam = sum(w * np.cos(n * phi) for n, w in load.items())
+        # radial_load raises on an empty mapping, so this is a sum of at least one array, never the int 0
+        w_cam = cast(np.ndarray, sum(w * np.cos(n * phi) for n, w in load.items()))
     if gap == "exact" and not callable(getattr(contour, "closest", None)):
         raise CupError(f"contour = {contour!r}: gap = 'exact' needs a contour with closest(points)")
     if harmonic_basis is None:
@@ -516,7 +518,7 @@ def press_cup(
     boss_res, bore_res = [], []
     internal = body.force(x) if nonlinear else None
     for k, n in enumerate(orders):
-        reaction = internal[k] if nonlinear else hb.stiffness(int(n)) @ x[k]
+        reaction = internal[k] if internal is not None else hb.stiffness(int(n)) @ x[k]  # None iff not nonlinear
         boss_res.append(harmonic_resultants(int(n), reaction, (iu, iw, iv), r, z, boss))
         bore_res.append(harmonic_resultants(int(n), reaction, (iu, iw, iv), r, z, band))
     elapsed = time.perf_counter() - start

@@ -38,7 +38,7 @@ import math
 import time
 from dataclasses import dataclass, field
 from functools import partial
-from typing import Mapping
+from typing import TYPE_CHECKING, Mapping
 
 import numpy as np
 
@@ -46,6 +46,10 @@ from ... import checks
 from ...errors import ConvergenceError
 from ...results import json_ready, readonly
 from .geometry import CupError, CupGeometry, CupMesh, meridional_mesh
+
+if TYPE_CHECKING:
+    from scipy.sparse import csr_matrix
+    from skfem import CellBasis
 
 __all__ = ["CupDeformation", "HarmonicBasis", "bore_load", "harmonic_forms", "harmonic_stiffness", "lame", "solve_cup"]
 
@@ -114,10 +118,10 @@ class HarmonicBasis:
     :meth:`stiffness` gives K_n."""
 
     cup_mesh: CupMesh
-    basis: object
-    k00: object
-    k01: object
-    k11: object
+    basis: CellBasis
+    k00: csr_matrix
+    k01: csr_matrix
+    k11: csr_matrix
     assembly_s: float
 
     @property
@@ -152,8 +156,8 @@ def harmonic_stiffness(cup_mesh: CupMesh, *, intorder: int = 4) -> HarmonicBasis
     g = cup_mesh.geometry
     lam, mu = lame(g.youngs_modulus_mpa, g.poisson_ratio)
     basis = Basis(MeshQuad2.from_mesh(cup_mesh.mesh), ElementQuad2(), intorder=intorder)
-    parts = harmonic_parts(basis, lam, mu)
-    return HarmonicBasis(cup_mesh, basis, *parts, time.perf_counter() - t0)
+    k00, k01, k11 = harmonic_parts(basis, lam, mu)
+    return HarmonicBasis(cup_mesh, basis, k00, k01, k11, time.perf_counter() - t0)
 
 
 # --------------------------------------------------------------------------- loads
