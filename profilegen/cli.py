@@ -350,7 +350,10 @@ def _cmd_check(args) -> int:
 
 def _cmd_new(args) -> int:
     """A gear set of catalogue proportions (profilegen.catalogue_set.new_gearset): to --out, or stdout."""
+    from typing import cast
+
     from .catalogue_set import format_derived, new_gearset
+    from .gearset import GearSet
 
     made = new_gearset(args.size, args.ratio, series=args.series, torque_rated_nm=args.torque_rated,
                        torque_peak_nm=args.torque_peak, torque_momentary_nm=args.torque_momentary)
@@ -361,8 +364,9 @@ def _cmd_new(args) -> int:
     if out.exists() and not args.force:
         raise ProfilegenError(f"--out {out}: exists (give --force to overwrite it)")
     made.write(out)
-    print(f"wrote {out}: {made.gearset.description}")
-    print(f"{out}: derived: {format_derived(made.gearset)}")
+    gearset = cast(GearSet, made.gearset)  # CatalogueSet.gearset is typed object; new_gearset sets parse_gearset's GearSet
+    print(f"wrote {out}: {gearset.description}")
+    print(f"{out}: derived: {format_derived(gearset)}")
     return 0
 
 

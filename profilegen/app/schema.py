@@ -126,7 +126,8 @@ def _docs() -> dict[tuple[str, str], str]:
         text = path.read_text(encoding="utf-8")
     except OSError:
         return {}
-    out, section = {}, ""
+    out: dict[tuple[str, str], str] = {}
+    section = ""
     for line in text.splitlines():
         head = re.match(r"#+ .*?\[([a-z_]+)\]", line)
         if head:
@@ -208,7 +209,7 @@ def apply_form(gearset: GearSet, fields, texts: Mapping[str, Any]) -> tuple[Gear
     (the reader's lines) for a bad value, naming the field."""
     by_path = {f.path: f for f in fields}
     now = current_values(gearset, fields)
-    changes = {}
+    changes: dict[str, Any] = {}
     for path, text in texts.items():
         f = by_path.get(path)
         if f is None:

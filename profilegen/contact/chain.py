@@ -804,7 +804,10 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     if face_slices is not None:  # each flank as N axial slices (contact.face_curve)
         from .face_curve import FaceSlices
 
-        sides, chain, notes = FaceSlices.of(face_slices).apply(inputs, sides, chain)
+        sides, sliced, notes = FaceSlices.of(face_slices).apply(inputs, sides, chain)
+        if not isinstance(sliced, ComplianceChain):  # apply returns type(chain)(...); typed object (no import back)
+            raise ChainError(f"face_slices: the sliced chain is a {type(sliced).__name__}, not a ComplianceChain")
+        chain = sliced
         warnings += notes
     if rot_pos == rot_neg:
         warnings.append("both flanks are loaded by the same direction of rotation: the two sides are not opposite")

@@ -54,12 +54,16 @@ import dataclasses
 import math
 from dataclasses import dataclass
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import checks
 from ..errors import ProfilegenError
 from ..stagecache import checkpoint
+
+if TYPE_CHECKING:
+    from ..wgbearing import BallBearing
 
 __all__ = [
     "FaceCurveError",
@@ -116,7 +120,7 @@ class SliceBearing:
     (:class:`~profilegen.contact.chain.BallBearing`); ``width_ratio`` (N,): b/w_i;
     ``balls``: candidate balls per slice (the stacked balls are slice-major)."""
 
-    bearing: object
+    bearing: BallBearing
     width_ratio: tuple
     balls: int
 
