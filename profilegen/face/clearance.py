@@ -101,7 +101,8 @@ def face_map(form, secs, design_index: int, *, samples: int = MAP_SAMPLES, thick
     n = len(secs)
     ds = np.zeros(n) if thickness_change_mm is None else np.asarray(thickness_change_mm, dtype=float)
     gaps = [None] * n if min_gap_mm is None else [float(g) for g in min_gap_mm]
-    rows, maps = [None] * n, [None] * n
+    rows: list[SectionClearance | None] = [None] * n  # every entry is set below
+    maps: list[np.ndarray | None] = [None] * n
     row, phi, c = section_clearance(form, secs[design_index], samples=samples,
                                     thickness_change_mm=ds[design_index], min_gap_mm=gaps[design_index])
     engaged = engaged_zone(c)

@@ -220,15 +220,15 @@ def _finish(gearset, face, secs, ds, taper, crown, source, method, iterations, p
             cache: _MapCache | None = None, shift: float = 0.0, dy: np.ndarray | None = None):
     cache = _MapCache(face) if cache is None else cache
     dy = np.zeros(len(ds)) if dy is None else np.asarray(dy, dtype=float)
-    rows, cmap = [], []
+    rows, cmap_rows = [], []
     for k, (s, d, y) in enumerate(zip(secs, ds, dy)):
         same = abs(d) < 1e-12 and abs(y) < 1e-12
         row, _, c = section_clearance(face.form, s, face.engaged, samples=face.map_samples, thickness_change_mm=float(d),
                                       cmap=cache.get(k, s, float(d), float(y)),
                                       min_gap_mm=face.table[k].min_gap_mm if same else None)
         rows.append(row)
-        cmap.append(c)
-    cmap = np.array(cmap)
+        cmap_rows.append(c)
+    cmap = np.array(cmap_rows)
     mod = ToothModification(float(taper), float(crown), source, method, ds, tuple(secs), tuple(rows), cmap,
                             iterations, predicted, time.perf_counter() - start, tuple(warnings), float(shift), dy)
     if mod.max_interference_mm > face.interference_tol_mm:

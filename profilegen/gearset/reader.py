@@ -585,7 +585,9 @@ class _Reader:
         else:
             rng = _Range(0, spec.hi * m, lo_open=spec.lo_open, hi_open=spec.hi_open,
                          note=f"upper bound {format_number(spec.hi)}·m")
-        return self.number(t, "tooth", mm_key, unit="mm", rng=rng, default=spec.default * m)
+        # spec.default None means required (sections._Length; no tooth length is)
+        return self.number(t, "tooth", mm_key, unit="mm", rng=rng,
+                           default=_REQUIRED if spec.default is None else spec.default * m)
 
     def read_dcta(self, t: Mapping, m: float | None) -> DctaTooth | None:
         v: dict[str, Any] = {}
@@ -929,8 +931,10 @@ class _Reader:
             0, 0.1, note="the spark gap per side, a few µm to some 50 µm"), default=0.02)
         v["corners"] = self.string(t, p, "corners", default="fillet", choices=CORNER_STYLES)
         # the STEP ring's outer diameter, against the root diameter estimated as 2·(FS tip reach + root clearance)
-        root = None if None in (fs_reach_mm, v["root_clearance_mm"]) else 2 * (fs_reach_mm + v["root_clearance_mm"])
-        low = 0.0 if root is None else root + 2 * CS_MIN_WALL_PER_MODULE * m
+        # fs_reach_mm is None whenever m is (no gear without a valid module): testing m changes nothing but the type
+        root = (None if m is None or fs_reach_mm is None or v["root_clearance_mm"] is None
+                else 2 * (fs_reach_mm + v["root_clearance_mm"]))
+        low = 0.0 if root is None or m is None else root + 2 * CS_MIN_WALL_PER_MODULE * m
         v["outer_diameter_mm"] = self.number(t, p, "outer_diameter_mm", unit="mm", rng=_Range(
             low, lo_open=root is None, note="" if root is None else
             f"root diameter ~{format_number(root)} mm + 2 × a wall of {format_number(CS_MIN_WALL_PER_MODULE)}·m"),
