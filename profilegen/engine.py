@@ -67,7 +67,7 @@ import sys
 import threading
 import types
 from collections import Counter, OrderedDict
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Any, Callable, cast
 
 import numpy as np
 
@@ -206,7 +206,7 @@ class _Run:
     def __init__(self, engine: "Engine", generation: int, stop: Callable[[], bool] | None = None):
         self.engine, self.generation, self.stop = engine, generation, stop
         self.ran: list[str] = []
-        self._sections: tuple[int, dict] | None = None
+        self._sections: tuple[GearSet, dict] | None = None
 
     def checkpoint(self) -> None:
         if self.engine._generation != self.generation:
@@ -236,10 +236,11 @@ class _Run:
         digests = self._section_digests(gearset)
         k = _digest("reuse", name, [(s, digests[s]) for s in sections], key, [id(o) for o in owners])
         found, entry = self.engine._get(k)
-        if found and all(a is b for a, b in zip(entry[0], owners)):
+        held = cast("tuple[tuple, Any] | None", entry)  # a "reuse" key holds (owners, value): the _put below
+        if found and held is not None and all(a is b for a, b in zip(held[0], owners)):
             with self.engine._lock:
                 self.engine.hits[name] += 1
-            return entry[1]
+            return held[1]
         value = compute()
         with self.engine._lock:
             self.engine.runs[name] += 1

@@ -294,7 +294,10 @@ class Computer:
                     self._cv.wait()
                 if self._closed:
                     return
-                job, gearset, scene, planned = self._pending
+                pending = self._pending
+                if pending is None:  # not closed, so the wait above ended on a pending job
+                    raise RuntimeError("Computer._run: woke with no job pending and not closed")
+                job, gearset, scene, planned = pending
                 self._pending = None
             self.ran.append(job)
             self._one(job, gearset, scene, planned)
@@ -356,7 +359,7 @@ class State:
         return (isinstance(other, State) and self.scene == other.scene
                 and self.gearset.to_dict(include_defaults=False) == other.gearset.to_dict(include_defaults=False))
 
-    __hash__ = None
+    __hash__ = None  # type: ignore[assignment]  # the usual way to say "unhashable" (object types it as a method)
 
 
 class Session:
@@ -369,7 +372,7 @@ class Session:
         self.computer = Computer(compute)
         self.lock = threading.RLock()
         self.fields = schema.form_fields(gearset)
-        self.pinned = None  # the Snapshot pinned for A/B
+        self.pinned: Snapshot | None = None  # the Snapshot pinned for A/B
         self.shown: Snapshot | None = None  # the last final snapshot drawn (the changes are against it)
         self.before: Snapshot | None = None  # the final one drawn before that
         self.errors: dict[str, str] = {}
