@@ -61,7 +61,7 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from functools import partial
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import scipy.sparse as sp
@@ -871,11 +871,15 @@ def solve_ring(
         return compliance.reshape(n_b, 2, n_k, 2), raw
 
     widenings: list[tuple[int, int]] = []
+    # the linear factor's raw columns, kept across widenings: lazy, a _LazyCompliance; else condense's
+    # raw columns (None before the first, and when every bore node is kept)
+    lu_columns: Any = None
 
     def _press(n_k: int):
         """The contact solve (linear, then Newton) with the compliance of the first ``n_k``
         bore nodes; raises :class:`_Widen` if the contact needs more of them."""
         nonlocal lu_columns
+        compliance: _LazyCompliance | _DenseCompliance
         if lazy:  # one record of the linear factor's columns across widenings (its rows are every bore node's)
             if lu_columns is None:
                 lu_columns = _LazyCompliance(lu, n_b, where[bore_dofs], rows_free, cols_free, free.size)
@@ -946,7 +950,6 @@ def solve_ring(
     else:
         limit = _number("condense_within_rad", condense_within_rad, "rad", 0.0)
         n_kept = min(n_b, max(2, int(np.searchsorted(th[bore], limit, side="right"))))
-    lu_columns = None  # the linear factor's raw columns, kept across widenings
     while True:
         try:
             with one_blas_thread():
