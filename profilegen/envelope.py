@@ -408,6 +408,8 @@ def trace_meshing_roots(
             log.info("envelope: %s: grid %d×%d bridged two root curves near t = %.6f mm, φ = %.6f rad; refining",
                      curve.name, n_t, n_phi, bridge.t, bridge.phi)
             n_t, n_phi = 2 * n_t - 1, 2 * n_phi - 1
+    if last is None:  # no attempt ran: max_doublings < 0
+        raise ConvergenceError(f"envelope: {curve.name} flank: max_doublings = {max_doublings}: must be >= 0")
     raise ConvergenceError(
         f"envelope: {curve.name} flank: the meshing roots near t = {last.t:.6f} mm, φ = {last.phi:.6f} rad "
         f"could not be separated on grids up to {(n_t + 1) // 2}×{(n_phi + 1) // 2}"
@@ -979,7 +981,7 @@ def _check_classification(pieces, motion, shape, *, phi_range, neighbour_angle, 
     the CS tip circle it is an error, below it only the tip circle's height is in doubt.
     """
     deep = max(10.0 * depth_tol_mm, 1e-4)
-    picks, owner, frac = [], [], []
+    picks, owners, fracs = [], [], []
     for k, p in enumerate(pieces):
         n = len(p.points)
         if n < 3:
@@ -987,11 +989,11 @@ def _check_classification(pieces, motion, shape, *, phi_range, neighbour_angle, 
         s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(p.points, axis=0).T))])
         idx = np.unique(np.linspace(1, n - 2, min(per_piece, n - 2)).round().astype(int))
         picks.append(p.points[idx])
-        owner.append(np.full(idx.size, k))
-        frac.append(s[idx] / max(s[-1], 1e-300))
+        owners.append(np.full(idx.size, k))
+        fracs.append(s[idx] / max(s[-1], 1e-300))
     if not picks:
         return []
-    pts, owner, frac = np.vstack(picks), np.concatenate(owner), np.concatenate(frac)
+    pts, owner, frac = np.vstack(picks), np.concatenate(owners), np.concatenate(fracs)
     depth, _ = swept_depth(pts, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle, n_grid=n_grid)
     found = []
     for k in np.unique(owner):
@@ -1054,7 +1056,7 @@ def _flanks(pieces: list[EnvelopePiece]) -> dict:
     chain = max(chains, key=len)
     if chain[0, 0] < chain[-1, 0]:
         chain = chain[::-1]
-    out = {"boundary": _readonly(chain)}
+    out: dict[str, np.ndarray | int] = {"boundary": _readonly(chain)}
     right = chain[chain[:, 0] >= 0]
     left = chain[chain[:, 0] <= 0][::-1]
     if len(right) >= 2:
