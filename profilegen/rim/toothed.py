@@ -57,12 +57,21 @@ import math
 import time
 from dataclasses import dataclass, replace
 from functools import partial
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .. import checks
 from .ring import RingError
 from ..results import readonly as _readonly
+
+if TYPE_CHECKING:
+    from collections.abc import Callable
+
+    from skfem import MeshQuad2
+
+    #: a piece of a pitch's surface: (name, length mm, curve u ↦ (ψ, r) on u ∈ [0, 1])
+    _Piece = tuple[str, float, Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]]
 
 __all__ = ["InvertedElementError", "RingSectorMesh", "ToothedMeshError", "ToothedRimMesh", "fs_pitch_pieces", "pitch_surface",
            "ring_sector_mesh", "toothed_half_ring_mesh", "toothed_half_ring_race_mesh",
@@ -89,6 +98,10 @@ class _MappedMesh:
     their elements, nodes and degrees of freedom (2 per node, a 2D vector field)."""
 
     __slots__ = ()
+    # the subclasses' fields (annotations only: no class attributes, no slots here)
+    mesh: MeshQuad2
+    th: np.ndarray
+    r: np.ndarray
 
     def __iter__(self):
         return iter((self.mesh, self.th, self.r))
@@ -120,7 +133,7 @@ class ToothedRimMesh(_MappedMesh):
     ``jacobian_ratio``: the smallest per-element min/max det J (1 for a parallelogram).
     """
 
-    mesh: object
+    mesh: MeshQuad2
     th: np.ndarray
     r: np.ndarray
     bore_nodes: np.ndarray
@@ -410,7 +423,7 @@ class RingSectorMesh(_MappedMesh):
     ``toothed``: which pitches carry teeth (the others are a flat ring up to ``flat_radius_mm``).
     """
 
-    mesh: object
+    mesh: MeshQuad2
     s: np.ndarray
     j: np.ndarray
     th: np.ndarray
@@ -470,7 +483,7 @@ def least_per_pitch(tooth) -> int:
     return 2 * n_half
 
 
-def pitch_surface(pieces: list[tuple[str, float, object]], columns: int, minimum: list[int] | None = None):
+def pitch_surface(pieces: list[_Piece], columns: int, minimum: list[int] | None = None):
     """The surface of one pitch as a function of the column coordinate.
 
     ``pieces``: (name, length mm, curve) in order along the pitch, ``curve(u)`` (u ∈ [0, 1])
@@ -502,7 +515,7 @@ def pitch_surface(pieces: list[tuple[str, float, object]], columns: int, minimum
     return top, tuple(counts)
 
 
-def fs_pitch_pieces(tooth) -> list[tuple[str, float, object]]:
+def fs_pitch_pieces(tooth) -> list[_Piece]:
     """The surface of one FS pitch, mid-space → tooth → mid-space, as pieces for
     :func:`pitch_surface` (polar about the flexspline centre, relative to the tooth axis):
     root land, radial root step, flank segments root → tip, top land, and the mirror image."""
