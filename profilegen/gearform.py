@@ -40,7 +40,7 @@ if TYPE_CHECKING:  # pragma: no cover
     from .teeth import ToothProfile
 
 __all__ = ["CircularSplineForm", "ClearanceMap", "PolylineDistance", "circular_spline_form", "clearance_map", "cs_chain",
-           "cs_outline", "cs_space"]
+           "cs_local_chain", "cs_outline", "cs_space"]
 
 
 
@@ -777,7 +777,7 @@ def _closure_arc(end: np.ndarray, d: np.ndarray):
     return Arc(centre, radius, np.pi - a_right, 2 * a_right - np.pi)
 
 
-#: points sampled on a narrow space's closing arc and its run-on line for the swept-region check
+#: points sampled on a narrow space's closing arc for the swept-region check
 _CLOSURE_POINTS = 64
 
 
@@ -817,6 +817,15 @@ def _closure_run(end: np.ndarray, d: np.ndarray, swept, tol: float) -> float:
         mid = 0.5 * (lo + hi)
         lo, hi = (lo, mid) if depth(mid) <= 0.0 else (mid, hi)
     return hi
+
+
+def cs_local_chain(space, outline):
+    """The chain of spaces −1, 0 and 1 (with their tip lands) of a closed CS ``outline`` made by
+    :func:`cs_outline` from ``space``: what a check around space 0 measures against."""
+    from .contour import Chain
+
+    n_unit = len(space.elements) + 1  # a space and the tip-land arc after it
+    return Chain(tuple(outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]))
 
 
 def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):

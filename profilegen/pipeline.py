@@ -20,7 +20,7 @@ import numpy as np
 from .blas import one_blas_thread
 from .envelope import Envelope, envelope_of
 from .errors import ConvergenceError, GearSetError, ProfilegenError
-from .gearform import RETRACE_FACTOR, RETRACES, CircularSplineForm, circular_spline_form, clearance_map
+from .gearform import RETRACE_FACTOR, RETRACES, CircularSplineForm, circular_spline_form, clearance_map, cs_local_chain
 from .gearset import FIT_METHODS, GearSet
 from .contour import Chain, Line
 from .kinematics import HarmonicDriveMotion
@@ -1266,9 +1266,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     stage_checkpoint()
     space, outline = corners.space, corners.outline
     notes += list(corners.warnings)
-    n_unit = len(space.elements) + 1
-    local = outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]
-    cs_points = Chain(tuple(local)).sample(1e-7)
+    cs_points = cs_local_chain(space, outline).sample(1e-7)
     stage_checkpoint()
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
     return CSProfile(fits, method, branches, space, outline, cmap, positions, tuple(notes), corners)

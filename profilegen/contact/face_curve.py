@@ -281,7 +281,6 @@ def _signed_gaps(points, tooth_local: np.ndarray, motion, cs) -> np.ndarray:
 
     distance, hollow = cs
     p = motion.pose(np.asarray(points.phi_rad, dtype=float)).to_cs(tooth_local)  # CS space 0's frame
-
     return np.where(shapely.contains_xy(hollow, p[:, 0], p[:, 1]), 1.0, -1.0) * distance.distance(p)
 
 
@@ -290,15 +289,11 @@ def _cs_outline_distance(inputs):
     outline (``inputs.cs_space`` repeated, sampled to 0.1 nm)."""
     import shapely
 
-    from ..gearform import PolylineDistance, cs_outline
+    from ..gearform import PolylineDistance, cs_local_chain, cs_outline
 
-    g = inputs.gearset.gear
     outline = cs_outline(inputs.cs_space, tip_radius_mm=float(inputs.cs_tip_radius_mm),
-                         cs_teeth=int(g.circular_spline_teeth))
-    n_unit = len(inputs.cs_space.elements) + 1
-    from ..contour import Chain
-
-    local = Chain(tuple(outline.elements[-n_unit:] + outline.elements[: 2 * n_unit])).sample(1e-7)
+                         cs_teeth=int(inputs.gearset.gear.circular_spline_teeth))
+    local = cs_local_chain(inputs.cs_space, outline).sample(1e-7)
     hollow = shapely.Polygon(outline.sample(1e-5))
     shapely.prepare(hollow)
     return PolylineDistance(local), hollow
