@@ -124,7 +124,7 @@ from ..stagecache import checkpoint
 from ..errors import ConvergenceError
 from ..results import json_ready, readonly as _readonly
 from ..wgbearing import BallBearing, ChainError, HertzContact, hertz_point_contact  # noqa: F401 (re-exported: the chain's bearing)
-from .reduced import ReducedZone, zone_solution, SpringIteration  # noqa: F401 (the continuation's pieces, used here)
+from .reduced import ReducedZone, zone_solution, SpringIteration, ball_totals  # noqa: F401 (the continuation's pieces, used here)
 
 __all__ = [
     "ARCMIN_PER_RAD",
@@ -656,7 +656,7 @@ def _solve_side_unilateral(points, compliance, magnitude_nm: float, bearing: Bal
     if start_springs is not None:
         sol, react = lcp(np.exp(it.x))
     for _ in range(spring_iterations):
-        if it.step(react):
+        if it.step(ball_totals(react, compliance.ball_body)):
             break
         sol, react = lcp(np.exp(it.x))
     else:
@@ -696,7 +696,7 @@ def _solve_side_window(points, compliance, magnitude_nm: float, bearing: BallBea
         comp, sol = settled_solve(comp.with_balls(comp.ball_active, ball_compliance_mm_per_n=start_springs))
     iterations = 0
     for _ in range(spring_iterations):
-        if it.step(comp.ball_reactions(sol.force_n)):
+        if it.step(ball_totals(comp.ball_reactions(sol.force_n), comp.ball_body)):
             break
         comp, sol = settled_solve(comp.with_balls(comp.ball_active, ball_compliance_mm_per_n=it.springs))
         iterations += 1
@@ -1026,4 +1026,4 @@ def _scene_face_slices(design, options: dict):
                       "the face stage runs on the cup3d tier): one section, the load even across the face")
     from .face_curve import FaceSlices
 
-    return FaceSlices(n, "cup", cup, float(face.design_section_z_mm), face.modification, nodes="ends"), None
+    return FaceSlices(n, "cup", cup, float(face.design_section_z_mm), face.modification, nodes="graded"), None

@@ -160,11 +160,11 @@ from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 from ..wgbearing import DEFAULT_BALL_COUNT, default_race_thickness_mm  # noqa: F401 (re-exported)
 from .inputs import ContactInput
+from .reduced import ball_totals, spring_block
 from .solvers import lemke_lcp
 
 __all__ = ["ComplianceError", "ComplianceMesh", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache",
-           "default_race_thickness_mm",
-           "no_load_ball_gap_mm", "settle_step"]
+           "default_race_thickness_mm", "no_load_ball_gap_mm", "settle_step"]
 
 log = logging.getLogger(__name__)
 
@@ -1283,14 +1283,14 @@ def _cs_flex_substructured(gearset, points, normals, pitch, lo, n_p, top, per_pi
     return _BodyFlex(flex, dof, band, info, time.perf_counter() - start, dist)
 
 
-def _support_flex(flex_bb, act, ball_compliance, face_width_mm) -> np.ndarray:
+def _support_flex(flex_bb, act, ball_compliance, face_width_mm, ball_body=None) -> np.ndarray:
     """The active balls' block of the rim's 2D flexibility (mm per N/mm), each ball's spring
-    compliance c (mm/N) added to its diagonal as c·b: a ball load R = λ·b compresses the
+    compliance c (mm/N) added as c·b (:func:`spring_block`): a ball load R = λ·b compresses the
     spring by c·R, so the bore there moves by −c·b·λ."""
     block = flex_bb[np.ix_(act, act)]
     if ball_compliance is None:
         return block
-    return block + np.diag(np.asarray(ball_compliance, dtype=float)[act] * face_width_mm)
+    return block + spring_block(ball_compliance, act, ball_body) * face_width_mm
 
 
 def _race_thickness(value, gear) -> float:
@@ -1456,6 +1456,10 @@ class ContactCompliance:
     ball_supports: str = "window"
     #: each candidate ball's no-load radial gap to the bore (mm, ≥ 0; 0 within the wrap); None: all 0
     ball_gap_mm: np.ndarray | None = None
+    #: which ball each candidate is (int per candidate): candidates with one number are shares of
+    #: one ball (the axial slices' copies, :func:`profilegen.contact.face_curve.stack_slices`),
+    #: whose spring carries their summed reaction; None: every candidate its own ball
+    ball_body: np.ndarray | None = None
 
     def __post_init__(self):
         for name in ("matrix_mm_per_n", "fs_matrix_mm_per_n", "cs_matrix_mm_per_n", "ball_angle_rad", "_flex_cc",
@@ -1465,6 +1469,8 @@ class ContactCompliance:
             object.__setattr__(self, "ball_compliance_mm_per_n", _readonly(self.ball_compliance_mm_per_n))
         if self.ball_gap_mm is not None:
             object.__setattr__(self, "ball_gap_mm", _readonly(self.ball_gap_mm))
+        if self.ball_body is not None:
+            object.__setattr__(self, "ball_body", _readonly(self.ball_body, dtype=np.int64))
         object.__setattr__(self, "tooth", _readonly(self.tooth, dtype=np.int64))
         object.__setattr__(self, "ball_active", _readonly(self.ball_active, dtype=bool))
 
@@ -1640,13 +1646,13 @@ class ContactCompliance:
     @classmethod
     def _assemble(cls, *, flex_cc, flex_cb, flex_bb, cs_flex, face_width_mm, tooth, ball_angle_rad, ball_active,
                   wrap_half_angle_rad, wrap_source, dof, time_s, mesh, warnings, start=None, ball_compliance=None,
-                  ball_supports="window", ball_gap=None):
+                  ball_supports="window", ball_gap=None, ball_body=None):
         act = np.flatnonzero(ball_active)
         fs2d = flex_cc.copy()
         if act.size:
             from scipy.linalg import cho_factor, cho_solve
 
-            fa = cho_factor(_support_flex(flex_bb, act, ball_compliance, face_width_mm))
+            fa = cho_factor(_support_flex(flex_bb, act, ball_compliance, face_width_mm, ball_body))
             fs2d = fs2d - flex_cb[:, act] @ cho_solve(fa, flex_cb[:, act].T)
         fs_s = 0.5 * (fs2d + fs2d.T) / face_width_mm
         cs_s = cs_flex / face_width_mm
@@ -1661,7 +1667,7 @@ class ContactCompliance:
             times["total"] = time.perf_counter() - start
         return cls(total, fs_s, cs_s, face_width_mm, tooth, ball_angle_rad, ball_active, wrap_half_angle_rad,
                    wrap_source, dict(dof), times, mesh, flex_cc, flex_cb, flex_bb, tuple(warnings), ball_compliance,
-                   ball_supports, ball_gap)
+                   ball_supports, ball_gap, ball_body)
 
     # --- balls ------------------------------------------------------------------------
     @property
@@ -1683,7 +1689,7 @@ class ContactCompliance:
         out = np.zeros(self.ball_angle_rad.size)
         act = np.flatnonzero(self.ball_active)
         if act.size:
-            flex = _support_flex(self._flex_bb, act, self.ball_compliance_mm_per_n, self.face_width_mm)
+            flex = _support_flex(self._flex_bb, act, self.ball_compliance_mm_per_n, self.face_width_mm, self.ball_body)
             out[act] = -np.linalg.solve(flex, self._flex_cb[:, act].T @ f)
         return out
 
@@ -1722,7 +1728,8 @@ class ContactCompliance:
             cs_flex=self.cs_matrix_mm_per_n * self.face_width_mm, face_width_mm=self.face_width_mm, tooth=self.tooth,
             ball_angle_rad=self.ball_angle_rad, ball_active=act, wrap_half_angle_rad=self.wrap_half_angle_rad,
             wrap_source=self.wrap_source, dof=self.dof, time_s=self.time_s, mesh=self.mesh, warnings=self.warnings,
-            ball_compliance=springs, ball_supports=self.ball_supports, ball_gap=self.ball_gap_mm)
+            ball_compliance=springs, ball_supports=self.ball_supports, ball_gap=self.ball_gap_mm,
+            ball_body=self.ball_body)
 
     def settle_balls(self, forces_n, *, max_iterations: int = 20, solve=None) -> "ContactCompliance":
         """Seed 000 steps 4–6 for the balls: drop the balls that pull, take back the dropped
@@ -1790,10 +1797,10 @@ class ContactCompliance:
         tol = _positive("spring_tol", spring_tol, "")
         cap = _whole("max_iterations", max_iterations, 1)
         sol, reaction, gap = self._solve_unilateral(theta_rad, lever_mm, torque_nmm, None)
-        springs = np.asarray(bearing.secant_compliance_mm_per_n(reaction), dtype=float)
+        springs = np.asarray(bearing.secant_compliance_mm_per_n(ball_totals(reaction, self.ball_body)), dtype=float)
         for it in range(1, cap + 1):
             sol, reaction, gap = self._solve_unilateral(theta_rad, lever_mm, torque_nmm, springs)
-            new = np.asarray(bearing.secant_compliance_mm_per_n(reaction), dtype=float)
+            new = np.asarray(bearing.secant_compliance_mm_per_n(ball_totals(reaction, self.ball_body)), dtype=float)
             change = float(np.max(np.abs(np.log(new / springs))))
             if change <= tol:
                 diagnostics = {**sol.diagnostics, "spring_iterations": it, "ball_compliance_mm_per_n": springs.tolist()}
@@ -1818,7 +1825,8 @@ class ContactCompliance:
         n, nb = theta.size, self.ball_angle_rad.size
         c_bb = self._flex_bb / b
         if springs is not None:
-            c_bb = c_bb + np.diag(np.broadcast_to(np.asarray(springs, dtype=float), (nb,)))
+            c_bb = c_bb + spring_block(np.broadcast_to(np.asarray(springs, dtype=float), (nb,)), np.arange(nb),
+                                       self.ball_body)
         full = np.block([[s_cc, self._flex_cb / b], [self._flex_cb.T / b, 0.5 * (c_bb + c_bb.T)]])
         gap_b = np.zeros(nb) if self.ball_gap_mm is None else np.asarray(self.ball_gap_mm, dtype=float)
         # scales: force X = T / r̄, compliance c0 = mean S_kk, length L = c0 X, rotation ψ = (φ − θ_min) r̄ / L

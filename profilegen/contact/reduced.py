@@ -13,6 +13,30 @@ import time
 
 import numpy as np
 
+__all__ = ["ReducedZone", "SpringIteration", "ball_totals", "spring_block", "zone_solution"]
+
+
+def spring_block(ball_compliance, act, ball_body=None) -> np.ndarray:
+    """The active candidates' spring compliances (mm/N, |act| × |act|): each ball's c on the
+    diagonal and, where candidates are shares of one ball (``ball_body``, the axial slices of
+    :mod:`profilegen.contact.face_curve`), c between them too — one ball approaches by c·ΣR
+    under the reactions R of all its shares."""
+    c = np.asarray(ball_compliance, dtype=float)[act]
+    if ball_body is None:
+        return np.diag(c)
+    body = np.asarray(ball_body)[act]
+    return np.where(body[:, None] == body[None, :], 0.5 * (c[:, None] + c[None, :]), 0.0)
+
+
+def ball_totals(reactions_n, ball_body=None) -> np.ndarray:
+    """Each candidate's ball load (N): its own reaction, or with ``ball_body`` the sum over the
+    shares of its ball (the load its Hertz contacts carry)."""
+    r = np.asarray(reactions_n, dtype=float)
+    if ball_body is None:
+        return r
+    body = np.asarray(ball_body)
+    return np.bincount(body, weights=r)[body]
+
 
 class SpringIteration:
     """The Hertz ball springs' secant fixed point, in log c: c = c_H R(c)^(−1/3) per ball.
@@ -90,6 +114,7 @@ class ReducedZone:
         nb = self.bb.shape[0]
         gap = getattr(compliance, "ball_gap_mm", None)
         self.gap = np.zeros(nb) if gap is None else np.asarray(gap, dtype=float)
+        self.body = getattr(compliance, "ball_body", None)  # shares of one ball (axial slices), or None
         self.base_diag = np.diag(self.cs) + np.diag(self.cc) / self.b
         self.c_hertz = None if bearing is None else bearing.hertz_coefficient()
 
@@ -104,7 +129,7 @@ class ReducedZone:
             return act, np.zeros((0, self.r.size)), self.theta, np.zeros(0)
         block = self.bb[np.ix_(act, act)]
         if springs is not None:
-            block = block + np.diag(springs[act] * self.b)
+            block = block + spring_block(springs, act, self.body) * self.b
         factor = cho_factor(block)
         w = cho_solve(factor, self.cb[:, act].T)
         gap = self.gap[act]
@@ -201,8 +226,8 @@ class ReducedZone:
                 react[act] = react_gap - w @ force
             # the balls' gaps after load (an active ball's: its spring's compression, ~0)
             ball_gap = self.gap + self.cb.T @ (force / self.b) + self.bb[:, act] @ (react[act] / self.b)
-            if c is not None:
-                ball_gap += c * react
+            if c is not None:  # each spring compressed by its ball's load (the sum over a ball's shares)
+                ball_gap += c * ball_totals(react, self.body)
             active_new, change = settle_step(active, react, ball_gap)
             if change == "leave":
                 active = active_new
@@ -214,7 +239,7 @@ class ReducedZone:
                 seen.add(key)
                 active = active_new
                 continue
-            if springs is None or springs.step(react):
+            if springs is None or springs.step(ball_totals(react, self.body)):
                 break
         else:
             return None

@@ -453,7 +453,7 @@ def test_the_scene_asks_for_face_slices_only_where_there_is_a_face_stage():
     spec, note = _scene_face_slices(with_face, {})
     assert note is None
     assert (spec.slices, spec.nodes, spec.coning, spec.cup, spec.design_z_mm, spec.modification) == \
-        (5, "ends", "cup", "CUP", 70.0, mod)
+        (5, "graded", "cup", "CUP", 70.0, mod)
     assert spec.coupling_length_mm == 0.0  # independent slices: the soft bound
     assert _scene_face_slices(with_face, {"face_slices": 3}) == (None, None)
     flat = SimpleNamespace(scene=SimpleNamespace(face_slices=5), rim=SimpleNamespace(tier="toothed", cup=None),

@@ -18,7 +18,7 @@ import profilegen as pg
 from profilegen.contact.chain import compliance_chain, torsional_curve
 from profilegen.contact.compliance import ContactCompliance
 from profilegen.contact.face_curve import (
-    FaceCurveError, FaceSlices, SliceBearing, flank_offset_gap_mm, ring_twist_kernel, slice_chain,
+    FaceCurveError, FaceSlices, flank_offset_gap_mm, ring_twist_kernel, slice_chain,
     slice_coupling_matrix, slice_gap_shifts, slice_layout, stack_slices)
 from profilegen.contact.face_load import slice_coupling
 from profilegen.contact.inputs import ContactInput
@@ -135,15 +135,49 @@ def test_coupling_matrix_against_face_load_and_an_even_load():
         slice_coupling_matrix(zeta, w, -1.0)
 
 
-def test_slice_bearing_is_the_ball_shared_evenly():
-    gs = pg.load_gearset(pg.default_gearset_path())
-    from profilegen.contact.chain import BallBearing
+class _Hertz:
+    """A bearing of Hertz coefficient c_H (mm/N^(2/3)): δ = c_H Q^(2/3) at one ball."""
 
-    ball = BallBearing.from_gearset(gs)
-    sb = SliceBearing(ball, (4.0, 4.0), 11)
-    # a quarter of the load on a quarter of the ball: the same approach as the whole ball's
-    q = 800.0
-    assert sb.hertz_coefficient() * (q / 4) ** (2 / 3) == pytest.approx(ball.approach_mm(q), rel=1e-12)
+    def __init__(self, c_hertz):
+        self.c = c_hertz
+
+    def hertz_coefficient(self):
+        return self.c
+
+
+def test_a_ball_is_one_body_across_the_slices():
+    # one tooth point on a rim that presses into one ball: flexibility per unit width
+    # [[a, m], [m, k]] (tooth, ball seat), the ball closed at zero gap, a Hertz bearing c_H
+    a, m, k, b, r, e, zones, c_h = 2e-5, -1e-5, 1e-5, 10.0, 45.0, 1e-3, 2, 1e-5
+    flex = np.array([[a / b]])
+    pts = _one_point(a / b, r, e, zones, b)[0]
+    comp = ContactCompliance(
+        matrix_mm_per_n=flex, fs_matrix_mm_per_n=flex, cs_matrix_mm_per_n=np.zeros((1, 1)), face_width_mm=b,
+        tooth=np.array([0]), ball_angle_rad=np.array([0.0]), ball_active=np.array([True]), wrap_half_angle_rad=0.5,
+        wrap_source="test", dof={}, time_s={}, mesh={}, _flex_cc=np.array([[a]]), _flex_cb=np.array([[m]]),
+        _flex_bb=np.array([[k]]), ball_supports="all", ball_gap_mm=np.array([0.0]))
+    torque = 9.0  # N·m: tz = 4.5e3 N·mm, F = 100 N
+    f0 = torque * 1e3 / zones / r
+    # slice 1 held off by its gap: slice 0 (width b/2, flexibility ×2) carries F and meets the whole
+    # ball, 2 m F/b + 2 k R/b + c_H R^(2/3) = 0 — not a half ball under 2R (c_H (2R)^(2/3))
+    from scipy.optimize import brentq
+
+    def reaction(share):
+        return brentq(lambda q: 2 * m * f0 / b + 2 * k * q / b + c_h * (share * q) ** (2 / 3), 1e-9, 1e4, xtol=1e-14)
+
+    whole, halved = reaction(1.0), reaction(2.0)
+    assert halved < 0.95 * whole  # the two laws differ here
+    out = _solve(*stack_slices(pts, comp, [[0.0], [0.05]]), torque, _Hertz(c_h))
+    np.testing.assert_allclose(out["force"], [f0, 0.0], rtol=1e-12)
+    np.testing.assert_allclose(out["reactions"], [whole, 0.0], rtol=1e-9)
+    assert out["phi"] == pytest.approx(e / r + (2 * a * f0 + 2 * m * whole) / (b * r), rel=1e-9)
+    # the idle slice's share: the ball has moved away from it by its approach under the whole load
+    assert out["ball_gap"][1] == pytest.approx(c_h * whole ** (2 / 3), rel=1e-9)
+    # equal slices, no offset: each half carries half and the ball the whole — the 2D section
+    one = _solve(*stack_slices(pts, comp, [[0.0]]), torque, _Hertz(c_h))
+    two = _solve(*stack_slices(pts, comp, [[0.0], [0.0]]), torque, _Hertz(c_h))
+    assert two["phi"] == pytest.approx(one["phi"], rel=1e-9)
+    np.testing.assert_allclose(two["reactions"], 0.5 * one["reactions"][0], rtol=1e-9)
 
 
 # --------------------------------------------------------------------------- on a design
@@ -163,7 +197,7 @@ def curve_2d(design):
 def test_identical_slices_are_the_2d_curve(design, curve_2d):
     chain = compliance_chain(design.gearset)
     b_face = float(design.gearset.cup.face_width_mm)
-    _, c_ring = slice_chain(chain, [b_face], b_face, balls=1)
+    _, c_ring = slice_chain(chain, [b_face], b_face)
     ring = float(design.gearset.cup.face_width_mm) / 3.0 * c_ring * 1e3  # rad per N·m: the curve's b/3 of ring
     for spec, ring_in_mesh in ((FaceSlices(3, "none", ring_twist=False), 0.0), (FaceSlices(1, "none"), ring),
                                (FaceSlices(3, "none", ring_twist=False, nodes="ends", coupling_length_mm=4.0), 0.0)):
@@ -238,13 +272,14 @@ def test_equilibrium_and_complementarity_in_every_slice(design, curve_2d, coned)
         g = r * ((pts2.gap_mm + de[i]) / r - phi + twist) + cc @ force[i] / b \
             + ns * comp2.cs_matrix_mm_per_n @ force[i] + comp2._flex_cb @ react[i] / b
         act = react[i] > 0.0
-        h = gap_b + comp2._flex_cb.T @ force[i] / b + comp2._flex_bb @ react[i] / b + np.where(act, springs[i], 0) * react[i]
+        # every slice's copy of a ball is a share of that ball: its spring carries the shares' sum
+        h = gap_b + comp2._flex_cb.T @ force[i] / b + comp2._flex_bb @ react[i] / b + springs[i] * react.sum(axis=0)
         scale = float(np.abs(g).max())
         assert np.all(force[i] >= 0.0) and np.all(react[i] >= 0.0)
         assert g.min() >= -1e-9 * scale and np.abs(force[i] * g).max() <= 1e-9 * scale * force.max()
         assert h.min() >= -1e-9 * scale and np.abs(react[i] * h).max() <= 1e-9 * scale * react.max()
-        # each loaded ball's spring is the Hertz secant at its reaction on its share of the ball
-        q = react[i][act]
+        # each loaded ball's spring is the Hertz secant of the whole ball at its shares' summed reaction
+        q = react.sum(axis=0)[act]
         np.testing.assert_allclose(springs[i][act], chain.bearing.hertz_coefficient() * q ** (-1 / 3), rtol=2e-5)
 
 
@@ -281,6 +316,6 @@ def test_bad_input_named():
     with pytest.raises(FaceCurveError, match="gap_shift"):
         stack_slices(pts, comp, [[0.0, 1.0]])
     with pytest.raises(FaceCurveError, match="face_width_mm"):
-        slice_chain(compliance_chain(pg.load_gearset(pg.default_gearset_path())), [1.0], -1.0, balls=11)
+        slice_chain(compliance_chain(pg.load_gearset(pg.default_gearset_path())), [1.0], -1.0)
     with pytest.raises(FaceCurveError, match="widths_mm"):
         stack_slices(pts, comp, [[0.0], [0.0]], widths_mm=[5.0, 4.0])

@@ -144,6 +144,25 @@ def test_face_curve_layouts_tile_the_face(n):
     assert np.unique(z).size == z.size
 
 
+@pytest.mark.parametrize("n, toward", [(2, None), (3, 0.0), (7, None), (7, 20.0), (7, 9.0), (9, 15.5)])
+def test_graded_slices_refine_toward_the_design_section(n, toward):
+    from profilegen.contact.face_curve import GRADING, slice_layout
+
+    b = 20.0
+    z, w = slice_layout(b, n, "graded", toward)
+    t = b if toward is None else toward
+    assert z[0] == 0.0 and z[-1] == b and np.all(np.diff(z) > 0.0)  # both face ends, in order
+    assert np.min(np.abs(z - t)) < 1e-12  # a node on the design section
+    h = np.diff(z)
+    k = int(np.argmin(np.abs(z - t)))
+    # the intervals grow by GRADING away from it, on either side
+    np.testing.assert_allclose(h[k + 1:] / h[k:-1], GRADING, rtol=1e-12)
+    np.testing.assert_allclose(h[:k - 1] / h[1:k], GRADING, rtol=1e-12)
+    # the trapezoid rule on these nodes: the cells tile the face and integrate a linear load exactly
+    assert w.sum() == pytest.approx(b, rel=1e-14)
+    assert w @ (3.0 + 0.5 * z) == pytest.approx(3.0 * b + 0.25 * b * b, rel=1e-14)
+
+
 # --------------------------------------------------------------------------- the balls
 
 
