@@ -49,7 +49,7 @@ sys.path.insert(0, str(ROOT))
 import profilegen as pg  # noqa: E402
 from profilegen.output.export import atomic_write  # noqa: E402
 from profilegen.rim.cup import CupGeometry, harmonic_stiffness, meridional_mesh, solve_cup  # noqa: E402
-from profilegen.rim.cup.solid3d import solve_solid_cup  # noqa: E402
+from tests.oracles.solid_cup import solve_solid_cup  # noqa: E402
 from profilegen.wavegen import from_gearset  # noqa: E402
 
 W0 = 0.5

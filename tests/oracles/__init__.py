@@ -11,6 +11,8 @@ package computes another way; the tests in tests/unit and tests/validation impor
   second implementation of the ratcheting estimate's CS ring (tests/unit/test_ratchet_ring.py);
 * :mod:`naive_lp` — the printed phase-1 LP, which is not a contact solver (the negative example
   of tests/unit/test_contact_solvers.py);
+* :mod:`solid_cup` — the plain 3D solid of the cup (27-node hexahedra, a quarter with the two
+  symmetry planes), the check of the cup tier's Fourier formulation (tests/unit/test_cup3d.py);
 * :mod:`zdt1` — ZDT1, an analytic problem with a known Pareto front, for the optimiser's
   machinery (tests/unit/test_optimize.py).
 """

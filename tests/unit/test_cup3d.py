@@ -220,7 +220,7 @@ def test_gearset_cup_and_its_cam(default_cup):
 
 
 def test_fourier_formulation_agrees_with_the_3d_solid(default_cup):
-    from profilegen.rim.cup.solid3d import solve_solid_cup
+    from tests.oracles.solid_cup import solve_solid_cup
 
     mesh = meridional_mesh(default_cup, element_mm=8.0, layers=1)
     fourier = solve_cup(default_cup, radial_mm={2: W0}, harmonic_basis=harmonic_stiffness(mesh))
@@ -268,7 +268,7 @@ def test_bad_load_and_position_are_named(default_cup, coarse_basis):
     res = solve_cup(default_cup, radial_mm={2: W0}, harmonic_basis=coarse_basis)
     with pytest.raises(CupError, match="z_mm"):
         res.omega(0.0, 80.0)
-    from profilegen.rim.cup.solid3d import solve_solid_cup
+    from tests.oracles.solid_cup import solve_solid_cup
 
     with pytest.raises(CupError, match="radial_mm order 1"):
         solve_solid_cup(default_cup, radial_mm={1: 0.1})

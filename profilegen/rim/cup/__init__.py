@@ -15,8 +15,6 @@ revolution.
   ``press_cup(race=...)``; without one the bore is pressed onto a rigid band).
 * :mod:`profilegen.rim.cup.assembly` — batched assembly of the stiffness matrices (the
   harmonic forms and 3D elasticity, equal to scikit-fem's BilinearForms to rounding).
-* :mod:`profilegen.rim.cup.solid3d` — the plain 3D solid of the same cup (27-node hexahedra,
-  a quarter with the two symmetry planes), the check of the fast formulation.
 """
 
 from .bearing import BearingRace

@@ -1,5 +1,6 @@
 """A plain 3D solid model of the cup (scikit-fem, 27-node hexahedra): the check of the fast
-Fourier formulation (:mod:`profilegen.rim.cup.fourier`), not a tier of its own.
+Fourier formulation (:mod:`profilegen.rim.cup.fourier`), not a tier of its own — a cross-check
+model, so it lives with the tests (tests/unit/test_cup3d.py, tests/benchmarks/cup3d.py).
 
 The meridional mesh (:func:`~profilegen.rim.cup.geometry.meridional_mesh`, the same breaks in
 r and z) is swept through a quarter 0 ≤ θ ≤ π/2 in ``sectors`` equal steps (the two symmetry
@@ -26,11 +27,11 @@ from typing import Mapping
 import numpy as np
 import scipy.sparse as sp
 
-from ... import checks
-from ...errors import ConvergenceError
-from ...results import readonly
-from .fourier import radial_load, lame
-from .geometry import CupError, CupGeometry, CupMesh, meridional_mesh
+from profilegen import checks
+from profilegen.errors import ConvergenceError
+from profilegen.results import readonly
+from profilegen.rim.cup.fourier import radial_load, lame
+from profilegen.rim.cup.geometry import CupError, CupGeometry, CupMesh, meridional_mesh
 
 __all__ = ["SolidCup", "solve_solid_cup"]
 
@@ -95,7 +96,7 @@ def solve_solid_cup(
     from scipy.sparse.linalg import splu
     from skfem import Basis, ElementHex2
 
-    from .assembly import elasticity_3d
+    from profilegen.rim.cup.assembly import elasticity_3d
 
     start = time.perf_counter()
     if not isinstance(geometry, CupGeometry):
