@@ -212,6 +212,14 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
     ``shift_mm_per_mm`` (the face stage's
     :class:`~profilegen.face.modification.ToothModification`) — the slice's tooth is
     :func:`profilegen.face.modification.modified_tooth` at its mid-plane; None: straight teeth."""
+    z, shifts = _slice_gap_shifter(inputs, slices, coning=coning, cup=cup, design_z_mm=design_z_mm,
+                                   modification=modification, nodes=nodes)
+    return z, shifts(points)
+
+
+def _slice_gap_shifter(inputs, slices: int, *, coning: str, cup, design_z_mm, modification, nodes: str):
+    """(z_i, points → Δe): :func:`slice_gap_shifts` with the sections, the modification and the CS
+    outline's distance built once, for both flanks."""
     from ..face.modification import radial_shift, thickness_change
     from ..kinematics import HarmonicDriveMotion
     from .face_load import cup_sections, semi_membrane_sections
@@ -254,15 +262,19 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
         return HarmonicDriveMotion(section, motion.neutral_radius_mm, motion.waves, motion.cs_teeth)
 
     cs = _cs_outline_distance(inputs)
-    local = np.asarray(points.local_mm, dtype=float)
-    reference = _signed_gaps(points, local, placed(secs[0]), cs)
-    out = np.empty((n, points.count))
-    for i in range(n):
-        checkpoint()
-        # the same material points of the modified tooth: Δs/2 along e_t on each flank, Δy along e_r
-        moved = local + np.column_stack([0.5 * ds[i] * np.sign(local[:, 0]), np.full(len(local), dy[i])])
-        out[i] = _signed_gaps(points, moved, placed(secs[i + 1]), cs) - reference
-    return z, out
+
+    def shifts(points) -> np.ndarray:
+        local = np.asarray(points.local_mm, dtype=float)
+        reference = _signed_gaps(points, local, placed(secs[0]), cs)
+        out = np.empty((n, points.count))
+        for i in range(n):
+            checkpoint()
+            # the same material points of the modified tooth: Δs/2 along e_t on each flank, Δy along e_r
+            moved = local + np.column_stack([0.5 * ds[i] * np.sign(local[:, 0]), np.full(len(local), dy[i])])
+            out[i] = _signed_gaps(points, moved, placed(secs[i + 1]), cs) - reference
+        return out
+
+    return z, shifts
 
 
 def _signed_gaps(points, tooth_local: np.ndarray, motion, cs) -> np.ndarray:
@@ -350,9 +362,10 @@ class FaceSlices:
                                  "bearing")
         new_chain, c_ring = slice_chain(chain, widths, b, ring_twist=self.ring_twist)
         out, first = {}, {}
+        z, shifts = _slice_gap_shifter(inputs, self.slices, coning=self.coning, cup=cup, nodes=self.nodes,
+                                       design_z_mm=self.design_z_mm, modification=self.modification)
         for s, (pts, comp) in sides.items():
-            z, de = slice_gap_shifts(inputs, pts, self.slices, coning=self.coning, cup=cup, nodes=self.nodes,
-                                     design_z_mm=self.design_z_mm, modification=self.modification)
+            de = shifts(pts)
             out[s] = stack_slices(pts, comp, de, widths_mm=widths, ring_compliance_rad_per_nmm=c_ring,
                                   coupling_length_mm=self.coupling_length_mm, positions_mm=zeta)
             first[s] = ((pts.gap_mm[None, :] + de) / pts.lever_mm[None, :]).min(axis=1)
