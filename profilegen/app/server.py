@@ -19,11 +19,18 @@ import sys
 import threading
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+import dash
 
 from ..errors import ProfilegenError
 from ..gearset import GearSet, list_profiles, load_gearset
 from . import schema, views
 from .session import BUNDLED, Session, Sessions, Snapshot, Workspace, WorkspaceError
+
+if TYPE_CHECKING:
+    from dash.development.base_component import Component
+    from dash.dependencies import Wildcard
 
 __all__ = ["make_app", "serve", "start"]
 
@@ -88,7 +95,7 @@ _INDEX = """<!DOCTYPE html>
 
 # ------------------------------------------------------------------------------------------ the page
 
-def _field_id(kind: str, path: str) -> dict:
+def _field_id(kind: str, path: str | Wildcard) -> dict:
     return {"type": kind, "path": path}
 
 
@@ -97,7 +104,7 @@ def form_children(s: Session) -> list:
     from dash import dcc, html
 
     values = s.values()
-    out = []
+    out: list[Component] = []
     sliders = [f for f in s.fields if f.slider and isinstance(values.get(f.path), (int, float))]
     if sliders:
         out.append(html.H3("sweep by hand"))
@@ -115,6 +122,7 @@ def form_children(s: Session) -> list:
             section = f.section
             out.append(html.H3(f"[{section}]" if section else "the set"))
         value = values.get(f.path)
+        box: Component
         if f.choices:
             box = dcc.Dropdown(id=_field_id("field", f.path), options=list(f.choices), value=value, clearable=False,
                                style={"fontSize": "12px"})
@@ -203,8 +211,8 @@ def _verdict_children(snap: Snapshot, pinned):
     items = [html.Li([html.Span(st, className=f"pg-c-{st.replace(' ', '_')}"), f" {name}" + (f": {text}" if text
                       else "")]) for st, name, text in checks if st != "PASS"]
     rest = line[len(status):].lstrip(" :—") if line.startswith(status) else line
-    head = [html.Span(status, className=f"pg-badge pg-{status}", id="verdict-status"),
-            html.Span(rest or "every check passed", className="pg-line", id="verdict-line")]
+    head: list[Component] = [html.Span(status, className=f"pg-badge pg-{status}", id="verdict-status"),
+                             html.Span(rest or "every check passed", className="pg-line", id="verdict-line")]
     if pinned is not None:
         head.append(html.Div(f"A (pinned, job {pinned.job}): {pinned.design.verdict.line}",
                              className="pg-line", style={"color": views.PINNED_COLOR}))
@@ -486,20 +494,25 @@ def html_text(text: str):
 
 # ------------------------------------------------------------------------------------------ the app
 
+class WorkbenchApp(dash.Dash):
+    """The Dash app with its tabs' sessions (``profilegen_sessions``, closed when the server stops)."""
+
+    profilegen_sessions: Sessions
+
+
 def make_app(gearset: GearSet | None = None, *, workspace: str | Path = ".", scene: str | None = None,
-             sessions_limit: int = 16):
+             sessions_limit: int = 16) -> WorkbenchApp:
     """The Dash app for ``gearset`` (default: the bundled default set): each page load is a new
     session (its own undo history and computation), files only inside ``workspace``."""
-    import dash
-
     ws = Workspace(workspace)
     gs = gearset if gearset is not None else load_gearset("default")
     start_scene = scene or gs.scene
     if start_scene not in SCENES:
         raise ProfilegenError(f"scene = {start_scene!r}: the app takes one of {', '.join(SCENES)}")
     sessions = Sessions(lambda: Session(gs, start_scene, ws), limit=sessions_limit)
-    app = dash.Dash(__name__, title="profilegen", update_title=None, serve_locally=True,
-                    suppress_callback_exceptions=True, assets_ignore=".*")
+    # update_title "": Dash's "None or ''" (the page's title stays while a callback runs)
+    app = WorkbenchApp(__name__, title="profilegen", update_title="", serve_locally=True,
+                       suppress_callback_exceptions=True, assets_ignore=".*")
     app.index_string = _INDEX
     app.layout = lambda: _page(sessions.new())
     _register(app, sessions)

@@ -147,7 +147,7 @@ from __future__ import annotations
 import logging
 import math
 import time
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
 from functools import partial
 
@@ -291,7 +291,7 @@ class _BandedFlex:
         self.starts = list(range(0, n, nb))
         self.diag: list[np.ndarray] = []  # L_kk
         self.sub: list[np.ndarray | None] = []  # the corner of L_k,k−1: rows i0:i0+c, columns i0−c:i0
-        previous = None
+        previous = np.empty((0, 0))  # L_k−1: read from the second block on
         for k, i0 in enumerate(self.starts):
             i1 = min(n, i0 + nb)
             p0 = i0 - c if k else i0
@@ -327,6 +327,8 @@ class _BandedFlex:
 
         if previous is not None and previous.shape[1]:
             sub = self.sub[k]
+            if sub is None:  # a first block has no block before it, so no previous W either
+                raise ConvergenceError(f"banded solve: block {k} has no block before it but was given one's W")
             b[:sub.shape[0], :previous.shape[1]] -= sub @ previous[-self.corner:]
         return solve_triangular(self.diag[k], b, lower=True, check_finite=False)
 
@@ -1134,19 +1136,25 @@ def _cs_pieces(space, cs_teeth: int):
     def polar(p):
         return np.arctan2(p[..., 0], p[..., 1]), np.hypot(p[..., 0], p[..., 1])
 
+    def on_line(a, b):  # the chord a → b
+        return lambda u: polar(a + u[:, None] * (b - a))
+
+    def on_arc(el):
+        return lambda u: polar(el.centre + el.radius * np.column_stack([np.cos(el.start_angle + u * el.sweep),
+                                                                        np.sin(el.start_angle + u * el.sweep)]))
+
     start, end = np.asarray(space.start), np.asarray(space.end)
     psi_s, rho_s = polar(start)
     psi_e, rho_e = polar(end)
-    pieces = [("tip land", rho_s * abs(psi_s + half),
-               lambda u: ((1 - u) * -half + u * psi_s, np.full_like(u, rho_s)))]
+    # (name, length mm, curve u ↦ (ψ, ρ) on u ∈ [0, 1]), as pitch_surface takes them
+    pieces: list[tuple[str, float, Callable[[np.ndarray], tuple[np.ndarray, np.ndarray]]]] = [
+        ("tip land", rho_s * abs(psi_s + half), lambda u: ((1 - u) * -half + u * psi_s, np.full_like(u, rho_s)))]
     for el in space.elements:
         if isinstance(el, Line):
             a, b = np.asarray(el.start), np.asarray(el.end)
-            pieces.append(("line", el.length, lambda u, a=a, b=b: polar(a + u[:, None] * (b - a))))
+            pieces.append(("line", el.length, on_line(a, b)))
         elif isinstance(el, Arc):
-            pieces.append(("arc", el.length, lambda u, el=el: polar(
-                el.centre + el.radius * np.column_stack([np.cos(el.start_angle + u * el.sweep),
-                                                         np.sin(el.start_angle + u * el.sweep)]))))
+            pieces.append(("arc", el.length, on_arc(el)))
         else:
             raise ComplianceError(f"cs_space: element {el!r} is not a Line or an Arc")
     pieces.append(("tip land", rho_e * abs(half - psi_e),
@@ -1594,10 +1602,10 @@ class ContactCompliance:
         shift = float(shift_rad)
         phi = 2.0 * math.pi * tooth_index / z1 + shift
         pose = inputs.motion.pose(phi)
-        angle = 2.0 * math.pi * tooth_index / z2
-        local = pose.to_tooth(turn(fs_points, -angle))
+        angle = 2.0 * math.pi * tooth_index / z2  # one per point: turn broadcasts it (annotated float)
+        local = pose.to_tooth(turn(fs_points, -angle))  # type: ignore[arg-type]  # an angle per point
         # normal: undo turn(·, angle), then the tooth frame's rotation (to_tooth without the origin)
-        n_cs = turn(fs_normals, -angle)
+        n_cs = turn(fs_normals, -angle)  # type: ignore[arg-type]  # an angle per point
         c0, s0 = np.cos(pose.angle), np.sin(pose.angle)
         local_n = np.column_stack([n_cs[:, 0] * c0 - n_cs[:, 1] * s0, n_cs[:, 0] * s0 + n_cs[:, 1] * c0])
 
