@@ -125,8 +125,9 @@ def slice_layout(face_width_mm: float, slices: int, nodes: str = "midpoint",
         w = np.full(n, h)
         w[[0, -1]] = 0.5 * h
         return np.arange(n) * h, w
-    t = b if toward_mm is None else checks.number("toward_mm", toward_mm, "mm", 0.0, b, low_open=False,
-                                                   high_open=False, error=FaceCurveError)
+    slack = 1e-9 * b  # a design section computed as z_d − (z_c − b/2) may land a rounding error past a face end
+    t = b if toward_mm is None else min(b, max(0.0, checks.number(
+        "toward_mm", toward_mm, "mm", -slack, b + slack, low_open=False, high_open=False, error=FaceCurveError)))
     lo = 0 if t <= 1e-9 * b else (n - 1 if t >= b * (1 - 1e-9) else int(np.clip(round((n - 1) * t / b), 1, n - 2)))
     if 0 < lo < n - 1 and n < 3:
         raise FaceCurveError(f"slices = {n}: graded nodes about an inner section need at least 3")

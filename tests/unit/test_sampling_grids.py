@@ -161,6 +161,11 @@ def test_graded_slices_refine_toward_the_design_section(n, toward):
     # the trapezoid rule on these nodes: the cells tile the face and integrate a linear load exactly
     assert w.sum() == pytest.approx(b, rel=1e-14)
     assert w @ (3.0 + 0.5 * z) == pytest.approx(3.0 * b + 0.25 * b * b, rel=1e-14)
+    # a design section a rounding error past a face end (z_d − (z_c − b/2) in floating point) is that end
+    if toward in (None, 20.0):
+        np.testing.assert_array_equal(slice_layout(b, n, "graded", b * (1 + 1e-15))[0], z)
+    elif toward == 0.0:
+        np.testing.assert_array_equal(slice_layout(b, n, "graded", -1e-15)[0], z)
 
 
 # --------------------------------------------------------------------------- the balls
