@@ -389,7 +389,7 @@ def _local_outline(form: CircularSplineForm, neighbours: int = 1) -> np.ndarray:
 def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion, *, phi_range: tuple[float, float],
                   samples: int = 361, candidates: int = 32,
                   cs_points: np.ndarray | None = None, search_per_mm: float = 800.0, neighbours: int = 4,
-                  deep_check_mm: float = 1e-7) -> ClearanceMap:
+                  deep_check_mm: float = 1e-7, few_first: bool = True) -> ClearanceMap:
     """Signed distance between the FS tooth (with root lands) and the CS outline at each φ.
 
     ``cs_points`` (the CS outline around space 0, mm) defaults to the form's own
@@ -403,6 +403,9 @@ def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion,
     the traced envelope's own chord error) every CS point inside the tooth is measured as
     well (:func:`_deepest_inside`): near-surface candidates alone miss the deepest point of
     an interference where the outline is dense.
+    ``few_first``: find the first 1.25 × ``candidates`` nearest pairs at every pose, then 4 ×
+    at the poses those hold too few distinct CS points; False: 4 × at every pose at once (the same
+    result: the first pairs are the same; the face stage's maps, where ~all poses need 4 ×).
     """
     from scipy.spatial import cKDTree
 
@@ -424,7 +427,7 @@ def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion,
     # distinct CS points wherever they hold that many (most poses: ~40 pairs for 32); the other
     # poses take all the pairs
     need = 4 * candidates
-    few = min(need, candidates + candidates // 4)
+    few = min(need, candidates + candidates // 4) if few_first else need
     order = _nearest_pairs(tree, surface_pts, cos, sin, pose.origin, few)
     new = _first_appearances(order)
     short = np.flatnonzero(new.sum(axis=1) < candidates) if few < need else np.empty(0, int)
