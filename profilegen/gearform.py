@@ -477,18 +477,27 @@ def _deepest_inside(poly, surface, tree, cs: np.ndarray, pose, poses: np.ndarray
     centre = xy.mean(axis=0)
     radius = float(np.max(np.hypot(*(xy - centre).T))) * (1.0 + 1e-9) + 1e-9
     out = np.array(found, dtype=float)
-    for k, i in enumerate(poses):
+    # all the poses at once, the same arithmetic as pose by pose (each pose's cos, sin as a scalar)
+    c = np.array([np.cos(a) for a in pose.angle[poses]])
+    s = np.array([np.sin(a) for a in pose.angle[poses]])
+    g = np.stack([centre[0] * c + centre[1] * s, centre[1] * c - centre[0] * s], -1) + pose.origin[poses]
+    found_idx = tree.query_ball_point(g, radius)
+    counts = np.array([len(i) for i in found_idx], dtype=int)
+    if not counts.sum():
+        return out
+    k = np.repeat(np.arange(len(poses)), counts)
+    d = cs[np.concatenate([np.asarray(i, dtype=int) for i in found_idx])] - pose.origin[poses][k]
+    loc = np.stack([d[:, 0] * c[k] - d[:, 1] * s[k], d[:, 0] * s[k] + d[:, 1] * c[k]], -1)
+    inside = shapely.contains_xy(poly, loc[:, 0], loc[:, 1])
+    loc, k = loc[inside], k[inside]
+    dist = np.empty(len(loc))
+    for j in range(0, len(loc), _DISTANCE_CHUNK):
         checkpoint()
-        c, s = np.cos(pose.angle[i]), np.sin(pose.angle[i])
-        g = np.array([centre[0] * c + centre[1] * s, centre[1] * c - centre[0] * s]) + pose.origin[i]
-        idx = tree.query_ball_point(g, radius)
-        if not idx:
-            continue
-        d = cs[np.asarray(idx)] - pose.origin[i]
-        loc = np.stack([d[:, 0] * c - d[:, 1] * s, d[:, 0] * s + d[:, 1] * c], -1)
-        loc = loc[shapely.contains_xy(poly, loc[:, 0], loc[:, 1])]
-        if len(loc):
-            out[k] = min(out[k], -float(np.max(surface.distance(loc))))
+        dist[j:j + _DISTANCE_CHUNK] = surface.distance(loc[j:j + _DISTANCE_CHUNK])
+    deepest = np.full(len(poses), -np.inf)
+    np.maximum.at(deepest, k, dist)
+    hit = np.isfinite(deepest)
+    out[hit] = np.minimum(out[hit], -deepest[hit])
     return out
 
 
