@@ -4,6 +4,9 @@ that ran and the code at each end. A stand-in for the engine's run records the t
 checkpoint (it never cancels), so a span here is how long a stop asked inside it would wait.
 
     python tests/benchmarks/checkpoint_gaps.py [--set default] [--scene design] [--top 12] [--over 0.05]
+        [--where contact/compliance.py --where rim/cup/contact.py]
+
+``--where``: only the spans with an end in code whose place contains that text (repeatable).
 
 Times are wall times on this machine (a loaded machine stretches them); the places are the point.
 """
@@ -62,6 +65,8 @@ def main(argv=None) -> int:
     ap.add_argument("--scene", default="design")
     ap.add_argument("--top", type=int, default=12)
     ap.add_argument("--over", type=float, default=0.05, help="count the spans longer than this (s)")
+    ap.add_argument("--where", action="append", default=[],
+                    help="only the spans with an end whose place contains this text (repeatable)")
     args = ap.parse_args(argv)
     gs = pg.load_gearset(args.set)
     pg.design(gs, scene=args.scene)  # warm: imports and the process's first-call costs
@@ -74,9 +79,11 @@ def main(argv=None) -> int:
     finally:
         STAGE_CACHE.reset(token)
     spans = sorted(rec.spans, reverse=True)
+    if args.where:
+        spans = [s for s in spans if any(w in s[2] or w in s[3] for w in args.where)]
     long = [s for s in spans if s[0] > args.over]
     print(f"{args.set}, {args.scene} scene: {total:.2f} s, {len(rec.spans)} checkpoints and stage ends; "
-          f"{len(long)} spans over {args.over * 1e3:.0f} ms")
+          f"{len(long)} spans over {args.over * 1e3:.0f} ms" + (f" at {', '.join(args.where)}" if args.where else ""))
     for dt, stage, a, b in spans[: args.top]:
         print(f"{dt * 1e3:8.1f} ms  [{stage}]  {a}  ->  {b}")
     return 0
