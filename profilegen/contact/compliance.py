@@ -158,6 +158,7 @@ from .. import checks
 from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
+from ..stagecache import checkpoint
 from ..wgbearing import DEFAULT_BALL_COUNT, default_race_thickness_mm  # noqa: F401 (re-exported)
 from .inputs import ContactInput
 from .reduced import ball_totals, spring_block
@@ -293,6 +294,7 @@ class _BandedFlex:
         self.sub: list[np.ndarray | None] = []  # the corner of L_k,k−1: rows i0:i0+c, columns i0−c:i0
         previous = np.empty((0, 0))  # L_k−1: read from the second block on
         for k, i0 in enumerate(self.starts):
+            checkpoint()  # an engine's design stops here when superseded (a block: ~0.1 ms)
             i1 = min(n, i0 + nb)
             p0 = i0 - c if k else i0
             # rows i0:i1, columns p0:i1 of the lower triangle, dense (a scatter from the CSR arrays)
@@ -338,6 +340,7 @@ class _BandedFlex:
         w = np.empty_like(y)
         previous = None
         for k, i0 in enumerate(self.starts):
+            checkpoint()  # an engine's design stops here when superseded
             i1 = i0 + self.diag[k].shape[0]
             w[i0:i1] = previous = self._solve_block(k, y[i0:i1].copy(), previous)
         return w
@@ -371,6 +374,7 @@ class _BandedFlex:
             cross = np.zeros(m)
         previous = None
         for k, i0 in enumerate(self.starts):
+            checkpoint()  # an engine's design stops here when superseded
             i1 = i0 + self.diag[k].shape[0]
             a = int(np.searchsorted(starts, i1))  # columns started above row i1
             if a == 0:
@@ -448,6 +452,7 @@ def _edge_projection(xy_nodes: np.ndarray, line: np.ndarray, points: np.ndarray,
     best_xi = np.zeros(m)
     best_e = np.zeros(m, dtype=int)
     for shift in (-2, -1, 0):
+        checkpoint()  # an engine's design stops here when superseded (a shift's Newton: a few ms)
         e = np.clip((nearest + shift) // 2, 0, n_edges - 1)
         e = np.where(nearest + shift < 0, 0, e)
         x0, x1, x2 = x[2 * e], x[2 * e + 1], x[2 * e + 2]
@@ -598,6 +603,7 @@ def _fs_flex_substructured(tooth, gearset, local_points, local_normals, tooth_in
         t0 = time.perf_counter()
         rings, bores = [], []
         for kind in kinds:
+            checkpoint()  # an engine's design stops here when superseded (a pitch kind's mesh)
             kw = dict(toothed_pitches=[0] if kind == 0 else [], rim_layers=rim_layers, tooth_layers=tooth_layers,
                       per_pitch=per_pitch, flat_per_pitch=flat_per_pitch, pitches=1)
             if race_thickness_mm > 0.0:
@@ -608,6 +614,7 @@ def _fs_flex_substructured(tooth, gearset, local_points, local_normals, tooth_in
             rings.append(ring)
             bores.append(ring.inner_nodes if bore is None else bore)
         mesh_time = time.perf_counter() - t0
+        checkpoint()
         parts = [_half_ring_pitch(r, gearset.material.youngs_modulus_mpa, gearset.material.poisson_ratio, r_bore,
                                   np.asarray(bores[t]) if race_thickness_mm > 0.0 else np.asarray(r.inner_nodes),
                                   sliding, "FS rim" + (" and sliding race" if sliding else "") + " (one pitch)")
@@ -917,6 +924,7 @@ def _chain_flex(kinds, pitch_kind, loads, load_pitch, *, cyclic: bool, fixed_cut
         c_kinds, rot_kinds = gauge
         rot_y = np.zeros(m)  # rotᵀ Y over the free dofs: the interiors' here, the cuts' below
     for t, kind in enumerate(kinds):
+        checkpoint()  # an engine's design stops here when superseded (a kind's condensation)
         pitch, column = load_pitch[t]
         pitch = np.asarray(pitch, dtype=int)
         column = np.asarray(column, dtype=int)
@@ -956,6 +964,7 @@ def _chain_flex(kinds, pitch_kind, loads, load_pitch, *, cyclic: bool, fixed_cut
     factors = kinds[0].__dict__.setdefault("cut_factors", {})
     fkey = (tuple(id(k) for k in kinds), pitch_kind.tobytes(), bool(cyclic), tuple(np.asarray(fixed_cut, int).tolist()))
     factor = factors.get(fkey)
+    checkpoint()
     if factor is None:
         dof_cut = free // n_c
         order = np.lexsort((free % n_c, position[dof_cut]))
@@ -989,6 +998,7 @@ def _pitch_projection(points, guess, pitch_kind, pitch_rad: float, lines):
     tri = np.zeros((k.size, 3), dtype=int)
     w = np.zeros((k.size, 3))
     for t, (xy, line) in enumerate(lines):  # all candidates on a line of one kind in one call
+        checkpoint()  # an engine's design stops here when superseded
         sel = np.flatnonzero(pitch_kind[k] == t)
         if sel.size:
             tri[sel], w[sel], dist[sel], _ = _edge_projection(xy, line, local[sel])
@@ -1045,6 +1055,7 @@ def _half_ring_pitch(ring, youngs_modulus_mpa, poisson_ratio, r_bore, bore, slid
         k_race = _stiffness(mesh, youngs_modulus_mpa, poisson_ratio, elements=np.flatnonzero(race_el))[0]
         stiffness, _ = _sliding_stiffness(xy, k_rim, k_race, ix, iy, bore)
         n_extra = bore.size
+    checkpoint()  # an engine's design stops here when superseded (between the assembly and the condensation)
     n_full = ix.size + iy.size
     n = n_full + n_extra
     left_nodes, right_nodes = np.asarray(ring.start_cut_nodes), np.asarray(ring.end_cut_nodes)
@@ -1213,6 +1224,7 @@ def _cs_flex(space, gearset, points, normals, *, margin, per_pitch, tooth_layers
     # the space's surface and (substructured) its meshed, condensed space: the same for any points (``_cached``)
     prepared = _cached(("cs", id(gearset), id(space), per_pitch, tooth_layers, back_layers, float(outer_radius_mm)),
                        (gearset, space), surface)
+    checkpoint()  # an engine's design stops here when superseded (between the surface and the mesh)
     top, per_pitch, r_back = prepared["top"], prepared["per_pitch"], prepared["r_back"]
     if not outer_radius_mm > r_back:
         raise ComplianceError(f"cs_outer_radius_mm = {outer_radius_mm:g} mm: must be > {r_back:.6g} mm (the CS root "
@@ -1260,6 +1272,7 @@ def _cs_flex_substructured(gearset, points, normals, pitch, lo, n_p, top, per_pi
                                 polar_radius_mm=outer_radius_mm, mapped_layers=tooth_layers, polar_layers=back_layers,
                                 mapped_outside=False, polar_grading=1.6)
         stiffness, ix, iy = _stiffness(ring.mesh, gearset_cs_modulus(gearset), gearset.material.poisson_ratio)
+        checkpoint()  # an engine's design stops here when superseded (between the assembly and the condensation)
         outer = np.asarray(ring.outer_nodes)
         left_nodes = np.asarray(ring.start_cut_nodes)[:-1]  # sorted by j: the last is on the held outer surface
         right_nodes = np.asarray(ring.end_cut_nodes)[:-1]
@@ -1627,14 +1640,13 @@ class ContactCompliance:
                           tooth_layers=_whole("tooth_layers", tooth_layers, 1), tol_mm=tol,
                           race_thickness_mm=race, race_layers=race_layers,
                           race_sliding=race_interface == "sliding", substructure=bool(substructure))
-            from ..stagecache import checkpoint
-
             checkpoint()  # an engine's design stops here when superseded (between the FS and the CS)
             cs = _cs_flex(inputs.cs_space, gearset, cs_points, cs_normals, margin=margin,
                           per_pitch=_whole("cs_per_pitch", cs_per_pitch, 2),
                           tooth_layers=_whole("cs_tooth_layers", cs_tooth_layers, 1),
                           back_layers=_whole("cs_back_layers", cs_back_layers, 1),
                           outer_radius_mm=cs_outer_radius_mm, tol_mm=tol, substructure=bool(substructure))
+            checkpoint()
             nb = balls.size
             # inside the single-threaded block too: OpenBLAS's threads took 0.46 s for this 196 × 196
             # Cholesky on the busy machine (cProfile), against milliseconds on one thread

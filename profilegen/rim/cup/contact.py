@@ -235,8 +235,11 @@ def press_cup(
 
             contour = from_gearset(gearset)
         phi = 0.5 * math.pi * np.arange(angles) / (angles - 1)
+        checkpoint()  # an engine's design stops here when superseded
         w_cam = np.asarray(contour.radius(phi), dtype=float) - geometry.bore_radius_mm
-        load = bore_load(contour, geometry.bore_radius_mm, max_order=int(orders[-1]))
+        checkpoint()
+        load = bore_load(contour, geometry.bore_radius_mm, max_order=int(orders[-1]))  # 1024 radii: 25-50 ms
+        checkpoint()
     else:
         if gap == "exact":
             raise CupError("gap = 'exact': needs a contour (its normal and distance); a radial_mm bore shape has "
@@ -253,6 +256,7 @@ def press_cup(
         raise CupError(f"contour = {contour!r}: gap = 'exact' needs a contour with closest(points)")
     if harmonic_basis is None:
         harmonic_basis = harmonic_stiffness(meridional_mesh(geometry, element_mm=element_mm, layers=layers))
+        checkpoint()
     elif harmonic_basis.cup_mesh.geometry is not geometry:
         raise CupError("harmonic_basis: it was built for another CupGeometry than the one given")
     hb, g = harmonic_basis, geometry
@@ -286,6 +290,7 @@ def press_cup(
     if exact:
         rhs[where[iv[band]], m + np.arange(m)] = 1.0
     for n in orders:
+        checkpoint()  # an engine's design stops here when superseded (a harmonic's factorisation)
         stiff = hb.stiffness(int(n))
         try:
             factor = factor_stiffness(stiff[free][:, free])
@@ -360,6 +365,7 @@ def press_cup(
         t = sum(np.einsum("ik,j,l->ijkl", blk[rows][:, cols], ta[k], tb[k]) for k, blk in enumerate(blocks))
         return t.reshape(m * angles, m * angles)
 
+    checkpoint()
     sl_u, sl_v = slice(0, m), slice(m, 2 * m)
     t_uu = pair(sl_u, sl_u, a_cos, a_cos)
     if exact:
@@ -448,6 +454,7 @@ def press_cup(
                 guess = np.concatenate([guess, race_now["lam"] > 0.0])
             secant = race_now["secant"] if race_now["secant"] is not None else secants(race_now["lam"])
         for iteration in range(1, max_iterations + 1):
+            checkpoint()  # an engine's design stops here when superseded (a re-linearisation: a few ms)
             q = (n_r * (disp_r - base_r) + n_t * (disp_t - base_t) - dist).ravel()
             compliance = assemble(n_r, n_t)
             if race is not None:
@@ -509,6 +516,7 @@ def press_cup(
             newton_tol_mm, m, angles)
     gap_mm = dist
     t_contact = time.perf_counter() - t0
+    checkpoint()  # an engine's design stops here when superseded (before the resultants)
 
 
     radial = x[:, iu[line]]
