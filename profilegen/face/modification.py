@@ -47,6 +47,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -187,9 +188,13 @@ def _modified_sections(gearset, face: FaceWidth, ds: np.ndarray, dy: np.ndarray 
     """The sections with their teeth modified by ``ds`` and shifted by ``dy`` (same motion; the
     envelope is not traced)."""
     dy = np.zeros(len(ds)) if dy is None else dy
-    return [s if abs(d) < 1e-12 and abs(y) < 1e-12 else
-            replace(s, tooth=modified_tooth(gearset, float(d), float(y)), envelope=None)
-            for s, d, y in zip(face.sections, ds, dy)]
+    return [_modified_section(gearset, s, d, y) for s, d, y in zip(face.sections, ds, dy)]
+
+
+def _modified_section(gearset, section, d: float, y: float):
+    """One section of :func:`_modified_sections`."""
+    return section if abs(d) < 1e-12 and abs(y) < 1e-12 else \
+        replace(section, tooth=modified_tooth(gearset, float(d), float(y)), envelope=None)
 
 
 class _Stored:
@@ -208,11 +213,14 @@ class _MapCache:
         self.face, self.maps = face, {}
 
     def get(self, k: int, section, ds_k: float, dy_k: float = 0.0):
+        """Section k's map with thickness change ``ds_k`` and radial shift ``dy_k``; ``section``:
+        the modified section, or a function that makes it (called only when the map is computed)."""
         if abs(ds_k) < 1e-12 and abs(dy_k) < 1e-12:
             return _Stored(self.face.phi_rad, self.face.clearance_mm[k])
         key = (k, float(ds_k), float(dy_k))
         if key not in self.maps:
-            self.maps[key] = section_map(self.face.form, section, self.face.map_samples)
+            self.maps[key] = section_map(self.face.form, section() if callable(section) else section,
+                                         self.face.map_samples)
         return self.maps[key]
 
 
@@ -396,13 +404,14 @@ def _search_on_maps(gearset, face: FaceWidth, a: np.ndarray, c: np.ndarray | Non
 
     def lowest(dsy, ks):
         """The lowest clearance (as the rows report it) of sections ``ks`` with thickness change and
-        radial shift ``dsy``."""
+        radial shift ``dsy``, and their maps (a modified tooth is built only for a map not yet computed:
+        the search's trials need one or two sections of five)."""
         ds, dy = dsy
-        secs = _modified_sections(gearset, face, ds, dy)
         rows = {}
         for k in ks:
-            rows[k] = cache.get(k, secs[k], float(ds[k]), float(dy[k])).clearance_mm
-        return min(level(k, rows[k]) for k in ks), rows, secs
+            make = partial(_modified_section, gearset, face.sections[k], ds[k], dy[k])
+            rows[k] = cache.get(k, make, float(ds[k]), float(dy[k])).clearance_mm
+        return min(level(k, rows[k]) for k in ks), rows
 
     def level(k, clearance):
         """Section k's lowest clearance; the design section's tooth is never modified (its map is the
@@ -434,10 +443,10 @@ def _search_on_maps(gearset, face: FaceWidth, a: np.ndarray, c: np.ndarray | Non
                 continue
             dsy = thickness(high, *direction)
             everyone = list(range(dsy[0].size))
-            value, rows, secs = lowest(dsy, everyone)
+            value, rows = lowest(dsy, everyone)
             if value >= -tol:
                 cmaps = np.array([rows[k] for k in everyone])
-                found = (float(np.max(cmaps[:, face.engaged])), high, dsy, secs)
+                found = (float(np.max(cmaps[:, face.engaged])), high, dsy, _modified_sections(gearset, face, *dsy))
                 break
             bad = [k for k in everyone if k not in active and level(k, rows[k]) < -tol]
             active += bad

@@ -25,7 +25,6 @@ stage's median times and their ratio, the design's; exits 1 when any difference 
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import os
 import pickle
