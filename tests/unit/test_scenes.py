@@ -19,11 +19,12 @@ PRESETS = {
                     "interactive use and sweeps: analytic rim, coarse envelope", 181,
                     figures="none"),  # no PNG figures (issue 14: tests/unit/test_scene_figures.py)
     "design": Scene("design", "3D cup FEM, coarse (nonlinear)", 1e-6, 96, 241, 361, False,  # rim: the coarse 3D cup (issue 28)
-                    "the default: 1 nm envelope, classified, loaded contact", 721, True),
+                    "the default: 1 nm envelope, classified, loaded contact", 721, True,
+                    face_slices=5),  # the curve across the face as verify's, 5 graded slices (issue 28)
     "verify": Scene("verify", "3D cup FEM (nonlinear)", 1e-7, 192, 481, 721, True,  # rim: the 3D cup (issue 15)
                     "sign-off: 0.1 nm envelope + brute-force swept-region cross-check", 2001, True, tier="cup3d",
                     ratcheting=True, transmission_error=True,  # the whole gear's extras (issue 16)
-                    face_slices=5),  # the torsional curve across the face (contact.face_curve)
+                    face_slices=7),  # the torsional curve across the face (contact.face_curve), graded
 }
 
 
