@@ -40,8 +40,9 @@ if TYPE_CHECKING:  # pragma: no cover
 __all__ = ["Pose", "Motion", "HarmonicDriveMotion", "RackMotion", "turn", "unit_radial", "unit_tangential"]
 
 
-def turn(points, angle: float) -> np.ndarray:
-    """Points (..., 2) turned about the gear centre by ``angle`` (rad) in our sense, +y toward +x."""
+def turn(points, angle: float | np.ndarray) -> np.ndarray:
+    """Points (..., 2) turned about the gear centre by ``angle`` (rad) in our sense, +y toward +x:
+    one angle, or one per point (broadcast against the points' leading shape)."""
     p = np.asarray(points, dtype=float)
     c, s = np.cos(angle), np.sin(angle)
     return np.stack([p[..., 0] * c + p[..., 1] * s, -p[..., 0] * s + p[..., 1] * c], -1)

@@ -1616,9 +1616,9 @@ class ContactCompliance:
         phi = 2.0 * math.pi * tooth_index / z1 + shift
         pose = inputs.motion.pose(phi)
         angle = 2.0 * math.pi * tooth_index / z2  # one per point: turn broadcasts it (annotated float)
-        local = pose.to_tooth(turn(fs_points, -angle))  # type: ignore[arg-type]  # an angle per point
+        local = pose.to_tooth(turn(fs_points, -angle))  # an angle per point
         # normal: undo turn(·, angle), then the tooth frame's rotation (to_tooth without the origin)
-        n_cs = turn(fs_normals, -angle)  # type: ignore[arg-type]  # an angle per point
+        n_cs = turn(fs_normals, -angle)  # an angle per point
         c0, s0 = np.cos(pose.angle), np.sin(pose.angle)
         local_n = np.column_stack([n_cs[:, 0] * c0 - n_cs[:, 1] * s0, n_cs[:, 0] * s0 + n_cs[:, 1] * c0])
 
