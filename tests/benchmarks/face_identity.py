@@ -2,11 +2,14 @@
 same numbers, and the time.
 
     python tests/benchmarks/face_identity.py [--before REF] [--after REF] [--repeats 3]
-                                             [--sets default ...] [--design-repeats 3]
+                                             [--sets default ...] [--design-repeats 3] [--whole]
 
-Each REF (git, of this repository; default: ``--before`` e5bce8f, the face stage before its speed-up,
-``--after`` HEAD) is unpacked with ``git archive`` into a temporary folder and run there in its own
-process (``PYTHONPATH`` the folder), so uncommitted edits in the working tree play no part. In each,
+The "after" tree is ``--after`` (git, of this repository; default HEAD); the "before" tree is the
+same with the face stage's code (``--paths``: profilegen/face and profilegen/gearform.py) as it was
+at ``--before`` (default e5bce8f, before the face stage's speed-up), so the design's total differs
+by that code alone; ``--whole``: the whole ``--before`` tree instead. Each is unpacked with ``git
+archive`` into a temporary folder and run there in its own process (``PYTHONPATH`` the folder), so
+uncommitted edits in the working tree play no part. In each,
 for every bundled set (``--sets``; default the five bundled: default, seed000_csf40, seed001_shf25,
 seed002_short_cup, csf32_100): ``profilegen.design(set, scene="design")`` runs until its face stage
 (:func:`profilegen.face.face_width` is wrapped to take its arguments and stop the design there),
@@ -28,6 +31,7 @@ import argparse
 import math
 import os
 import pickle
+import shutil
 import statistics
 import subprocess
 import sys
@@ -105,10 +109,17 @@ def worker(sets, repeats: int, design_repeats: int, out: str) -> None:
         pickle.dump({"sets": result, "design": design}, f)
 
 
-def _unpack(ref: str, into: Path) -> str:
+def _unpack(ref: str, into: Path, paths=()) -> str:
+    """``ref``'s tree (or only its ``paths``, replacing those in ``into``) into ``into``."""
     commit = subprocess.run(["git", "rev-parse", "--short", ref], cwd=ROOT, check=True, capture_output=True,
                             text=True).stdout.strip()
-    archive = subprocess.run(["git", "archive", commit], cwd=ROOT, check=True, capture_output=True).stdout
+    for p in paths:
+        target = into / p
+        if target.is_dir():
+            shutil.rmtree(target)
+        elif target.exists():
+            target.unlink()
+    archive = subprocess.run(["git", "archive", commit, *paths], cwd=ROOT, check=True, capture_output=True).stdout
     subprocess.run(["tar", "-x", "-C", str(into)], input=archive, check=True)
     return commit
 
@@ -171,6 +182,8 @@ def main(argv=None) -> int:
     ap.add_argument("--design-repeats", type=int, default=3)
     ap.add_argument("--sets", nargs="+", default=list(SETS))
     ap.add_argument("--tol", type=float, default=1e-9)
+    ap.add_argument("--paths", nargs="+", default=["profilegen/face", "profilegen/gearform.py"])
+    ap.add_argument("--whole", action="store_true", help="the whole --before tree, not only --paths")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     import resource
@@ -182,11 +195,16 @@ def main(argv=None) -> int:
         return 0
     with tempfile.TemporaryDirectory(prefix="face_identity_") as tmp:
         results = {}
-        for label, ref in (("before", args.before), ("after", args.after)):
+        for label in ("before", "after"):
             tree = Path(tmp) / label
             tree.mkdir()
-            commit = _unpack(ref, tree)
-            print(f"{label}: {ref} ({commit})", flush=True)
+            if label == "after" or args.whole:
+                ref = args.after if label == "after" else args.before
+                print(f"{label}: {ref} ({_unpack(ref, tree)})", flush=True)
+            else:
+                base = _unpack(args.after, tree)
+                print(f"before: {args.after} ({base}) with {' '.join(args.paths)} from {args.before} "
+                      f"({_unpack(args.before, tree, args.paths)})", flush=True)
             results[label] = _run(tree, args, Path(tmp) / f"{label}.pkl")
     return 0 if compare(results["before"], results["after"], args.tol) else 1
 
