@@ -237,6 +237,7 @@ def _face_width(gearset, deformation, *, sections: int, design_section: float | 
     regions = [SweptRegion(s.boundary) for s in secs]
     min_gap = np.array([[np.min(r.signed_gap(f.space)) for r in regions] for f in forms])
     max_bl = np.full(min_gap.shape, np.nan)  # the maps' backlash, for the candidates whose maps are computed
+    maps: dict[int, tuple] = {}  # candidate -> its face map (rows, φ, clearance, engaged)
     t0 = time.perf_counter()
     if given is not None:
         d = int(np.argmin(np.abs(z - given)))
@@ -256,12 +257,14 @@ def _face_width(gearset, deformation, *, sections: int, design_section: float | 
             d = int(ok[0])
         else:  # several interference-free candidates: their maps' largest backlash decides
             for k in ok:
-                rows_k = face_map(forms[k], secs, int(k), samples=samples, min_gap_mm=min_gap[k])[0]
-                max_bl[k] = [r.max_backlash_mm for r in rows_k]
+                maps[int(k)] = face_map(forms[k], secs, int(k), samples=samples, min_gap_mm=min_gap[k])
+                max_bl[k] = [r.max_backlash_mm for r in maps[int(k)][0]]
             d = int(ok[np.argmin(np.nanmax(max_bl[ok], axis=1))])
         choice = "auto"
     form = forms[d]
-    rows, phi, cmap, engaged = face_map(form, secs, d, samples=samples, min_gap_mm=min_gap[d])
+    # the chosen candidate's face map, computed once (it was computed again here: 5 more maps)
+    rows, phi, cmap, engaged = maps[d] if d in maps else face_map(form, secs, d, samples=samples,
+                                                                  min_gap_mm=min_gap[d])
     max_bl[d] = [r.max_backlash_mm for r in rows]
     map_s = time.perf_counter() - t0
     result = FaceWidth(tuple(secs), d, choice, form, phi, cmap, tuple(rows), min_gap, max_bl, engaged, tol, chord,
