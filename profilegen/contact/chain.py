@@ -995,16 +995,21 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
         # search twice as deep (both flanks built again) and solve the slices once more
         deeper = {**options, "max_gap_mm": 2.0 * float(max_gap)}
         sliced = torsional_curve(inputs, torques, breakpoints_nm=bp, catalogue=cat, face_slices=spec, **deeper)
+    from .face_curve import rim_coupling_length_mm
+
     mod = spec.modification
     face = {
         "slices": spec.slices, "nodes": spec.nodes, "coning": spec.coning,
-        "coupling_length_mm": spec.coupling_length_mm,
+        "coupling_length_mm": (rim_coupling_length_mm(gs) if spec.coupling_length_mm is None
+                               else spec.coupling_length_mm),
         "design_section_z_mm": spec.design_z_mm,
         "taper_um_per_mm": None if mod is None else float(mod.taper_mm_per_mm) * 1e3,
         "crowning_um": None if mod is None else float(mod.crowning_mm) * 1e3,
-        "model": ("independent axial slices (the soft bound; the face held straight is the one-section curve), "
-                  "each with the 3D cup's coning and the face stage's tooth modification, sharing the rotation; "
-                  "every ball one-sided with its Hertz spring in every slice (contact.face_curve)"),
+        "model": ("axial slices graded toward the design section, each with the 3D cup's coning and the face stage's "
+                  "tooth modification, sharing the rotation; the FS rim's far field (and the balls' seats) coupled "
+                  "along the face over the rim's shell decay length, the teeth's and contacts' local compliance and "
+                  "the CS per slice; every ball one body, its Hertz spring under its shares' summed load "
+                  "(contact.face_curve)"),
         "one_section": one.headline(),
         "max_gap_mm": float(sliced.sides[1][0].max_gap_mm) if sliced.sides else float(max_gap),
     }

@@ -41,12 +41,26 @@ problem on N slices, which the curve's own solvers (the continuation of
   less, more): ``ring_twist=False`` keeps the curve's b/3 series term instead, and identical
   slices are then the 2D curve exactly.
 
+* **The rim couples the slices; the teeth do not.** A tooth load moves the FS in two ways: the
+  tooth and the contact deform locally, and the rim (with the race under it) bends as a ring.
+  The ring's part is the same at the neighbouring teeth (a load on one tooth moves the next one
+  65–73 % as much as itself on the default set), and along the face the rim is a cylindrical
+  shell that spreads a load over its decay length L = √(r_m δ)/(3(1 − ν²))^{1/4}. So the FS
+  flexibility splits (:func:`local_fraction`): the local part, the fraction f of each tooth's own
+  block (f from the rim's far field at the teeth ±1, ±2, extrapolated to the loaded tooth:
+  0.26 on the default set), stays with its slice (× b/w_i); the rest of the rim's flexibility,
+  the balls' seats included, is a Pasternak foundation along the face of length λ
+  (``coupling_length_mm``, default L: :func:`rim_coupling_length_mm`;
+  :func:`slice_coupling_matrix`). The CS stays per slice. λ = 0 is the soft bound, independent
+  slices. The race, stiffer than the rim and one body across its width, would spread the load
+  further (default set, verify: lost motion 1.217 / 0.995 / 0.812 / 0.746 / 0.679 arcmin at λ =
+  0 / 2 / 5 / 8.4 / 50 mm), so L errs on the soft side.
+
 What it leaves out: the cup's deformation under the tooth forces (the sections are the cup
 pressed onto the cam at no torque); the opposite flank where coning makes a slice's gap
 negative (one flank, as the curve: such a slice is preloaded at no torque and its first
-contact is the curve's zero); coupling between slices other than the ring's twist, unless
-``coupling_length_mm`` > 0 couples the whole section along the face (a Pasternak foundation:
-the stiff side of what the tooth and the rim spread, :func:`slice_coupling_matrix`).
+contact is the curve's zero); the race's own spread along the face (above); the CS ring's
+coupling along the face.
 """
 
 from __future__ import annotations
@@ -68,6 +82,8 @@ __all__ = [
     "flank_offset_gap_mm",
     "ring_twist_kernel",
     "slice_chain",
+    "local_fraction",
+    "rim_coupling_length_mm",
     "slice_coupling_matrix",
     "slice_layout",
     "slice_gap_shifts",
@@ -312,9 +328,10 @@ class FaceSlices:
     press_cup of the set, built once for both flanks), ``design_z_mm`` (the CS's section;
     default mid-face), ``modification`` (the FS tooth's taper and crowning; default straight),
     ``ring_twist`` (the tooth ring's twist in the slices, module docstring), ``nodes``
-    (:func:`slice_layout`: "midpoint", "ends" or "graded" toward the design section), ``coupling_length_mm`` (0: independent slices,
-    the soft bound; λ > 0 a Pasternak coupling of the whole section along the face,
-    :func:`slice_coupling_matrix`)."""
+    (:func:`slice_layout`: "midpoint", "ends" or "graded" toward the design section),
+    ``coupling_length_mm`` (the rim's coupling along the face, module docstring: None, the FS
+    rim's shell decay length :func:`rim_coupling_length_mm`; 0: independent slices, the soft
+    bound; λ > 0 mm)."""
 
     slices: int = 4
     coning: str = "cup"
@@ -323,7 +340,7 @@ class FaceSlices:
     modification: object = None
     ring_twist: bool = True
     nodes: str = "midpoint"
-    coupling_length_mm: float = 0.0
+    coupling_length_mm: float | None = None
 
     def __post_init__(self):
         _whole("face_slices", self.slices, 1)
@@ -362,13 +379,14 @@ class FaceSlices:
             raise FaceCurveError(f"sides: the two flanks have {sorted(balls)} candidate balls; they must share the "
                                  "bearing")
         new_chain, c_ring = slice_chain(chain, widths, b, ring_twist=self.ring_twist)
+        lam = rim_coupling_length_mm(gs) if self.coupling_length_mm is None else self.coupling_length_mm
         out, first = {}, {}
         z, shifts = _slice_gap_shifter(inputs, self.slices, coning=self.coning, cup=cup, nodes=self.nodes,
                                        design_z_mm=self.design_z_mm, modification=self.modification)
         for s, (pts, comp) in sides.items():
             de = shifts(pts)
             out[s] = stack_slices(pts, comp, de, widths_mm=widths, ring_compliance_rad_per_nmm=c_ring,
-                                  coupling_length_mm=self.coupling_length_mm, positions_mm=zeta)
+                                  coupling_length_mm=lam, positions_mm=zeta)
             first[s] = ((pts.gap_mm[None, :] + de) / pts.lever_mm[None, :]).min(axis=1)
         warnings = []
         play = first[1] + first[-1]
@@ -380,6 +398,36 @@ class FaceSlices:
                             "modification along the face is needed); the one-flank curve counts the overlap as "
                             "rotation, where both flanks would be preloaded")
         return out, new_chain, warnings
+
+
+def rim_coupling_length_mm(gearset) -> float:
+    """L = √(r_m δ) / (3(1 − ν²))^{1/4} (mm): the length over which a cylindrical shell of radius
+    r_m and thickness δ (the FS rim) spreads a load along its axis, the decay length of its
+    bending boundary layer — the rim's coupling of the slices (module docstring)."""
+    g = gearset.gear
+    nu = float(gearset.material.poisson_ratio)
+    return math.sqrt(float(g.neutral_radius_mm) * float(g.rim_thickness_mm)) / (3.0 * (1.0 - nu * nu)) ** 0.25
+
+
+def local_fraction(points, compliance) -> float:
+    """f (0 … 1): the share of the FS flexibility at a loaded point that is its tooth's own (the
+    tooth and the contact deforming), the rest the rim's far field. For each point with teeth
+    ±1, ±2 on both sides, the rim's response at its own tooth is the parabola through the mean
+    responses at the teeth ±1 and ±2 (S₀ ≈ (4 S₁ − S₂)/3) and f = 1 − S₀ / its own tooth's mean;
+    the median over the points (0 when no point has both neighbours). ``compliance``: the 2D
+    section's, its balls held (``fs_matrix_mm_per_n``)."""
+    s = np.asarray(compliance.fs_matrix_mm_per_n, dtype=float)
+    tooth = np.asarray(points.tooth)
+    members = {int(t): np.flatnonzero(tooth == t) for t in np.unique(tooth)}
+    out = []
+    for k, t in enumerate(tooth):
+        near = [members.get(int(t) + o) for o in (-2, -1, 1, 2)]
+        if any(m is None for m in near):
+            continue
+        s1 = 0.5 * (s[k, near[1]].mean() + s[k, near[2]].mean())
+        s2 = 0.5 * (s[k, near[0]].mean() + s[k, near[3]].mean())
+        out.append(1.0 - (4.0 * s1 - s2) / 3.0 / s[k, members[int(t)]].mean())
+    return float(np.clip(np.median(out), 0.0, 1.0)) if out else 0.0
 
 
 def slice_coupling_matrix(positions_mm, widths_mm, coupling_length_mm: float = 0.0) -> np.ndarray:
@@ -412,11 +460,11 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
     the face width b, so the curve's solvers, which divide the rim's per-width flexibility by
     it, see each slice at its own width); when ``ring_compliance_rad_per_nmm`` = 1/(G J) of the
     tooth ring (rad per N·mm per mm) is > 0, the ring's twist r_k r_l U (1/(GJ)) L_ij
-    (:func:`ring_twist_kernel`) is added. ``coupling_length_mm`` λ > 0 couples the slices' whole
-    section (rim, teeth, balls' seats, CS) along the face as a Pasternak foundation
-    (:func:`slice_coupling_matrix`; ``positions_mm`` the slices' sections, default the cells'
-    middles): an upper bound on the coupling, since the tooth's and the contact's local compliance
-    do not spread. Every slice's copy of a ball is a share of that ball (``ball_body``: one
+    (:func:`ring_twist_kernel`) is added. ``coupling_length_mm`` λ > 0 couples the rim along the
+    face (module docstring): the FS flexibility less its local part (:func:`local_fraction`), the
+    balls' seats with it, as a Pasternak foundation (:func:`slice_coupling_matrix`;
+    ``positions_mm`` the slices' sections, default the cells' middles); the local part and the CS
+    stay per slice. An even load is the 2D section for any λ. Every slice's copy of a ball is a share of that ball (``ball_body``: one
     spring under their summed reaction, module docstring). Solve it with the curve's solvers."""
     if getattr(compliance, "ball_supports", "window") != "all":
         raise FaceCurveError(f"compliance.ball_supports = {compliance.ball_supports!r}: the slices need every ball "
@@ -445,11 +493,22 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
         points, tooth=tile(points.tooth), phi_rad=tile(points.phi_rad), t_mm=tile(points.t_mm),
         local_mm=tile(points.local_mm), fs_point_mm=tile(points.fs_point_mm), cs_point_mm=tile(points.cs_point_mm),
         normal=tile(points.normal), gap_mm=gap, lever_mm=tile(r))
-    cs = np.kron(scale, np.asarray(compliance.cs_matrix_mm_per_n, dtype=float))
+    # the CS and the FS's local part per slice (× b/w_i); the rim's far field coupled along the face
+    alone = np.diag(b / w)
+    cs = np.kron(alone, np.asarray(compliance.cs_matrix_mm_per_n, dtype=float))
     if c_ring > 0.0:
         rr = np.tile(r, ns)
         cs = cs + np.kron(ring_twist_kernel(w), np.ones((n, n))) * np.outer(rr, rr) * (c_ring * points.zones)
     fs = np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n, dtype=float))
+    flex_cc = np.asarray(compliance._flex_cc, dtype=float)
+    if coupling_length_mm > 0.0 and ns > 1:
+        same = np.asarray(points.tooth)[:, None] == np.asarray(points.tooth)[None, :]
+        local = np.where(same, local_fraction(points, compliance) * b * np.asarray(
+            compliance.fs_matrix_mm_per_n, dtype=float), 0.0)  # per width, as the flexibility blocks
+        flex_cc_stacked = np.kron(alone, local) + np.kron(scale, flex_cc - local)
+        fs = np.kron(alone, local / b) + np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n) - local / b)
+    else:
+        flex_cc_stacked = np.kron(scale, flex_cc)
     gaps_b = None if compliance.ball_gap_mm is None else tile(compliance.ball_gap_mm)
     nb = compliance.ball_angle_rad.size
     # every slice's copy of a ball is a share of that one ball: its spring (given, or the Hertz
@@ -460,7 +519,7 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
     comp = dataclasses.replace(
         compliance, matrix_mm_per_n=fs + cs, fs_matrix_mm_per_n=fs, cs_matrix_mm_per_n=cs,
         face_width_mm=b, tooth=tile(compliance.tooth), ball_angle_rad=tile(compliance.ball_angle_rad),
-        ball_active=tile(compliance.ball_active), _flex_cc=np.kron(scale, compliance._flex_cc),
+        ball_active=tile(compliance.ball_active), _flex_cc=flex_cc_stacked,
         _flex_cb=np.kron(scale, compliance._flex_cb), _flex_bb=np.kron(scale, compliance._flex_bb),
         ball_gap_mm=gaps_b, ball_compliance_mm_per_n=springs, ball_body=tile(body))
     return pts, comp
@@ -495,6 +554,6 @@ def slice_chain(chain, widths_mm, face_width_mm: float, *, ring_twist: bool = Tr
 
 
 #: what the sliced curve still leaves out of the face (replaces the chain's "coning" item)
-SLICED_CONING = ("across the face: the slices are independent (the soft bound; coupled along the face they are "
-                 "stiffer) and their no-load gaps are the cup's coning pressed on the wave generator, not its bending "
-                 "under the tooth forces")
+SLICED_CONING = ("across the face: the rim couples the slices over its own shell length, without the bearing's race "
+                 "(one body across its width, it would spread the load further), the CS not at all; and their no-load "
+                 "gaps are the cup's coning pressed on the wave generator, not its bending under the tooth forces")

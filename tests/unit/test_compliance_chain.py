@@ -440,7 +440,7 @@ def test_continuation_falls_back_to_the_reference(curve, sketch_design, monkeypa
 
 def test_the_scene_asks_for_face_slices_only_where_there_is_a_face_stage():
     """whole_gear_curve's choice (chain._scene_face_slices): the scene's face_slices = N on a
-    design with a face stage → N slices with nodes on both face ends, at the face stage's design
+    design with a face stage → N slices graded toward the face stage's design
     section and tooth modification; without one → the one-section curve and a warning naming the
     tier; N = 0, or face_slices given by the caller → the scene is not consulted."""
     from types import SimpleNamespace
@@ -454,7 +454,7 @@ def test_the_scene_asks_for_face_slices_only_where_there_is_a_face_stage():
     assert note is None
     assert (spec.slices, spec.nodes, spec.coning, spec.cup, spec.design_z_mm, spec.modification) == \
         (5, "graded", "cup", "CUP", 70.0, mod)
-    assert spec.coupling_length_mm == 0.0  # independent slices: the soft bound
+    assert spec.coupling_length_mm is None  # the rim's own shell length (face_curve.rim_coupling_length_mm)
     assert _scene_face_slices(with_face, {"face_slices": 3}) == (None, None)
     flat = SimpleNamespace(scene=SimpleNamespace(face_slices=5), rim=SimpleNamespace(tier="toothed", cup=None),
                            face=None)

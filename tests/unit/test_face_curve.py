@@ -10,6 +10,7 @@ compliance's own matrices."""
 from __future__ import annotations
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -18,8 +19,8 @@ import profilegen as pg
 from profilegen.contact.chain import compliance_chain, torsional_curve
 from profilegen.contact.compliance import ContactCompliance
 from profilegen.contact.face_curve import (
-    FaceCurveError, FaceSlices, flank_offset_gap_mm, ring_twist_kernel, slice_chain,
-    slice_coupling_matrix, slice_gap_shifts, slice_layout, stack_slices)
+    FaceCurveError, FaceSlices, flank_offset_gap_mm, local_fraction, rim_coupling_length_mm, ring_twist_kernel,
+    slice_chain, slice_coupling_matrix, slice_gap_shifts, slice_layout, stack_slices)
 from profilegen.contact.face_load import slice_coupling
 from profilegen.contact.inputs import ContactInput
 from profilegen.contact.points import ContactPoints
@@ -180,6 +181,31 @@ def test_a_ball_is_one_body_across_the_slices():
     np.testing.assert_allclose(two["reactions"], 0.5 * one["reactions"][0], rtol=1e-9)
 
 
+def test_local_fraction_of_a_far_field_plus_a_tooth_block():
+    # a rim far field smooth in the tooth offset (A − B Δ², which the parabola through ±1, ±2 gives
+    # back exactly) plus a local part L on each tooth's own block: f = L / (A + L)
+    from types import SimpleNamespace
+
+    a, bb, loc = 4e-6, 8e-9, 1.5e-6
+    tooth = np.repeat(np.arange(-6, 7), 3)
+    dt = tooth[:, None] - tooth[None, :]
+    s = a - bb * dt ** 2 + np.where(dt == 0, loc, 0.0)
+    f = local_fraction(SimpleNamespace(tooth=tooth), SimpleNamespace(fs_matrix_mm_per_n=s))
+    assert f == pytest.approx(loc / (a + loc), rel=1e-12)
+    # no point with teeth ±1 and ±2 on both sides: nothing to split
+    assert local_fraction(SimpleNamespace(tooth=np.array([0, 1, 2])),
+                         SimpleNamespace(fs_matrix_mm_per_n=np.eye(3))) == 0.0
+
+
+def test_rim_coupling_length_is_the_shells_decay_length():
+    # a cylindrical shell's bending boundary layer decays as exp(−z/L), L = √(r δ) / (3(1 − ν²))^(1/4)
+    from types import SimpleNamespace
+
+    gs = SimpleNamespace(gear=SimpleNamespace(neutral_radius_mm=50.0, rim_thickness_mm=1.0),
+                         material=SimpleNamespace(poisson_ratio=0.3))
+    assert rim_coupling_length_mm(gs) == pytest.approx(math.sqrt(50.0) / 1.2854, rel=1e-4)
+
+
 # --------------------------------------------------------------------------- on a design
 
 
@@ -240,7 +266,7 @@ def test_thickness_offset_is_a_tangential_move(design, curve_2d):
 @pytest.fixture(scope="module")
 def coned(design, curve_2d):
     """Two slices with semi-membrane coning, stacked, and the per-slice solve at 100 N·m."""
-    spec = FaceSlices(2, "semi_membrane")
+    spec = FaceSlices(2, "semi_membrane", coupling_length_mm=0.0)  # independent slices (the rim coupled: below)
     gs = design.gearset
     chain = compliance_chain(gs)
     sides, new_chain, _ = spec.apply(design, curve_2d.sides, chain)
@@ -281,6 +307,52 @@ def test_equilibrium_and_complementarity_in_every_slice(design, curve_2d, coned)
         # each loaded ball's spring is the Hertz secant of the whole ball at its shares' summed reaction
         q = react.sum(axis=0)[act]
         np.testing.assert_allclose(springs[i][act], chain.bearing.hertz_coefficient() * q ** (-1 / 3), rtol=2e-5)
+
+
+def test_the_rim_coupled_slices_in_equilibrium_and_complementary(design, curve_2d):
+    # the same two coned slices with the rim coupled along the face (λ = 6 mm): recomputed from the
+    # 2D blocks, the local part (f of each tooth's own block) per slice, the rim's far field and the
+    # balls' seats through K = b (W + λ² L_h)⁻¹, the CS per slice
+    spec = FaceSlices(2, "semi_membrane", coupling_length_mm=6.0)
+    chain = compliance_chain(design.gearset)
+    sides, chain, _ = spec.apply(design, curve_2d.sides, chain)
+    pts, comp = sides[1]
+    out = _solve(pts, comp, 100.0, chain.bearing)
+    pts2, comp2 = curve_2d.sides[1]
+    _, de = slice_gap_shifts(design, pts2, 2, coning="semi_membrane")
+    n, nb, ns, b = pts2.count, comp2.ball_angle_rad.size, 2, float(comp2.face_width_mm)
+    zeta, w = slice_layout(b, ns)
+    k = slice_coupling_matrix(zeta, w, 6.0)
+    assert k[0, 1] > 0.0  # coupled
+    f = local_fraction(pts2, comp2)
+    assert 0.05 < f < 0.6
+    same = pts2.tooth[:, None] == pts2.tooth[None, :]
+    local = np.where(same, f * b * comp2.fs_matrix_mm_per_n, 0.0)
+    rim = comp2._flex_cc - local
+    force, react, phi = out["force"].reshape(ns, n), out["reactions"].reshape(ns, nb), out["phi"]
+    springs = np.exp(out["log_springs"]).reshape(ns, nb)
+    r = np.asarray(pts2.lever_mm)
+    c_ring = chain.part("cup_wall").parameters["ring_compliance_rad_per_nmm2"]
+    kern = ring_twist_kernel(w)
+    moment = force @ r
+    assert moment.sum() == pytest.approx(100.0e3 / pts2.zones, rel=1e-12)
+    for i in range(ns):
+        twist = pts2.zones * c_ring * float(kern[i] @ moment)
+        g = r * ((pts2.gap_mm + de[i]) / r - phi + twist) + (b / w[i]) * (local @ force[i]) / b \
+            + sum(k[i, j] * (rim @ force[j] + comp2._flex_cb @ react[j]) for j in range(ns)) / b \
+            + (b / w[i]) * comp2.cs_matrix_mm_per_n @ force[i]
+        h = np.asarray(comp2.ball_gap_mm) + springs[i] * react.sum(axis=0) \
+            + sum(k[i, j] * (comp2._flex_cb.T @ force[j] + comp2._flex_bb @ react[j]) for j in range(ns)) / b
+        scale = float(np.abs(g).max())
+        assert np.all(force[i] >= 0.0) and np.all(react[i] >= 0.0)
+        assert g.min() >= -1e-9 * scale and np.abs(force[i] * g).max() <= 1e-9 * scale * force.max()
+        assert h.min() >= -1e-9 * scale and np.abs(react[i] * h).max() <= 1e-9 * scale * react.max()
+    # the coupled rim resists the slices' differential deflection: the gear turns less under the same
+    # torque than with independent slices (and the load follows the coning's gaps more unevenly)
+    alone = _solve(*FaceSlices(2, "semi_membrane", coupling_length_mm=0.0).apply(design, curve_2d.sides,
+                                                                                 compliance_chain(design.gearset))[0][1],
+                   100.0, chain.bearing)
+    assert out["phi"] < alone["phi"]
 
 
 def test_continuation_against_lemke_with_coning(design, curve_2d, coned):
