@@ -464,8 +464,9 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
     face (module docstring): the FS flexibility less its local part (:func:`local_fraction`), the
     balls' seats with it, as a Pasternak foundation (:func:`slice_coupling_matrix`;
     ``positions_mm`` the slices' sections, default the cells' middles); the local part and the CS
-    stay per slice. An even load is the 2D section for any λ. Every slice's copy of a ball is a share of that ball (``ball_body``: one
-    spring under their summed reaction, module docstring). Solve it with the curve's solvers."""
+    stay per slice. An even load is the 2D section for any λ. Every slice's copy of a ball is a
+    share of that ball (``ball_body``: one spring under their summed reaction, module docstring).
+    Solve it with the curve's solvers."""
     if getattr(compliance, "ball_supports", "window") != "all":
         raise FaceCurveError(f"compliance.ball_supports = {compliance.ball_supports!r}: the slices need every ball "
                              "one-sided at its no-load gap ('all')")
