@@ -193,6 +193,10 @@ def main(argv=None) -> int:
         sys.path.insert(0, os.getcwd())
         worker(args.sets, args.repeats, args.design_repeats, args.worker)
         return 0
+    # the refs as commits, once: both trees from the same commits even when a branch moves meanwhile
+    args.after, args.before = (subprocess.run(["git", "rev-parse", "--short", ref], cwd=ROOT, check=True,
+                                              capture_output=True, text=True).stdout.strip()
+                               for ref in (args.after, args.before))
     with tempfile.TemporaryDirectory(prefix="face_identity_") as tmp:
         results = {}
         for label in ("before", "after"):
