@@ -9,13 +9,14 @@ same with the face stage's code (``--paths``: profilegen/face and profilegen/gea
 at ``--before`` (default e5bce8f, before the face stage's speed-up), so the design's total differs
 by that code alone; ``--whole``: the whole ``--before`` tree instead. Each is unpacked with ``git
 archive`` into a temporary folder and run there in its own process (``PYTHONPATH`` the folder), so
-uncommitted edits in the working tree play no part. In each,
-for every bundled set (``--sets``; default the five bundled: default, seed000_csf40, seed001_shf25,
-seed002_short_cup, csf32_100): ``profilegen.design(set, scene="design")`` runs until its face stage
-(:func:`profilegen.face.face_width` is wrapped to take its arguments and stop the design there),
-then the face stage is run ``--repeats`` times on those arguments (wall and CPU time of each; the
-results of the last). Then the default set's whole design scene ``--design-repeats`` times (after
-one warm-up run) for the design's total.
+uncommitted edits in the working tree play no part. In each, for every bundled set (``--sets``;
+default the five bundled: default, seed000_csf40, seed001_shf25, seed002_short_cup, csf32_100):
+``profilegen.design(set, scene="design")`` runs until its face stage (:func:`profilegen.face.face_width`
+is wrapped to take its arguments and stop the design there) and the face stage runs once on those
+arguments (its results compared; a warm-up). Then the two processes, side by side, run each set's
+face stage ``--repeats`` times and the default set's whole design scene ``--design-repeats`` times
+(after one warm-up), one run at a time, before and after alternating (and which goes first), so
+that the shared machine's load falls on both alike: wall and CPU time of each run.
 
 Compared, set by set, before against after: the design section (z and index), the modification
 (taper, crowning, radial shift, iterations), every section's minimum clearance, its φ, backlash
@@ -60,8 +61,11 @@ def _summary(face) -> dict:
     return out
 
 
-def worker(sets, repeats: int, design_repeats: int, out: str) -> None:
-    """In the unpacked tree (first on sys.path): each set's face stage, then the default design."""
+def worker(sets, out: str) -> None:
+    """In the unpacked tree (first on sys.path): each set's face stage arguments (its design run up
+    to the face stage), one face stage each (its results kept; a warm-up), then commands from stdin,
+    one a line, each answered with one line: ``face NAME`` (one run: "wall cpu"), ``design`` (the
+    default set's whole design scene once: "wall cpu"), ``dump`` (the results into ``out``)."""
     import profilegen
     import profilegen.face as face_module
 
@@ -75,8 +79,8 @@ def worker(sets, repeats: int, design_repeats: int, out: str) -> None:
         captured["args"] = (gearset, deformation, kw)
         raise _Stop
 
-    print(f"  profilegen from {Path(profilegen.__file__).parent}", flush=True)
-    result = {}
+    print(f"  profilegen from {Path(profilegen.__file__).parent}", file=sys.stderr, flush=True)
+    inputs, result = {}, {}
     for name in sets:
         face_module.face_width = capture
         try:
@@ -85,28 +89,24 @@ def worker(sets, repeats: int, design_repeats: int, out: str) -> None:
             pass
         finally:
             face_module.face_width = real
-        gs, dfm, kw = captured.pop("args")
-        walls, cpus = [], []
-        for _ in range(repeats):
-            t0, c0 = time.perf_counter(), time.process_time()
-            face = real(gs, dfm, **kw)
-            walls.append(time.perf_counter() - t0)
-            cpus.append(time.process_time() - c0)
-        result[name] = {"wall_s": walls, "cpu_s": cpus, "summary": _summary(face)}
-        print(f"  {name}: face stage {statistics.median(walls):.3f} s wall, {statistics.median(cpus):.3f} s CPU",
-              flush=True)
-    design = {"wall_s": [], "cpu_s": []}
-    if design_repeats:
-        gs = profilegen.load_gearset("default")
-        profilegen.design(gs, scene="design")  # warm-up
-        for _ in range(design_repeats):
-            t0, c0 = time.perf_counter(), time.process_time()
-            profilegen.design(gs, scene="design")
-            design["wall_s"].append(time.perf_counter() - t0)
-            design["cpu_s"].append(time.process_time() - c0)
-        print(f"  default design scene: {statistics.median(design['wall_s']):.3f} s wall", flush=True)
-    with open(out, "wb") as f:
-        pickle.dump({"sets": result, "design": design}, f)
+        inputs[name] = captured.pop("args")
+        gs, dfm, kw = inputs[name]
+        result[name] = _summary(real(gs, dfm, **kw))
+    default = profilegen.load_gearset("default")
+    for line in sys.stdin:
+        cmd = line.split()
+        if cmd[0] == "dump":
+            with open(out, "wb") as f:
+                pickle.dump(result, f)
+            print("ok", flush=True)
+            continue
+        t0, c0 = time.perf_counter(), time.process_time()
+        if cmd[0] == "face":
+            gs, dfm, kw = inputs[cmd[1]]
+            real(gs, dfm, **kw)
+        else:
+            profilegen.design(default, scene="design")
+        print(time.perf_counter() - t0, time.process_time() - c0, flush=True)
 
 
 def _unpack(ref: str, into: Path, paths=()) -> str:
@@ -124,14 +124,41 @@ def _unpack(ref: str, into: Path, paths=()) -> str:
     return commit
 
 
-def _run(tree: Path, args, out: Path) -> dict:
+def _start(tree: Path, out: Path, sets) -> subprocess.Popen:
     """This script's worker (the older tree may not hold it) in ``tree``, importing that tree's package."""
     env = dict(os.environ, PYTHONPATH=str(tree))
-    subprocess.run([sys.executable, str(Path(__file__).resolve()), "--worker", str(out),
-                    "--repeats", str(args.repeats), "--design-repeats", str(args.design_repeats), "--sets", *args.sets],
-                   cwd=tree, env=env, check=True)
-    with open(out, "rb") as f:
-        return pickle.load(f)
+    return subprocess.Popen([sys.executable, str(Path(__file__).resolve()), "--worker", str(out), "--sets", *sets],
+                            cwd=tree, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+
+
+def _ask(proc: subprocess.Popen, command: str) -> list[float]:
+    proc.stdin.write(command + "\n")
+    proc.stdin.flush()
+    answer = proc.stdout.readline()
+    if not answer:
+        raise SystemExit(f"the worker stopped at {command!r} (exit {proc.wait()})")
+    return [float(x) for x in answer.split() if x != "ok"]
+
+
+def _measure(procs: dict, args) -> dict:
+    """The runs, before and after alternating (which goes first alternates too), so that the
+    machine's load falls on both alike."""
+    times = {label: {name: {"wall_s": [], "cpu_s": []} for name in [*args.sets, "design"]} for label in procs}
+    order = list(procs)
+    jobs = [(f"face {name}", name) for _ in range(args.repeats) for name in args.sets]
+    if args.design_repeats:
+        jobs += [("design", None)] + [("design", "design")] * args.design_repeats  # the first: a warm-up
+    for i, (command, key) in enumerate(jobs):
+        for label in (order if i % 2 == 0 else order[::-1]):
+            wall, cpu = _ask(procs[label], command)
+            if key is not None:
+                times[label][key]["wall_s"].append(wall)
+                times[label][key]["cpu_s"].append(cpu)
+    for label, proc in procs.items():
+        _ask(proc, "dump")
+        proc.stdin.close()
+        proc.wait()
+    return times
 
 
 def _largest(a, b) -> float:
@@ -191,14 +218,14 @@ def main(argv=None) -> int:
     resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, 4_000_000_000))
     if args.worker:
         sys.path.insert(0, os.getcwd())
-        worker(args.sets, args.repeats, args.design_repeats, args.worker)
+        worker(args.sets, args.worker)
         return 0
     # the refs as commits, once: both trees from the same commits even when a branch moves meanwhile
     args.after, args.before = (subprocess.run(["git", "rev-parse", "--short", ref], cwd=ROOT, check=True,
                                               capture_output=True, text=True).stdout.strip()
                                for ref in (args.after, args.before))
     with tempfile.TemporaryDirectory(prefix="face_identity_") as tmp:
-        results = {}
+        procs, outs = {}, {}
         for label in ("before", "after"):
             tree = Path(tmp) / label
             tree.mkdir()
@@ -209,7 +236,15 @@ def main(argv=None) -> int:
                 base = _unpack(args.after, tree)
                 print(f"before: {args.after} ({base}) with {' '.join(args.paths)} from {args.before} "
                       f"({_unpack(args.before, tree, args.paths)})", flush=True)
-            results[label] = _run(tree, args, Path(tmp) / f"{label}.pkl")
+            outs[label] = Path(tmp) / f"{label}.pkl"
+            procs[label] = _start(tree, outs[label], args.sets)
+        times = _measure(procs, args)
+        results = {}
+        for label in procs:
+            with open(outs[label], "rb") as f:
+                summaries = pickle.load(f)
+            results[label] = {"sets": {name: {**times[label][name], "summary": summaries[name]} for name in args.sets},
+                              "design": times[label]["design"]}
     return 0 if compare(results["before"], results["after"], args.tol) else 1
 
 
