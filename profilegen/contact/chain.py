@@ -124,7 +124,8 @@ from ..stagecache import checkpoint
 from ..errors import ConvergenceError
 from ..results import json_ready, readonly as _readonly
 from ..wgbearing import BallBearing, ChainError, HertzContact, hertz_point_contact  # noqa: F401 (re-exported: the chain's bearing)
-from .reduced import ReducedZone, zone_solution, SpringIteration, ball_totals  # noqa: F401 (the continuation's pieces, used here)
+from .springs import ball_totals
+from .reduced import ReducedZone, zone_solution, SpringIteration  # noqa: F401 (the continuation's pieces, used here)
 
 __all__ = [
     "ARCMIN_PER_RAD",

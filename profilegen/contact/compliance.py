@@ -161,7 +161,7 @@ from ..results import readonly as _readonly
 from ..stagecache import checkpoint
 from ..wgbearing import DEFAULT_BALL_COUNT, default_race_thickness_mm  # noqa: F401 (re-exported)
 from .inputs import ContactInput
-from .reduced import ball_totals, spring_block
+from .springs import ball_totals, spring_block
 from .solvers import lemke_lcp
 
 __all__ = ["ComplianceError", "ComplianceMesh", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache",
