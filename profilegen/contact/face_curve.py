@@ -66,6 +66,7 @@ coupling along the face.
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass
 from functools import partial
@@ -309,13 +310,20 @@ def _signed_gaps(points, tooth_local: np.ndarray, motion, cs) -> np.ndarray:
 def _cs_outline_distance(inputs):
     """(PolylineDistance of CS spaces −1, 0, 1, the polygon of the CS's hollow) of the fitted CS
     outline (``inputs.cs_space`` repeated, sampled to 0.1 nm)."""
+    return _cs_outline_distance_of(inputs.cs_space, float(inputs.cs_tip_radius_mm),
+                                   int(inputs.gearset.gear.circular_spline_teeth))
+
+
+@functools.lru_cache(maxsize=2)
+def _cs_outline_distance_of(cs_space, tip_radius_mm: float, cs_teeth: int):
+    """:func:`_cs_outline_distance` of one CS space (a frozen Chain, cached by identity): a torque
+    change in a warm process (the workbench) keeps the profile, and this ~0.25 s with it."""
     import shapely
 
     from ..gearform import PolylineDistance, cs_local_chain, cs_outline
 
-    outline = cs_outline(inputs.cs_space, tip_radius_mm=float(inputs.cs_tip_radius_mm),
-                         cs_teeth=int(inputs.gearset.gear.circular_spline_teeth))
-    local = cs_local_chain(inputs.cs_space, outline).sample(1e-7)
+    outline = cs_outline(cs_space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
+    local = cs_local_chain(cs_space, outline).sample(1e-7)
     hollow = shapely.Polygon(outline.sample(1e-5))
     shapely.prepare(hollow)
     return PolylineDistance(local), hollow
