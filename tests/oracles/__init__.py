@@ -13,6 +13,8 @@ package computes another way; the tests in tests/unit and tests/validation impor
   of tests/unit/test_contact_solvers.py);
 * :mod:`solid_cup` — the plain 3D solid of the cup (27-node hexahedra, a quarter with the two
   symmetry planes), the check of the cup tier's Fourier formulation (tests/unit/test_cup3d.py);
+* :mod:`clearance_rule` — the clearance map by its definition, pose by pose (tests/unit/test_clearance_search.py,
+  tests/unit/test_face_width.py);
 * :mod:`zdt1` — ZDT1, an analytic problem with a known Pareto front, for the optimiser's
   machinery (tests/unit/test_optimize.py).
 """
