@@ -66,8 +66,9 @@ class ReducedZone:
     strictly convex for given springs), solved without assembling the n × n compliance or
     running Lemke's method from scratch. For a ball set B (the balls in contact) with springs
     c, each ball of B closed at its no-load gap γ_B (0 for the window's balls), the ball
-    reactions are R_B = −W F − b (F_BB + diag(c b))⁻¹ γ_B with W = (F_BB + diag(c b))⁻¹ F_cBᵀ
-    (a |B| × |B| Cholesky factor), so the teeth see the compliance S[:, P] = S_CS[:, P] +
+    reactions are R_B = −W F − b (F_BB + C b)⁻¹ γ_B with W = (F_BB + C b)⁻¹ F_cBᵀ, C the springs'
+    block (:func:`~profilegen.contact.springs.spring_block`: diag(c), or c between the shares of
+    one ball in the axial slices) (a |B| × |B| Cholesky factor), so the teeth see the compliance S[:, P] = S_CS[:, P] +
     (F_cc[:, P] − F_cB W[:, P]) / b at the loaded points P and an initial separation r_k θ_k
     − (Wᵀ γ_B)_k (the closed balls' gaps pull the rim in: an offset of each point's first
     contact angle). Equilibrium and closed gaps on P are a (|P| + 1) bordered system; P
