@@ -1615,7 +1615,7 @@ class ContactCompliance:
         shift = float(shift_rad)
         phi = 2.0 * math.pi * tooth_index / z1 + shift
         pose = inputs.motion.pose(phi)
-        angle = 2.0 * math.pi * tooth_index / z2  # one per point: turn broadcasts it (annotated float)
+        angle = 2.0 * math.pi * tooth_index / z2  # one per point
         local = pose.to_tooth(turn(fs_points, -angle))  # an angle per point
         # normal: undo turn(·, angle), then the tooth frame's rotation (to_tooth without the origin)
         n_cs = turn(fs_normals, -angle)  # an angle per point

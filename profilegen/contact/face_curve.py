@@ -10,18 +10,17 @@ low torque only part of the face may carry load. This module turns one flank's 2
 problem on N slices, which the curve's own solvers (the continuation of
 :class:`~profilegen.contact.reduced.ReducedZone` and the Lemke reference) solve unchanged:
 
-* **Slice i** (width Δz = b/N, mid-plane z_i = z_0 − b/2 + (i + ½)Δz, slice 0 at the diaphragm
-  end) is the 2D section at width Δz: the FS rim's and the CS sector's compliances ×N
-  (the 2D flexibilities are per unit width), its points' initial separations e_k + Δe_ik
-  (Δe from the section at z_i against the design section z_0), its own copy of every
-  wave-generator ball as a one-sided support at the ball's no-load gap. The slices share the
-  rotation φ and nothing else (a Winkler foundation along the face, as face_load's slices;
-  neighbouring slices' coupling through the tooth and the rim would make a load that varies
-  along the face meet a stiffer structure, so the independent slices are the *soft* bound of
-  what partial face contact does to the rotation).
+* **Slice i** (at ζ_i of :func:`slice_layout`, standing for the width w_i, slice 0 at the
+  diaphragm end) is the 2D section at width w_i: its compliances × b/w_i (the 2D flexibilities
+  are per unit width), its points' initial separations e_k + Δe_ik (Δe from the section at z_i
+  against the design section z_0), its own copy of every wave-generator ball as a one-sided
+  support at the ball's no-load gap. The slices share the rotation φ, the balls, the tooth
+  ring's twist and the rim (below); without the rim's coupling (``coupling_length_mm=0``) they
+  are a Winkler foundation along the face, the *soft* bound of what partial face contact does
+  to the rotation.
 * **The balls.** A ball is one body: its Hertz contacts carry the sum of the reactions of
   its shares in every slice, and it approaches by c_H (Σ_i R_i)^{2/3}
-  (:func:`~profilegen.contact.reduced.spring_block`: its secant couples the shares, the
+  (:func:`~profilegen.contact.springs.spring_block`: its secant couples the shares, the
   compliance's ``ball_body``). Each slice's bore still meets it one-sided at the ball's no-load
   gap, so one end of the face may leave a ball the other end presses. With equal slices
   (R_i = R/N) that is the 2D ball exactly. (Slices that each carried a share of the ball with
@@ -81,10 +80,10 @@ __all__ = [
     "FaceCurveError",
     "FaceSlices",
     "flank_offset_gap_mm",
-    "ring_twist_kernel",
-    "slice_chain",
     "local_fraction",
     "rim_coupling_length_mm",
+    "ring_twist_kernel",
+    "slice_chain",
     "slice_coupling_matrix",
     "slice_layout",
     "slice_gap_shifts",
@@ -145,7 +144,7 @@ def slice_layout(face_width_mm: float, slices: int, nodes: str = "midpoint",
     slack = 1e-9 * b  # a design section computed as z_d − (z_c − b/2) may land a rounding error past a face end
     t = b if toward_mm is None else min(b, max(0.0, checks.number(
         "toward_mm", toward_mm, "mm", -slack, b + slack, low_open=False, high_open=False, error=FaceCurveError)))
-    lo = 0 if t <= 1e-9 * b else (n - 1 if t >= b * (1 - 1e-9) else int(np.clip(round((n - 1) * t / b), 1, n - 2)))
+    lo = 0 if t <= slack else (n - 1 if t >= b - slack else int(np.clip(round((n - 1) * t / b), 1, n - 2)))
     if 0 < lo < n - 1 and n < 3:
         raise FaceCurveError(f"slices = {n}: graded nodes about an inner section need at least 3")
     zeta = np.r_[t - _graded(t, lo)[::-1], t + _graded(b - t, n - 1 - lo)[1:]]
@@ -230,14 +229,15 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
     ``shift_mm_per_mm`` (the face stage's
     :class:`~profilegen.face.modification.ToothModification`) — the slice's tooth is
     :func:`profilegen.face.modification.modified_tooth` at its mid-plane; None: straight teeth."""
-    z, shifts = _slice_gap_shifter(inputs, slices, coning=coning, cup=cup, design_z_mm=design_z_mm,
-                                   modification=modification, nodes=nodes)
+    z, _, _, shifts = _slice_gap_shifter(inputs, slices, coning=coning, cup=cup, design_z_mm=design_z_mm,
+                                         modification=modification, nodes=nodes)
     return z, shifts(points)
 
 
 def _slice_gap_shifter(inputs, slices: int, *, coning: str, cup, design_z_mm, modification, nodes: str):
-    """(z_i, points → Δe): :func:`slice_gap_shifts` with the sections, the modification and the CS
-    outline's distance built once, for both flanks."""
+    """(z_i, the layout's ζ_i and w_i (:func:`slice_layout` toward the design section), points →
+    Δe): :func:`slice_gap_shifts` with the sections, the modification and the CS outline's
+    distance built once, for both flanks."""
     from ..face.modification import radial_shift, thickness_change
     from ..kinematics import HarmonicDriveMotion
     from .face_load import cup_sections, semi_membrane_sections
@@ -252,7 +252,8 @@ def _slice_gap_shifter(inputs, slices: int, *, coning: str, cup, design_z_mm, mo
     b, zc = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
     zd = zc if design_z_mm is None else checks.number("design_z_mm", design_z_mm, "mm", zc - 0.5 * b, zc + 0.5 * b,
                                                         low_open=False, high_open=False, error=FaceCurveError)
-    z = zc - 0.5 * b + slice_layout(b, n, nodes, zd - (zc - 0.5 * b))[0]
+    zeta, widths = slice_layout(b, n, nodes, zd - (zc - 0.5 * b))
+    z = zc - 0.5 * b + zeta
     motion = inputs.motion
     if coning == "cup":
         if cup is None:
@@ -292,7 +293,7 @@ def _slice_gap_shifter(inputs, slices: int, *, coning: str, cup, design_z_mm, mo
             out[i] = _signed_gaps(points, moved, placed(secs[i + 1]), cs) - reference
         return out
 
-    return z, shifts
+    return z, zeta, widths, shifts
 
 
 def _signed_gaps(points, tooth_local: np.ndarray, motion, cs) -> np.ndarray:
@@ -379,9 +380,9 @@ class FaceSlices:
 
             cup = press_cup(gs)
         b = float(gs.cup.face_width_mm)
-        zc = float(gs.cup.length_mm)  # the face's middle; the design section defaults to it (slice_gap_shifts)
-        zd = zc if self.design_z_mm is None else float(self.design_z_mm)
-        zeta, widths = slice_layout(b, self.slices, self.nodes, zd - (zc - 0.5 * b))
+        z, zeta, widths, shifts = _slice_gap_shifter(inputs, self.slices, coning=self.coning, cup=cup,
+                                                     nodes=self.nodes, design_z_mm=self.design_z_mm,
+                                                     modification=self.modification)
         balls = {comp.ball_angle_rad.size for _, comp in sides.values()}
         if len(balls) != 1:
             raise FaceCurveError(f"sides: the two flanks have {sorted(balls)} candidate balls; they must share the "
@@ -389,8 +390,6 @@ class FaceSlices:
         new_chain, c_ring = slice_chain(chain, widths, b, ring_twist=self.ring_twist)
         lam = rim_coupling_length_mm(gs) if self.coupling_length_mm is None else self.coupling_length_mm
         out, first = {}, {}
-        z, shifts = _slice_gap_shifter(inputs, self.slices, coning=self.coning, cup=cup, nodes=self.nodes,
-                                       design_z_mm=self.design_z_mm, modification=self.modification)
         for s, (pts, comp) in sides.items():
             de = shifts(pts)
             out[s] = stack_slices(pts, comp, de, widths_mm=widths, ring_compliance_rad_per_nmm=c_ring,
