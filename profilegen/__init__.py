@@ -90,32 +90,32 @@ __version__ = "0.1.0"
 # command line (``python -m profilegen``, the ``profilegen`` script) imports only the package and its
 # cli before main() starts, so a Ctrl-C during the imports that follow ends it like one during the
 # stages (exit 130, one line), not with a traceback out of the package's import.
-_LAZY = {"write_design": "output.files", "RimDeformation": "rim", "solve_rim": "rim", "solve_ring": "rim", "fit_fourier": "series",
-         "fit_sine_series": "series", "new_gearset": "catalogue_set",
-         **dict.fromkeys(("HarmonicDeformation", "ring_theory"), "deformation"),
-         **dict.fromkeys(("Envelope", "envelope_of"), "envelope"),
-         **dict.fromkeys(("CircularSplineForm", "circular_spline_form", "clearance_map"), "gearform"),
+_LAZY = {"write_design": "output.files", "RimDeformation": "rim", "solve_rim": "rim", "solve_ring": "rim", "fit_fourier": "geometry.series",
+         "fit_sine_series": "geometry.series", "new_gearset": "gearset.new",
+         **dict.fromkeys(("HarmonicDeformation", "ring_theory"), "geometry.deformation"),
+         **dict.fromkeys(("Envelope", "envelope_of"), "profile.envelope"),
+         **dict.fromkeys(("CircularSplineForm", "circular_spline_form", "clearance_map"), "profile.gearform"),
          **dict.fromkeys(("GearSet", "default_gearset_path", "list_profiles", "load_gearset", "parse_gearset",
                           "resolve_gearset"), "gearset"),
-         **dict.fromkeys(("HarmonicDriveMotion", "RackMotion"), "kinematics"),
-         **dict.fromkeys(("Design", "design"), "pipeline"),
-         **dict.fromkeys(("Engine", "Cancelled"), "engine"),
-         **dict.fromkeys(("SCENES", "Scene"), "scenes"),
-         **dict.fromkeys(("ToothProfile", "dcta_tooth", "involute_tooth", "points_tooth", "tooth_from_gearset"), "teeth")}
+         **dict.fromkeys(("HarmonicDriveMotion", "RackMotion"), "geometry.kinematics"),
+         **dict.fromkeys(("Design", "design"), "pipeline.design"),
+         **dict.fromkeys(("Engine", "Cancelled"), "pipeline.engine"),
+         **dict.fromkeys(("SCENES", "Scene"), "pipeline.scenes"),
+         **dict.fromkeys(("ToothProfile", "dcta_tooth", "involute_tooth", "points_tooth", "tooth_from_gearset"), "geometry.teeth")}
 
 
 def __getattr__(name):
     if name == "optimize":  # the subpackage, callable: profilegen.optimize(spec, out_dir) runs a spec (pymoo on first use)
         import importlib
 
-        return importlib.import_module(".optimize", __name__)
+        return importlib.import_module(".studies.optimize", __name__)
     if name in _LAZY:
         import importlib
 
         value = getattr(importlib.import_module(f".{_LAZY[name]}", __name__), name)
         globals()[name] = value
         return value
-    if not name.startswith("_"):  # a submodule not imported yet (profilegen.kinematics.turn, as when the package imported it)
+    if not name.startswith("_"):  # a submodule not imported yet (profilegen.geometry.kinematics.turn, as when the package imported it)
         import importlib
         import importlib.util
 

@@ -29,12 +29,12 @@ def _load(name_or_path: str | None):
 def _cmd_design(args) -> int:
     from .output import folder
     from .output.files import OUTPUT_FILES, figure_workers, profile_figures, stage_figures, write_design
-    from .engine import default_engine
-    from .pipeline import check_gearset, planned_stages
-    from .scenes import SCENES
+    from .pipeline.engine import default_engine
+    from .pipeline.design import check_gearset, planned_stages
+    from .pipeline.scenes import SCENES
 
     if args.scene == "list":
-        from .scenes import bundled_scenes_path
+        from .pipeline.scenes import bundled_scenes_path
 
         for s in SCENES.values():
             print(f"{s.name:8s} rim: {s.rim:22s} envelope chord {s.chord_tol_mm:g} mm — {s.description}")
@@ -55,7 +55,7 @@ def _cmd_design(args) -> int:
         step_files.require()
     scene = args.scene
     if args.rim is not None:  # the scene's rim tier overridden: --rim cup3d
-        from .scenes import resolve_scene, with_rim_tier
+        from .pipeline.scenes import resolve_scene, with_rim_tier
 
         scene = with_rim_tier(resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene), args.rim)
     stages = planned_stages(gearset, scene=scene, contact=args.contact) + ("files",)
@@ -63,7 +63,7 @@ def _cmd_design(args) -> int:
     # the PNG figures: the scene's choice (the sketch scene draws none), or --figures
     draw = True if args.figures else None
     if draw is None:
-        from .scenes import resolve_scene
+        from .pipeline.scenes import resolve_scene
 
         draw = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene).figures != "none"
     # the figure workers start now: they import matplotlib and draw the profile's figures while the stages run
@@ -115,7 +115,7 @@ def _with_requirements(gearset, pairs):
 
 def _check_out(out: Path) -> None:
     """An output path too long for the file system: one line naming --out, before any stage runs."""
-    from .userpaths import check_out_path
+    from .output.userpaths import check_out_path
 
     check_out_path(out)
 
@@ -201,7 +201,7 @@ def _progress(total: int, *, quiet: bool, what: str = "design"):
 def _cmd_sweep(args) -> int:
     import signal
 
-    from .sweep import dask_executor, interrupt_on_signals, load_sweep_spec, run_sweep
+    from .studies.sweep import dask_executor, interrupt_on_signals, load_sweep_spec, run_sweep
 
     spec = out = None
     bar = lambda done, total: None  # noqa: E731
@@ -244,8 +244,8 @@ def _cmd_sweep(args) -> int:
 def _cmd_optimize(args) -> int:
     import signal
 
-    from .optimize import load_optimize_spec, optimize
-    from .sweep import dask_executor, interrupt_on_signals
+    from .studies.optimize import load_optimize_spec, optimize
+    from .studies.sweep import dask_executor, interrupt_on_signals
 
     spec = out = None
     bar = lambda done, total: None  # noqa: E731
@@ -313,12 +313,12 @@ def _sweep_progress(total: int, *, quiet: bool, desc: str = "sweep", unit: str =
 def _cmd_check(args) -> int:
     """Everything ``design`` checks of the gear set itself before a stage runs: the file, every field
     and the wave generator (``load_gearset``: rollers that do not fit, ...), and the tooth
-    (:func:`profilegen.teeth.tooth_from_gearset`, design's first stage, and the envelope stage's
-    :func:`profilegen.envelope.tooth_curves`). One line per problem on
+    (:func:`profilegen.geometry.teeth.tooth_from_gearset`, design's first stage, and the envelope stage's
+    :func:`profilegen.profile.envelope.tooth_curves`). One line per problem on
     stderr, each naming the file once; notes (``GearSet.warnings``) on stdout."""
     from .errors import GearSetError
     from .gearset import load_gearset, resolve_gearset
-    from .pipeline import check_gearset
+    from .pipeline.design import check_gearset
 
     status = 0
     for name in args.gearsets:
@@ -339,7 +339,7 @@ def _cmd_check(args) -> int:
                         break
                 print(f"{where}: {line}", file=sys.stderr)
         else:
-            from .catalogue_set import format_derived
+            from .gearset.new import format_derived
 
             print(f"{where}: ok ({gs.name}: m {gs.gear.module_mm:g} mm, z {gs.gear.flexspline_teeth}/{gs.gear.circular_spline_teeth})")
             print(f"{where}: derived: {format_derived(gs)}")
@@ -349,10 +349,10 @@ def _cmd_check(args) -> int:
 
 
 def _cmd_new(args) -> int:
-    """A gear set of catalogue proportions (profilegen.catalogue_set.new_gearset): to --out, or stdout."""
+    """A gear set of catalogue proportions (profilegen.gearset.new.new_gearset): to --out, or stdout."""
     from typing import cast
 
-    from .catalogue_set import format_derived, new_gearset
+    from .gearset.new import format_derived, new_gearset
     from .gearset import GearSet
 
     made = new_gearset(args.size, args.ratio, series=args.series, torque_rated_nm=args.torque_rated,

@@ -1,7 +1,7 @@
 """The running design's stage cache, as the stages see it: where a long computation may stop
 (:func:`checkpoint`) and torque-free work inside a stage kept between designs (:func:`reuse`).
 
-:class:`profilegen.engine.Engine` sets :data:`STAGE_CACHE` (a ContextVar, per thread) to its run
+:class:`profilegen.pipeline.engine.Engine` sets :data:`STAGE_CACHE` (a ContextVar, per thread) to its run
 while it designs; a plain :func:`profilegen.design` call has none, so :func:`checkpoint` does
 nothing and :func:`reuse` computes. This module imports nothing of the package, so every stage
 may call it without an edge upward to the engine or the pipeline.
@@ -14,15 +14,15 @@ from typing import Any, Callable
 
 __all__ = ["STAGE_CACHE", "checkpoint", "reuse"]
 
-#: the stage cache :func:`profilegen.pipeline.design` looks each stage up in: the engine's run
+#: the stage cache :func:`profilegen.pipeline.design.design` looks each stage up in: the engine's run
 #: (per thread); None — every plain design call — runs every stage. The cache keys each stage by
 #: the gear-set fields and scene keys it reads and by its upstream stage's key
-#: (profilegen.engine.STAGE_INPUTS says which).
+#: (profilegen.pipeline.engine.STAGE_INPUTS says which).
 STAGE_CACHE: ContextVar = ContextVar("profilegen_stage_cache", default=None)
 
 
 def checkpoint() -> None:
-    """Where a long computation may stop: raises :class:`profilegen.engine.Cancelled` when the
+    """Where a long computation may stop: raises :class:`profilegen.pipeline.engine.Cancelled` when the
     engine design running in this thread was cancelled or superseded; nothing outside an engine's
     design (a few µs). A stage's own loop may call it (between face sections, FEM iterations, ...)
     for a quicker stop."""

@@ -207,7 +207,7 @@ class TwoZoneClimb:
         ring (:class:`~research.tooth_errors.TwoZoneContact`'s build for those
         columns, every ball one-sided at its no-load gap), ``ring`` = (mean radius, radial
         thickness, width) of the free CS ring in mm (None: no ring; × ``ring_scale``)."""
-        from profilegen.kinematics import turn
+        from profilegen.geometry.kinematics import turn
         from profilegen.contact.climb import tooth_probes
         from profilegen.contact.compliance import ContactCompliance
         from profilegen.contact.ratchet import cs_ring_radial_compliance

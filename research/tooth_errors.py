@@ -249,7 +249,7 @@ class TwoZoneContact:
 
     def __init__(self, inputs, points, compliance, *, race_thickness_mm: float | None = None, per_pitch: int = 14,
                  rim_layers: int = 2, tooth_layers: int = 4, race_layers: int = 2):
-        from profilegen.kinematics import turn
+        from profilegen.geometry.kinematics import turn
         from profilegen.rim.toothed import toothed_half_ring_race_mesh
         from profilegen.contact import compliance as cm
 

@@ -16,10 +16,10 @@ threadpool_limits(limits=1, user_api="blas")
 @pytest.fixture(scope="session")
 def default_set():
     """The bundled default gear set's tooth, motion (ring theory) and classified envelope."""
-    from profilegen.envelope import envelope_of
+    from profilegen.profile.envelope import envelope_of
     from profilegen.gearset import default_gearset_path, load_gearset
-    from profilegen.kinematics import HarmonicDriveMotion
-    from profilegen.teeth import tooth_from_gearset
+    from profilegen.geometry.kinematics import HarmonicDriveMotion
+    from profilegen.geometry.teeth import tooth_from_gearset
 
     gs = load_gearset(default_gearset_path())
     tooth = tooth_from_gearset(gs)

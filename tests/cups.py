@@ -7,7 +7,7 @@ from __future__ import annotations
 import math
 
 from profilegen.rim.cup import CupGeometry
-from profilegen.wavegen import EllipticalCam, ellipse_perimeter
+from profilegen.geometry.wavegen import EllipticalCam, ellipse_perimeter
 
 E, NU = 209000.0, 0.295
 R_M, T = 48.95, 0.9

@@ -16,7 +16,7 @@ import pytest
 from profilegen.output import cad
 from profilegen.cli import main
 from profilegen.gearset import list_profiles, load_gearset
-from profilegen.pipeline import INTERFERENCE_TOL_MM
+from profilegen.pipeline.design import INTERFERENCE_TOL_MM
 
 BUNDLED = sorted(p.stem for p in list_profiles())
 # the default set in the design scene is `profilegen design` itself: tests/test_cli.py runs it; its

@@ -224,7 +224,7 @@ def test_bench_quick_writes_the_speed_accuracy_chart(tmp_path, capsys, monkeypat
     the designs' (not checked here)."""
     import csv
 
-    import profilegen.pipeline as pipeline
+    import profilegen.pipeline.design as pipeline
 
     done = {"sketch": default_sketch, "design": default_design_scene}
     real = pipeline.design

@@ -111,7 +111,7 @@ def test_scene_key_table_follows_the_scene_file():
     """The key table read from scenes.toml's header is Scene's fields; a key missing from the
     header fails the scene page."""
     hooks = _hooks()
-    header = profilegen.scenes.bundled_scenes_path().read_text(encoding="utf-8")
+    header = profilegen.pipeline.scenes.bundled_scenes_path().read_text(encoding="utf-8")
     table = hooks.scene_key_table(header)
     assert set(table) == {f.name for f in dataclasses.fields(profilegen.Scene)} - {"name"}
     assert table["n_t"][0] == "count" and "flank" in table["n_t"][1]

@@ -43,8 +43,8 @@ def test_default_profile_is_one_sided_and_closed(default_design):
     assert p.outline.gaps(closed=True).max() <= 1e-9
     assert p.clearance.min_mm >= -default_design.envelope.chord_tol_mm
     # the sign-off check: 2001 FS tooth poses over one pass, exact near contact
-    from profilegen.contour import Chain
-    from profilegen.gearform import clearance_map
+    from profilegen.geometry.contour import Chain
+    from profilegen.profile.gearform import clearance_map
 
     n_unit = len(p.space.elements) + 1
     local = Chain(p.outline.elements[-n_unit:] + p.outline.elements[: 2 * n_unit]).sample(1e-7)

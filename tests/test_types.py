@@ -43,9 +43,9 @@ KNOWN_UNTYPED_FIELDS: list[str] = []
 
 #: the result classes a design hands back (Design's fields and what they hold), besides ``__all__``'s
 RESULT_CLASSES = (
-    "profilegen.pipeline:Design", "profilegen.pipeline:CSProfile", "profilegen.pipeline:StageReport",
-    "profilegen.pipeline:Verdict", "profilegen.rim.stage:RimDeformation", "profilegen.envelope:Envelope",
-    "profilegen.gearform:CircularSplineForm", "profilegen.gearform:ClearanceMap",
+    "profilegen.pipeline.design:Design", "profilegen.pipeline.design:CSProfile", "profilegen.pipeline.design:StageReport",
+    "profilegen.pipeline.design:Verdict", "profilegen.rim.stage:RimDeformation", "profilegen.profile.envelope:Envelope",
+    "profilegen.profile.gearform:CircularSplineForm", "profilegen.profile.gearform:ClearanceMap",
     "profilegen.contact.analysis:ContactResult", "profilegen.stress.stage:StressResult",
     "profilegen.face.stage:FaceWidth", "profilegen.contact.chain:TorsionalCurve",
     "profilegen.contact.ratchet:Ratcheting", "profilegen.contact.transmission:TransmissionError",
@@ -140,7 +140,7 @@ def public_surface() -> dict[str, object]:
             classes.append(obj)
         elif inspect.isfunction(obj):
             out[f"profilegen.{name}"] = obj
-        elif inspect.ismodule(obj):  # profilegen.optimize(spec, out_dir) calls profilegen.optimize.optimize
+        elif inspect.ismodule(obj):  # profilegen.optimize(spec, out_dir) calls profilegen.studies.optimize.optimize
             out[f"profilegen.{name}.{name}"] = getattr(obj, name)
     classes += [_load(s) for s in RESULT_CLASSES]
     for cls in dict.fromkeys(classes):

@@ -1,7 +1,7 @@
 """MkDocs hooks: the pages made from the package itself at build time.
 
 * ``reference/scenes.md``: every scene key (from the key table in the header of
-  ``profilegen/scenes.toml``, checked against :class:`profilegen.Scene`'s fields) and every
+  ``profilegen/pipeline/scenes.toml``, checked against :class:`profilegen.Scene`'s fields) and every
   bundled scene's values (``profilegen.SCENES``).
 * ``reference/api.md``: one mkdocstrings block per name in ``profilegen.__all__``, each at the
   module that defines it (the package imports some lazily, which static analysis cannot follow).
@@ -21,7 +21,7 @@ from mkdocs.exceptions import PluginError
 from mkdocs.structure.files import File
 
 import profilegen
-from profilegen import scenes as _scenes_module
+from profilegen.pipeline import scenes as _scenes_module
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -70,7 +70,7 @@ def scenes_page() -> str:
     table = scene_key_table(text)
     fields = [f.name for f in dataclasses.fields(profilegen.Scene) if f.name != "name"]
     if set(table) != set(fields):
-        raise PluginError(f"profilegen/scenes.toml's key table and profilegen.Scene disagree: only in the "
+        raise PluginError(f"profilegen/pipeline/scenes.toml's key table and profilegen.Scene disagree: only in the "
                           f"header {sorted(set(table) - set(fields))}, only in Scene {sorted(set(fields) - set(table))}")
     defaults = {f.name: f.default for f in dataclasses.fields(profilegen.Scene)
                 if f.default is not dataclasses.MISSING}
@@ -82,9 +82,9 @@ def scenes_page() -> str:
     while intro and not intro[-1].strip():
         intro.pop()
     out = ["# Scene reference", "",
-           "*Made from `profilegen/scenes.toml` and `profilegen.Scene` when the docs are built.*", "",
+           "*Made from `profilegen/pipeline/scenes.toml` and `profilegen.Scene` when the docs are built.*", "",
            "A scene is a fidelity preset: how fine each stage of the pipeline works. The bundled ones are in "
-           "`profilegen/scenes.toml`; `profilegen design --scene list` prints them and where the file is. "
+           "`profilegen/pipeline/scenes.toml`; `profilegen design --scene list` prints them and where the file is. "
            "Copy the file, edit the copy, and run `profilegen design --scene my_scenes.toml` (in Python "
            "`pg.design(gearset, scene=\"my_scenes.toml\")`); every key is validated like a gear-set field.", "",
            "## The bundled scenes", "",
@@ -120,10 +120,10 @@ def api_targets() -> list[tuple[str, str]]:
         except Exception as exc:  # a name in __all__ that does not import is a broken API
             raise PluginError(f"profilegen.{name} is in __all__ but does not import: {exc}") from exc
         if name == "SCENES":
-            out.append((name, "profilegen.scenes.SCENES"))
+            out.append((name, "profilegen.pipeline.scenes.SCENES"))
         elif hasattr(obj, "__qualname__") and getattr(obj, "__module__", None):
             out.append((name, f"{obj.__module__}.{obj.__qualname__}"))
-        elif callable(getattr(obj, name, None)):  # a callable module (profilegen.optimize)
+        elif callable(getattr(obj, name, None)):  # a callable module (profilegen.studies.optimize)
             inner = getattr(obj, name)
             out.append((name, f"{inner.__module__}.{inner.__qualname__}"))
         else:

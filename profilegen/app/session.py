@@ -18,7 +18,7 @@ from dataclasses import dataclass, field
 from pathlib import Path, PurePosixPath
 from typing import Any, Callable
 
-from ..engine import Cancelled
+from ..pipeline.engine import Cancelled
 from ..errors import ProfilegenError
 from ..gearset import GearSet, load_gearset
 from . import schema
@@ -201,7 +201,7 @@ class Computer:
 
     # -- the request side
     def submit(self, gearset: GearSet, scene: str) -> int:
-        from ..pipeline import planned_stages
+        from ..pipeline.design import planned_stages
 
         try:
             planned = planned_stages(gearset, scene=scene)

@@ -277,7 +277,7 @@ def flank(inputs: ContactInput, side: int = 1, *, stations: int = 5, max_gap_mm:
     """(points, compliance) of one flank: :func:`~profilegen.contact.points.contact_points` and
     :meth:`ContactCompliance.build <profilegen.contact.compliance.ContactCompliance.build>` (its
     keyword arguments ``build``). Neither reads the torques: inside an engine's design
-    (:func:`profilegen.engine.reuse`) a flank built for the same geometry — the gear set's sections
+    (:func:`profilegen.pipeline.engine.reuse`) a flank built for the same geometry — the gear set's sections
     but its torques and requirements, the same FS tooth, deformation and CS space objects — is
     taken from the engine's cache, so a torque change re-solves the contact without building it."""
     from ..stagecache import checkpoint, reuse

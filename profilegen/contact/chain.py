@@ -97,7 +97,7 @@ with the same answer: rigid balls to 4e-14, the springs to their tolerance.
 
 In a design run
 ---------------
-:func:`whole_gear_curve` is what the contact stage runs (profilegen.pipeline): the right
+:func:`whole_gear_curve` is what the contact stage runs (profilegen.pipeline.design): the right
 flank's points and compliance taken from the stage's own contact (it holds every ball, as
 the curve; a contact solved on the window has its compliance rebuilt with every ball), the
 left built, the
@@ -123,7 +123,7 @@ from ..blas import one_blas_thread
 from ..stagecache import checkpoint
 from ..errors import ConvergenceError
 from ..results import json_ready, readonly as _readonly
-from ..wgbearing import BallBearing, ChainError, HertzContact, hertz_point_contact  # noqa: F401 (re-exported: the chain's bearing)
+from ..geometry.wgbearing import BallBearing, ChainError, HertzContact, hertz_point_contact  # noqa: F401 (re-exported: the chain's bearing)
 from .springs import ball_totals
 from .reduced import ReducedZone, zone_solution, SpringIteration  # noqa: F401 (the continuation's pieces, used here)
 

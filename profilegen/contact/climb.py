@@ -494,7 +494,7 @@ def tooth_probes(inputs, points, shift_rad: float = 0.0):
     """Per candidate tooth: the FS tip-land centre (CS frame), e_r there, the CS space's root
     centre, and the loaded flank's tip corner (CS frame); ``shift_rad`` as in
     :func:`~profilegen.contact.points.contact_points` (another wave-generator position)."""
-    from ..kinematics import turn
+    from ..geometry.kinematics import turn
 
     g = inputs.gearset.gear
     teeth = points.teeth
@@ -539,7 +539,7 @@ class DesignClimb:
                  corner_normal: bool = True, width_fraction: float = 1.0, ball_supports: str = "window",
                  friction_coefficient: float = 0.0, friction_sliding: str | None = None,
                  friction_tangents: str = "probe"):
-        from ..kinematics import turn
+        from ..geometry.kinematics import turn
         from .compliance import ContactCompliance
         from .points import contact_points
 
@@ -630,7 +630,7 @@ class DesignClimb:
     def geometry(self, s, phi: float = 0.0):
         """Signed gaps (mm, < 0: overlap) of the stations with their teeth ``s`` out of their
         spaces and the FS turned by ``phi`` against the CS, and the lever arms (mm)."""
-        from ..kinematics import turn
+        from ..geometry.kinematics import turn
 
         p = turn(self._p0 - s[self.slot, None] * self._e0[self.slot], self.rotation * phi)
         n = turn(self._n0, self.rotation * phi)
@@ -685,7 +685,7 @@ class DesignClimb:
         """Coulomb friction on the stations (module docstring, "Friction"): the tangents out
         of the spaces, their radial parts, the corners' tangents in the built columns, and the
         sliding sense σ of every station (+1: the FS slides out of the space along the flank)."""
-        from ..kinematics import turn
+        from ..geometry.kinematics import turn
 
         self._friction = sliding is not None
         self._mu = float(mu)
@@ -761,7 +761,7 @@ class DesignClimb:
         """The CS space's unit normal (either sense) at the nearest point of each of ``p``: of
         the nearest element, exact for its arcs and lines — not the direction to the foot,
         which turns over as a point crosses the surface."""
-        from ..contour import Arc, Line
+        from ..geometry.contour import Arc, Line
 
         found = [e.nearest(p) for e in self._space.elements]
         best = np.argmin(np.stack([d for d, _ in found]), axis=0)
@@ -1051,7 +1051,7 @@ def section_inputs(inputs, section, reference):
     the CS space, tooth and gear set unchanged."""
     import dataclasses
 
-    from ..kinematics import HarmonicDriveMotion
+    from ..geometry.kinematics import HarmonicDriveMotion
 
     m = inputs.motion
     motion = HarmonicDriveMotion(SectionDeformation(m.deformation, section, reference), m.neutral_radius_mm,

@@ -159,7 +159,7 @@ from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 from ..stagecache import checkpoint
-from ..wgbearing import DEFAULT_BALL_COUNT, default_race_thickness_mm  # noqa: F401 (re-exported)
+from ..geometry.wgbearing import DEFAULT_BALL_COUNT, default_race_thickness_mm  # noqa: F401 (re-exported)
 from .inputs import ContactInput
 from .springs import ball_totals, spring_block
 from .solvers import lemke_lcp
@@ -1140,7 +1140,7 @@ def _half_ring_flex_substructured(rings, pitch_kind, youngs_modulus_mpa, poisson
 def _cs_pieces(space, cs_teeth: int):
     """The surface of one CS pitch (tooth centre → space → tooth centre) as pieces for
     :func:`profilegen.rim.toothed.pitch_surface`, polar about the gear centre."""
-    from ..contour import Arc, Line
+    from ..geometry.contour import Arc, Line
 
     half = math.pi / cs_teeth
 
@@ -1339,7 +1339,7 @@ def wrap_half_angle(rim_contact_angle_rad: float | None, gearset) -> tuple[float
     stage's no-load contact angle when known, else a linear flat-ring solve."""
     if rim_contact_angle_rad is not None:
         return float(rim_contact_angle_rad), "the rim stage's no-load contact angle"
-    from .. import wavegen
+    from ..geometry import wavegen
     from ..rim.ring import solve_ring
 
     ring = solve_ring(gearset, contour=wavegen.from_gearset(gearset), layers=4, divisions=64)
@@ -1351,13 +1351,13 @@ def no_load_ball_gap_mm(inputs: ContactInput, theta_rad) -> np.ndarray:
     ball at each wave-generator angle ``theta_rad`` (from the major axis): the bore as the
     design's no-load deformation places it (``inputs.motion.deformation``: ω, υ of the neutral
     line, taken for the bore's — the rim's thickness change and the section's rotation are
-    left out), its signed distance to the contour (:func:`profilegen.wavegen.from_gearset`:
+    left out), its signed distance to the contour (:func:`profilegen.geometry.wavegen.from_gearset`:
     the cam offset by the bearing, i.e. where the outer race's outer surface would be were it
     on the cam), read at each ball's polar angle. ≥ 0 where the rim has left the cam; within
     the rim stage's contact angle it is the fit's error (a few 0.01 µm on the default set,
     design scene; the caller takes 0 there). Negative values (the deformation fit a little
     inside the contour) come back clipped to 0."""
-    from .. import wavegen
+    from ..geometry import wavegen
 
     gearset = inputs.gearset
     g = gearset.gear
@@ -1609,7 +1609,7 @@ class ContactCompliance:
             wrap_source = "given"
 
         # FS points back to their tooth frames (inverse of contact.points' placement)
-        from ..kinematics import turn
+        from ..geometry.kinematics import turn
 
         z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
         shift = float(shift_rad)

@@ -239,7 +239,7 @@ def _slice_gap_shifter(inputs, slices: int, *, coning: str, cup, design_z_mm, mo
     Δe): :func:`slice_gap_shifts` with the sections, the modification and the CS outline's
     distance built once, for both flanks."""
     from ..face.modification import radial_shift, thickness_change
-    from ..kinematics import HarmonicDriveMotion
+    from ..geometry.kinematics import HarmonicDriveMotion
     from .face_load import cup_sections, semi_membrane_sections
     from .inputs import ContactInput
 
@@ -321,7 +321,7 @@ def _cs_outline_distance_of(cs_space, tip_radius_mm: float, cs_teeth: int):
     change in a warm process (the workbench) keeps the profile, and this ~0.25 s with it."""
     import shapely
 
-    from ..gearform import PolylineDistance, cs_local_chain, cs_outline
+    from ..profile.gearform import PolylineDistance, cs_local_chain, cs_outline
 
     outline = cs_outline(cs_space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
     local = cs_local_chain(cs_space, outline).sample(1e-7)

@@ -101,11 +101,11 @@ import numpy as np
 
 from .. import checks
 from ..errors import ProfilegenError
-from ..kinematics import HarmonicDriveMotion
+from ..geometry.kinematics import HarmonicDriveMotion
 from ..results import json_ready, readonly as _readonly
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..deformation import Deformation
+    from ..geometry.deformation import Deformation
 
 __all__ = [
     "FaceLoad",
@@ -191,9 +191,9 @@ def semi_membrane_sections(deformation, z_mm, reference_z_mm: float) -> list:
 def cup_sections(cup, z_mm) -> list:
     """The 3D cup's sections (a :class:`~profilegen.rim.cup.fourier.CupDeformation`, or the
     :class:`~profilegen.rim.cup.contact.CupContact` of :func:`press_cup`) at ``z_mm``, each as a
-    :class:`~profilegen.deformation.HarmonicDeformation` (mean, cos 2kφ, sin 2kφ) on the
+    :class:`~profilegen.geometry.deformation.HarmonicDeformation` (mean, cos 2kφ, sin 2kφ) on the
     neutral surface: its even harmonics projected exactly from ω(φ, z), υ(φ, z)."""
-    from ..deformation import HarmonicDeformation
+    from ..geometry.deformation import HarmonicDeformation
 
     deformation = getattr(cup, "deformation", cup)
     if not hasattr(deformation, "omega") or not hasattr(deformation, "orders"):

@@ -3,7 +3,7 @@
 The contact stage (:func:`~profilegen.contact.analysis.solve_contact`,
 :func:`~profilegen.contact.points.contact_points`,
 :meth:`~profilegen.contact.compliance.ContactCompliance.build`) takes these fields and
-nothing else of a :class:`profilegen.pipeline.Design`: the gear set (teeth, waves, radii,
+nothing else of a :class:`profilegen.pipeline.design.Design`: the gear set (teeth, waves, radii,
 deflection, material, cup face width, wave generator), the FS tooth, the motion of the FS
 tooth frame in the CS frame (the no-load deformation is in it), one tooth space of the
 fitted CS profile (its true arcs and lines), the CS tip radius (where the FS flank can
@@ -19,10 +19,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from ..contour import Chain
+from ..geometry.contour import Chain
 from ..gearset import GearSet
-from ..kinematics import HarmonicDriveMotion
-from ..teeth import ToothProfile
+from ..geometry.kinematics import HarmonicDriveMotion
+from ..geometry.teeth import ToothProfile
 from .solvers import ContactError
 
 __all__ = ["ContactInput"]
@@ -38,10 +38,10 @@ class ContactInput:
     """The contact stage's inputs (see the module docstring).
 
     ``gearset``: the :class:`~profilegen.gearset.GearSet`; ``tooth``: the FS tooth
-    (:class:`~profilegen.teeth.ToothProfile`); ``motion``: the FS tooth frame in the CS frame
-    (:class:`~profilegen.kinematics.HarmonicDriveMotion`, built with the design's deformation);
+    (:class:`~profilegen.geometry.teeth.ToothProfile`); ``motion``: the FS tooth frame in the CS frame
+    (:class:`~profilegen.geometry.kinematics.HarmonicDriveMotion`, built with the design's deformation);
     ``cs_space``: one CS tooth space of the fitted profile, a
-    :class:`~profilegen.contour.Chain` of arcs and lines (``design.profile.space``);
+    :class:`~profilegen.geometry.contour.Chain` of arcs and lines (``design.profile.space``);
     ``cs_tip_radius_mm``: the CS tip circle (``design.form.tip_radius_mm``);
     ``rim_contact_angle_rad``: the half angle over which the rim sits on the wave generator at
     no load, from the rim FEM (None: not known, the compliance solves a flat ring for it).
@@ -76,7 +76,7 @@ class ContactInput:
 
     @classmethod
     def from_design(cls, design, *, name: str = "design") -> "ContactInput":
-        """The contact inputs of a :class:`profilegen.pipeline.Design` (with a fitted CS
+        """The contact inputs of a :class:`profilegen.pipeline.design.Design` (with a fitted CS
         profile); a ContactInput is returned as it is. ``name``: the argument the error names."""
         if isinstance(design, cls):
             return design

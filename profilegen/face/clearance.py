@@ -47,7 +47,7 @@ class SectionClearance:
 
 
 def section_map(form, section: FaceSection, samples: int, phi_range=None):
-    from ..gearform import clearance_map
+    from ..profile.gearform import clearance_map
 
     waves = section.motion.waves
     phi_range = (-math.pi / waves, math.pi / waves) if phi_range is None else phi_range

@@ -44,7 +44,7 @@ def _design_cup_tier():
 DESIGN_CUP_TIER = None  # built on first use (the rim stage imports scipy)
 
 
-#: a scene whose ``rim`` label is this (the design tier's label in :mod:`profilegen.scenes`) keeps
+#: a scene whose ``rim`` label is this (the design tier's label in :mod:`profilegen.pipeline.scenes`) keeps
 #: the 2D ring FEM and has no face stage: the stage studies (tests/unit/test_bench_stages.py)
 RING_FEM_LABEL = "ring FEM (nonlinear)"
 

@@ -73,7 +73,7 @@ SHIFT_MAX_MM_PER_MM = 0.02
 
 
 class _ToothFields:
-    """A tooth section with ``half_thickness_mm`` replaced (for :func:`profilegen.teeth.tooth_from_gearset`)."""
+    """A tooth section with ``half_thickness_mm`` replaced (for :func:`profilegen.geometry.teeth.tooth_from_gearset`)."""
 
     def __init__(self, tooth, half_thickness_mm: float):
         self._tooth, self.half_thickness_mm = tooth, half_thickness_mm
@@ -103,7 +103,7 @@ def modified_tooth(gearset, thickness_change_mm: float, radial_shift_mm: float =
     ``radial_shift_mm`` (> 0 away from the gear centre) against the neutral line: in the tooth
     frame (origin on the neutral line) its levels are that much higher. A shifted tooth carries
     the neutral radius r_m − Δy; it is placed by the section's motion (the real neutral line)."""
-    from ..teeth import tooth_from_gearset
+    from ..geometry.teeth import tooth_from_gearset
 
     t = gearset.tooth
     if getattr(t, "kind", None) not in ("dcta", "involute"):

@@ -4,9 +4,9 @@ between a CS outline and its swept region.
 A 3D cup deformation gives ω(φ, z), υ(φ, z) (:class:`profilegen.rim.cup.CupDeformation`, or
 anything with the same ``omega`` / ``upsilon`` methods and the tooth ring's span). At each
 section z the samples over one wave period are fitted with the kinematics' integer-harmonic
-Fourier model (:func:`profilegen.series.fit_fourier`), the FS tooth is moved by that section's
-:class:`~profilegen.kinematics.HarmonicDriveMotion`, and its classified envelope is traced
-(:func:`profilegen.envelope.envelope_of`): each section's own swept region.
+Fourier model (:func:`profilegen.geometry.series.fit_fourier`), the FS tooth is moved by that section's
+:class:`~profilegen.geometry.kinematics.HarmonicDriveMotion`, and its classified envelope is traced
+(:func:`profilegen.profile.envelope.envelope_of`): each section's own swept region.
 
 The signed gap (:func:`signed_gap`) of a CS point to a section's swept region: its distance to
 the section's swept boundary (``Envelope.flank["boundary"]``), positive outside the swept region
@@ -30,10 +30,10 @@ from ..errors import ProfilegenError
 from ..results import readonly
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..envelope import Envelope
-    from ..kinematics import HarmonicDriveMotion
-    from ..series import DeformationFit
-    from ..teeth import ToothProfile
+    from ..profile.envelope import Envelope
+    from ..geometry.kinematics import HarmonicDriveMotion
+    from ..geometry.series import DeformationFit
+    from ..geometry.teeth import ToothProfile
 
 __all__ = ["FaceError", "FaceSection", "cup_deformation", "ring_span", "section_fit", "signed_gap",
            "solve_section", "SweptRegion"]
@@ -84,8 +84,8 @@ def cup_deformation(obj):
 
 def section_fit(deformation, z_mm: float, *, waves: int = 2, max_order: int = 16):
     """The section at ``z_mm`` as the kinematics' Fourier model: ω, υ sampled on one wave
-    period (8·max_order + 8 points ≥ 181), :func:`profilegen.series.fit_fourier`."""
-    from .. import series
+    period (8·max_order + 8 points ≥ 181), :func:`profilegen.geometry.series.fit_fourier`."""
+    from ..geometry import series
 
     samples = max(181, 8 * max_order + 8)
     period = 2.0 * math.pi / waves
@@ -123,8 +123,8 @@ def solve_section(gearset, deformation, z_mm: float, tooth, *, chord_tol_mm: flo
                   fit=None) -> FaceSection:
     """Fit, motion and envelope of ``tooth`` at section ``z_mm`` (see the module docstring);
     ``fit`` reuses a section's Fourier model (a modified tooth at the same section)."""
-    from ..envelope import envelope_of
-    from ..kinematics import HarmonicDriveMotion
+    from ..profile.envelope import envelope_of
+    from ..geometry.kinematics import HarmonicDriveMotion
 
     t0 = time.perf_counter()
     g = gearset.gear
@@ -148,7 +148,7 @@ class SweptRegion:
     many queries."""
 
     def __init__(self, boundary: np.ndarray):
-        from ..gearform import PolylineDistance
+        from ..profile.gearform import PolylineDistance
 
         b = np.asarray(boundary, dtype=float)
         self._distance = PolylineDistance(b)

@@ -4,10 +4,10 @@ profile, and the clearance of every section's FS tooth against it.
 The 3D cup gives each section z its own deformation, so its own motion and swept region
 (:mod:`profilegen.face.sections`). The CS is cut with one profile through its whole face: the
 CS outline of the *design section* z_d (the polyline outline of
-:func:`profilegen.gearform.circular_spline_form` from z_d's envelope — not the arc–line–arc
+:func:`profilegen.profile.gearform.circular_spline_form` from z_d's envelope — not the arc–line–arc
 fit, which follows it within the fit's error and is one-sided). For every section k:
 
-* the clearance map c_k(φ): :func:`profilegen.gearform.clearance_map` of section k's FS tooth
+* the clearance map c_k(φ): :func:`profilegen.profile.gearform.clearance_map` of section k's FS tooth
   in section k's motion against that one outline (signed distance, < 0 interference); its
   minimum, refined by the parabola through the sampled minimum and its neighbours, is
   ``min_clearance_mm``;
@@ -52,7 +52,7 @@ from .modification import ToothModification, apply_modification, solve_modificat
 from .sections import FaceError, FaceSection, SweptRegion, cup_deformation, ring_span, solve_section
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..gearform import CircularSplineForm
+    from ..profile.gearform import CircularSplineForm
 
 __all__ = ["FaceWidth", "face_width"]
 
@@ -154,7 +154,7 @@ class FaceWidth:
 
 
 def _cs_form(gearset, section: FaceSection, chord_tol_mm: float):
-    from ..gearform import circular_spline_form
+    from ..profile.gearform import circular_spline_form
 
     cs = gearset.circular_spline
     return circular_spline_form(section.envelope, cs_teeth=gearset.gear.circular_spline_teeth,
@@ -222,7 +222,7 @@ def _face_width(gearset, deformation, *, sections: int, design_section: float | 
             z = np.sort(np.append(z, given))
     warnings: list[str] = []
 
-    from ..teeth import tooth_from_gearset
+    from ..geometry.teeth import tooth_from_gearset
 
     tooth = tooth_from_gearset(gearset)
     t0 = time.perf_counter()

@@ -25,9 +25,8 @@ from typing import Any
 
 import numpy as np
 
-from ..budget import MODULE_MIN_MM  # the smallest module the arc fit resolves (1e-6 failed deep in it)
 from ..errors import GearSetError, did_you_mean
-from ..teeth import MAX_POINTS  # most points a kind = "points" tooth may have: one limit, the tooth builder's
+from ..geometry.teeth import MAX_POINTS  # most points a kind = "points" tooth may have: one limit, the tooth builder's
 from .sections import (
     CIRCULAR_SPLINE_KEYS,
     CUP_KEYS,
@@ -82,6 +81,11 @@ RIM_PER_DEFLECTION_MIN = 0.5
 δ ≈ 0.6–3·w0 (ratio 30 to 160; the bundled sets 1.8–2.9); the rim stage's nonlinear ring FEM loses
 its positive-definite tangent below δ ≈ 0.3·w0 at z1 = 200 and 0.6–0.8·w0 at z1 = 40–60
 (measured; such sets get a named :class:`~profilegen.errors.RimSolverError` instead)."""
+
+MODULE_MIN_MM = 1e-5
+"""The smallest module the arc fit resolves, mm: the default set scaled to m = 1e-5 mm (chord 1e-8 mm,
+sharp corners) fits; at 3e-6 and 1e-6 mm the one-sided fit's offset collapses an arc (its absolute
+tolerances, ~1e-12 mm, are then ~1e-6 of the tooth)."""
 
 
 MAX_NAME_CHARS = 100
@@ -924,7 +928,7 @@ class _Reader:
             )
             if m is None and key not in t:
                 v[key] = None  # derived from the module, which is invalid: already reported
-        # wire EDM (profilegen.rootfillet): the CS corners are rounded with wire radius + spark gap
+        # wire EDM (profilegen.profile.rootfillet): the CS corners are rounded with wire radius + spark gap
         v["wire_radius_mm"] = self.number(t, p, "wire_radius_mm", unit="mm", rng=_Range(
             0, 0.25, lo_open=True, note="EDM wires are 0.02–0.33 mm in diameter"), default=0.125)
         v["spark_gap_mm"] = self.number(t, p, "spark_gap_mm", unit="mm", rng=_Range(

@@ -2,7 +2,7 @@
 
 One :class:`RequirementField` per key (unit, range, default and where the default comes from),
 :class:`Requirements` the validated values (None: not required). The reader
-(:mod:`profilegen.gearset.reader`) checks the table; :attr:`profilegen.pipeline.Design.verdict`
+(:mod:`profilegen.gearset.reader`) checks the table; :attr:`profilegen.pipeline.design.Design.verdict`
 and :func:`profilegen.stress.solve_stress` read it. ``"none"`` for any key means *not required*:
 the check is not made and its absence does not make the verdict INCOMPLETE.
 

@@ -205,7 +205,7 @@ class DctaTooth:
     pitch point *along the line*), then a convex tip arc (``tip_arc_radius_mm``)
     up to the tip line (``addendum_mm`` above the pitch line); G1 at A and B.
     Whether the arcs reach the tip and root lines is checked when the profile
-    is built (``profilegen.teeth``, :class:`~profilegen.errors.ToothError`).
+    is built (``profilegen.geometry.teeth``, :class:`~profilegen.errors.ToothError`).
     """
 
     kind: ClassVar[str] = "dcta"
@@ -296,7 +296,7 @@ class WaveGenerator:
 
     ``roller_angle_deg`` (four rollers only): the polar angle from the major axis at which
     each roller touches the ring-theory bore r_bore + w0 cos 2θ (see
-    :func:`profilegen.wavegen.from_gearset`); ``None`` for two rollers and for cams.
+    :func:`profilegen.geometry.wavegen.from_gearset`); ``None`` for two rollers and for cams.
     """
 
     deflection_coefficient: float = 1.0
@@ -358,7 +358,7 @@ class CircularSpline:
     tip_clearance_mm: float
     fit_method: str = "one_sided"
     #: wire EDM: the corners of the CS chain are rounded with wire radius + spark gap (mm)
-    #: (``corners = "fillet"``; ``"sharp"`` keeps the sharp chain), see profilegen.rootfillet
+    #: (``corners = "fillet"``; ``"sharp"`` keeps the sharp chain), see profilegen.profile.rootfillet
     wire_radius_mm: float = 0.125
     spark_gap_mm: float = 0.02
     corners: str = "fillet"

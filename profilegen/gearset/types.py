@@ -155,7 +155,7 @@ class GearSet:
         # scene never builds it) and a sweep refuse the same sets. Two waves only: the rim stage
         # builds no contour for other wave counts (ring theory, with a warning).
         if self.gear.waves == 2:
-            from ..wavegen import WaveGenError, WaveGeneratorFitError, from_gearset
+            from ..geometry.wavegen import WaveGenError, WaveGeneratorFitError, from_gearset
 
             try:
                 from_gearset(self)

@@ -1,7 +1,7 @@
 """CAD output with true lines and arcs: DXF (LINE / ARC), SVG (path ``L`` / ``A``), a PNG preview.
 
-Contours come in as :mod:`profilegen.contour` elements — :class:`~profilegen.contour.Line`,
-:class:`~profilegen.contour.Arc` (signed sweep) and :class:`~profilegen.contour.Chain` —
+Contours come in as :mod:`profilegen.geometry.contour` elements — :class:`~profilegen.geometry.contour.Line`,
+:class:`~profilegen.geometry.contour.Arc` (signed sweep) and :class:`~profilegen.geometry.contour.Chain` —
 grouped by layer. Nothing is sampled: a CAD system or a wire-EDM post-processor gets
 the exact geometry.
 
@@ -24,7 +24,7 @@ naming the path. ezdxf and matplotlib are imported inside the functions only.
 A slot (two half circles joined by two lines), written and read back:
 
 >>> import math, pathlib, tempfile
->>> from profilegen.contour import Arc, Chain, Line
+>>> from profilegen.geometry.contour import Arc, Chain, Line
 >>> slot = Chain([Line((0, -1), (4, -1)), Arc((4, 0), 1.0, -math.pi / 2, math.pi),
 ...               Line((4, 1), (0, 1)), Arc((0, 0), 1.0, math.pi / 2, math.pi)])
 >>> path = pathlib.Path(tempfile.mkdtemp()) / "slot.dxf"
@@ -47,7 +47,7 @@ from xml.sax.saxutils import escape, quoteattr
 
 import numpy as np
 
-from ..contour import Arc, Chain, ContourError, Line, Polyline
+from ..geometry.contour import Arc, Chain, ContourError, Line, Polyline
 from . import dxftext
 from .export import DXF_LAYER_COLORS, atomic_write, dxf_document, save_dxf
 
@@ -314,7 +314,7 @@ def read_dxf_contours(path: str | os.PathLike) -> dict[str, list[Line | Arc]]:
     z is dropped; other entity types (TEXT, ...) are skipped; layers without
     lines or arcs are not listed. Raises ``OSError`` for an unreadable file,
     ``ezdxf.DXFStructureError`` for a broken one and
-    :class:`~profilegen.contour.ContourError` naming the entity for an arc off the
+    :class:`~profilegen.geometry.contour.ContourError` naming the entity for an arc off the
     XY plane or with a radius ≤ 0.
     """
     import ezdxf

@@ -42,12 +42,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..contour import Arc, Chain, Line
+from ..geometry.contour import Arc, Chain, Line
 from . import cad
 from .export import atomic_write, dxf_document, dxf_text
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..pipeline import Design
+    from ..pipeline.design import Design
 
 __all__ = ["write_cs_drawing", "cs_drawing_dxf", "drawing_date", "DIMENSION_LAYER"]
 

@@ -83,7 +83,7 @@ def write_face_dxfs(staging: Path, design) -> list[str]:
     """One FS tooth DXF per section into ``staging``: the section's tooth (modified when the face
     has a modification), undeformed, lines and arcs; returns the names written."""
     from ..face.modification import modified_tooth
-    from ..fsform import flexspline_tooth_chain
+    from ..geometry.fsform import flexspline_tooth_chain
     from . import cad
     from .flexspline import FIT_TOL_MM, tooth_layers
 

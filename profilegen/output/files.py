@@ -1,6 +1,6 @@
 """The files of a design: every output file :func:`write_design` writes, in one folder that changes as a whole.
 
-The pipeline computes a :class:`~profilegen.pipeline.Design`; this module turns it into files
+The pipeline computes a :class:`~profilegen.pipeline.design.Design`; this module turns it into files
 (DXF, SVG, CSV, JSON, PNG, HTML) through the writers of the output layer
 (:mod:`.cad`, :mod:`.export`, :mod:`.plot`, :mod:`.report`) and :mod:`.folder`.
 """
@@ -14,12 +14,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import scene_estimates
-from ..contour import Arc, Line, Polyline
+from ..pipeline import scene_estimates
+from ..geometry.contour import Arc, Line, Polyline
 from . import face as face_files
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..pipeline import Design
+    from ..pipeline.design import Design
     from .report import FigureWorkers
 
 __all__ = ["OUTPUT_FILES", "WORKER_FILES", "figure_workers", "file_jobs", "flexspline_jobs", "profile_figures",
@@ -40,7 +40,7 @@ OUTPUT_FILES = frozenset({
 
 def figure_workers(workers: int | None = None, *, draw: bool = True):
     """Figure workers for one design run, started now (a context manager): open them before
-    :func:`profilegen.pipeline.design`, hand them the design once it has its profile
+    :func:`profilegen.pipeline.design.design`, hand them the design once it has its profile
     (``design(..., on_profile=lambda d: profile_figures(figures, d))``), and pass them to
     :func:`write_design` — the figures are then drawn while the contact and stresses are
     computed. ``workers``: see :func:`profilegen.output.report.rendering`; ``draw``: false for
@@ -93,7 +93,7 @@ def profile_figures(figures, design: Design, *, draw: bool | None = None) -> Non
 
 def stage_figures(figures, design: Design, *, draw: bool | None = None) -> None:
     """Hand the figures of the stage results a design has so far (the rim and envelope, then the
-    contact, stresses and torsional curve: :func:`profilegen.pipeline.design`'s ``on_stage``) to
+    contact, stresses and torsional curve: :func:`profilegen.pipeline.design.design`'s ``on_stage``) to
     ``figures``, when the run draws PNGs (``draw``: see :func:`write_design`); with the envelope,
     also the flexspline's drawings (:func:`flexspline_jobs`) where a worker makes the files."""
     from . import report
@@ -195,7 +195,7 @@ def _flexspline_files(design: Design) -> dict[str, bytes]:
 def _assembly_file(design: Design) -> dict[str, bytes]:
     import tempfile
 
-    from ..fsform import flexspline_tooth_chain
+    from ..geometry.fsform import flexspline_tooth_chain
     from . import flexspline
     from .export import deferred_sync
 
@@ -349,7 +349,7 @@ def _write_files(result: Design, staging: Path, *, figure: bool, figures=None, s
     if unknown:  # a new output file must be named in OUTPUT_FILES, or the next run would refuse the folder
         raise RuntimeError(f"write_design wrote {unknown[0]!r}, which OUTPUT_FILES does not list")
     data["files"] = names
-    # each sheet number's measured distance to the next scene's (profilegen.scene_estimates)
+    # each sheet number's measured distance to the next scene's (profilegen.pipeline.scene_estimates)
     data["scene_estimates"] = scene_estimates.report(result.scene, scene_estimates.sheet_numbers(data, fit_data, contact_data),
                                                      g.gear.module_mm)
     export.write_json(staging / "design.json", data)  # last: a staging folder with design.json is complete
@@ -394,7 +394,7 @@ def _assembly_layers(result: Design, fs_tooth) -> dict:
     phi = np.linspace(0.0, 2 * np.pi, 4 * g.flexspline_teeth + 1)
     (w,), (u,) = result.deformation.evaluate(phi, order=0)
     r_bore = g.neutral_radius_mm - g.rim_thickness_mm / 2 + w
-    from ..kinematics import unit_radial, unit_tangential
+    from ..geometry.kinematics import unit_radial, unit_tangential
 
     bore = r_bore[:, None] * unit_radial(phi) + u[:, None] * unit_tangential(phi)
     bore[-1] = bore[0]

@@ -1,5 +1,5 @@
 """The flexspline's drawings: one tooth with its root, the whole undeformed gear, and its teeth
-posed in the assembly — true LINE / ARC entities from :mod:`profilegen.fsform`.
+posed in the assembly — true LINE / ARC entities from :mod:`profilegen.geometry.fsform`.
 
 * ``flexspline_tooth.dxf``: the tooth chain (layer ``FS``) with construction (tip, pitch and
   root circle arcs over the tooth, the tooth axis) and a note saying how exact the flank is;
@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..contour import Arc, Chain, Line
-from ..fsform import flexspline_tooth_chain, ring_of_teeth
+from ..geometry.contour import Arc, Chain, Line
+from ..geometry.fsform import flexspline_tooth_chain, ring_of_teeth
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..pipeline import Design
+    from ..pipeline.design import Design
 
 __all__ = ["FIT_TOL_MM", "FILES", "write_flexspline_dxfs", "tooth_layers", "gear_layers", "posed_teeth"]
 

@@ -1,4 +1,4 @@
-"""Files and figures of an optimisation run (:mod:`profilegen.optimize`): a gear set as TOML,
+"""Files and figures of an optimisation run (:mod:`profilegen.studies.optimize`): a gear set as TOML,
 the Pareto-front figure and the report page comparing the front with the starting design.
 
 Everything takes plain data (rows as dicts, names, numbers): this module does not import

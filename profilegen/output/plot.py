@@ -161,7 +161,7 @@ def envelope(
     zoom: tuple[float, float, float, float] | None = None,
     legend: bool = True,
 ) -> "Axes":
-    """Draw a classified :class:`~profilegen.envelope.Envelope` in the CS frame (mm).
+    """Draw a classified :class:`~profilegen.profile.envelope.Envelope` in the CS frame (mm).
 
     With ``tooth`` and ``motion`` the FS tooth family is drawn in light grey: the
     tooth outline at ``family`` evenly spaced φ over ``env.phi_range``. Pieces
@@ -652,7 +652,7 @@ def sweep_figure(rows, fields, output: str, *, title: str, ax=None, path=None):
     """One panel per swept field: ``output`` of the rows whose ``status`` is ok against the
     field, marked by the design's ``verdict`` (PASS filled, INCOMPLETE open, FAIL open red: an
     infeasible point), failed points as red crosses on the axis (the sweep's figure; see
-    :func:`profilegen.sweep.plot_sweep`). Returns the Axes of the first panel, or ``path``
+    :func:`profilegen.studies.sweep.plot_sweep`). Returns the Axes of the first panel, or ``path``
     when given (PNG, written atomically)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure

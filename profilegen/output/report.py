@@ -30,7 +30,7 @@ import numpy as np
 from ..pools import stop_pool
 from .forkserver import die_with as _die_with
 from .interactive import figure_html
-from ..pipeline import interference_tol_mm
+from ..pipeline.design import interference_tol_mm
 from .sheet import format_clearance, sheet_html
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -816,7 +816,7 @@ def _init_worker(parent: int, matplotlib: bool = True) -> None:
 #: modules the jobs' pickles name (the design's pieces), which each worker would otherwise import to
 #: unpickle its first job.
 PRELOAD = ("matplotlib.figure", "matplotlib.backends.backend_agg", "profilegen.output.plot", "profilegen.output.report",
-           "profilegen.arcfit", "profilegen.rootfillet", "profilegen.rim.stage", "profilegen.contact.analysis",
+           "profilegen.profile.arcfit", "profilegen.profile.rootfillet", "profilegen.rim.stage", "profilegen.contact.analysis",
            "profilegen.contact.chain", "profilegen.stress.stage",
            "ezdxf", "profilegen.output.drawing", "profilegen.output.flexspline")  # the files of files.file_jobs
 
@@ -843,7 +843,7 @@ class FigureWorkers:
 
     ``submit(jobs)`` hands jobs over as soon as their inputs exist — the CLI opens the workers
     before the stages run and submits the profile's figures while the contact and stresses are
-    computed (:func:`profilegen.pipeline.design`'s ``on_profile``), so their matplotlib import
+    computed (:func:`profilegen.pipeline.design.design`'s ``on_profile``), so their matplotlib import
     and most of the drawing overlap the stages. A name is drawn once: a later ``submit`` of a
     name already given is ignored (the jobs of one design run draw the same pieces, so the bytes
     are the same). ``collect(jobs, steal=())`` submits what is new, waits for the named jobs and

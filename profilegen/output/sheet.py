@@ -86,10 +86,10 @@ class Check:
 
 
 def checks(design, interference_tol_mm: float) -> list[Check]:
-    """Every check of ``design``'s verdict (:attr:`profilegen.pipeline.Design.verdict`, its
+    """Every check of ``design``'s verdict (:attr:`profilegen.pipeline.design.Design.verdict`, its
     ``checks``), each with its value, requirement and margin as the sheet shows them; a NOT
     CHECKED one (``passed`` None) has its reason in the margin column.
-    ``interference_tol_mm``: the verdict's (:func:`profilegen.pipeline.interference_tol_mm`;
+    ``interference_tol_mm``: the verdict's (:func:`profilegen.pipeline.design.interference_tol_mm`;
     passed in, so this module does not import the pipeline that shows it in notebooks)."""
     return [_check_row(c, float(interference_tol_mm)) for c in design.verdict.checks]
 
@@ -99,7 +99,7 @@ def _percent(x: float) -> str:
 
 
 def _check_row(c, tol: float) -> Check:
-    """One :class:`Check` from a :class:`profilegen.pipeline.VerdictCheck` (by its ``kind``)."""
+    """One :class:`Check` from a :class:`profilegen.pipeline.design.VerdictCheck` (by its ``kind``)."""
     ge = c.sense == ">="
     if c.kind == "clearance":
         required = f"≥ −{tol * 1e3:g} µm" if c.required is None or c.required <= -tol else f"≥ {format_um(c.required)}"
@@ -148,12 +148,12 @@ class FlankElement:
 
 
 def flank_elements(fit) -> list[FlankElement]:
-    """The elements of a fitted flank (:class:`profilegen.arcfit.ProfileFit`), tip first, named
+    """The elements of a fitted flank (:class:`profilegen.profile.arcfit.ProfileFit`), tip first, named
     R1, line, R2 (an element shorter than the fit's minimum is absent from the chain).
 
     An arc turning toward the space side (its sweep's sign equal to the space side's: + for
     'left' of the direction of travel) has its centre in the space: concave."""
-    from ..contour import Arc
+    from ..geometry.contour import Arc
 
     side = 1.0 if fit.space_side == "left" else -1.0
     out, arcs = [], 0
@@ -188,9 +188,9 @@ def _badge(passed: bool | None) -> str:
 
 
 def _est(design, key: str, value) -> str:
-    """The number's measured distance to the next scene's (:mod:`profilegen.scene_estimates`), a
+    """The number's measured distance to the next scene's (:mod:`profilegen.pipeline.scene_estimates`), a
     small grey '±…' beside it; 'not estimated' with the reason as its tooltip; '' in verify."""
-    from .. import scene_estimates as se
+    from ..pipeline import scene_estimates as se
 
     text = se.note(design.scene, key, value, design.gearset.gear.module_mm)
     if not text:
@@ -355,7 +355,7 @@ def _margin_cell(c: Check) -> str:
 
 def _next_scene_words(design) -> str:
     """What the grey '±…' beside the numbers are (none in the dearest scene)."""
-    from ..scene_estimates import NEXT_SCENE
+    from ..pipeline.scene_estimates import NEXT_SCENE
 
     nxt = NEXT_SCENE.get(design.scene.name)
     return "" if nxt is None else f" <span class=unit>(grey ±: the measured distance to the {nxt} scene's number)</span>"
@@ -368,7 +368,7 @@ def _with_est(value: str, est: str) -> str:
 
 def _check_est(design, c) -> str:
     """A check's value's distance to the next scene (safety factors, lost motion, clearance)."""
-    from ..scene_estimates import check_key
+    from ..pipeline.scene_estimates import check_key
 
     key = check_key(c.kind, c.name)
     if c.kind in ("clearance", "backlash"):  # the 'smallest clearance' and 'backlash' rows' numbers, estimated there

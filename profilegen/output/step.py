@@ -38,12 +38,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..contour import Arc, Chain, ContourError, Line
+from ..geometry.contour import Arc, Chain, ContourError, Line
 from ..errors import ExportError, GearSetError
 from ..gearset.sections import CS_MIN_WALL_PER_MODULE, CS_OUTER_DIAMETER_PER_ROOT
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..pipeline import Design
+    from ..pipeline.design import Design
 
 __all__ = [
     "BOSS_THICKNESS_PER_BOTTOM",
@@ -132,7 +132,7 @@ def _signed_area_mm2(chain: Chain) -> float:
 
 def _check_chain(chain: Chain, what: str) -> None:
     if not isinstance(chain, Chain):
-        raise TypeError(f"{what} must be a profilegen.contour.Chain, got {type(chain).__name__}")
+        raise TypeError(f"{what} must be a profilegen.geometry.contour.Chain, got {type(chain).__name__}")
     bad = next((e for e in chain.elements if not isinstance(e, (Line, Arc))), None)
     if bad is not None:
         raise ContourError(f"{what}: a STEP solid is built from lines and arcs only, got a {type(bad).__name__}")
@@ -436,8 +436,8 @@ def write_cs_step(path: str | os.PathLike, design: Design) -> Path:
 
 
 def fs_outline(design: Design) -> Chain:
-    """The closed outline of the z1 undeformed FS teeth as lines and arcs (:mod:`profilegen.fsform`)."""
-    from ..fsform import flexspline_outline
+    """The closed outline of the z1 undeformed FS teeth as lines and arcs (:mod:`profilegen.geometry.fsform`)."""
+    from ..geometry.fsform import flexspline_outline
 
     chain, _ = flexspline_outline(design.tooth, design.gearset.gear)
     return chain

@@ -1,7 +1,7 @@
 """Linear 2D plane-stress ring FEM on a rigid wave-generator contour (scikit-fem).
 
 The flexspline rim is modelled as a flat ring (no teeth) between r_in = r_m − δ/2 and
-r_out = r_m + δ/2, pressed outward by a rigid contour (:mod:`profilegen.wavegen`) through
+r_out = r_m + δ/2, pressed outward by a rigid contour (:mod:`profilegen.geometry.wavegen`) through
 unilateral, frictionless contact between the bore nodes and the contour, along the
 contour's true normal.
 
@@ -67,14 +67,15 @@ import numpy as np
 import scipy.sparse as sp
 from scipy.sparse.linalg import splu
 
-from .. import checks, series
+from .. import checks
+from ..geometry import series
 from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..gearset import GearSet
-    from ..wavegen import Contour
+    from ..geometry.wavegen import Contour
 
 __all__ = ["ConvergenceError", "RingError", "RingParameters", "RingResult", "solve_ring"]
 
@@ -240,7 +241,7 @@ class RingResult:
         return float(self.omega_mm[0])
 
     def deformation(self, order: int | None = None, *, tier: str = "design"):
-        """Integer-harmonic Fourier fit (:func:`profilegen.series.fit_fourier`) of the samples
+        """Integer-harmonic Fourier fit (:func:`profilegen.geometry.series.fit_fourier`) of the samples
         mirrored to one wave period 0 ≤ φ < π: ω even and υ odd about both axes of symmetry
         (ω(π − φ) = ω(φ), υ(π − φ) = −υ(φ))."""
         phi, w, u = self.phi_rad, self.omega_mm, self.upsilon_mm

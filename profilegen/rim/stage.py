@@ -31,7 +31,7 @@ coarser mesh; that of the tier's own mesh is smaller, by ~2^p − 1 with p ≈ 2
 on the toothed rim, when the element columns per pitch go from 16 to 14 (a mesh that
 cannot be halved: 14 is the fewest the default tooth takes). The FEM
 models need two symmetry planes (U = 2); other wave counts fall back to ring theory with
-a warning. The contour comes from :func:`profilegen.wavegen.from_gearset`.
+a warning. The contour comes from :func:`profilegen.geometry.wavegen.from_gearset`.
 
 The toothed tier lets only the bore nodes within the wrap + 10° (:data:`WRAP_MARGIN_RAD`)
 carry a contact force: the wrap of a cheap flat-ring pass (2 × 32), for the tier's mesh and
@@ -54,15 +54,15 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import series
-from ..deformation import ring_theory
+from ..geometry import series
+from ..geometry.deformation import ring_theory
 from ..blas import forget_blas_controller, one_blas_thread
 from .ring import WRAP_WARNING, RingResult, solve_ring
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..deformation import HarmonicDeformation
+    from ..geometry.deformation import HarmonicDeformation
     from ..gearset import GearSet
-    from ..series import DeformationFit, GeneralSineDeformation
+    from ..geometry.series import DeformationFit, GeneralSineDeformation
     from .cup.contact import CupContact
     from .cup.fourier import CupDeformation
 
@@ -345,7 +345,7 @@ def _solve(gearset, tier: RimTier, contour, *, coarse: bool, per_pitch: int | No
         divisions = tier.divisions // 2 if coarse else tier.divisions
         return solve_ring(gearset, contour=contour, layers=tier.layers, divisions=divisions,
                           geometry=tier.geometry, tier=f"{tier.geometry} flat ring FEM")
-    from ..teeth import tooth_from_gearset
+    from ..geometry.teeth import tooth_from_gearset
     from .toothed import toothed_quarter_mesh
 
     # the coarse mesh has 2 columns per pitch fewer (see _toothed_per_pitch)
@@ -365,7 +365,7 @@ def _toothed_per_pitch(gearset, tier: RimTier) -> int:
     """Columns per pitch of the toothed tier's mesh: the tier's, or more where the tooth needs
     them — its coarse companion (2 fewer) must still mesh the tooth (one column per flank
     piece, top land, root step, root land: 14 for the default DCTA tooth, 16 for seed 001's)."""
-    from ..teeth import tooth_from_gearset
+    from ..geometry.teeth import tooth_from_gearset
     from .toothed import least_per_pitch
 
     return max(tier.per_pitch, least_per_pitch(tooth_from_gearset(gearset)) + 2)
@@ -552,7 +552,7 @@ def solve_rim(gearset: GearSet, *, tier: str | RimTier = "design", z_mm: float |
     ``z_mm``: the cup tier's design section (mm from the cup bottom's mid-plane; see
     :func:`design_section_z`); the 2D tiers have one section and ignore it."""
     from ..errors import GearSetError
-    from ..wavegen import from_gearset
+    from ..geometry.wavegen import from_gearset
 
     if isinstance(tier, str):
         if tier not in RIM_TIERS:
@@ -592,7 +592,7 @@ def solve_rim(gearset: GearSet, *, tier: str | RimTier = "design", z_mm: float |
             fit = series.fit_fourier(phi, w, u, waves=waves, max_order=tier.max_order, tier=tier.name)
             sine = None
             if tier.sine_fit:
-                from ..series import GeneralSineDeformation, fit_sine_series
+                from ..geometry.series import GeneralSineDeformation, fit_sine_series
 
                 sine = GeneralSineDeformation(fit_sine_series(phi, w, terms=3), fit_sine_series(phi, u, terms=3),
                                               waves=waves, tier=tier.name)

@@ -249,7 +249,7 @@ def toothed_quarter_mesh(
 ) -> ToothedRimMesh:
     """Mapped 9-node-quad mesh of the toothed rim quarter 0 ≤ θ ≤ π/2 (see the module doc).
 
-    ``tooth``: a :class:`~profilegen.teeth.ToothProfile` (it carries z1, r_m and the root and
+    ``tooth``: a :class:`~profilegen.geometry.teeth.ToothProfile` (it carries z1, r_m and the root and
     tip lines). ``rim_thickness_mm``: δ, the bore is at r_m − δ/2. ``rim_layers`` (≥ 1)
     element layers from the bore to r_m, ``tooth_layers`` (≥ 1) from r_m to the surface,
     ``per_pitch`` (even) element columns per tooth pitch. ``waves`` must be 2 (two symmetry

@@ -49,12 +49,12 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from ..deformation import HarmonicDeformation
+from ..geometry.deformation import HarmonicDeformation
 from ..errors import StressError
 from ..gearset import GearSet
 from ..results import json_ready
-from ..series import DeformationFit
-from ..teeth import ToothProfile
+from ..geometry.series import DeformationFit
+from ..geometry.teeth import ToothProfile
 from .diaphragm import DiaphragmStress, diaphragm_stress, goodman_safety_factor as _goodman
 from .plate import CupBottomStress, cup_bottom_stress, edge_displacement
 from .tooth_ring import ToothRingStress, section_curvature, tangential_force_estimate_n, tooth_ring_stress
@@ -79,10 +79,10 @@ class StressInput:
     """What the stress stage reads of a design.
 
     ``gearset``: the :class:`~profilegen.gearset.GearSet` (gear, cup, material, torques);
-    ``tooth``: the FS tooth (:class:`~profilegen.teeth.ToothProfile`; its root thickness and
+    ``tooth``: the FS tooth (:class:`~profilegen.geometry.teeth.ToothProfile`; its root thickness and
     height); ``deformation``: the rim's deformation model (a Fourier
-    :class:`~profilegen.series.DeformationFit` or ring theory's
-    :class:`~profilegen.deformation.HarmonicDeformation`; ω on the axes and the radial
+    :class:`~profilegen.geometry.series.DeformationFit` or ring theory's
+    :class:`~profilegen.geometry.deformation.HarmonicDeformation`; ω on the axes and the radial
     harmonics); ``contact``: the :class:`~profilegen.contact.analysis.ContactResult` at the
     gear set's torques, or None (the tooth force is then estimated).
     """
@@ -104,7 +104,7 @@ class StressInput:
 
     @classmethod
     def from_design(cls, design, *, name: str = "design") -> "StressInput":
-        """The stress inputs of a :class:`profilegen.pipeline.Design`; a StressInput is returned
+        """The stress inputs of a :class:`profilegen.pipeline.design.Design`; a StressInput is returned
         as it is. ``name``: the argument the error names."""
         if isinstance(design, cls):
             return design

@@ -147,7 +147,7 @@ def test_a_superseded_computation_stops_inside_its_stage_at_its_next_checkpoint(
     """The tab's stop() is the engine's checkpoint inside a stage: a long loop that asks it between
     its steps (as the contact's continuation does between torques) stops at the next step once a
     newer request came, without waiting for the stage's end; the newer request runs next."""
-    from profilegen.engine import Cancelled
+    from profilegen.pipeline.engine import Cancelled
 
     steps, started = [], threading.Event()
 

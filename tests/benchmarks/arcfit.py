@@ -25,9 +25,9 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
-from profilegen.arcfit import fit_profile  # noqa: E402
-from profilegen.envelope import swept_depth, tooth_curves  # noqa: E402
-from profilegen.gearform import clearance_map, cs_chain  # noqa: E402
+from profilegen.profile.arcfit import fit_profile  # noqa: E402
+from profilegen.profile.envelope import swept_depth, tooth_curves  # noqa: E402
+from profilegen.profile.gearform import clearance_map, cs_chain  # noqa: E402
 
 
 def main() -> None:

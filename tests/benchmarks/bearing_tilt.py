@@ -48,7 +48,7 @@ def cup_part(sets, races) -> None:
     from profilegen.rim.cup import CupGeometry, press_cup
     from profilegen.rim.cup.bearing import cup_tier_race
     from profilegen.rim.stage import RIM_TIERS
-    from profilegen.wavegen import from_gearset
+    from profilegen.geometry.wavegen import from_gearset
 
     tier = RIM_TIERS["cup3d"]
     print(f"cup tier at the verify mesh: {tier.element_mm:g} mm, {tier.angles} angles, {tier.gap} gap, nonlinear")
@@ -81,7 +81,7 @@ def narrow_part(sets) -> None:
     from profilegen.gearset import load_gearset, resolve_gearset
     from profilegen.rim.cup import BearingRace, CupGeometry, press_cup
     from profilegen.rim.stage import RIM_TIERS
-    from profilegen.wavegen import from_gearset
+    from profilegen.geometry.wavegen import from_gearset
 
     tier = RIM_TIERS["cup3d"]
     for name in sets:

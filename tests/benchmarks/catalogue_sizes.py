@@ -73,7 +73,7 @@ COLUMNS = ("size", "ratio", "scene", "verdict", "seconds",
 
 
 def with_rim(made, rim_per_neutral_radius: float):
-    """The set ``made`` (a :class:`profilegen.catalogue_set.CatalogueSet`) with its rim, cup wall and
+    """The set ``made`` (a :class:`profilegen.gearset.new.CatalogueSet`) with its rim, cup wall and
     cup bottom at δ/r_m = ``rim_per_neutral_radius`` instead of the rule's 3 % (δ solved from
     r_m = d/2 − 1.2 m − δ/2, as the rule does): a study of the rim, not a set ``new`` writes."""
     import tomllib

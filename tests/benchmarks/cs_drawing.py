@@ -48,7 +48,7 @@ def main() -> None:
     import numpy as np
 
     import profilegen as pg
-    from profilegen.contour import Arc
+    from profilegen.geometry.contour import Arc
     from profilegen.output import cad, drawing
 
     gs = pg.load_gearset(args.gearset or pg.default_gearset_path())

@@ -50,7 +50,7 @@ import profilegen as pg  # noqa: E402
 from profilegen.output.export import atomic_write  # noqa: E402
 from profilegen.rim.cup import CupGeometry, harmonic_stiffness, meridional_mesh, solve_cup  # noqa: E402
 from tests.oracles.solid_cup import solve_solid_cup  # noqa: E402
-from profilegen.wavegen import from_gearset  # noqa: E402
+from profilegen.geometry.wavegen import from_gearset  # noqa: E402
 
 W0 = 0.5
 
@@ -136,7 +136,7 @@ def main() -> None:
 
     print("3. long cup (l = 300 mm, w0 cos 2φ over the face) at mid-face", flush=True)
     from profilegen.rim import RingParameters, solve_ring
-    from profilegen.wavegen import CosineCam
+    from profilegen.geometry.wavegen import CosineCam
 
     long = CupGeometry(g.neutral_radius_mm, g.wall_thickness_mm, 300.0, g.face_width_mm, g.bottom_thickness_mm,
                        g.boss_radius_mm, g.youngs_modulus_mpa, g.poisson_ratio)

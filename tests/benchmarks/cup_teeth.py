@@ -56,7 +56,7 @@ import profilegen as pg  # noqa: E402
 from profilegen.rim import stage  # noqa: E402
 from profilegen.rim.cup import CupGeometry, meridional_mesh, press_cup  # noqa: E402
 from profilegen.rim.ring import RingParameters, solve_ring  # noqa: E402
-from profilegen.wavegen import from_gearset  # noqa: E402
+from profilegen.geometry.wavegen import from_gearset  # noqa: E402
 
 UM = 1e3
 
@@ -162,7 +162,7 @@ def rib_band(gs) -> tuple[float, float]:
     stiffness per unit circumference equals that of the tooth ring with its teeth as continuous
     axial ribs, smeared over the pitch (beam theory: ∫ f(r) (r − r_c)² dr, f the solid fraction
     of the pitch at radius r from the exact flank, 1 from the bore to the root circle)."""
-    from profilegen.teeth import tooth_from_gearset
+    from profilegen.geometry.teeth import tooth_from_gearset
 
     tooth = tooth_from_gearset(gs)
     r_m, delta = tooth.neutral_radius_mm, gs.gear.rim_thickness_mm
@@ -323,7 +323,7 @@ def stringer_basis(geometry, tooth, band_mm: float, d_top_mm: float, stringers: 
 
 
 def stringer_table(c: dict, element_mm: float, layers: int, tooth_layers: int = 3, void: float = 1e-6) -> None:
-    from profilegen.teeth import tooth_from_gearset
+    from profilegen.geometry.teeth import tooth_from_gearset
 
     gs = c["gearset"]
     geo = CupGeometry.from_gearset(gs)

@@ -142,7 +142,7 @@ def _in_process(n: int, profile: bool, scenes: list[str], tmp: Path) -> dict[str
     """design() once per scene, then write_design n times; optionally one profiled write."""
     from profilegen.gearset import default_gearset_path, load_gearset
     from profilegen.output.files import write_design
-    from profilegen.pipeline import design
+    from profilegen.pipeline.design import design
 
     gs = load_gearset(default_gearset_path())
     out = {}

@@ -22,7 +22,7 @@ timed design: otherwise the uncached design of the same set, right after the cac
 reuse its fits. The machine's load average is printed with each case: the host is shared.
 
 ``--cancel``: the time from :meth:`Engine.cancel` to the running design raising
-:class:`profilegen.engine.Cancelled`, a tooth change cancelled at a random moment, per scene.
+:class:`profilegen.pipeline.engine.Cancelled`, a tooth change cancelled at a random moment, per scene.
 """
 
 from __future__ import annotations
@@ -66,7 +66,7 @@ def _forget_inner_caches() -> None:
     """The stages' own memos (the arc fit's least-squares and minimax stages by the flank's bytes,
     the contact's condensed pitches): the design just before had the same inputs, and the second
     would find them — which neither an edit in the app nor the cold CLI does."""
-    from profilegen import arcfit
+    from profilegen.profile import arcfit
     from profilegen.contact import compliance
 
     arcfit.clear_cache()
@@ -85,7 +85,7 @@ def cancel_latency(engine, gs, scene: str, delay_s: float) -> float | None:
     to that design raising Cancelled; None when it finished first."""
     import threading
 
-    from profilegen.engine import Cancelled
+    from profilegen.pipeline.engine import Cancelled
 
     done = {}
 

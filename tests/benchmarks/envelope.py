@@ -8,7 +8,7 @@ mm. For each method and resolution: the median time of repeated runs and the
 error of the CS space boundary against the reference (the largest distance of a
 reference vertex to the method's boundary — which includes the chord sag — and of
 the method's vertices to the reference). The brute-force method is the union of
-the tooth placed at n_phi positions (``profilegen.swept``), whose boundary error
+the tooth placed at n_phi positions (``profilegen.profile.swept``), whose boundary error
 falls only as 1/n_phi (a sharp corner leaves notches); the speed ratio at equal
 accuracy is measured where both methods reach the same error in this run, and
 extrapolated to 1 nm along the brute force's fitted time and error laws.
@@ -30,7 +30,7 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
-from profilegen.swept import swept_region  # noqa: E402
+from profilegen.profile.swept import swept_region  # noqa: E402
 
 
 def median_time(fn, repeats: int) -> tuple[float, object]:

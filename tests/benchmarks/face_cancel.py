@@ -1,5 +1,5 @@
 """How soon a superseded design stops, by the stage it is in (issue 31: ≤ 0.1 s anywhere): a fresh
-:class:`profilegen.engine.Engine` designs the default set in the design scene in a thread, and
+:class:`profilegen.pipeline.engine.Engine` designs the default set in the design scene in a thread, and
 ``stop()`` turns True at a random moment; the time from then until :class:`Cancelled` is raised.
 
     python tests/benchmarks/face_cancel.py [-n 20] [--set default] [--scene design]
@@ -18,7 +18,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 import profilegen as pg  # noqa: E402
-from profilegen.engine import Cancelled, Engine  # noqa: E402
+from profilegen.pipeline.engine import Cancelled, Engine  # noqa: E402
 
 
 def one(gs, scene: str, delay: float) -> tuple[str, float | None]:

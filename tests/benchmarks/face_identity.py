@@ -5,7 +5,7 @@ same numbers, and the time.
                                              [--sets default ...] [--design-repeats 3] [--whole]
 
 The "after" tree is ``--after`` (git, of this repository; default HEAD); the "before" tree is the
-same with the face stage's code (``--paths``: profilegen/face and profilegen/gearform.py) as it was
+same with the face stage's code (``--paths``: profilegen/face and profilegen/profile/gearform.py) as it was
 at ``--before`` (default e5bce8f, before the face stage's speed-up), so the design's total differs
 by that code alone; ``--whole``: the whole ``--before`` tree instead. Each is unpacked with ``git
 archive`` into a temporary folder and run there in its own process (``PYTHONPATH`` the folder), so
@@ -209,7 +209,7 @@ def main(argv=None) -> int:
     ap.add_argument("--design-repeats", type=int, default=3)
     ap.add_argument("--sets", nargs="+", default=list(SETS))
     ap.add_argument("--tol", type=float, default=1e-9)
-    ap.add_argument("--paths", nargs="+", default=["profilegen/face", "profilegen/gearform.py"])
+    ap.add_argument("--paths", nargs="+", default=["profilegen/face", "profilegen/profile/gearform.py"])
     ap.add_argument("--whole", action="store_true", help="the whole --before tree, not only --paths")
     ap.add_argument("--worker", help=argparse.SUPPRESS)
     args = ap.parse_args(argv)

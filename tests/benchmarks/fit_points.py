@@ -17,7 +17,7 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 import profilegen as pg  # noqa: E402
-from profilegen.scenes import SCENES  # noqa: E402
+from profilegen.pipeline.scenes import SCENES  # noqa: E402
 
 
 def main(argv=None) -> None:

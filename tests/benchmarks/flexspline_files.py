@@ -40,11 +40,11 @@ def main() -> None:
     import numpy as np
 
     import profilegen as pg
-    from profilegen.fsform import flank_elements, flexspline_tooth_chain
+    from profilegen.geometry.fsform import flank_elements, flexspline_tooth_chain
     from profilegen.output import cad
     from profilegen.output.files import _assembly_layers
     from profilegen.output.flexspline import write_flexspline_dxfs
-    from profilegen.teeth import involute_tooth, points_tooth
+    from profilegen.geometry.teeth import involute_tooth, points_tooth
 
     gs = pg.load_gearset(args.gearset or pg.default_gearset_path())
     d = pg.design(gs, scene=args.scene, contact=False, stress=False)

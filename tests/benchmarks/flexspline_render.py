@@ -42,7 +42,7 @@ def crop_assembly(src: Path, dst: Path, *, centre: tuple[float, float], half_wid
     """The entities of ``src`` whose ends lie in the window, written to ``dst``; their count."""
     import ezdxf
 
-    from profilegen.contour import Polyline
+    from profilegen.geometry.contour import Polyline
     from profilegen.output import cad
 
     cx, cy = centre

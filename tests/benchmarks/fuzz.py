@@ -184,7 +184,7 @@ OPT_OUTPUTS = ("profile_max_error_mm", "min_clearance_mm", "stress_min_safety", 
                "profile_max_backlash_mm")
 BAD_SPEC_VALUES = (0, -1, 1e300, -1e300, math.nan, math.inf, "text", True, [], {}, "=HYPERLINK(\"x\")",
                    "x" * 5000, 2**63, 0.5)
-SCENE_KEYS = {  # key: (kind, documented range) — profilegen/scenes.py _KEYS
+SCENE_KEYS = {  # key: (kind, documented range) — profilegen/pipeline/scenes.py _KEYS
     "chord_tol_mm": ("log", (1e-9, 1e-2)), "n_t": ("count", (8, 100_000)), "n_phi": ("count", (11, 100_000)),
     "clearance_samples": ("count", (3, 100_000)), "fit_check_positions": ("count", (3, 100_000)),
     "face_slices": ("count", (0, 33)), "brute_force_check": ("bool", None), "figures": ("choice", ("all", "none")),
@@ -300,7 +300,7 @@ def _scene_file(rng) -> dict:
     beyond an end of the documented range (the budget's and the validation's cases)."""
     import tomllib
 
-    base = tomllib.loads((ROOT / "profilegen" / "scenes.toml").read_text())["sketch"]
+    base = tomllib.loads((ROOT / "profilegen" / "pipeline" / "scenes.toml").read_text())["sketch"]
     scene = dict(base, tier="sketch")
     for key in rng.choice(list(SCENE_KEYS), size=int(rng.integers(1, 4)), replace=False):
         kind, rng_ = SCENE_KEYS[str(key)]
@@ -374,9 +374,9 @@ def _preload() -> None:
 
     matplotlib.use("Agg")
     import profilegen.cli  # noqa: F401
-    import profilegen.pipeline  # noqa: F401
-    import profilegen.sweep  # noqa: F401
-    import profilegen.optimize  # noqa: F401
+    import profilegen.pipeline.design  # noqa: F401
+    import profilegen.studies.sweep  # noqa: F401
+    import profilegen.studies.optimize  # noqa: F401
     import scipy.optimize  # noqa: F401
 
 
@@ -513,11 +513,11 @@ def _cli_worker(job: tuple[int, int, float, str, bool]) -> dict:
 def schema_fields() -> tuple[set[str], set[str]]:
     """What a user can change, from the schema itself: (dotted paths — every gear-set
     ``section.key`` of profilegen.gearset.sections, every kind's tooth keys, the sweep/optimize spec
-    tables' keys —, bare keys — the scene keys of profilegen.scenes and the specs' top-level keys)."""
-    from profilegen import scenes
+    tables' keys —, bare keys — the scene keys of profilegen.pipeline.scenes and the specs' top-level keys)."""
+    from profilegen.pipeline import scenes
     from profilegen.gearset import sections as sec
-    from profilegen.optimize import spec as ospec
-    from profilegen import sweep
+    from profilegen.studies.optimize import spec as ospec
+    from profilegen.studies import sweep
 
     tables = {"gear": sec.GEAR_KEYS, "wave_generator": sec.WAVE_GENERATOR_KEYS, "material": sec.MATERIAL_KEYS,
               "torque": sec.TORQUE_KEYS, "circular_spline": sec.CIRCULAR_SPLINE_KEYS, "cup": sec.CUP_KEYS,

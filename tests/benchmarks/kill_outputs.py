@@ -55,7 +55,7 @@ def _designer(gs, *, scene):
 
 
 def sweep_run(out: Path, new: bool):
-    from profilegen.sweep import parse_sweep_spec, run_sweep
+    from profilegen.studies.sweep import parse_sweep_spec, run_sweep
 
     grid = [0.8, 0.9, 1.0] if new else [0.8, 0.9]
     spec = parse_sweep_spec({"name": "k", "gearset": "default", "scene": "sketch", "plot": "warnings",
@@ -70,8 +70,8 @@ def _evaluate(values, context):
 
 
 def optimize_run(out: Path, new: bool):
-    from profilegen.optimize import load_optimize_spec, optimize
-    from profilegen.optimize import run as oprun
+    from profilegen.studies.optimize import load_optimize_spec, optimize
+    from profilegen.studies.optimize import run as oprun
 
     oprun.evaluate_design = _evaluate
     spec = SPEC_DIR / ("new.toml" if new else "old.toml")  # one place: the designs' header names it
@@ -136,8 +136,8 @@ class Moments:
             m.on = True
             return real_stage(self, *a, **k)
 
-        from profilegen import sweep
-        from profilegen.optimize import run as oprun
+        from profilegen.studies import sweep
+        from profilegen.studies.optimize import run as oprun
 
         real_table = sweep.write_table
 

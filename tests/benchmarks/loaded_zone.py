@@ -109,7 +109,7 @@ def _fit_deviation(design, points) -> np.ndarray:
     nearest to each contact point's CS foot (turned back to space 0; both flanks)."""
     import math
 
-    from profilegen.kinematics import turn
+    from profilegen.geometry.kinematics import turn
 
     ff = design.profile.flank_fit
     z2 = design.gearset.gear.circular_spline_teeth

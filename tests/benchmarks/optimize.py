@@ -66,7 +66,7 @@ def main(argv=None) -> int:
     p.add_argument("--dask-local", action="store_true", help="also run on a Dask LocalCluster and compare")
     args = p.parse_args(argv)
 
-    from profilegen.optimize import load_optimize_spec, optimize
+    from profilegen.studies.optimize import load_optimize_spec, optimize
 
     spec = load_optimize_spec(args.spec)
     changes = {k: v for k, v in (("population", args.population), ("generations", args.generations),

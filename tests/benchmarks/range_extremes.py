@@ -1,7 +1,7 @@
 """Every documented range's extreme, run as a user runs it, under a 4 GB address-space cap (issue 26).
 
 Each case is one scene key or gear-set field at an end of its documented range (the header of
-``profilegen/scenes.toml``, the ranges :mod:`profilegen.gearset.reader` checks), everything else
+``profilegen/pipeline/scenes.toml``, the ranges :mod:`profilegen.gearset.reader` checks), everything else
 as in ``profiles/default.toml`` with a sketch-tier scene. It runs ``python -m profilegen design``
 in a subprocess under ``resource.setrlimit(RLIMIT_AS, 4 GB)`` and a timeout; the table gives the
 field, the value, the outcome — ``ok`` (exit 0, or 3: the design's verdict), ``named error``
@@ -43,7 +43,7 @@ SKETCH = {"rim": "ring theory", "chord_tol_mm": 1e-4, "n_t": 96, "n_phi": 241, "
 # (field, value): "scene.KEY" changes the sketch scene, "SECTION.KEY" the default gear set
 # (a dict of several changes for fields that only make sense together)
 CASES: list[tuple[str, object]] = [
-    # scene keys (profilegen/scenes.toml's header)
+    # scene keys (profilegen/pipeline/scenes.toml's header)
     ("scene.chord_tol_mm", 1e-2),
     ("scene.chord_tol_mm", 1e-9),
     ("scene.chord_tol_mm", 1e-300),

@@ -37,7 +37,7 @@ sys.path.insert(0, str(ROOT))
 import profilegen as pg  # noqa: E402
 from profilegen.rim import solve_ring  # noqa: E402
 from profilegen.rim.toothed import toothed_quarter_mesh  # noqa: E402
-from profilegen.wavegen import from_gearset  # noqa: E402
+from profilegen.geometry.wavegen import from_gearset  # noqa: E402
 
 
 def _timed(repeats, fn):

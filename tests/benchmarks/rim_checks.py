@@ -24,7 +24,7 @@ sys.path.insert(0, str(ROOT))
 import profilegen as pg  # noqa: E402
 from profilegen.rim import RingParameters, solve_rim, solve_ring  # noqa: E402
 from tests.oracles.ring_on_cam import inextensible_ring_on_cam  # noqa: E402
-from profilegen.wavegen import EllipticalCam, ellipse_perimeter, from_gearset  # noqa: E402
+from profilegen.geometry.wavegen import EllipticalCam, ellipse_perimeter, from_gearset  # noqa: E402
 
 SEED_OMEGA = ([0.5272, 0.02677, 0.007596], [1.987, 5.965, 4.033], [1.611, 1.694, -9.533])
 SEED_UPSILON = ([0.2956, 0.01807, 0.01897], [2.013, 0.2032, 4.067], [3.090, -1.919, -1.909])

@@ -24,7 +24,7 @@ sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
 from profilegen.rim import solve_ring, toothed_quarter_mesh  # noqa: E402
-from profilegen.wavegen import CosineCam, EllipticalCam, from_gearset  # noqa: E402
+from profilegen.geometry.wavegen import CosineCam, EllipticalCam, from_gearset  # noqa: E402
 
 SEED = {"omega_major_mm": 0.553, "omega_minor_mm": -0.557, "upsilon_max_mm": 0.293}
 

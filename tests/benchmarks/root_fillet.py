@@ -30,9 +30,9 @@ def main() -> None:
     resource.setrlimit(resource.RLIMIT_AS, (6_000_000_000, 6_000_000_000))
 
     import profilegen as pg
-    from profilegen.contour import Arc
-    from profilegen.gearform import clearance_map
-    from profilegen.rootfillet import max_kink_deg
+    from profilegen.geometry.contour import Arc
+    from profilegen.profile.gearform import clearance_map
+    from profilegen.profile.rootfillet import max_kink_deg
 
     for name in args.names:
         gs = pg.load_gearset(pg.resolve_gearset(name))

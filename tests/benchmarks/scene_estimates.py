@@ -14,7 +14,7 @@ the worker), each under ``RLIMIT_AS`` 4 GB, one run per worker process.
 
 The table (``tests/corpus/scene_table.json`` and ``.md``, committed) holds every number of every run
 (None: not computed by that scene, with the reason) and the differences; the estimates of
-:mod:`profilegen.scene_estimates` are derived from it (``--derive`` prints the table of maxima
+:mod:`profilegen.pipeline.scene_estimates` are derived from it (``--derive`` prints the table of maxima
 the module's constants come from) and tests/unit/test_scene_estimates.py checks every difference
 against them.
 """
@@ -165,7 +165,7 @@ def _normalised(kind: str, d: float, cheap_value, module_mm: float) -> float:
 
 def table(work: Path) -> dict:
     """The measurement table from the runs under ``work``: written to TABLE_JSON and TABLE_MD."""
-    from profilegen import scene_estimates as se
+    from profilegen.pipeline import scene_estimates as se
 
     sha = (work / "commit.txt").read_text().strip()
     sets = {}
@@ -235,8 +235,8 @@ POLICY: dict[tuple[str, str], str] = {}
 
 
 def write_module(tab: dict) -> None:
-    """Rewrite the measurement block of profilegen/scene_estimates.py from the table."""
-    path = ROOT / "profilegen" / "scene_estimates.py"
+    """Rewrite the measurement block of profilegen/pipeline/scene_estimates.py from the table."""
+    path = ROOT / "profilegen" / "pipeline" / "scene_estimates.py"
     text = path.read_text(encoding="utf-8")
     head = "# --- the measurement: written by"
     tail = "# --- end of the measurement ---"
@@ -268,7 +268,7 @@ def write_module(tab: dict) -> None:
 def derive(tab: dict) -> dict:
     """Per cheap scene and number: the estimate (SAFETY_FACTOR x the largest normalised difference,
     rounded up) or 'not estimated' with the reason."""
-    from profilegen import scene_estimates as se
+    from profilegen.pipeline import scene_estimates as se
 
     out = {}
     for cheap, dear in PAIRS:
@@ -312,7 +312,7 @@ def check_flips(tab: dict) -> list[str]:
     """Each check a cheaper scene PASSES and verify FAILS, with the cheaper value, the requirement
     and the cheaper scene's estimate of the value (the flip is covered when |value - required| is
     within it)."""
-    from profilegen import scene_estimates as se
+    from profilegen.pipeline import scene_estimates as se
 
     out = []
     for n, r in tab["sets"].items():
@@ -338,7 +338,7 @@ def check_flips(tab: dict) -> list[str]:
 
 
 def markdown(tab: dict) -> str:
-    from profilegen import scene_estimates as se
+    from profilegen.pipeline import scene_estimates as se
 
     lines = [f"# Scene estimates: the measurement ({tab['date']}, commit {tab['commit'][:7]})", "",
              "Written by `python tests/benchmarks/scene_estimates.py` (do not edit). Each cheaper scene's "
@@ -408,7 +408,7 @@ def outside_count(tab: dict) -> int:
 
 def docs_block(tab: dict) -> str:
     """The measurement's summary for docs/validation/scene-estimates.md."""
-    from profilegen import scene_estimates as se
+    from profilegen.pipeline import scene_estimates as se
 
     runs = [(n, s, r["scenes"][s]) for n, r in tab["sets"].items() for s in SCENES]
     failed = [(n, s, e["error"]) for n, s, e in runs if e.get("error")]
@@ -495,7 +495,7 @@ def chart(tab: dict, path: Path = CHART) -> None:
     import matplotlib.pyplot as plt
     import numpy as np
 
-    from profilegen import scene_estimates as se
+    from profilegen.pipeline import scene_estimates as se
 
     keys = list(se.NUMBERS)
     fig, axes = plt.subplots(1, 2, figsize=(14, 12), sharey=True)
@@ -561,7 +561,7 @@ def main(argv=None) -> int:
     ap.add_argument("--force", action="store_true")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--sets", nargs="*")
-    ap.add_argument("--write-module", action="store_true", help="write the estimates into profilegen/scene_estimates.py")
+    ap.add_argument("--write-module", action="store_true", help="write the estimates into profilegen/pipeline/scene_estimates.py")
     ap.add_argument("--commit", default="HEAD", help="the commit whose package runs (git archive; default HEAD)")
     args = ap.parse_args(argv)
     latest = args.work / "latest.txt"

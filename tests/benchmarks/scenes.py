@@ -85,7 +85,7 @@ def scene_benchmark(gearset, *, scenes=("sketch", "design", "verify"), repeats: 
                     progress=None) -> list[dict]:
     """One row per scene (see the module docstring) plus the reference's row (``scene`` =
     "reference"). ``progress(text)`` is called before each run."""
-    from profilegen.pipeline import SCENES, design
+    from profilegen.pipeline.design import SCENES, design
 
     if isinstance(repeats, bool) or not isinstance(repeats, int) or repeats < 1:
         raise ValueError(f"repeats = {repeats!r}: must be a whole number ≥ 1")

@@ -54,7 +54,7 @@ sys.path.insert(0, str(ROOT))
 import profilegen as pg  # noqa: E402
 from profilegen.rim.cup import CupGeometry, press_cup  # noqa: E402
 from profilegen.rim.cup.contact import DisplacedHalves  # noqa: E402
-from profilegen.wavegen import EllipticalCam, ellipse_perimeter, from_gearset  # noqa: E402
+from profilegen.geometry.wavegen import EllipticalCam, ellipse_perimeter, from_gearset  # noqa: E402
 
 SEED = (0.553, -0.557, 0.293)
 

@@ -44,7 +44,7 @@ from threadpoolctl import threadpool_limits
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from profilegen.series import fit_sine_series  # noqa: E402
+from profilegen.geometry.series import fit_sine_series  # noqa: E402
 
 SETS = ("default", "seed000_csf40", "seed001_shf25", "seed002_short_cup")
 

@@ -228,7 +228,7 @@ class _BridgeCounter(logging.Handler):
 
 
 def envelope_point(base, omega_star: float, pressure_deg: float, counter: _BridgeCounter) -> dict:
-    from profilegen.envelope import envelope_of
+    from profilegen.profile.envelope import envelope_of
 
     row = {"omega_star": omega_star, "pressure_angle_deg": pressure_deg}
     stage = ["gearset"]
@@ -301,7 +301,7 @@ def run_envelope(quick: bool) -> dict:
         omegas = np.round(np.arange(0.3, 1.91, 0.1), 3)
         pressures = np.arange(1.0, 21.0, 1.0)
     counter = _BridgeCounter()
-    env_log = logging.getLogger("profilegen.envelope")
+    env_log = logging.getLogger("profilegen.profile.envelope")
     env_log.addHandler(counter)
     old_level = env_log.level
     env_log.setLevel(logging.INFO)
@@ -413,7 +413,7 @@ def fitter_truth(phi):
 
 def run_fitter(quick: bool) -> dict:
     import matplotlib.pyplot as plt
-    from profilegen.series import SeriesError, fit_fourier, fit_sine_series
+    from profilegen.geometry.series import SeriesError, fit_fourier, fit_sine_series
 
     n = 360
     phi = np.linspace(0.0, 2 * np.pi, n, endpoint=False)
@@ -804,7 +804,7 @@ def run_contact(quick: bool) -> dict:
 def run_rim(quick: bool) -> dict:
     import matplotlib.pyplot as plt
     from profilegen.rim import solve_ring
-    from profilegen.wavegen import EllipticalCam, from_gearset
+    from profilegen.geometry.wavegen import EllipticalCam, from_gearset
 
     gs = pg.load_gearset(pg.default_gearset_path())
     cam = from_gearset(gs)

@@ -38,7 +38,7 @@ stress    consistent Kirchhoff plate (every scene),       Morley plate, Richards
 
 The FEM rim and contact tiers need two symmetry planes (gear.waves = 2): on other gear sets
 the rim, fit and contact stages are left out (logged). BLAS runs single-threaded, as in
-:func:`profilegen.pipeline.design`, so the times are those of the pipeline.
+:func:`profilegen.pipeline.design.design`, so the times are those of the pipeline.
 
 ``write_stage_benchmark(rows, out_dir)`` writes ``stages.csv`` and ``stages.png`` (one panel
 per stage, log–log time against error, the scene tiers highlighted); ``format_stage_rows``
@@ -48,7 +48,7 @@ Benchmark code, not product code: it lives in the source checkout (``tests/bench
 ``profilegen/bench_stages.py``) and ``profilegen bench`` loads it from there
 (:func:`profilegen.bench.load_benchmark`). It uses only public names of the package; the two
 small helpers it needs that the package keeps private (the KD-tree polyline distance of
-``profilegen.gearform``, the rim stage's one-period mirroring) are written out here.
+``profilegen.profile.gearform``, the rim stage's one-period mirroring) are written out here.
 """
 
 from __future__ import annotations
@@ -150,7 +150,7 @@ def _defaults(fn, *names):
 
 def _boundary_distance_mm(a: np.ndarray, b: np.ndarray) -> float:
     """Symmetric distance (mm) between two boundary polylines: vertices of each to the other."""
-    from profilegen.gearform import PolylineDistance
+    from profilegen.profile.gearform import PolylineDistance
 
     return float(max(PolylineDistance(b).distance(a).max(), PolylineDistance(a).distance(b).max()))
 
@@ -219,7 +219,7 @@ class _Inputs:
 
     @cached_property
     def design(self):
-        from profilegen.pipeline import design
+        from profilegen.pipeline.design import design
 
         d = self.designs.get("design")
         if d is None:
@@ -230,7 +230,7 @@ class _Inputs:
     @cached_property
     def cam(self):
         from profilegen.rim import solve_ring
-        from profilegen.wavegen import from_gearset
+        from profilegen.geometry.wavegen import from_gearset
 
         cam = from_gearset(self.gearset)
         solve_ring(self.gearset, contour=cam, divisions=8)  # imports and first-call set-up out of the timings
@@ -261,7 +261,7 @@ class _Inputs:
         ``per_pitch`` columns; the verify design's own solutions where given."""
         from profilegen.rim import RIM_TIERS, solve_ring
         from profilegen.rim.toothed import toothed_quarter_mesh
-        from profilegen.teeth import tooth_from_gearset
+        from profilegen.geometry.teeth import tooth_from_gearset
 
         tier = RIM_TIERS["verify"]
         layers = tier.tooth_layers if tooth_layers is None else tooth_layers
@@ -301,7 +301,7 @@ class _Inputs:
 
     def trace(self, chord_tol_mm: float, n_t: int, n_phi: int):
         """The classified envelope with the design scene's tooth and motion (not remembered)."""
-        from profilegen.envelope import envelope_of
+        from profilegen.profile.envelope import envelope_of
 
         g = self.gearset.gear
         return envelope_of(self.design.tooth, self.design.motion, cs_teeth=g.circular_spline_teeth, waves=g.waves,
@@ -323,7 +323,7 @@ class _Inputs:
 
     @cached_property
     def envelope_reference(self):
-        from profilegen.pipeline import SCENES
+        from profilegen.pipeline.design import SCENES
 
         finest = SCENES["verify"]
         self.step("envelope reference: traced, chord 1e-9 mm")
@@ -332,7 +332,7 @@ class _Inputs:
 
     def flank(self, env, chord_tol_mm: float) -> np.ndarray:
         """The right working flank of the CS outline built from ``env`` (as the pipeline does)."""
-        from profilegen.gearform import circular_spline_form
+        from profilegen.profile.gearform import circular_spline_form
 
         g, cs = self.gearset.gear, self.gearset.circular_spline
         form = circular_spline_form(env, cs_teeth=g.circular_spline_teeth, tip_clearance_mm=cs.tip_clearance_mm,
@@ -480,7 +480,7 @@ def _cup_rows(inp: _Inputs, repeats: int) -> list[dict]:
 def _fit(inp: _Inputs, repeats: int) -> list[dict]:
     from profilegen.rim import RIM_TIERS
     from profilegen.rim.stage import one_period
-    from profilegen.series import GeneralSineDeformation, fit_fourier, fit_sine_series
+    from profilegen.geometry.series import GeneralSineDeformation, fit_fourier, fit_sine_series
 
     fem = inp.design.rim.fem if inp.design.rim is not None else None
     if fem is None:
@@ -545,8 +545,8 @@ def _fit(inp: _Inputs, repeats: int) -> list[dict]:
 
 
 def _envelope(inp: _Inputs, repeats: int) -> list[dict]:
-    from profilegen.pipeline import SCENES
-    from profilegen.swept import boundary_distance, swept_region
+    from profilegen.pipeline.design import SCENES
+    from profilegen.profile.swept import boundary_distance, swept_region
 
     ref_env, ref_t, ref_label = inp.envelope_reference
     ref = np.asarray(ref_env.flank["boundary"])
@@ -581,10 +581,10 @@ def _envelope(inp: _Inputs, repeats: int) -> list[dict]:
 
 
 def _arcfit(inp: _Inputs, repeats: int) -> list[dict]:
-    from profilegen.arcfit import clear_cache, fit_profile
+    from profilegen.profile.arcfit import clear_cache, fit_profile
     from profilegen.errors import ProfilegenError
     from profilegen.gearset import FIT_METHODS
-    from profilegen.pipeline import FIT_MAX_ITER, SCENES
+    from profilegen.pipeline.design import FIT_MAX_ITER, SCENES
 
     ref_env, ref_t, env_label = inp.envelope_reference
     inp.step("arcfit: the reference flank")

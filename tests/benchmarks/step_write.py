@@ -55,7 +55,7 @@ def main() -> None:
 
     from profilegen.gearset import default_gearset_path, load_gearset
     from profilegen.output import step
-    from profilegen.pipeline import design
+    from profilegen.pipeline.design import design
 
     gs = load_gearset(args.gearset or default_gearset_path())
     d = design(gs, scene=args.scene, contact=False, stress=False)

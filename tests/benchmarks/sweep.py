@@ -23,7 +23,7 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
-from profilegen.sweep import parse_sweep_spec, run_sweep  # noqa: E402
+from profilegen.studies.sweep import parse_sweep_spec, run_sweep  # noqa: E402
 
 
 def main() -> None:

@@ -34,7 +34,7 @@ import profilegen as pg  # noqa: E402
 from profilegen.rim import solve_ring  # noqa: E402
 from profilegen.rim.stage import RIM_TIERS, WRAP_MARGIN_RAD, _expected_wrap  # noqa: E402
 from profilegen.rim.toothed import toothed_quarter_mesh  # noqa: E402
-from profilegen.wavegen import from_gearset  # noqa: E402
+from profilegen.geometry.wavegen import from_gearset  # noqa: E402
 
 
 def main() -> None:

@@ -1,4 +1,4 @@
-"""The clearance map by its definition, pose by pose: the rule ``profilegen.gearform.clearance_map``
+"""The clearance map by its definition, pose by pose: the rule ``profilegen.profile.gearform.clearance_map``
 and the face stage's ``section_map`` implement with batched searches (tests/unit/test_clearance_search.py,
 tests/unit/test_face_width.py compare them bit for bit)."""
 
@@ -8,7 +8,7 @@ import numpy as np
 import shapely
 from scipy.spatial import cKDTree
 
-from profilegen.gearform import PolylineDistance, _local_outline
+from profilegen.profile.gearform import PolylineDistance, _local_outline
 
 
 def _local(points, origin, c, s):

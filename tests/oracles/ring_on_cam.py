@@ -3,7 +3,7 @@
 Classical linear theory of thin circular rings (Timoshenko & Gere, *Theory of Elastic
 Stability*, §7.1–7.2; Timoshenko & Goodier / Roark's ring formulas; the inextensible-ring
 assumption of harmonic-drive theory, seed 004's ω = w0 cos 2φ), solved as a unilateral
-contact (obstacle) problem on a rigid wave-generator contour (:mod:`profilegen.wavegen`).
+contact (obstacle) problem on a rigid wave-generator contour (:mod:`profilegen.geometry.wavegen`).
 
 Notation (docs/reference/conventions.md): R = r_m the neutral radius, δ the rim thickness, r_b = R − δ/2 the
 bore, EI = Eδ³/12 the bending stiffness per mm of face width (plane stress, as the FEM),
@@ -55,7 +55,7 @@ w0; the exact_gap contact keeps the O(w0²/R) terms of the contact geometry (err
 O(w0³/R²)). The FEM and the oracle agree to (δ/R)² only where (δ/R)² ≪ w0/R: below that the
 wrap is decided by the thick-ring terms the oracle does not have.
 
->>> from profilegen.wavegen import CosineCam
+>>> from profilegen.geometry.wavegen import CosineCam
 >>> res = full_wrap_on_cam(CosineCam(49.0, 0.5), 49.5, 1.0)
 >>> (np.round(res.omega([0.0, math.pi / 4, math.pi / 2]), 12) + 0.0).tolist(), res.wrap_angle_deg
 ([0.5, 0.0, -0.5], 90.0)

@@ -1,4 +1,4 @@
-"""Unit tests of profilegen.arcfit: geometry of the composite, exact recovery, the
+"""Unit tests of profilegen.profile.arcfit: geometry of the composite, exact recovery, the
 optimality of the minimax and one-sided fits, and bad input.
 
 Sources of the expected values (not the code's own output):
@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 from scipy.spatial import cKDTree
 
-from profilegen.arcfit import (
+from profilegen.profile.arcfit import (
     PARAM_NAMES,
     FitError,
     OneSidedError,
@@ -33,7 +33,7 @@ from profilegen.arcfit import (
     fit_profile_per_branch,
     signed_distance,
 )
-from profilegen.contour import Arc
+from profilegen.geometry.contour import Arc
 from profilegen.errors import ProfilegenError
 
 

@@ -23,8 +23,8 @@ from profilegen.gearset import (
     parse_gearset,
     read_toml,
 )
-from profilegen.scenes import SceneError, resolve_scene
-from profilegen.wavegen import WaveGenError
+from profilegen.pipeline.scenes import SceneError, resolve_scene
+from profilegen.geometry.wavegen import WaveGenError
 
 CANARY = "CANARY-7f3a9c-root:$6$s3cr3t"
 SECRET = f"root:x:0:0:{CANARY}:/root:/bin/bash\ndaemon:x:1:1::/usr/sbin:/usr/sbin/nologin\n"

@@ -83,7 +83,7 @@ def test_envelope_error_falls_with_the_chord_and_stays_within_it(rows):
     # the traced boundary's chord sag bounds its distance to the exact one (+ the reference's own chord)
     assert all(e <= c + 1e-3 for e, c in zip(errors, chords_nm))
     brute = _by_method(rows, "envelope")["brute force 721 poses"]
-    # the brute-force union's notches at the tip-corner path: first order, ≈ 0.6 mm / n_phi (profilegen.swept)
+    # the brute-force union's notches at the tip-corner path: first order, ≈ 0.6 mm / n_phi (profilegen.profile.swept)
     assert 0.3e6 / 721 < brute["error"] < 1.2e6 / 721
 
 
@@ -136,7 +136,7 @@ def test_csv_png_and_table(rows, tmp_path):
 def test_polyline_distance_matches_shapely():
     import shapely
 
-    from profilegen.gearform import PolylineDistance
+    from profilegen.profile.gearform import PolylineDistance
 
     rng = np.random.default_rng(3)
     t = np.linspace(0.0, 1.5 * np.pi, 400)
@@ -178,7 +178,7 @@ def test_stage_names_are_the_pipeline_stages(gearset):
     """Every studied stage is one the pipeline reports (its time and error estimate), except
     the deformation fit, which the rim stage does; and every such stage of a design with
     contact is studied (not the tooth and gearform stages, which have no tiers)."""
-    from profilegen.pipeline import design
+    from profilegen.pipeline.design import design
 
     reported = {s.stage for s in design(gearset, scene="sketch", contact=True).stages}
     assert set(STAGES) - {"fit"} <= reported

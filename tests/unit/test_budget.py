@@ -1,6 +1,6 @@
-"""The cost model's envelope estimate covers the pipeline's retrace (profilegen.budget.worst_chord).
+"""The cost model's envelope estimate covers the pipeline's retrace (profilegen.pipeline.budget.worst_chord).
 
-profilegen.pipeline.traced_form traces the envelope again at a finer chord when the CS form finds a
+profilegen.pipeline.design.traced_form traces the envelope again at a finer chord when the CS form finds a
 grazing crossing it missed (UnresolvedBoundaryError); the preflight must estimate the envelope and
 the CS outline at the finest chord that can happen, not at the scene's. Checked against the chords
 traced_form really asks for (its envelope and CS form stubbed: every trace fails) and against the
@@ -14,9 +14,10 @@ import math
 import pytest
 
 import profilegen as pg
-from profilegen import budget, pipeline
-from profilegen.gearform import UnresolvedBoundaryError
-from profilegen.scenes import SCENES
+from profilegen.pipeline import budget
+from profilegen.pipeline import design as pipeline
+from profilegen.profile.gearform import UnresolvedBoundaryError
+from profilegen.pipeline.scenes import SCENES
 
 
 @pytest.fixture(scope="module")

@@ -1,6 +1,6 @@
 """Unit tests of profilegen.output.cad: DXF with true LINE/ARC entities, SVG paths, PNG preview.
 
-The contours are built here by hand from :mod:`profilegen.contour` elements — a slot
+The contours are built here by hand from :mod:`profilegen.geometry.contour` elements — a slot
 (two half circles and two lines) and a 12-tooth toy gear (one pitch of arcs and lines,
 repeated by rotation) — and every file is checked with an independent reader: ezdxf's
 entities and auditor, xml.etree plus the SVG spec's arc centre formula (SVG 1.1,
@@ -44,7 +44,7 @@ from profilegen.output.cad import (
     write_contours_dxf,
     write_contours_svg,
 )
-from profilegen.contour import Arc, Chain, ContourError, Line
+from profilegen.geometry.contour import Arc, Chain, ContourError, Line
 from profilegen.errors import ExportError
 from profilegen.output.export import DXF_LAYER_COLORS
 from tests.golden.toy_gear_checks import ToyGearCheckError, analytic_area_mm2, check_toy_gear_dxf

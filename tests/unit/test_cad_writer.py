@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from profilegen.output.cad import _elements, _extents, write_contours_dxf
-from profilegen.contour import Arc, Chain, Line, Polyline
+from profilegen.geometry.contour import Arc, Chain, Line, Polyline
 from profilegen.output.export import dxf_document, save_dxf
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -73,7 +73,7 @@ def test_entity_text_is_byte_identical_to_ezdxf(tmp_path):
 def test_dxf_does_not_depend_on_the_string_hash_seed(tmp_path):
     """ezdxf adds CLASS entries from a set; unsorted, their order followed PYTHONHASHSEED (two of
     six seeds gave another file before the fix)."""
-    script = ("import sys, math; from profilegen.output.cad import write_contours_dxf; from profilegen.contour import Arc;"
+    script = ("import sys, math; from profilegen.output.cad import write_contours_dxf; from profilegen.geometry.contour import Arc;"
               "write_contours_dxf(sys.argv[1], {'CS': [Arc((0, 0), 1.0, 0.0, 1.0)]})")
     files = []
     for seed in ("0", "5", "11", "23"):

@@ -1,4 +1,4 @@
-"""`profilegen new` (profilegen.catalogue_set): a gear set of catalogue proportions from a size
+"""`profilegen new` (profilegen.gearset.new): a gear set of catalogue proportions from a size
 and a ratio, checked against the rules the module states (each written independently here:
 z1 = 2·ratio, z2 = z1 + 2, d = m·z1 = 2.54 mm × size (tenths of an inch), δ = 3 % of r_m = d/2 − 1.2 m − δ/2,
 w0 = m, wire corner ≤ 0.2 m, bearing section ≥ 12.5 % of d), and `profilegen check`'s derived
@@ -11,10 +11,10 @@ import tomllib
 
 import pytest
 
-from profilegen.catalogue_set import NewSetError, derived_quantities, new_gearset
+from profilegen.gearset.new import NewSetError, derived_quantities, new_gearset
 from profilegen.cli import main
 from profilegen.gearset import load_gearset, parse_gearset
-from profilegen.pipeline import check_gearset
+from profilegen.pipeline.design import check_gearset
 
 SIZES = (14, 17, 20, 25, 32, 40, 50, 58)
 CASES = [(size, ratio) for size in SIZES for ratio in (50, 100)]
@@ -126,7 +126,7 @@ def test_cli_new_check_and_sketch_design_size25_ratio120(tmp_path, capsys):
 @pytest.mark.slow
 @pytest.mark.parametrize("size", (14, 58))
 def test_sketch_design_of_a_small_and_a_large_size(made, size):
-    from profilegen.pipeline import design
+    from profilegen.pipeline.design import design
 
     result = design(made[(size, 100)].gearset, scene="sketch")
     assert result.profile is not None and result.profile.clearance.min_mm >= -1e-6

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from profilegen.catalogue_set import RATIO_RANGE, NewSetError, new_gearset, wire_for_module
+from profilegen.gearset.new import RATIO_RANGE, NewSetError, new_gearset, wire_for_module
 
 
 @pytest.mark.parametrize("module_mm, wire", [

@@ -6,7 +6,7 @@ import pickle
 
 import numpy as np
 
-from profilegen.contour import Arc, Chain, Line
+from profilegen.geometry.contour import Arc, Chain, Line
 
 
 def _chain():

@@ -14,9 +14,9 @@ from profilegen.contact.compliance import ComplianceError
 from profilegen.errors import ProfilegenError, StressError
 from profilegen.rim.ring import RingError, RingParameters
 from profilegen.rim.toothed import ToothedMeshError
-from profilegen.series import SeriesError, fit_fourier
+from profilegen.geometry.series import SeriesError, fit_fourier
 from profilegen.stress import inputs
-from profilegen.wavegen import EllipticalCam, WaveGenError
+from profilegen.geometry.wavegen import EllipticalCam, WaveGenError
 
 
 class FieldError(ProfilegenError, ValueError):

@@ -4,7 +4,7 @@ brute force it replaces: every surface point's nearest CS point, stably sorted b
 import numpy as np
 from scipy.spatial import cKDTree
 
-from profilegen.gearform import _nearest_pairs
+from profilegen.profile.gearform import _nearest_pairs
 
 
 def _brute(tree, surface, c, s, origin, need):
@@ -40,7 +40,7 @@ def test_clearance_map_takes_the_candidates_of_the_pose_by_pose_rule(default_set
     """The whole map against the rule it implements, pose by pose: every surface point's
     nearest CS point, the 128 nearest pairs (stable), their first 32 distinct CS points and
     4 neighbours either side, the least signed exact distance — bit for bit."""
-    from profilegen.gearform import circular_spline_form, clearance_map
+    from profilegen.profile.gearform import circular_spline_form, clearance_map
     from tests.oracles.clearance_rule import pose_by_pose_clearance
 
     tooth, motion, env = default_set

@@ -400,7 +400,7 @@ def test_ratcheting_and_transmission_error_in_the_outputs(sketch_design):
     assert head["transmission_error"]["peak_to_peak_arcsec"] == e["peak_to_peak_arcsec"]
     # the verdict checks a bound, estimate / the model's largest overestimate at the set's ratio, over the
     # momentary torque
-    from profilegen.pipeline import ratcheting_overestimate
+    from profilegen.pipeline.design import ratcheting_overestimate
 
     overestimate, _ = ratcheting_overestimate(design.gearset.ratio)
 

@@ -19,7 +19,7 @@ import shapely
 import profilegen as pg
 from profilegen.contact import ContactInput
 from profilegen.contact.compliance import ComplianceError, ContactCompliance, _half_ring_flex
-from profilegen.kinematics import turn
+from profilegen.geometry.kinematics import turn
 from profilegen.rim.toothed import ring_sector_mesh
 
 

@@ -7,7 +7,7 @@ import pytest
 
 from profilegen.contact import ContactInput
 from profilegen.contact.points import ContactPointError, contact_points
-from profilegen.kinematics import turn
+from profilegen.geometry.kinematics import turn
 
 
 @pytest.fixture(scope="module")

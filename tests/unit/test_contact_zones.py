@@ -39,7 +39,7 @@ from profilegen.contact import ContactInput, ContactPoints, contact_points, solv
 from profilegen.contact.analysis import analyse_contact, solve_contact
 from profilegen.contact import compliance as cm
 from profilegen.contact.compliance import ContactCompliance
-from profilegen.kinematics import turn
+from profilegen.geometry.kinematics import turn
 from profilegen.rim.toothed import toothed_half_ring_mesh
 
 

@@ -1,11 +1,11 @@
-"""Exact distances and nearest points of lines, arcs and chains (profilegen.contour)."""
+"""Exact distances and nearest points of lines, arcs and chains (profilegen.geometry.contour)."""
 
 import math
 
 import numpy as np
 import shapely
 
-from profilegen.contour import Arc, Chain, Line
+from profilegen.geometry.contour import Arc, Chain, Line
 
 
 def test_nearest_points_of_a_chain_against_a_dense_polyline():

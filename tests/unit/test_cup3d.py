@@ -199,7 +199,7 @@ def test_equilibrium_of_the_reactions(default_cup):
 
 
 def test_contour_load_is_its_cosine_series(default_cup):
-    from profilegen.wavegen import CosineCam
+    from profilegen.geometry.wavegen import CosineCam
 
     load = bore_load(CosineCam(default_cup.bore_radius_mm, W0), default_cup.bore_radius_mm)
     assert set(load) == {2} and abs(load[2] - W0) < 1e-12
@@ -318,7 +318,7 @@ def test_a_coning_cup_touches_the_cam_at_the_bearing_edges(pressed):
 
 def test_long_cup_on_a_narrow_bearing_is_ring_theory():
     from profilegen.rim.cup import press_cup
-    from profilegen.wavegen import CosineCam
+    from profilegen.geometry.wavegen import CosineCam
 
     g = cup(length=300.0, bearing_width_mm=2.0)
     c = press_cup(g, contour=CosineCam(g.bore_radius_mm, W0), element_mm=4.0, angles=8)

@@ -25,7 +25,7 @@ import pytest
 
 from profilegen.rim.cup import CupError, CupGeometry, harmonic_stiffness, meridional_mesh, press_cup
 from profilegen.rim.cup.bearing import FREE_FRACTION, BearingRace, cup_tier_race
-from profilegen.wavegen import CosineCam
+from profilegen.geometry.wavegen import CosineCam
 
 from tests.cups import NU, R_M, T, W0, E, cam, cup
 

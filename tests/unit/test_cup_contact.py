@@ -24,7 +24,7 @@ import pytest
 from profilegen.rim.cup import harmonic_stiffness, meridional_mesh, press_cup
 from profilegen.rim.cup.contact import DisplacedHalves
 from profilegen.rim.cup.nonlinear import HarmonicTotalLagrangian
-from profilegen.wavegen import EllipticalCam, ellipse_perimeter
+from profilegen.geometry.wavegen import EllipticalCam, ellipse_perimeter
 
 from tests.cups import NU, R_B, R_M, T, W0, E, cam, cup
 
@@ -172,7 +172,7 @@ def test_seed_004_printed_series_are_recovered_by_the_package_fit_and_give_its_e
     fitting error — with a υ amplitude of 0.2965 mm over the half turn: the three printed numbers
     describe the middle section, not the open end. (Replaces a check of the printed series alone,
     which called no package code.)"""
-    from profilegen.series import fit_sine_series
+    from profilegen.geometry.series import fit_sine_series
 
     phi = np.linspace(0.0, 2 * math.pi, 720, endpoint=False)
     dense = np.linspace(0.0, 2 * math.pi, 20001)

@@ -31,7 +31,7 @@ from profilegen.errors import GearSetError
 from profilegen.gearset import default_gearset_path, load_gearset, parse_gearset
 from profilegen.rim.cup import CupError, CupGeometry, meridional_mesh, press_cup, solve_cup
 from profilegen.rim.stage import RIM_TIERS, RimTier, solve_rim
-from profilegen.wavegen import CosineCam
+from profilegen.geometry.wavegen import CosineCam
 
 COARSE = RimTier("cup3d", "cup", geometry="linear", layers=2, divisions=0, max_order=16, element_mm=4.0, angles=8)
 CHEAP = RimTier("cup3d", "cup", geometry="nonlinear", layers=2, divisions=0, max_order=16, element_mm=8.0, angles=8)
@@ -218,7 +218,7 @@ def test_profilegen_check_names_the_cup_field(tmp_path, default_data, capsys):
 
 
 def test_scenes_pick_the_tiers(tmp_path):
-    from profilegen.scenes import RIM_TIER_NAMES, SCENES, SceneError, resolve_scene, with_rim_tier
+    from profilegen.pipeline.scenes import RIM_TIER_NAMES, SCENES, SceneError, resolve_scene, with_rim_tier
 
     assert set(RIM_TIER_NAMES) == set(RIM_TIERS)
     assert SCENES["verify"].rim_tier == "cup3d" and SCENES["design"].rim_tier == "design"
@@ -242,7 +242,7 @@ def test_design_rim_flag_overrides_the_scene_tier(monkeypatch, tmp_path, capsys)
     import contextlib
 
     import profilegen.output.files as files
-    import profilegen.pipeline as pipeline
+    import profilegen.pipeline.design as pipeline
     from profilegen.cli import main
 
     seen = {}

@@ -1,4 +1,4 @@
-"""Unit tests of profilegen.deformation: the ring-theory deformation and the harmonic form.
+"""Unit tests of profilegen.geometry.deformation: the ring-theory deformation and the harmonic form.
 
 Checked against closed forms and finite differences computed here, not against the
 module's own intermediate values. Ring theory (classical inextensible thin ring, the
@@ -13,7 +13,7 @@ import math
 import numpy as np
 import pytest
 
-from profilegen.deformation import HarmonicDeformation, ring_theory
+from profilegen.geometry.deformation import HarmonicDeformation, ring_theory
 from profilegen.errors import GearSetError
 
 W0, U = 0.5, 2

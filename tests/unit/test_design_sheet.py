@@ -59,7 +59,7 @@ def test_flank_shape_follows_where_the_centre_lies(sketch):
 
 
 def test_checks_match_the_verdict(sketch):
-    from profilegen.pipeline import interference_tol_mm
+    from profilegen.pipeline.design import interference_tol_mm
 
     rows = sheet.checks(sketch, interference_tol_mm(sketch.scene))
     assert rows, "a sketch has at least the interference check"

@@ -20,7 +20,7 @@ import pytest
 from shapely.geometry import Point, Polygon
 
 import profilegen as pg
-from profilegen.contour import Arc, Line
+from profilegen.geometry.contour import Arc, Line
 from profilegen.errors import ExportError
 from profilegen.output import cad
 from profilegen.output.drawing import DIMENSION_LAYER, drawing_date, write_cs_drawing

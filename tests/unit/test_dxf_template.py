@@ -11,7 +11,7 @@ import ezdxf
 import numpy as np
 import pytest
 
-from profilegen.contour import Arc, Chain, Line, Polyline
+from profilegen.geometry.contour import Arc, Chain, Line, Polyline
 from profilegen.output import cad, dxftext
 
 SAME_EZDXF = ezdxf.__version__ == dxftext.stored_version()

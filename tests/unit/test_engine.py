@@ -14,8 +14,8 @@ import threading
 import pytest
 
 import profilegen as pg
-from profilegen import engine as engine_module
-from profilegen.engine import Cancelled, Engine
+from profilegen.pipeline import engine as engine_module
+from profilegen.pipeline.engine import Cancelled, Engine
 from tests.benchmarks.engine_identity import comparable, first_difference, run
 
 SKETCH = pg.SCENES["sketch"]

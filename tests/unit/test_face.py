@@ -12,13 +12,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from profilegen.deformation import ring_theory
-from profilegen.envelope import envelope_of
+from profilegen.geometry.deformation import ring_theory
+from profilegen.profile.envelope import envelope_of
 from profilegen.face import FaceError, face_width, solve_modification
-from profilegen.gearform import circular_spline_form, clearance_map
+from profilegen.profile.gearform import circular_spline_form, clearance_map
 from profilegen.gearset import load_gearset
-from profilegen.kinematics import HarmonicDriveMotion
-from profilegen.teeth import tooth_from_gearset
+from profilegen.geometry.kinematics import HarmonicDriveMotion
+from profilegen.geometry.teeth import tooth_from_gearset
 
 SPAN = (50.0, 70.0)
 SAMPLES = 61  # map poses (the stage's default is 181)

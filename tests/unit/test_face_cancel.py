@@ -5,7 +5,7 @@ No wall time here: the stage that was running when Cancelled came is what is che
 import pytest
 
 import profilegen as pg
-from profilegen.engine import Cancelled, Engine
+from profilegen.pipeline.engine import Cancelled, Engine
 
 
 @pytest.mark.slow

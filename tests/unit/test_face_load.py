@@ -16,8 +16,8 @@ import pytest
 from profilegen.contact.face_load import (
     FaceLoadError, cup_sections, gap_shift_mm, semi_membrane_sections, slice_coupling, slice_positions, solve_face)
 from profilegen.contact.solvers import solve_lemke
-from profilegen.deformation import HarmonicDeformation
-from profilegen.kinematics import HarmonicDriveMotion, turn
+from profilegen.geometry.deformation import HarmonicDeformation
+from profilegen.geometry.kinematics import HarmonicDriveMotion, turn
 
 
 def _problem(n=7, seed=3):

@@ -12,8 +12,8 @@ from profilegen.face.modification import apply_modification, modified_tooth, rad
 from profilegen.face.sections import solve_section
 from profilegen.rim.cup import CupGeometry, press_cup
 from profilegen.rim.cup.bearing import cup_tier_race
-from profilegen.teeth import tooth_from_gearset
-from profilegen.wavegen import from_gearset
+from profilegen.geometry.teeth import tooth_from_gearset
+from profilegen.geometry.wavegen import from_gearset
 
 GRID = dict(n_t=48, n_phi=121)
 

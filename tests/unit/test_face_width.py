@@ -11,11 +11,11 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from profilegen.envelope import envelope_of
+from profilegen.profile.envelope import envelope_of
 from profilegen.face.clearance import section_map
 from profilegen.face.modification import modified_tooth
 from profilegen.face.stage import CHORD_TOL_MM
-from profilegen.gearform import _local_outline, circular_spline_form
+from profilegen.profile.gearform import _local_outline, circular_spline_form
 from tests.oracles.clearance_rule import pose_by_pose_clearance
 
 

@@ -22,7 +22,7 @@ import pytest
 import profilegen as pg
 from profilegen.errors import EnvelopeError
 from profilegen.gearset import default_gearset_path
-from profilegen.pipeline import check_gearset
+from profilegen.pipeline.design import check_gearset
 
 M = 0.5  # the default set's module
 

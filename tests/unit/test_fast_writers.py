@@ -12,7 +12,7 @@ import random
 import numpy as np
 import pytest
 
-from profilegen.contour import Arc, Chain, Line, Polyline
+from profilegen.geometry.contour import Arc, Chain, Line, Polyline
 from profilegen.output import cad
 from profilegen.output.export import _json_safe, _json_text, write_json
 from profilegen.results import json_ready

@@ -5,8 +5,8 @@ failing the design, and says so; a second failure names both tries."""
 import pytest
 
 import profilegen as pg
-import profilegen.arcfit as arcfit
-import profilegen.pipeline as pipeline
+import profilegen.profile.arcfit as arcfit
+import profilegen.pipeline.design as pipeline
 from profilegen.errors import ConvergenceError
 
 

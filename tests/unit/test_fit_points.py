@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import profilegen as pg
-from profilegen import pipeline
+from profilegen.pipeline import design as pipeline
 
 
 def test_a_long_flank_keeps_its_ends_and_order_and_a_short_one_is_untouched():

@@ -1,4 +1,4 @@
-"""The flexspline as lines and arcs (profilegen.fsform) and its drawings (profilegen.output.flexspline).
+"""The flexspline as lines and arcs (profilegen.geometry.fsform) and its drawings (profilegen.output.flexspline).
 
 Checked against things the module does not compute itself: the tooth's own outline polygon
 (ToothProfile.surface / outline), its exact arc length, dense exact points of the involute and
@@ -15,10 +15,10 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from profilegen.contour import Arc, Chain, Line
+from profilegen.geometry.contour import Arc, Chain, Line
 from profilegen.errors import GearSetError
-from profilegen.fsform import FlexsplineFormError, flexspline_outline, flexspline_tooth_chain, ring_of_teeth
-from profilegen.teeth import dcta_tooth, involute_tooth, points_tooth
+from profilegen.geometry.fsform import FlexsplineFormError, flexspline_outline, flexspline_tooth_chain, ring_of_teeth
+from profilegen.geometry.teeth import dcta_tooth, involute_tooth, points_tooth
 
 M, Z1, R_M = 0.5, 200, 48.95
 GEAR = SimpleNamespace(module_mm=M, flexspline_teeth=Z1, neutral_radius_mm=R_M)
@@ -194,7 +194,7 @@ def test_assembly_poses_each_tooth_rigidly_and_stays_small(tmp_path):
     chain's points; the default set's assembly.dxf is written from it, under 1 MB (the dense
     polylines it replaces made 2.8 MB; the filleted CS is ~0.5 MB of it, the FS ~0.42 MB)."""
     import profilegen as pg
-    from profilegen.kinematics import turn
+    from profilegen.geometry.kinematics import turn
     from profilegen.output import cad
     from profilegen.output.flexspline import posed_teeth
 

@@ -8,7 +8,7 @@ import pytest
 
 import profilegen as pg
 from profilegen.gearset import resolve_gearset
-from profilegen.sweep import parse_sweep_spec
+from profilegen.studies.sweep import parse_sweep_spec
 
 
 @pytest.mark.parametrize("text", ["x" * 300, "x" * 251, "folder/" + "x" * 300 + ".toml"])
@@ -29,7 +29,7 @@ def test_the_sheet_numbers_of_a_per_branch_fit_read_its_first_branch():
     # a CS flank fitted per branch (a ridge splits it): profile_fit.json's "branches" holds the
     # branches' fits under "branches" (and "whole": None); the design's files raised KeyError 'fits'
     # (fuzz: a drawn DCTA set at pressure angle 1.1°, m = 1.5 mm, z = 336/340, sketch scene)
-    from profilegen.scene_estimates import sheet_numbers
+    from profilegen.pipeline.scene_estimates import sheet_numbers
 
     arc1 = {"type": "arc", "radius_mm": 2.0, "centre_mm": [1.0, 2.0]}
     line = {"type": "line", "length_mm": 0.5, "start_mm": [0.1, 0.2], "end_mm": [0.3, 0.4]}

@@ -9,9 +9,9 @@ import pytest
 import shapely
 
 import profilegen as pg
-from profilegen.contour import Arc, Chain, Line
+from profilegen.geometry.contour import Arc, Chain, Line
 from profilegen.errors import EnvelopeError
-from profilegen.gearform import circular_spline_form, clearance_map, cs_chain
+from profilegen.profile.gearform import circular_spline_form, clearance_map, cs_chain
 
 
 @pytest.fixture(scope="module")
@@ -101,7 +101,7 @@ def test_clearance_map_equals_brute_force_distance(form_default, default_set):
     points around the space to the tooth's real surface (shapely, no candidate search):
     exactly near contact (< 10 µm, where interference would show), within 1 µm (never
     below) far out of mesh."""
-    from profilegen.gearform import _local_outline
+    from profilegen.profile.gearform import _local_outline
 
     tooth, motion, env = default_set
     cmap = clearance_map(form_default, tooth, motion, phi_range=env.phi_range, samples=37)
@@ -148,7 +148,7 @@ def test_a_narrow_space_runs_its_flanks_on_until_the_closure_clears_the_swept_re
     each flank runs on along its end tangent, G1, by the shortest line that lifts the arc out:
     the result clears the disk, a run 1 µm shorter does not, and with the disk far below nothing
     changes (a depth within the tolerance, or a disk far below)."""
-    from profilegen.gearform import _closure_arc, cs_space
+    from profilegen.profile.gearform import _closure_arc, cs_space
 
     f = form_default
     r_root = f.root_radius_mm
@@ -196,7 +196,7 @@ def test_clearance_map_finds_the_deepest_point_of_a_dense_interfering_outline(fo
     """A CS outline sampled every ~0.5 µm and moved 5 µm towards the FS (radially inward)
     interferes: the 32 nearest-surface candidates all crowd where it crosses the tooth, and
     the map must still read the brute-force depth (all points inside the tooth, shapely)."""
-    from profilegen.gearform import _local_outline
+    from profilegen.profile.gearform import _local_outline
 
     tooth, motion, env = default_set
     cs = _local_outline(form_default)

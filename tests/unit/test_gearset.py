@@ -283,7 +283,7 @@ def test_copy_of_the_default_set_with_another_module_works():
     big = gs.with_values({"gear.module_mm": 2.0, "gear.rim_thickness_mm": 3.6})
     assert big.tooth.addendum_mm == pytest.approx(1.6) and big.tooth.dedendum_mm == pytest.approx(2.4)
     # every length ∝ m (rim too): the tooth is the default one magnified 4×, point for point
-    from profilegen.teeth import tooth_from_gearset
+    from profilegen.geometry.teeth import tooth_from_gearset
 
     small_tooth, big_tooth = tooth_from_gearset(gs), tooth_from_gearset(big)
     assert big_tooth.length_mm == pytest.approx(4.0 * small_tooth.length_mm, rel=1e-12)

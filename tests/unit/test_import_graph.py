@@ -5,7 +5,7 @@ Every ``import`` and ``from … import`` statement of every module under ``profi
 edge, wherever it stands (module level or inside a function: a lazy import still ties the
 two modules together), except those under ``if TYPE_CHECKING:`` (annotations only, never run).
 A relative import is resolved to the module it names: ``from ..rim import solve_ring`` is an
-edge to ``profilegen.rim``, ``from .. import series`` to ``profilegen.series``.
+edge to ``profilegen.rim``, ``from .. import series`` to ``profilegen.geometry.series``.
 """
 
 from __future__ import annotations
@@ -21,12 +21,12 @@ PACKAGE = Path(__file__).resolve().parents[2] / "profilegen"
 DRAWING = ("matplotlib", "plotly")
 
 #: Modules that run stages and write files (orchestrators) — they may import the output layer.
-ORCHESTRATORS = {"profilegen", "profilegen.__main__", "profilegen.cli", "profilegen.sweep", "profilegen.bench",
-                 "profilegen.optimize.run"}
+ORCHESTRATORS = {"profilegen", "profilegen.__main__", "profilegen.cli", "profilegen.studies.sweep", "profilegen.bench",
+                 "profilegen.studies.optimize.run"}
 #: Front ends that drive the stages and write through the output layer, as the CLI does.
 FRONT_ENDS = ("profilegen.app",)
 #: Single lazy edges allowed past that: Design._repr_html_, a notebook's view of a design (issue 14, item 4).
-NOTEBOOK_VIEW = {("profilegen.pipeline", "profilegen.output.interactive")}
+NOTEBOOK_VIEW = {("profilegen.pipeline.design", "profilegen.output.interactive")}
 
 
 def _module_name(path: Path) -> str:
@@ -118,9 +118,9 @@ def _cycles(edges: dict[str, set[str]]) -> list[list[str]]:
 
 def test_the_graph_is_read(graph):
     """The reader sees what is there: known edges, resolved from relative imports."""
-    assert "profilegen.errors" in graph["profilegen.pipeline"]
-    assert "profilegen.rim.stage" in graph["profilegen.pipeline"]  # a lazy import, inside design()
-    assert "profilegen.series" in graph["profilegen.rim.ring"]  # `from .. import series`
+    assert "profilegen.errors" in graph["profilegen.pipeline.design"]
+    assert "profilegen.rim.stage" in graph["profilegen.pipeline.design"]  # a lazy import, inside design()
+    assert "profilegen.geometry.series" in graph["profilegen.rim.ring"]  # `from .. import series`
     assert any(m.startswith("matplotlib") for m in graph["profilegen.output.plot"])
 
 
@@ -147,4 +147,45 @@ def test_stages_never_import_the_output_layer(graph):
     offenders = sorted(f"{m} imports {t}" for m, ts in graph.items() for t in ts
                        if t.startswith("profilegen.output") and not m.startswith("profilegen.output")
                        and m not in ORCHESTRATORS and not m.startswith(FRONT_ENDS) and (m, t) not in NOTEBOOK_VIEW)
+    assert offenders == []
+
+
+#: The package's folders in pipeline order: a module may import its own folder and the folders
+#: before it, never one after it. ``base`` is the top level's shared modules (errors, argument
+#: checks, result conventions, BLAS threads, process pools, the stage cache's checkpoints).
+LAYERS = ("base", "geometry", "gearset", "rim", "profile", "face", "contact", "stress", "pipeline", "output",
+          "studies", "app", "front")
+BASE = {"errors", "checks", "results", "blas", "pools", "stagecache"}
+FRONT = {"cli", "bench", "__main__"}
+
+
+def _layer(module: str) -> str | None:
+    """The layer of a module of the package (None: the package's facade ``profilegen`` itself)."""
+    parts = module.split(".")
+    if len(parts) == 1:
+        return None
+    if parts[1] in BASE:
+        return "base"
+    if parts[1] in FRONT:
+        return "front"
+    return parts[1]
+
+
+def test_every_module_has_a_layer(graph):
+    unknown = sorted(m for m in graph if _layer(m) is not None and _layer(m) not in LAYERS)
+    assert unknown == []
+
+
+def test_layer_rule_sees_an_upward_edge():
+    assert LAYERS.index(_layer("profilegen.geometry.teeth")) < LAYERS.index(_layer("profilegen.pipeline.budget"))
+    assert _layer("profilegen.errors") == "base" and _layer("profilegen.cli") == "front"
+
+
+def test_no_upward_edges(graph):
+    """The folders read as the pipeline: nothing reaches forward into a later stage (the notebook
+    view's one lazy edge excepted), so each folder can be read, tested and used with only the
+    folders before it."""
+    offenders = sorted(f"{m} imports {t}" for m, ts in graph.items() for t in ts
+                       if t.startswith("profilegen.") and _layer(m) is not None and _layer(t) in LAYERS
+                       and LAYERS.index(_layer(t)) > LAYERS.index(_layer(m)) and (m, t) not in NOTEBOOK_VIEW)
     assert offenders == []

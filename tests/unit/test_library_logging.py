@@ -9,7 +9,7 @@ DESIGN = """
 import logging, profilegen as pg
 gs = pg.load_gearset("default").with_values({"wave_generator.deflection_coefficient": 1.001})
 d = pg.design(gs, scene="sketch", contact=False, stress=False)
-logging.getLogger("profilegen.pipeline").warning("a record from the package")
+logging.getLogger("profilegen.pipeline.design").warning("a record from the package")
 print(len(d.warnings))
 """
 
@@ -26,5 +26,5 @@ def test_a_script_sees_the_warnings_in_the_result_and_nothing_on_stderr():
 
 def test_a_handler_the_script_adds_receives_the_records():
     res = run("import logging, profilegen\nlogging.basicConfig(level=logging.WARNING)\n"
-              "logging.getLogger('profilegen.pipeline').warning('a record from the package')")
-    assert res.returncode == 0 and "WARNING:profilegen.pipeline:a record from the package" in res.stderr
+              "logging.getLogger('profilegen.pipeline.design').warning('a record from the package')")
+    assert res.returncode == 0 and "WARNING:profilegen.pipeline.design:a record from the package" in res.stderr

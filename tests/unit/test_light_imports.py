@@ -2,7 +2,7 @@
 
 `profilegen check` reads gear sets and builds their wave generators; it must not pay for
 scipy's solvers (~1 s of docstring parsing on import), matplotlib or ezdxf. The wave
-generator's elliptic integral and root finder are written out in profilegen.wavegen; they
+generator's elliptic integral and root finder are written out in profilegen.geometry.wavegen; they
 must give scipy's results to the last bit, or every design's numbers would move.
 """
 
@@ -16,7 +16,7 @@ import pytest
 from scipy.optimize import brentq
 from scipy.special import ellipe
 
-from profilegen.wavegen import _brentq, _ellipe, ellipse_perimeter
+from profilegen.geometry.wavegen import _brentq, _ellipe, ellipse_perimeter
 
 HEAVY = ("scipy", "matplotlib", "ezdxf", "plotly")
 

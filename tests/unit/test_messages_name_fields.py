@@ -20,8 +20,8 @@ import numpy as np
 import pytest
 
 import profilegen as pg
-from profilegen import budget
-from profilegen.budget import (
+from profilegen.pipeline import budget
+from profilegen.pipeline.budget import (
     BudgetError,
     ResolutionError,
     check_budget,
@@ -30,8 +30,8 @@ from profilegen.budget import (
 )
 from profilegen.errors import ExportError, GearSetError
 from profilegen.gearset import default_gearset_path, load_gearset
-from profilegen.scenes import SCENES, SceneError, parse_scenes
-from profilegen.userpaths import check_out_path
+from profilegen.pipeline.scenes import SCENES, SceneError, parse_scenes
+from profilegen.output.userpaths import check_out_path
 
 GIB = 2**30
 ROOT = Path(__file__).resolve().parents[2]
@@ -168,9 +168,9 @@ def test_a_wire_too_thick_names_sharp_corners_and_a_wire_gap_pair_that_fits():
     offers corners = "sharp" and a wire radius with a spark gap; that pair then fits."""
     import re
 
-    from profilegen.contour import Arc, Chain, Line
+    from profilegen.geometry.contour import Arc, Chain, Line
     from profilegen.errors import FilletError
-    from profilegen.rootfillet import filleted_cs_chain
+    from profilegen.profile.rootfillet import filleted_cs_chain
 
     kw = {"tip_radius_mm": 50.07, "root_radius_mm": 51.03, "cs_teeth": 202}
     end = np.array([0.07, kw["root_radius_mm"] - 0.10])
@@ -188,7 +188,7 @@ def test_a_wire_too_thick_names_sharp_corners_and_a_wire_gap_pair_that_fits():
 
 
 def test_an_arc_fit_failure_names_the_fit_method_and_the_fields():
-    from profilegen.arcfit import OneSidedError, _offset
+    from profilegen.profile.arcfit import OneSidedError, _offset
 
     q = np.array([0.0, 0.0, 0.0, 10.0, 0.1, -5.0])  # curvature 10 1/mm: an offset of 0.2 mm collapses it
     with pytest.raises(OneSidedError) as err:
@@ -200,7 +200,7 @@ def test_an_arc_fit_failure_names_the_fit_method_and_the_fields():
 def test_a_point_repeated_exactly_is_taken_once_by_the_arc_fit():
     """tip_clearance_mm = 0 clipped the CS flank at a point it already had ('consecutive points 0
     and 1 coincide'): the fit of the flank with the point twice is the fit without it."""
-    from profilegen.arcfit import fit_profile
+    from profilegen.profile.arcfit import fit_profile
 
     s = np.linspace(0.0, 1.0, 60)
     pts = np.column_stack([0.3 * np.sin(2.0 * s), s + 0.05 * s**2])
@@ -213,7 +213,7 @@ def test_a_point_repeated_exactly_is_taken_once_by_the_arc_fit():
 def test_a_step_outline_with_a_sliver_arc_makes_a_wire():
     """An arc of 1.1e-8 mm (a fitted arc a root fillet trimmed, z1 = 20) made 'element 1 of the
     chain (Arc) makes no edge'; the wire is now built across it."""
-    from profilegen.contour import Arc, Chain, Line
+    from profilegen.geometry.contour import Arc, Chain, Line
     from profilegen.output import step
 
     if not step.available():
@@ -259,7 +259,7 @@ def test_a_sweep_over_the_points_file_replaces_the_point_list(tmp_path):
 
 def test_a_scene_key_its_tier_ignores_is_a_warning_once(caplog):
     table = {k: v for k, v in dataclasses.asdict(SCENES["sketch"]).items() if k != "name" and v != ""}
-    caplog.set_level(logging.WARNING, logger="profilegen.scenes")
+    caplog.set_level(logging.WARNING, logger="profilegen.pipeline.scenes")
     for _ in range(3):  # a sweep reads its scene file once per point
         parse_scenes({"quick": {**table, "tier": "sketch", "face_slices": 33}}, origin="once.toml")
     lines = [r.getMessage() for r in caplog.records if "face_slices" in r.getMessage()]
@@ -269,7 +269,7 @@ def test_a_scene_key_its_tier_ignores_is_a_warning_once(caplog):
 
 def test_a_spec_does_not_echo_the_gear_set_or_scene_file_it_names(tmp_path):
     from profilegen.errors import SweepSpecError
-    from profilegen.sweep import load_sweep_spec
+    from profilegen.studies.sweep import load_sweep_spec
 
     (tmp_path / "other.toml").write_text('name = "CANARY-NAME"\n[canary_table]\ncanary_key = 1\n')
     for key, value in (("gearset", "other.toml"), ("scene", "other.toml")):
@@ -293,11 +293,11 @@ def test_library_warnings_are_one_line_and_q_silences_every_warning_line_in_work
         from profilegen import cli
 
         def fake(args):
-            logging.getLogger("profilegen.rootfillet").warning("W-main")
+            logging.getLogger("profilegen.profile.rootfillet").warning("W-main")
             warnings.warn("divide by zero\\nencountered", RuntimeWarning)
             pid = os.fork()
             if pid == 0:
-                logging.getLogger("profilegen.rootfillet").warning("W-worker")
+                logging.getLogger("profilegen.profile.rootfillet").warning("W-worker")
                 os._exit(0)
             os.waitpid(pid, 0)
             return 0
@@ -310,7 +310,7 @@ def test_library_warnings_are_one_line_and_q_silences_every_warning_line_in_work
     assert quiet.returncode == 0 and quiet.stderr == ""
     loud = subprocess.run([sys.executable, "run.py"], check=False, capture_output=True, text=True, cwd=tmp_path, timeout=60)
     lines = loud.stderr.splitlines()
-    assert "WARNING profilegen.rootfillet: W-main" in lines and "WARNING profilegen.rootfillet: W-worker" in lines
+    assert "WARNING profilegen.profile.rootfillet: W-main" in lines and "WARNING profilegen.profile.rootfillet: W-worker" in lines
     (warning,) = [ln for ln in lines if "RuntimeWarning" in ln]
     assert warning.startswith("WARNING py.warnings: RuntimeWarning: divide by zero encountered (run.py:")
     assert len(lines) == 3
@@ -318,7 +318,7 @@ def test_library_warnings_are_one_line_and_q_silences_every_warning_line_in_work
 
 def test_scene_names_and_texts_and_grid_texts_have_length_limits(tmp_path):
     from profilegen.errors import SweepSpecError
-    from profilegen.sweep import load_sweep_spec
+    from profilegen.studies.sweep import load_sweep_spec
 
     table = {k: v for k, v in dataclasses.asdict(SCENES["sketch"]).items() if k != "name" and v != ""}
     with pytest.raises(SceneError, match=r"a scene name is letters, digits, '_' and '-', at most 64"):

@@ -9,7 +9,7 @@ import pytest
 import profilegen as pg
 from profilegen.errors import GearSetError, did_you_mean
 from profilegen.gearset import list_profiles
-from profilegen.scenes import SceneError, resolve_scene, with_rim_tier
+from profilegen.pipeline.scenes import SceneError, resolve_scene, with_rim_tier
 
 
 def test_the_suggestion_names_the_closest_choices_and_only_close_ones():

@@ -1,4 +1,4 @@
-"""profilegen.optimize: the machinery (Executor, journal, NSGA-II, front extraction) on ZDT1,
+"""profilegen.studies.optimize: the machinery (Executor, journal, NSGA-II, front extraction) on ZDT1,
 whose Pareto front is known in closed form, and the spec's validation.
 
 ZDT1 (Zitzler, Deb & Thiele, Evolutionary Computation 8(2), 2000): f1 = x1,
@@ -16,9 +16,9 @@ import numpy as np
 import pytest
 
 from profilegen.errors import OptimizeSpecError
-from profilegen.optimize import Objective, Problem, Variable, pareto_front, search
+from profilegen.studies.optimize import Objective, Problem, Variable, pareto_front, search
 from tests.oracles.zdt1 import zdt1, zdt1_front
-from profilegen.sweep import init_worker
+from profilegen.studies.sweep import init_worker
 
 
 def _zdt1(n=2, **context):
@@ -137,7 +137,7 @@ def test_a_failing_candidate_is_recorded_and_the_run_goes_on(tmp_path):
 
 
 def test_integer_variables_are_integers_and_constraints_are_kept(tmp_path):
-    from profilegen.optimize import Constraint
+    from profilegen.studies.optimize import Constraint
 
     problem = Problem((Variable("x1", 0.0, 1.0), Variable("x2", 0, 3, integer=True)),
                       (Objective("f1"), Objective("f2")), (Constraint("f1", lo=0.25),), zdt1, {"n": 2},
@@ -174,7 +174,7 @@ stress_min_safety = { min = 1.5 }
 
 
 def test_good_spec_is_read():
-    from profilegen.optimize import parse_optimize_spec
+    from profilegen.studies.optimize import parse_optimize_spec
 
     spec = parse_optimize_spec(tomllib.loads(_GOOD))
     assert [v.name for v in spec.variables] == ["wave_generator.deflection_coefficient", "tooth.pressure_angle_deg"]
@@ -200,7 +200,7 @@ def test_good_spec_is_read():
 ])
 def test_bad_spec_is_a_named_error_exit_2_nothing_written(tmp_path, capsys, change, key):
     from profilegen.cli import main
-    from profilegen.optimize import load_optimize_spec
+    from profilegen.studies.optimize import load_optimize_spec
 
     old, new = change
     assert old in _GOOD

@@ -9,7 +9,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from profilegen.optimize.search import Constraint, Objective, Problem, judge, pareto_front
+from profilegen.studies.optimize.search import Constraint, Objective, Problem, judge, pareto_front
 
 
 def _problem(objectives, constraints=()):

@@ -24,7 +24,7 @@ import pytest
 
 from profilegen.errors import ExportError
 from profilegen.output import folder as outfolder
-from profilegen.sweep import SWEEP_FILES, Journal, parse_sweep_spec, run_sweep
+from profilegen.studies.sweep import SWEEP_FILES, Journal, parse_sweep_spec, run_sweep
 
 FIELD = "wave_generator.deflection_coefficient"
 SPEC = {"name": "t", "gearset": "default", "scene": "sketch", "grid": {FIELD: [0.8, 0.9]}}
@@ -377,8 +377,8 @@ def _fake_evaluate(values, context):
 
 def _optimize(tmp_path, out, *, name="Rim.Study", population=6, origin_dir=None, monkeypatch=None,
               objectives='profile_max_error_mm = "min"\nstress_min_safety = "max"\n', spec_name="o.toml"):
-    from profilegen.optimize import load_optimize_spec, optimize
-    from profilegen.optimize import run as oprun
+    from profilegen.studies.optimize import load_optimize_spec, optimize
+    from profilegen.studies.optimize import run as oprun
 
     monkeypatch.setattr(oprun, "evaluate_design", _fake_evaluate)
     where = origin_dir or tmp_path

@@ -98,7 +98,7 @@ def test_envelope_family_spans_the_pass(default_set):
 
 
 def test_envelope_zoom_and_markers(default_set):
-    from profilegen.envelope import Ridge
+    from profilegen.profile.envelope import Ridge
 
     tooth, motion, env = default_set
     ridge = Ridge((0.5749, 50.0853), ("right", "right_tip"), (0.1, 0.2), 12.34)

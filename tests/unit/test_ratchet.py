@@ -331,7 +331,7 @@ def test_corner_normal_turns_with_the_cs_tip_round(corner_model):
     tip land's, its lever arm must be that of the unit vector from the corner to the round's
     centre, its radial part (sin α) above the flank's — checked over radial lifts of each
     tooth, with the rounds taken from the CS space's arcs."""
-    from profilegen.contour import Arc
+    from profilegen.geometry.contour import Arc
 
     model = corner_model
     rounds = [e for e in model._space.elements if isinstance(e, Arc) and abs(float(e.radius)) < 0.5

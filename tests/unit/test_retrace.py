@@ -8,7 +8,7 @@ The default set's sketch scene failed at deflection coefficient 1.002 with press
 import pytest
 
 import profilegen as pg
-import profilegen.pipeline as pipeline
+import profilegen.pipeline.design as pipeline
 from profilegen.errors import EnvelopeError
 
 CLIFF = {"wave_generator.deflection_coefficient": 1.002, "tooth.pressure_angle_deg": 10.1}

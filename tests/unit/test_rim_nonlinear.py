@@ -16,7 +16,7 @@ from profilegen.errors import ConvergenceError
 from profilegen.rim import RingError, RingParameters, solve_ring
 from profilegen.rim.nonlinear import TotalLagrangian
 from profilegen.rim.ring import _mesh
-from profilegen.wavegen import CosineCam, EllipticalCam
+from profilegen.geometry.wavegen import CosineCam, EllipticalCam
 
 
 @pytest.fixture(scope="module")
@@ -92,7 +92,7 @@ def gearset():
 
 
 def test_nonlinear_cam_solution_physics(gearset):
-    from profilegen.wavegen import from_gearset
+    from profilegen.geometry.wavegen import from_gearset
 
     default_set = gearset
     cam = from_gearset(default_set)
@@ -125,7 +125,7 @@ def test_bad_geometry_names_the_parameter():
 
 
 def test_newton_iteration_limit_raises(gearset):
-    from profilegen.wavegen import from_gearset
+    from profilegen.geometry.wavegen import from_gearset
 
     default_set = gearset
     with pytest.raises(ConvergenceError, match="Newton"):

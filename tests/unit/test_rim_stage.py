@@ -103,7 +103,7 @@ def whole_bore(request, gearset):
     """The flat ring (4 × 64) with the contact condensed onto every bore node, solved once per
     geometry for the two tests below (each compares a condensed solve with it)."""
     from profilegen.rim import solve_ring
-    from profilegen.wavegen import from_gearset
+    from profilegen.geometry.wavegen import from_gearset
 
     return request.param, solve_ring(gearset, contour=from_gearset(gearset), layers=4, divisions=64,
                                      geometry=request.param)
@@ -115,7 +115,7 @@ def _wrap(gearset, geometry, within, caplog):
     import logging
 
     from profilegen.rim import solve_ring
-    from profilegen.wavegen import from_gearset
+    from profilegen.geometry.wavegen import from_gearset
 
     with caplog.at_level(logging.INFO, logger="profilegen.rim.ring"):
         wrap = solve_ring(gearset, contour=from_gearset(gearset), layers=4, divisions=64, geometry=geometry,
@@ -148,7 +148,7 @@ def test_a_kept_set_narrower_than_the_wrap_is_widened(gearset, whole_bore, caplo
 
 def test_bad_condense_angle_is_named(gearset):
     from profilegen.rim import RingError, solve_ring
-    from profilegen.wavegen import from_gearset
+    from profilegen.geometry.wavegen import from_gearset
 
     with pytest.raises(RingError, match="condense_within_rad"):
         solve_ring(gearset, contour=from_gearset(gearset), layers=2, divisions=16, condense_within_rad=-0.1)
@@ -159,7 +159,7 @@ def test_lazy_columns_give_the_condensed_answer(gearset, whole_bore):
     (the first contact solve from the empty set, one node entering at a time): forced on the
     flat ring, the same ω, υ and contact nodes as condensing every bore node up front."""
     from profilegen.rim import solve_ring
-    from profilegen.wavegen import from_gearset
+    from profilegen.geometry.wavegen import from_gearset
 
     geometry, whole = whole_bore
     lazy = solve_ring(gearset, contour=from_gearset(gearset), layers=4, divisions=64, geometry=geometry,

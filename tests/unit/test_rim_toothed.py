@@ -22,7 +22,7 @@ from skfem.quadrature import get_quadrature
 from profilegen.rim import RingError
 from profilegen.rim import toothed
 from profilegen.rim.toothed import InvertedElementError, ToothedMeshError, ToothedRimMesh, toothed_quarter_mesh
-from profilegen.teeth import dcta_tooth, involute_tooth
+from profilegen.geometry.teeth import dcta_tooth, involute_tooth
 
 RIM_MM = 0.9
 
@@ -288,7 +288,7 @@ def test_least_per_pitch_is_the_edge_of_what_meshes(name, least):
     verify scene failed with the tier's 16/14 columns before the stage asked for this)."""
     from profilegen.gearset import list_profiles, load_gearset
     from profilegen.rim.toothed import least_per_pitch, toothed_quarter_mesh
-    from profilegen.teeth import tooth_from_gearset
+    from profilegen.geometry.teeth import tooth_from_gearset
 
     gs = load_gearset(next(p for p in list_profiles() if p.stem == name))
     tooth = tooth_from_gearset(gs)

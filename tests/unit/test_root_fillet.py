@@ -1,4 +1,4 @@
-"""The CS corners rounded for wire EDM (profilegen.rootfillet): tangent arcs of wire radius +
+"""The CS corners rounded for wire EDM (profilegen.profile.rootfillet): tangent arcs of wire radius +
 spark gap at the root, the closed outline G1, the fillets clear of the FS tooth family, and
 the named errors for a wire too thick for the space and a fillet that would cut into the mesh.
 
@@ -18,11 +18,11 @@ import pytest
 import shapely
 
 import profilegen as pg
-from profilegen.arcfit import swept_depth_function
-from profilegen.contour import Arc, Chain, Line
+from profilegen.profile.arcfit import swept_depth_function
+from profilegen.geometry.contour import Arc, Chain, Line
 from profilegen.errors import FilletError
-from profilegen.gearform import clearance_map, cs_chain
-from profilegen.rootfillet import INSIDE, OUTSIDE, filleted_cs_chain, max_kink_deg, round_space
+from profilegen.profile.gearform import clearance_map, cs_chain
+from profilegen.profile.rootfillet import INSIDE, OUTSIDE, filleted_cs_chain, max_kink_deg, round_space
 
 RADIUS = 0.125 + 0.02  # the defaults: a 0.25 mm wire and a 0.02 mm spark gap
 
@@ -250,7 +250,7 @@ def test_tip_rounds_shrink_to_the_land_with_a_warning(parts, caplog):
     with a logged warning; the root fillets keep the wire's radius; still G1."""
     flank, swept, kw = parts
     kw = dict(kw, cs_teeth=250)
-    with caplog.at_level("WARNING", logger="profilegen.rootfillet"):
+    with caplog.at_level("WARNING", logger="profilegen.profile.rootfillet"):
         out = filleted_cs_chain(flank, radius_mm=RADIUS, swept=swept, **kw)
     tips = [f for f in out.fillets if f.kind == OUTSIDE]
     assert len(tips) == 2 and all(f.radius_mm < RADIUS for f in tips)
@@ -300,7 +300,7 @@ def test_a_step_in_the_fitted_flank_is_kept_sharp_with_a_warning(parts, caplog):
     step = 5e-4 * np.array([-first.tangent(at_end=True)[1], first.tangent(at_end=True)[0]])  # 0.5 µm across the flank
     moved = [e.transformed(np.eye(2), step) for e in rest]
     stepped = Chain((first, Line(first.end, first.end + step), *moved))
-    with caplog.at_level("WARNING", logger="profilegen.rootfillet"):
+    with caplog.at_level("WARNING", logger="profilegen.profile.rootfillet"):
         out = filleted_cs_chain(stepped, radius_mm=RADIUS, swept=swept, **kw)
     kept = [w for w in out.warnings if "kept sharp" in w]
     assert len(kept) == 4  # two corners of the step, on each flank

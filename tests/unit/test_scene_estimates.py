@@ -1,7 +1,7 @@
 """Each scene's error estimates bound the next scene (issue 28 item 2): over the recorded corpus
 measurement (tests/corpus/scene_table.json, written by tests/benchmarks/scene_estimates.py) every
 |sketch − design| and |design − verify| of every design-sheet number and set is within the cheaper
-scene's estimate (profilegen.scene_estimates), or that scene says 'not estimated'; no cheaper PASS
+scene's estimate (profilegen.pipeline.scene_estimates), or that scene says 'not estimated'; no cheaper PASS
 is a verify FAIL unless the cheaper verdict was INCOMPLETE naming what it did not check; and one
 live sketch/design pair (the default set, the session's shared designs) shows the recorded table
 is not stale in kind.
@@ -19,7 +19,7 @@ from pathlib import Path
 
 import pytest
 
-from profilegen import scene_estimates as se
+from profilegen.pipeline import scene_estimates as se
 
 TABLE = Path(__file__).resolve().parents[1] / "corpus" / "scene_table.json"
 PAIRS = (("sketch", "design"), ("design", "verify"))
@@ -90,7 +90,7 @@ def test_the_check_can_fail(table):
 
 
 def test_the_module_holds_the_recorded_measurement(table):
-    """profilegen.scene_estimates.ESTIMATES is the table's derivation (not edited by hand, not stale)."""
+    """profilegen.pipeline.scene_estimates.ESTIMATES is the table's derivation (not edited by hand, not stale)."""
     assert se.MEASURED["commit"] == table["commit"]
     for cheap in se.NEXT_SCENE:
         for key, rec in table["estimates"][cheap].items():

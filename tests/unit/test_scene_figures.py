@@ -12,7 +12,7 @@ import pytest
 import profilegen as pg
 from profilegen.gearset import default_gearset_path, load_gearset
 from profilegen.output import report
-from profilegen.scenes import SCENES, SceneError, parse_scenes
+from profilegen.pipeline.scenes import SCENES, SceneError, parse_scenes
 
 _BASE = {"rim": "ring theory", "chord_tol_mm": 1e-4, "n_t": 96, "n_phi": 241, "clearance_samples": 91,
          "brute_force_check": False, "description": "mine", "tier": "sketch"}

@@ -13,7 +13,7 @@ import pytest
 
 import profilegen as pg
 from profilegen.face.coning import RING_FEM_LABEL, UNDECIDED, modification_lines, rim_tier_for
-from profilegen.pipeline import planned_stages
+from profilegen.pipeline.design import planned_stages
 
 
 @pytest.fixture(scope="module")

@@ -1,4 +1,4 @@
-"""profilegen.scenes: the presets are data (profilegen/scenes.toml), validated, and a user's
+"""profilegen.pipeline.scenes: the presets are data (profilegen/pipeline/scenes.toml), validated, and a user's
 copy of the file works wherever a scene name does."""
 
 from __future__ import annotations
@@ -10,8 +10,8 @@ import pytest
 import profilegen as pg
 from profilegen.cli import main
 from profilegen.errors import GearSetError
-from profilegen.scenes import SCENES, Scene
-from profilegen.scenes import SceneError, bundled_scenes_path, parse_scenes, read_scenes, resolve_scene
+from profilegen.pipeline.scenes import SCENES, Scene
+from profilegen.pipeline.scenes import SceneError, bundled_scenes_path, parse_scenes, read_scenes, resolve_scene
 
 # the presets as pipeline.py spelled them before they became data (the sketch grid since: 96 × 241)
 PRESETS = {

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from profilegen.deformation import HarmonicDeformation, ring_theory
+from profilegen.geometry.deformation import HarmonicDeformation, ring_theory
 from profilegen.errors import StressError
 from profilegen.stress.tooth_ring import section_curvature, stress_influence_factor, tooth_ring_stress
 

@@ -1,4 +1,4 @@
-"""Unit tests of profilegen.series: Fourier and general sine-series fits of ω(φ), υ(φ).
+"""Unit tests of profilegen.geometry.series: Fourier and general sine-series fits of ω(φ), υ(φ).
 
 Checked against closed forms computed here, least-squares theory and finite differences,
 not against the module's own intermediate values:
@@ -21,10 +21,10 @@ import math
 import numpy as np
 import pytest
 
-from profilegen.deformation import ring_theory
+from profilegen.geometry.deformation import ring_theory
 from profilegen.errors import GearSetError, ProfilegenError
-from profilegen.kinematics import HarmonicDriveMotion
-from profilegen.series import (
+from profilegen.geometry.kinematics import HarmonicDriveMotion
+from profilegen.geometry.series import (
     DeformationFit,
     GeneralSineDeformation,
     SeriesError,

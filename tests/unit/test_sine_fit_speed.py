@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from scipy.optimize import least_squares
 
-from profilegen.series import _lm, _Projection, fit_sine_series
+from profilegen.geometry.series import _lm, _Projection, fit_sine_series
 
 PHI = np.linspace(0.0, np.pi, 401)
 TRUE = {  # a sin(bφ + c): well separated, each term well above the others' residual

@@ -10,17 +10,17 @@ import math
 import numpy as np
 import pytest
 
-import profilegen.arcfit as arcfit
-from profilegen.arcfit import FitError, swept_depth_function
+import profilegen.profile.arcfit as arcfit
+from profilegen.profile.arcfit import FitError, swept_depth_function
 from profilegen.contact import ContactError, ContactInput, ContactPointError, contact_points
 from profilegen.contact.analysis import solve_contact
 from profilegen.contact.compliance import ComplianceError, ContactCompliance
 from profilegen.contact.points import _flank_start
-from profilegen.deformation import ring_theory
+from profilegen.geometry.deformation import ring_theory
 from profilegen.errors import StressError
-from profilegen.kinematics import HarmonicDriveMotion
+from profilegen.geometry.kinematics import HarmonicDriveMotion
 from profilegen.stress import StressInput, solve_stress
-from profilegen.teeth import tooth_from_gearset
+from profilegen.geometry.teeth import tooth_from_gearset
 
 
 @pytest.fixture(scope="module")
@@ -155,7 +155,7 @@ def test_wrong_stress_inputs_name_the_argument(sketch):
 def test_swept_depth_function_is_the_swept_region_membership(sketch):
     """Positive inside the region the FS tooth sweeps (the tooth's own mid-flank at φ = 0 is
     in it), negative in the CS tooth between two spaces; one name per meaning: arcfit no
-    longer has a ``swept_region`` (that is :func:`profilegen.swept.swept_region`, a polygon)."""
+    longer has a ``swept_region`` (that is :func:`profilegen.profile.swept.swept_region`, a polygon)."""
     g = sketch.gearset.gear
     depth = swept_depth_function(sketch.tooth, sketch.motion, cs_teeth=g.circular_spline_teeth,
                                  phi_range=sketch.envelope.phi_range)

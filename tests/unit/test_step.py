@@ -5,7 +5,7 @@ computed here, independently of the writer:
   semicircle — lines, origin-centred arcs and off-centre arcs, like the CS chain) whose enclosed
   area has a closed form, and which also checks this file's exact chain area (chord shoelace +
   circular-segment terms);
-* the FS cup of a small real gear set (z1 = 24, the DCTA tooth of :mod:`profilegen.fsform`):
+* the FS cup of a small real gear set (z1 = 24, the DCTA tooth of :mod:`profilegen.geometry.fsform`):
   tooth-ring area by the same exact chain area, the revolved cup by Pappus (polygon centroid);
 * the section of each solid at mid-face (a plane cut, the inner wire's edges sampled) against
   the line/arc chain the DXF draws, both ways, to 1e-6 mm;
@@ -25,7 +25,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from profilegen.contour import Arc, Chain, ContourError, Line
+from profilegen.geometry.contour import Arc, Chain, ContourError, Line
 from profilegen.errors import ExportError, GearSetError
 
 OCP = pytest.importorskip("OCP", reason="cadquery-ocp-novtk (OpenCASCADE) is not installed")
@@ -305,9 +305,9 @@ def test_open_or_polyline_chain_refused():
 
 @pytest.fixture(scope="module")
 def fs_case(tmp_path_factory):
-    from profilegen.fsform import flexspline_outline
+    from profilegen.geometry.fsform import flexspline_outline
     from profilegen.gearset import default_gearset_path, load_gearset
-    from profilegen.teeth import tooth_from_gearset
+    from profilegen.geometry.teeth import tooth_from_gearset
 
     text = Path(default_gearset_path()).read_text()
     text = text.replace("flexspline_teeth = 200", "flexspline_teeth = 24").replace(

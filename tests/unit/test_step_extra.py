@@ -20,7 +20,7 @@ def no_kernel(monkeypatch):
 
 
 def test_design_step_without_the_kernel_is_one_line_naming_the_extra(no_kernel, tmp_path, capsys, monkeypatch):
-    import profilegen.pipeline as pipeline
+    import profilegen.pipeline.design as pipeline
 
     def no_stage(*a, **k):  # the refusal comes before the stages: a stage run is a failure here
         raise AssertionError("a stage ran")

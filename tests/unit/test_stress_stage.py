@@ -117,7 +117,7 @@ def test_a_contact_that_cannot_take_the_design_leaves_a_warning(monkeypatch):
     asked for explicitly (contact=True), the error reaches the caller."""
     from dataclasses import replace
 
-    import profilegen.pipeline as pipeline
+    import profilegen.pipeline.design as pipeline
     from profilegen.contact.compliance import ComplianceError
 
     def broken(result, step, early=None):

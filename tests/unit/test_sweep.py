@@ -1,4 +1,4 @@
-"""profilegen.sweep: point generation, the spec's errors, the journal (resume, cut lines),
+"""profilegen.studies.sweep: point generation, the spec's errors, the journal (resume, cut lines),
 failed points, and the same table from a process pool and a Dask cluster."""
 
 from __future__ import annotations
@@ -15,9 +15,9 @@ import pytest
 
 from profilegen.cli import main
 from profilegen.errors import GearSetError, SweepSpecError
-from profilegen.pipeline import design
-from profilegen.scenes import SCENES
-from profilegen.sweep import (
+from profilegen.pipeline.design import design
+from profilegen.pipeline.scenes import SCENES
+from profilegen.studies.sweep import (
     OUTPUT_COLUMNS,
     SweepError,
     grid_points,

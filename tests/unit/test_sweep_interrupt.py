@@ -37,7 +37,7 @@ START_WITHIN_S = 90.0  # start-up and the first point, on a busy machine
 WRAPPER = f"""
 import multiprocessing, os, sys, time
 multiprocessing.set_start_method("fork", force=True)
-import profilegen.pipeline as pipeline
+import profilegen.pipeline.design as pipeline
 _design = pipeline.design
 def design(gearset, **kw):
     if abs(gearset.wave_generator.deflection_coefficient - {SLOW}) < 1e-9:

@@ -10,7 +10,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
-from profilegen.sweep import outputs_of, parse_sweep_spec, run_sweep
+from profilegen.studies.sweep import outputs_of, parse_sweep_spec, run_sweep
 
 
 class _Verdict:
@@ -79,8 +79,8 @@ def test_a_design_whose_verdict_fails_is_infeasible_in_the_search_and_marked_in_
     import csv
     import textwrap
 
-    from profilegen.optimize import load_optimize_spec, optimize
-    from profilegen.optimize import run as oprun
+    from profilegen.studies.optimize import load_optimize_spec, optimize
+    from profilegen.studies.optimize import run as oprun
 
     field = "wave_generator.deflection_coefficient"
 

@@ -1,11 +1,11 @@
-"""profilegen.swept.boundary_distance: the nearest boundary segment from an STR tree is the
+"""profilegen.profile.swept.boundary_distance: the nearest boundary segment from an STR tree is the
 distance to the whole boundary (shapely.distance to ``region.boundary``, the plain definition)."""
 
 import numpy as np
 import pytest
 import shapely
 
-from profilegen.swept import boundary_distance
+from profilegen.profile.swept import boundary_distance
 
 
 @pytest.mark.parametrize("region", [

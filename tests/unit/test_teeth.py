@@ -1,4 +1,4 @@
-"""Unit tests of profilegen.teeth, checked against geometry computed here, not against
+"""Unit tests of profilegen.geometry.teeth, checked against geometry computed here, not against
 the module's own intermediate values.
 
 Default case: m = 0.5 mm, z1 = 200, r_m = 48.95 mm -> r1 = 50 mm, y_p = 1.05 mm.
@@ -17,9 +17,9 @@ import shapely
 from scipy.optimize import brentq
 from shapely.geometry import LineString, Polygon
 
-from profilegen import teeth as teeth_mod
+from profilegen.geometry import teeth as teeth_mod
 from profilegen.errors import GearSetError, ToothError
-from profilegen.teeth import (
+from profilegen.geometry.teeth import (
     ArcSegment,
     InvoluteSegment,
     LineSegment,
@@ -538,7 +538,7 @@ import resource, sys
 import numpy as np
 resource.setrlimit(resource.RLIMIT_AS, (1_500_000_000, 1_500_000_000))
 from profilegen.errors import ToothError
-from profilegen.teeth import dcta_tooth, points_tooth
+from profilegen.geometry.teeth import dcta_tooth, points_tooth
 gear = dict(module_mm=0.5, teeth=200, neutral_radius_mm=48.95)
 ref = dcta_tooth(**gear)
 for n, sigma, smoothing in [(200, 0.05, 5e-4), (400, 0.2, 5e-4), (40, 0.05, 5e-4), (40, 0.1, 2e-3)]:

@@ -1,4 +1,4 @@
-"""profilegen.userpaths.check_out_path against its limits (escapes of tests/benchmarks/mutants.py):
+"""profilegen.output.userpaths.check_out_path against its limits (escapes of tests/benchmarks/mutants.py):
 the output folder's own name leaves room for the staging folder's ``.NAME.staging-xxxxxxxx`` beside
 it (255 bytes less 18), a folder above it does not need that room, and the path's length is counted
 made absolute (a relative --out inside a deep working folder)."""
@@ -8,7 +8,7 @@ from __future__ import annotations
 import pytest
 
 from profilegen.errors import ExportError
-from profilegen.userpaths import BESIDE, INSIDE, NAME_MAX, PATH_MAX, check_out_path
+from profilegen.output.userpaths import BESIDE, INSIDE, NAME_MAX, PATH_MAX, check_out_path
 
 
 def test_the_last_name_leaves_room_for_the_staging_folder():

@@ -17,7 +17,7 @@ import pytest
 from profilegen.errors import GearSetError
 from profilegen.gearset import load_gearset, parse_gearset, resolve_gearset
 from profilegen.gearset.requirements import REQUIREMENT_FIELDS, REQUIREMENT_GROUPS, Requirements
-from profilegen.pipeline import (FAIL, INCOMPLETE, NOT_CHECKED, PASS, RATCHETING_MODEL_OVER_CATALOGUE, Verdict,
+from profilegen.pipeline.design import (FAIL, INCOMPLETE, NOT_CHECKED, PASS, RATCHETING_MODEL_OVER_CATALOGUE, Verdict,
                                  VerdictCheck, design, ratcheting_overestimate)
 from profilegen.stress.stage import CHECK_NAMES, StressInput, solve_stress
 
@@ -129,7 +129,7 @@ def test_ratcheting_bound_is_below_every_catalogue_value_measured():
     and every row's factor is needed (a smaller one would put some bound above its catalogue
     value)."""
     from profilegen.contact.catalogue import RATCHETING_TORQUE_NM
-    from profilegen.pipeline import RATCHETING_OVERESTIMATE
+    from profilegen.pipeline.design import RATCHETING_OVERESTIMATE
 
     measured = [(5096.0, 100, 40),  # seed000_csf40, verify scene
                 (2679.0, 100, 32),  # csf32_100, verify scene
@@ -231,7 +231,7 @@ def test_strict_exit_codes(status, code, tmp_path, monkeypatch, capsys):
     """`design --strict`: 0 PASS, 3 FAIL, 4 INCOMPLETE; without --strict 0 for all; a non-PASS
     line goes to stderr even with -q. (The stages are replaced: the exit code is the CLI's.)"""
     import profilegen.output.files as files
-    import profilegen.pipeline as pipeline
+    import profilegen.pipeline.design as pipeline
     from profilegen import cli
 
     check = {PASS: VerdictCheck("a", "—", PASS, "safety", 2.0, 1.5),

@@ -11,8 +11,8 @@ import pytest
 
 import profilegen as pg
 from profilegen.gearset.requirements import Requirements
-from profilegen.pipeline import FAIL, PASS, _judge, _verdict
-from profilegen.scenes import SCENES
+from profilegen.pipeline.design import FAIL, PASS, _judge, _verdict
+from profilegen.pipeline.scenes import SCENES
 
 
 @pytest.mark.parametrize("value, required, sense, status", [

@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from profilegen import wavegen
+from profilegen.geometry import wavegen
 from profilegen.errors import ConvergenceError
 from profilegen.gearset import default_gearset_path, load_gearset
-from profilegen.wavegen import (
+from profilegen.geometry.wavegen import (
     CosineCam,
     EllipticalCam,
     RollerGenerator,

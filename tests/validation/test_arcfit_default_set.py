@@ -1,8 +1,8 @@
-"""Validation of profilegen.arcfit on the default gear set's circular-spline flank.
+"""Validation of profilegen.profile.arcfit on the default gear set's circular-spline flank.
 
 Sources:
 
-* DESIGN.md trap 2 and ``profilegen.envelope``: the CS flank is the boundary of the
+* DESIGN.md trap 2 and ``profilegen.profile.envelope``: the CS flank is the boundary of the
   region swept by the FS tooth and its neighbours; ``envelope.swept_depth`` decides
   membership by placing the tooth at a φ grid refined by golden section — no meshing
   equation and no arcfit code involved. A one-sided (no-interference) fitted flank must
@@ -25,8 +25,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from profilegen.arcfit import fit_profile, swept_depth_function
-from profilegen.envelope import swept_depth, tooth_curves
+from profilegen.profile.arcfit import fit_profile, swept_depth_function
+from profilegen.profile.envelope import swept_depth, tooth_curves
 
 
 # on the worker of test_bench_stages.py (its xdist group): the three modules read the design scene of
@@ -137,7 +137,7 @@ def test_left_flank_fit_mirrors_the_right(design, fits):
 
 
 def _sample(element, n):
-    from profilegen.contour import Arc
+    from profilegen.geometry.contour import Arc
 
     f = np.linspace(0.0, 1.0, n)
     if isinstance(element, Arc):

@@ -1,4 +1,4 @@
-"""Validation of profilegen.envelope: analytic envelopes and a brute-force swept region.
+"""Validation of profilegen.profile.envelope: analytic envelopes and a brute-force swept region.
 
 Sources:
 
@@ -11,7 +11,7 @@ Sources:
   roots, false (interfering) flanks up to ~0.5 mm inside the swept region, folds where
   f = ∂f/∂φ = 0, and tip-corner paths that the meshing equation cannot produce. The
   truth is the boundary of the swept region, here computed by brute force
-  (``profilegen.swept``: union of the tooth outline placed at n_phi poses, with its
+  (``profilegen.profile.swept``: union of the tooth outline placed at n_phi poses, with its
   neighbours) — no meshing equation involved.
 * Geometry: the default DCTA tooth in a ring-theory deformation (ω even, υ odd in φ) is
   mirror-symmetric about the CS space axis.
@@ -32,8 +32,8 @@ import numpy as np
 import pytest
 import shapely
 
-from profilegen.deformation import ring_theory
-from profilegen.envelope import (
+from profilegen.geometry.deformation import ring_theory
+from profilegen.profile.envelope import (
     CONJUGATE,
     INTERFERING,
     TIP_PATH,
@@ -46,9 +46,9 @@ from profilegen.envelope import (
     trace_meshing_roots,
 )
 from profilegen.errors import EnvelopeError
-from profilegen.kinematics import HarmonicDriveMotion, RackMotion, turn
-from profilegen.swept import boundary_distance, swept_region
-from profilegen.teeth import dcta_tooth, involute_tooth
+from profilegen.geometry.kinematics import HarmonicDriveMotion, RackMotion, turn
+from profilegen.profile.swept import boundary_distance, swept_region
+from profilegen.geometry.teeth import dcta_tooth, involute_tooth
 
 M, Z1, Z2, U, RM = 0.5, 200, 202, 2, 48.95
 GEAR = dict(module_mm=M, teeth=Z1, neutral_radius_mm=RM)
@@ -452,7 +452,7 @@ def test_unresolvable_bridge_is_a_named_convergence_error(dcta):
     """If no grid separates the root curves, the trace says where instead of returning garbage:
     with no doublings allowed, the coarse grid that bridges the default set's facing folds
     (t ≈ 0.695 / 0.723 mm at φ ≈ 0.17 rad) must fail loudly."""
-    from profilegen.envelope import tooth_curves, trace_meshing_roots
+    from profilegen.profile.envelope import tooth_curves, trace_meshing_roots
     from profilegen.errors import ConvergenceError
 
     right = tooth_curves(dcta)[0][0]

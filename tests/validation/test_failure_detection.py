@@ -38,9 +38,9 @@ import pytest
 import profilegen as pg
 from profilegen.contact import ContactError, solve_lemke, solve_qp_active_set
 from tests.oracles.naive_lp import solve_naive_lp
-from profilegen.envelope import CONJUGATE, INTERFERING, TIP_PATH, envelope_of, swept_depth, tooth_curves, trace_meshing_roots
+from profilegen.profile.envelope import CONJUGATE, INTERFERING, TIP_PATH, envelope_of, swept_depth, tooth_curves, trace_meshing_roots
 from profilegen.errors import ConvergenceError, EnvelopeError, StressError, ToothError
-from profilegen.series import SeriesError, fit_fourier, fit_sine_series
+from profilegen.geometry.series import SeriesError, fit_fourier, fit_sine_series
 
 
 @pytest.fixture(scope="module")
@@ -168,7 +168,7 @@ def test_unresolved_boundary_above_the_tip_circle_is_an_error(base_set):
     outline itself would be wrong: gearform raises (an envelope with such a finding put in)."""
     from dataclasses import replace
 
-    from profilegen.gearform import circular_spline_form
+    from profilegen.profile.gearform import circular_spline_form
 
     c = base_set.circular_spline
     kw = dict(cs_teeth=base_set.gear.circular_spline_teeth, tip_clearance_mm=c.tip_clearance_mm,
@@ -349,7 +349,7 @@ def test_numerically_singular_compliance_is_refused(solver):
 
 @pytest.fixture(scope="module")
 def rim_case(base_set):
-    from profilegen.wavegen import from_gearset
+    from profilegen.geometry.wavegen import from_gearset
 
     return base_set, from_gearset(base_set)
 
@@ -370,7 +370,7 @@ def test_rim_contact_iteration_cap_raises_convergence_error(rim_case, geometry, 
 def test_rim_wrap_angle_is_ill_conditioned_and_flagged(rim_case):
     """A 1 µm longer minor semi-axis of the cam moves the nonlinear FEM's wrap angle by tens of
     degrees while ω moves by ~1 µm (DESIGN.md trap 7); every result carries the warning."""
-    from profilegen.wavegen import EllipticalCam
+    from profilegen.geometry.wavegen import EllipticalCam
 
     gs, cam = rim_case
     base = pg.solve_ring(gs, contour=cam, geometry="nonlinear")
@@ -460,7 +460,7 @@ def test_failed_whole_flank_fit_on_a_flank_with_ridges_leaves_the_per_branch_pro
     space side of its data, and the fitted chain lies outside the region the FS tooth sweeps."""
     from dataclasses import replace
 
-    import profilegen.arcfit as arcfit
+    import profilegen.profile.arcfit as arcfit
 
     real = arcfit.fit_profile
     one_sided_sizes = []  # point counts of the one-sided fits asked for; the whole flank comes first

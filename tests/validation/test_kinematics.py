@@ -1,4 +1,4 @@
-"""Validation of profilegen.kinematics against a direct simulation of the mechanism.
+"""Validation of profilegen.geometry.kinematics against a direct simulation of the mechanism.
 
 Sources:
 
@@ -27,9 +27,9 @@ import math
 import numpy as np
 import pytest
 
-from profilegen.deformation import HarmonicDeformation, ring_theory
-from profilegen.kinematics import HarmonicDriveMotion, RackMotion
-from profilegen.teeth import dcta_tooth
+from profilegen.geometry.deformation import HarmonicDeformation, ring_theory
+from profilegen.geometry.kinematics import HarmonicDriveMotion, RackMotion
+from profilegen.geometry.teeth import dcta_tooth
 
 M, Z1, Z2, U, RM, W0 = 0.5, 200, 202, 2, 48.95, 0.5
 TOOTH = dcta_tooth(module_mm=M, teeth=Z1, neutral_radius_mm=RM)

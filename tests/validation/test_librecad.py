@@ -42,7 +42,7 @@ import numpy as np
 import pytest
 
 from profilegen.output.cad import chain_gaps, read_dxf_contours, write_contours_dxf
-from profilegen.contour import Arc, Chain
+from profilegen.geometry.contour import Arc, Chain
 
 GOLDEN = Path(__file__).resolve().parents[1] / "golden" / "toy_gear.dxf"
 DPI = 100
@@ -112,7 +112,7 @@ def real_cs_sector(spaces: int = 5):
     """Five spaces of the default gear set's fitted CS outline (sketch scene: one-sided
     arc–line–arc flanks, transition lines, root and tip arcs), and the circles' arcs."""
     from profilegen.gearset import default_gearset_path, load_gearset
-    from profilegen.pipeline import design
+    from profilegen.pipeline.design import design
 
     result = design(load_gearset(default_gearset_path()), scene="sketch")
     form, prof = result.form, result.profile
@@ -139,7 +139,7 @@ def test_real_cs_sector_prints(tmp_path):
 def test_cs_drawing_prints_at_its_scales(tmp_path):
     from profilegen.gearset import default_gearset_path, load_gearset
     from profilegen.output.drawing import write_cs_drawing
-    from profilegen.pipeline import design
+    from profilegen.pipeline.design import design
 
     result = design(load_gearset(default_gearset_path()), scene="sketch", contact=False, stress=False)
     form = result.form

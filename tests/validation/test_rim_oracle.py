@@ -17,7 +17,7 @@ from scipy.optimize import brentq
 
 from profilegen.gearset import default_gearset_path, load_gearset
 from profilegen.rim import RingError, RingParameters, solve_ring
-from profilegen.wavegen import CosineCam, EllipticalCam, ellipse_perimeter, from_gearset
+from profilegen.geometry.wavegen import CosineCam, EllipticalCam, ellipse_perimeter, from_gearset
 from tests.oracles.ring_on_cam import (
     InadmissibleContactError,
     full_wrap_on_cam,

@@ -13,7 +13,7 @@ import pytest
 from profilegen.errors import ConvergenceError
 from profilegen.gearset import default_gearset_path, load_gearset
 from profilegen.rim import RingError, RingParameters, solve_ring
-from profilegen.wavegen import CosineCam, from_gearset
+from profilegen.geometry.wavegen import CosineCam, from_gearset
 
 
 @pytest.fixture(scope="module")
@@ -191,7 +191,7 @@ def test_teeth_change_omega_by_less_than_a_micrometre(gearset, cam_solution):
     checks the contact against every bore node and widens the set if needed — test_rim_stage
     checks that against the whole bore): 5 s CPU instead of 21 s for the 1601-column one."""
     from profilegen.rim import toothed_quarter_mesh
-    from profilegen.teeth import tooth_from_gearset
+    from profilegen.geometry.teeth import tooth_from_gearset
 
     mesh = toothed_quarter_mesh(tooth_from_gearset(gearset), gearset.gear.rim_thickness_mm, rim_layers=2,
                                 tooth_layers=2, per_pitch=14)

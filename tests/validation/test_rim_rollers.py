@@ -1,4 +1,4 @@
-"""Linear ring FEM (profilegen.rim.ring) on a roller wave generator (profilegen.wavegen.RollerGenerator).
+"""Linear ring FEM (profilegen.rim.ring) on a roller wave generator (profilegen.geometry.wavegen.RollerGenerator).
 
 Sources: the thin inextensible ring under two equal and opposite diametral point loads W
 (Roark's Formulas for Stress and Strain, circular rings: ΔD = (π/4 − 2/π) W R³/(EI) along
@@ -18,7 +18,7 @@ import pytest
 
 from profilegen.gearset import default_gearset_path, load_gearset
 from profilegen.rim import solve_ring
-from profilegen.wavegen import RollerGenerator, from_gearset
+from profilegen.geometry.wavegen import RollerGenerator, from_gearset
 
 RADIUS_MM = 10.0
 

@@ -111,10 +111,10 @@ class BearingRace:
         """The race under the gear set's bore: width and ball row from the cup geometry's bearing
         (``[cup] bearing_width_mm``, ``bearing_center_mm``: default the face, the mid-face), t from
         ``thickness_mm`` else the contact model's ESTIMATE (2.5 % of the FS pitch diameter,
-        :func:`~profilegen.wgbearing.default_race_thickness_mm`), the balls as the contact
-        model's :class:`~profilegen.wgbearing.BallBearing` (ESTIMATES: 23 balls,
+        :func:`~profilegen.geometry.wgbearing.default_race_thickness_mm`), the balls as the contact
+        model's :class:`~profilegen.geometry.wgbearing.BallBearing` (ESTIMATES: 23 balls,
         D = 0.075 × the FS pitch diameter, conformity 0.52). ``hertz=False``: rigid balls."""
-        from ...wgbearing import BallBearing, default_race_thickness_mm
+        from ...geometry.wgbearing import BallBearing, default_race_thickness_mm
         from .geometry import CupGeometry
 
         g = CupGeometry.from_gearset(gearset) if geometry is None else geometry

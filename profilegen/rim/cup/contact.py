@@ -231,7 +231,7 @@ def press_cup(
         if contour is None:
             if gearset is None:
                 raise CupError("contour: a load is needed (contour or radial_mm) for a bare CupGeometry")
-            from ...wavegen import from_gearset
+            from ...geometry.wavegen import from_gearset
 
             contour = from_gearset(gearset)
         phi = 0.5 * math.pi * np.arange(angles) / (angles - 1)
@@ -619,7 +619,7 @@ class DisplacedHalves:
     minor axis): the convex hull, the surface a bore wrapped around the two halves touches.
 
     ``closest(points)`` → (foot, outward normal, signed distance, + outside) and ``radius(θ)``
-    (polar radius of the hull) as the contours of :mod:`profilegen.wavegen`."""
+    (polar radius of the hull) as the contours of :mod:`profilegen.geometry.wavegen`."""
 
     def __init__(self, half, shift_mm: float):
         if not (callable(getattr(half, "closest", None)) and callable(getattr(half, "radius", None))):

@@ -297,8 +297,8 @@ class CupDeformation:
 
     def fit(self, z_mm: float, *, waves: int = 2, max_order: int = 16, tier: str = "cup3d"):
         """The section at ``z_mm`` as the kinematics' integer-harmonic Fourier model
-        (:func:`profilegen.series.fit_fourier`)."""
-        from ... import series
+        (:func:`profilegen.geometry.series.fit_fourier`)."""
+        from ...geometry import series
 
         phi, w, u = self.section(z_mm, samples=max(181, 8 * max_order + 8))
         return series.fit_fourier(phi, w, u, waves=waves, max_order=max_order, tier=tier)
@@ -384,7 +384,7 @@ def solve_cup(
         if contour is None:
             if gearset is None:
                 raise CupError("radial_mm: a load is needed (radial_mm or contour) for a bare CupGeometry")
-            from ...wavegen import from_gearset
+            from ...geometry.wavegen import from_gearset
 
             contour = from_gearset(gearset)
         load = bore_load(contour, geometry.bore_radius_mm, max_order=max_order)

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .errors import ProfilegenError
+from ..errors import ProfilegenError
 
 if TYPE_CHECKING:  # pragma: no cover
     from numpy.typing import ArrayLike

@@ -1,7 +1,7 @@
 """The multi-objective search: pymoo's NSGA-II, asked and told, evaluating on an Executor.
 
 pymoo's ask/tell interface leaves the evaluation to us: each generation's candidates go
-through :func:`profilegen.optimize.evaluate.evaluate_points` (the sweep's Executor and
+through :func:`profilegen.studies.optimize.evaluate.evaluate_points` (the sweep's Executor and
 journal). The search is deterministic for a seed (pymoo draws from its own
 ``numpy.random.Generator``) and the evaluations are deterministic, so a run resumed after
 an interruption asks for the same candidates and reads the finished ones back from the

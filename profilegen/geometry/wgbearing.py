@@ -16,8 +16,8 @@ from functools import partial
 
 import numpy as np
 
-from . import checks
-from .errors import ProfilegenError
+from .. import checks
+from ..errors import ProfilegenError
 
 __all__ = ["BallBearing", "ChainError", "DEFAULT_BALL_COUNT", "HertzContact", "default_race_thickness_mm",
            "hertz_point_contact"]

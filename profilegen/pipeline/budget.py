@@ -27,7 +27,7 @@ round up (48 and 40 bytes): a design the check passes may use somewhat less, nev
 more that the refused extremes would.
 
 >>> from profilegen.gearset import load_gearset, default_gearset_path
->>> from profilegen.scenes import SCENES
+>>> from profilegen.pipeline.scenes import SCENES
 >>> import dataclasses
 >>> gs = load_gearset(default_gearset_path())
 >>> estimate(gs, SCENES["design"]).largest().bytes < 1e9
@@ -35,7 +35,7 @@ True
 >>> check_budget(gs, dataclasses.replace(SCENES["sketch"], n_t=100_000, n_phi=100_000), budget=4 * 2**30)  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-profilegen.budget.BudgetError: scene 'sketch': n_t × n_phi = 100000 × 100000 would need ~480 GB in the envelope ...: lower n_phi to at most 894 (with n_t = 100000), or n_t to at most 894 (with n_phi = 100000); ...
+profilegen.pipeline.budget.BudgetError: scene 'sketch': n_t × n_phi = 100000 × 100000 would need ~480 GB in the envelope ...: lower n_phi to at most 894 (with n_t = 100000), or n_t to at most 894 (with n_phi = 100000); ...
 """
 
 from __future__ import annotations
@@ -46,7 +46,8 @@ import resource
 from dataclasses import dataclass
 from typing import cast
 
-from .errors import GearSetError
+from ..errors import GearSetError
+from ..gearset.reader import MODULE_MIN_MM  # the gear-set range's lower bound on the module
 
 __all__ = ["BUDGET_ENV", "CHORD_PER_MODULE_MAX", "MODULE_MIN_MM", "BudgetError", "Cost", "Estimate", "ResolutionError",
            "budget_bytes", "check_budget", "check_resolution", "estimate", "preflight", "worst_chord"]
@@ -75,10 +76,6 @@ SURFACE_POINTS_PER_MM = 800
 """The clearance map's candidate search runs over the FS surface sampled this densely (gearform)."""
 
 
-MODULE_MIN_MM = 1e-5
-"""The smallest module the arc fit resolves, mm: the default set scaled to m = 1e-5 mm (chord 1e-8 mm,
-sharp corners) fits; at 3e-6 and 1e-6 mm the one-sided fit's offset collapses an arc (its absolute
-tolerances, ~1e-12 mm, are then ~1e-6 of the tooth)."""
 CHORD_PER_MODULE_MAX = 0.01
 """The coarsest envelope the arc fit takes: chord_tol_mm at most this × gear.module_mm. Measured on the
 default set scaled in module (sharp corners): 0.001-0.014 fit (m = 0.5, 0.01, 1e-3 ... 1e-5 mm);
@@ -163,11 +160,11 @@ def envelope_points(module_mm: float, chord_tol_mm: float) -> float:
 
 def worst_chord(chord_tol_mm: float) -> float:
     """The finest chord the envelope may be traced at for a scene's ``chord_tol_mm``:
-    :func:`profilegen.pipeline.traced_form` retraces a trace that missed a grazing crossing at a
+    :func:`profilegen.pipeline.design.traced_form` retraces a trace that missed a grazing crossing at a
     chord ``RETRACE_FACTOR`` finer, up to ``RETRACES`` times, so chord / 4² = chord / 16 (4× the
     points, points ∝ chord^-1/2). The envelope and the CS outline are estimated there: the retrace
     is rare, but a run the check passed must not then take the machine when it happens."""
-    from .gearform import RETRACE_FACTOR, RETRACES
+    from ..profile.gearform import RETRACE_FACTOR, RETRACES
 
     return chord_tol_mm / RETRACE_FACTOR**RETRACES
 
@@ -175,7 +172,7 @@ def worst_chord(chord_tol_mm: float) -> float:
 def _surface_points(gearset) -> int:
     """Points of the FS tooth's surface as the clearance map samples it (0 if the tooth cannot be built:
     the stage that builds it names the problem)."""
-    from .teeth import tooth_from_gearset
+    from ..geometry.teeth import tooth_from_gearset
 
     try:
         return len(tooth_from_gearset(gearset).surface(n_per_mm=SURFACE_POINTS_PER_MM))

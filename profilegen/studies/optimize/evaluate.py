@@ -1,12 +1,12 @@
 """Evaluating candidates: one design per candidate on an Executor, with a resumable journal.
 
-The machinery is :mod:`profilegen.sweep`'s, reused: its process-pool worker set-up
+The machinery is :mod:`profilegen.studies.sweep`'s, reused: its process-pool worker set-up
 (``init_worker``: one BLAS thread, SIGINT ignored, a watch on the parent), its Dask
-executor (:func:`profilegen.sweep.dask_executor`), its append-only CSV journal (one
+executor (:func:`profilegen.studies.sweep.dask_executor`), its append-only CSV journal (one
 complete line per finished candidate, a CRC per line, a cut line dropped on reading) and
 its pool clean-up (:func:`profilegen.pools.stop_pool`). A candidate is a {name: value}
 mapping; its id is a hash of the values and of the *context* (for a design: the base gear
-set and the scene, :func:`profilegen.sweep.point_id`), so a candidate asked for again — in
+set and the scene, :func:`profilegen.studies.sweep.point_id`), so a candidate asked for again — in
 a later generation, or by a run resumed after an interruption — is read back from the
 journal, not recomputed.
 
@@ -72,7 +72,7 @@ def evaluate_design(values: Mapping[str, Any], context) -> dict[str, float | Non
     """The :data:`DESIGN_OUTPUTS` of the base gear set with ``values`` (field path → value),
     designed in the scene: ``context = (gearset, scene)``. A value the gear set refuses
     raises its :class:`~profilegen.errors.GearSetError`, a stage that fails its own error."""
-    from ..engine import cached_design  # this process's stage cache: a nearby candidate's stages are reused
+    from ...pipeline.engine import cached_design  # this process's stage cache: a nearby candidate's stages are reused
 
     gearset, scene = context
     result = cached_design(gearset.with_values(dict(values)), scene=scene)

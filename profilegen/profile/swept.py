@@ -29,7 +29,7 @@ n_phi = 23041, over the CS space; median time of 3 runs, single-threaded)::
 
 The largest error sits on the tip-corner path near the CS tooth tip (φ ≈ ±1.35).
 
-Angles follow :mod:`profilegen.kinematics`: polar angles from +y toward +x, so a
+Angles follow :mod:`profilegen.geometry.kinematics`: polar angles from +y toward +x, so a
 turn by +a maps (x, y) → (x cos a + y sin a, −x sin a + y cos a).
 """
 
@@ -38,7 +38,7 @@ from __future__ import annotations
 import numpy as np
 import shapely
 
-from .kinematics import turn
+from ..geometry.kinematics import turn
 
 __all__ = ["swept_region", "boundary_distance"]
 

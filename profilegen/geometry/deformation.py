@@ -21,8 +21,8 @@ from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from .errors import GearSetError
-from .results import readonly as _readonly
+from ..errors import GearSetError
+from ..results import readonly as _readonly
 
 if TYPE_CHECKING:  # pragma: no cover
     from numpy.typing import ArrayLike

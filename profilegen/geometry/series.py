@@ -12,7 +12,7 @@ corrected (docs/theory/rim.md, "The fit"):
   ``ω = a_0 + Σ a_k cos(kUφ)``, ``υ = Σ b_k sin(kUφ)``, by linear least squares. Exactly
   periodic and symmetric (ω even, υ odd about the major axis) by construction. The result,
   a :class:`DeformationFit`, *is* a deformation model: its ``evaluate`` is that of the
-  :class:`~profilegen.deformation.HarmonicDeformation` built from the coefficients.
+  :class:`~profilegen.geometry.deformation.HarmonicDeformation` built from the coefficients.
 * :func:`fit_sine_series` — seed 004's general form ``f(φ) = Σ a_i sin(b_i φ + c_i)`` by
   nonlinear least squares, one component at a time; :class:`GeneralSineDeformation`
   pairs an ω and a υ fit into a deformation model. Non-integer frequencies b_i make f
@@ -45,10 +45,10 @@ import numpy as np
 from scipy.linalg import lapack, solve_triangular
 from scipy.optimize import least_squares, leastsq, minimize_scalar
 
-from . import checks
+from .. import checks
 from .deformation import HarmonicDeformation
-from .errors import ConvergenceError, ProfilegenError
-from .results import readonly as _readonly
+from ..errors import ConvergenceError, ProfilegenError
+from ..results import readonly as _readonly
 
 if TYPE_CHECKING:  # pragma: no cover
     from numpy.typing import ArrayLike
@@ -400,7 +400,7 @@ def fit_fourier(
     >>> fit_fourier(phi[:40], np.cos(2 * phi[:40]), np.sin(2 * phi[:40]))
     Traceback (most recent call last):
     ...
-    profilegen.series.SeriesError: phi: the samples cover 1.396 rad, less than one wave period 2π/U = 3.142 rad (waves = 2)
+    profilegen.geometry.series.SeriesError: phi: the samples cover 1.396 rad, less than one wave period 2π/U = 3.142 rad (waves = 2)
     """
     start = time.perf_counter()
     waves = _whole("waves", waves, 1)

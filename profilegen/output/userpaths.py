@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import os
 
-from .errors import ExportError
+from ..errors import ExportError
 
 __all__ = ["NAME_MAX", "PATH_MAX", "check_out_path", "named_file_problem"]
 
@@ -69,8 +69,8 @@ def named_file_problem(exc: Exception, path: str | os.PathLike, what: str, comma
     """The problem of the ``what`` file at ``path`` (a spec's gear set or scene file) for the spec's
     error, without the file's content: the read error as it is (it names the file and the line, never
     the text), else the number of problems and ``profilegen check PATH`` to list them."""
-    from .errors import GearSetError
-    from .gearset.reader import read_toml
+    from ..errors import GearSetError
+    from ..gearset.reader import read_toml
 
     text = os.fspath(path).partition("#")[0] if what == "scene file" else os.fspath(path)
     try:

@@ -85,10 +85,10 @@ from typing import Any
 import numpy as np
 from scipy.optimize import least_squares, linprog, minimize
 
-from . import checks
-from .contour import Arc, Chain, Line
-from .errors import ConvergenceError, ProfilegenError
-from .results import json_ready as _json, readonly as _readonly
+from .. import checks
+from ..geometry.contour import Arc, Chain, Line
+from ..errors import ConvergenceError, ProfilegenError
+from ..results import json_ready as _json, readonly as _readonly
 
 __all__ = [
     "METHODS",
@@ -706,7 +706,7 @@ def _solve(prob: _Problem, q, *, one_sided: bool, max_iter: int):
     T = _metric(G)
     delta, lps, polished, gn, how, failed = F, 0, 0, 0, "iterations", None
     it = 0
-    from .stagecache import checkpoint
+    from ..stagecache import checkpoint
 
     for it in range(1, max_iter + 1):
         checkpoint()  # an engine's design stops here when superseded (an SLP step: milliseconds)
@@ -979,11 +979,11 @@ class BranchFits:
 
 def swept_depth_function(tooth, motion, *, cs_teeth: int, phi_range: tuple[float, float]
                          ) -> Callable[[np.ndarray], np.ndarray]:
-    """The swept-region membership of the FS ``tooth`` (a :class:`~profilegen.teeth.ToothProfile`)
+    """The swept-region membership of the FS ``tooth`` (a :class:`~profilegen.geometry.teeth.ToothProfile`)
     in ``motion`` over ``phi_range`` (rad, the envelope's pass), with its neighbours
     2π/``cs_teeth`` away, as ``depth(points) -> (n,)`` (mm, > 0 inside the region the tooth and
     its neighbours sweep; exact sign, first-order size near the boundary) — the ``swept``
-    argument of :func:`fit_profile`. (:func:`profilegen.swept.swept_region` is another thing:
+    argument of :func:`fit_profile`. (:func:`profilegen.profile.swept.swept_region` is another thing:
     the brute-force polygon of that region.)"""
     from .envelope import swept_depth, tooth_curves
 
@@ -1024,7 +1024,7 @@ def _check_swept(chain: Chain, swept, tol: float, spacing: float, contacts: np.n
     for c in contacts:  # 41 points over ±3 data spacings around each contact
         parts.append(_nearest_on_chain(chain, c, 3.0 * spacing, 41))
     pts = np.vstack(parts)
-    from .stagecache import checkpoint
+    from ..stagecache import checkpoint
 
     depth = np.empty(len(pts))
     for i in range(0, len(pts), 128):  # ~0.3 ms a point: an engine's design may stop between the pieces

@@ -6,7 +6,7 @@ full Cartesian product) or a ``[sample]`` (``method = "lhs" | "random"``, ``n``,
 ``seed``, field → ``[lo, hi]``). Fields are the dotted paths of
 :meth:`GearSet.with_values` (``"wave_generator.deflection_coefficient"``). Every point is
 the base set with those values, validated like a file and run through
-:func:`profilegen.pipeline.design`; a point that fails (a value out of range, an envelope
+:func:`profilegen.pipeline.design.design`; a point that fails (a value out of range, an envelope
 that cannot be classified, a fit that does not converge, ...) is recorded with its error
 and the others go on.
 
@@ -56,14 +56,14 @@ from typing import TYPE_CHECKING, Any, NoReturn
 
 import numpy as np
 
-from .errors import ExportError, GearSetError, ProfilegenError, SweepSpecError
-from .gearset import GearSet, looks_like_path
-from .pools import stop_pool
+from ..errors import ExportError, GearSetError, ProfilegenError, SweepSpecError
+from ..gearset import GearSet, looks_like_path
+from ..pools import stop_pool
 
 if TYPE_CHECKING:  # pragma: no cover
     from matplotlib.axes import Axes
 
-    from .pipeline import Design, Scene
+    from ..pipeline.design import Design, Scene
 
 __all__ = [
     "OUTPUTS",
@@ -328,7 +328,7 @@ class SweepSpec:
 
 def load_sweep_spec(path: str | os.PathLike) -> SweepSpec:
     """Read and validate a sweep spec file (:class:`SweepSpecError` naming the key)."""
-    from .gearset import read_toml
+    from ..gearset import read_toml
 
     path = Path(path)
     data = read_toml(path, SweepSpecError, "sweep spec file")
@@ -353,13 +353,13 @@ def spec_header(data, top_keys, fail, *, what: str, default_name: str, base_dir)
 
 def spec_scene(text: str, base: Path, gearset, fail, key: str):
     """A spec's scene: a preset name or a scenes file (relative to ``base``), resolved for ``gearset``."""
-    from .scenes import resolve_scene
+    from ..pipeline.scenes import resolve_scene
 
     arg = text if not looks_like_path(text) or Path(text).is_absolute() else base / text
     try:
         return resolve_scene(arg, default=gearset.scene)
     except GearSetError as exc:
-        from .userpaths import named_file_problem  # another file's keys and values are not shown
+        from ..output.userpaths import named_file_problem  # another file's keys and values are not shown
 
         fail(key, named_file_problem(exc, arg, "scene file") if looks_like_path(str(arg)) else str(exc))
 
@@ -454,7 +454,7 @@ def _text(data: Mapping, key: str, default: str, fail) -> str:
 
 
 def _base_gearset(text: str, base: Path, fail: Callable[[str, str], NoReturn]) -> GearSet:
-    from .gearset import load_gearset, resolve_gearset
+    from ..gearset import load_gearset, resolve_gearset
 
     path: str | Path = text  # what the message names if the name does not resolve
     try:
@@ -466,7 +466,7 @@ def _base_gearset(text: str, base: Path, fail: Callable[[str, str], NoReturn]) -
             path = resolve_gearset(text)
         return load_gearset(path)
     except GearSetError as exc:
-        from .userpaths import named_file_problem  # another file's keys and values are not shown
+        from ..output.userpaths import named_file_problem  # another file's keys and values are not shown
 
         fail("gearset", named_file_problem(exc, path, "gear-set file"))
 
@@ -569,7 +569,7 @@ class SweepResult:
 
 def _run_point(index: int, values: dict, gearset: GearSet, scene: Scene, designer) -> dict:
     """Run one point (in a worker): {column: value} with status; never raises for the point's own errors."""
-    from .engine import cached_design  # this process's engine: the stages a nearby point shares are reused
+    from ..pipeline.engine import cached_design  # this process's engine: the stages a nearby point shares are reused
 
     row: dict[str, Any] = {"index": index}
     t0 = time.perf_counter()
@@ -606,7 +606,7 @@ def init_worker() -> None:
         os.environ[name] = "1"
     from threadpoolctl import threadpool_limits
 
-    from .arcfit import clear_cache
+    from ..profile.arcfit import clear_cache
 
     threadpool_limits(1)
     clear_cache()  # a forked worker starts without its parent's remembered fits
@@ -711,7 +711,7 @@ def run_sweep(
     ``workers`` processes (default: the CPU count), closed at the end. ``progress(done,
     total)`` is called with the points already finished and after each point.
     ``designer(gearset, scene=...)``: the design function (default
-    :func:`profilegen.engine.cached_design`, :func:`profilegen.pipeline.design` through each
+    :func:`profilegen.pipeline.engine.cached_design`, :func:`profilegen.pipeline.design.design` through each
     worker's stage cache: the same results; it must pickle for a process pool or Dask).
     Writes ``results.csv`` (always), ``sweep.png`` (``figure``), and ``table`` if given
     (CSV, or Parquet when it ends in ``.parquet``: needs pyarrow). Interrupted
@@ -728,7 +728,7 @@ def run_sweep(
     results.csv and sweep.png arrive with it as one set (a whole-folder swap), so a run killed
     while writing them leaves the old set.
     """
-    from .output import folder
+    from ..output import folder
 
     t0 = time.perf_counter()
     if table is not None and str(table).endswith(".parquet"):
@@ -742,7 +742,7 @@ def run_sweep(
 
 def _run_sweep(spec: SweepSpec, out: Path, owned, executor, workers, progress, designer, table, figure,
                t0: float) -> SweepResult:
-    from .output import folder
+    from ..output import folder
 
     live = owned.begin([JOURNAL])
     journal = Journal(live / JOURNAL, ("point_id", *spec.fields, *OUTPUT_COLUMNS, *STATUS_COLUMNS))
@@ -904,7 +904,7 @@ class Journal:
         return {pid: {c: cells.get(c, "") for c in self.columns} for pid, cells in rows.items()}
 
     def _rewrite(self, rows: Mapping[str, Mapping[str, str]]) -> None:
-        from .output.export import atomic_write
+        from ..output.export import atomic_write
 
         with atomic_write(self.path) as f:
             f.write(self._line(self.header))
@@ -964,7 +964,7 @@ def _require_pyarrow(path) -> None:
 def write_table(rows: Sequence[Mapping], columns: Sequence[str], path: str | os.PathLike) -> Path:
     """Write rows as CSV, or as Parquet when ``path`` ends in ``.parquet`` (needs pyarrow);
     atomically. Empty cells are empty in the CSV, nulls in Parquet."""
-    from .output.export import atomic_write
+    from ..output.export import atomic_write
 
     path = Path(path)
     if path.suffix == ".parquet":
@@ -1010,7 +1010,7 @@ def plot_sweep(result: SweepResult, output: str | None = None, *, ax: Axes | Non
     output = output or spec.plot
     if output not in OUTPUT_COLUMNS:
         raise ValueError(f"output must be an output column ({', '.join(OUTPUT_COLUMNS)}), got {output!r}")
-    from .output.plot import sweep_figure
+    from ..output.plot import sweep_figure
 
     title = f"sweep {spec.name}: {spec.kind}, {len(result.rows)} points, scene {spec.scene.name}"
     return sweep_figure(result.rows, spec.fields, output, title=title, ax=ax, path=path)

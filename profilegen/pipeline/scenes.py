@@ -1,4 +1,4 @@
-"""Scenes as data: the fidelity presets read from a TOML file (``profilegen/scenes.toml``).
+"""Scenes as data: the fidelity presets read from a TOML file (``profilegen/pipeline/scenes.toml``).
 
 A scene file has one table per scene; the table's key is the scene's name, its keys are
 the fields of :class:`Scene` (documented in the bundled file). The rim
@@ -18,7 +18,7 @@ Every problem is a :class:`SceneError` (a :class:`~profilegen.errors.GearSetErro
 >>> parse_scenes({"fast": {"tier": "quick"}}, origin="mine.toml")  # doctest: +ELLIPSIS
 Traceback (most recent call last):
 ...
-profilegen.scenes.SceneError: ...mine.toml: scene 'fast': tier = 'quick': must be one of sketch, design, verify...
+profilegen.pipeline.scenes.SceneError: ...mine.toml: scene 'fast': tier = 'quick': must be one of sketch, design, verify...
 >>> scenes["verify"].rim_tier, with_rim_tier(scenes["design"], "cup3d").rim_tier
 ('cup3d', 'cup3d')
 """
@@ -35,8 +35,8 @@ from importlib import resources
 from pathlib import Path
 from typing import Any
 
-from .errors import GearSetError, did_you_mean
-from .gearset import SCENE_NAMES, looks_like_path
+from ..errors import GearSetError, did_you_mean
+from ..gearset import SCENE_NAMES, looks_like_path
 
 __all__ = ["RIM_TIER_NAMES", "SCENES", "SCENE_NAMES", "Scene", "SceneError", "bundled_scenes_path", "parse_scenes",
            "read_scenes", "resolve_scene", "with_rim_tier"]
@@ -110,13 +110,13 @@ MAX_TEXT_CHARS = 2000
 
 
 def bundled_scenes_path() -> Path:
-    """Path of the scene file shipped with the package (``profilegen/scenes.toml``)."""
-    return Path(str(resources.files("profilegen").joinpath("scenes.toml")))
+    """Path of the scene file shipped with the package (``profilegen/pipeline/scenes.toml``)."""
+    return Path(str(resources.files("profilegen.pipeline").joinpath("scenes.toml")))
 
 
 def read_scenes(path: str | os.PathLike) -> dict[str, Scene]:
     """Read and validate a scene file; returns {name: Scene} in the file's order."""
-    from .gearset import read_toml
+    from ..gearset import read_toml
 
     path = Path(path)
     return parse_scenes(read_toml(path, SceneError, "scene file"), origin=str(path))
@@ -262,5 +262,5 @@ def _type_name(value) -> str:
             dict: "a table"}.get(type(value), type(value).__name__)
 
 
-# The presets are data: profilegen/scenes.toml (a user's copy works as design(scene="path.toml"))
+# The presets are data: profilegen/pipeline/scenes.toml (a user's copy works as design(scene="path.toml"))
 SCENES: dict[str, Scene] = read_scenes(bundled_scenes_path())

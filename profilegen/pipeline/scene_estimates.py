@@ -178,7 +178,7 @@ def check_key(kind: str, name: str) -> str | None:
 
 
 def numbers_of(design) -> dict:
-    """:func:`sheet_numbers` of a :class:`~profilegen.pipeline.Design` (the dicts its files hold)."""
+    """:func:`sheet_numbers` of a :class:`~profilegen.pipeline.design.Design` (the dicts its files hold)."""
     curve = getattr(design, "torsional", None)
     return sheet_numbers(design.to_dict(), None if design.profile is None else design.profile.to_dict(),
                          None if curve is None else {"torsional": curve.to_dict()})
@@ -329,7 +329,7 @@ _NOT_NUMBERS = frozenset({"name", "description", "figures"})
 
 @functools.lru_cache(maxsize=None)
 def _bundled_scene(name: str) -> dict | None:
-    """The bundled preset's table (profilegen/scenes.toml), read here without profilegen.scenes,
+    """The bundled preset's table (profilegen/pipeline/scenes.toml), read here without profilegen.pipeline.scenes,
     which would tie the sheet (and so the pipeline's notebook view) to the gear-set reader."""
     import tomllib
     from pathlib import Path
@@ -357,7 +357,7 @@ def _changed(scene, bundled: dict | None) -> list[str]:
 
 
 def estimate_for(scene, key: str) -> Estimate | NotEstimated:
-    """The estimate of number ``key`` in ``scene`` (a :class:`~profilegen.scenes.Scene` or a
+    """The estimate of number ``key`` in ``scene`` (a :class:`~profilegen.pipeline.scenes.Scene` or a
     bundled scene's name)."""
     name = scene if isinstance(scene, str) else scene.name
     if name == "verify":

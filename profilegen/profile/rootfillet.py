@@ -1,6 +1,6 @@
 """Rounded corners of the CS tooth space, so that wire EDM can cut what the drawing says.
 
-The sharp CS chain (:func:`profilegen.gearform.cs_chain`) has two kinds of corner:
+The sharp CS chain (:func:`profilegen.profile.gearform.cs_chain`) has two kinds of corner:
 
 * **root corners**, where the transition line (or the flank's last arc) meets the root
   circle. The chain runs clockwise about the CS centre with the ring material on its left
@@ -30,10 +30,10 @@ from typing import Any
 
 import numpy as np
 
-from .contour import Arc, Chain, Line
-from .errors import FilletError
-from .stagecache import checkpoint
-from .gearset.sections import CORNER_STYLES as CORNERS
+from ..geometry.contour import Arc, Chain, Line
+from ..errors import FilletError
+from ..stagecache import checkpoint
+from ..gearset.sections import CORNER_STYLES as CORNERS
 
 __all__ = ["Fillet", "RoundedSpace", "CSChain", "max_kink_deg", "round_space", "filleted_cs_chain", "CORNERS"]
 
@@ -355,7 +355,7 @@ def round_space(space: Chain, *, radius_mm: float, tip_radius_mm: float, cs_teet
     """Round every corner of one sharp CS tooth space (see the module docstring).
 
     ``radius_mm``: r_w + s_g. ``swept``: the FS tooth family's swept-region depth (mm, > 0
-    inside; :func:`profilegen.arcfit.swept_depth_function`), against which each inside fillet
+    inside; :func:`profilegen.profile.arcfit.swept_depth_function`), against which each inside fillet
     is checked (None: not checked). ``field``: the gear-set field the errors name.
 
     Raises :class:`~profilegen.errors.FilletError` when an inside corner cannot take the
@@ -466,10 +466,10 @@ def _round_shrunk(space, radius, *, tip_radius_mm, cs_teeth):
 
 def filleted_cs_chain(flank, *, tip_radius_mm: float, root_radius_mm: float, cs_teeth: int, corners: str = "fillet",
                       radius_mm: float | None = None, swept=None, swept_tol_mm: float = 1e-5) -> CSChain:
-    """The closed CS outline as true arcs and lines (:func:`profilegen.gearform.cs_chain`)
+    """The closed CS outline as true arcs and lines (:func:`profilegen.profile.gearform.cs_chain`)
     with its corners rounded for wire EDM (``corners = "fillet"``, ``radius_mm`` = wire
     radius + spark gap; see :func:`round_space`) or kept sharp (``"sharp"``: the chain
-    :func:`~profilegen.gearform.cs_chain` makes, unchanged)."""
+    :func:`~profilegen.profile.gearform.cs_chain` makes, unchanged)."""
     from .gearform import cs_outline, cs_space
 
     if corners not in CORNERS:

@@ -17,31 +17,31 @@ from typing import TYPE_CHECKING, Callable
 
 import numpy as np
 
-from .blas import one_blas_thread
-from .envelope import Envelope, envelope_of
-from .errors import ConvergenceError, GearSetError, ProfilegenError
-from .gearform import RETRACE_FACTOR, RETRACES, CircularSplineForm, circular_spline_form, clearance_map, cs_local_chain
-from .gearset import FIT_METHODS, GearSet
-from .contour import Chain, Line
-from .kinematics import HarmonicDriveMotion
-from .scenes import SCENES, Scene, resolve_scene  # noqa: F401  (SCENES: profilegen.pipeline.SCENES, as before)
-from .stagecache import STAGE_CACHE, checkpoint as stage_checkpoint  # noqa: F401  (pipeline.stage_checkpoint, as before)
-from .teeth import tooth_from_gearset
+from ..blas import one_blas_thread
+from ..profile.envelope import Envelope, envelope_of
+from ..errors import ConvergenceError, GearSetError, ProfilegenError
+from ..profile.gearform import RETRACE_FACTOR, RETRACES, CircularSplineForm, circular_spline_form, clearance_map, cs_local_chain
+from ..gearset import FIT_METHODS, GearSet
+from ..geometry.contour import Chain, Line
+from ..geometry.kinematics import HarmonicDriveMotion
+from .scenes import SCENES, Scene, resolve_scene  # noqa: F401  (SCENES: profilegen.pipeline.design.SCENES, as before)
+from ..stagecache import STAGE_CACHE, checkpoint as stage_checkpoint  # noqa: F401  (pipeline.stage_checkpoint, as before)
+from ..geometry.teeth import tooth_from_gearset
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .arcfit import BranchFits, ProfileFit
-    from .contact.analysis import ContactResult
-    from .contact.chain import TorsionalCurve
-    from .contact.ratchet import Ratcheting
-    from .contact.transmission import TransmissionError
-    from .deformation import HarmonicDeformation
-    from .face.stage import FaceWidth
-    from .gearform import ClearanceMap
-    from .rim.stage import RimDeformation
-    from .rootfillet import CSChain
-    from .series import DeformationFit
-    from .stress.stage import StressResult
-    from .teeth import ToothProfile
+    from ..profile.arcfit import BranchFits, ProfileFit
+    from ..contact.analysis import ContactResult
+    from ..contact.chain import TorsionalCurve
+    from ..contact.ratchet import Ratcheting
+    from ..contact.transmission import TransmissionError
+    from ..geometry.deformation import HarmonicDeformation
+    from ..face.stage import FaceWidth
+    from ..profile.gearform import ClearanceMap
+    from ..rim.stage import RimDeformation
+    from ..profile.rootfillet import CSChain
+    from ..geometry.series import DeformationFit
+    from ..stress.stage import StressResult
+    from ..geometry.teeth import ToothProfile
 
 __all__ = ["StageReport", "CSProfile", "Design", "Verdict", "design", "check_gearset", "planned_stages"]
 
@@ -362,8 +362,8 @@ def _ratcheting_check(design, required: float, why_no_contact: str) -> VerdictCh
 
 def _verdict(d) -> Verdict:
     """The checks of design ``d`` (see :class:`Verdict`)."""
-    from .gearset.requirements import Requirements
-    from .stress.stage import CHECK_NAMES, unsupported
+    from ..gearset.requirements import Requirements
+    from ..stress.stage import CHECK_NAMES, unsupported
 
     gs, scene = d.gearset, d.scene
     req = getattr(gs, "requirements", None) or Requirements()
@@ -535,7 +535,7 @@ class Design:
 
     def _repr_html_(self) -> str:
         """The design sheet and the zoomable CS space, for notebooks (plotly.js embedded, offline)."""
-        from .output.interactive import notebook_html
+        from ..output.interactive import notebook_html
 
         return notebook_html(self, interference_tol_mm=interference_tol_mm(self.scene))
 
@@ -654,7 +654,7 @@ def check_gearset(gearset: GearSet) -> None:
     fields and the wave generator (checked by :class:`GearSet` when it is made) and the tooth,
     as design's first stage builds it and as the envelope stage takes it (a flank monotone in
     x). Raises the error design would raise; ``profilegen check`` and ``design`` both call it."""
-    from .envelope import tooth_curves
+    from ..profile.envelope import tooth_curves
 
     tooth_curves(tooth_from_gearset(gearset))
 
@@ -665,7 +665,7 @@ def planned_stages(gearset: GearSet, *, scene: str | os.PathLike | Scene | None 
     arguments (a progress display's total). The contact and stress models need two waves."""
     scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
     names = ["tooth", "deformation", "envelope", "gearform", "arcfit"]
-    from .face.coning import rim_tier_for
+    from ..face.coning import rim_tier_for
 
     if not isinstance(rim_tier_for(scene, gearset), str) or scene.rim_tier == "cup3d":
         if gearset.gear.waves == 2:
@@ -709,7 +709,7 @@ def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Sce
     failure there is the gearform stage's, as the progress display says). ``_parent``: the keys
     of the tooth and deformation stages in the engine's cache (:func:`_stage`; each trace is
     looked up there by its chord)."""
-    from .gearform import UnresolvedBoundaryError
+    from ..profile.gearform import UnresolvedBoundaryError
 
     g, cs = gearset.gear, gearset.circular_spline
     chord, notes = scene.chord_tol_mm, []
@@ -738,7 +738,7 @@ def traced_form(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Sce
 def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, on_profile=None,
             on_stage=None) -> Design:
     # Each stage below is one _stage(...) call: run here, or taken from the engine's stage cache
-    # (profilegen.engine) when one is active; without one, every stage runs, as it always did.
+    # (profilegen.pipeline.engine) when one is active; without one, every stage runs, as it always did.
     scene = resolve_scene(gearset.scene if scene is None else scene, default=gearset.scene)
     from .budget import preflight
 
@@ -761,8 +761,8 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     stages.append(report)
 
     step("deformation")
-    from .rim.stage import solve_rim  # scipy's solvers load only when a design runs (not in the stage time)
-    from .face.coning import rim_tier_for
+    from ..rim.stage import solve_rim  # scipy's solvers load only when a design runs (not in the stage time)
+    from ..face.coning import rim_tier_for
 
     tier = rim_tier_for(scene, gearset)  # design: a coarse 3D cup for the face stage
 
@@ -797,7 +797,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
         stages.append(face_report)
         warnings += list(face.warnings)
     else:  # no face stage: the design section and the FS modification are not decided
-        from .face.coning import UNDECIDED
+        from ..face.coning import UNDECIDED
 
         warnings.append(UNDECIDED)
     motion = HarmonicDriveMotion.from_gearset(gearset, deformation)
@@ -823,7 +823,7 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
         form = _with_clearance(form, cmap)
         error, measure = cmap.min_mm, "min signed clearance FS tooth ↔ CS outline (mm; ≈ −chord error on the working flank)"
         if scene.brute_force_check:
-            from .swept import boundary_distance, swept_region
+            from ..profile.swept import boundary_distance, swept_region
 
             region = swept_region(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves, n_phi=4001)
             error = float(np.max(boundary_distance(env.flank["boundary"], region)))
@@ -936,10 +936,10 @@ class _EarlyStress:
         """``partial``: the design with its contact (no torsional curve yet); returns it with its
         stresses (when they run), after handing it to the callback."""
         if self.stress:
-            from .stress.stage import unsupported
+            from ..stress.stage import unsupported
 
             if not unsupported(partial.gearset):
-                from .stress import StressInput, solve_stress
+                from ..stress import StressInput, solve_stress
 
                 self.solved = solve_stress(StressInput.from_design(partial))
                 partial = replace(partial, stress=self.solved)
@@ -953,7 +953,7 @@ def _with_face(gearset: GearSet, rim, step):
     again at that section when it differs from the one the tier fitted, so the CS profile of
     the files is the chosen section's) and the FS tooth modification (both fields absent or
     "auto": computed; otherwise the given values, a missing one 0). Returns (rim, face, report)."""
-    from .face import face_width
+    from ..face import face_width
 
     step("face")
     t0 = time.perf_counter()
@@ -987,8 +987,8 @@ def _with_face(gearset: GearSet, rim, step):
 def _with_stress(result: Design, step, solved=None) -> Design:
     """The stress stage; ``solved``: its result computed already (:class:`_EarlyStress`), from the
     same contact forces, reported here."""
-    from .stress import StressInput, solve_stress
-    from .stress.stage import unsupported
+    from ..stress import StressInput, solve_stress
+    from ..stress.stage import unsupported
 
     reason = unsupported(result.gearset)
     if reason:
@@ -1013,7 +1013,7 @@ def _with_contact(result: Design, step, early: "_EarlyStress | None" = None) -> 
         note = f"loaded contact skipped: the FS half-ring model needs gear.waves = 2, got {g.waves}"
         return replace(result, warnings=result.warnings + (note,))
     step("contact")
-    from .contact import ContactInput
+    from ..contact import ContactInput
 
     t0 = time.perf_counter()
     torques = [t for t in (gearset.torque.rated_nm, gearset.torque.peak_nm, gearset.torque.momentary_nm) if t is not None]
@@ -1028,7 +1028,7 @@ def _with_contact(result: Design, step, early: "_EarlyStress | None" = None) -> 
 
 
 def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, stages_early=None) -> Design:
-    from .contact.analysis import solve_contact
+    from ..contact.analysis import solve_contact
 
     contact = solve_contact(inputs, torques)  # teeth and every wave-generator ball (one-sided at its no-load gap)
     stage_checkpoint()
@@ -1047,7 +1047,7 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, sta
     stage_checkpoint()
     dof = 0 if contact.compliance is None else int(sum(contact.compliance.dof.values()))
     # the whole gear in torsion: both flanks (the left one built here), the compliance chain, K1–K3
-    from .contact.chain import whole_gear_curve
+    from ..contact.chain import whole_gear_curve
 
     notes = list(contact.warnings)
     torsional: TorsionalCurve | None = None
@@ -1094,7 +1094,7 @@ def _whole_gear_extras(result: Design, contact, notes: list, early=None) -> tupl
     scene, gs = result.scene, result.gearset
     if not (getattr(scene, "ratcheting", False) or getattr(scene, "transmission_error", False)):
         return ratchet, transmission
-    from .contact import ContactInput
+    from ..contact import ContactInput
 
     inputs = ContactInput.from_design(result)
     if inputs.rim_contact_angle_rad is None and contact.compliance is not None:
@@ -1107,7 +1107,7 @@ def _whole_gear_extras(result: Design, contact, notes: list, early=None) -> tupl
         if future is None:
             ratchet = _ratcheting(inputs, cat, notes)
     if getattr(scene, "transmission_error", False):
-        from .contact.transmission import transmission_error
+        from ..contact.transmission import transmission_error
 
         try:
             transmission = transmission_error(inputs, float(gs.torque.rated_nm), positions=16)
@@ -1133,7 +1133,7 @@ _RATCHET_JOB = None  # (inputs, catalogue) for the forked worker of _start_ratch
 
 
 def _ratcheting_catalogue(gs):
-    from .contact.chain import catalogue_for
+    from ..contact.chain import catalogue_for
 
     row = catalogue_for(gs)
     return None if row is None or row.get("ratcheting_torque_nm") is None else {
@@ -1155,7 +1155,7 @@ def _start_ratcheting_early(result: Design, inputs):
 
 
 def _ratcheting(inputs, cat, notes: list):
-    from .contact.ratchet import ratcheting_torque
+    from ..contact.ratchet import ratcheting_torque
 
     try:
         ratchet = ratcheting_torque(inputs, catalogue=cat)
@@ -1202,8 +1202,8 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     """Fit the right working flank by every method, build the CS outline from the chosen one
     (its corners rounded for wire EDM as ``cs``, the gear set's ``circular_spline``, says;
     sharp without it), and check it against the FS tooth family at ``positions`` poses."""
-    from .arcfit import fit_profile, fit_profile_per_branch, swept_depth_function
-    from .rootfillet import filleted_cs_chain
+    from ..profile.arcfit import fit_profile, fit_profile_per_branch, swept_depth_function
+    from ..profile.rootfillet import filleted_cs_chain
 
     flank, thinned = _fit_points(form.working_flank["right"])
     swept = swept_depth_function(tooth, motion, cs_teeth=form.cs_teeth, phi_range=env.phi_range)

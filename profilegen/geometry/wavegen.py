@@ -48,9 +48,9 @@ from typing import Protocol
 
 import numpy as np
 
-from . import checks
-from .errors import ConvergenceError, GearSetError, ProfilegenError
-from .results import readonly as _readonly
+from .. import checks
+from ..errors import ConvergenceError, GearSetError, ProfilegenError
+from ..results import readonly as _readonly
 
 __all__ = [
     "Contour",

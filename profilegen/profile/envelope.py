@@ -41,13 +41,13 @@ import contourpy
 import numpy as np
 import shapely
 
-from .errors import ConvergenceError, EnvelopeError
-from .kinematics import Motion, turn, unit_radial, unit_tangential
-from .results import readonly as _readonly
-from .stagecache import checkpoint
+from ..errors import ConvergenceError, EnvelopeError
+from ..geometry.kinematics import Motion, turn, unit_radial, unit_tangential
+from ..results import readonly as _readonly
+from ..stagecache import checkpoint
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .teeth import ToothProfile
+    from ..geometry.teeth import ToothProfile
 
 __all__ = [
     "CONJUGATE",

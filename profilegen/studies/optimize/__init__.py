@@ -42,7 +42,7 @@ __all__ = [
 
 
 class _CallableModule(types.ModuleType):
-    """``profilegen.optimize`` is this package and :func:`optimize` at once."""
+    """``profilegen.studies.optimize`` is this package and :func:`optimize` at once."""
 
     def __call__(self, *args, **kwargs):
         return optimize(*args, **kwargs)

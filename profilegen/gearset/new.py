@@ -62,7 +62,7 @@ import math
 import tomllib
 from dataclasses import dataclass
 
-from .errors import ProfilegenError
+from ..errors import ProfilegenError
 
 __all__ = ["CatalogueSet", "NewSetError", "PITCH_DIAMETER_PER_SIZE_MM", "RATIO_RANGE", "SERIES", "SIZES",
            "WIRE_DIAMETERS_MM", "derived_quantities", "new_gearset", "wire_for_module"]
@@ -147,7 +147,7 @@ def new_gearset(size: int, ratio: int, *, series: str = "csf", torque_rated_nm: 
     from it. ``size``: one of :data:`SIZES`; ``ratio``: a whole number in :data:`RATIO_RANGE`;
     ``series``: one of :data:`SERIES`; torques in N·m (default: the rating rule). Raises
     :class:`NewSetError` naming the bad argument."""
-    from .gearset import parse_gearset
+    from . import parse_gearset
 
     size = _whole("size", size, f"one of {', '.join(map(str, SIZES))}")
     if size not in SIZES:
@@ -181,13 +181,13 @@ def new_gearset(size: int, ratio: int, *, series: str = "csf", torque_rated_nm: 
         shf = ("\n# SHF is a hat-type flexspline: written here as a cup with the same toothed ring (the hat's\n"
                "# flange is not modelled; the rim, tooth ring and bearing are what the stages use).") if series == "shf" else ""
         return f"""# A {label}-{size}-{ratio} strain wave gear of catalogue proportions, written by
-# `profilegen new --size {size} --ratio {ratio} --series {series}` (profilegen.catalogue_set).
+# `profilegen new --size {size} --ratio {ratio} --series {series}` (profilegen.gearset.new).
 # Given: the size ({size}), the ratio ({ratio}) and the series. Every other number is an ESTIMATE
-# by the rule named beside it (the rules and their sources: profilegen/catalogue_set.py).{shf}
+# by the rule named beside it (the rules and their sources: profilegen/gearset/new.py).{shf}
 
 name = "{name}"
 description = "{label}-{size}-{ratio} (catalogue proportions, estimated): m = {_g(m)} mm, z = {z1}/{z2}, d = {_g(d, 3)} mm"
-source = "profilegen new: size {size}, ratio {ratio}, series {label}; geometry, material and torques are ESTIMATES by the rules of profilegen/catalogue_set.py (see comments)"
+source = "profilegen new: size {size}, ratio {ratio}, series {label}; geometry, material and torques are ESTIMATES by the rules of profilegen/gearset/new.py (see comments)"
 scene = "design"
 
 [gear]

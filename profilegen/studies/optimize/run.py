@@ -38,7 +38,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..pools import stop_pool
+from ...pools import stop_pool
 from ..sweep import init_worker, signals_deferred, write_table
 from .evaluate import DESIGN_OUTPUTS, STATUS_COLUMNS, VERDICT_COLUMNS, evaluate_design, evaluate_points
 from .search import Problem, SearchResult, dominates, judge, rank_disagreement, search
@@ -92,7 +92,7 @@ def optimize(spec: OptimizeSpec | str | os.PathLike, out_dir: str | os.PathLike 
 
     ``executor``: where designs run (not shut down here), default a process pool of
     ``workers`` processes (the CPU count) closed at the end; a Dask cluster through
-    :func:`profilegen.sweep.dask_executor`. ``progress(done, total)`` after each design
+    :func:`profilegen.studies.sweep.dask_executor`. ``progress(done, total)`` after each design
     (the total grows by the front's size when the confirm step starts). Interrupted, it
     ends its own pool's workers and re-raises; run it again to resume from the journals.
     """
@@ -102,7 +102,7 @@ def optimize(spec: OptimizeSpec | str | os.PathLike, out_dir: str | os.PathLike 
     if workers is not None and not (isinstance(workers, int) and not isinstance(workers, bool) and workers >= 1):
         raise ValueError(f"workers must be an integer >= 1, got {workers!r}")
     out = Path(out_dir) if out_dir is not None else Path("export") / "optimize" / spec.name
-    from ..output import folder
+    from ...output import folder
 
     with folder.owning(out, ours=OPTIMIZE_FILES, patterns=(DESIGN_PATTERN,), marker=folder.MARKER,
                        command="optimize", lock_wait_s=folder.LOCK_WAIT_S if lock_wait_s is None else lock_wait_s) as owned:
@@ -181,7 +181,7 @@ def _run(spec: OptimizeSpec, out: Path, owned, executor: Executor, progress, fig
         "start_feasible": start.get("confirm_feasible", start["feasible"]),
         **disagreement,
     }
-    from ..output import folder
+    from ...output import folder
 
     with owned.stage(keep=JOURNALS) as staging:  # the new set with the journals, swapped in as one
         written = [p.relative_to(staging).as_posix() for p in _write(spec, staging, res, front_rows, start, summary,
@@ -196,7 +196,7 @@ def _run(spec: OptimizeSpec, out: Path, owned, executor: Executor, progress, fig
 def gearset_name(name: str, suffix: str = "") -> str:
     """``name`` + ``suffix`` as a gear-set name ``profilegen check`` accepts: lower case letters,
     digits, ``_`` and ``-`` (every other character ``_``), at most 100 characters."""
-    from ..gearset.reader import MAX_NAME_CHARS
+    from ...gearset.reader import MAX_NAME_CHARS
 
     text = re.sub(r"[^a-z0-9_-]", "_", (name + suffix).lower())
     if len(text) > MAX_NAME_CHARS:
@@ -232,7 +232,7 @@ def _disagreement(cheap: Problem, fine: Problem, front: list[dict]) -> dict:
 
 def _write(spec: OptimizeSpec, out: Path, res: SearchResult, front: list[dict], start: dict, summary: dict,
            figure: bool) -> tuple[Path, ...]:
-    from ..output.optimize import front_figure, optimize_report_html, write_gearset_toml
+    from ...output.optimize import front_figure, optimize_report_html, write_gearset_toml
 
     names = [v.name for v in spec.variables]
     judged = list(dict.fromkeys([o.output for o in spec.objectives] + [c.output for c in spec.constraints]))
@@ -268,7 +268,7 @@ def _write(spec: OptimizeSpec, out: Path, res: SearchResult, front: list[dict], 
     files.append(optimize_report_html(summary, table[1:], start, variables=names, objectives=objectives,
                                       constraints=[c.output for c in spec.constraints],
                                       figure="front.png" if figure else None, path=out / "report.html"))
-    from ..output.export import atomic_write
+    from ...output.export import atomic_write
 
     with atomic_write(out / "summary.json") as f:
         f.write(json.dumps(summary, indent=1, default=str) + "\n")

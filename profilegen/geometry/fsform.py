@@ -1,8 +1,8 @@
 """The flexspline's undeformed form as true lines and circular arcs (what CAD, EDM and a B-rep take).
 
 Frame: the gear centre at the origin, tooth 0's axis along +y, mm; angles of
-:class:`~profilegen.contour.Arc` are math angles (from +x, counter-clockwise). The tooth
-frame of :mod:`profilegen.teeth` (origin on the neutral line, centre at ``(0, -r_m)``) is
+:class:`~profilegen.geometry.contour.Arc` are math angles (from +x, counter-clockwise). The tooth
+frame of :mod:`profilegen.geometry.teeth` (origin on the neutral line, centre at ``(0, -r_m)``) is
 moved up by ``r_m``.
 
 One tooth (:func:`flexspline_tooth_chain`) runs counter-clockwise about the centre, as
@@ -16,10 +16,10 @@ mirror image) tip → root, the step down and the root circle to the middle of t
 
 The flank's segments become elements as follows:
 
-* DCTA (:class:`~profilegen.teeth.ArcSegment`, :class:`~profilegen.teeth.LineSegment`):
+* DCTA (:class:`~profilegen.geometry.teeth.ArcSegment`, :class:`~profilegen.geometry.teeth.LineSegment`):
   the same arcs and line, exactly (deviation 0 up to round-off);
-* involute and point-list flanks (:class:`~profilegen.teeth.InvoluteSegment`,
-  :class:`~profilegen.teeth.SplineSegment`): an arc spline of G1 biarcs through points of
+* involute and point-list flanks (:class:`~profilegen.geometry.teeth.InvoluteSegment`,
+  :class:`~profilegen.geometry.teeth.SplineSegment`): an arc spline of G1 biarcs through points of
   the exact curve with its exact tangents (equal-tangent-length biarcs), each piece halved
   until its two-sided distance to the exact curve is ≤ ``tol_mm``.
 
@@ -27,7 +27,7 @@ The deviation returned is the largest distance between the elements and the exac
 measured both ways (points of the exact curve to the elements, exactly for lines and arcs;
 points of the elements to the curve by Newton foot points), 257 points a piece.
 
->>> from profilegen.teeth import dcta_tooth
+>>> from profilegen.geometry.teeth import dcta_tooth
 >>> from types import SimpleNamespace
 >>> gear = SimpleNamespace(module_mm=0.5, flexspline_teeth=200, neutral_radius_mm=48.95)
 >>> tooth = dcta_tooth(module_mm=0.5, teeth=200, neutral_radius_mm=48.95)
@@ -48,7 +48,7 @@ from typing import Any
 import numpy as np
 
 from .contour import Arc, Chain, Line
-from .errors import ConvergenceError, GearSetError, ProfilegenError
+from ..errors import ConvergenceError, GearSetError, ProfilegenError
 from .teeth import ArcSegment, LineSegment, ToothProfile
 
 __all__ = ["FlexsplineFormError", "flexspline_tooth_chain", "flexspline_outline", "ring_of_teeth", "flank_elements"]
@@ -76,7 +76,7 @@ class FlexsplineFormError(ProfilegenError, ValueError):
 def _check(tooth: Any, gear: Any, tol_mm: Any) -> tuple[int, float, float]:
     """z1, r_m and the tolerance, validated; ``gear`` may be a gear set (its ``.gear`` is read)."""
     if not isinstance(tooth, ToothProfile):
-        raise TypeError(f"tooth must be a profilegen.teeth.ToothProfile, got {type(tooth).__name__}")
+        raise TypeError(f"tooth must be a profilegen.geometry.teeth.ToothProfile, got {type(tooth).__name__}")
     gear = getattr(gear, "gear", gear)
     for name in ("flexspline_teeth", "neutral_radius_mm", "module_mm"):
         if not hasattr(gear, name):

@@ -1,7 +1,7 @@
 """The incremental engine: :func:`profilegen.design` with every stage's result kept and reused.
 
 An :class:`Engine` runs the same pipeline as :func:`profilegen.design` (the same code: each
-stage of :func:`profilegen.pipeline._design` is one lookup in the engine's stage cache), but a
+stage of :func:`profilegen.pipeline.design._design` is one lookup in the engine's stage cache), but a
 stage whose inputs have not changed since an earlier design is taken from the cache instead of
 run again. Each stage is keyed by what it reads (:data:`STAGE_INPUTS`): the gear-set sections,
 the scene keys, its own arguments and its upstream stage's key — so
@@ -71,11 +71,11 @@ from typing import TYPE_CHECKING, Any, Callable, cast
 
 import numpy as np
 
-from .gearset import GearSet
-from .stagecache import STAGE_CACHE, checkpoint, reuse
+from ..gearset import GearSet
+from ..stagecache import STAGE_CACHE, checkpoint, reuse
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .pipeline import Design
+    from .design import Design
     from .scenes import Scene
 
 __all__ = ["Engine", "Cancelled", "checkpoint", "reuse", "STAGE_INPUTS", "DEFAULT_MEMORY_BYTES", "default_engine",
@@ -125,7 +125,7 @@ def _rim_sections(tier) -> tuple[str, ...]:
     sections = STAGE_INPUTS["rim"][0]
     model = getattr(tier, "model", None)
     if model is None:  # a tier name: the bundled tiers
-        from .rim.stage import RIM_TIERS
+        from ..rim.stage import RIM_TIERS
 
         model = getattr(RIM_TIERS.get(tier), "model", "toothed")
     if model == "ring theory":  # ω*, the waves and the module only: a material or cup change keeps it
@@ -200,7 +200,7 @@ def nbytes(value) -> int:
 
 
 class _Run:
-    """One :meth:`Engine.design` call: the stage lookups of :func:`profilegen.pipeline._stage`
+    """One :meth:`Engine.design` call: the stage lookups of :func:`profilegen.pipeline.design._stage`
     (this object is :data:`profilegen.stagecache.STAGE_CACHE` while it runs) and its checkpoint."""
 
     def __init__(self, engine: "Engine", generation: int, stop: Callable[[], bool] | None = None):
@@ -309,7 +309,7 @@ class Engine:
         ``stop()`` returns True at a checkpoint: this one design's own cancellation, for callers
         that share an engine (``supersede=False``: the app's tabs, each superseding only its own
         designs; ``stop`` is called at every checkpoint, so it must be quick)."""
-        from . import pipeline
+        from . import design as pipeline
 
         with self._lock:
             if self.supersede:

@@ -28,16 +28,16 @@ from typing import TYPE_CHECKING
 import numpy as np
 import shapely
 
-from .errors import EnvelopeError
-from .kinematics import turn
-from .results import readonly as _readonly
-from .stagecache import checkpoint
+from ..errors import EnvelopeError
+from ..geometry.kinematics import turn
+from ..results import readonly as _readonly
+from ..stagecache import checkpoint
 
 if TYPE_CHECKING:  # pragma: no cover
-    from .deformation import Deformation
+    from ..geometry.deformation import Deformation
     from .envelope import Envelope
-    from .kinematics import Motion
-    from .teeth import ToothProfile
+    from ..geometry.kinematics import Motion
+    from ..geometry.teeth import ToothProfile
 
 __all__ = ["CircularSplineForm", "ClearanceMap", "PolylineDistance", "circular_spline_form", "clearance_map", "cs_chain",
            "cs_local_chain", "cs_outline", "cs_space"]
@@ -336,7 +336,7 @@ def circular_spline_form(
 class UnresolvedBoundaryError(EnvelopeError):
     """The swept boundary has a stretch the trace did not resolve above the CS tip circle (a
     grazing crossing between two grid lines). A finer chord resolves it: the pipeline retraces
-    the envelope itself (:func:`profilegen.pipeline.traced_form`) before this reaches a user."""
+    the envelope itself (:func:`profilegen.pipeline.design.traced_form`) before this reaches a user."""
 
 #: On an :class:`UnresolvedBoundaryError` the pipeline traces again at a chord ``RETRACE_FACTOR``
 #: finer, up to ``RETRACES`` times (the memory preflight budgets for the finest of those traces).
@@ -698,7 +698,7 @@ def _math_angle(p) -> float:
 
 def _clip_start_to_circle(element, radius: float):
     """The element with its start moved (along itself) onto the circle r = radius about the origin."""
-    from .contour import Arc, Line
+    from ..geometry.contour import Arc, Line
 
     if isinstance(element, Line):
         d = element.tangent()
@@ -743,13 +743,13 @@ def cs_space(flank, *, tip_radius_mm: float, root_radius_mm: float, swept=None, 
     space's axis before the root circle (a narrow space), one arc centred on the axis and
     tangent to both flank ends closes the space instead, short of the root circle. Given
     ``swept`` (the FS tooth family's swept-region depth, mm > 0 inside:
-    :func:`profilegen.arcfit.swept_depth_function`), where that arc would enter the swept
+    :func:`profilegen.profile.arcfit.swept_depth_function`), where that arc would enter the swept
     region by more than ``swept_tol_mm`` (the FS tip land's corners pass under it), each flank
     first runs on along its end tangent by the shortest line that keeps the arc out. Returns the
     chain of one space (left tip point → right tip point); its corners are sharp
-    (:mod:`profilegen.rootfillet` rounds them).
+    (:mod:`profilegen.profile.rootfillet` rounds them).
     """
-    from .contour import Arc, Chain, Line
+    from ..geometry.contour import Arc, Chain, Line
 
     els = list(flank.elements)
     els[0] = _clip_start_to_circle(els[0], tip_radius_mm)
@@ -787,7 +787,7 @@ def cs_space(flank, *, tip_radius_mm: float, root_radius_mm: float, swept=None, 
 def _closure_arc(end: np.ndarray, d: np.ndarray):
     """The arc centred on the space's axis, tangent to the right flank's end (``end``, unit end
     tangent ``d``) and to its mirror image, clockwise across the top."""
-    from .contour import Arc
+    from ..geometry.contour import Arc
 
     radius = end[0] / d[1]  # centre (0, c_y) on the flank end's normal
     centre = np.array([0.0, end[1] + radius * d[0]])
@@ -840,7 +840,7 @@ def _closure_run(end: np.ndarray, d: np.ndarray, swept, tol: float) -> float:
 def cs_local_chain(space, outline):
     """The chain of spaces −1, 0 and 1 (with their tip lands) of a closed CS ``outline`` made by
     :func:`cs_outline` from ``space``: what a check around space 0 measures against."""
-    from .contour import Chain
+    from ..geometry.contour import Chain
 
     n_unit = len(space.elements) + 1  # a space and the tip-land arc after it
     return Chain(tuple(outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]))
@@ -849,7 +849,7 @@ def cs_local_chain(space, outline):
 def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
     """The closed CS inner outline: ``space`` (a contour.Chain from the tip circle to the tip
     circle, space 0) repeated every 2π/z2, neighbours joined by arcs of the tip circle."""
-    from .contour import Arc, Chain
+    from ..geometry.contour import Arc, Chain
 
     pitch = 2 * np.pi / cs_teeth
     # our CS polar angle runs clockwise; space k+1 is space k turned by −pitch in math angles

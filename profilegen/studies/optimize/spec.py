@@ -38,14 +38,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, NoReturn
 
-from ..errors import GearSetError, OptimizeSpecError
-from ..gearset import GearSet
+from ...errors import GearSetError, OptimizeSpecError
+from ...gearset import GearSet
 from ..sweep import check_field, flat_table, spec_header, spec_scene
 from .evaluate import CONTACT_OUTPUTS, DESIGN_OUTPUTS
 from .search import SENSES, Constraint, Objective, Variable
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..scenes import Scene
+    from ...pipeline.scenes import Scene
 
 __all__ = ["OptimizeSpec", "load_optimize_spec", "parse_optimize_spec"]
 
@@ -88,7 +88,7 @@ class OptimizeSpec:
 
 def load_optimize_spec(path: str | os.PathLike) -> OptimizeSpec:
     """Read and validate an optimisation spec file (:class:`OptimizeSpecError` naming the key)."""
-    from ..gearset import read_toml
+    from ...gearset import read_toml
 
     path = Path(path)
     data = read_toml(path, OptimizeSpecError, "optimisation spec file")
