@@ -174,7 +174,7 @@ def flank_offset_gap_mm(points, motion, thickness_change_mm) -> np.ndarray:
     tooth's tangent e_t; > 0 thicker), as :func:`profilegen.face.modification.modified_tooth`
     makes it: each point's flank (the sign of its tooth-frame x) moves by ±Δs/2 e_t(Φ), its
     separation by −n_k · that (turned into CS space 0's frame as
-    :func:`~profilegen.contact.face_load.gap_shift_mm`). ``thickness_change_mm``: one number
+    the face-load study's ``gap_shift_mm`` (``research/face_load.py``)). ``thickness_change_mm``: one number
     or one per point."""
     local = np.asarray(points.local_mm, dtype=float)
     ds = np.broadcast_to(np.asarray(thickness_change_mm, dtype=float), (local.shape[0],))
@@ -212,13 +212,13 @@ def slice_gap_shifts(inputs, points, slices: int, *, coning: str = "cup", cup=No
     same distance at the design section (:func:`_signed_gaps`). Near contact that distance is
     the pair's separation (to 0.1 nm), so the slice's separation is exact however far the
     coning and the modification move the tooth; the first-order shift −n_k · Δp_k
-    (:func:`~profilegen.contact.face_load.gap_shift_mm`, :func:`flank_offset_gap_mm`,
+    (the face-load study's ``gap_shift_mm`` (``research/face_load.py``), :func:`flank_offset_gap_mm`,
     :func:`radial_offset_gap_mm`) is its limit for small moves, and on a ratio-50 set (csf32_50:
     radial shift to −147 µm, the coning) it was 4–137 µm off per slice at the points within
     30 µm of contact, enough to make the flanks overlap at no load (first contact −0.78 arcmin
     against +0.88) where the face stage's exact maps find the part clear.
 
-    ``coning`` "cup" (the 3D cup's sections, :func:`~profilegen.contact.face_load.cup_sections`;
+    ``coning`` "cup" (the 3D cup's sections, :func:`~profilegen.contact.coning_sections.cup_sections`;
     ``cup`` a CupContact / CupDeformation, default :func:`~profilegen.rim.cup.contact.press_cup`
     of the set), "semi_membrane" (the design deformation × z/z_d) or "none" (the design
     deformation in every slice). ``design_z_mm``: the section the CS is conjugate to (default
@@ -240,7 +240,7 @@ def _slice_gap_shifter(inputs, slices: int, *, coning: str, cup, design_z_mm, mo
     distance built once, for both flanks."""
     from ..face.modification import radial_shift, thickness_change
     from ..geometry.kinematics import HarmonicDriveMotion
-    from .face_load import cup_sections, semi_membrane_sections
+    from .coning_sections import cup_sections, semi_membrane_sections
     from .inputs import ContactInput
 
     inputs = ContactInput.from_design(inputs, name="inputs")
@@ -441,7 +441,7 @@ def slice_coupling_matrix(positions_mm, widths_mm, coupling_length_mm: float = 0
     """K (N × N): slice i's deflection is Σ_j K_ij S F_j (S the 2D compliance for the whole face
     b). Independent slices (λ = 0): K = diag(b/w_i). λ > 0 (``coupling_length_mm``): a Pasternak
     foundation along the face, k (w_i u_i + λ² Σ_j (u_i − u_j)/h_ij) = P_i between neighbouring
-    nodes h_ij apart, so K = b (W + λ² L_h)⁻¹ — face_load's slice_coupling on unequal cells. An
+    nodes h_ij apart, so K = b (W + λ² L_h)⁻¹ — the face-load study's slice_coupling on unequal cells. An
     even line load (P ∝ w) deflects every slice alike, as the 2D section: (W + λ² L_h) 1 = w."""
     z = np.atleast_1d(np.asarray(positions_mm, dtype=float))
     w = np.atleast_1d(np.asarray(widths_mm, dtype=float))

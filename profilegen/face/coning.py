@@ -15,7 +15,7 @@ names the rim model a scene's design runs:
   modification are not decided (:data:`UNDECIDED`), and the files say so.
 
 Why not the semi-membrane coning on the 2D ring's section (ω(φ, z) = ω(φ, z_b)·z/z_b about the
-bearing's centre z_b, :func:`profilegen.contact.face_load.semi_membrane_sections`)? It scales the
+bearing's centre z_b, :func:`profilegen.contact.coning_sections.semi_membrane_sections`)? It scales the
 minor axis inward with z as well as the major axis outward; the cup pressed onto the wave
 generator over the bearing width stops the minor axis on the cam (ω_minor −0.503 mm at z = 65
 and 70 mm on seed000_csf40, semi-membrane −0.543/−0.585). With it no section of seed000_csf40 is

@@ -27,7 +27,7 @@ from ..results import readonly as _readonly
 if TYPE_CHECKING:  # pragma: no cover
     from numpy.typing import ArrayLike
 
-__all__ = ["Deformation", "HarmonicDeformation", "ring_theory"]
+__all__ = ["Deformation", "HarmonicDeformation", "ScaledDeformation", "ring_theory"]
 
 
 class Deformation(Protocol):
@@ -113,6 +113,23 @@ class HarmonicDeformation:
             "cos_mm": self.cos_mm.tolist(),
             "sin_mm": self.sin_mm.tolist(),
         }
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ScaledDeformation:
+    """A deformation with ω and υ (and their φ-derivatives) times ``factor``: the same wave
+    generator at another deflection, or a cup section at another axial position."""
+
+    base: Deformation
+    factor: float
+
+    @property
+    def symmetric(self) -> bool:
+        return bool(getattr(self.base, "symmetric", False))
+
+    def evaluate(self, phi, order: int = 3):
+        omega, upsilon = self.base.evaluate(phi, order=order)
+        return self.factor * np.asarray(omega), self.factor * np.asarray(upsilon)
 
 
 def ring_theory(deflection_mm: float, waves: int = 2) -> HarmonicDeformation:

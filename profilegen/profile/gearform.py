@@ -29,12 +29,12 @@ import numpy as np
 import shapely
 
 from ..errors import EnvelopeError
+from ..geometry.deformation import ScaledDeformation
 from ..geometry.kinematics import turn
 from ..results import readonly as _readonly
 from ..stagecache import checkpoint
 
 if TYPE_CHECKING:  # pragma: no cover
-    from ..geometry.deformation import Deformation
     from .envelope import Envelope
     from ..geometry.kinematics import Motion
     from ..geometry.teeth import ToothProfile
@@ -101,22 +101,6 @@ def _angle_from_radial(points: np.ndarray) -> np.ndarray:
     return np.degrees(np.arccos(np.clip(cosang, 0.0, 1.0)))
 
 
-@dataclass(frozen=True, slots=True, eq=False)
-class _ScaledDeformation:
-    """A deformation with ω and υ times ``factor``: the same wave generator at another deflection."""
-
-    base: Deformation
-    factor: float
-
-    @property
-    def symmetric(self) -> bool:
-        return bool(getattr(self.base, "symmetric", False))
-
-    def evaluate(self, phi, order: int = 3):
-        omega, upsilon = self.base.evaluate(phi, order=order)
-        return self.factor * np.asarray(omega), self.factor * np.asarray(upsilon)
-
-
 def _tip_path_steepest(tooth, motion, phi_range, factor: float = 1.0, n: int = 4001) -> float:
     """Smallest angle (deg) from radial of the path of the FS tooth's tip (the top land's middle)
     over one pass, the deflection scaled by ``factor``. The top of the swept boundary follows
@@ -125,7 +109,7 @@ def _tip_path_steepest(tooth, motion, phi_range, factor: float = 1.0, n: int = 4
     import dataclasses
 
     if factor != 1.0:
-        motion = dataclasses.replace(motion, deformation=_ScaledDeformation(motion.deformation, factor))
+        motion = dataclasses.replace(motion, deformation=ScaledDeformation(motion.deformation, factor))
     pose = motion.pose(np.linspace(phi_range[0], phi_range[1], n))
     tip = pose.to_cs(np.broadcast_to(np.array([0.0, tooth.addendum_y_mm]), (n, 2)))
     return float(_angle_from_radial(tip).min())

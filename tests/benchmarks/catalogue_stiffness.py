@@ -10,7 +10,7 @@ secants at T1, T2 against the row's; then what each candidate for the missing co
 would add, at T1 and T2, on the mesh with rigid balls settled at that torque (the Hertz ball
 springs' share is the chain's and is kept as it is):
 
-* coning across the face (profilegen.contact.face_load, the 3D cup's sections, 8 slices, the
+* coning across the face (research/face_load.py, the 3D cup's sections, 8 slices, the
   2D tooth uncorrected along the face): the change of the mesh rotation at T1 and T2 — one
   flank (the opposite flank's preload left out; its "K1" is then not a catalogue K1) and both
   flanks (every ball a Hertz spring at its 500 N secant; the change of the elastic rotation
@@ -47,7 +47,7 @@ from profilegen.contact.analysis import solve_contact  # noqa: E402
 from profilegen.contact.catalogue import catalogue_row  # noqa: E402
 from profilegen.contact.chain import compliance_chain, torsional_curve  # noqa: E402
 from tests.oracles.cs_ring import CSRing, cs_ring_compliance  # noqa: E402
-from profilegen.contact.face_load import (  # noqa: E402
+from research.face_load import (  # noqa: E402
     cup_sections, gap_shift_mm, slice_positions, solve_face, solve_two_flanks, two_flank_sides)
 from profilegen.contact.inputs import ContactInput  # noqa: E402
 from profilegen.contact.solvers import solve_lemke  # noqa: E402

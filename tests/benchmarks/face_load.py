@@ -13,7 +13,7 @@ mesh's rotation — the secant from the design's first contact and the chord bet
 196 N·m (the catalogue's K2 interval), with and without coning; slices 4 / 8 / 16 at the rated
 torque; the slices coupled (Pasternak) with λ = the tooth height and λ = √(r_m δ) (the rim as a
 cylindrical shell) to bracket what the independent slices leave out. Then both flanks
-(profilegen.contact.face_load.face_two_flanks: where coning makes the flanks overlap at no
+(research.face_load.face_two_flanks: where coning makes the flanks overlap at no
 load the one-flank model lets the FS back off freely, both flanks do not), every ball active,
 rigid or as a Hertz spring (its secant at 2000 and 500 N): the torque each flank carries at
 zero and the rated torque (the preload), the + flank's line load per slice, K1 = T1/(φ(T1) −
@@ -37,7 +37,7 @@ from threadpoolctl import threadpool_limits  # noqa: E402
 
 import profilegen as pg  # noqa: E402
 from profilegen.contact.analysis import solve_contact  # noqa: E402
-from profilegen.contact.face_load import (  # noqa: E402
+from research.face_load import (  # noqa: E402
     cup_sections, gap_shift_mm, semi_membrane_sections, slice_positions, solve_face, two_flank_sides)
 from profilegen.contact.inputs import ContactInput  # noqa: E402
 from profilegen.rim.cup.contact import press_cup  # noqa: E402
@@ -135,7 +135,7 @@ def main(path: Path) -> None:
 
 def two_flanks(path: Path) -> None:
     from profilegen.contact.chain import BallBearing
-    from profilegen.contact.face_load import solve_two_flanks
+    from research.face_load import solve_two_flanks
 
     gs = pg.load_gearset(path)
     design = pg.design(gs, scene="design", contact=False, stress=False)

@@ -39,12 +39,12 @@ test_unit_constants.py, test_sampling_grids.py, test_optimize_senses.py.)
     loadzone-arcmin                    research/loadzone.py       caught
     contact-torque-in-nm               contact/analysis.py        caught
     contact-stage-torque-in-nm         contact/analysis.py        caught
-    face-load-torque-one-zone          contact/face_load.py       caught
+    face-load-torque-one-zone          research/face_load.py      caught
     climb-torque-unit                  contact/climb.py           caught
     te-endpoint-twice                  contact/transmission.py    caught
     te-shift-ratio                     contact/transmission.py    caught
     climb-positions-endpoint           contact/ratchet.py         caught
-    face-slices-left-ends              contact/face_load.py       caught
+    face-slices-left-ends              research/face_load.py      caught
     face-curve-ends-weight             contact/face_curve.py      caught
     balls-endpoint-twice               research/bearing_clearance.py caught
     ratchet-climb-section-swapped      contact/ratchet.py         caught
@@ -61,7 +61,7 @@ test_unit_constants.py, test_sampling_grids.py, test_optimize_senses.py.)
     climb-no-cap-warning               contact/climb.py           caught
     climb-no-first-rotation-warning    contact/climb.py           caught
     dedoidal-eccentricity-ignored      research/dedoidal.py       caught
-    face-load-no-coning-warning        contact/face_load.py       caught
+    face-load-no-coning-warning        research/face_load.py      caught
     cup-bore-load-endpoint             rim/cup/fourier.py         caught
     cup-nonlinear-samples-endpoint     rim/cup/nonlinear.py       caught
     cup-contact-orders                 rim/cup/contact.py         caught
@@ -213,10 +213,10 @@ MUTANTS: tuple[Mutant, ...] = (
            "    torque_nmm = torque_nm / points.zones * 1e3\n    if solver == \"lemke\":",
            "    torque_nmm = torque_nm / points.zones\n    if solver == \"lemke\":",
            (U + "test_unit_constants.py",), "unit: N·m in the contact stage's every-ball solve (N·mm)"),
-    Mutant("face-load-torque-one-zone", "profilegen/contact/face_load.py",
+    Mutant("face-load-torque-one-zone", "research/face_load.py",
            "    tz = torque / points.zones * 1e3\n    theta = (e[None, :] + de) / r[None, :]",
            "    tz = torque * 1e3\n    theta = (e[None, :] + de) / r[None, :]",
-           (U + "test_warnings_fire.py", U + "test_face_load.py"), "the zone's torque is T/U, not T"),
+           (U + "test_warnings_fire.py", "tests/research/test_face_load.py"), "the zone's torque is T/U, not T"),
     Mutant("climb-torque-unit", "profilegen/contact/climb.py",
            "torque = model.zones * float(f @ lever) / 1000.0", "torque = model.zones * float(f @ lever) / 100.0",
            (U + "test_warnings_fire.py", U + "test_ratchet_ring.py"), "unit: the climb's N·mm → N·m off by 10"),
@@ -233,9 +233,9 @@ MUTANTS: tuple[Mutant, ...] = (
            "shifts = [shift_rad - k * passage / positions for k in range(positions)]",
            "shifts = [shift_rad - k * passage / max(positions - 1, 1) for k in range(positions)]",
            (U + "test_sampling_grids.py",), "endpoint counted twice: the last position is the first"),
-    Mutant("face-slices-left-ends", "profilegen/contact/face_load.py",
+    Mutant("face-slices-left-ends", "research/face_load.py",
            "return z0 - 0.5 * b + (np.arange(n) + 0.5) * b / n", "return z0 - 0.5 * b + np.arange(n) * b / n",
-           (U + "test_sampling_grids.py", U + "test_face_load.py"), "slices at their left edges, not mid-planes"),
+           (U + "test_sampling_grids.py", "tests/research/test_face_load.py"), "slices at their left edges, not mid-planes"),
     Mutant("face-curve-ends-weight", "profilegen/contact/face_curve.py",
            "w[[0, -1]] = 0.5 * h", "w[[0, -1]] = h",
            (U + "test_sampling_grids.py", U + "test_face_curve.py"), "trapezoid's end nodes counted whole: Σw > b"),
@@ -295,9 +295,9 @@ MUTANTS: tuple[Mutant, ...] = (
            "        self._rest[:2] = ecc * np.array(", "        self._rest[:2] = 0.0 * np.array(",
            ("tests/research/test_dedoidal.py::test_eccentricity_is_the_cup_springs_load",),
            "the eccentricity dropped (the old test compared two runs that could not differ)"),
-    Mutant("face-load-no-coning-warning", "profilegen/contact/face_load.py",
+    Mutant("face-load-no-coning-warning", "research/face_load.py",
            "if np.any(theta < 0.0):", "if np.any(theta < -1.0):",
-           (U + "test_warnings_fire.py", U + "test_face_load.py"), "a removed warning (preloaded slices)"),
+           (U + "test_warnings_fire.py", "tests/research/test_face_load.py"), "a removed warning (preloaded slices)"),
     # ------------------------------------------------------------------ cup (profilegen/rim/cup)
     Mutant("cup-bore-load-endpoint", "profilegen/rim/cup/fourier.py",
            "    phi = 2.0 * math.pi * np.arange(samples) / samples\n    values = np.asarray(contour.radius(phi)",

@@ -138,7 +138,8 @@ def face_run(gs, design) -> None:
     import numpy as np
 
     from profilegen.contact.climb import SlicedClimb, section_inputs
-    from profilegen.contact.face_load import cup_sections, slice_positions
+    from profilegen.contact.coning_sections import cup_sections
+    from research.face_load import slice_positions
     from profilegen.contact.inputs import ContactInput
     from profilegen.rim.cup.contact import press_cup
 

@@ -24,7 +24,7 @@ sys.path.insert(0, str(ROOT))
 
 import profilegen as pg  # noqa: E402
 from profilegen.contact.face_curve import flank_offset_gap_mm, radial_offset_gap_mm, slice_gap_shifts  # noqa: E402
-from profilegen.contact.face_load import coning_gap_shifts  # noqa: E402
+from research.face_load import coning_gap_shifts  # noqa: E402
 from profilegen.contact.inputs import ContactInput  # noqa: E402
 from profilegen.contact.points import contact_points  # noqa: E402
 from profilegen.face.modification import radial_shift, thickness_change  # noqa: E402

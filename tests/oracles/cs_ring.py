@@ -27,7 +27,7 @@ ring's I and A are those of the CS's width.
 
 Check: two opposite radial forces P on a ring: the diameter through them grows by
 0.1488 P R³/EI and the one across shrinks by 0.1366 P R³/EI (Roark's Formulas for Stress
-and Strain, thin circular rings, the two-load case) — ``tests/unit/test_face_load.py``.
+and Strain, thin circular rings, the two-load case) — ``tests/unit/test_coning_sections.py``.
 
 The CS held in its housing (``foundation_radial_n_per_mm2`` k_r, ``foundation_tangential_n_per_mm2``
 k_t, N/mm per mm of circumference): the CS is bolted by its face to a housing (component

@@ -21,7 +21,7 @@ from profilegen.contact.compliance import ContactCompliance
 from profilegen.contact.face_curve import (
     FaceCurveError, FaceSlices, flank_offset_gap_mm, local_fraction, rim_coupling_length_mm, ring_twist_kernel,
     slice_chain, slice_coupling_matrix, slice_gap_shifts, slice_layout, stack_slices)
-from profilegen.contact.face_load import slice_coupling
+from research.face_load import slice_coupling
 from profilegen.contact.inputs import ContactInput
 from profilegen.contact.points import ContactPoints
 from profilegen.contact.reduced import ReducedZone

@@ -9,7 +9,7 @@ stage's expensive work replaced by a stub that records where it is asked to work
   s − k·2π/(z1 N), k = 0 … N − 1 (one FS tooth pitch, no end counted twice);
 * a face section's Fourier-fit samples (face.sections.section_fit): one wave period, its end not
   sampled;
-* the face slices (face_load.slice_positions, face_curve.slice_layout): the midpoint rule's
+* the face slices (research face_load.slice_positions, face_curve.slice_layout): the midpoint rule's
   mid-planes and the trapezoid rule's nodes, whose cells tile the face (Σ w = b);
 * the bearing's balls (clearance.radial_load_with_clearance_n): ψ_i = phase + 2πi/Z, ball i
   compressed δ cos ψ_i − c/2, its Hertz load (that / c_H)^{3/2}.
@@ -119,7 +119,7 @@ def test_climb_positions_step_one_fs_pitch_over_n(monkeypatch, default_sketch):
 
 
 def test_face_load_slices_are_the_midpoints_of_n_equal_cells():
-    from profilegen.contact.face_load import slice_positions
+    from research.face_load import slice_positions
 
     for n in (1, 2, 5):
         z = slice_positions(20.0, n, 3.0)

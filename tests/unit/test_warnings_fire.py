@@ -177,7 +177,7 @@ def test_climb_margin_at_the_first_rotation_warns():
 
 
 def test_coning_that_closes_gaps_warns_and_both_balance_the_torque():
-    from profilegen.contact.face_load import solve_face
+    from research.face_load import solve_face
 
     pts = SimpleNamespace(gap_mm=np.array([0.0, 2e-3, 5e-3]), lever_mm=np.array([50.0, 51.0, 52.0]),
                           tooth=np.array([0, 1, 2]), zones=2)

@@ -1,4 +1,15 @@
-"""Load across the face: the face width as N axial slices in parallel, each with its own gaps.
+"""A study: load across the face as N axial slices in parallel, each with its own gaps (first order).
+
+The product's model of the face is the torsional curve's slices
+(:mod:`profilegen.contact.face_curve`: exact kinematics per slice, the balls one-sided with their
+Hertz springs, the rim coupling the slices). This study came first: it measured how coning
+concentrates the load along the face with first-order gap shifts and the contact stage's ball
+set held rigid, and both flanks' preload where coning makes them overlap. Its numbers are in
+docs/catalogue_comparison.md ("Coning across the face"); ``python tests/benchmarks/face_load.py``
+reproduces them. The sections it places the tooth in are the product's
+(:mod:`profilegen.contact.coning_sections`).
+
+The model of this study, in full:
 
 The loaded contact (:mod:`profilegen.contact.analysis`) solves one section and spreads it
 evenly across the face: the compliance is S = S_2D/b (b the face width) and every axial
@@ -95,28 +106,23 @@ import math
 import time
 from dataclasses import dataclass, field
 from functools import partial
-from typing import TYPE_CHECKING
 
 import numpy as np
 
-from .. import checks
-from ..errors import ProfilegenError
-from ..geometry.kinematics import HarmonicDriveMotion
-from ..results import json_ready, readonly as _readonly
-
-if TYPE_CHECKING:  # pragma: no cover
-    from ..geometry.deformation import Deformation
+from profilegen import checks
+from profilegen.contact.coning_sections import cup_sections, semi_membrane_sections
+from profilegen.errors import ProfilegenError
+from profilegen.geometry.kinematics import HarmonicDriveMotion
+from profilegen.results import json_ready, readonly as _readonly
 
 __all__ = [
     "FaceLoad",
     "FaceLoadError",
     "TwoFlankFace",
     "coning_gap_shifts",
-    "cup_sections",
     "face_load",
     "face_two_flanks",
     "gap_shift_mm",
-    "semi_membrane_sections",
     "slice_coupling",
     "slice_positions",
     "solve_face",
@@ -163,58 +169,7 @@ def slice_coupling(slices: int, coupling_length_mm: float, slice_width_mm: float
     return n * 0.5 * (kern + kern.T)
 
 
-# --------------------------------------------------------------------------- sections and gaps
-
-
-@dataclass(frozen=True, slots=True, eq=False)
-class _ScaledDeformation:
-    """A deformation times a factor (ω, υ and their φ-derivatives all scaled)."""
-
-    base: Deformation
-    factor: float
-
-    def evaluate(self, phi, order: int = 3):
-        w, u = self.base.evaluate(phi, order=order)
-        return np.asarray(w) * self.factor, np.asarray(u) * self.factor
-
-
-def semi_membrane_sections(deformation, z_mm, reference_z_mm: float) -> list:
-    """Semi-membrane coning: the deformation at z is the reference section's times z/z_ref
-    (z from the cup bottom's mid-plane). Returns one deformation per z (with ``evaluate``)."""
-    zr = _positive("reference_z_mm", reference_z_mm)
-    z = np.atleast_1d(np.asarray(checks.finite("z_mm", z_mm, "mm", error=FaceLoadError), dtype=float))
-    if np.any(z <= 0.0):
-        raise FaceLoadError(f"z_mm = {float(z[z <= 0.0][0])!r} mm: must be > 0 (from the cup bottom)")
-    return [_ScaledDeformation(deformation, float(zi / zr)) for zi in z]
-
-
-def cup_sections(cup, z_mm) -> list:
-    """The 3D cup's sections (a :class:`~profilegen.rim.cup.fourier.CupDeformation`, or the
-    :class:`~profilegen.rim.cup.contact.CupContact` of :func:`press_cup`) at ``z_mm``, each as a
-    :class:`~profilegen.geometry.deformation.HarmonicDeformation` (mean, cos 2kφ, sin 2kφ) on the
-    neutral surface: its even harmonics projected exactly from ω(φ, z), υ(φ, z)."""
-    from ..geometry.deformation import HarmonicDeformation
-
-    deformation = getattr(cup, "deformation", cup)
-    if not hasattr(deformation, "omega") or not hasattr(deformation, "orders"):
-        raise FaceLoadError(f"cup: must be a CupDeformation or CupContact (press_cup), got {type(cup).__name__}")
-    orders = np.asarray(deformation.orders, dtype=int)
-    if np.any(orders % 2):
-        raise FaceLoadError("cup: odd harmonics present; the sections need a two-wave (even) deformation")
-    k = orders // 2  # harmonic of cos 2kφ
-    kmax = int(k.max())
-    m = 4 * (kmax + 1)
-    phi = math.pi * np.arange(m) / m  # 2φ covers a full period: exact DFT for 2k < 2m
-    z = np.atleast_1d(np.asarray(z_mm, dtype=float))
-    out = []
-    for zi in z:
-        w = deformation.omega(phi, zi)
-        u = deformation.upsilon(phi, zi)
-        kk = np.arange(1, kmax + 1)
-        a = 2.0 / m * (np.cos(2.0 * np.outer(kk, phi)) @ w)
-        b = 2.0 / m * (np.sin(2.0 * np.outer(kk, phi)) @ u)
-        out.append(HarmonicDeformation(2, a, b, float(w.mean()), tier="cup3d", source=f"cup section z = {zi:g} mm"))
-    return out
+# --------------------------------------------------------------------------- gaps
 
 
 def gap_shift_mm(points, motion: HarmonicDriveMotion, section, reference) -> np.ndarray:
@@ -361,7 +316,7 @@ def coning_gap_shifts(points, motion: HarmonicDriveMotion, gearset, reference_z_
         return np.zeros((z_mm.size, points.count))
     if coning == "cup":
         if cup is None:
-            from ..rim.cup.contact import press_cup
+            from profilegen.rim.cup.contact import press_cup
 
             cup = press_cup(gearset)
         secs = cup_sections(cup, np.r_[reference_z_mm, z_mm])
@@ -372,7 +327,7 @@ def coning_gap_shifts(points, motion: HarmonicDriveMotion, gearset, reference_z_
 
 def _solve_slices(compliance, theta, lever, torque_nmm, coupling):
     """Lemke on the stacked slices; θ may be negative (shifted by its minimum, exact)."""
-    from .solvers import solve_lemke
+    from profilegen.contact.solvers import solve_lemke
 
     n_s = coupling.shape[0]
     big = np.kron(coupling, compliance)
@@ -440,8 +395,8 @@ def face_load(inputs, torque_nm: float, *, slices: int = 8, cup=None, coning: st
     points from an earlier solve, else built; the compliance's balls are settled at this
     torque on the 2D solve first (every ball one-sided at its no-load gap, the contact stage's
     model, or the window's loop) and then held (at their gaps)."""
-    from .analysis import solve_contact
-    from .inputs import ContactInput
+    from profilegen.contact.analysis import solve_contact
+    from profilegen.contact.inputs import ContactInput
 
     inputs = ContactInput.from_design(inputs, name="inputs")
     gs = inputs.gearset
@@ -459,7 +414,7 @@ def face_load(inputs, torque_nm: float, *, slices: int = 8, cup=None, coning: st
     if getattr(comp, "ball_supports", "window") == "all":
         # every ball one-sided at its no-load gap (the contact stage's model): the balls the 2D solve
         # loads are held at their gaps, which moves each point's separation alike on every slice
-        from .reduced import ReducedZone
+        from profilegen.contact.reduced import ReducedZone
 
         _, _, theta, _ = ReducedZone(pts, comp, None)._balls(np.asarray(res.cases[0].ball_active), None)
         pts = dataclasses.replace(pts, gap_mm=pts.lever_mm * theta)
@@ -593,9 +548,9 @@ def two_flank_sides(inputs, *, stations: int = 5, max_gap_mm: float = 0.12) -> t
     :class:`~profilegen.contact.compliance.ContactCompliance` of both lists together) for a
     design or :class:`~profilegen.contact.inputs.ContactInput`: the two flanks share the FS and
     CS bodies, so their points are coupled through S."""
-    from .compliance import ContactCompliance
-    from .inputs import ContactInput
-    from .points import contact_points
+    from profilegen.contact.compliance import ContactCompliance
+    from profilegen.contact.inputs import ContactInput
+    from profilegen.contact.points import contact_points
 
     inputs = ContactInput.from_design(inputs, name="inputs")
     a, b = (contact_points(inputs, side=s, stations=stations, max_gap_mm=max_gap_mm) for s in (1, -1))
@@ -612,7 +567,7 @@ def face_two_flanks(inputs, torque_nm: float, *, slices: int = 8, coning: str = 
     (``sides`` from :func:`two_flank_sides`, else built), the balls settled on the whole
     face's forces with this solve (seed 000's loop) and held. Where coning makes the flanks
     overlap at no load, both carry load at zero torque (:attr:`TwoFlankFace.flank_torque_nm`)."""
-    from .inputs import ContactInput
+    from profilegen.contact.inputs import ContactInput
 
     inputs = ContactInput.from_design(inputs, name="inputs")
     gs = inputs.gearset
@@ -623,7 +578,7 @@ def face_two_flanks(inputs, torque_nm: float, *, slices: int = 8, coning: str = 
     b, z0 = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
     z = slice_positions(b, slices, z0)
     if coning == "cup" and cup is None:
-        from ..rim.cup.contact import press_cup
+        from profilegen.rim.cup.contact import press_cup
 
         cup = press_cup(gs)  # once, for both flanks
     shifts = np.hstack([coning_gap_shifts(flank, inputs.motion, gs, z0, z, coning=coning, cup=cup)
@@ -636,7 +591,7 @@ def face_two_flanks(inputs, torque_nm: float, *, slices: int = 8, coning: str = 
     def solve(matrix):
         return solve_two_flanks(gap, lever, sense, matrix, shifts, torque_nm, zones=zones)
 
-    from ..errors import ConvergenceError
+    from profilegen.errors import ConvergenceError
 
     first = solve(comp.matrix_mm_per_n)
     try:
