@@ -72,7 +72,7 @@ def main() -> None:
     # the one-sided profile against the FS tooth family
     space, outline = cs_chain(fits["one_sided"].chain, tip_radius_mm=form.tip_radius_mm, root_radius_mm=form.root_radius_mm, cs_teeth=form.cs_teeth)
     n_unit = len(space.elements) + 1
-    local = pg.contour.Chain(outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]).sample(1e-7)
+    local = pg.geometry.contour.Chain(outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]).sample(1e-7)
     t0 = time.perf_counter()
     cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=2001, cs_points=local)
     depth = swept(fits["one_sided"].chain.sample(1e-6))

@@ -29,7 +29,7 @@ def test_outline_is_periodic_closed_and_valid(form_default):
     assert r.max() == pytest.approx(f.root_radius_mm, abs=1e-9)
     n = len(f.outline) // 202
     unit = f.outline[:n]
-    turned = pg.kinematics.turn(unit, 2 * math.pi / 202)
+    turned = pg.geometry.kinematics.turn(unit, 2 * math.pi / 202)
     np.testing.assert_allclose(turned, f.outline[n : 2 * n], atol=1e-9)
     assert f.polygon().is_valid
 
