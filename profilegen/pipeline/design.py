@@ -361,17 +361,27 @@ def _ratcheting_check(design, required: float, why_no_contact: str) -> VerdictCh
 
 
 def _verdict(d) -> Verdict:
-    """The checks of design ``d`` (see :class:`Verdict`)."""
+    """The checks of design ``d`` (see :class:`Verdict`): the geometry's, the loaded contact's, the
+    flexspline's safety factors, ratcheting, backlash, and the whole gear's stiffness and lost
+    motion — each against the gear set's ``[requirements]`` — and what the run left out."""
     from ..gearset.requirements import Requirements
-    from ..stress.stage import CHECK_NAMES, unsupported
 
-    gs, scene = d.gearset, d.scene
-    req = getattr(gs, "requirements", None) or Requirements()
+    req = getattr(d.gearset, "requirements", None) or Requirements()
+    no_contact = _why_no_contact(d)
+    checks = [*_geometry_checks(d, req), *_contact_checks(d, no_contact), *_safety_checks(d, req)]
+    if req.ratcheting_margin is not None:
+        checks.append(_ratcheting_check(d, req.ratcheting_margin, no_contact))
+    checks += [*_backlash_checks(d, req), *_torsion_checks(d, req, no_contact)]
+    return Verdict(tuple(checks), tuple(_left_out(d)))
+
+
+def _geometry_checks(d, req) -> list[VerdictCheck]:
+    """The fitted CS against the FS tooth (always; a clearance beyond "no cut" only when
+    required), and the FS teeth across the face as they are made (modified when the face stage
+    modifies them)."""
     checks: list[VerdictCheck] = []
     add = checks.append
-    tol = interference_tol_mm(scene)
-
-    # the fitted CS against the FS tooth: always; a clearance beyond "no cut" only when required
+    tol = interference_tol_mm(d.scene)
     prof = d.profile
     need = -tol if req.min_clearance_mm is None else max(-tol, req.min_clearance_mm)
     if prof is None:
@@ -384,63 +394,82 @@ def _verdict(d) -> Verdict:
         add(_judge("fitted CS clear of the FS tooth", f"{prof.positions} positions", "clearance", c, need, unit="mm",
                    fail_text=fail))
     face = d.face
-    if face is not None:  # the FS teeth as they are made: modified when the face stage modifies them
+    if face is not None:
         mod = face.modification
         depth = face.max_interference_mm if mod is None else mod.max_interference_mm
         add(_judge("FS teeth across the face clear of the CS", f"{len(face.sections)} sections", "face", depth,
                    face.interference_tol_mm, unit="mm", sense="<=",
                    fail_text=f"interference across the face: the FS teeth cut into the one CS profile by "
                              f"{depth * 1e3:.3g} µm{'' if mod is None else ' with the tooth modification'}"))
+    return checks
 
-    # the loaded contact
+
+def _contact_checks(d, no_contact: str) -> list[VerdictCheck]:
+    """The loaded contact inside the teeth it searched, at every torque of the gear set."""
+    gs = d.gearset
     torques = [t for t in (gs.torque.rated_nm, gs.torque.peak_nm, gs.torque.momentary_nm) if t is not None]
-    no_contact = _why_no_contact(d)
     if d.contact is None:
-        add(VerdictCheck("contact inside the searched teeth", ", ".join(f"{t:g}" for t in torques) + " N·m",
-                         NOT_CHECKED, "capacity", text=no_contact))
-    else:
-        for case in d.contact.cases:
-            inside = case.beyond_capacity is None
-            add(VerdictCheck("contact inside the searched teeth", f"{case.torque_nm:g} N·m", PASS if inside else FAIL,
-                             "capacity", float(case.teeth_in_contact), None, "teeth/zone",
-                             text="" if inside else f"contact at {case.torque_nm:g} N·m beyond capacity"))
+        return [VerdictCheck("contact inside the searched teeth", ", ".join(f"{t:g}" for t in torques) + " N·m",
+                             NOT_CHECKED, "capacity", text=no_contact)]
+    checks = []
+    for case in d.contact.cases:
+        inside = case.beyond_capacity is None
+        checks.append(VerdictCheck("contact inside the searched teeth", f"{case.torque_nm:g} N·m",
+                                   PASS if inside else FAIL, "capacity", float(case.teeth_in_contact), None,
+                                   "teeth/zone", text="" if inside else f"contact at {case.torque_nm:g} N·m beyond capacity"))
+    return checks
 
-    # the flexspline's safety factors, each against its [requirements] value
+
+def _safety_checks(d, req) -> list[VerdictCheck]:
+    """The flexspline's safety factors, each against its ``[requirements]`` value; NOT CHECKED,
+    with the reason, where a material limit is missing or the stresses were not computed."""
+    from ..stress.stage import CHECK_NAMES, unsupported
+
+    gs = d.gearset
+    checks: list[VerdictCheck] = []
+    add = checks.append
     if d.stress is None:
         why = unsupported(gs) or "the stresses were not computed in this run (design(stress=False))"
         for name in CHECK_NAMES:
             if req.safety(name) is not None:
                 add(VerdictCheck(name, "—", NOT_CHECKED, "safety", required=req.safety(name), text=why))
-    else:
-        mat = gs.material
-        fatigue_missing = [k for k in ("bending_endurance_limit_mpa", "shear_endurance_limit_mpa",
-                                       "ultimate_strength_mpa") if getattr(mat, k) is None]
-        for c in d.stress.checks:
-            where = f"{c.torque_nm:g} N·m"
-            if c.value is None:
-                why = (c.note or "no material limit") if "yield" in c.name else \
-                    "no " + ", ".join(f"material.{k}" for k in fatigue_missing) if fatigue_missing else \
-                    "the fatigue checks were not run"
-                add(VerdictCheck(c.name, where, NOT_CHECKED, "safety", required=c.required, text=why))
-            else:
-                add(_judge(c.name, where, "safety", c.value, c.required,
-                           fail_text=f"{c.name} safety {c.value:.2f} < {c.required:g} at {c.torque_nm:g} N·m"))
-
-    if req.ratcheting_margin is not None:
-        add(_ratcheting_check(d, req.ratcheting_margin, no_contact))
-
-    if req.max_backlash_mm is not None:
-        bl = None if prof is None else prof.max_backlash_mm
-        if bl is None:
-            add(VerdictCheck("backlash (largest)", "—", NOT_CHECKED, "backlash", required=req.max_backlash_mm,
-                             unit="mm", sense="<=", text="no CS profile was fitted" if prof is None else
-                             f"the {prof.method} fit leaves no one-sided backlash"))
+        return checks
+    mat = gs.material
+    fatigue_missing = [k for k in ("bending_endurance_limit_mpa", "shear_endurance_limit_mpa",
+                                   "ultimate_strength_mpa") if getattr(mat, k) is None]
+    for c in d.stress.checks:
+        where = f"{c.torque_nm:g} N·m"
+        if c.value is None:
+            why = (c.note or "no material limit") if "yield" in c.name else \
+                "no " + ", ".join(f"material.{k}" for k in fatigue_missing) if fatigue_missing else \
+                "the fatigue checks were not run"
+            add(VerdictCheck(c.name, where, NOT_CHECKED, "safety", required=c.required, text=why))
         else:
-            add(_judge("backlash (largest)", f"{prof.method} fit", "backlash", bl, req.max_backlash_mm, unit="mm",
-                       sense="<=", fail_text=f"backlash {bl * 1e3:.3g} µm, more than the allowed "
-                                             f"{req.max_backlash_mm * 1e3:g} µm"))
+            add(_judge(c.name, where, "safety", c.value, c.required,
+                       fail_text=f"{c.name} safety {c.value:.2f} < {c.required:g} at {c.torque_nm:g} N·m"))
+    return checks
 
-    # the whole gear's torsional curve: stiffness and lost motion
+
+def _backlash_checks(d, req) -> list[VerdictCheck]:
+    """The fitted CS's largest one-sided backlash, when the requirements bound it."""
+    if req.max_backlash_mm is None:
+        return []
+    prof = d.profile
+    bl = None if prof is None else prof.max_backlash_mm
+    if bl is None:
+        return [VerdictCheck("backlash (largest)", "—", NOT_CHECKED, "backlash", required=req.max_backlash_mm,
+                             unit="mm", sense="<=", text="no CS profile was fitted" if prof is None else
+                             f"the {prof.method} fit leaves no one-sided backlash")]
+    return [_judge("backlash (largest)", f"{prof.method} fit", "backlash", bl, req.max_backlash_mm, unit="mm",
+                   sense="<=", fail_text=f"backlash {bl * 1e3:.3g} µm, more than the allowed "
+                                         f"{req.max_backlash_mm * 1e3:g} µm")]
+
+
+def _torsion_checks(d, req, no_contact: str) -> list[VerdictCheck]:
+    """The whole gear's torsional curve: K1, K1 over the catalogue's, lost motion — each when
+    the requirements ask for it."""
+    checks: list[VerdictCheck] = []
+    add = checks.append
     curve = d.torsional
     if d.contact is None:
         no_curve = no_contact
@@ -482,18 +511,22 @@ def _verdict(d) -> Verdict:
                        req.max_lost_motion_arcmin, unit="arcmin", sense="<=",
                        fail_text=f"lost motion {lm:.3g} arcmin, more than the allowed "
                                  f"{req.max_lost_motion_arcmin:g} arcmin"))
+    return checks
 
-    # what this run left out, from what it ran
+
+def _left_out(d) -> list[str]:
+    """What this run left out, from what it ran."""
     left = []
     if d.contact is None:
         left.append("loaded tooth contact")
-    if face is None:
+    if d.face is None:
         left.append("coning across the face")
+    curve = d.torsional
     if d.contact is not None and curve is None:
         left.append("the whole gear's compliance (bearing, cup, CS body)")
-    elif curve is not None and face is not None and getattr(curve, "face", None) is None:
+    elif curve is not None and d.face is not None and getattr(curve, "face", None) is None:
         left.append("the coning in the torsional curve (one section)")
-    return Verdict(tuple(checks), tuple(left))
+    return left
 
 
 @dataclass(frozen=True, slots=True, eq=False)
