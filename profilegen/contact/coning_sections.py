@@ -14,7 +14,9 @@ of these sections:
 >>> import numpy as np
 >>> from profilegen.geometry.deformation import ring_theory
 >>> near, far = semi_membrane_sections(ring_theory(0.5), [30.0, 60.0], reference_z_mm=60.0)
->>> float(near.evaluate(np.array([0.0]))[0][0]), float(far.evaluate(np.array([0.0]))[0][0])
+>>> omega_near, _ = near.evaluate(np.array([0.0]), order=0)  # ω at the major axis, half way down the cup
+>>> omega_far, _ = far.evaluate(np.array([0.0]), order=0)
+>>> float(omega_near[0, 0]), float(omega_far[0, 0])
 (0.25, 0.5)
 """
 
