@@ -779,21 +779,65 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     step = progress or (lambda name: None)
     warnings: list[str] = list(gearset.warnings)
     stages: list[StageReport] = []
-    g = gearset.gear
 
     step("tooth")
-
-    def tooth_stage():
-        t0 = time.perf_counter()
-        tooth = tooth_from_gearset(gearset)
-        return tooth, StageReport("tooth", tooth.kind, len(tooth.segments), time.perf_counter() - t0,
-                                  float(tooth.fit_error_mm),
-                                  "max distance of the input points to the smoothed flank (0 for analytic teeth)")
-
-    (tooth, report), k_tooth = _stage("tooth", None, tooth_stage, gearset, scene)
+    (tooth, report), k_tooth = _stage("tooth", None, lambda: _tooth_stage(gearset), gearset, scene)
     stages.append(report)
 
     step("deformation")
+    rim, face, k_deformation, rim_reports, rim_warnings = _deformation_stages(gearset, scene, step)
+    stages += rim_reports
+    warnings += rim_warnings
+    deformation = rim.model
+    motion = HarmonicDriveMotion.from_gearset(gearset, deformation)
+
+    step("envelope")
+    traced: list[bool] = []  # the trace ran here (not taken from the cache)
+
+    def gearform_stage():
+        env, env_report, notes, form = _envelope_stage(tooth, motion, gearset, scene, step, (k_tooth, k_deformation))
+        traced.append(True)
+        if on_stage is not None:  # the rim's and the envelope's figures can be drawn from here on
+            on_stage(Design(gearset, scene, tooth, deformation, motion, env, None, tuple(stages) + (env_report,),
+                            tuple(warnings + notes), rim=rim, face=face))
+        return (env, env_report, tuple(notes)) + _gearform_stage(env, form, tooth, motion, gearset, scene)
+
+    (env, env_report, env_notes, form, form_report, form_notes), k_form = _stage(
+        "gearform", (k_tooth, k_deformation), gearform_stage, gearset, scene, on_hit=lambda: step("gearform"))
+    stages.append(env_report)
+    warnings += env_notes
+    if on_stage is not None and not traced:  # a cached trace: the partial design now, with its form
+        on_stage(Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings),
+                        rim=rim, face=face))
+    stages.append(form_report)
+    warnings += form_notes
+
+    step("arcfit")
+    method = _fit_method(gearset, fit_method)
+    (profile, report, notes), k_fit = _stage(
+        "arcfit", k_form, lambda: _arcfit_stage(env, form, tooth, motion, method, gearset, scene), gearset, scene,
+        (method,))
+    warnings += notes
+    stages.append(report)
+    result = Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim,
+                    face=face)
+    if on_profile is not None:
+        on_profile(result)
+    return _with_load(result, k_fit, contact=contact, stress=stress, step=step, on_stage=on_stage)
+
+
+def _tooth_stage(gearset: GearSet) -> tuple:
+    """The FS tooth of ``gearset`` and its stage report."""
+    t0 = time.perf_counter()
+    tooth = tooth_from_gearset(gearset)
+    return tooth, StageReport("tooth", tooth.kind, len(tooth.segments), time.perf_counter() - t0,
+                              float(tooth.fit_error_mm),
+                              "max distance of the input points to the smoothed flank (0 for analytic teeth)")
+
+
+def _deformation_stages(gearset: GearSet, scene: Scene, step) -> tuple:
+    """The FS rim's deformation (the rim stage) and, on the 3D cup, the face stage's design section:
+    (rim, face or None, the deformation's stage key, the stage reports, the warnings)."""
     from ..rim.stage import solve_rim  # scipy's solvers load only when a design runs (not in the stage time)
     from ..face.coning import rim_tier_for
 
@@ -809,23 +853,8 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     if getattr(rim, "cup", None) is not None:  # the 3D cup: the face stage picks the CS's design section
         (rim, face, face_report), k_deformation = _stage("face", k_rim, lambda: _with_face(gearset, rim, step),
                                                          gearset, scene, on_hit=lambda: step("face"))
-    deformation = rim.model
-    warnings += list(rim.warnings)
-    if rim.fem is None:
-        stages.append(StageReport("rim", rim.tier.label(), 0, rim_time, None, rim.error_measure))
-    else:
-        fem = rim.fem
-        stages.append(StageReport(
-            "rim", rim.tier.label(), rim.dof, rim_time - rim.fit_time_s, rim.error_estimate_mm,
-            rim.error_measure,
-            f"FEM solve {rim.fem_time_s:.3f} s ({len(fem.newton_steps_mm)} Newton iterations), the rest is the "
-            f"coarser-mesh solve for the error estimate; contact angle {fem.contact_angle_deg:.1f}° (ill-conditioned)"))
-        fit = rim.model
-        stages.append(StageReport(
-            "deformation fit", f"Fourier, order {fit.order} (criterion {fit.selection.criterion})",
-            2 * fit.order + 1, rim.fit_time_s,
-            max(fit.omega_stats.max_error_mm, fit.upsilon_stats.max_error_mm),
-            "max |fit − FEM sample| of ω and υ (mm)"))
+    stages = _rim_reports(rim, rim_time)
+    warnings = list(rim.warnings)
     if face is not None and face_report is not None:
         stages.append(face_report)
         warnings += list(face.warnings)
@@ -833,81 +862,95 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
         from ..face.coning import UNDECIDED
 
         warnings.append(UNDECIDED)
-    motion = HarmonicDriveMotion.from_gearset(gearset, deformation)
+    return rim, face, k_deformation, stages, warnings
 
-    step("envelope")
-    envelope_stages: list = []  # the partial design for on_stage, once the envelope is traced
 
-    def gearform_stage():
-        env, form, notes = traced_form(tooth, motion, gearset, scene, step=step, _parent=(k_tooth, k_deformation))
-        env_report = StageReport("envelope", f"traced, chord {env.chord_tol_mm:g} mm",
-                                 int(sum(len(p.points) for p in env.pieces)), env.time_s, env.chord_tol_mm,
-                                 "chord error of the traced envelope (mm)")
-        if env.flank.get("chains", 1) > 1:
-            notes.append(f"the swept boundary is in {env.flank['chains']} pieces; the CS outline uses the longest")
-        envelope_stages.append((env, env_report, tuple(notes)))
-        if on_stage is not None:  # the rim's and the envelope's figures can be drawn from here on
-            on_stage(Design(gearset, scene, tooth, deformation, motion, env, None, tuple(stages) + (env_report,),
-                            tuple(warnings + notes), rim=rim, face=face))
+def _rim_reports(rim, rim_time: float) -> list[StageReport]:
+    """The rim's stage report, and with a FEM rim the report of its deformation's Fourier fit."""
+    if rim.fem is None:
+        return [StageReport("rim", rim.tier.label(), 0, rim_time, None, rim.error_measure)]
+    fem, fit = rim.fem, rim.model
+    return [
+        StageReport(
+            "rim", rim.tier.label(), rim.dof, rim_time - rim.fit_time_s, rim.error_estimate_mm,
+            rim.error_measure,
+            f"FEM solve {rim.fem_time_s:.3f} s ({len(fem.newton_steps_mm)} Newton iterations), the rest is the "
+            f"coarser-mesh solve for the error estimate; contact angle {fem.contact_angle_deg:.1f}° (ill-conditioned)"),
+        StageReport(
+            "deformation fit", f"Fourier, order {fit.order} (criterion {fit.selection.criterion})",
+            2 * fit.order + 1, rim.fit_time_s,
+            max(fit.omega_stats.max_error_mm, fit.upsilon_stats.max_error_mm),
+            "max |fit − FEM sample| of ω and υ (mm)")]
 
-        t0 = time.perf_counter() - form.time_s  # the form was built with the trace (traced_form): its time counts here
-        stage_checkpoint()
-        cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples)
-        form = _with_clearance(form, cmap)
-        error, measure = cmap.min_mm, "min signed clearance FS tooth ↔ CS outline (mm; ≈ −chord error on the working flank)"
-        if scene.brute_force_check:
-            from ..profile.swept import boundary_distance, swept_region
 
-            region = swept_region(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves, n_phi=4001)
-            error = float(np.max(boundary_distance(env.flank["boundary"], region)))
-            measure = ("max distance of the swept boundary to the brute-force union of 4001 tooth positions (mm); "
-                       "bounded below by the brute force's own notch error, ≈ 0.6 mm / 4001 for the default set")
-        form_report = StageReport("gearform", "shapely outline", len(form.outline), time.perf_counter() - t0, error,
-                                  measure)
-        form_notes = list(form.warnings)
-        if cmap.min_mm < -10 * scene.chord_tol_mm:
-            form_notes.append(f"the FS tooth interferes with the CS outline by {-cmap.min_mm * 1e3:.3f} µm at "
-                              f"φ = {np.degrees(cmap.at_phi):.2f}°")
-        return env, env_report, tuple(notes), form, form_report, tuple(form_notes)
+def _envelope_stage(tooth, motion: HarmonicDriveMotion, gearset: GearSet, scene: Scene, step, parents) -> tuple:
+    """The traced envelope, its stage report, its notes and the CS form built with the trace
+    (:func:`traced_form`; ``parents``: the tooth's and the deformation's stage keys)."""
+    env, form, notes = traced_form(tooth, motion, gearset, scene, step=step, _parent=parents)
+    env_report = StageReport("envelope", f"traced, chord {env.chord_tol_mm:g} mm",
+                             int(sum(len(p.points) for p in env.pieces)), env.time_s, env.chord_tol_mm,
+                             "chord error of the traced envelope (mm)")
+    if env.flank.get("chains", 1) > 1:
+        notes.append(f"the swept boundary is in {env.flank['chains']} pieces; the CS outline uses the longest")
+    return env, env_report, notes, form
 
-    def gearform_hit():
-        step("gearform")
 
-    (env, env_report, env_notes, form, form_report, form_notes), k_form = _stage(
-        "gearform", (k_tooth, k_deformation), gearform_stage, gearset, scene, on_hit=gearform_hit)
-    stages.append(env_report)
-    warnings += env_notes
-    if on_stage is not None and not envelope_stages:  # a cached trace: the partial design now, with its form
-        on_stage(Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings),
-                        rim=rim, face=face))
-    stages.append(form_report)
-    warnings += form_notes
+def _gearform_stage(env: Envelope, form: CircularSplineForm, tooth, motion: HarmonicDriveMotion, gearset: GearSet,
+                    scene: Scene) -> tuple:
+    """The CS form with its clearance map to the FS tooth, its stage report (the minimum clearance,
+    or the brute-force check's distance when the scene asks for it) and its notes."""
+    t0 = time.perf_counter() - form.time_s  # the form was built with the trace (traced_form): its time counts here
+    stage_checkpoint()
+    cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples)
+    form = _with_clearance(form, cmap)
+    error, measure = cmap.min_mm, "min signed clearance FS tooth ↔ CS outline (mm; ≈ −chord error on the working flank)"
+    if scene.brute_force_check:
+        from ..profile.swept import boundary_distance, swept_region
 
-    step("arcfit")
+        g = gearset.gear
+        region = swept_region(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves, n_phi=4001)
+        error = float(np.max(boundary_distance(env.flank["boundary"], region)))
+        measure = ("max distance of the swept boundary to the brute-force union of 4001 tooth positions (mm); "
+                   "bounded below by the brute force's own notch error, ≈ 0.6 mm / 4001 for the default set")
+    form_report = StageReport("gearform", "shapely outline", len(form.outline), time.perf_counter() - t0, error,
+                              measure)
+    form_notes = list(form.warnings)
+    if cmap.min_mm < -10 * scene.chord_tol_mm:
+        form_notes.append(f"the FS tooth interferes with the CS outline by {-cmap.min_mm * 1e3:.3f} µm at "
+                          f"φ = {np.degrees(cmap.at_phi):.2f}°")
+    return form, form_report, tuple(form_notes)
+
+
+def _fit_method(gearset: GearSet, fit_method: str | None) -> str:
+    """The arc fit's method: ``fit_method``, else the gear set's; one of ``FIT_METHODS``."""
     method = fit_method or gearset.circular_spline.fit_method
     if method not in FIT_METHODS:
         raise GearSetError(f"fit method = {method!r}: must be one of {', '.join(FIT_METHODS)}")
+    return method
 
-    def arcfit_stage():
-        t0 = time.perf_counter()
-        profile = _fit_profile(env, form, tooth, motion, method=method, positions=scene.fit_check_positions,
-                               cs=gearset.circular_spline)
-        report = StageReport("arcfit", f"arc–line–arc, {method}", len(profile.space.elements),
-                             time.perf_counter() - t0, profile.max_error_mm,
-                             "max normal deviation of the fitted CS flank from the envelope (mm)")
-        notes = list(profile.notes)
-        if profile.clearance.min_mm < -interference_tol_mm(scene):
-            notes.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} "
-                         f"µm at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
-        return profile, report, tuple(notes)
 
-    (profile, report, notes), k_fit = _stage("arcfit", k_form, arcfit_stage, gearset, scene, (method,))
-    warnings += notes
-    stages.append(report)
-    result = Design(gearset, scene, tooth, deformation, motion, env, form, tuple(stages), tuple(warnings), profile, rim,
-                    face=face)
-    if on_profile is not None:
-        on_profile(result)
+def _arcfit_stage(env: Envelope, form: CircularSplineForm, tooth, motion: HarmonicDriveMotion, method: str,
+                  gearset: GearSet, scene: Scene) -> tuple:
+    """The arc–line–arc CS profile fitted to the envelope, its stage report and its notes (an
+    interference of the fitted profile with the FS tooth among them)."""
+    t0 = time.perf_counter()
+    profile = _fit_profile(env, form, tooth, motion, method=method, positions=scene.fit_check_positions,
+                           cs=gearset.circular_spline)
+    report = StageReport("arcfit", f"arc–line–arc, {method}", len(profile.space.elements),
+                         time.perf_counter() - t0, profile.max_error_mm,
+                         "max normal deviation of the fitted CS flank from the envelope (mm)")
+    notes = list(profile.notes)
+    if profile.clearance.min_mm < -interference_tol_mm(scene):
+        notes.append(f"the fitted CS profile interferes with the FS tooth by {-profile.clearance.min_mm * 1e3:.3f} "
+                     f"µm at φ = {np.degrees(profile.clearance.at_phi):.2f}° (fit method {method})")
+    return profile, report, tuple(notes)
+
+
+def _with_load(result: Design, k_fit, *, contact, stress, step, on_stage) -> Design:
+    """``result`` (the profile's design) with the load stages: the loaded contact (asked for, or
+    the scene's default) and the stresses (when asked), each through the engine's stage cache
+    (``k_fit``: the arc fit's key)."""
+    gearset, scene = result.gearset, result.scene
     # with a callback the stresses are computed as soon as the contact is solved (they read only its
     # tooth forces), so that their figure can be drawn while the contact stage goes on
     early = _EarlyStress(stress, on_stage) if on_stage is not None else None
@@ -915,34 +958,40 @@ def _design(gearset: GearSet, *, scene, fit_method, progress, contact, stress, o
     if contact or (contact is None and scene.contact):
         def contact_stage():
             contact_ran.append(True)
-            if contact:
-                after = _with_contact(result, step, early)
-            else:
-                # the scene's default: a contact model that cannot take this design leaves the profile
-                # and files standing, with the reason in the warnings (asked for explicitly, it raises)
-                try:
-                    after = _with_contact(result, step, early)
-                except ProfilegenError as exc:
-                    after = replace(result, warnings=result.warnings + (f"loaded contact failed, skipped: {exc}",))
-                    if early is not None:  # (not reached once the stresses ran early: nothing after them raises this)
-                        early.solved = None
-            return _added(result, after, ("contact", "torsional", "ratcheting", "transmission"))
+            return _contact_added(result, bool(contact), step, early)
 
         added, k_load = _stage("contact", k_fit, contact_stage, gearset, scene, (bool(contact),),
                                on_hit=lambda: step("contact"))
         result = _with_added(result, added)
     if not stress:
         return result
+    loaded = result
 
     def stress_stage():
         solved = None if early is None else early.solved
-        return _added(result, _with_stress(result, step, solved), ("stress",))
+        return _added(loaded, _with_stress(loaded, step, solved), ("stress",))
 
     added, _ = _stage("stress", k_load, stress_stage, gearset, scene, on_hit=lambda: step("stress"))
     result = _with_added(result, added)
     if on_stage is not None and result.contact is not None and not contact_ran:
         on_stage(result)  # a cached contact (the engine's): its figures from the whole design
     return result
+
+
+def _contact_added(result: Design, asked: bool, step, early: "_EarlyStress | None") -> tuple:
+    """What the contact stage adds to ``result`` (:func:`_added`): asked for, a failure raises; the
+    scene's default, a contact model that cannot take this design leaves the profile and files
+    standing, with the reason in the warnings."""
+    if asked:
+        after = _with_contact(result, step, early)
+    else:
+        try:
+            after = _with_contact(result, step, early)
+        except ProfilegenError as exc:
+            after = replace(result, warnings=result.warnings + (f"loaded contact failed, skipped: {exc}",))
+            if early is not None:  # (not reached once the stresses ran early: nothing after them raises this)
+                early.solved = None
+    return _added(result, after, ("contact", "torsional", "ratcheting", "transmission"))
 
 
 def _added(before: Design, after: Design, names: tuple[str, ...]) -> tuple:
