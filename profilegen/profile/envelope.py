@@ -417,13 +417,8 @@ def trace_meshing_roots(
 
 
 def _trace_once(curve, motion, phi_range, n_t, n_phi, chord_tol_mm, max_step, max_rounds):
-    t_g = np.linspace(0.0, curve.length, n_t)
-    phi_g = np.linspace(*phi_range, n_phi)
-    T, _ = curve.terms(t_g)
-    a, _ = motion.pose(phi_g).meshing_coefficients()
-    F = a @ T  # (n_phi, n_t): the whole grid in one product
-    lines = contourpy.contour_generator(t_g, phi_g, F, line_type=contourpy.LineType.Separate).lines(0.0)
-    lines = [ln for ln in lines if len(ln) >= 2]
+    """One trace of the roots of f = 0 on ``curve`` on an ``n_t`` × ``n_phi`` grid: (root curves, folds)."""
+    lines = _grid_branches(curve, motion, phi_range, n_t, n_phi)
     if not lines:
         return [], []
     # all branches in one set of arrays (fewer, larger vectorised calls); a segment joins
@@ -436,9 +431,30 @@ def _trace_once(curve, motion, phi_range, n_t, n_phi, chord_tol_mm, max_step, ma
     t, phi = _project(curve, motion, t, phi, lock_t, lock_p, phi_range)
     _check_on_curve(curve, motion, t, phi)
     q = _image(curve, motion, t, phi)
+    t, phi, q, line_id, is_coarse = _refine_chords(curve, motion, phi_range, t, phi, q, line_id, chord_tol_mm,
+                                                   max_step, max_rounds)
+    t, phi, q, line_id, is_coarse, folds, (f, ft, fp) = _with_folds(curve, motion, t, phi, q, line_id, is_coarse)
+    dist = np.abs(f) / np.maximum(np.hypot(ft, fp), 1e-300)  # distance to f = 0 in (t, φ)
+    return _root_curves(curve.name, len(lines), t, phi, q, line_id, is_coarse, dist), folds
+
+
+def _grid_branches(curve, motion, phi_range, n_t: int, n_phi: int) -> list[np.ndarray]:
+    """The branches of f(t, φ) = 0 contoured on an ``n_t`` × ``n_phi`` grid: (t, φ) polylines of ≥ 2 vertices."""
+    t_g = np.linspace(0.0, curve.length, n_t)
+    phi_g = np.linspace(*phi_range, n_phi)
+    T, _ = curve.terms(t_g)
+    a, _ = motion.pose(phi_g).meshing_coefficients()
+    F = a @ T  # (n_phi, n_t): the whole grid in one product
+    lines = contourpy.contour_generator(t_g, phi_g, F, line_type=contourpy.LineType.Separate).lines(0.0)
+    return [ln for ln in lines if len(ln) >= 2]
+
+
+def _refine_chords(curve, motion, phi_range, t, phi, q, line_id, chord_tol_mm, max_step, max_rounds):
+    """The branches' vertices refined until each chord's sag in the CS frame is within
+    ``chord_tol_mm`` and each step in (t, φ) within ``max_step``: (t, φ, images, branch of each
+    vertex, which vertices are the grid's)."""
     pending = line_id[1:] == line_id[:-1]  # segments whose chord sag is not yet verified
     is_coarse = np.ones(len(t), bool)
-    coarse_sag = None
     for _ in range(max_rounds):
         seg = np.nonzero(pending)[0]
         if seg.size == 0:
@@ -468,66 +484,72 @@ def _trace_once(curve, motion, phi_range, n_t, n_phi, chord_tol_mm, max_step, ma
             curve, motion, t[at] + frac * (t[at + 1] - t[at]), phi[at] + frac * (phi[at + 1] - phi[at]),
             np.repeat(nt[split], k - 1), np.repeat(nphi[split], k - 1), np.repeat(step[split], k - 1), phi_range,
         )
-        ln_t, ln_p = np.zeros(at.size, bool), np.zeros(at.size, bool)
         counts = np.ones(len(t) - 1, int)
         counts[seg[split]] = k
         fresh = np.zeros(len(t) - 1, bool)
         fresh[seg[split]] = True
         q = np.insert(q, at + 1, _image(curve, motion, tn, pn), axis=0)
         t, phi = np.insert(t, at + 1, tn), np.insert(phi, at + 1, pn)
-        lock_t, lock_p = np.insert(lock_t, at + 1, ln_t), np.insert(lock_p, at + 1, ln_p)
         line_id = np.insert(line_id, at + 1, line_id[at])
         is_coarse = np.insert(is_coarse, at + 1, False)
         pending = np.repeat(fresh, counts)  # the parts of split segments are checked next round
     else:
         log.warning("envelope: chord refinement of %s stopped after %d rounds", curve.name, max_rounds)
+    return t, phi, q, line_id, is_coarse
+
+
+def _with_folds(curve, motion, t, phi, q, line_id, is_coarse):
+    """The branches' folds (where t is extremal along a branch: ∂f/∂φ changes sign), located by
+    Newton and made vertices of their branch, so that a branch's t-range ends exactly there:
+    (t, φ, images, branch, grid vertices, the folds, (f, ∂f/∂t, ∂f/∂φ) at the vertices)."""
     f, ft, fp = _f_and_grad(curve, motion, t, phi)
-    # folds: t is extremal along a branch (∂f/∂φ changes sign); Newton starts from the vertex
-    # of the parabola t(φ) through the extreme vertex and its neighbours
+    # Newton starts from the vertex of the parabola t(φ) through the extreme vertex and its neighbours
     same = line_id[1:] == line_id[:-1]
     i = np.nonzero(same & (np.sign(fp[1:]) * np.sign(fp[:-1]) < 0))[0]
     i = np.where(np.abs(fp[i]) < np.abs(fp[i + 1]), i, i + 1)
     i = i[(i >= 1) & (i <= len(t) - 2)]
     i = i[(line_id[i - 1] == line_id[i]) & (line_id[i + 1] == line_id[i])]
-    folds = []
-    if i.size:
-        x0, x1, x2 = phi[i - 1], phi[i], phi[i + 1]
-        y0, y1, y2 = t[i - 1], t[i], t[i + 1]
-        d01, d12 = (y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1)
-        c2 = (d12 - d01) / (x2 - x0)
-        pv = np.where(c2 != 0, 0.5 * (x0 + x1) - d01 / np.where(c2 != 0, 2 * c2, 1.0), x1)
-        tv = y1 + d01 * (pv - x1) + c2 * (pv - x0) * (pv - x1)
-        tf, pf = _locate_folds(curve, motion, tv, pv)
-        qf = _image(curve, motion, tf, pf)
-        for tk, pk, qk in zip(tf, pf, qf):
-            folds.append(Fold(curve.name, float(tk), float(pk), (float(qk[0]), float(qk[1]))))
-        # make each fold a vertex of its branch, so the branch's t-range ends exactly there
-        for k in np.argsort(-i):
-            j = i[k]
-            lo, hi = (j, j + 1) if (pf[k] - phi[j]) * (phi[j + 1] - phi[j]) > 0 else (j - 1, j)
-            at = hi
-            t, phi = np.insert(t, at, tf[k]), np.insert(phi, at, pf[k])
-            q = np.insert(q, at, qf[k], axis=0)
-            line_id = np.insert(line_id, at, line_id[j])
-            is_coarse = np.insert(is_coarse, at, False)
-        f, ft, fp = _f_and_grad(curve, motion, t, phi)
-    dist = np.abs(f) / np.maximum(np.hypot(ft, fp), 1e-300)  # distance to f = 0 in (t, φ)
+    folds: list[Fold] = []
+    if i.size == 0:
+        return t, phi, q, line_id, is_coarse, folds, (f, ft, fp)
+    x0, x1, x2 = phi[i - 1], phi[i], phi[i + 1]
+    y0, y1, y2 = t[i - 1], t[i], t[i + 1]
+    d01, d12 = (y1 - y0) / (x1 - x0), (y2 - y1) / (x2 - x1)
+    c2 = (d12 - d01) / (x2 - x0)
+    pv = np.where(c2 != 0, 0.5 * (x0 + x1) - d01 / np.where(c2 != 0, 2 * c2, 1.0), x1)
+    tv = y1 + d01 * (pv - x1) + c2 * (pv - x0) * (pv - x1)
+    tf, pf = _locate_folds(curve, motion, tv, pv)
+    qf = _image(curve, motion, tf, pf)
+    for tk, pk, qk in zip(tf, pf, qf):
+        folds.append(Fold(curve.name, float(tk), float(pk), (float(qk[0]), float(qk[1]))))
+    for k in np.argsort(-i):
+        j = i[k]
+        lo, hi = (j, j + 1) if (pf[k] - phi[j]) * (phi[j + 1] - phi[j]) > 0 else (j - 1, j)
+        at = hi
+        t, phi = np.insert(t, at, tf[k]), np.insert(phi, at, pf[k])
+        q = np.insert(q, at, qf[k], axis=0)
+        line_id = np.insert(line_id, at, line_id[j])
+        is_coarse = np.insert(is_coarse, at, False)
+    return t, phi, q, line_id, is_coarse, folds, _f_and_grad(curve, motion, t, phi)
+
+
+def _root_curves(name: str, n_lines: int, t, phi, q, line_id, is_coarse, dist) -> list[RootCurve]:
+    """One :class:`RootCurve` per branch, with its residual (the largest ``dist`` on it) and its grid vertices."""
     out = []
     coarse_idx = np.nonzero(is_coarse)[0]  # same order as the tracing grid's vertices
-    if coarse_sag is None:
-        coarse_sag = np.zeros(coarse_idx.size)
-    for k in range(len(lines)):
+    coarse_sag = np.zeros(coarse_idx.size)
+    for k in range(n_lines):
         sel = np.nonzero(line_id == k)[0]
         mine = np.nonzero(line_id[coarse_idx] == k)[0]
         ck = coarse_idx[mine]
         sag_k = coarse_sag[mine[:-1]]
         out.append(
             RootCurve(
-                curve.name, _readonly(t[sel]), _readonly(phi[sel]), _readonly(q[sel]), float(dist[sel].max()),
+                name, _readonly(t[sel]), _readonly(phi[sel]), _readonly(q[sel]), float(dist[sel].max()),
                 _readonly(ck - sel[0], int), _readonly(sag_k),
             )
         )
-    return out, folds
+    return out
 
 
 def trace_corner_path(
@@ -831,6 +853,49 @@ def solve_envelope(
     if depth_tol_mm is None:
         depth_tol_mm = max(float(chord_tol_mm), 1e-7)
     by_name = {c.name: c for c in curves}
+    traced, folds = _traced_roots(curves, motion, phi_range=phi_range, n_t=n_t, n_phi=n_phi,
+                                  chord_tol_mm=chord_tol_mm, symmetric=symmetric)
+    roots = [r for name in traced for r in traced[name]]
+    if not roots:
+        raise EnvelopeError("envelope: the meshing equation has no root on any part of the tooth — the tooth never meshes")
+    no_root = {name: _no_root_intervals(traced[name], by_name[name].length) for name in traced if name != "top"}
+    corner_paths = _corner_paths(corners, motion, phi_range=phi_range, chord_tol_mm=chord_tol_mm, symmetric=symmetric)
+    t_trace = time.perf_counter() - t0
+    checkpoint()
+    curves_all = roots + list(corner_paths.values())
+    own = len(curves_all)
+    curves_all += _neighbour_copies(curves_all, neighbour_angle)
+    crossings = _segment_crossings(curves_all, own)
+    stretches = _stretches(curves_all, own, crossings, roots, by_name, chord_tol_mm)
+    pieces = _classified_pieces(stretches, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle,
+                                swept_grid=swept_grid, depth_tol_mm=depth_tol_mm, symmetric=symmetric)
+    checkpoint()
+    unresolved = _check_classification(pieces, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle,
+                                       depth_tol_mm=depth_tol_mm, n_grid=min(swept_grid, 121))
+
+    def tangent(piece: EnvelopePiece, end: int) -> np.ndarray:
+        return _end_tangent(piece, end, motion, corners, by_name)
+
+    return Envelope(
+        pieces=tuple(pieces),
+        ridges=tuple(_ridges(pieces, tangent)),
+        folds=tuple(folds),
+        no_root=no_root,
+        flank=_flanks(pieces),
+        phi_range=(float(phi_range[0]), float(phi_range[1])),
+        chord_tol_mm=chord_tol_mm,
+        residual=max(r.residual for r in roots),
+        time_s=time.perf_counter() - t0,
+        diagnostics={"trace_time_s": t_trace, "crossings": len(crossings), "root_curves": len(roots), "symmetric": symmetric,
+                     "neighbour_angle": neighbour_angle, "depth_tol_mm": depth_tol_mm, "unresolved": unresolved},
+    )
+
+
+def _traced_roots(curves: list[Curve], motion: Motion, *, phi_range, n_t: int, n_phi: int, chord_tol_mm: float,
+                  symmetric: bool) -> tuple[dict[str, list[RootCurve]], list[Fold]]:
+    """The root curves of the meshing equation on each tooth curve, by curve name, and their folds;
+    with ``symmetric`` the left flank's are the right's mirrored."""
+    by_name = {c.name: c for c in curves}
     traced: dict[str, list[RootCurve]] = {}
     folds: list[Fold] = []
     for c in curves:
@@ -842,10 +907,13 @@ def solve_envelope(
     if symmetric and "left" in by_name:
         traced["left"] = [r.mirrored("left") for r in traced["right"]]
         folds += [Fold("left", f.t, -f.phi, (-f.point[0], f.point[1])) for f in folds if f.curve == "right"]
-    roots = [r for name in traced for r in traced[name]]
-    if not roots:
-        raise EnvelopeError("envelope: the meshing equation has no root on any part of the tooth — the tooth never meshes")
-    no_root = {name: _no_root_intervals(traced[name], by_name[name].length) for name in traced if name != "top"}
+    return traced, folds
+
+
+def _corner_paths(corners: dict[str, np.ndarray], motion: Motion, *, phi_range, chord_tol_mm: float,
+                  symmetric: bool) -> dict[str, RootCurve]:
+    """The paths of the tip corners in the CS frame, by side; with ``symmetric`` the left one is
+    the right one mirrored."""
     corner_paths = {}
     for name, p in corners.items():
         if symmetric and name == "left" and "right" in corner_paths:
@@ -857,18 +925,21 @@ def solve_envelope(
             "left_tip", r.t[::-1], _readonly(-r.phi[::-1]), _readonly(r.points[::-1] * [-1.0, 1.0]), 0.0,
             _readonly(len(r.phi) - 1 - r.coarse[::-1], int), r.coarse_sag[::-1],
         )
-    t_trace = time.perf_counter() - t0
-    checkpoint()
-    curves_all = roots + list(corner_paths.values())
-    own = len(curves_all)
-    # the neighbouring teeth's families are this one turned by ±2π/z2 (closure); their curves
-    # only cut ours (where the CS tooth between two spaces is bounded by both)
-    thetas = [np.arctan2(rc.points[:, 0], rc.points[:, 1]) for rc in curves_all]
+    return corner_paths
+
+
+def _neighbour_copies(own: list[RootCurve], neighbour_angle: float) -> list[RootCurve]:
+    """The parts of the neighbouring teeth's curves that reach into the angular range of ``own``.
+
+    The neighbouring teeth's families are this one turned by ±2π/z2 (closure); their curves
+    only cut ours (where the CS tooth between two spaces is bounded by both)."""
+    copies = []
+    thetas = [np.arctan2(rc.points[:, 0], rc.points[:, 1]) for rc in own]
     theta_lo, theta_hi = min(th.min() for th in thetas), max(th.max() for th in thetas)
     for k in (-1.0, 1.0):
         c, s_ = np.cos(k * neighbour_angle), np.sin(k * neighbour_angle)
         rot = np.array([[c, -s_], [s_, c]])  # pts @ rot.T turns by −k·angle in our (clockwise) sense
-        for rc, th0 in zip(curves_all[:own], thetas):
+        for rc, th0 in zip(own, thetas):
             th = th0 - k * neighbour_angle
             if th.max() < theta_lo or th.min() > theta_hi:
                 continue
@@ -878,12 +949,35 @@ def solve_envelope(
             near = near | np.concatenate([near[1:], [False]]) | np.concatenate([[False], near[:-1]])
             for run in np.split(np.arange(len(pts)), np.nonzero(np.diff(near.astype(int)))[0] + 1):
                 if near[run[0]] and run.size >= 2:
-                    curves_all.append(RootCurve(rc.curve, rc.t[run], rc.phi[run], _readonly(pts[run]), 0.0, np.array([0, run.size - 1]), np.zeros(1)))
-    crossings = _segment_crossings(curves_all, own)
+                    copies.append(RootCurve(rc.curve, rc.t[run], rc.phi[run], _readonly(pts[run]), 0.0, np.array([0, run.size - 1]), np.zeros(1)))
+    return copies
+
+
+def _stretches(curves_all: list[RootCurve], own: int, crossings: list, roots: list[RootCurve], by_name: dict,
+               chord_tol_mm: float) -> list:
+    """Our curves (the first ``own`` of ``curves_all``) split at their crossings and tip junctions
+    into stretches (source, points, t, φ); a crossing next to a tangential junction is an artefact."""
+    cuts, junctions = _tip_junction_cuts(curves_all, roots, by_name)
+    graze = 10.0 * np.sqrt(chord_tol_mm)  # how far from a tangential junction a crossing is an artefact
+    for i, si, fi, j, sj, fj, pt in crossings:
+        if any({i, j} == {k, m} and np.hypot(*(pt - jp)) < graze for k, m, jp in junctions):
+            continue
+        cuts[i].append((si, fi, pt))
+        cuts[j].append((sj, fj, pt))
+    stretches = []
+    for k, rc in enumerate(curves_all[:own]):
+        for pts, ts, ps in _split(rc, cuts[k]):
+            stretches.append((rc.curve, pts, ts, ps))
+    return stretches
+
+
+def _tip_junction_cuts(curves_all: list[RootCurve], roots: list[RootCurve], by_name: dict) -> tuple[dict[int, list], list]:
+    """The cuts of each curve at the tangential junctions, and the junctions (corner path, root, point).
+
+    A flank's root curve ending at its tip (t = length) touches the tip corner's path there,
+    and so does the top land's curve at its ends: the path is cut there, and the crossings that
+    the discretisation makes next to such a grazing junction are to be ignored."""
     cuts: dict[int, list] = {k: [] for k in range(len(curves_all))}
-    # tangential junctions: a flank's root curve ending at its tip (t = length) touches the tip
-    # corner's path there, and so does the top land's curve at its ends. Cut the path there, and
-    # ignore the crossings that the discretisation makes next to such a grazing junction.
     junctions = []
     for k, rc in enumerate(curves_all[len(roots) :], start=len(roots)):
         side = rc.curve.removesuffix("_tip")
@@ -902,16 +996,13 @@ def solve_envelope(
                 junctions.append((k, m, r.points[e].copy()))
                 if not ((seg == 0 and frac == 0) or (seg == len(rc.phi) - 2 and frac == 1)):
                     cuts[k].append((seg, frac, r.points[e].copy()))
-    graze = 10.0 * np.sqrt(chord_tol_mm)  # how far from a tangential junction a crossing is an artefact
-    for i, si, fi, j, sj, fj, pt in crossings:
-        if any({i, j} == {k, m} and np.hypot(*(pt - jp)) < graze for k, m, jp in junctions):
-            continue
-        cuts[i].append((si, fi, pt))
-        cuts[j].append((sj, fj, pt))
-    stretches = []
-    for k, rc in enumerate(curves_all[:own]):
-        for pts, ts, ps in _split(rc, cuts[k]):
-            stretches.append((rc.curve, pts, ts, ps))
+    return cuts, junctions
+
+
+def _classified_pieces(stretches: list, motion: Motion, shape: ToothShape, *, phi_range, neighbour_angle: float,
+                       swept_grid: int, depth_tol_mm: float, symmetric: bool) -> list[EnvelopePiece]:
+    """The stretches (source, points, t, φ) as pieces, each classified by its midpoint's depth
+    inside the swept region: interfering beyond ``depth_tol_mm``, else conjugate or tip path."""
     mids = np.array([_midpoint(s[1]) for s in stretches])
     if symmetric:
         # the swept region is mirror-symmetric: classify |x| once per mirrored pair
@@ -928,36 +1019,23 @@ def solve_envelope(
         else:
             cls = TIP_PATH if src.endswith("_tip") else CONJUGATE
         pieces.append(EnvelopePiece(src, cls, _readonly(pts), _readonly(ts), _readonly(ps), float(d)))
-    checkpoint()
-    unresolved = _check_classification(pieces, motion, shape, phi_range=phi_range, neighbour_angle=neighbour_angle,
-                                       depth_tol_mm=depth_tol_mm, n_grid=min(swept_grid, 121))
-    def tangent(piece: EnvelopePiece, end: int) -> np.ndarray:
-        """Exact unit tangent at a piece end: R(Φ)p′(t) for a root, dQ/dφ for a corner path."""
-        phi = piece.phi[end : end + 1] if end == 0 else piece.phi[-1:]
-        pose = motion.pose(phi)
-        if piece.source.endswith("_tip"):
-            p = np.asarray(corners[piece.source.removesuffix("_tip")], float)[None]
-            d = pose.origin_d1 + pose.angle_d1[:, None] * (pose.to_cs(np.column_stack([p[:, 1], -p[:, 0]])) - pose.origin)
-        else:
-            t = piece.t[end : end + 1] if end == 0 else piece.t[-1:]
-            d = pose.to_cs(by_name[piece.source].evaluate(t)[1]) - pose.origin
-        d = d[0] / np.hypot(*d[0])
-        inward = piece.points[1] - piece.points[0] if end == 0 else piece.points[-2] - piece.points[-1]
-        return d if np.dot(d, inward) >= 0 else -d  # pointing into the piece, away from the junction
+    return pieces
 
-    return Envelope(
-        pieces=tuple(pieces),
-        ridges=tuple(_ridges(pieces, tangent)),
-        folds=tuple(folds),
-        no_root=no_root,
-        flank=_flanks(pieces),
-        phi_range=(float(phi_range[0]), float(phi_range[1])),
-        chord_tol_mm=chord_tol_mm,
-        residual=max(r.residual for r in roots),
-        time_s=time.perf_counter() - t0,
-        diagnostics={"trace_time_s": t_trace, "crossings": len(crossings), "root_curves": len(roots), "symmetric": symmetric,
-                     "neighbour_angle": neighbour_angle, "depth_tol_mm": depth_tol_mm, "unresolved": unresolved},
-    )
+
+def _end_tangent(piece: EnvelopePiece, end: int, motion: Motion, corners: dict[str, np.ndarray],
+                 by_name: dict) -> np.ndarray:
+    """Exact unit tangent at a piece end: R(Φ)p′(t) for a root, dQ/dφ for a corner path."""
+    phi = piece.phi[end : end + 1] if end == 0 else piece.phi[-1:]
+    pose = motion.pose(phi)
+    if piece.source.endswith("_tip"):
+        p = np.asarray(corners[piece.source.removesuffix("_tip")], float)[None]
+        d = pose.origin_d1 + pose.angle_d1[:, None] * (pose.to_cs(np.column_stack([p[:, 1], -p[:, 0]])) - pose.origin)
+    else:
+        t = piece.t[end : end + 1] if end == 0 else piece.t[-1:]
+        d = pose.to_cs(by_name[piece.source].evaluate(t)[1]) - pose.origin
+    d = d[0] / np.hypot(*d[0])
+    inward = piece.points[1] - piece.points[0] if end == 0 else piece.points[-2] - piece.points[-1]
+    return d if np.dot(d, inward) >= 0 else -d  # pointing into the piece, away from the junction
 
 
 def _check_classification(pieces, motion, shape, *, phi_range, neighbour_angle, depth_tol_mm: float,
