@@ -410,6 +410,49 @@ def fit_fourier(
     if criterion not in CRITERIA:
         raise SeriesError(f"criterion = {criterion!r}: must be one of {', '.join(CRITERIA)}")
     tier = _tier(tier)
+    phi, omega, upsilon = _wave_samples(phi, omega, upsilon, waves)
+    n = phi.size
+    top, warnings = _highest_order(n, order, max_order)
+    x_omega, x_upsilon = _fourier_design(phi, waves, top)
+    ls_w, ls_u = _NestedLeastSquares(x_omega, omega), _NestedLeastSquares(x_upsilon, upsilon)
+    floor_w = n * (_FLOOR_REL * max(float(np.max(np.abs(omega))), 1e-150)) ** 2
+    floor_u = n * (_FLOOR_REL * max(float(np.max(np.abs(upsilon))), 1e-150)) ** 2
+    selection = _select_order(ls_w, ls_u, omega, upsilon, order=order, top=top, waves=waves, criterion=criterion,
+                              floors=(floor_w, floor_u), warnings=warnings)
+    best, used = selection.picked, selection.criterion
+
+    coef_w, fitted_w, cov_w = ls_w.solve(best + 1)
+    coef_u, fitted_u, cov_u = ls_u.solve(best)
+    model = HarmonicDeformation(
+        waves=waves,
+        cos_mm=coef_w[1:],
+        sin_mm=coef_u,
+        mean_mm=float(coef_w[0]),
+        tier=tier,
+        source=f"Fourier fit, {best} harmonic(s) of U = {waves}, {n} samples",
+    )
+    stats_w = _stats(phi, omega, fitted_w, best + 1, lambda p, o: model.evaluate(p, o)[0])
+    stats_u = _stats(phi, upsilon, fitted_u, best, lambda p, o: model.evaluate(p, o)[1])
+    se_w = stats_w.rmse_mm * np.sqrt(cov_w)
+    se_u = stats_u.rmse_mm * np.sqrt(cov_u)
+    elapsed = time.perf_counter() - start
+    log.debug("Fourier fit: order %d (%s), RMSE ω %.3g mm, υ %.3g mm, %.3g s", best, used,
+              stats_w.rmse_mm, stats_u.rmse_mm, elapsed)
+    return DeformationFit(
+        model=model,
+        omega_stats=stats_w,
+        upsilon_stats=stats_u,
+        mean_se_mm=float(se_w[0]),
+        cos_se_mm=se_w[1:],
+        sin_se_mm=se_u,
+        selection=selection,
+        time_s=elapsed,
+        warnings=tuple(warnings),
+    )
+
+
+def _wave_samples(phi, omega, upsilon, waves: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """φ, ω and υ as checked sample arrays of one length; φ must cover one wave period 2π/U."""
     phi = _samples("phi", phi, "rad")
     n = phi.size
     omega = _samples("omega", omega, "mm", n)
@@ -423,7 +466,12 @@ def fit_fourier(
             f"phi: the samples cover {covered:.4g} rad, less than one wave period 2π/U = {period:.4g} rad "
             f"(waves = {waves})"
         )
+    return phi, omega, upsilon
 
+
+def _highest_order(n: int, order: int | None, max_order: int) -> tuple[int, list[str]]:
+    """The highest order to try with ``n`` samples (``order`` when given), and a warning when
+    the samples lower ``max_order``."""
     warnings: list[str] = []
     if order is not None:
         if n <= order + 1:
@@ -431,21 +479,25 @@ def fit_fourier(
                 f"phi: {n} samples, not more than the {order + 1} parameters of ω at order = {order}; "
                 f"need ≥ {order + 2} samples"
             )
-        top = order
-    else:
-        top = min(max_order, n - 4)  # AICc needs n − k − 1 > 0 for ω: k = K + 2
-        if top < 1:
-            raise SeriesError(
-                f"phi: {n} samples, too few to choose an order (≥ 5 needed for one harmonic); "
-                f"give more samples or an explicit order"
-            )
-        if top < max_order:
-            warnings.append(f"max_order = {max_order} reduced to {top} by the number of samples ({n})")
+        return order, warnings
+    top = min(max_order, n - 4)  # AICc needs n − k − 1 > 0 for ω: k = K + 2
+    if top < 1:
+        raise SeriesError(
+            f"phi: {n} samples, too few to choose an order (≥ 5 needed for one harmonic); "
+            f"give more samples or an explicit order"
+        )
+    if top < max_order:
+        warnings.append(f"max_order = {max_order} reduced to {top} by the number of samples ({n})")
+    return top, warnings
 
-    x_omega, x_upsilon = _fourier_design(phi, waves, top)
-    ls_w, ls_u = _NestedLeastSquares(x_omega, omega), _NestedLeastSquares(x_upsilon, upsilon)
-    floor_w = n * (_FLOOR_REL * max(float(np.max(np.abs(omega))), 1e-150)) ** 2
-    floor_u = n * (_FLOOR_REL * max(float(np.max(np.abs(upsilon))), 1e-150)) ** 2
+
+def _select_order(ls_w: _NestedLeastSquares, ls_u: _NestedLeastSquares, omega: np.ndarray, upsilon: np.ndarray, *,
+                  order: int | None, top: int, waves: int, criterion: str, floors: tuple[float, float],
+                  warnings: list[str]) -> OrderSelection:
+    """Every order up to ``top`` (only ``order`` when given) scored by RMSE and AICc, and the
+    pick by ``criterion``; what it skipped or where it stopped goes to ``warnings``."""
+    n = omega.size
+    floor_w, floor_u = floors
     orders, aiccs, rmse_w, rmse_u, skipped = [], [], [], [], []
     for k in range(1 if order is None else order, top + 1):
         if not (ls_w.full_rank(k + 1) and ls_u.full_rank(k)):
@@ -482,22 +534,7 @@ def fit_fourier(
                 f"order picked = {best}, the highest tried: the data hold more harmonics than max_order "
                 f"(or are not periodic in 2π/U)"
             )
-
-    coef_w, fitted_w, cov_w = ls_w.solve(best + 1)
-    coef_u, fitted_u, cov_u = ls_u.solve(best)
-    model = HarmonicDeformation(
-        waves=waves,
-        cos_mm=coef_w[1:],
-        sin_mm=coef_u,
-        mean_mm=float(coef_w[0]),
-        tier=tier,
-        source=f"Fourier fit, {best} harmonic(s) of U = {waves}, {n} samples",
-    )
-    stats_w = _stats(phi, omega, fitted_w, best + 1, lambda p, o: model.evaluate(p, o)[0])
-    stats_u = _stats(phi, upsilon, fitted_u, best, lambda p, o: model.evaluate(p, o)[1])
-    se_w = stats_w.rmse_mm * np.sqrt(cov_w)
-    se_u = stats_u.rmse_mm * np.sqrt(cov_u)
-    selection = OrderSelection(
+    return OrderSelection(
         criterion=used,
         picked=best,
         noise_pick=noise_pick,
@@ -508,20 +545,6 @@ def fit_fourier(
         aicc=np.asarray(aiccs),
         omega_noise_floor_mm=noise_w,
         upsilon_noise_floor_mm=noise_u,
-    )
-    elapsed = time.perf_counter() - start
-    log.debug("Fourier fit: order %d (%s), RMSE ω %.3g mm, υ %.3g mm, %.3g s", best, used,
-              stats_w.rmse_mm, stats_u.rmse_mm, elapsed)
-    return DeformationFit(
-        model=model,
-        omega_stats=stats_w,
-        upsilon_stats=stats_u,
-        mean_se_mm=float(se_w[0]),
-        cos_se_mm=se_w[1:],
-        sin_se_mm=se_u,
-        selection=selection,
-        time_s=elapsed,
-        warnings=tuple(warnings),
     )
 
 
@@ -869,74 +892,15 @@ def fit_sine_series(phi: ArrayLike, values: ArrayLike, *, terms: int = 3, starts
     starts = _whole("starts", starts, 1)
     if seed is not None and (isinstance(seed, bool) or not isinstance(seed, numbers.Integral)):
         raise SeriesError(f"seed = {seed!r}: must be a whole number or None")
-    phi = _samples("phi", phi, "rad")
-    n = phi.size
-    values = _samples("values", values, "mm", n)
-    n_params = 3 * terms
-    if n <= n_params:
-        raise SeriesError(
-            f"phi: {n} samples, not more than the {n_params} parameters of {terms} sine terms; "
-            f"need ≥ {n_params + 1} samples (or fewer terms)"
-        )
-    span = float(phi.max() - phi.min())
-    if span <= 0.0:
-        raise SeriesError("phi: all samples at the same angle; need a range of φ (rad)")
-
-    rng = np.random.default_rng(seed)
+    phi, values, span = _sine_samples(phi, values, terms)
+    n, n_params = phi.size, 3 * terms
     b_max = math.pi * (n - 1) / span  # Nyquist of the mean spacing
-    resolution = TWO_PI / span  # one bin of the record
-    pool = _pursuit(phi, values, 2 * terms + 2, b_max)
-    greedy = pool[:terms]
-    initial = [greedy]
-    for i in range(1, starts):
-        b = rng.choice(pool, size=terms, replace=False) if i % 2 else greedy
-        initial.append(np.abs(b + rng.uniform(-0.5, 0.5, terms) * resolution))
-
+    initial = _start_frequencies(phi, values, terms, starts, seed, span, b_max)
     projection = _Projection(phi, values, terms)
-
-    def projected(b):  # the first version's fitter (_reference): SVD least squares, finite-difference Jacobian
-        return _linear_amplitudes(phi, values, b)[2]
-
-    best_b, best_cost = None, math.inf
-    costs, n_success, nfev = [], 0, 0
-    for b0 in initial:
-        if _reference:
-            res = least_squares(projected, b0, method="lm", x_scale="jac", ftol=1e-15, xtol=1e-15, gtol=1e-15,
-                                max_nfev=100 * (terms + 1))
-            x, cost, evals, converged = res.x, float(res.cost), int(res.nfev), res.status > 0
-        else:
-            x, cost, evals, converged = _lm(projection.residual, projection.jacobian, b0, 100 * (terms + 1))
-        nfev += evals
-        n_success += int(converged)
-        cost = cost if np.all(np.isfinite(x)) and math.isfinite(cost) else math.inf
-        costs.append(cost)
-        if cost < best_cost:
-            best_b, best_cost = x, cost
-    if best_b is None:
-        raise ConvergenceError(f"fit_sine_series: no start of {starts} gave a finite fit ({terms} terms, {n} samples)")
-
-    # polish in all parameters (α, β, b) with the analytic Jacobian
-    alpha, beta, _ = (_linear_amplitudes(phi, values, best_b) if _reference else projection.amplitudes(best_b))
-    x0 = np.column_stack([alpha, beta, best_b]).ravel()
-    residual, jacobian = _residual_and_jacobian(phi, values, terms)
-    if _reference:
-        polished = least_squares(residual, x0, jac=jacobian, method="lm", x_scale="jac",
-                                 ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=50 * n_params)
-        x_pol, cost_pol, evals = polished.x, polished.cost, int(polished.nfev)
-    else:
-        x_pol, cost_pol, evals, _ = _lm(residual, jacobian, x0, 50 * n_params)
+    best_b, best_cost, costs, n_success, nfev = _best_start(projection, initial, _reference)
+    x, evals = _polished(projection, best_b, best_cost, _reference)
     nfev += evals
-    x = x_pol if cost_pol <= best_cost and np.all(np.isfinite(x_pol)) else x0
-
-    alpha, beta, b = _unpack(x, terms)
-    amplitude = np.hypot(alpha, beta)
-    phase = np.arctan2(beta, alpha)
-    negative = b < 0  # a sin(−|b|φ + c) = a sin(|b|φ − c + π)
-    b = np.abs(b)
-    phase = np.where(negative, math.pi - phase, phase)
-    phase = math.pi - np.remainder(math.pi - phase, TWO_PI)  # wrap to (−π, π]
-    order = np.argsort(-amplitude, kind="stable")
-    amplitude, b, phase = amplitude[order], b[order], phase[order]
+    amplitude, b, phase = _sine_terms(x, terms)
 
     costs_arr = np.array(costs)
     tol = max(1e-6 * best_cost, 1e-28)
@@ -965,3 +929,94 @@ def fit_sine_series(phi: ArrayLike, values: ArrayLike, *, terms: int = 3, starts
         time_s=elapsed,
         warnings=tuple(warnings),
     )
+
+
+def _sine_samples(phi, values, terms: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """φ and the values as checked sample arrays, more of them than the 3·terms parameters, and
+    the range of φ they span (> 0)."""
+    phi = _samples("phi", phi, "rad")
+    n = phi.size
+    values = _samples("values", values, "mm", n)
+    n_params = 3 * terms
+    if n <= n_params:
+        raise SeriesError(
+            f"phi: {n} samples, not more than the {n_params} parameters of {terms} sine terms; "
+            f"need ≥ {n_params + 1} samples (or fewer terms)"
+        )
+    span = float(phi.max() - phi.min())
+    if span <= 0.0:
+        raise SeriesError("phi: all samples at the same angle; need a range of φ (rad)")
+    return phi, values, span
+
+
+def _start_frequencies(phi, values, terms: int, starts: int, seed, span: float, b_max: float) -> list[np.ndarray]:
+    """The ``starts`` starting frequency sets: the pursuit's first ``terms`` frequencies, then
+    alternately a random draw from the pursuit's (odd) and those jittered (even), each by up to
+    half a frequency bin."""
+    rng = np.random.default_rng(seed)
+    resolution = TWO_PI / span  # one bin of the record
+    pool = _pursuit(phi, values, 2 * terms + 2, b_max)
+    greedy = pool[:terms]
+    initial = [greedy]
+    for i in range(1, starts):
+        b = rng.choice(pool, size=terms, replace=False) if i % 2 else greedy
+        initial.append(np.abs(b + rng.uniform(-0.5, 0.5, terms) * resolution))
+    return initial
+
+
+def _best_start(projection: _Projection, initial: list[np.ndarray], reference: bool) -> tuple:
+    """Each start solved by variable projection (only the frequencies iterated): the best
+    frequencies, their cost, the cost of every start, how many converged, the evaluations."""
+    phi, values, terms = projection.phi, projection.y, projection.terms
+
+    def projected(b):  # the first version's fitter (_reference): SVD least squares, finite-difference Jacobian
+        return _linear_amplitudes(phi, values, b)[2]
+
+    best_b, best_cost = None, math.inf
+    costs, n_success, nfev = [], 0, 0
+    for b0 in initial:
+        if reference:
+            res = least_squares(projected, b0, method="lm", x_scale="jac", ftol=1e-15, xtol=1e-15, gtol=1e-15,
+                                max_nfev=100 * (terms + 1))
+            x, cost, evals, converged = res.x, float(res.cost), int(res.nfev), res.status > 0
+        else:
+            x, cost, evals, converged = _lm(projection.residual, projection.jacobian, b0, 100 * (terms + 1))
+        nfev += evals
+        n_success += int(converged)
+        cost = cost if np.all(np.isfinite(x)) and math.isfinite(cost) else math.inf
+        costs.append(cost)
+        if cost < best_cost:
+            best_b, best_cost = x, cost
+    if best_b is None:
+        raise ConvergenceError(f"fit_sine_series: no start of {len(initial)} gave a finite fit ({terms} terms, "
+                               f"{phi.size} samples)")
+    return best_b, best_cost, costs, n_success, nfev
+
+
+def _polished(projection: _Projection, best_b: np.ndarray, best_cost: float, reference: bool) -> tuple:
+    """The best start polished in all parameters (α, β, b) with the analytic Jacobian (kept only
+    when it lowers the cost): the parameters and the evaluations it took."""
+    phi, values, terms = projection.phi, projection.y, projection.terms
+    alpha, beta, _ = (_linear_amplitudes(phi, values, best_b) if reference else projection.amplitudes(best_b))
+    x0 = np.column_stack([alpha, beta, best_b]).ravel()
+    residual, jacobian = _residual_and_jacobian(phi, values, terms)
+    if reference:
+        polished = least_squares(residual, x0, jac=jacobian, method="lm", x_scale="jac",
+                                 ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=50 * 3 * terms)
+        x_pol, cost_pol, evals = polished.x, polished.cost, int(polished.nfev)
+    else:
+        x_pol, cost_pol, evals, _ = _lm(residual, jacobian, x0, 50 * 3 * terms)
+    return (x_pol if cost_pol <= best_cost and np.all(np.isfinite(x_pol)) else x0), evals
+
+
+def _sine_terms(x: np.ndarray, terms: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(amplitudes, frequencies ≥ 0, phases in (−π, π]) of the parameters (α, β, b), strongest term first."""
+    alpha, beta, b = _unpack(x, terms)
+    amplitude = np.hypot(alpha, beta)
+    phase = np.arctan2(beta, alpha)
+    negative = b < 0  # a sin(−|b|φ + c) = a sin(|b|φ − c + π)
+    b = np.abs(b)
+    phase = np.where(negative, math.pi - phase, phase)
+    phase = math.pi - np.remainder(math.pi - phase, TWO_PI)  # wrap to (−π, π]
+    order = np.argsort(-amplitude, kind="stable")
+    return amplitude[order], b[order], phase[order]
