@@ -45,7 +45,11 @@ from .evaluate import CONTACT_OUTPUTS, DESIGN_OUTPUTS
 from .search import SENSES, Constraint, Objective, Variable
 
 if TYPE_CHECKING:  # pragma: no cover
+    from collections.abc import Callable
+
     from ...pipeline.scenes import Scene
+
+    _Fail = Callable[[str, str], NoReturn]  # raises the spec's error for a key and its problem
 
 __all__ = ["OptimizeSpec", "load_optimize_spec", "parse_optimize_spec"]
 
@@ -125,18 +129,30 @@ def parse_optimize_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str 
 
     name, description, base, gearset = spec_header(data, _TOP_KEYS, fail, what="an optimisation spec",
                                                    default_name=default_name, base_dir=base_dir)
+    scene = _spec_scene(data, "scene", "sketch", base, gearset, fail)
+    # an empty confirm scene: no confirmation
+    confirm = None if data.get("confirm_scene") == "" else _spec_scene(data, "confirm_scene", "design", base,
+                                                                       gearset, fail)
+    population, generations, seed = _search_settings(data, fail)
+    variables, start = _variables(data, gearset, fail)
+    objectives = _objectives(data, scene, confirm, fail)
+    constraints = _constraints(data, scene, confirm, fail)
+    return OptimizeSpec(name=name, gearset=gearset, scene=scene, confirm_scene=confirm, variables=tuple(variables),
+                        objectives=tuple(objectives), constraints=tuple(constraints), population=population,
+                        generations=generations, seed=seed, description=description, start=tuple(start),
+                        origin=origin)
 
-    def scene_of(key: str, default: str):
-        text = data.get(key, default)
-        if not isinstance(text, str):
-            fail(key, f"must be a text, got {text!r}")
-        if key == "confirm_scene" and text == "":
-            return None
-        return spec_scene(text, base, gearset, fail, key)
 
-    scene = scene_of("scene", "sketch")
-    confirm = scene_of("confirm_scene", "design")
+def _spec_scene(data: Mapping, key: str, default: str, base: Path, gearset: GearSet, fail: _Fail) -> Scene:
+    """The scene named by ``key`` (``default`` when absent)."""
+    text = data.get(key, default)
+    if not isinstance(text, str):
+        fail(key, f"must be a text, got {text!r}")
+    return spec_scene(text, base, gearset, fail, key)
 
+
+def _search_settings(data: Mapping, fail: _Fail) -> tuple[int, int, int]:
+    """The ``[search]`` table's population, generations and seed, checked against their ranges."""
     search = data.get("search", {})
     if not isinstance(search, Mapping):
         fail("search", f"must be a table, got {type(search).__name__}")
@@ -152,8 +168,12 @@ def parse_optimize_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str 
     seed = search.get("seed", 0)
     if not _int(seed) or seed < 0:
         fail("search.seed", f"{seed!r}: must be an integer >= 0")
+    return population, generations, seed
 
-    # variables: field = [lo, hi]
+
+def _variables(data: Mapping, gearset: GearSet, fail: _Fail) -> tuple[list[Variable], list]:
+    """The ``[variables]`` (field = [lo, hi]) and the base set's value of each; the gear set must
+    take each bound with the other variables at their base values."""
     if "variables" not in data:
         fail("variables", "missing: give at least one gear-set field = [lo, hi]")
     ranges = flat_table(data["variables"], "variables", fail)
@@ -177,56 +197,65 @@ def parse_optimize_spec(data: Mapping, *, origin: str = "<dict>", base_dir: str 
             except GearSetError as exc:
                 lines = "; ".join(" ".join(str(p).split()) for p in exc.problems)
                 fail(f"variables.{v.name}", f"bound {bound!r} is outside what the gear set takes ({lines})")
+    return variables, start
 
-    # objectives: output = "min" | "max"
-    known = DESIGN_OUTPUTS
 
-    def check_output(key: str, output: str):
-        if output not in known:
-            fail(key, f"{output!r} is not an output (one of {', '.join(known)})")
-        if output in CONTACT_OUTPUTS and not scene.contact:
-            fail(key, f"{output!r} needs the loaded contact, which the search scene {scene.name!r} does not run "
-                      "(use a scene with contact = true)")
-        if output in CONTACT_OUTPUTS and confirm is not None and not confirm.contact:
-            fail(key, f"{output!r} needs the loaded contact, which the confirm scene {confirm.name!r} does not run")
+def _check_output(key: str, output: str, scene: Scene, confirm: Scene | None, fail: _Fail) -> None:
+    """``output`` must be a design output, and one that needs the loaded contact only where the
+    search and confirm scenes run it."""
+    if output not in DESIGN_OUTPUTS:
+        fail(key, f"{output!r} is not an output (one of {', '.join(DESIGN_OUTPUTS)})")
+    if output in CONTACT_OUTPUTS and not scene.contact:
+        fail(key, f"{output!r} needs the loaded contact, which the search scene {scene.name!r} does not run "
+                  "(use a scene with contact = true)")
+    if output in CONTACT_OUTPUTS and confirm is not None and not confirm.contact:
+        fail(key, f"{output!r} needs the loaded contact, which the confirm scene {confirm.name!r} does not run")
 
+
+def _objectives(data: Mapping, scene: Scene, confirm: Scene | None, fail: _Fail) -> list[Objective]:
+    """The ``[objectives]`` (output = "min" | "max"), at least one."""
     objectives_table = data.get("objectives")
     if not isinstance(objectives_table, Mapping) or not objectives_table:
         fail("objectives", "give at least one output = \"min\" or \"max\"")
     objectives = []
     for output, sense in objectives_table.items():
-        check_output(f"objectives.{output}", str(output))
+        _check_output(f"objectives.{output}", str(output), scene, confirm, fail)
         if sense not in SENSES:
             fail(f"objectives.{output}", f"{sense!r}: must be \"min\" or \"max\"")
         objectives.append(Objective(str(output), sense))
+    return objectives
 
-    constraints = []
+
+def _constraints(data: Mapping, scene: Scene, confirm: Scene | None, fail: _Fail) -> list[Constraint]:
+    """The ``[constraints]`` (output = { min, max, scale })."""
     table = data.get("constraints", {})
     if not isinstance(table, Mapping):
         fail("constraints", f"must be a table, got {type(table).__name__}")
+    constraints = []
     for output, bounds in table.items():
         key = f"constraints.{output}"
-        check_output(key, str(output))
-        if not isinstance(bounds, Mapping) or not bounds:
-            fail(key, f"must be a table {{ min = ..., max = ..., scale = ... }}, got {bounds!r}")
-        for k in bounds:
-            if k not in _CONSTRAINT_KEYS:
-                fail(f"{key}.{k}", f"unknown key (allowed: {', '.join(_CONSTRAINT_KEYS)})")
-        lo, hi = bounds.get("min"), bounds.get("max")
-        if lo is None and hi is None:
-            fail(key, "needs min, max or both")
-        for k, given in (("min", lo), ("max", hi)):
-            if given is not None and not _number(given):
-                fail(f"{key}.{k}", f"must be a finite number, got {given!r}")
-        if lo is not None and hi is not None and lo > hi:
-            fail(key, f"min {lo!r} > max {hi!r}")
-        default_scale = max(abs(x) for x in (lo, hi) if x is not None) or 1.0
-        scale = bounds.get("scale", default_scale)
-        if not _number(scale) or scale <= 0:
-            fail(f"{key}.scale", f"must be a number > 0, got {scale!r}")
-        constraints.append(Constraint(str(output), None if lo is None else float(lo), None if hi is None else float(hi),
-                                      float(scale)))
-    return OptimizeSpec(name=name, gearset=gearset, scene=scene, confirm_scene=confirm, variables=tuple(variables),
-                        objectives=tuple(objectives), constraints=tuple(constraints), population=population,
-                        generations=generations, seed=seed, description=description, start=tuple(start),
-                        origin=origin)
+        _check_output(key, str(output), scene, confirm, fail)
+        constraints.append(_constraint(key, str(output), bounds, fail))
+    return constraints
+
+
+def _constraint(key: str, output: str, bounds, fail: _Fail) -> Constraint:
+    """One constraint's table: min, max or both (min ≤ max), and a scale > 0 (default the larger |bound|, else 1)."""
+    if not isinstance(bounds, Mapping) or not bounds:
+        fail(key, f"must be a table {{ min = ..., max = ..., scale = ... }}, got {bounds!r}")
+    for k in bounds:
+        if k not in _CONSTRAINT_KEYS:
+            fail(f"{key}.{k}", f"unknown key (allowed: {', '.join(_CONSTRAINT_KEYS)})")
+    lo, hi = bounds.get("min"), bounds.get("max")
+    if lo is None and hi is None:
+        fail(key, "needs min, max or both")
+    for k, given in (("min", lo), ("max", hi)):
+        if given is not None and not _number(given):
+            fail(f"{key}.{k}", f"must be a finite number, got {given!r}")
+    if lo is not None and hi is not None and lo > hi:
+        fail(key, f"min {lo!r} > max {hi!r}")
+    default_scale = max(abs(x) for x in (lo, hi) if x is not None) or 1.0
+    scale = bounds.get("scale", default_scale)
+    if not _number(scale) or scale <= 0:
+        fail(f"{key}.scale", f"must be a number > 0, got {scale!r}")
+    return Constraint(output, None if lo is None else float(lo), None if hi is None else float(hi), float(scale))
