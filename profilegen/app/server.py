@@ -275,15 +275,27 @@ def _bad(text: str):
 
 
 def _register(app, sessions: Sessions) -> None:
+    """The page's callbacks: the form's edits, the verdict and numbers of each snapshot, the
+    figures, save and export."""
+    _register_edit(app, sessions)
+    _register_render(app, sessions)
+    _register_figures(app, sessions)
+    _register_files(app, sessions)
+
+
+def _session(sessions: Sessions, sid) -> Session:
+    """The page's session; a WorkspaceError when it has ended."""
+    s = sessions.get(sid)
+    if s is None:
+        raise WorkspaceError("this page's session has ended (the server restarted or too many tabs): reload the "
+                             "page")
+    return s
+
+
+def _register_edit(app, sessions: Sessions) -> None:
+    """The form's callback: a field or slider edit, undo / redo, the scene, a loaded gear set."""
     from dash import ALL, Input, Output, State, ctx, no_update
     from dash.exceptions import PreventUpdate
-
-    def session(sid) -> Session:
-        s = sessions.get(sid)
-        if s is None:
-            raise WorkspaceError("this page's session has ended (the server restarted or too many tabs): reload the "
-                                 "page")
-        return s
 
     @app.callback(
         Output(_field_id("field", ALL), "value"), Output(_field_id("slider", ALL), "value"),
@@ -305,7 +317,7 @@ def _register(app, sessions: Sessions) -> None:
 
         keep = [nothing(field_ids), nothing(slider_ids), nothing(error_ids)] + [no_update] * 6
         try:
-            s = session(sid)
+            s = _session(sessions, sid)
             rebuild = False
             texts = dict(zip(field_ids, field_values))
             if trig in ("undo", "redo"):
@@ -322,35 +334,7 @@ def _register(app, sessions: Sessions) -> None:
                 s.set_scene(scene)
                 status = f"scene: {scene}"
             elif isinstance(trig, dict):
-                if trig.get("type") == "slider":
-                    texts[trig["path"]] = slider_values[slider_ids.index(trig["path"])]
-                before = s.history.current
-                errors = s.edit(texts)
-                err_out = [errors.get(p, "") for p in error_ids]
-                if errors:
-                    stray = errors.get("")
-                    out = list(keep)
-                    out[2], out[4] = err_out, _bad(stray or "a value is not accepted: see the marked field")
-                    return out
-                if s.history.current is before:  # nothing changed (a form re-rendered, or the same value)
-                    out = list(keep)
-                    out[2] = err_out
-                    return out
-                out = list(keep)
-                if trig.get("type") == "slider":
-                    out[0] = [schema.form_text(texts[trig["path"]]) if p == trig["path"] else no_update
-                              for p in field_ids]
-                else:
-                    value = s.values().get(trig["path"])
-                    out[1] = [float(value) if p == trig["path"] and isinstance(value, (int, float)) else no_update
-                              for p in slider_ids]
-                out[2], out[3] = err_out, s.submit()
-                out[4] = f"{trig['path']} = {schema.form_text(s.values().get(trig['path']))}"
-                if [f.path for f in s.fields] != field_ids:  # the form itself changed (another tooth kind)
-                    out[0], out[1], out[2] = nothing(field_ids), nothing(slider_ids), nothing(error_ids)
-                    out[5] = form_children(s)
-                out[6], out[7] = not s.history.can_undo, not s.history.can_redo
-                return out
+                return _field_edited(s, trig, texts, slider_values, field_ids, slider_ids, error_ids, keep)
             else:  # the page's first call
                 status = f"{s.gearset.name}: workspace {s.workspace.root}"
             out = list(keep)
@@ -366,6 +350,51 @@ def _register(app, sessions: Sessions) -> None:
             out[4] = _bad(_failure(exc))
             return out
 
+
+def _field_edited(s: Session, trig: dict, texts: dict, slider_values, field_ids, slider_ids, error_ids, keep) -> list:
+    """The form's outputs after a field's or a slider's edit: its errors, or the submitted request,
+    the other control of that field, the status, and a new form when the fields changed."""
+    from dash import no_update
+
+    def nothing(ids):
+        return [no_update] * len(ids)
+
+    if trig.get("type") == "slider":
+        texts[trig["path"]] = slider_values[slider_ids.index(trig["path"])]
+    before = s.history.current
+    errors = s.edit(texts)
+    err_out = [errors.get(p, "") for p in error_ids]
+    if errors:
+        stray = errors.get("")
+        out = list(keep)
+        out[2], out[4] = err_out, _bad(stray or "a value is not accepted: see the marked field")
+        return out
+    if s.history.current is before:  # nothing changed (a form re-rendered, or the same value)
+        out = list(keep)
+        out[2] = err_out
+        return out
+    out = list(keep)
+    if trig.get("type") == "slider":
+        out[0] = [schema.form_text(texts[trig["path"]]) if p == trig["path"] else no_update
+                  for p in field_ids]
+    else:
+        value = s.values().get(trig["path"])
+        out[1] = [float(value) if p == trig["path"] and isinstance(value, (int, float)) else no_update
+                  for p in slider_ids]
+    out[2], out[3] = err_out, s.submit()
+    out[4] = f"{trig['path']} = {schema.form_text(s.values().get(trig['path']))}"
+    if [f.path for f in s.fields] != field_ids:  # the form itself changed (another tooth kind)
+        out[0], out[1], out[2] = nothing(field_ids), nothing(slider_ids), nothing(error_ids)
+        out[5] = form_children(s)
+    out[6], out[7] = not s.history.can_undo, not s.history.can_redo
+    return out
+
+
+def _register_render(app, sessions: Sessions) -> None:
+    """The verdict, numbers and progress callback (the request's first snapshot, then the long poll)."""
+    from dash import Input, Output, State, ctx, no_update
+    from dash.exceptions import PreventUpdate
+
     @app.callback(
         Output("verdict", "children"), Output("numbers", "children"), Output("progress", "children"),
         Output("shown", "data"), Output("figkey", "data"),
@@ -380,7 +409,7 @@ def _register(app, sessions: Sessions) -> None:
         (``shown``) and draws it in the same response."""
         trig = ctx.triggered_id
         try:
-            s = sessions.get(sid) if trig == "poll" else session(sid)
+            s = sessions.get(sid) if trig == "poll" else _session(sessions, sid)
             if s is None:
                 raise PreventUpdate
             if trig == "req":
@@ -420,6 +449,12 @@ def _register(app, sessions: Sessions) -> None:
 
             return ([html.Span("ERROR", className="pg-badge pg-ERROR"), _bad(_failure(exc))],) + (no_update,) * 4
 
+
+def _register_figures(app, sessions: Sessions) -> None:
+    """The figures' callback: the CS space and the fit error, once per profile and on pin / unpin."""
+    from dash import Input, Output, State, ctx
+    from dash.exceptions import PreventUpdate
+
     @app.callback(
         Output("space", "figure"), Output("fit-error", "figure"), Output("drawn", "data"),
         Input("figkey", "data"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
@@ -433,7 +468,7 @@ def _register(app, sessions: Sessions) -> None:
         only the newest response of a callback: what the page shows is read from ``drawn``)."""
         trig = ctx.triggered_id
         try:
-            s = session(sid)
+            s = _session(sessions, sid)
             if trig in ("pin", "unpin"):
                 s.clicked(trig, pin if trig == "pin" else unpin)
             with s.lock:
@@ -453,6 +488,11 @@ def _register(app, sessions: Sessions) -> None:
             log.warning("profilegen app: the figures failed: %s", _failure(exc))
             raise PreventUpdate from None
 
+
+def _register_files(app, sessions: Sessions) -> None:
+    """The save and export callbacks (the gear set's TOML, the finished design's files)."""
+    from dash import Input, Output, State, no_update
+
     @app.callback(
         Output("status", "children", allow_duplicate=True), Output("load-name", "options"),
         Input("save", "n_clicks"), State("save-name", "value"), State("sid", "data"),
@@ -460,7 +500,7 @@ def _register(app, sessions: Sessions) -> None:
     )
     def save(_n, name, sid):
         try:
-            s = session(sid)
+            s = _session(sessions, sid)
             path = s.workspace.save(s.gearset, name)
             return f"saved {path.relative_to(s.workspace.root).as_posix()}", _file_options(s.workspace)
         except Exception as exc:  # noqa: BLE001
@@ -473,7 +513,7 @@ def _register(app, sessions: Sessions) -> None:
     )
     def export(_n, sid):
         try:
-            s = session(sid)
+            s = _session(sessions, sid)
             snap = s.computer.wait(s.computer.latest_job, profile=False)
             if snap is None or snap.design is None:
                 return _bad("export: no finished design to export" + (f" ({snap.error})" if snap and snap.error
