@@ -160,8 +160,44 @@ def new_gearset(size: int, ratio: int, *, series: str = "csf", torque_rated_nm: 
     series = series.lower()
     rated, peak, momentary = (_torque("torque_rated_nm", torque_rated_nm), _torque("torque_peak_nm", torque_peak_nm),
                               _torque("torque_momentary_nm", torque_momentary_nm))
-    name = name or f"new_{series}{size}_{ratio}"
+    p = _proportions(size, ratio, series, name or f"new_{series}{size}_{ratio}")
+    # the rating rule needs the set's size torque (GearSet.size_torque_nm): read a draft first
+    draft = parse_gearset(tomllib.loads(_set_text(p, 1.0, 1.0, 1.0, "")))
+    rated, peak, momentary, rule = _torques(draft.size_torque_nm, series, rated, peak, momentary)
+    text = _set_text(p, rated, peak, momentary, rule)
+    try:
+        gearset = parse_gearset(tomllib.loads(text))
+    except ProfilegenError as exc:  # a given torque out of order (peak < rated, ...): the reader's own line
+        raise NewSetError(str(exc)) from None
+    return CatalogueSet(text=text, gearset=gearset)
 
+
+@dataclass(frozen=True)
+class _Proportions:
+    """A set's given size, ratio, series and name, and its proportions by the module docstring's
+    rules (lengths in mm)."""
+
+    size: int
+    ratio: int
+    series: str
+    name: str
+    z1: int  # flexspline teeth
+    z2: int  # circular spline teeth
+    m: float  # module
+    d: float  # pitch diameter, m·z1
+    rim: float  # rim thickness δ
+    r_m: float  # neutral radius of the rim
+    bearing: float  # the wave generator bearing's radial section
+    wire_r: float  # EDM wire radius
+    gap: float  # spark gap
+    length: float  # cup length
+    face: float  # face width
+    boss: float  # boss radius
+    fillet: float  # root fillet radius
+
+
+def _proportions(size: int, ratio: int, series: str, name: str) -> _Proportions:
+    """The proportions of a set of ``size`` and ``ratio`` by the rules in the module docstring."""
     z1 = WAVES * ratio
     z2 = z1 + WAVES
     d = PITCH_DIAMETER_PER_SIZE_MM * size
@@ -175,12 +211,44 @@ def new_gearset(size: int, ratio: int, *, series: str = "csf", torque_rated_nm: 
     length, face = round(0.6 * d, 3), round(0.2 * d, 3)
     boss = round(r_m / 2.0, 3)
     fillet = round(0.6 * m, 4)
+    return _Proportions(size, ratio, series, name, z1, z2, m, d, rim, r_m, bearing, wire_r, gap, length, face, boss,
+                        fillet)
 
-    def text_for(t_rated, t_peak, t_mom, rule: str) -> str:
-        label = {"csf": "CSF", "csg": "CSG", "shf": "SHF"}[series]
-        shf = ("\n# SHF is a hat-type flexspline: written here as a cup with the same toothed ring (the hat's\n"
-               "# flange is not modelled; the rim, tooth ring and bearing are what the stages use).") if series == "shf" else ""
-        return f"""# A {label}-{size}-{ratio} strain wave gear of catalogue proportions, written by
+
+def _torques(size_torque_nm: float, series: str, rated: float | None, peak: float | None,
+             momentary: float | None) -> tuple[float, float, float, str]:
+    """The rated, peak and momentary torques (N·m): those given, the others by the rating rule from
+    the set's size torque; and the comment lines that say which is which."""
+    factor = CSG_TORQUE_FACTOR if series == "csg" else 1.0
+    size_torque = size_torque_nm * factor
+    lines = []
+    if rated is None:
+        rated = float(f"{size_torque:.3g}")
+        lines.append(f"# ESTIMATE: rated = k d^2 b = {size_torque:.4g} N.m, 3 digits (GearSet.size_torque_nm, k fitted on the\n"
+                     "# catalogue torques of seeds 000/001"
+                     + (";\n# x1.3 for the CSG: the CSF & CSG catalogue's 'a 30 % increase in torque capacity'" if factor != 1 else "")
+                     + ").\n# The catalogue rates ratio 30 lower; this rule does not.")
+    else:
+        lines.append("# given: rated torque (profilegen new --torque-rated)")
+    if peak is None:
+        peak = float(f"{max(rated * PEAK_PER_RATED, rated):.3g}")
+        lines.append("# ESTIMATE: peak = rated x 167/67 (the SHF-25-80's catalogue torques, as the SHF-25 tooth-ring study quotes them), 3 digits.")
+    if momentary is None:
+        momentary = float(f"{max(rated * MOMENTARY_PER_RATED, peak):.3g}")
+        lines.append("# ESTIMATE: momentary = rated x 304/67 (the SHF-25-80's catalogue torques, as the SHF-25 tooth-ring study quotes them), 3 digits.")
+    return rated, peak, momentary, "\n".join(lines)
+
+
+def _set_text(p: _Proportions, t_rated: float, t_peak: float, t_mom: float, rule: str) -> str:
+    """The gear-set TOML of proportions ``p`` and these torques, each number with the rule it comes
+    from (``rule``: the torques' comment lines)."""
+    size, ratio, series, name, z1, z2, m, d = p.size, p.ratio, p.series, p.name, p.z1, p.z2, p.m, p.d
+    rim, r_m, bearing, wire_r, gap = p.rim, p.r_m, p.bearing, p.wire_r, p.gap
+    length, face, boss, fillet = p.length, p.face, p.boss, p.fillet
+    label = {"csf": "CSF", "csg": "CSG", "shf": "SHF"}[series]
+    shf = ("\n# SHF is a hat-type flexspline: written here as a cup with the same toothed ring (the hat's\n"
+           "# flange is not modelled; the rim, tooth ring and bearing are what the stages use).") if series == "shf" else ""
+    return f"""# A {label}-{size}-{ratio} strain wave gear of catalogue proportions, written by
 # `profilegen new --size {size} --ratio {ratio} --series {series}` (profilegen.gearset.new).
 # Given: the size ({size}), the ratio ({ratio}) and the series. Every other number is an ESTIMATE
 # by the rule named beside it (the rules and their sources: profilegen/gearset/new.py).{shf}
@@ -254,32 +322,6 @@ wall_thickness_mm = {_g(rim, 4)}
 bearing_width_mm = {_g(face, 3)}
 bearing_center_mm = {_g(length, 3)}
 """
-
-    # the rating rule needs the set's size torque (GearSet.size_torque_nm): read a draft first
-    draft = parse_gearset(tomllib.loads(text_for(1.0, 1.0, 1.0, "")))
-    factor = CSG_TORQUE_FACTOR if series == "csg" else 1.0
-    size_torque = draft.size_torque_nm * factor
-    lines = []
-    if rated is None:
-        rated = float(f"{size_torque:.3g}")
-        lines.append(f"# ESTIMATE: rated = k d^2 b = {size_torque:.4g} N.m, 3 digits (GearSet.size_torque_nm, k fitted on the\n"
-                     "# catalogue torques of seeds 000/001"
-                     + (";\n# x1.3 for the CSG: the CSF & CSG catalogue's 'a 30 % increase in torque capacity'" if factor != 1 else "")
-                     + ").\n# The catalogue rates ratio 30 lower; this rule does not.")
-    else:
-        lines.append("# given: rated torque (profilegen new --torque-rated)")
-    if peak is None:
-        peak = float(f"{max(rated * PEAK_PER_RATED, rated):.3g}")
-        lines.append("# ESTIMATE: peak = rated x 167/67 (the SHF-25-80's catalogue torques, as the SHF-25 tooth-ring study quotes them), 3 digits.")
-    if momentary is None:
-        momentary = float(f"{max(rated * MOMENTARY_PER_RATED, peak):.3g}")
-        lines.append("# ESTIMATE: momentary = rated x 304/67 (the SHF-25-80's catalogue torques, as the SHF-25 tooth-ring study quotes them), 3 digits.")
-    text = text_for(rated, peak, momentary, "\n".join(lines))
-    try:
-        gearset = parse_gearset(tomllib.loads(text))
-    except ProfilegenError as exc:  # a given torque out of order (peak < rated, ...): the reader's own line
-        raise NewSetError(str(exc)) from None
-    return CatalogueSet(text=text, gearset=gearset)
 
 
 def derived_quantities(gearset) -> dict:
