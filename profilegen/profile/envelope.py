@@ -438,10 +438,10 @@ def _trace_once(curve, motion, phi_range, n_t, n_phi, chord_tol_mm, max_step, ma
     return _root_curves(curve.name, len(lines), t, phi, q, line_id, is_coarse, dist), folds
 
 
-def _grid_branches(curve, motion, phi_range, n_t: int, n_phi: int) -> list[np.ndarray]:
+def _grid_branches(curve, motion, phi_range, n_t: int, n_phi: int) -> list:
     """The branches of f(t, φ) = 0 contoured on an ``n_t`` × ``n_phi`` grid: (t, φ) polylines of ≥ 2 vertices."""
     t_g = np.linspace(0.0, curve.length, n_t)
-    phi_g = np.linspace(*phi_range, n_phi)
+    phi_g = np.linspace(phi_range[0], phi_range[1], n_phi)
     T, _ = curve.terms(t_g)
     a, _ = motion.pose(phi_g).meshing_coefficients()
     F = a @ T  # (n_phi, n_t): the whole grid in one product
