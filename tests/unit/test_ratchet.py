@@ -289,6 +289,19 @@ def test_climb_limit_point_kept_when_its_bracket_cannot_be_refined():
     assert path.torque_nm == top.torque_nm
 
 
+def test_climb_with_no_equilibrium_beyond_a_rising_path_fails_loudly():
+    """Where no fixed point exists beyond some rotation while T(φ) still rises (no limit point
+    reached), the path must end as "end of path" — the verdict's NOT CHECKED — never as a limit
+    point, and its torque is the last point's, below the model's true peak T*."""
+    star = 8.0 ** (-1.0 / 8.0)
+    stop = 0.7 * star  # T still rising there
+    path = climb(_Peak((stop, math.inf)), 0.05, 0.05)
+    assert path.criterion == "end of path"
+    assert path.torque_nm < star * math.exp(-1.0 / 8.0) / 1e3
+    assert all(p.phi_rad <= stop for p in path.points)
+    assert "no equilibrium just beyond" in path.warnings[-1]
+
+
 @pytest.mark.parametrize("sigma", [1.0, -1.0])
 def test_climb_straight_flank_with_friction_reaches_the_depth_at_k_r_h_cot_alpha_less_rho(sigma):
     """Sliding out (σ = +1, the pull-out): friction holds the tooth in, T = k R h cot(α − ρ);
