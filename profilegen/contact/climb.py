@@ -361,7 +361,8 @@ def _point(model, phi, f, s_fs, s_cs, state, lever, iterations) -> ClimbPoint:
 def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow: float = 1.25,
           refine: int = 3, tol_mm: float = 1e-4, max_iterations: int = 30,
           max_torque_nm: float = math.inf, max_halvings: int = 4,
-          max_retreat_step_mm: float = 0.02, min_step_fraction: float = 1.0 / 64.0) -> ClimbPath:
+          max_retreat_step_mm: float = 0.02, min_step_fraction: float = 1.0 / 64.0,
+          limit_drop: float = 0.005) -> ClimbPath:
     """Follow T(φ) from ``phi_start`` in steps of ``phi_step`` (grown ×``grow`` while nothing
     ends the path) until a criterion of the module docstring is met, then refine the
     bracket ``refine`` times (quarter steps from the point before it; where not one of them
@@ -377,6 +378,12 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
     or ball sets in a narrow band of φ with equilibria past it (a warning names the band) —
     and only if none converges does the path end at the last point (criterion "end of path":
     no equilibrium was found just beyond it — under rotation control the teeth would snap).
+
+    A limit point is T falling more than ``limit_drop`` (0.5 %) below its largest so far: the
+    stations' contact switching makes T(φ) wiggle by ~0.1–0.3 % where it is flat, and the first
+    such wiggle ended the path before (seed000_csf40, verify scene: T flat at 6284–6300 N·m over
+    φ = 4.65–4.77 mrad with 0.35 mm of the teeth still in their spaces, then rising to 7372 and
+    falling 3 % and on — the step grid ×1.01 took the wiggle, 6290 N·m, ×1 the later 7359).
 
     Step control (engineer P3b): a step whose force-weighted mean retreat grows by more than
     ``max_retreat_step_mm`` is not taken but tried again halved (down to ``min_step_fraction``
@@ -400,14 +407,18 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
         return _point(model, phi, f, s_fs, s_cs, state, lever, it)
 
     def ended(path):
-        """(criterion, index of the first point past it) or None."""
+        """(criterion, index of the first point past it) or None; a limit point: T fell more than
+        ``limit_drop`` below its largest so far — the index is then the point after that largest."""
+        top = 0
         for k, p in enumerate(path):
             if p.margin_mm <= 0.0:
                 return "margin", k
             if corner_rule and p.corner_share >= 0.5:
                 return "corner", k
-            if k >= 1 and p.torque_nm < path[k - 1].torque_nm:
-                return "limit point", k
+            if k >= 1 and p.torque_nm < (1.0 - limit_drop) * path[top].torque_nm:
+                return "limit point", top + 1
+            if p.torque_nm >= path[top].torque_nm:
+                top = k
         return None
 
     phi, step = float(phi_start), float(phi_step)
