@@ -162,8 +162,8 @@ def interference_tol_mm(scene) -> float:
 #: 6.17 (sizes 25 / 32 / 40, at 02f23e8; the rigid band's 5.74 of size 25 was this row's factor
 #: until then, 7 % lenient against the race's). With the climb's CS surface made whole (its tip
 #: lands and the neighbouring spaces; the limit points before came from a jump of the gap there)
-#: ratio 100 gives 2226 / 500 = 4.45, 4223 / 1000 = 4.22, 7456 / 2100 = 3.55 and ratio 80 2492 /
-#: 680 = 3.66, 5069 / 1400 = 3.62, 7123 / 2800 = 2.54; ratio 50 unchanged (python
+#: ratio 100 gives 2226 / 500 = 4.45, 4231 / 1000 = 4.23, 7788 / 2100 = 3.71 and ratio 80 2493 /
+#: 680 = 3.67, 5069 / 1400 = 3.62, 7122 / 2800 = 2.54; ratio 50 within 0.03 % (python
 #: tests/benchmarks/ratcheting.py --verify on the profilegen new sets). Until the model errs on the safe side the verdict
 #: checks the bound estimate / the factor of the set's row — at or below every catalogue value of
 #: that row the package has been compared with — never the raw estimate; below ratio 50 there is

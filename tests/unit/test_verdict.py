@@ -144,10 +144,11 @@ def test_ratcheting_bound_is_below_every_catalogue_value_measured():
                 (2777.75, 50, 25), (5622.53, 50, 32), (11104.12, 50, 40),
                 # the same with the climb's CS surface whole (tip lands, neighbouring spaces):
                 # python tests/benchmarks/ratcheting.py --verify on the profilegen new sets
-                (2225.99, 100, 25), (4223.37, 100, 32), (7455.59, 100, 40),
-                (2492.11, 80, 25), (5068.79, 80, 32), (7122.86, 80, 40),
-                (7358.98, 100, 40),  # seed000_csf40
-                (3980.39, 100, 32)]  # csf32_100
+                (2225.99, 100, 25), (4231.11, 100, 32), (7788.12, 100, 40),
+                (2493.19, 80, 25), (5068.79, 80, 32), (7122.20, 80, 40),
+                (2777.75, 50, 25), (5624.10, 50, 32), (11102.58, 50, 40),
+                (7372.30, 100, 40),  # seed000_csf40
+                (4110.99, 100, 32)]  # csf32_100
     tight = set()
     for estimate, ratio, size in measured:
         factor, _ = ratcheting_overestimate(ratio)
