@@ -36,6 +36,30 @@ stations are at p_j − s_k e_r,k. For a prescribed rigid rotation φ of the FS 
   follow n. ``corner_normal=False``: the flank's normal kept (the model before; then half the
   load on the corners ends the path, the "corner" rule, which stood in for this).
 
+The CS surface (:meth:`DesignClimb.signed_gap`): every space and the tip lands between them —
+a station is measured in the space it stands in (its own, or a neighbour's once it has moved
+more than half a CS pitch: the CS is periodic), and beyond the space's outline, which ends on
+the CS tip circle, against the tip land. A corner's surface normal is turned into the CS
+material (a point 5 µm along it from the nearest CS point lies in it), then kept in its cone
+(outside it: the nearer edge). Before, a station was measured against its own space alone:
+over the tip land it took the distance to the space's end with the sign of r ≷ r_tip, a jump
+of twice that where it crossed the tip circle (±0.19 mm), and a corner's normal was turned to
+its cone's side, which flips it where the normal stands across the cone. Both happen near the
+minor axis once the free CS ring's ovalisation brings the CS tip circle onto the FS tips
+(0.09–0.15 mm of radial travel there): the retreat's fixed point cycled between two contact
+sets and the path ended ("end of path") with T(φ) still rising on five sets of the corpus
+(verify scene: csf14_100 298.7, csf20_120 678.5, csf20_160 502.2, csf25_160 993.1 and
+seed001_shf25 1492 N·m). With the surface whole they reach a limit point with T(φ) flat at
+its top (csf14_100: 417.0, 418.9, 418.8, 418.8, 405.6 N·m at φ = 6.55…6.96 mrad; csf20_160
+723.4, 724.8, 725.0, 724.3, 723.2): 419.1, 978.9, 725.0, 1392, 2087 N·m. The loaded zone's
+stations crossing the CS tip circle just past the tip rounds had the same jump (an overlap of
+the distance to the round, 30–40 µm, instead of the distance to the tip land, < 10 µm): the
+limit points of the other sets came from it and rose — csf25_100 1686 → 2198, seed000_csf40
+5886 → 7372, csf32_100 3254 → 4111, the default set 5841 → 7197 N·m (with the limit point's
+0.5 % tolerance of :func:`climb`; verify scene's inputs, ``ratcheting_torque(ContactInput.
+from_design(design))`` as the pipeline calls it: ``python tests/benchmarks/ratcheting.py
+--verify SET``).
+
 Across the face (:class:`SlicedClimb`, :func:`section_inputs`): N axial slices of the 3D
 cup's sections (the design's deformation plus each section's change from the design
 section, so the CS stays the one generated), each a DesignClimb with its share of the face
@@ -339,10 +363,14 @@ def _point(model, phi, f, s_fs, s_cs, state, lever, iterations) -> ClimbPoint:
 def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow: float = 1.25,
           refine: int = 3, tol_mm: float = 1e-4, max_iterations: int = 30,
           max_torque_nm: float = math.inf, max_halvings: int = 4,
-          max_retreat_step_mm: float = 0.02, min_step_fraction: float = 1.0 / 64.0) -> ClimbPath:
+          max_retreat_step_mm: float = 0.02, min_step_fraction: float = 1.0 / 64.0,
+          limit_drop: float = 0.005) -> ClimbPath:
     """Follow T(φ) from ``phi_start`` in steps of ``phi_step`` (grown ×``grow`` while nothing
     ends the path) until a criterion of the module docstring is met, then refine the
-    bracket ``refine`` times (quarter steps from the point before it). ``model`` provides
+    bracket ``refine`` times (quarter steps from the point before it; where not one of them
+    finds a fixed point, the bracket's top point is kept and its torque, an equilibrium found,
+    is the limit point's — a parabola through the coarse bracket overshoots a sharp peak, and
+    dropping the top point, as before, took the falling branch's). ``model`` provides
     ``geometry(s) → (gap, lever)``, ``respond(q, state) → (F, state, S, P)``, ``ring(F)``,
     ``settled(state)``, ``initial_state()``, and arrays ``slot``, ``sin_alpha``, ``depth_mm``,
     ``corner`` and ``zones``. The path stops past ``max_torque_nm`` (N·m). A rotation whose
@@ -352,6 +380,12 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
     or ball sets in a narrow band of φ with equilibria past it (a warning names the band) —
     and only if none converges does the path end at the last point (criterion "end of path":
     no equilibrium was found just beyond it — under rotation control the teeth would snap).
+
+    A limit point is T falling more than ``limit_drop`` (0.5 %) below its largest so far: the
+    stations' contact switching makes T(φ) wiggle by ~0.1–0.3 % where it is flat, and the first
+    such wiggle ended the path before (seed000_csf40, verify scene: T flat at 6284–6300 N·m over
+    φ = 4.65–4.77 mrad with 0.35 mm of the teeth still in their spaces, then rising to 7372 and
+    falling 3 % and on — the step grid ×1.01 took the wiggle, 6290 N·m, ×1 the later 7359).
 
     Step control (engineer P3b): a step whose force-weighted mean retreat grows by more than
     ``max_retreat_step_mm`` is not taken but tried again halved (down to ``min_step_fraction``
@@ -375,14 +409,18 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
         return _point(model, phi, f, s_fs, s_cs, state, lever, it)
 
     def ended(path):
-        """(criterion, index of the first point past it) or None."""
+        """(criterion, index of the first point past it) or None; a limit point: T fell more than
+        ``limit_drop`` below its largest so far — the index is then the point after that largest."""
+        top = 0
         for k, p in enumerate(path):
             if p.margin_mm <= 0.0:
                 return "margin", k
             if corner_rule and p.corner_share >= 0.5:
                 return "corner", k
-            if k >= 1 and p.torque_nm < path[k - 1].torque_nm:
-                return "limit point", k
+            if k >= 1 and p.torque_nm < (1.0 - limit_drop) * path[top].torque_nm:
+                return "limit point", top + 1
+            if p.torque_nm >= path[top].torque_nm:
+                top = k
         return None
 
     phi, step = float(phi_start), float(phi_step)
@@ -432,6 +470,7 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
         phi += step
         step *= grow
     found = ended(pts)
+    stuck = False
     for _ in range(refine):
         hit = ended(pts)
         if hit is None or hit[1] < 2:
@@ -441,16 +480,23 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
         h = (pts[k].phi_rad - base.phi_rad) / 4.0
         fine = [base]
         s_fs, s_cs, state = base.retreat_fs_mm, base.retreat_mm - base.retreat_fs_mm, base.state
+        failed = False
         for j in range(1, 4):
             try:
                 q = run(base.phi_rad + j * h, s_fs, s_cs, state)
-            except ConvergenceError as exc:
-                warnings.append(str(exc))
-                break
+            except ConvergenceError as exc:  # skipped: the next quarter step may have one (a fixed
+                warnings.append(str(exc))  # point missed by 2e-4 mm at csf14_100's peak)
+                failed = True
+                continue
             fine.append(q)
             s_fs, s_cs, state = q.retreat_fs_mm, q.retreat_mm - q.retreat_fs_mm, q.state
+        stuck = len(fine) == 1  # not one refined rotation found: the same would fail again
+        if failed or fine[-1].phi_rad < pts[k - 1].phi_rad:  # the refinement left a gap or stopped short:
+            fine.append(pts[k - 1])  # keep the point before the criterion (it may be the peak; it was dropped)
         fine.append(pts[k])
         pts = pts[:k - 2] + sorted(fine, key=lambda x: x.phi_rad) + pts[k + 1:]
+        if stuck:
+            break
     hit = ended(pts)
     if hit is None and found is not None and found[0] == "limit point":
         # the refinement's finer steps followed T(φ) up where the coarse step had found it
@@ -469,6 +515,13 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
     crit, k = hit
     a, b = pts[k - 1] if k else pts[k], pts[k]
     if crit == "limit point":
+        if stuck:  # the bracket could not be refined: the parabola through its coarse points can
+            # overshoot the peak; the largest torque of an equilibrium found is taken (low by at
+            # most the rise to the peak within the bracket)
+            warnings.append(f"the limit point's bracket φ = {pts[k - 2].phi_rad if k >= 2 else a.phi_rad:.6g}…"
+                            f"{b.phi_rad:.6g} rad could not be refined (no fixed point found in it): the largest "
+                            f"torque found, {a.torque_nm:.4g} N·m at φ = {a.phi_rad:.6g} rad, is taken")
+            return ClimbPath(tuple(pts), a.torque_nm, a.phi_rad, crit, tuple(warnings))
         if k >= 2:
             x = np.array([pts[k - 2].phi_rad, a.phi_rad, b.phi_rad])
             y = np.array([pts[k - 2].torque_nm, a.torque_nm, b.torque_nm])
@@ -572,6 +625,7 @@ class DesignClimb:
         order = np.argsort(th)
         self._rim_theta, self._rim_r = th[order], np.hypot(outline[order, 0], outline[order, 1])
         self._tip_r = float(inputs.cs_tip_radius_mm)
+        self._cs_pitch = 2.0 * math.pi / g.circular_spline_teeth
         if np.any(np.diff(np.hypot(outline[:, 0], outline[:, 1])[np.argsort(th)]) > 0.5) or not (
                 np.all(np.diff(th) > 0) or np.all(np.diff(th) < 0)):
             raise ConvergenceError("climb: the CS space's outline is not single-valued in the polar angle; "
@@ -634,19 +688,31 @@ class DesignClimb:
 
         p = turn(self._p0 - s[self.slot, None] * self._e0[self.slot], self.rotation * phi)
         n = turn(self._n0, self.rotation * phi)
-        dist, foot = self._space.nearest(p)
-        theta = np.arctan2(p[:, 0], p[:, 1])
-        inside = np.hypot(p[:, 0], p[:, 1]) > np.interp(theta, self._rim_theta, self._rim_r,
-                                                        left=self._tip_r, right=self._tip_r)
-        gap = np.where(inside, -dist, dist)
+        gap, pw, wrap, land = self.signed_gap(p)
+        r = np.hypot(pw[:, 0], pw[:, 1])
         ci = self._ci
         if ci.size:
             # the FS tip corner against the CS: the contact normal is the CS surface's (the
             # foot's direction, out of the FS), kept within the corner's cone of normals
             # between the flank's n_f and the tip land's n_t: n = a n_f + b n_t, a, b ≥ 0
             nf, nt = n[ci], turn(self._tn0, self.rotation * phi)
-            v = self._surface_normal(p[ci])
-            v *= np.sign(np.einsum("ij,ij->i", v, nf + nt))[:, None]  # into the CS (the cone's side)
+            pc, rc, on_land = pw[ci], r[ci], land[ci]
+            v = self._surface_normal(pc)
+            _, foot = self._space.nearest(pc)
+            if on_land.any():  # the tip land's normal: radial, its nearest point on the tip circle
+                v[on_land] = pc[on_land] / rc[on_land, None]
+                foot[on_land] = pc[on_land] * (self._tip_r / rc[on_land])[:, None]
+            # into the CS (the contact normal out of the FS): a point 5 µm from the nearest CS
+            # point along v lies in the CS material — the surface's own side, not the cone's
+            # (turning v to the cone's side flipped it where v stands across the cone — a corner
+            # over a neighbouring space's far flank near the minor axis — and the normal, the
+            # force and the retreat's fixed point jumped back and forth: csf20_120, verify scene)
+            probe = foot + 5e-3 * v
+            into = np.hypot(probe[:, 0], probe[:, 1]) > np.interp(
+                np.arctan2(probe[:, 0], probe[:, 1]), self._rim_theta, self._rim_r, left=self._tip_r,
+                right=self._tip_r)
+            v = np.where(into[:, None], v, -v)
+            v = turn(v, wrap[ci] * self._cs_pitch) if np.any(wrap[ci]) else v
             d = np.linalg.norm(v, axis=1)
             a, b = np.ones(ci.size), np.zeros(ci.size)
             ok = d > 1e-12
@@ -655,10 +721,14 @@ class DesignClimb:
                 det = nf[ok, 0] * nt[ok, 1] - nf[ok, 1] * nt[ok, 0]
                 aa = (u[:, 0] * nt[ok, 1] - u[:, 1] * nt[ok, 0]) / det
                 bb = (nf[ok, 0] * u[:, 1] - nf[ok, 1] * u[:, 0]) / det
-                over = aa < 0.0  # beyond the tip land's normal: the tip land
-                aa, bb = np.where(over, 0.0, aa), np.where(over, 1.0, bb)
-                under = bb < 0.0  # within the flank's: the flank (no change)
-                a[ok], b[ok] = np.where(under, 1.0, aa), np.where(under, 0.0, bb)
+                # outside the cone: the nearer of its edges (the larger u·n) — beyond the tip
+                # land's normal the tip land, within the flank's the flank, and behind the
+                # cone (both < 0: a corner over a neighbouring space) the nearer too, so that
+                # the normal does not jump where u leaves the cone on the flank's side
+                out = (aa < 0.0) | (bb < 0.0)
+                tip = np.einsum("ij,ij->i", u, nt[ok]) > np.einsum("ij,ij->i", u, nf[ok])
+                a[ok] = np.where(out, np.where(tip, 0.0, 1.0), aa)
+                b[ok] = np.where(out, np.where(tip, 1.0, 0.0), bb)
             self._a, self._b = a, b
             n = n.copy()
             n[ci] = a[:, None] * nf + b[:, None] * nt
@@ -680,6 +750,34 @@ class DesignClimb:
             n = n + ms[:, None] * (self._js[:, None] * np.column_stack([-n[:, 1], n[:, 0]]))
         lever = self.rotation * (p[:, 1] * n[:, 0] - p[:, 0] * n[:, 1])
         return gap, lever
+
+    def signed_gap(self, p):
+        """The signed distance (mm, < 0: in the CS material) of points ``p`` (CS space 0's frame)
+        to the CS surface — every space and the tip lands between them: each point is measured in
+        the space it stands in (its own, or a neighbour's where it has moved more than half a CS
+        pitch: the CS is periodic), and beyond the space's outline, which ends on the CS tip
+        circle, the surface is the tip land (the tip circle). → (gap, the point in its space's
+        frame, the number of pitches it was turned back by, whether the tip land is nearest).
+
+        Measured against its own space alone (before), a tooth's tip corner over the tip land took
+        the distance to the space's end with the sign of r ≷ r_tip: a jump of twice that
+        (±0.19 mm on the verify scene of tests/corpus/csf14_100.toml) where the corner crosses
+        the tip circle — the free CS ring's ovalisation brings the CS tip circle onto the FS tips
+        near the minor axis under load, and the retreat's fixed point then cycled, ending the
+        climb's path ("end of path") while T(φ) still rose."""
+        from ..kinematics import turn
+
+        p = np.asarray(p, dtype=float)
+        theta = np.arctan2(p[:, 0], p[:, 1])
+        wrap = np.round(theta / self._cs_pitch)
+        pw = turn(p, -wrap * self._cs_pitch) if np.any(wrap) else p
+        theta = theta - wrap * self._cs_pitch
+        dist, _ = self._space.nearest(pw)
+        r = np.hypot(pw[:, 0], pw[:, 1])
+        inside = r > np.interp(theta, self._rim_theta, self._rim_r, left=self._tip_r, right=self._tip_r)
+        land = ((theta < self._rim_theta[0]) | (theta > self._rim_theta[-1])) & (np.abs(r - self._tip_r) < dist)
+        dist = np.where(land, np.abs(r - self._tip_r), dist)
+        return np.where(inside, -dist, dist), pw, wrap, land
 
     def _setup_friction(self, inputs, pts, e_pts, tip_actual, mu, sliding, tangents, e_probe):
         """Coulomb friction on the stations (module docstring, "Friction"): the tangents out

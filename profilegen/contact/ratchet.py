@@ -771,8 +771,8 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
         return linear, extrapolated, info
     if path.criterion == "end of path":
         warnings.append(f"the climb's path ends at {path.torque_nm:.4g} N·m (no equilibrium found just beyond, "
-                        "step halved 4 times, 1, 2, 4 steps beyond tried): taken as the ratcheting torque (on seed000_csf40 the retreat "
-                        "runs away there with the contact set unchanged: a snap-through)")
+                        "step halved 4 times, 1, 2, 4 steps beyond tried): no limit point was reached — a failed "
+                        "computation, not an estimate (the verdict does not check it)")
     return float(path.torque_nm), False, info
 
 

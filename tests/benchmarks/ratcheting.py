@@ -1,5 +1,6 @@
 """Ratcheting torque estimate (issue 16 item 4) and its bad inputs.
 
+    python tests/benchmarks/ratcheting.py --verify [sets]   (the verify scene's estimate and the climb's path)
     python tests/benchmarks/ratcheting.py [--climb-only] [--ring-scale 2,4,8] [--shift 0.25,0.5,0.75]
         [--positions 8] [--face 2,4] [--parts] [--perturb 1,-1,100,-100]
         [--friction 0,0.05,0.1,0.15 [--sliding static,forward,backward] [--friction-only]] [profiles/...]
@@ -454,6 +455,31 @@ def run(path: Path) -> None:
         print(f"  7.5 mm balls in an 8 mm bearing section: {type(exc).__name__}: {exc}")
 
 
+def verify_run(path: Path) -> None:
+    """``--verify``: the verify scene's ratcheting estimate as the pipeline computes it —
+    ``ratcheting_torque`` on the contact inputs of the verify scene's design (its rim FEM's
+    contact angle; the contact and stresses, which the estimate does not read, left out) — with
+    the climb's path (T(φ), the force-weighted retreat and margin) and its criterion: a path
+    that ends with no equilibrium just beyond ("end of path") is the verdict's NOT CHECKED."""
+    from profilegen.contact.inputs import ContactInput
+
+    gs = pg.load_gearset(path)
+    t0 = time.perf_counter()
+    design = pg.design(gs, scene="verify", contact=False, stress=False)
+    inputs = ContactInput.from_design(design)
+    t1 = time.perf_counter()
+    r = ratcheting_torque(inputs)
+    c = r.climb
+    print(f"\n== {path.name}: {r.torque_nm:.1f} N·m ({c['criterion']}); design {t1 - t0:.1f} s, ratcheting "
+          f"{time.perf_counter() - t1:.1f} s")
+    print(f"  {'φ (mrad)':>9} {'T (N·m)':>9} {'retreat':>8} {'margin':>8}  (force-weighted, µm)")
+    for phi, t, s, m in zip(c["phi_path_rad"], c["torque_path_nm"], c["mean_retreat_mm"], c["margin_mm"]):
+        print(f"  {phi * 1e3:9.4f} {t:9.2f} {s * 1e3:8.2f} {m * 1e3:8.2f}")
+    for w in r.warnings:
+        if w.startswith("climb"):
+            print(f"  {w}")
+
+
 def main() -> None:
     import argparse
 
@@ -478,10 +504,12 @@ def main() -> None:
     ap.add_argument("--hysteresis", type=floats, default=[], help="μ for the loading/unloading width, e.g. 0.1")
     ap.add_argument("--positions-friction", type=float, default=0.0, help="μ for --positions (default 0)")
     ap.add_argument("--positions-sliding", default="forward-elastic", help="the sliding sense for --positions")
+    ap.add_argument("--verify", action="store_true",
+                    help="only the verify scene's estimate with the climb's path, as the pipeline calls it")
     args = ap.parse_args()
     ARGS.update({k: v for k, v in vars(args).items() if k != "sets"})
     for path in args.sets or SETS:
-        run(path)
+        verify_run(path) if args.verify else run(path)
 
 
 if __name__ == "__main__":
