@@ -63,7 +63,7 @@ from_design(design))`` as the pipeline calls it: ``python tests/benchmarks/ratch
 Across the face (:class:`SlicedClimb`, :func:`section_inputs`): N axial slices of the 3D
 cup's sections (the design's deformation plus each section's change from the design
 section, so the CS stays the one generated), each a DesignClimb with its share of the face
-(``width_fraction``), sharing φ; independent (face_load's Winkler slices) or with the face
+(``width_fraction``), sharing φ; independent (the face-load study's Winkler slices) or with the face
 held straight (``coupled``: a tooth retreats alike along the face). Every ball a one-sided
 support at its no-load gap: ``ball_supports="all"`` (the gaps enter the ball reactions, the
 teeth's separations and the retreat; the balls settle by :func:`profilegen.contact.
@@ -765,7 +765,7 @@ class DesignClimb:
         the tip circle — the free CS ring's ovalisation brings the CS tip circle onto the FS tips
         near the minor axis under load, and the retreat's fixed point then cycled, ending the
         climb's path ("end of path") while T(φ) still rose."""
-        from ..kinematics import turn
+        from ..geometry.kinematics import turn
 
         p = np.asarray(p, dtype=float)
         theta = np.arctan2(p[:, 0], p[:, 1])
@@ -1070,7 +1070,7 @@ class DesignClimb:
         s_mat = self._effective(full, probe)[0]
         gap = gap + self._offset(self._combined.ball_active, fa)[0]
         # stations whose normal carries torque; a section overlapping at no load (coning) has
-        # θ < 0: the separations shifted by the smallest (exact, face_load's "Scaling")
+        # θ < 0: the separations shifted by the smallest (exact: contact.solvers, "Scaling")
         on = np.flatnonzero(lever > 1e-9)
         theta = gap[on] / lever[on]
         shift = min(float(theta.min()), 0.0)
@@ -1126,7 +1126,7 @@ class _Subset:
 class SectionDeformation:
     """The design's deformation with an axial section's change from the design section added:
     ω, υ (and their φ-derivatives) = ``base`` + (``section`` − ``reference``) — the gap shift
-    of :mod:`profilegen.contact.face_load` taken into the exact kinematics (the design's own
+    of the face-load study (``research/face_load.py``) taken into the exact kinematics (the design's own
     deformation stays the one the CS was generated with; only the change along the face enters)."""
 
     __slots__ = ("base", "section", "reference")
@@ -1160,7 +1160,7 @@ def section_inputs(inputs, section, reference):
 class SlicedClimb:
     """The climb of N axial slices in parallel, each a :class:`DesignClimb` of its section built
     with ``width_fraction`` = its share of the face, sharing the rotation φ; the torque is
-    their sum. ``coupled=False`` (:mod:`profilegen.contact.face_load`'s model): each slice's
+    their sum. ``coupled=False`` (the face-load study's model, ``research/face_load.py``): each slice's
     teeth retreat by their own forces — the rim, the balls and the CS ring of a slice carry
     only that slice's load (a Winkler foundation). ``coupled=True``: the face held straight —
     a tooth retreats alike along the face, by the mean of the slices' retreats (each slice's
