@@ -1,168 +1,43 @@
 """Ratcheting: the torque at which the loaded FS teeth ride up the CS flanks until they skip.
 
-``ratcheting_torque(design) -> Ratcheting`` (``torque_nm``, ``model``, ``flag(torque)``,
-``to_dict()``). Units mm, N, MPa inside; torque N·m.
+``ratcheting_torque(design, catalogue=..., options=None) -> Ratcheting`` (``torque_nm``,
+``model``, ``flag(torque)``, ``to_dict()``); how it solves is :class:`RatchetingOptions`
+(``options=``, in the style of scipy.optimize's). Units mm, N, MPa inside; torque N·m. The model,
+its checks and its numbers against the catalogue: docs/theory/torsion.md, "Ratcheting and
+transmission error".
 
-The estimate: the climb (since helper E2)
------------------------------------------
-``climb=True`` (default): :mod:`profilegen.contact.climb` follows the loaded contact by
-rotation control with the teeth's radial retreat fed back into the geometry — at each
-rotation φ the FS teeth stand out of their CS spaces by their computed retreat s_k (FS side
-from the tip-land probes below, CS side the free ring below, both also in the contact's
-influence coefficients to first order), the gaps and lever arms of fine material stations on
-the loaded flanks are recomputed on that shifted and turned geometry (so the contact moves up
-the flank onto the FS tip arc and the pressure angle rises), and s is iterated to its fixed
-point. The ratcheting torque is the first of: the limit point max T(φ); the force-weighted
-margin Σ F (h − s)/Σ F reaching 0; the end of the path (no equilibrium found just beyond its
-last point, after the step was halved 4 times and 1, 2, 4 steps beyond were tried); with
-``climb_corner_normal=False`` also half the load on the FS tip corners. Checked by hand on one
-tooth on a radial spring (tests/unit/test_ratchet.py).
+The estimate (``climb=True``, the default): :mod:`profilegen.contact.climb` follows the loaded
+contact by rotation control with the teeth's radial retreat fed back into the geometry — at each
+rotation φ the FS teeth stand out of their CS spaces by their computed retreat s_k (FS side from
+the contact's influence coefficients with the tip-land probes below, each active ball a Hertz
+spring; CS side the free ring below), the gaps and lever arms of fine stations on the loaded
+flanks and the FS tip corners are measured again against the whole CS surface, and s is iterated
+to its fixed point. The ratcheting torque is the path's limit point (T(φ) falling more than 0.5 %
+below its largest value so far, the peak refined); a path that ends with no equilibrium just
+beyond a still-rising T is reported as such (``climb["criterion"]`` "end of path", a warning),
+which the verdict takes as a failed computation, never as the torque. ``climb_positions = N``
+takes the least of N wave-generator positions over one tooth passage; ``climb_friction`` μ with
+``climb_sliding`` puts Coulomb friction on the tooth contacts (a study option: μ is not a gear-set
+field); ``climb_ring_scale`` multiplies the CS ring's compliance (a study option).
 
-Well-posed (engineer P3b): the estimate must not move with a nanometre of the geometry. It
-did (S3: 4594 against 5452 N·m in the verify scene of seed000_csf40 for ~1 nm of the fitted
-CS flank) because the path's ×1.25 steps could jump over the peak of T(φ) onto its falling
-branch, and a band of φ where the retreat's substitution cycles between contact or ball sets
-ended the path early — which of these happened depended on where the step grid fell. The
-climb now halves a step whose mean retreat grows by more than 0.02 mm (the peak is resolved)
-and passes such bands; the estimate is still the path's peak (limit point) or its last point
-(end of path, T still rising there: the estimate is then low by at most the last step's rise).
-Measured on the verify scene's contact inputs (seed000_csf40, --rim toothed), the step grid
-×(1 ± 0.1…2 %) (what a change of the geometry does to it): every ball 4727–4755 N·m before,
-4757–4763 after; ball window 4596–4762 before (4597 at ×1: the falling branch), 4768–4770
-after; the flank ±1 nm: ≤ 0.01 N·m, ±100 nm ≤ 0.04 % (``tests/benchmarks/ratcheting.py
---climb-only --perturb 1,-1,100,-100``; design scene 4749 N·m, was 4732). The sketch default
-set with 5 stations went 1979–4365 N·m over the step grid ×(1 ± 1–2 %) before, 4348–4378
-after (the unit test's case); the climb costs ~7 s CPU instead of ~5.5 (more, shorter steps).
+The linear diagnostics (``climb=False``, and ``torque_linear_nm`` beside the climb): under torque
+the tooth forces' radial components F_k sin α_k push the FS rim inward and the CS outward. The
+radial separation Δr_k(T) of FS tooth k from its CS space is read from the contact's FEM influence
+coefficients with two probe points per tooth (the FS tooth's tip-land centre, radial, paired with
+the CS space's root centre), the balls as Hertz springs settled at their own reactions, plus the
+CS's own ovalisation (``cs_ring=True``): the CS as a free thin ring (mean radius R between its root
+and outer circles, radial thickness h, width the face width) under both zones' radial forces,
 
-Numbers (design scene, ``python tests/benchmarks/ratcheting.py --climb-only [--positions 8]
-[--face 4] [--parts] [--ring-scale 2]``; engineer P3). With the FS tip corner's normal
-following the CS surface (climb.py) and every ball one-sided at its no-load gap (the contact
-stage's bearing): seed000_csf40 4.73 kN·m (catalogue CSF-40-100 2.10: ×2.25), csf32_100
-2.53 kN·m (catalogue 1.00: ×2.53), default set 4.62 kN·m. With the balls of the window
-4.76 / 2.66 / 4.52; with the flank's normal kept at the corners (≤ 46°) and the window, the
-model before, 5.40 / 3.09 / 5.30 (``climb_corner_normal=False, climb_ball_supports="window"``
-reproduces 5399 N·m). On seed000_csf40:
+    w(θ) = Σ_k P_k [R/(2π E A) + (1/π) Σ_{n = 2, 4, …} cos n(θ − θ_k) R³/(E I (n² − 1)²)]
 
-* while running (the catalogue's definition: the gear meets every wave-generator position):
-  8 positions over one tooth passage give 4.73–4.75 kN·m (window: 4.57–4.79, the balls
-  entering the window moved it); csf32_100 2.52–2.53 (min ×2.52); ``climb_positions=N`` takes the
-  minimum of N. The partly engaged teeth skip first: at the end of the path the loaded teeth
-  at φ = 37.8…48.6° (corner depth h 0.45…0.26 mm against 0.83 on the major axis; 17 % of the
-  normal force) have margins h − s of 0.07…−0.003 mm, those at |φ| < 25° 0.22…0.61 mm — the
-  limit is where the shallow band rides out and its load cannot move to the deep teeth.
-* across the face (the 3D cup's sections, climb.section_inputs): the diaphragm-end section
-  (ω 60 µm lower on the major axis than the design section, corner depth h̄ 0.456 against
-  0.509 mm over the candidate teeth) as if it were the whole face 4.15 kN·m (×1.98), the open
-  end 5.84; 4 independent slices 4.69 (margins h − s at the end 0.386–0.405 mm: no slice rides
-  out first), 4 slices with the face held straight (a tooth retreats alike along the face)
-  4.64 (end of path; window 4.28). The shallow end would skip first only if it stood alone;
-  csf32_100: its diaphragm end alone 2.18, 4 slices 2.69 / held straight 2.50 (window).
-* the radial compliance: at the end of the path the force-weighted retreat 0.272 mm is the
-  CS ring's 0.206 (76 %), the Hertz balls' 0.063 (23 %) and the FEM's (rim between the balls,
-  race, tooth) 0.003; rigid balls 6.81 kN·m, no CS ring 12.3, neither: no ratcheting (the
-  teeth move in); the balls within the window only 4.76; the CS ring's compliance × 2 gives
-  2.87 kN·m (×1.36; window 3.18, ×1.51). The cam and inner ring are rigid here (as a ring on
-  its shaft 0.01–0.26 × the CS ring's compliance, helper E2); a bolted CS is stiffer than the
-  free ring (ring × 0.25: 10.7 kN·m with the flank normal).
-* the candidate teeth (``climb_max_gap_mm`` 0.15 / 0.25 / 0.4 mm) moved it by up to +11 %
-  (window, climb.py).
+(for two opposite loads Roark's ring, tested; ESTIMATE: a CS bolted on its face is stiffer, so
+the free ring is an upper bound of this compliance). Tooth k's available depth h_k is its no-load
+engagement at the corners (|FS tip corner of the loaded flank| − r_CS,tip); the gear ratchets
+where the force-weighted margin Σ F_k (h_k − Δr_k)/Σ F_k reaches 0, interpolated in a ladder of
+torques, else extrapolated by the proportional bound min_T T h̄(T)/Δr̄(T) (flagged).
 
-So the factor 1.5 is missed, by 1.32× at best (4.15 / 3.15, the shallow end alone; 1.50× at
-the design section): the model needs about twice the radial compliance it has outside the
-mesh (an extra ~2e-5 mm/N, the free CS ring's own again, gives ×1.36) to reach it. Untested
-suspects: the one-zone model is symmetric in the two engagement zones, so the eccentric
-(n = 1) mode of the wave generator and FS against the CS (the "dedoidal" state the catalogue
-names as ratcheting's outcome) cannot occur in it; the CS ring's real section and mounting.
-
-Friction (engineer D; ``climb_friction`` = μ, ``climb_sliding``; default μ = 0, the estimate
-above): Coulomb friction on the tooth contacts, the force on the CS N (n + μσt) with t the
-flank's tangent out of the space and σ = ±1 against each station's sliding, the gap along n
-(a nonsymmetric LCP, Lemke; :mod:`profilegen.contact.climb`, "Friction"). μ = 0.05–0.15:
-lubricated steel on steel (grease/oil, boundary to mixed film); the tables reached list greased
-metal pairs at 0.05–0.2 (cast iron on cast iron 0.07, iron on iron 0.15–0.20, cast iron on
-steel 0.133 kinetic; Engineering ToolBox's friction table as reproduced in
-ecampusontario.pressbooks.pub/physicsfundamentals, appendix A). ``python tests/benchmarks/
-ratcheting.py --friction 0,0.05,0.1,0.15 --friction-only [set]``, design scene, N·m
-(× catalogue), μ = 0.05 / 0.1 / 0.15:
-
-=====================  ==========================  ==========================
-sliding                seed000_csf40 (μ=0: 4749)   csf32_100 (μ=0: 2531)
-=====================  ==========================  ==========================
-static (pull-out)      5343 / 6030 / 6847          2831 / 3231 / 3680
-forward, kinematic     4707 / 4737 / 4875          2487 / 2479 / 2511
-forward-elastic        4240 / 3784 / 3376          2255 / 1997 / 1788
-                       (×2.02 / 1.80 / 1.61)       (×2.26 / 2.00 / 1.79)
-=====================  ==========================  ==========================
-
-The static pull-out (every tooth sliding out, friction holding it in) raises the estimate by
-12–44 %. While running forward (the wave generator driving the load — the lower, so the
-governing, of the two running senses; the catalogue's value is a running one) the loaded
-teeth slide into their spaces and friction tilts their force toward the radial: with the
-sliding from the rigid kinematics alone the estimate hardly moves (near the limit half the
-load is on teeth at φ < 0, kinematically leaving), but the teeth's elastic retreat s(φ),
-stationary in the wave generator's frame, reverses those teeth's sliding (|ds/dφ| up to 1.5
-mm/rad against 0.02–1.1 kinematic), and with it ("forward-elastic", every loaded tooth sliding
-in) the estimate falls by 11 / 20 / 29 % on both sets — the hand case's cot(α + ρ)/cot α at
-α ≈ 32°, the pressure angle at the limit (0.81 for μ = 0.1) — at the same retreat at the limit
-(0.28 mm on seed000_csf40). So friction alone does not bring the estimate within 1.5× (1.61×
-at μ = 0.15); with the other suspects it could. Not the default: μ is no gear-set field yet
-(an ESTIMATE would have to be named), and the backward sense with the elastic retreat is
-fragile (its senses switch along the path).
-
-The linear diagnostics (helper E's estimate, ``torque_linear_nm``)
-------------------------------------------------------------------
-Under torque the tooth forces F_k act along the common normals n_k (out of the FS tooth).
-Their radial components F_k sin α_k (α_k = asin(n_k·e_r), the effective pressure angle at
-the point) push the FS rim inward, onto the wave-generator bearing, and the CS outward. The
-FS tooth slides along the CS flank as it goes (the torque keeps the flanks pressed), so the
-teeth separate radially without unloading until the corners meet.
-
-* **Radial separation** Δr_k(T) of FS tooth k from its CS space: the FS part is read from the
-  package's own loaded contact — the FEM influence coefficients of
-  :class:`~profilegen.contact.compliance.ContactCompliance` with two extra *probe* points per
-  tooth (the FS tooth's tip-land centre with the radial direction e_r, paired with the CS
-  space's root centre), so Δr_k = Σ_j S_probe(k), j F_j (S·F along a direction is the bodies' separation along it): the FS rim and tooth ring, the
-  outer race and the balls, each active ball a Hertz spring (:class:`~profilegen.contact.
-  chain.BallBearing`, linearised as its secant at its own reaction and iterated to the fixed
-  point, as the torsional curve does), with the ball set settled (seed 000). The contact
-  model holds its CS sector rigid at 1.1 r_p, so the CS's own ovalisation is added
-  analytically (``cs_ring=True``): the CS as a free thin ring (mean radius R between its
-  root and outer circles, radial thickness h, width w = the face width, I = w h³/12) under
-  the radial components of both zones' tooth forces, inextensible bending harmonics
-  n = 2, 4, … plus the extensional n = 0 term:
-  w(θ) = Σ_k P_k [1/(2π) · R/(E A) + (1/π) Σ_n cos n(θ − θ_k) R³/(E I (n² − 1)²)]
-  (for two opposite point loads this is Roark's (π/4 − 2/π)/2 · P R³/(E I) under the load,
-  tested). ESTIMATE: a CS bolted on its face is stiffer than a free ring (an upper bound on
-  this compliance).
-* **Criterion.** The available radial depth of tooth k is its no-load engagement at the
-  corners, h_k = |FS tip corner of the loaded flank| − r_CS,tip (CS frame, the package's
-  kinematics with the no-load deformation): when the FS tooth has moved out of the space by
-  h_k while sliding along the flank, its tip corner stands on the CS tip circle and the next
-  increment of rotation takes it over the CS tooth's tip (the contact normal turns radial,
-  no tangential force is held). The gear ratchets when the loaded teeth reach it on the
-  load-weighted mean: Σ_k F_k (h_k − Δr_k) / Σ_k F_k = 0 (the force-weighted margin). The
-  most loaded tooth alone (the first choice) jumps between the two bands of the loaded zone
-  from one torque to the next (default set, design scene: teeth −2, −4, 22, −15 from 265 to
-  1200 N·m), and the rim's deformation moves the two bands in opposite directions (outward on
-  one side of the major axis, inward on the other), so its margin is no smooth function of
-  the torque; the mean over the loaded teeth is, and it is the most loaded tooth's margin when
-  one tooth dominates. The most loaded tooth is reported too.
-* **Torque.** h̄(T), Δr̄(T) at a ladder of torques up to what the contact model can carry (a
-  load case the contact flags beyond its searched points is reported, not used); if the
-  margin reaches 0 inside the ladder the torque is interpolated (linearly in the margin).
-  Otherwise the estimate is the proportional bound min_T T h̄(T)/Δr̄(T) over the solved
-  torques with Δr̄ > 0: Δr̄ taken to grow ∝ T from the torque where Δr̄/T is largest. Δr̄
-  grows more slowly than T in this model (the Hertz approach ∝ Q^{2/3}, the zone spreads over
-  more teeth, and past ~the rated torque the load moves to the teeth the rim's deformation
-  pushes into mesh, so Δr̄ even falls), so the bound is the lower end of what the model
-  gives; the fit Δr̄ ∝ T^p over the last three valid torques is reported beside it when p > 0
-  (``exponent``, ``torque_fitted_nm``). Flagged as an extrapolation.
-
-Left out (stated): the growth of α_k as the contact climbs onto the tip arcs (which raises
-the radial force and makes the real ratcheting torque lower); the inner ring and the cam's
-compliance; the cup's bending under the radial forces; the balls beyond the no-load wrap
-(the contact model's candidate balls are those within it); the CS's bolted joint (the ring
-is taken free); friction (the climb's option above).
+Left out (stated): the inner ring's and the cam's compliance; the cup's bending under the radial
+forces; the CS's bolted joint and housing (the ring is taken free); friction (an option above).
 
 Bad input: a zero or non-finite torque is a :class:`RatchetingError`; a wave-generator
 bearing that does not fit (:func:`check_bearing_fits`) is a :class:`BearingFitError` naming

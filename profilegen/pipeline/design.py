@@ -150,25 +150,17 @@ def interference_tol_mm(scene) -> float:
 
 #: The ratcheting model's estimate over the catalogue's ratcheting torque, the largest measured in
 #: each row of the catalogue's ratios: (lowest ratio of the row, factor, what it was measured on).
-#: The model's overestimate depends on the ratio (its estimate grows with the module at a given
-#: size, the catalogue's hardly changes: size 25 450 / 680 / 500 N·m at ratios 50 / 80 / 100), so
-#: one factor for every ratio is too lenient at low ratios or too harsh at high ones. Measured with
-#: ``python tests/benchmarks/catalogue_sizes.py --scene verify --sizes 25 32 40 --ratios R`` on
-#: ``profilegen new`` sets. Ratio >= 80: a user's CSF-32-80 set 5672 / 1400 = 4.05 (verify scene,
-#: the bore on a rigid band, the largest); with the bore on the bearing's outer race (the default
-#: since 057fe0c) ratio 100 gave 1710 / 500 = 3.42, 3295 / 1000 = 3.29, 6350 / 2100 = 3.02 (sizes
-#: 25 / 32 / 40, at 02f23e8) and ratio 80 2077 / 680 = 3.05, 4318 / 1400 = 3.08, 7123 / 2800 = 2.54
-#: (at d9daf62). Ratio 50-79: with the race, 2778 / 450 = 6.17, 5623 / 980 = 5.74, 11104 / 1800 =
-#: 6.17 (sizes 25 / 32 / 40, at 02f23e8; the rigid band's 5.74 of size 25 was this row's factor
-#: until then, 7 % lenient against the race's). With the climb's CS surface made whole (its tip
-#: lands and the neighbouring spaces; the limit points before came from a jump of the gap there)
-#: ratio 100 gives 2226 / 500 = 4.45, 4231 / 1000 = 4.23, 7788 / 2100 = 3.71 and ratio 80 2493 /
-#: 680 = 3.67, 5069 / 1400 = 3.62, 7122 / 2800 = 2.54; ratio 50 within 0.03 % (python
-#: tests/benchmarks/ratcheting.py --verify on the profilegen new sets). Until the model errs on the safe side the verdict
-#: checks the bound estimate / the factor of the set's row — at or below every catalogue value of
-#: that row the package has been compared with — never the raw estimate; below ratio 50 there is
-#: no catalogue value to compare with (the overestimate grows as the ratio falls), so the check is
-#: not made there.
+#: The overestimate depends on the ratio (the estimate grows with the module at a given size, the
+#: catalogue's value hardly changes: size 25 450 / 680 / 500 N·m at ratios 50 / 80 / 100), so each
+#: row has its own. Measured in the verify scene on ``profilegen new`` sets of sizes 25 / 32 / 40
+#: (``python tests/benchmarks/ratcheting.py --verify FILE``): ratio 100 2226 / 500 = 4.45,
+#: 4231 / 1000 = 4.23, 7788 / 2100 = 3.71; ratio 80 2493 / 680 = 3.67, 5069 / 1400 = 3.62,
+#: 7122 / 2800 = 2.54; ratio 50 2778 / 450 = 6.17, 5624 / 980 = 5.74, 11103 / 1800 = 6.17. Until
+#: the model errs on the safe side the verdict checks the bound estimate / the factor of the set's
+#: row — at or below every catalogue value the package has been compared with
+#: (tests/unit/test_verdict.py lists them, earlier models' too) — never the raw estimate; below
+#: ratio 50 there is no catalogue value to compare with (the overestimate grows as the ratio
+#: falls), so the check is not made there.
 RATCHETING_OVERESTIMATE = (
     (80, 2225.99 / 500.0, "the largest estimate / catalogue measured at ratios 80-100: a size-25 ratio-100 set, 4.45"),
     (50, 2777.75 / 450.0, "the largest estimate / catalogue measured at ratio 50: a size-25 ratio-50 set, 6.17"),
