@@ -26,7 +26,7 @@ stations are at p_j − s_k e_r,k. For a prescribed rigid rotation φ of the FS 
 * the teeth's retreat is then s = P F + s_CS(F) (the CS ring's ovalisation, which S does not
   hold), and the rotation's fixed point in s (and in the ball springs and ball set) is found
   by successive substitution, warm-started from the previous rotation;
-* the FS tip corner (engineer P3): a sharp corner's contact normal is the CS surface's at the
+* the FS tip corner: a sharp corner's contact normal is the CS surface's at the
   nearest point, not the flank's — as a corner rides onto the CS tip round it turns from the
   flank's normal (≤ 46° on the default sets) toward the tip land's (radial), within the
   corner's cone of normals n = a n_f + b n_t (a, b ≥ 0; outside it the contact is on the flank
@@ -78,7 +78,7 @@ stations (the force-weighted contact at the corner: the next step takes those te
 CS tips — with the corner normal followed, the corners' ride over the CS tip rounds is in the
 geometry, and at a coned face-end section the corners carry the load from the start).
 
-Friction (engineer D; ``DesignClimb(friction_coefficient=μ, friction_sliding=…)``, default
+Friction (``DesignClimb(friction_coefficient=μ, friction_sliding=…)``, default
 none): Coulomb friction on the tooth contacts, μ = tan ρ, sliding (no stick). The force on
 the CS per unit normal force is d = n + μσ t, t the unit tangent of the flank out of the CS
 space (t ⊥ n, t·e_r < 0: toward the CS tip; :func:`sliding_tangent`) and σ = +1 where the FS
@@ -387,7 +387,7 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
     φ = 4.65–4.77 mrad with 0.35 mm of the teeth still in their spaces, then rising to 7372 and
     falling 3 % and on — the step grid ×1.01 took the wiggle, 6290 N·m, ×1 the later 7359).
 
-    Step control (engineer P3b): a step whose force-weighted mean retreat grows by more than
+    Step control: a step whose force-weighted mean retreat grows by more than
     ``max_retreat_step_mm`` is not taken but tried again halved (down to ``min_step_fraction``
     × ``phi_step``, where it is taken whatever it grows: a jump of the discrete model). Without
     it the ×``grow`` steps jumped over the peak of T(φ) onto the falling branch (verify scene
