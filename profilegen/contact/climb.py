@@ -523,13 +523,10 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
                             f"torque found, {a.torque_nm:.4g} N·m at φ = {a.phi_rad:.6g} rad, is taken")
             return ClimbPath(tuple(pts), a.torque_nm, a.phi_rad, crit, tuple(warnings))
         if k >= 2:
-            x = np.array([pts[k - 2].phi_rad, a.phi_rad, b.phi_rad])
-            y = np.array([pts[k - 2].torque_nm, a.torque_nm, b.torque_nm])
-            c2, c1, c0 = np.polyfit(x, y, 2)
-            if c2 < 0.0:
-                xv = -c1 / (2.0 * c2)
-                if x[0] <= xv <= x[2]:
-                    return ClimbPath(tuple(pts), float(np.polyval([c2, c1, c0], xv)), float(xv), crit, tuple(warnings))
+            peak = _parabola_peak((pts[k - 2].phi_rad, a.phi_rad, b.phi_rad),
+                                  (pts[k - 2].torque_nm, a.torque_nm, b.torque_nm))
+            if peak is not None:
+                return ClimbPath(tuple(pts), peak[1], peak[0], crit, tuple(warnings))
         return ClimbPath(tuple(pts), a.torque_nm, a.phi_rad, crit, tuple(warnings))
     if k == 0:
         warnings.append(f"the first rotation already meets the {crit} criterion")
@@ -538,6 +535,25 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 40, grow
     w = va / (va - vb) if va != vb else 1.0
     return ClimbPath(tuple(pts), float(a.torque_nm + w * (b.torque_nm - a.torque_nm)),
                      float(a.phi_rad + w * (b.phi_rad - a.phi_rad)), crit, tuple(warnings))
+
+
+def _parabola_peak(x, y) -> tuple[float, float] | None:
+    """The vertex (x_v, y_v) of the parabola through three points, if it is a maximum inside
+    [x_0, x_2]; else None. Newton's divided differences, exact for three points and well
+    conditioned however close the points (a bracket refined to ~1e-9 rad made numpy's polyfit,
+    which fits the raw monomials, warn of a poorly conditioned fit)."""
+    x0, x1, x2 = x
+    y0, y1, y2 = y
+    if not (x0 < x1 < x2):
+        return None
+    d1 = (y1 - y0) / (x1 - x0)
+    c2 = ((y2 - y1) / (x2 - x1) - d1) / (x2 - x0)
+    if not c2 < 0.0:
+        return None
+    xv = 0.5 * (x0 + x1) - d1 / (2.0 * c2)
+    if not x0 <= xv <= x2:
+        return None
+    return float(xv), float(y0 + d1 * (xv - x0) + c2 * (xv - x0) * (xv - x1))
 
 
 # --------------------------------------------------------------------------- a design's teeth

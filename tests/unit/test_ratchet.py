@@ -710,3 +710,23 @@ def test_the_climbs_polar_outline_fills_long_straight_steps():
         assert np.max(np.abs((on[:, 0] - a[0]) * d[1] - (on[:, 1] - a[1]) * d[0])) < 1e-12
     radius = np.hypot(*out.T)
     assert np.max(np.abs(np.diff(radius))) <= 5e-3 and radius.min() < r < radius.max()
+
+
+def test_the_peak_of_three_points_is_the_parabola_vertex_however_close_the_points():
+    """The limit point's refinement takes the vertex of the parabola through the bracket's three
+    points: exact for a parabola, also on a bracket of nanoradians (where fitting the raw
+    monomials is ill-conditioned), and None for a minimum or a vertex outside the bracket."""
+    import warnings
+
+    from profilegen.contact.climb import _parabola_peak
+
+    def t(phi):
+        return 4200.0 - 3.0e9 * (phi - 2.1e-3) ** 2  # N·m, a peak at 2.1 mrad
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for x in ((2.0e-3, 2.05e-3, 2.2e-3), (2.1e-3 - 1e-9, 2.1e-3 + 2e-10, 2.1e-3 + 1.5e-9)):
+            xv, yv = _parabola_peak(x, [t(v) for v in x])
+            assert xv == pytest.approx(2.1e-3, rel=1e-9, abs=1e-15) and yv == pytest.approx(4200.0, rel=1e-12)
+    assert _parabola_peak((0.0, 1.0, 2.0), (1.0, 0.0, 1.0)) is None  # a minimum
+    assert _parabola_peak((0.0, 1.0, 2.0), (0.0, 1.0, 1.9)) is None  # the vertex beyond the bracket
