@@ -380,15 +380,44 @@ class FaceSlices:
 
             cup = press_cup(gs)
         b = float(gs.cup.face_width_mm)
-        z, zeta, widths, shifts = _slice_gap_shifter(inputs, self.slices, coning=self.coning, cup=cup,
-                                                     nodes=self.nodes, design_z_mm=self.design_z_mm,
-                                                     modification=self.modification)
         balls = {comp.ball_angle_rad.size for _, comp in sides.values()}
         if len(balls) != 1:
             raise FaceCurveError(f"sides: the two flanks have {sorted(balls)} candidate balls; they must share the "
                                  "bearing")
+        widths = slice_layout(b, _whole("slices", self.slices, 1), self.nodes,
+                              self._design_z(gs) - (float(gs.cup.length_mm) - 0.5 * b))[1]
         new_chain, c_ring = slice_chain(chain, widths, b, ring_twist=self.ring_twist)
         lam = rim_coupling_length_mm(gs) if self.coupling_length_mm is None else self.coupling_length_mm
+
+        def make():
+            return self._stacked(inputs, sides, cup, c_ring, lam)
+
+        # the slices read no torque: inside an engine's design, a torque change takes them from the
+        # cache (the same flanks, FS tooth, deformation, CS space, cup and modification objects)
+        from ..stagecache import reuse
+        from .analysis import FLANK_SECTIONS
+
+        m = inputs.motion
+        key = (self.slices, self.coning, self.design_z_mm, self.ring_twist, self.nodes, self.coupling_length_mm,
+               c_ring, lam, inputs.cs_tip_radius_mm, m.neutral_radius_mm, m.waves, m.cs_teeth, sorted(sides))
+        owners = (inputs.tooth, m.deformation, inputs.cs_space, cup, self.modification,
+                  *(x for s in sorted(sides) for x in sides[s]))
+        out, warnings = reuse("face_slices", make, gearset=gs, sections=FLANK_SECTIONS, key=key, owners=owners)
+        return dict(out), new_chain, list(warnings)
+
+    def _design_z(self, gs) -> float:
+        """The design section z_d (mm): ``design_z_mm``, checked as :func:`_slice_gap_shifter` does, or mid-face."""
+        b, zc = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
+        if self.design_z_mm is None:
+            return zc
+        return checks.number("design_z_mm", self.design_z_mm, "mm", zc - 0.5 * b, zc + 0.5 * b, low_open=False,
+                             high_open=False, error=FaceCurveError)
+
+    def _stacked(self, inputs, sides: dict, cup, c_ring: float, lam: float) -> tuple[dict, tuple[str, ...]]:
+        """(:meth:`apply`'s sides as N slices, its warnings)."""
+        z, zeta, widths, shifts = _slice_gap_shifter(inputs, self.slices, coning=self.coning, cup=cup,
+                                                     nodes=self.nodes, design_z_mm=self.design_z_mm,
+                                                     modification=self.modification)
         out, first = {}, {}
         for s, (pts, comp) in sides.items():
             de = shifts(pts)
@@ -404,7 +433,7 @@ class FaceSlices:
                             f"({play[i] * 180.0 * 60.0 / math.pi:.3g} arcmin): the teeth interfere there (a tooth "
                             "modification along the face is needed); the one-flank curve counts the overlap as "
                             "rotation, where both flanks would be preloaded")
-        return out, new_chain, warnings
+        return out, tuple(warnings)
 
 
 def rim_coupling_length_mm(gearset) -> float:

@@ -97,6 +97,9 @@ class ReducedZone:
         self.gap = np.zeros(nb) if gap is None else np.asarray(gap, dtype=float)
         self.body = getattr(compliance, "ball_body", None)  # shares of one ball (axial slices), or None
         self.base_diag = np.diag(self.cs) + np.diag(self.cc) / self.b
+        # S_CS + F_cc / b once, transposed (C order): a column set is then a gather of contiguous rows
+        # (~20× faster than gathering the columns of two C-order matrices); the same sums, elementwise
+        self._base_t = np.ascontiguousarray((self.cs + self.cc / self.b).T)
         self.c_hertz = None if bearing is None else bearing.hertz_coefficient()
 
     # --- the pieces for one ball set
@@ -120,7 +123,7 @@ class ReducedZone:
         return act, w, self.theta - (self.cb[:, act] @ u) / self.r, -self.b * u
 
     def _columns(self, act, w, cols):
-        out = self.cs[:, cols] + self.cc[:, cols] / self.b
+        out = np.ascontiguousarray(self._base_t[cols].T)  # C order, as the sum of two column gathers was
         if act.size:
             out -= (self.cb[:, act] @ w[:, cols]) / self.b
         return out
