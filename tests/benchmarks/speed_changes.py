@@ -3,7 +3,7 @@ change, in one run (issue 31's workbench: the compute behind a field's change).
 
     python tests/benchmarks/speed_changes.py [--before REF] [--after REF] [--rounds 3] [-n 3]
 
-Each tree (``--before``, default ``main``; ``--after``, default ``HEAD``; git refs of this
+Each tree (``--before``, default the merge base of HEAD and ``main``; ``--after``, default ``HEAD``; git refs of this
 repository, or a folder holding a ``profilegen`` package) is unpacked with ``git archive`` into a
 temporary folder and run there in its own process (``PYTHONPATH`` the folder), so uncommitted
 edits play no part. A process loads the default set (``profiles/default.toml``), designs it once
@@ -68,17 +68,22 @@ def unpack(ref: str, into: Path) -> Path:
 def run(tree: Path, n: int) -> list[dict]:
     env = {**os.environ, "PYTHONPATH": str(tree)}
     out = subprocess.run([sys.executable, "-c", WORKER, str(n)], env=env, cwd=str(tree), capture_output=True,
-                         text=True, check=True)
+                         text=True)
+    if out.returncode:
+        raise RuntimeError(f"the worker in {tree} failed:\n{out.stderr[-2000:]}")
     return json.loads(out.stdout.strip().splitlines()[-1])
 
 
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--before", default="main")
+    ap.add_argument("--before", default=None, help="default: git merge-base HEAD main")
     ap.add_argument("--after", default="HEAD")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("-n", type=int, default=3)
     args = ap.parse_args(argv)
+    if args.before is None:
+        args.before = subprocess.run(["git", "-C", str(ROOT), "merge-base", "HEAD", "main"], check=True,
+                                     capture_output=True, text=True).stdout.strip()[:12]
     results: dict[str, list[dict]] = {"before": [], "after": []}
     with tempfile.TemporaryDirectory() as tmp:
         trees = {"before": unpack(args.before, Path(tmp) / "before"), "after": unpack(args.after, Path(tmp) / "after")}
