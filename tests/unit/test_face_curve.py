@@ -391,3 +391,32 @@ def test_bad_input_named():
         slice_chain(compliance_chain(pg.load_gearset(pg.default_gearset_path())), [1.0], -1.0)
     with pytest.raises(FaceCurveError, match="widths_mm"):
         stack_slices(pts, comp, [[0.0], [0.0]], widths_mm=[5.0, 4.0])
+
+
+def test_the_slices_are_kept_for_a_torque_change_inside_an_engine(design, curve_2d, coned):
+    """The slices read no torque: inside an engine's design the second apply on the same flanks,
+    design and modification takes the first's stacked flanks (the same objects, as a plain apply
+    makes them); another modification (a different owner) stacks them again."""
+    from profilegen.engine import Engine, _Run
+    from profilegen.stagecache import STAGE_CACHE
+
+    spec, plain, _, _ = coned
+    chain = compliance_chain(design.gearset)
+    engine = Engine()
+    token = STAGE_CACHE.set(_Run(engine, engine._generation))
+    try:
+        first, _, w1 = spec.apply(design, curve_2d.sides, chain)
+        again, chain2, w2 = spec.apply(design, curve_2d.sides, chain)
+        other, _, _ = dataclasses.replace(spec, modification=(1e-4, 0.0)).apply(design, curve_2d.sides, chain)
+    finally:
+        STAGE_CACHE.reset(token)
+    assert engine.runs["face_slices"] == 2 and engine.hits["face_slices"] == 1
+    assert all(again[s][k] is first[s][k] for s in (1, -1) for k in (0, 1)) and w1 == w2
+    assert other[1][0] is not first[1][0]
+    assert not np.array_equal(other[1][0].gap_mm, first[1][0].gap_mm)  # the modification moves the gaps
+    for s in (1, -1):  # what a plain apply (no engine) makes
+        np.testing.assert_array_equal(first[s][0].gap_mm, plain[s][0].gap_mm)
+        np.testing.assert_array_equal(first[s][1].matrix_mm_per_n, plain[s][1].matrix_mm_per_n)
+    b = float(design.gearset.cup.face_width_mm)  # the sliced chain is made afresh either way
+    widths = slice_layout(b, spec.slices, spec.nodes, 0.5 * b)[1]
+    assert chain2.series_compliance_rad_per_nm == slice_chain(chain, widths, b)[0].series_compliance_rad_per_nm
