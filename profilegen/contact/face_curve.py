@@ -536,7 +536,6 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
     if c_ring > 0.0:
         rr = np.tile(r, ns)
         cs = cs + np.kron(ring_twist_kernel(w), np.ones((n, n))) * np.outer(rr, rr) * (c_ring * points.zones)
-    fs = np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n, dtype=float))
     flex_cc = np.asarray(compliance._flex_cc, dtype=float)
     if coupling_length_mm > 0.0 and ns > 1:
         same = np.asarray(points.tooth)[:, None] == np.asarray(points.tooth)[None, :]
@@ -545,6 +544,7 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
         flex_cc_stacked = np.kron(alone, local) + np.kron(scale, flex_cc - local)
         fs = np.kron(alone, local / b) + np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n) - local / b)
     else:
+        fs = np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n, dtype=float))
         flex_cc_stacked = np.kron(scale, flex_cc)
     gaps_b = None if compliance.ball_gap_mm is None else tile(compliance.ball_gap_mm)
     nb = compliance.ball_angle_rad.size
