@@ -365,11 +365,14 @@ class FaceSlices:
             raise FaceCurveError(f"face_slices = {value!r}: must be a whole number ≥ 1 of slices or a FaceSlices")
         return cls(int(value))
 
-    def apply(self, inputs, sides: dict, chain) -> tuple[dict, object, list[str]]:
+    def apply(self, inputs, sides: dict, chain, *, keep: bool = True) -> tuple[dict, object, list[str]]:
         """The flanks ``sides`` {±1: (points, compliance)} as N slices each, and the chain for
         them (:func:`slice_chain`) → (sides, chain, warnings): a warning when some slice's two
         flanks' first contacts overlap (coning makes the tooth interfere at no load there; the
-        one-flank curve reads the overlap as rotation, where both flanks would be preloaded)."""
+        one-flank curve reads the overlap as rotation, where both flanks would be preloaded).
+        ``keep``: inside an engine's design, keep the slices for a later design with the same
+        flanks (a torque change; ~60 MB on the default set's design scene); False for flanks that
+        no later design will pass again (built for one curve)."""
         from .inputs import ContactInput
 
         inputs = ContactInput.from_design(inputs, name="inputs")
@@ -402,7 +405,8 @@ class FaceSlices:
                c_ring, lam, inputs.cs_tip_radius_mm, m.neutral_radius_mm, m.waves, m.cs_teeth, sorted(sides))
         owners = (inputs.tooth, m.deformation, inputs.cs_space, cup, self.modification,
                   *(x for s in sorted(sides) for x in sides[s]))
-        out, warnings = reuse("face_slices", make, gearset=gs, sections=FLANK_SECTIONS, key=key, owners=owners)
+        out, warnings = reuse("face_slices", make, gearset=gs, sections=FLANK_SECTIONS, key=key, owners=owners) \
+            if keep else make()
         return dict(out), new_chain, list(warnings)
 
     def _design_z(self, gs) -> float:
