@@ -116,7 +116,8 @@ class ReducedZone:
         if hit is None:
             hit = self._balls_made(active, None)
             for a in hit:
-                a.flags.writeable = False  # shared by every later call with this set
+                if a is not self.theta:  # (the points' own angles where no ball has a gap: not ours to flag)
+                    a.flags.writeable = False  # shared by every later call with this set
             if len(self._rigid) < 256:  # ~0.26 MB each on the sliced curve's 965 points
                 self._rigid[key] = hit
         return hit

@@ -420,3 +420,22 @@ def test_the_slices_are_kept_for_a_torque_change_inside_an_engine(design, curve_
     b = float(design.gearset.cup.face_width_mm)  # the sliced chain is made afresh either way
     widths = slice_layout(b, spec.slices, spec.nodes, 0.5 * b)[1]
     assert chain2.series_compliance_rad_per_nm == slice_chain(chain, widths, b)[0].series_compliance_rad_per_nm
+
+
+def test_rigid_ball_pieces_kept_by_the_ball_set(curve_2d):
+    """ReducedZone._balls with rigid balls depends on the ball set alone: the same set again gives
+    the same (read-only) arrays, equal to a fresh computation; another set its own; with springs
+    nothing is kept."""
+    pts, comp = curve_2d.sides[1]
+    zone = ReducedZone(pts, comp, None)
+    active = np.asarray(comp.ball_active, bool)
+    first, again = zone._balls(active, None), zone._balls(active.copy(), None)
+    assert all(x is y for x, y in zip(first, again))
+    assert not first[1].flags.writeable
+    for x, y in zip(first, zone._balls_made(active, None)):
+        np.testing.assert_array_equal(x, y)
+    fewer = active.copy()
+    fewer[np.flatnonzero(active)[0]] = False
+    assert zone._balls(fewer, None)[1].shape[0] == first[1].shape[0] - 1
+    springs = np.full(active.size, 1e-6)
+    assert zone._balls(active, springs)[1] is not zone._balls(active, springs)[1]
