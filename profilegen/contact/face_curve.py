@@ -280,9 +280,11 @@ def _slice_gap_shifter(inputs, slices: int, *, coning: str, cup, design_z_mm, mo
     def placed(section):
         return HarmonicDriveMotion(section, motion.neutral_radius_mm, motion.waves, motion.cs_teeth)
 
+    checkpoint()  # (the cup's sections above; the CS outline's distance below: tens of ms each)
     cs = _cs_outline_distance(inputs)
 
     def shifts(points) -> np.ndarray:
+        checkpoint()
         local = np.asarray(points.local_mm, dtype=float)
         reference = _signed_gaps(points, local, placed(secs[0]), cs)
         out = np.empty((n, points.count))
@@ -323,9 +325,18 @@ def _cs_outline_distance_of(cs_space, tip_radius_mm: float, cs_teeth: int):
 
     from ..gearform import PolylineDistance, cs_local_chain, cs_outline
 
-    outline = cs_outline(cs_space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
+    outline = cs_outline(cs_space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)  # the arc fit's, kept
     local = cs_local_chain(cs_space, outline).sample(1e-7)
-    hollow = shapely.Polygon(outline.sample(1e-5))
+    # outline.sample(1e-5), its elements a few hundred at a time: an engine's design stops between them
+    # when superseded (the whole outline's ~2800 elements: ~40 ms)
+    els = outline.elements
+    pts = [els[0].sample(1e-5)]
+    for k in range(1, len(els)):
+        if k % 512 == 0:
+            checkpoint()
+        pts.append(els[k].sample(1e-5)[1:])
+    hollow = shapely.Polygon(np.vstack(pts))
+    checkpoint()
     shapely.prepare(hollow)
     return PolylineDistance(local), hollow
 
@@ -540,16 +551,19 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
     if c_ring > 0.0:
         rr = np.tile(r, ns)
         cs = cs + np.kron(ring_twist_kernel(w), np.ones((n, n))) * np.outer(rr, rr) * (c_ring * points.zones)
+    checkpoint()  # an engine's design stops here when superseded (each block: a few N·n × N·n products)
     flex_cc = np.asarray(compliance._flex_cc, dtype=float)
     if coupling_length_mm > 0.0 and ns > 1:
         same = np.asarray(points.tooth)[:, None] == np.asarray(points.tooth)[None, :]
         local = np.where(same, local_fraction(points, compliance) * b * np.asarray(
             compliance.fs_matrix_mm_per_n, dtype=float), 0.0)  # per width, as the flexibility blocks
         flex_cc_stacked = np.kron(alone, local) + np.kron(scale, flex_cc - local)
+        checkpoint()
         fs = np.kron(alone, local / b) + np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n) - local / b)
     else:
         fs = np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n, dtype=float))
         flex_cc_stacked = np.kron(scale, flex_cc)
+    checkpoint()
     gaps_b = None if compliance.ball_gap_mm is None else tile(compliance.ball_gap_mm)
     nb = compliance.ball_angle_rad.size
     # every slice's copy of a ball is a share of that one ball: its spring (given, or the Hertz
