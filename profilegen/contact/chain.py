@@ -786,6 +786,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     rated = float(gs.torque.rated_nm)
     t_lm = f * rated
 
+    built_here = sides is None  # flanks of this call alone: their slices are not worth keeping (FaceSlices.apply)
     if sides is None:
         sides = {}
         for s in (1, -1):
@@ -805,7 +806,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     if face_slices is not None:  # each flank as N axial slices (contact.face_curve)
         from .face_curve import FaceSlices
 
-        sides, sliced, notes = FaceSlices.of(face_slices).apply(inputs, sides, chain)
+        sides, sliced, notes = FaceSlices.of(face_slices).apply(inputs, sides, chain, keep=not built_here)
         if not isinstance(sliced, ComplianceChain):  # apply returns type(chain)(...); typed object (no import back)
             raise ChainError(f"face_slices: the sliced chain is a {type(sliced).__name__}, not a ComplianceChain")
         chain = sliced

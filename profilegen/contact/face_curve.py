@@ -280,9 +280,11 @@ def _slice_gap_shifter(inputs, slices: int, *, coning: str, cup, design_z_mm, mo
     def placed(section):
         return HarmonicDriveMotion(section, motion.neutral_radius_mm, motion.waves, motion.cs_teeth)
 
+    checkpoint()  # (the cup's sections above; the CS outline's distance below: tens of ms each)
     cs = _cs_outline_distance(inputs)
 
     def shifts(points) -> np.ndarray:
+        checkpoint()
         local = np.asarray(points.local_mm, dtype=float)
         reference = _signed_gaps(points, local, placed(secs[0]), cs)
         out = np.empty((n, points.count))
@@ -323,9 +325,18 @@ def _cs_outline_distance_of(cs_space, tip_radius_mm: float, cs_teeth: int):
 
     from ..profile.gearform import PolylineDistance, cs_local_chain, cs_outline
 
-    outline = cs_outline(cs_space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
+    outline = cs_outline(cs_space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)  # the arc fit's, kept
     local = cs_local_chain(cs_space, outline).sample(1e-7)
-    hollow = shapely.Polygon(outline.sample(1e-5))
+    # outline.sample(1e-5), its elements a few hundred at a time: an engine's design stops between them
+    # when superseded (the whole outline's ~2800 elements: ~40 ms)
+    els = outline.elements
+    pts = [els[0].sample(1e-5)]
+    for k in range(1, len(els)):
+        if k % 512 == 0:
+            checkpoint()
+        pts.append(els[k].sample(1e-5)[1:])
+    hollow = shapely.Polygon(np.vstack(pts))
+    checkpoint()
     shapely.prepare(hollow)
     return PolylineDistance(local), hollow
 
@@ -365,11 +376,14 @@ class FaceSlices:
             raise FaceCurveError(f"face_slices = {value!r}: must be a whole number ≥ 1 of slices or a FaceSlices")
         return cls(int(value))
 
-    def apply(self, inputs, sides: dict, chain) -> tuple[dict, object, list[str]]:
+    def apply(self, inputs, sides: dict, chain, *, keep: bool = True) -> tuple[dict, object, list[str]]:
         """The flanks ``sides`` {±1: (points, compliance)} as N slices each, and the chain for
         them (:func:`slice_chain`) → (sides, chain, warnings): a warning when some slice's two
         flanks' first contacts overlap (coning makes the tooth interfere at no load there; the
-        one-flank curve reads the overlap as rotation, where both flanks would be preloaded)."""
+        one-flank curve reads the overlap as rotation, where both flanks would be preloaded).
+        ``keep``: inside an engine's design, keep the slices for a later design with the same
+        flanks (a torque change; ~60 MB on the default set's design scene); False for flanks that
+        no later design will pass again (built for one curve)."""
         from .inputs import ContactInput
 
         inputs = ContactInput.from_design(inputs, name="inputs")
@@ -380,15 +394,45 @@ class FaceSlices:
 
             cup = press_cup(gs)
         b = float(gs.cup.face_width_mm)
-        z, zeta, widths, shifts = _slice_gap_shifter(inputs, self.slices, coning=self.coning, cup=cup,
-                                                     nodes=self.nodes, design_z_mm=self.design_z_mm,
-                                                     modification=self.modification)
         balls = {comp.ball_angle_rad.size for _, comp in sides.values()}
         if len(balls) != 1:
             raise FaceCurveError(f"sides: the two flanks have {sorted(balls)} candidate balls; they must share the "
                                  "bearing")
+        widths = slice_layout(b, _whole("slices", self.slices, 1), self.nodes,
+                              self._design_z(gs) - (float(gs.cup.length_mm) - 0.5 * b))[1]
         new_chain, c_ring = slice_chain(chain, widths, b, ring_twist=self.ring_twist)
         lam = rim_coupling_length_mm(gs) if self.coupling_length_mm is None else self.coupling_length_mm
+
+        def make():
+            return self._stacked(inputs, sides, cup, c_ring, lam)
+
+        # the slices read no torque: inside an engine's design, a torque change takes them from the
+        # cache (the same flanks, FS tooth, deformation, CS space, cup and modification objects)
+        from ..stagecache import reuse
+        from .analysis import FLANK_SECTIONS
+
+        m = inputs.motion
+        key = (self.slices, self.coning, self.design_z_mm, self.ring_twist, self.nodes, self.coupling_length_mm,
+               c_ring, lam, inputs.cs_tip_radius_mm, m.neutral_radius_mm, m.waves, m.cs_teeth, sorted(sides))
+        owners = (inputs.tooth, m.deformation, inputs.cs_space, cup, self.modification,
+                  *(x for s in sorted(sides) for x in sides[s]))
+        out, warnings = reuse("face_slices", make, gearset=gs, sections=FLANK_SECTIONS, key=key, owners=owners) \
+            if keep else make()
+        return dict(out), new_chain, list(warnings)
+
+    def _design_z(self, gs) -> float:
+        """The design section z_d (mm): ``design_z_mm``, checked as :func:`_slice_gap_shifter` does, or mid-face."""
+        b, zc = float(gs.cup.face_width_mm), float(gs.cup.length_mm)
+        if self.design_z_mm is None:
+            return zc
+        return checks.number("design_z_mm", self.design_z_mm, "mm", zc - 0.5 * b, zc + 0.5 * b, low_open=False,
+                             high_open=False, error=FaceCurveError)
+
+    def _stacked(self, inputs, sides: dict, cup, c_ring: float, lam: float) -> tuple[dict, tuple[str, ...]]:
+        """(:meth:`apply`'s sides as N slices, its warnings)."""
+        z, zeta, widths, shifts = _slice_gap_shifter(inputs, self.slices, coning=self.coning, cup=cup,
+                                                     nodes=self.nodes, design_z_mm=self.design_z_mm,
+                                                     modification=self.modification)
         out, first = {}, {}
         for s, (pts, comp) in sides.items():
             de = shifts(pts)
@@ -404,7 +448,7 @@ class FaceSlices:
                             f"({play[i] * 180.0 * 60.0 / math.pi:.3g} arcmin): the teeth interfere there (a tooth "
                             "modification along the face is needed); the one-flank curve counts the overlap as "
                             "rotation, where both flanks would be preloaded")
-        return out, new_chain, warnings
+        return out, tuple(warnings)
 
 
 def rim_coupling_length_mm(gearset) -> float:
@@ -507,16 +551,19 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
     if c_ring > 0.0:
         rr = np.tile(r, ns)
         cs = cs + np.kron(ring_twist_kernel(w), np.ones((n, n))) * np.outer(rr, rr) * (c_ring * points.zones)
-    fs = np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n, dtype=float))
+    checkpoint()  # an engine's design stops here when superseded (each block: a few N·n × N·n products)
     flex_cc = np.asarray(compliance._flex_cc, dtype=float)
     if coupling_length_mm > 0.0 and ns > 1:
         same = np.asarray(points.tooth)[:, None] == np.asarray(points.tooth)[None, :]
         local = np.where(same, local_fraction(points, compliance) * b * np.asarray(
             compliance.fs_matrix_mm_per_n, dtype=float), 0.0)  # per width, as the flexibility blocks
         flex_cc_stacked = np.kron(alone, local) + np.kron(scale, flex_cc - local)
+        checkpoint()
         fs = np.kron(alone, local / b) + np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n) - local / b)
     else:
+        fs = np.kron(scale, np.asarray(compliance.fs_matrix_mm_per_n, dtype=float))
         flex_cc_stacked = np.kron(scale, flex_cc)
+    checkpoint()
     gaps_b = None if compliance.ball_gap_mm is None else tile(compliance.ball_gap_mm)
     nb = compliance.ball_angle_rad.size
     # every slice's copy of a ball is a share of that one ball: its spring (given, or the Hertz

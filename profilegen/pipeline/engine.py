@@ -83,8 +83,9 @@ __all__ = ["Engine", "Cancelled", "checkpoint", "reuse", "STAGE_INPUTS", "DEFAUL
 
 log = logging.getLogger(__name__)
 
-#: the cache's default byte budget (a design-scene design of the default set keeps ~60 MB of stage
-#: results, a sketch one ~6 MB: tests/benchmarks/engine.py prints them)
+#: the cache's default byte budget (a design-scene design of the default set keeps ~71 MB of stage
+#: results, 61 MB of them the sliced torsional curve's stacked flanks, kept for a torque change
+#: (contact.face_curve.FaceSlices.apply); a sketch one ~6 MB: tests/benchmarks/engine.py prints them)
 DEFAULT_MEMORY_BYTES = 1 << 30
 MEMORY_ENV = "PROFILEGEN_ENGINE_MEMORY"
 

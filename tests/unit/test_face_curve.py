@@ -391,3 +391,51 @@ def test_bad_input_named():
         slice_chain(compliance_chain(pg.load_gearset(pg.default_gearset_path())), [1.0], -1.0)
     with pytest.raises(FaceCurveError, match="widths_mm"):
         stack_slices(pts, comp, [[0.0], [0.0]], widths_mm=[5.0, 4.0])
+
+
+def test_the_slices_are_kept_for_a_torque_change_inside_an_engine(design, curve_2d, coned):
+    """The slices read no torque: inside an engine's design the second apply on the same flanks,
+    design and modification takes the first's stacked flanks (the same objects, as a plain apply
+    makes them); another modification (a different owner) stacks them again."""
+    from profilegen.pipeline.engine import Engine, _Run
+    from profilegen.stagecache import STAGE_CACHE
+
+    spec, plain, _, _ = coned
+    chain = compliance_chain(design.gearset)
+    engine = Engine()
+    token = STAGE_CACHE.set(_Run(engine, engine._generation))
+    try:
+        first, _, w1 = spec.apply(design, curve_2d.sides, chain)
+        again, chain2, w2 = spec.apply(design, curve_2d.sides, chain)
+        other, _, _ = dataclasses.replace(spec, modification=(1e-4, 0.0)).apply(design, curve_2d.sides, chain)
+    finally:
+        STAGE_CACHE.reset(token)
+    assert engine.runs["face_slices"] == 2 and engine.hits["face_slices"] == 1
+    assert all(again[s][k] is first[s][k] for s in (1, -1) for k in (0, 1)) and w1 == w2
+    assert other[1][0] is not first[1][0]
+    assert not np.array_equal(other[1][0].gap_mm, first[1][0].gap_mm)  # the modification moves the gaps
+    for s in (1, -1):  # what a plain apply (no engine) makes
+        np.testing.assert_array_equal(first[s][0].gap_mm, plain[s][0].gap_mm)
+        np.testing.assert_array_equal(first[s][1].matrix_mm_per_n, plain[s][1].matrix_mm_per_n)
+    b = float(design.gearset.cup.face_width_mm)  # the sliced chain is made afresh either way
+    widths = slice_layout(b, spec.slices, spec.nodes, 0.5 * b)[1]
+    assert chain2.series_compliance_rad_per_nm == slice_chain(chain, widths, b)[0].series_compliance_rad_per_nm
+
+
+def test_rigid_ball_pieces_kept_by_the_ball_set(curve_2d):
+    """ReducedZone._balls with rigid balls depends on the ball set alone: the same set again gives
+    the same (read-only) arrays, equal to a fresh computation; another set its own; with springs
+    nothing is kept."""
+    pts, comp = curve_2d.sides[1]
+    zone = ReducedZone(pts, comp, None)
+    active = np.asarray(comp.ball_active, bool)
+    first, again = zone._balls(active, None), zone._balls(active.copy(), None)
+    assert all(x is y for x, y in zip(first, again))
+    assert not first[1].flags.writeable
+    for x, y in zip(first, zone._balls_made(active, None)):
+        np.testing.assert_array_equal(x, y)
+    fewer = active.copy()
+    fewer[np.flatnonzero(active)[0]] = False
+    assert zone._balls(fewer, None)[1].shape[0] == first[1].shape[0] - 1
+    springs = np.full(active.size, 1e-6)
+    assert zone._balls(active, springs)[1] is not zone._balls(active, springs)[1]

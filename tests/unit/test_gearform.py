@@ -223,3 +223,39 @@ def test_clearance_map_finds_the_deepest_point_of_a_dense_interfering_outline(fo
     shallow = clearance_map(form_default, tooth, motion, phi_range=phis, samples=5, cs_points=dense,
                             deep_check_mm=np.inf)
     assert shallow.min_mm > cmap.min_mm + 1e-4  # without the check the depth is under-read
+
+
+def test_clearance_map_the_same_with_or_without_the_first_pass_of_fewer_pairs(form_default, default_set):
+    """few_first True (the 1.25 x candidates nearest pairs first, 4 x where too few) and False (4 x
+    at once) are two searches for the same nearest pairs: the same map bit for bit, on the form's
+    own outline and on a given one; the default (None) is one of them."""
+    from profilegen.profile.gearform import _local_outline
+
+    tooth, motion, env = default_set
+    given = _local_outline(form_default)[::3]
+    for cs_points in (None, given):
+        maps = [clearance_map(form_default, tooth, motion, phi_range=env.phi_range, samples=41, cs_points=cs_points,
+                              few_first=f).clearance_mm for f in (True, False, None)]
+        np.testing.assert_array_equal(maps[0], maps[1])
+        np.testing.assert_array_equal(maps[0], maps[2])
+
+
+def test_cs_outline_of_the_same_space_is_kept(form_default):
+    """The outline of one space object is built once (the same frozen object again); the same
+    space with another tip radius, or a build from scratch, is another object — the latter equal
+    to the kept one point for point."""
+    from profilegen.profile.gearform import _cs_outline, cs_outline
+
+    f = form_default
+    w = f.working_flank["right"]
+    a1 = Arc(w[0] - np.array([1.0, 0.0]), 1.0, 0.0, 0.1)
+    line = Line(a1.end, a1.end + 0.2 * a1.tangent(at_end=True))
+    space, outline = cs_chain(Chain((a1, line)), tip_radius_mm=f.tip_radius_mm, root_radius_mm=f.root_radius_mm,
+                              cs_teeth=202)
+    assert cs_outline(space, tip_radius_mm=f.tip_radius_mm, cs_teeth=202) is outline
+    fresh = _cs_outline(space, tip_radius_mm=f.tip_radius_mm, cs_teeth=202)
+    assert fresh is not outline
+    np.testing.assert_array_equal(fresh.sample(1e-4), outline.sample(1e-4))
+    wider = cs_outline(space, tip_radius_mm=f.tip_radius_mm + 0.01, cs_teeth=202)
+    assert wider is not outline and len(wider.elements) == len(outline.elements)
+    assert wider.elements[len(space.elements)].radius == pytest.approx(f.tip_radius_mm + 0.01)  # the tip land
