@@ -53,6 +53,7 @@ import time
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import partial
+from typing import Any
 
 import numpy as np
 
@@ -430,6 +431,162 @@ def _default_ladder(gearset) -> np.ndarray:
     return np.unique(np.append(ladder[ladder < top], top))
 
 
+def _ratcheting_torques(torques_nm, climb: bool, gs) -> np.ndarray:
+    """The torques the linear model is solved at (N·m, ascending): ``torques_nm`` checked, or
+    the default ladder (the climb's three when it gives the estimate)."""
+    if torques_nm is None:
+        return _default_ladder(gs) if not climb else float(gs.torque.rated_nm) * np.array([0.5, 1.0, 2.0])
+    torques = np.atleast_1d(np.asarray(torques_nm, dtype=float)) if not isinstance(torques_nm, (int, float)) \
+        else np.array([float(torques_nm)])
+    if torques.ndim != 1 or torques.size < 2:
+        raise RatchetingError(f"torques_nm: must be at least 2 torques (N·m), got {torques.size}")
+    for k, t in enumerate(torques):
+        if not _torque(f"torques_nm[{k}]", float(t)) > 0.0:
+            raise RatchetingError(f"torques_nm[{k}] = {t!r} N·m: must be > 0 (the flank is chosen by side)")
+    return np.unique(torques)
+
+
+def _checked_climb_options(o: RatchetingOptions) -> tuple[bool, int, float]:
+    """The side and the climb's options checked → (corner_normal, positions, friction)."""
+    if o.side not in (1, -1):
+        raise RatchetingError(f"side = {o.side!r}: must be +1 (right FS flank loaded) or −1 (left)")
+    corner_normal = _flag("climb_corner_normal", o.climb_corner_normal)
+    checks.choice("climb_ball_supports", o.climb_ball_supports, ("window", "all"), error=RatchetingError)
+    positions = checks.whole("climb_positions", o.climb_positions, 1, error=RatchetingError)
+    friction = checks.number("climb_friction", o.climb_friction, "", 0.0, 1.0, low_open=False,
+                             error=RatchetingError)
+    from .climb import SLIDING
+
+    checks.choice("climb_sliding", o.climb_sliding, SLIDING, error=RatchetingError)
+    return corner_normal, positions, friction
+
+
+def _wave_generator_bearing(bearing, gs, race_thickness_mm):
+    """The ``bearing`` option as the ball bearing the model uses (None: rigid balls), checked to fit."""
+    from .chain import BallBearing
+
+    if bearing is True:
+        check_bearing_fits(gs, race_thickness_mm=race_thickness_mm)
+        return BallBearing.from_gearset(gs, race_thickness_mm=race_thickness_mm)
+    if bearing is False or bearing is None:
+        return None
+    if isinstance(bearing, BallBearing):
+        check_bearing_fits(gs, bearing, race_thickness_mm=race_thickness_mm)
+        return bearing
+    raise RatchetingError(f"bearing = {bearing!r}: must be a BallBearing, True (estimated) or None (rigid balls)")
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class _LinearModel:
+    """The linear criterion's model: the contact points with the tip-land probes' compliance,
+    each probe tooth's corner depth, and the CS ring's radial compliance (None: no ring)."""
+
+    points: Any
+    combined: Any
+    comp: Any
+    teeth: np.ndarray
+    phis: np.ndarray
+    depth: np.ndarray
+    slot: np.ndarray
+    sin_alpha: np.ndarray
+    ring: np.ndarray | None
+    ring_info: dict | None
+
+
+def _linear_model(inputs, gs, o: RatchetingOptions, estimates: list) -> _LinearModel:
+    """The contact points, probes and compliances of the linear criterion; the CS ring's
+    section estimates are appended to ``estimates``."""
+    from .compliance import ContactCompliance
+    from .points import contact_points
+
+    points = contact_points(inputs, side=o.side, stations=o.stations, max_gap_mm=o.max_gap_mm)
+    teeth, phis, fs_probe, e_r, cs_probe, corner = _probes(inputs, points)
+    combined = ContactCompliance.build(
+        inputs, np.vstack([points.fs_point_mm, fs_probe]), np.vstack([points.normal, e_r]),
+        np.concatenate([points.tooth, teeth]), np.vstack([points.cs_point_mm, cs_probe]),
+        race_thickness_mm=o.race_thickness_mm)
+    comp = _split(combined, points.count)
+    depth = np.linalg.norm(corner, axis=1) - inputs.cs_tip_radius_mm
+    slot = np.searchsorted(teeth, points.tooth)
+    e_r_pts = points.fs_point_mm / np.linalg.norm(points.fs_point_mm, axis=1)[:, None]
+    sin_alpha = np.einsum("ij,ij->i", points.normal, e_r_pts)
+    ring = ring_info = None
+    if o.cs_ring:
+        r_mean, thick, width, notes = _cs_ring_section(gs, inputs)
+        estimates += notes
+        # both zones: tooth i at φ_i and its image at φ_i + π (U = 2)
+        ang = np.concatenate([phis, phis + math.pi])
+        ring = cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
+                                         youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
+        ring_info = {"mean_radius_mm": r_mean, "thickness_mm": thick, "width_mm": width}
+    return _LinearModel(points, combined, comp, teeth, phis, depth, slot, sin_alpha, ring, ring_info)
+
+
+def _loaded_tooth(lm: _LinearModel, sol, settled, case):
+    """At one torque: the most loaded tooth's row (tooth, φ deg, depth, separation, its FS and
+    CS parts, pressure angle deg) and the force-weighted (depth, separation) over the teeth."""
+    n = lm.points.count
+    full = lm.combined.with_balls(settled.ball_active, ball_compliance_mm_per_n=settled.ball_compliance_mm_per_n)
+    f = sol.force_n
+    # S·F along a probe = the separation of the two bodies along it (the FS pushed along −e_r)
+    sep_fs = full.matrix_mm_per_n[n:, :n] @ f
+    sep_cs = np.zeros(lm.teeth.size)
+    if lm.ring is not None:
+        radial = np.bincount(lm.slot, weights=f * lm.sin_alpha, minlength=lm.teeth.size)  # outward on the CS
+        sep_cs = lm.ring @ np.concatenate([radial, radial])
+    per_tooth = case.tooth_force_n
+    k = int(np.argmax(per_tooth))
+    on = lm.slot == k
+    angle = float(np.degrees(np.arcsin(np.clip(np.sum(f[on] * lm.sin_alpha[on]) / max(np.sum(f[on]), 1e-300),
+                                               -1.0, 1.0))))
+    total = sep_fs + sep_cs
+    w = per_tooth / per_tooth.sum()
+    row = (int(lm.teeth[k]), math.degrees(lm.phis[k]), float(lm.depth[k]), float(sep_fs[k] + sep_cs[k]),
+           float(sep_fs[k]), float(sep_cs[k]), angle)
+    return row, (float(w @ lm.depth), float(w @ total))
+
+
+def _linear_path(lm: _LinearModel, torques, bearing, o: RatchetingOptions):
+    """The linear model solved at each torque → (rows, flags, force-weighted (depth, separation) per torque)."""
+    from .analysis import load_case
+
+    rows, flags, every = [], [], []
+    with one_blas_thread():
+        for t in torques:
+            sol, settled = _solve(lm.points, lm.comp, float(t), bearing, settle_iterations=o.settle_iterations,
+                                  spring_iterations=o.spring_iterations, spring_tol=o.spring_tol)
+            case, _ = load_case(lm.points, float(t), sol, settled)
+            flags.append(case.beyond_capacity)
+            row, weighted = _loaded_tooth(lm, sol, settled, case)
+            every.append(weighted)
+            rows.append(row)
+    return rows, flags, every
+
+
+def _model_texts(o: RatchetingOptions, climbed: bool, friction: float) -> tuple[str, str]:
+    """The estimate's model and criterion, in words."""
+    model = ("force-weighted radial separation of the loaded teeth from their CS spaces against their corner depth; FS side "
+             "from the contact's FEM influence coefficients (tip-land probes, Hertz ball springs, settled balls)"
+             + ("; CS side a free thin ring (bending harmonics n = 2, 4, … and n = 0)" if o.cs_ring else
+                "; CS held by the contact model's sector (no ring ovalisation)"))
+    criterion = ("Σ F_k (h_k − Δr_k) / Σ F_k = 0 with h_k = |FS tip corner| − r_CS,tip (the loaded teeth's tips "
+                 "meet the CS tips while the flanks slide, on the load-weighted mean); interpolated linearly in the "
+                 "margin inside the solved torques, else the proportional bound min T h̄/Δr̄ over them")
+    if climbed:
+        model = ("the climb (profilegen.contact.climb): material stations on the loaded flanks, gaps and lever arms "
+                 "recomputed on the geometry with each tooth shifted out of its space by its computed retreat and the FS "
+                 "turned by φ (rotation control), the contact's influence coefficients + Hertz ball springs + the CS "
+                 "ring; the retreat's fixed point per φ"
+                 + (f"; Coulomb friction μ = {friction:g} on the tooth contacts against the teeth's sliding "
+                    f"({o.climb_sliding}; the force on the CS N (n + μσt), the gap along n: Lemke on the nonsymmetric S)"
+                    if friction > 0.0 else "; no friction")
+                 + ". Linear diagnostics: " + model)
+        criterion = ("the first of: the limit point max T(φ); the force-weighted margin Σ F (h − s)/Σ F = 0; half the load "
+                     "on the FS tip corners; the end of the path (no equilibrium found just beyond its last point). "
+                     "Linear diagnostics: " + criterion)
+    return model, criterion
+
+
 def ratcheting_torque(design, *, catalogue: dict | None = CATALOGUE_RATCHETING,
                       options: RatchetingOptions | Mapping | None = None) -> Ratcheting:
     """The ratcheting torque of a design (or a :class:`~profilegen.contact.inputs.ContactInput`),
@@ -439,153 +596,48 @@ def ratcheting_torque(design, *, catalogue: dict | None = CATALOGUE_RATCHETING,
     or None. ``options``: how to solve, a :class:`RatchetingOptions` or a mapping of its fields
     (default: the product's model — the climb, every ball one-sided, the CS ring)."""
     o = RatchetingOptions.of(options)
-    torques_nm, side, bearing, cs_ring, stations = o.torques_nm, o.side, o.bearing, o.cs_ring, o.stations
-    max_gap_mm, race_thickness_mm = o.max_gap_mm, o.race_thickness_mm
-    settle_iterations, spring_iterations, spring_tol = o.settle_iterations, o.spring_iterations, o.spring_tol
-    climb, climb_stations, climb_max_gap_mm, climb_max_torque_nm = (o.climb, o.climb_stations, o.climb_max_gap_mm,
-                                                                    o.climb_max_torque_nm)
-    climb_ring_scale, climb_shift_rad, climb_corner_normal = o.climb_ring_scale, o.climb_shift_rad, o.climb_corner_normal
-    climb_ball_supports, climb_positions = o.climb_ball_supports, o.climb_positions
-    climb_friction, climb_sliding = o.climb_friction, o.climb_sliding
-    from .chain import BallBearing
-    from .compliance import ContactCompliance
     from .inputs import ContactInput
-    from .points import contact_points
 
     t0 = time.perf_counter()
     inputs = ContactInput.from_design(design, name="design")
     gs = inputs.gearset
-    if torques_nm is None:
-        torques = _default_ladder(gs) if not climb else float(gs.torque.rated_nm) * np.array([0.5, 1.0, 2.0])
-    else:
-        torques = np.atleast_1d(np.asarray(torques_nm, dtype=float)) if not isinstance(torques_nm, (int, float)) \
-            else np.array([float(torques_nm)])
-        if torques.ndim != 1 or torques.size < 2:
-            raise RatchetingError(f"torques_nm: must be at least 2 torques (N·m), got {torques.size}")
-        for k, t in enumerate(torques):
-            if not _torque(f"torques_nm[{k}]", float(t)) > 0.0:
-                raise RatchetingError(f"torques_nm[{k}] = {t!r} N·m: must be > 0 (the flank is chosen by side)")
-        torques = np.unique(torques)
-    if side not in (1, -1):
-        raise RatchetingError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
-    climb_corner_normal = _flag("climb_corner_normal", climb_corner_normal)
-    checks.choice("climb_ball_supports", climb_ball_supports, ("window", "all"), error=RatchetingError)
-    climb_positions = checks.whole("climb_positions", climb_positions, 1, error=RatchetingError)
-    climb_friction = checks.number("climb_friction", climb_friction, "", 0.0, 1.0, low_open=False,
-                                   error=RatchetingError)
-    from .climb import SLIDING
-
-    checks.choice("climb_sliding", climb_sliding, SLIDING, error=RatchetingError)
-    if bearing is True:
-        check_bearing_fits(gs, race_thickness_mm=race_thickness_mm)
-        bearing = BallBearing.from_gearset(gs, race_thickness_mm=race_thickness_mm)
-    elif bearing is False or bearing is None:
-        bearing = None
-    elif isinstance(bearing, BallBearing):
-        check_bearing_fits(gs, bearing, race_thickness_mm=race_thickness_mm)
-    else:
-        raise RatchetingError(f"bearing = {bearing!r}: must be a BallBearing, True (estimated) or None (rigid balls)")
+    torques = _ratcheting_torques(o.torques_nm, o.climb, gs)
+    corner_normal, positions, friction = _checked_climb_options(o)
+    bearing = _wave_generator_bearing(o.bearing, gs, o.race_thickness_mm)
     if catalogue is not None and (not isinstance(catalogue, dict) or "source" not in catalogue
                                   or "torque_nm" not in catalogue):
         raise RatchetingError("catalogue: must be None or {'torque_nm': …, 'source': …} (a value only with its source)")
 
-    points = contact_points(inputs, side=side, stations=stations, max_gap_mm=max_gap_mm)
-    teeth, phis, fs_probe, e_r, cs_probe, corner = _probes(inputs, points)
-    n = points.count
-    combined = ContactCompliance.build(
-        inputs, np.vstack([points.fs_point_mm, fs_probe]), np.vstack([points.normal, e_r]),
-        np.concatenate([points.tooth, teeth]), np.vstack([points.cs_point_mm, cs_probe]),
-        race_thickness_mm=race_thickness_mm)
-    comp = _split(combined, n)
-    depth = np.linalg.norm(corner, axis=1) - inputs.cs_tip_radius_mm
-    slot = np.searchsorted(teeth, points.tooth)
-    e_r_pts = points.fs_point_mm / np.linalg.norm(points.fs_point_mm, axis=1)[:, None]
-    sin_alpha = np.einsum("ij,ij->i", points.normal, e_r_pts)
-
     estimates = list(bearing.estimates) if bearing is not None else []
-    ring = None
-    if cs_ring:
-        r_mean, thick, width, notes = _cs_ring_section(gs, inputs)
-        estimates += notes
-        # both zones: tooth i at φ_i and its image at φ_i + π (U = 2)
-        ang = np.concatenate([phis, phis + math.pi])
-        ring = cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
-                                         youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
-        ring_info = {"mean_radius_mm": r_mean, "thickness_mm": thick, "width_mm": width}
-    rows, flags, every = [], [], []
+    lm = _linear_model(inputs, gs, o, estimates)
+    rows, flags, every = _linear_path(lm, torques, bearing, o)
     warnings: list[str] = []
-    from .analysis import load_case
-
-    with one_blas_thread():
-        for t in torques:
-            sol, settled = _solve(points, comp, float(t), bearing, settle_iterations=settle_iterations,
-                                  spring_iterations=spring_iterations, spring_tol=spring_tol)
-            case, _ = load_case(points, float(t), sol, settled)
-            flags.append(case.beyond_capacity)
-            full = combined.with_balls(settled.ball_active, ball_compliance_mm_per_n=settled.ball_compliance_mm_per_n)
-            f = sol.force_n
-            # S·F along a probe = the separation of the two bodies along it (the FS pushed along −e_r)
-            sep_fs = full.matrix_mm_per_n[n:, :n] @ f
-            sep_cs = np.zeros(teeth.size)
-            if ring is not None:
-                radial = np.bincount(slot, weights=f * sin_alpha, minlength=teeth.size)  # outward on the CS
-                sep_cs = ring @ np.concatenate([radial, radial])
-            per_tooth = case.tooth_force_n
-            k = int(np.argmax(per_tooth))
-            on = slot == k
-            angle = float(np.degrees(np.arcsin(np.clip(np.sum(f[on] * sin_alpha[on]) / max(np.sum(f[on]), 1e-300),
-                                                       -1.0, 1.0))))
-            total = sep_fs + sep_cs
-            w = per_tooth / per_tooth.sum()
-            every.append((float(w @ depth), float(w @ total)))
-            rows.append((int(teeth[k]), math.degrees(phis[k]), float(depth[k]), float(sep_fs[k] + sep_cs[k]),
-                         float(sep_fs[k]), float(sep_cs[k]), angle))
     tooth_k, phi_k, h, sep, sep_fs, sep_cs, alpha = (np.array(c) for c in zip(*rows))
     valid = np.array([fl is None for fl in flags])
     rated = float(gs.torque.rated_nm)
     mean_h, mean_sep = (np.array(c) for c in zip(*every))
-    first_linear = len(warnings)
     torque, extrapolated, exponent, fitted, proportional = _criterion(torques, mean_h, mean_sep, valid, warnings)
     linear = float(torque)
     climb_info = None
-    if climb:
+    if o.climb:
         # the climb gives the estimate: the linear criterion's words are its diagnostics, not the estimate
-        warnings[first_linear:] = [f"linear diagnostics (torque_linear_nm, not the estimate): {w}"
-                                   for w in warnings[first_linear:]]
-        torque, extrapolated, climb_info = _climb(inputs, gs, side=side, bearing=bearing, cs_ring=cs_ring,
-                                                  race_thickness_mm=race_thickness_mm, stations=climb_stations,
-                                                  max_gap_mm=climb_max_gap_mm, linear=linear,
-                                                  max_torque_nm=climb_max_torque_nm, ring_scale=climb_ring_scale,
-                                                  shift_rad=_number("climb_shift_rad", climb_shift_rad, "rad"),
+        warnings[:] = [f"linear diagnostics (torque_linear_nm, not the estimate): {w}" for w in warnings]
+        torque, extrapolated, climb_info = _climb(inputs, gs, side=o.side, bearing=bearing, cs_ring=o.cs_ring,
+                                                  race_thickness_mm=o.race_thickness_mm, stations=o.climb_stations,
+                                                  max_gap_mm=o.climb_max_gap_mm, linear=linear,
+                                                  max_torque_nm=o.climb_max_torque_nm, ring_scale=o.climb_ring_scale,
+                                                  shift_rad=_number("climb_shift_rad", o.climb_shift_rad, "rad"),
                                                   extrapolated=extrapolated, warnings=warnings,
-                                                  corner_normal=climb_corner_normal, ball_supports=climb_ball_supports,
-                                                  positions=climb_positions, friction=climb_friction,
-                                                  sliding=climb_sliding)
+                                                  corner_normal=corner_normal, ball_supports=o.climb_ball_supports,
+                                                  positions=positions, friction=friction,
+                                                  sliding=o.climb_sliding)
     cat = None if catalogue is None else dict(catalogue)
     if cat is None:
         warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")
-    model = ("force-weighted radial separation of the loaded teeth from their CS spaces against their corner depth; FS side "
-             "from the contact's FEM influence coefficients (tip-land probes, Hertz ball springs, settled balls)"
-             + ("; CS side a free thin ring (bending harmonics n = 2, 4, … and n = 0)" if cs_ring else
-                "; CS held by the contact model's sector (no ring ovalisation)"))
-    criterion = ("Σ F_k (h_k − Δr_k) / Σ F_k = 0 with h_k = |FS tip corner| − r_CS,tip (the loaded teeth's tips "
-                 "meet the CS tips while the flanks slide, on the load-weighted mean); interpolated linearly in the "
-                 "margin inside the solved torques, else the proportional bound min T h̄/Δr̄ over them")
-    if climb_info is not None:
-        model = ("the climb (profilegen.contact.climb): material stations on the loaded flanks, gaps and lever arms "
-                 "recomputed on the geometry with each tooth shifted out of its space by its computed retreat and the FS "
-                 "turned by φ (rotation control), the contact's influence coefficients + Hertz ball springs + the CS "
-                 "ring; the retreat's fixed point per φ"
-                 + (f"; Coulomb friction μ = {climb_friction:g} on the tooth contacts against the teeth's sliding "
-                    f"({climb_sliding}; the force on the CS N (n + μσt), the gap along n: Lemke on the nonsymmetric S)"
-                    if climb_friction > 0.0 else "; no friction")
-                 + ". Linear diagnostics: " + model)
-        criterion = ("the first of: the limit point max T(φ); the force-weighted margin Σ F (h − s)/Σ F = 0; half the load "
-                     "on the FS tip corners; the end of the path (no equilibrium found just beyond its last point). "
-                     "Linear diagnostics: " + criterion)
+    model, criterion = _model_texts(o, climb_info is not None, friction)
     parts = {"bearing": None if bearing is None else bearing.to_dict(),
-             "cs_ring": ring_info if cs_ring else None,
-             "points": int(n), "probe_teeth": int(teeth.size)}
+             "cs_ring": lm.ring_info if o.cs_ring else None,
+             "points": int(lm.points.count), "probe_teeth": int(lm.teeth.size)}
     return Ratcheting(float(torque), model, criterion, torques, tooth_k, phi_k, h, sep, sep_fs, sep_cs, alpha, valid,
                       tuple(flags), extrapolated, exponent, rated, cat, parts, tuple(estimates),
                       time.perf_counter() - t0, tuple(dict.fromkeys(warnings)), fitted, proportional, mean_h, mean_sep,
