@@ -360,6 +360,164 @@ def _point(model, phi, f, s_fs, s_cs, state, lever, iterations) -> ClimbPoint:
     return ClimbPoint(float(phi), torque, s_fs + s_cs, s_fs.copy(), f, margin, alpha, mean_s, corner, iterations, state)
 
 
+def _criterion_met(path, *, corner_rule: bool, limit_drop: float):
+    """(criterion, index of the first point past it) or None; a limit point: T fell more than
+    ``limit_drop`` below its largest so far — the index is then the point after that largest."""
+    top = 0
+    for k, p in enumerate(path):
+        if p.margin_mm <= 0.0:
+            return "margin", k
+        if corner_rule and p.corner_share >= 0.5:
+            return "corner", k
+        if k >= 1 and p.torque_nm < (1.0 - limit_drop) * path[top].torque_nm:
+            return "limit point", top + 1
+        if p.torque_nm >= path[top].torque_nm:
+            top = k
+    return None
+
+
+def _beyond(run, pts, s_fs, s_cs, state, nominal: float):
+    """The first equilibrium 1, 2 or 4 × ``nominal`` past the last point (a band where the
+    substitution cycles between contact or ball sets is passed), or None."""
+    for j in (1.0, 2.0, 4.0) if pts else ():
+        try:
+            return run(pts[-1].phi_rad + j * nominal, s_fs, s_cs, state)
+        except ConvergenceError:
+            continue
+    return None
+
+
+def _follow(run, ended, m: int, state, phi_start: float, phi_step: float, *, max_steps: int, grow: float,
+            max_torque_nm: float, max_halvings: int, max_retreat_step_mm: float, min_step_fraction: float,
+            warnings: list) -> list:
+    """The path's points from ``phi_start`` until a criterion ends it, with the step control
+    of :func:`climb`; what stopped it short is appended to ``warnings``."""
+    s_fs, s_cs = np.zeros(m), np.zeros(m)
+    pts: list[ClimbPoint] = []
+    phi, step = float(phi_start), float(phi_step)
+    min_step = float(phi_step) * float(min_step_fraction)
+    halvings = 0
+    for _ in range(4 * max_steps):  # max_steps points taken; the rest: steps tried again shorter
+        if len(pts) >= max_steps:
+            break
+        try:
+            p = run(phi, s_fs, s_cs, state)
+            if pts and step > min_step and p.mean_retreat_mm - pts[-1].mean_retreat_mm > max_retreat_step_mm:
+                step = max(0.5 * step, min_step)  # too far in one step: resolve the path (not a failure)
+                phi = pts[-1].phi_rad + step
+                continue
+        except ConvergenceError as exc:
+            if pts and halvings < max_halvings:  # a shorter step from the last point
+                halvings += 1
+                step *= 0.5
+                phi = pts[-1].phi_rad + step
+                continue
+            # no fixed point just past the last point: look beyond (1, 2, 4 × the step before
+            # the halvings) — only where none is found does the path end
+            nominal = max(step * 2.0 ** halvings, float(phi_step))
+            p = _beyond(run, pts, s_fs, s_cs, state, nominal)
+            if p is None:
+                warnings.append(f"{exc} (after {halvings} step halvings): no equilibrium just beyond "
+                                f"φ = {pts[-1].phi_rad if pts else phi:.6g} rad")
+                break
+            warnings.append(f"no fixed point found between φ = {pts[-1].phi_rad:.6g} and {p.phi_rad:.6g} rad "
+                            f"({exc}); the path continued beyond")
+            step, halvings = nominal, 0
+        pts.append(p)
+        if ended(pts):
+            break
+        if p.torque_nm > max_torque_nm:
+            warnings.append(f"the path stopped at {p.torque_nm:.4g} N·m > max_torque_nm = {max_torque_nm:.4g} N·m "
+                            "with no criterion met")
+            break
+        s_fs, s_cs, state = p.retreat_fs_mm, p.retreat_mm - p.retreat_fs_mm, p.state
+        phi += step
+        step *= grow
+    return pts
+
+
+def _refine_bracket(run, ended, pts: list, refine: int, warnings: list) -> tuple[list, bool]:
+    """The criterion's bracket refined ``refine`` times in quarter steps from the point before
+    it → (points, stuck: not one refined rotation found a fixed point)."""
+    stuck = False
+    for _ in range(refine):
+        hit = ended(pts)
+        if hit is None or hit[1] < 2:
+            break
+        k = hit[1]
+        base = pts[k - 2]
+        h = (pts[k].phi_rad - base.phi_rad) / 4.0
+        fine = [base]
+        s_fs, s_cs, state = base.retreat_fs_mm, base.retreat_mm - base.retreat_fs_mm, base.state
+        failed = False
+        for j in range(1, 4):
+            try:
+                q = run(base.phi_rad + j * h, s_fs, s_cs, state)
+            except ConvergenceError as exc:  # skipped: the next quarter step may have one (a fixed
+                warnings.append(str(exc))  # point missed by 2e-4 mm at csf14_100's peak)
+                failed = True
+                continue
+            fine.append(q)
+            s_fs, s_cs, state = q.retreat_fs_mm, q.retreat_mm - q.retreat_fs_mm, q.state
+        stuck = len(fine) == 1  # not one refined rotation found: the same would fail again
+        if failed or fine[-1].phi_rad < pts[k - 1].phi_rad:  # the refinement left a gap or stopped short:
+            fine.append(pts[k - 1])  # keep the point before the criterion (it may be the peak; it was dropped)
+        fine.append(pts[k])
+        pts = pts[:k - 2] + sorted(fine, key=lambda x: x.phi_rad) + pts[k + 1:]
+        if stuck:
+            break
+    return pts, stuck
+
+
+def _unended_path(pts: list, found, warnings: list) -> ClimbPath:
+    """The path when no criterion lies on the refined points: a limit point the refinement
+    followed up, the end of the path, or no criterion (the largest torque each)."""
+    if found is not None and found[0] == "limit point":
+        # the refinement's finer steps followed T(φ) up where the coarse step had found it
+        # falling (another equilibrium branch past the peak): the peak of the refined path
+        best = max(pts, key=lambda x: x.torque_nm)
+        warnings.append("the limit point's refinement found T(φ) still rising: its largest torque is taken")
+        return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "limit point", tuple(warnings))
+    if pts and warnings and "no equilibrium just beyond" in warnings[-1]:
+        best = max(pts, key=lambda x: x.torque_nm)
+        return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "end of path", tuple(warnings))
+    top = max(pts, key=lambda x: x.torque_nm) if pts else None
+    warnings.append("no criterion was met on the path followed: the estimate is its largest torque")
+    return ClimbPath(tuple(pts), top.torque_nm if top else math.nan, top.phi_rad if top else math.nan,
+                     "none", tuple(warnings))
+
+
+def _limit_point(pts: list, k: int, stuck: bool, warnings: list) -> ClimbPath:
+    """The limit point bracketed by the points k − 2, k − 1 and k: the parabola's peak through
+    them, or the largest torque found where the bracket could not be refined."""
+    a, b = pts[k - 1] if k else pts[k], pts[k]
+    if stuck:  # the bracket could not be refined: the parabola through its coarse points can
+        # overshoot the peak; the largest torque of an equilibrium found is taken (low by at
+        # most the rise to the peak within the bracket)
+        warnings.append(f"the limit point's bracket φ = {pts[k - 2].phi_rad if k >= 2 else a.phi_rad:.6g}…"
+                        f"{b.phi_rad:.6g} rad could not be refined (no fixed point found in it): the largest "
+                        f"torque found, {a.torque_nm:.4g} N·m at φ = {a.phi_rad:.6g} rad, is taken")
+        return ClimbPath(tuple(pts), a.torque_nm, a.phi_rad, "limit point", tuple(warnings))
+    if k >= 2:
+        peak = _parabola_peak((pts[k - 2].phi_rad, a.phi_rad, b.phi_rad),
+                              (pts[k - 2].torque_nm, a.torque_nm, b.torque_nm))
+        if peak is not None:
+            return ClimbPath(tuple(pts), peak[1], peak[0], "limit point", tuple(warnings))
+    return ClimbPath(tuple(pts), a.torque_nm, a.phi_rad, "limit point", tuple(warnings))
+
+
+def _crossing(pts: list, crit: str, k: int, warnings: list) -> ClimbPath:
+    """The margin or corner criterion, interpolated linearly between the points k − 1 and k."""
+    a, b = pts[k - 1] if k else pts[k], pts[k]
+    if k == 0:
+        warnings.append(f"the first rotation already meets the {crit} criterion")
+        return ClimbPath(tuple(pts), b.torque_nm, b.phi_rad, crit, tuple(warnings))
+    va, vb = (a.margin_mm, b.margin_mm) if crit == "margin" else (0.5 - a.corner_share, 0.5 - b.corner_share)
+    w = va / (va - vb) if va != vb else 1.0
+    return ClimbPath(tuple(pts), float(a.torque_nm + w * (b.torque_nm - a.torque_nm)),
+                     float(a.phi_rad + w * (b.phi_rad - a.phi_rad)), crit, tuple(warnings))
+
+
 def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, grow: float = 1.25,
           refine: int = 3, tol_mm: float = 1e-4, max_iterations: int = 30,
           max_torque_nm: float = math.inf, max_halvings: int = 4,
@@ -398,12 +556,9 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, gro
     peak ≈ 4.76 kN·m at 5.6 mrad missed), so where the path then ended — and the estimate —
     depended on where the step grid fell (S3: 4594 against 5452 N·m for a nanometre's change
     of the CS flank)."""
-    m = model.depth_mm.size
     # the corner rule stands in for a corner normal the model does not follow (DesignClimb's
     # corner_normal=False); with it, a corner riding over the CS tip round is the geometry's
     corner_rule = bool(getattr(model, "corner_criterion", True))
-    s_fs, s_cs, state = np.zeros(m), np.zeros(m), model.initial_state()
-    pts: list[ClimbPoint] = []
     warnings: list[str] = []
 
     def run(phi, s_fs, s_cs, state):
@@ -412,132 +567,20 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, gro
         return _point(model, phi, f, s_fs, s_cs, state, lever, it)
 
     def ended(path):
-        """(criterion, index of the first point past it) or None; a limit point: T fell more than
-        ``limit_drop`` below its largest so far — the index is then the point after that largest."""
-        top = 0
-        for k, p in enumerate(path):
-            if p.margin_mm <= 0.0:
-                return "margin", k
-            if corner_rule and p.corner_share >= 0.5:
-                return "corner", k
-            if k >= 1 and p.torque_nm < (1.0 - limit_drop) * path[top].torque_nm:
-                return "limit point", top + 1
-            if p.torque_nm >= path[top].torque_nm:
-                top = k
-        return None
+        return _criterion_met(path, corner_rule=corner_rule, limit_drop=limit_drop)
 
-    phi, step = float(phi_start), float(phi_step)
-    min_step = float(phi_step) * float(min_step_fraction)
-    halvings = 0
-    for _ in range(4 * max_steps):  # max_steps points taken; the rest: steps tried again shorter
-        if len(pts) >= max_steps:
-            break
-        try:
-            p = run(phi, s_fs, s_cs, state)
-            if pts and step > min_step and p.mean_retreat_mm - pts[-1].mean_retreat_mm > max_retreat_step_mm:
-                step = max(0.5 * step, min_step)  # too far in one step: resolve the path (not a failure)
-                phi = pts[-1].phi_rad + step
-                continue
-        except ConvergenceError as exc:
-            if pts and halvings < max_halvings:  # a shorter step from the last point
-                halvings += 1
-                step *= 0.5
-                phi = pts[-1].phi_rad + step
-                continue
-            # no fixed point just past the last point: look beyond (1, 2, 4 × the step before
-            # the halvings) — a band where the substitution cycles between contact or ball
-            # sets is passed; only where none is found does the path end
-            p = None
-            nominal = max(step * 2.0 ** halvings, float(phi_step))
-            for j in (1.0, 2.0, 4.0) if pts else ():
-                try:
-                    p = run(pts[-1].phi_rad + j * nominal, s_fs, s_cs, state)
-                    break
-                except ConvergenceError:
-                    continue
-            if p is None:
-                warnings.append(f"{exc} (after {halvings} step halvings): no equilibrium just beyond "
-                                f"φ = {pts[-1].phi_rad if pts else phi:.6g} rad")
-                break
-            warnings.append(f"no fixed point found between φ = {pts[-1].phi_rad:.6g} and {p.phi_rad:.6g} rad "
-                            f"({exc}); the path continued beyond")
-            step, halvings = nominal, 0
-        pts.append(p)
-        if ended(pts):
-            break
-        if p.torque_nm > max_torque_nm:
-            warnings.append(f"the path stopped at {p.torque_nm:.4g} N·m > max_torque_nm = {max_torque_nm:.4g} N·m "
-                            "with no criterion met")
-            break
-        s_fs, s_cs, state = p.retreat_fs_mm, p.retreat_mm - p.retreat_fs_mm, p.state
-        phi += step
-        step *= grow
+    pts = _follow(run, ended, model.depth_mm.size, model.initial_state(), phi_start, phi_step, max_steps=max_steps,
+                  grow=grow, max_torque_nm=max_torque_nm, max_halvings=max_halvings,
+                  max_retreat_step_mm=max_retreat_step_mm, min_step_fraction=min_step_fraction, warnings=warnings)
     found = ended(pts)
-    stuck = False
-    for _ in range(refine):
-        hit = ended(pts)
-        if hit is None or hit[1] < 2:
-            break
-        k = hit[1]
-        base = pts[k - 2]
-        h = (pts[k].phi_rad - base.phi_rad) / 4.0
-        fine = [base]
-        s_fs, s_cs, state = base.retreat_fs_mm, base.retreat_mm - base.retreat_fs_mm, base.state
-        failed = False
-        for j in range(1, 4):
-            try:
-                q = run(base.phi_rad + j * h, s_fs, s_cs, state)
-            except ConvergenceError as exc:  # skipped: the next quarter step may have one (a fixed
-                warnings.append(str(exc))  # point missed by 2e-4 mm at csf14_100's peak)
-                failed = True
-                continue
-            fine.append(q)
-            s_fs, s_cs, state = q.retreat_fs_mm, q.retreat_mm - q.retreat_fs_mm, q.state
-        stuck = len(fine) == 1  # not one refined rotation found: the same would fail again
-        if failed or fine[-1].phi_rad < pts[k - 1].phi_rad:  # the refinement left a gap or stopped short:
-            fine.append(pts[k - 1])  # keep the point before the criterion (it may be the peak; it was dropped)
-        fine.append(pts[k])
-        pts = pts[:k - 2] + sorted(fine, key=lambda x: x.phi_rad) + pts[k + 1:]
-        if stuck:
-            break
+    pts, stuck = _refine_bracket(run, ended, pts, refine, warnings)
     hit = ended(pts)
-    if hit is None and found is not None and found[0] == "limit point":
-        # the refinement's finer steps followed T(φ) up where the coarse step had found it
-        # falling (another equilibrium branch past the peak): the peak of the refined path
-        best = max(pts, key=lambda x: x.torque_nm)
-        warnings.append("the limit point's refinement found T(φ) still rising: its largest torque is taken")
-        return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "limit point", tuple(warnings))
-    if hit is None and pts and warnings and "no equilibrium just beyond" in warnings[-1]:
-        best = max(pts, key=lambda x: x.torque_nm)
-        return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "end of path", tuple(warnings))
     if hit is None:
-        top = max(pts, key=lambda x: x.torque_nm) if pts else None
-        warnings.append("no criterion was met on the path followed: the estimate is its largest torque")
-        return ClimbPath(tuple(pts), top.torque_nm if top else math.nan, top.phi_rad if top else math.nan,
-                         "none", tuple(warnings))
+        return _unended_path(pts, found, warnings)
     crit, k = hit
-    a, b = pts[k - 1] if k else pts[k], pts[k]
     if crit == "limit point":
-        if stuck:  # the bracket could not be refined: the parabola through its coarse points can
-            # overshoot the peak; the largest torque of an equilibrium found is taken (low by at
-            # most the rise to the peak within the bracket)
-            warnings.append(f"the limit point's bracket φ = {pts[k - 2].phi_rad if k >= 2 else a.phi_rad:.6g}…"
-                            f"{b.phi_rad:.6g} rad could not be refined (no fixed point found in it): the largest "
-                            f"torque found, {a.torque_nm:.4g} N·m at φ = {a.phi_rad:.6g} rad, is taken")
-            return ClimbPath(tuple(pts), a.torque_nm, a.phi_rad, crit, tuple(warnings))
-        if k >= 2:
-            peak = _parabola_peak((pts[k - 2].phi_rad, a.phi_rad, b.phi_rad),
-                                  (pts[k - 2].torque_nm, a.torque_nm, b.torque_nm))
-            if peak is not None:
-                return ClimbPath(tuple(pts), peak[1], peak[0], crit, tuple(warnings))
-        return ClimbPath(tuple(pts), a.torque_nm, a.phi_rad, crit, tuple(warnings))
-    if k == 0:
-        warnings.append(f"the first rotation already meets the {crit} criterion")
-        return ClimbPath(tuple(pts), b.torque_nm, b.phi_rad, crit, tuple(warnings))
-    va, vb = (a.margin_mm, b.margin_mm) if crit == "margin" else (0.5 - a.corner_share, 0.5 - b.corner_share)
-    w = va / (va - vb) if va != vb else 1.0
-    return ClimbPath(tuple(pts), float(a.torque_nm + w * (b.torque_nm - a.torque_nm)),
-                     float(a.phi_rad + w * (b.phi_rad - a.phi_rad)), crit, tuple(warnings))
+        return _limit_point(pts, k, stuck, warnings)
+    return _crossing(pts, crit, k, warnings)
 
 
 def _parabola_peak(x, y) -> tuple[float, float] | None:
