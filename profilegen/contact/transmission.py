@@ -308,31 +308,9 @@ def _checked(name: str, value, unit: str, *, low: float = 0.0) -> float:
     return v
 
 
-def transmission_error(inputs, torque_nm: float, *, positions: int = 16, workers: int | None = None,
-                       options: TransmissionOptions | Mapping | None = None) -> TransmissionError:
-    """The loaded transmission error of a design (or a :class:`~profilegen.contact.inputs.
-    ContactInput`) at ``torque_nm`` (N·m, > 0, on the whole gear) over ``positions`` (≥ 2)
-    wave-generator positions ψ (default: evenly over one tooth passage). ``workers``: processes
-    (default: up to 2, one per position; 1 = in this process). ``options``: how to solve, a
-    :class:`TransmissionOptions` or a mapping of its fields (span, flank, ball motion and
-    supports, …). See the module docstring."""
-    global _JOB
-
-    chosen = TransmissionOptions.of(options)
-    span, side, stations, max_gap_mm = chosen.span, chosen.side, chosen.stations, chosen.max_gap_mm
-    ball_motion, face_width_mm, race_interface = chosen.ball_motion, chosen.face_width_mm, chosen.race_interface
-    race_thickness_mm, keep_matrices = chosen.race_thickness_mm, chosen.keep_matrices
-    ball_supports, hertz_balls = chosen.ball_supports, chosen.hertz_balls
-
-    from .compliance import wrap_half_angle
-
-    t0 = time.perf_counter()
-    inputs = ContactInput.from_design(inputs, name="inputs")
-    g = inputs.gearset.gear
-    torque = _checked("torque_nm", torque_nm, "N·m")
-    if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or positions < 2:
-        raise TransmissionErrorError(f"positions = {positions!r}: must be a whole number ≥ 2 (wave-generator "
-                                     "positions)")
+def _check_choices(chosen: TransmissionOptions) -> None:
+    """The flank, ball-support and ball-motion options checked (a :class:`TransmissionErrorError` naming the bad one)."""
+    side, ball_supports, hertz_balls = chosen.side, chosen.ball_supports, chosen.hertz_balls
     if side not in (1, -1):
         raise TransmissionErrorError(f"side = {side!r}: must be +1 (right FS flank loaded) or −1 (left)")
     if ball_supports not in ("window", "all"):
@@ -343,65 +321,111 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, workers
     if hertz_balls and ball_supports != "all":
         raise TransmissionErrorError("hertz_balls = True: needs ball_supports = 'all' (the window model's balls are "
                                      "rigid here; chain.torsional_curve has them as Hertz springs)")
-    if ball_motion not in _BALL_MOTIONS:
-        raise TransmissionErrorError(f"ball_motion = {ball_motion!r}: must be one of {', '.join(_BALL_MOTIONS)}")
-    passage = 2.0 * math.pi / g.circular_spline_teeth
+    if chosen.ball_motion not in _BALL_MOTIONS:
+        raise TransmissionErrorError(f"ball_motion = {chosen.ball_motion!r}: must be one of {', '.join(_BALL_MOTIONS)}")
+
+
+def _wave_generator_positions(span, positions: int, cs_teeth: int) -> np.ndarray:
+    """The positions ψ (rad): evenly over one tooth passage (``span`` "tooth", periodic) or over
+    ``span`` degrees, both ends."""
+    passage = 2.0 * math.pi / cs_teeth
     if isinstance(span, str):
         if span != "tooth":
             raise TransmissionErrorError(f"span = {span!r}: must be 'tooth' (one tooth passage, 2π/z2) or a number "
                                          "of degrees of wave-generator rotation in (0, 360]")
-        psi = passage * np.arange(positions) / positions
-    else:
-        span_deg = _checked("span", span, "deg")
-        if span_deg > 360.0:
-            raise TransmissionErrorError(f"span = {span!r} deg: must be in (0, 360] (degrees of wave-generator "
-                                         "rotation) or 'tooth'")
-        psi = np.radians(span_deg) * np.arange(positions) / (positions - 1)
-    if workers is None:
-        workers = min(2, os.cpu_count() or 1, positions)
-    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
-        raise TransmissionErrorError(f"workers = {workers!r}: must be a whole number ≥ 1 (processes)")
+        return passage * np.arange(positions) / positions
+    span_deg = _checked("span", span, "deg")
+    if span_deg > 360.0:
+        raise TransmissionErrorError(f"span = {span!r} deg: must be in (0, 360] (degrees of wave-generator "
+                                     "rotation) or 'tooth'")
+    return np.radians(span_deg) * np.arange(positions) / (positions - 1)
+
+
+def _ball_bearing(inputs, chosen: TransmissionOptions):
+    """(the ball bearing where the balls roll or are Hertz springs, else None; the cage's rate
+    against ψ, 0 where the balls are held)."""
     cage_rate = 0.0
     bearing = None
-    if ball_motion == "cage" or hertz_balls:
+    if chosen.ball_motion == "cage" or chosen.hertz_balls:
         from .chain import BallBearing
 
-        bearing = BallBearing.from_gearset(inputs.gearset, race_thickness_mm=race_thickness_mm)
-        if ball_motion == "cage":
+        bearing = BallBearing.from_gearset(inputs.gearset, race_thickness_mm=chosen.race_thickness_mm)
+        if chosen.ball_motion == "cage":
             cage_rate = 0.5 * (1.0 + bearing.ball_diameter_mm / bearing.pitch_diameter_mm)
-    with one_blas_thread():  # the flat-ring solve's BLAS threads only contend
-        wrap, wrap_source = wrap_half_angle(inputs.rim_contact_angle_rad, inputs.gearset)  # once: ψ-invariant
-    opts = dict(side=side, stations=stations, max_gap_mm=max_gap_mm, ball_motion=ball_motion, cage_rate=cage_rate,
-                face_width_mm=face_width_mm, race_thickness_mm=race_thickness_mm, race_interface=race_interface,
-                wrap=wrap, torque_nm=torque, keep_matrices=bool(keep_matrices), ball_supports=ball_supports,
-                bearing=bearing if hertz_balls else None)
+    return bearing, cage_rate
 
+
+def _solve_positions(inputs, psi: np.ndarray, opts: dict, workers: int) -> tuple[list, int]:
+    """Each position's contact (:func:`_position`), in a forked pool of ``workers`` where more
+    than one is asked and allowed → (results in the order of ``psi``, workers used)."""
+    global _JOB
     import multiprocessing
 
     if multiprocessing.current_process().daemon:
         workers = 1  # a daemonic worker (a multiprocessing.Pool's, Dask's) cannot have children
-    if workers > 1 and positions > 2:
+    if workers > 1 and psi.size > 2:
         from concurrent.futures import ProcessPoolExecutor
 
         _JOB = (inputs, opts)  # inherited by the forked workers
         try:
             ctx = multiprocessing.get_context("fork")
             with ProcessPoolExecutor(max_workers=int(workers), mp_context=ctx) as pool:
-                out = list(pool.map(_job_position, psi.tolist()))
+                return list(pool.map(_job_position, psi.tolist())), workers
         finally:
             _JOB = None
-    else:
-        workers = 1
-        with one_blas_thread():
-            out = [_position(inputs, float(p), opts) for p in psi]
+    with one_blas_thread():
+        return [_position(inputs, float(p), opts) for p in psi], 1
 
+
+def transmission_error(inputs, torque_nm: float, *, positions: int = 16, workers: int | None = None,
+                       options: TransmissionOptions | Mapping | None = None) -> TransmissionError:
+    """The loaded transmission error of a design (or a :class:`~profilegen.contact.inputs.
+    ContactInput`) at ``torque_nm`` (N·m, > 0, on the whole gear) over ``positions`` (≥ 2)
+    wave-generator positions ψ (default: evenly over one tooth passage). ``workers``: processes
+    (default: up to 2, one per position; 1 = in this process). ``options``: how to solve, a
+    :class:`TransmissionOptions` or a mapping of its fields (span, flank, ball motion and
+    supports, …). See the module docstring."""
+    chosen = TransmissionOptions.of(options)
+    from .compliance import wrap_half_angle
+
+    t0 = time.perf_counter()
+    inputs = ContactInput.from_design(inputs, name="inputs")
+    g = inputs.gearset.gear
+    torque = _checked("torque_nm", torque_nm, "N·m")
+    if isinstance(positions, bool) or not isinstance(positions, (int, np.integer)) or positions < 2:
+        raise TransmissionErrorError(f"positions = {positions!r}: must be a whole number ≥ 2 (wave-generator "
+                                     "positions)")
+    _check_choices(chosen)
+    psi = _wave_generator_positions(chosen.span, positions, g.circular_spline_teeth)
+    if workers is None:
+        workers = min(2, os.cpu_count() or 1, positions)
+    if isinstance(workers, bool) or not isinstance(workers, (int, np.integer)) or workers < 1:
+        raise TransmissionErrorError(f"workers = {workers!r}: must be a whole number ≥ 1 (processes)")
+    bearing, cage_rate = _ball_bearing(inputs, chosen)
+    with one_blas_thread():  # the flat-ring solve's BLAS threads only contend
+        wrap, wrap_source = wrap_half_angle(inputs.rim_contact_angle_rad, inputs.gearset)  # once: ψ-invariant
+    opts = dict(side=chosen.side, stations=chosen.stations, max_gap_mm=chosen.max_gap_mm,
+                ball_motion=chosen.ball_motion, cage_rate=cage_rate, face_width_mm=chosen.face_width_mm,
+                race_thickness_mm=chosen.race_thickness_mm, race_interface=chosen.race_interface, wrap=wrap,
+                torque_nm=torque, keep_matrices=bool(chosen.keep_matrices), ball_supports=chosen.ball_supports,
+                bearing=bearing if chosen.hertz_balls else None)
+    out, workers = _solve_positions(inputs, psi, opts, workers)
+    result = _transmission_result(chosen, torque, g, psi, out, wrap_source, workers, t0)
+    log.debug("transmission_error: %d positions, %.2f s, %d workers", positions, result.time_s, workers)
+    return result
+
+
+def _transmission_result(chosen: TransmissionOptions, torque: float, g, psi: np.ndarray, out: list, wrap_source,
+                         workers: int, t0: float) -> TransmissionError:
+    """The :class:`TransmissionError` of the positions' contacts ``out`` (the warnings once each, in order)."""
     pts = tuple(o[0] for o in out)
     cases = tuple(o[1] for o in out)
     warnings = []
     for o in out:
         warnings += list(o[3])
-    result = TransmissionError(
-        torque_nm=torque, zones=int(g.waves), side=side, ball_motion=ball_motion, psi_rad=psi,
+    keep_matrices = chosen.keep_matrices
+    return TransmissionError(
+        torque_nm=torque, zones=int(g.waves), side=chosen.side, ball_motion=chosen.ball_motion, psi_rad=psi,
         shift_rad=-psi * g.circular_spline_teeth / g.flexspline_teeth,
         rotation_rad=np.array([c.rotation_rad for c in cases]),
         first_contact_rad=np.array([float(np.min(p.theta_rad)) for p in pts]),
@@ -412,7 +436,5 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, workers
         flags=tuple(c.beyond_capacity for c in cases), points=pts, cases=cases,
         matrices=tuple(o[2][0] for o in out) if keep_matrices else (),
         compliances=tuple(o[2][1] for o in out) if keep_matrices else (), wrap_source=wrap_source, workers=int(workers),
-        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), ball_supports=ball_supports,
-        hertz_balls=bool(hertz_balls))
-    log.debug("transmission_error: %d positions, %.2f s, %d workers", positions, result.time_s, workers)
-    return result
+        time_s=time.perf_counter() - t0, warnings=tuple(dict.fromkeys(warnings)), ball_supports=chosen.ball_supports,
+        hertz_balls=bool(chosen.hertz_balls))
