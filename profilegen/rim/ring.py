@@ -726,6 +726,260 @@ def _contact_set(compliance, base, x_now, contour, *, bilateral, gap_tol_mm, max
     )
 
 
+def _ring_mesh(params: RingParameters, layers: int, divisions: int, mesh):
+    """The rim's mesh, node angles θ and radii r, and its kind: the flat ring's
+    ``layers`` × ``divisions`` mesh when ``mesh`` is None, else the given (MeshQuad2, θ, r)."""
+    if mesh is None:
+        mesh, th, r = _mesh(params, layers, divisions)
+        return mesh, th, r, "flat"
+    try:
+        mesh, th, r = mesh
+    except (TypeError, ValueError) as exc:
+        raise RingError("mesh: must be a (MeshQuad2, θ, r) triple (see rim.toothed)") from exc
+    return mesh, np.asarray(th, dtype=float), np.asarray(r, dtype=float), "toothed"
+
+
+@dataclass
+class _RingSystem:
+    """The quarter rim's assembled problem: the body and its linear stiffness, the symmetry
+    cuts, the free dofs in band order with their factor, and the bore nodes with the maps
+    between their dofs and the free dofs."""
+
+    mesh: Any
+    th: np.ndarray
+    ix: np.ndarray
+    iy: np.ndarray
+    body: Any
+    stiffness: Any
+    n_dof: int
+    tol_r: float
+    cut_major: np.ndarray
+    cut_minor: np.ndarray
+    free: np.ndarray
+    where: np.ndarray
+    band_order: np.ndarray
+    lu: Any
+    bore: np.ndarray
+    x_bore: np.ndarray
+    n_b: int
+    bore_dofs: np.ndarray
+    select: Any
+    rows_free: np.ndarray
+    cols_free: np.ndarray
+
+    def lazy_compliance(self, factor) -> _LazyCompliance:
+        """The bore compliance of ``factor``, its columns solved as the contact asks for them."""
+        return _LazyCompliance(factor, self.n_b, self.where[self.bore_dofs], self.rows_free, self.cols_free,
+                               self.free.size)
+
+
+def _assemble_ring(params: RingParameters, mesh, th, r) -> _RingSystem:
+    """Assemble and factor the rim's linear stiffness with the symmetry cuts fixed, and find
+    the bore nodes (sorted by θ) and the selection of their free dofs."""
+    from skfem import Basis, ElementQuad2, ElementVector
+
+    from .nonlinear import TotalLagrangian
+
+    basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4)
+    ix, iy = basis.split_indices()  # scalar node j ↔ dofs ix[j], iy[j]; positions mesh.doflocs[:, j]
+    # the linear stiffness is the St Venant–Kirchhoff tangent at rest (equal to scikit-fem's
+    # linear_elasticity with the plane-stress λ* = 2λμ/(λ + 2μ) to rounding, tests/unit/
+    # test_rim_nonlinear.py), assembled by batched matrix products: 4 ms against 17 ms
+    body = TotalLagrangian(basis, params.youngs_modulus_mpa, params.poisson_ratio)
+    stiffness = body(np.zeros(basis.N))[0]
+    n_dof = basis.N
+
+    tol_r = 1e-9 * params.outer_radius_mm
+    cut_major = np.flatnonzero(np.abs(th) < 1e-12)  # x = 0
+    cut_minor = np.flatnonzero(np.abs(th - 0.5 * math.pi) < 1e-12)  # y = 0
+    fixed = np.concatenate([ix[cut_major], iy[cut_minor]])
+    free = np.setdiff1d(np.arange(n_dof), fixed)
+    where = -np.ones(n_dof, dtype=int)
+    where[free] = np.arange(free.size)
+    # band-friendly order: node by node around the ring (θ, then r) — bandwidth 81 against
+    # reverse Cuthill–McKee's 133 on the toothed rim
+    node_of = np.empty(n_dof, dtype=int)
+    node_of[ix], node_of[iy] = np.arange(ix.size), np.arange(iy.size)
+    band_order = np.lexsort((r[node_of[free]], np.round(th[node_of[free]], 12)))
+    # BLAS single-threaded: OpenBLAS's threaded banded Cholesky took 14 s against 0.14 s on one
+    # thread for the default toothed rim (28818 dof, band 81) on a busy 2-core machine, and 5.7 s
+    # CPU for the 2 × 32 flat ring of the verify tier's wrap pass at load 10 (0.18 s on one thread)
+    with one_blas_thread():
+        lu = StiffnessFactor(stiffness[free][:, free], order=band_order)
+
+    bore = np.flatnonzero(np.abs(r - params.bore_radius_mm) < tol_r)
+    bore = bore[np.argsort(th[bore])]
+    x_bore = mesh.doflocs[:, bore].T
+    n_b = bore.size
+    # condense onto the bore: G = P K⁻¹ Pᵀ, the compliance between the bore dofs
+    # (x, y of node j at 2j, 2j + 1; zero rows/columns for dofs fixed by symmetry)
+    bore_dofs = np.column_stack([ix[bore], iy[bore]]).ravel()
+    is_free = where[bore_dofs] >= 0
+    select = sp.csr_matrix((np.ones(int(is_free.sum())), (where[bore_dofs[is_free]], np.flatnonzero(is_free))),
+                           shape=(free.size, 2 * n_b))
+    rows_free = where[bore_dofs[is_free]]
+    cols_free = np.flatnonzero(is_free)
+    return _RingSystem(mesh=mesh, th=th, ix=ix, iy=iy, body=body, stiffness=stiffness, n_dof=n_dof, tol_r=tol_r,
+                       cut_major=cut_major, cut_minor=cut_minor, free=free, where=where, band_order=band_order,
+                       lu=lu, bore=bore, x_bore=x_bore, n_b=n_b, bore_dofs=bore_dofs, select=select,
+                       rows_free=rows_free, cols_free=cols_free)
+
+
+def _condense(system: _RingSystem, factor, n_k: int, *, block_solve: bool, done=None, chunk: int = 512):
+    """The compliance columns of the first ``n_k`` bore nodes, every bore node's rows:
+    (n_b, 2, n_k, 2), the kept block symmetrised. ``done``: columns already solved with
+    this factor (a narrower kept set's raw columns), reused."""
+    n_b, cols_free, where, bore_dofs = system.n_b, system.cols_free, system.where, system.bore_dofs
+    # in column blocks: the full K⁻¹P would be (free dofs × 2 n_b) doubles, 0.7 GB on the toothed rim
+    compliance = np.zeros((2 * n_b, 2 * n_k))
+    first = 0 if done is None else done.shape[1]
+    if first:
+        compliance[:, :first] = done
+    todo = cols_free[(cols_free >= first) & (cols_free < 2 * n_k)]
+    # the wrap mode solves its columns by block substitution, single-threaded (BLAS 3 on
+    # bandwidth-row blocks; threads only contend on a busy machine); the whole-bore mode as before
+    solve = factor.solve_many if block_solve else factor.solve
+    with one_blas_thread():
+        for start_col in range(0, todo.size, chunk):
+            cols = todo[start_col:start_col + chunk]
+            rhs = np.zeros((system.free.size, cols.size))
+            rhs[where[bore_dofs[cols]], np.arange(cols.size)] = 1.0
+            compliance[np.ix_(cols_free, cols)] = solve(rhs)[system.rows_free]
+    raw = compliance.copy() if n_k < n_b else None
+    kept_block = compliance[:2 * n_k]
+    kept_block[...] = 0.5 * (kept_block + kept_block.T)
+    return compliance.reshape(n_b, 2, n_k, 2), raw
+
+
+def _newton_press(system: _RingSystem, compliance, u, active, iterations: int, history, n_k: int, *, contour,
+                  bilateral: bool, gap_tol_mm: float, max_iterations: int, newton_tol_mm: float, lazy: bool,
+                  block_solve: bool):
+    """Newton iterations of the nonlinear body from the linear solution ``u`` (updated in
+    place) with the contact in the same step; raises :class:`_Widen` if the converged
+    contact needs a dropped bore node. Returns the contact, the counts and the reaction."""
+    body, free, select, bore, n_b = system.body, system.free, system.select, system.bore, system.n_b
+    ix, iy = system.ix, system.iy
+    newton_steps: list[float] = []
+    factor, refreshes = system.lu, 0
+    for newton in range(1, max_iterations + 1):
+        f_int = body.force(u)
+        du = factor.solve(-f_int[free])  # the response to the out-of-balance force
+        base = (select.T @ du).reshape(n_b, 2)
+        if not np.all(np.isfinite(base)):
+            raise ConvergenceError(f"solve_ring (nonlinear): non-finite Newton step at iteration {newton}")
+        x_now = system.x_bore + np.column_stack([u[ix[bore]], u[iy[bore]]])
+        forces, active, used_normal, dist, bore_force, its, hist = _contact_set(
+            compliance, base, x_now, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
+            max_iterations=max_iterations, where=system.th[bore], kept=n_k, strict=False, warm=active)
+        iterations += its
+        history += hist
+        du += factor.solve(select @ bore_force.ravel())
+        step = float(np.max(np.abs(du)))
+        if not np.isfinite(step):
+            raise ConvergenceError(f"solve_ring (nonlinear): non-finite Newton step at iteration {newton}")
+        if newton_steps and step > 0.5 * newton_steps[-1]:
+            # the linear stiffness contracts too slowly (or not at all: a ring on a few
+            # point supports): refresh the tangent and its bore compliance at the current u,
+            # and redo the step from there
+            refreshes += 1
+            tangent, _ = body(u)
+            try:
+                factor = StiffnessFactor(tangent[free][:, free], order=system.band_order)
+            except RuntimeError as exc:  # splu: "Factor is exactly singular"
+                raise ConvergenceError(f"solve_ring (nonlinear): singular tangent at Newton iteration {newton}") from exc
+            compliance = (system.lazy_compliance(factor) if lazy
+                          else _DenseCompliance(_condense(system, factor, n_k, block_solve=block_solve)[0]))
+            newton_steps.append(float("nan"))  # marks the refresh in the record
+            continue
+        u[free] += du
+        newton_steps.append(step)
+        if step <= newton_tol_mm:
+            # converged: its contact must not need a dropped node (an iterate before may)
+            if (edge := _edge(active, dist, n_k)) is not None:
+                raise edge
+            break
+    else:
+        raise ConvergenceError(
+            f"solve_ring (nonlinear): no convergence in {max_iterations} Newton iterations ({refreshes} tangent "
+            "refreshes; last steps " + ", ".join(f"{x:.2e}" for x in newton_steps[-4:]) + " mm)"
+        )
+    newton_steps = [x for x in newton_steps if np.isfinite(x)]
+    contact = np.zeros(system.n_dof)
+    contact[ix[bore]] = forces * used_normal[:, 0]
+    contact[iy[bore]] = forces * used_normal[:, 1]
+    reaction = body.force(u) - contact
+    return forces, active, used_normal, dist, iterations, history, newton_steps, reaction
+
+
+def _press(system: _RingSystem, n_k: int, lu_columns, *, contour, bilateral: bool, gap_tol_mm: float,
+           max_iterations: int, geometry: str, newton_tol_mm: float, lazy: bool, block_solve: bool):
+    """The contact solve (linear, then Newton) with the compliance of the first ``n_k``
+    bore nodes; raises :class:`_Widen` if the contact needs more of them. ``lu_columns``:
+    the linear factor's raw columns so far (a :class:`_LazyCompliance` when ``lazy``), kept
+    across widenings; returned updated with the result."""
+    n_b, bore = system.n_b, system.bore
+    compliance: _LazyCompliance | _DenseCompliance
+    if lazy:  # one record of the linear factor's columns across widenings (its rows are every bore node's)
+        if lu_columns is None:
+            lu_columns = system.lazy_compliance(system.lu)
+        compliance = lu_columns
+    else:
+        compliance4, lu_columns = _condense(system, system.lu, n_k, block_solve=block_solve, done=lu_columns)
+        compliance = _DenseCompliance(compliance4)
+    forces, active, used_normal, dist, bore_force, iterations, history = _contact_set(
+        compliance, np.zeros((n_b, 2)), system.x_bore, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
+        max_iterations=max_iterations, where=system.th[bore], kept=n_k, strict=geometry == "linear")
+    u = np.zeros(system.n_dof)
+    u[system.free] = system.lu.solve(system.select @ bore_force.ravel())
+    reaction = system.stiffness @ u
+    newton_steps: list[float] = []
+    if geometry == "nonlinear":
+        forces, active, used_normal, dist, iterations, history, newton_steps, reaction = _newton_press(
+            system, compliance, u, active, iterations, history, n_k, contour=contour, bilateral=bilateral,
+            gap_tol_mm=gap_tol_mm, max_iterations=max_iterations, newton_tol_mm=newton_tol_mm, lazy=lazy,
+            block_solve=block_solve)
+    return (u, forces, active, used_normal, dist, iterations, history, newton_steps, reaction), lu_columns
+
+
+def _press_widening(press, system: _RingSystem, condense_within_rad: float | None):
+    """Run ``press(n_kept, lu_columns)`` on the bore nodes with θ ≤ ``condense_within_rad``
+    (every bore node when None), widening the kept set until the contact stays inside it.
+    Returns the press's result and the number of kept nodes."""
+    n_b, th, bore = system.n_b, system.th, system.bore
+    widenings: list[tuple[int, int]] = []
+    # the linear factor's raw columns, kept across widenings: lazy, a _LazyCompliance; else condense's
+    # raw columns (None before the first, and when every bore node is kept)
+    lu_columns: Any = None
+    if condense_within_rad is None:
+        n_kept = n_b
+    else:
+        limit = _number("condense_within_rad", condense_within_rad, "rad", 0.0)
+        n_kept = min(n_b, max(2, int(np.searchsorted(th[bore], limit, side="right"))))
+    while True:
+        try:
+            with one_blas_thread():
+                result, lu_columns = press(n_kept, lu_columns)
+            break
+        except _Widen as exc:
+            wider = min(n_b, max(exc.reach + (n_kept + 3) // 4, (3 * n_kept + 1) // 2))
+            log.info("solve_ring: contact condensed onto %d of %d bore nodes (θ ≤ %.4g°) reached its edge (%s): "
+                     "widened to %d nodes (θ ≤ %.4g°) and solved again", n_kept, n_b,
+                     math.degrees(th[bore[n_kept - 1]]), exc, wider, math.degrees(th[bore[wider - 1]]))
+            widenings.append((n_kept, wider))
+            n_kept = wider
+    if n_kept < n_b:
+        log.debug("solve_ring: contact condensed onto %d of %d bore nodes (θ ≤ %.4g°), %d widening(s)", n_kept,
+                  n_b, math.degrees(th[bore[n_kept - 1]]), len(widenings))
+    return result, n_kept
+
+
+def _polar(th, u, ix, iy, nodes):
+    """θ and the radial ω, tangential υ displacements of ``nodes``."""
+    t = th[nodes]
+    ux, uy = u[ix[nodes]], u[iy[nodes]]
+    return t, ux * np.sin(t) + uy * np.cos(t), ux * np.cos(t) - uy * np.sin(t)
+
+
 def solve_ring(
     gearset_or_parameters: GearSet | RingParameters,
     *,
@@ -777,10 +1031,6 @@ def solve_ring(
     not the flat rings' 65–129, whose full condensation is cheap).
     """
     start = time.perf_counter()
-    from skfem import Basis, ElementQuad2, ElementVector
-
-    from .nonlinear import TotalLagrangian
-
     params = (gearset_or_parameters if isinstance(gearset_or_parameters, RingParameters)
               else RingParameters.from_gearset(gearset_or_parameters))
     layers = _whole("layers", layers, 2, even=True)
@@ -793,192 +1043,23 @@ def solve_ring(
     if not (hasattr(contour, "closest") and callable(contour.closest)):
         raise RingError(f"contour = {contour!r}: must be a wave-generator contour with closest(points)")
 
-    if mesh is None:
-        mesh, th, r = _mesh(params, layers, divisions)
-        mesh_kind = "flat"
-    else:
-        try:
-            mesh, th, r = mesh
-        except (TypeError, ValueError) as exc:
-            raise RingError("mesh: must be a (MeshQuad2, θ, r) triple (see rim.toothed)") from exc
-        th, r = np.asarray(th, dtype=float), np.asarray(r, dtype=float)
-        mesh_kind = "toothed"
+    mesh, th, r, mesh_kind = _ring_mesh(params, layers, divisions, mesh)
     if tier is None:
         tier = f"{geometry} {mesh_kind} ring FEM"
-    basis = Basis(mesh, ElementVector(ElementQuad2()), intorder=4)
-    ix, iy = basis.split_indices()  # scalar node j ↔ dofs ix[j], iy[j]; positions mesh.doflocs[:, j]
-    # the linear stiffness is the St Venant–Kirchhoff tangent at rest (equal to scikit-fem's
-    # linear_elasticity with the plane-stress λ* = 2λμ/(λ + 2μ) to rounding, tests/unit/
-    # test_rim_nonlinear.py), assembled by batched matrix products: 4 ms against 17 ms
-    body = TotalLagrangian(basis, params.youngs_modulus_mpa, params.poisson_ratio)
-    stiffness = body(np.zeros(basis.N))[0]
-    n_dof = basis.N
-
-    tol_r = 1e-9 * params.outer_radius_mm
-    cut_major = np.flatnonzero(np.abs(th) < 1e-12)  # x = 0
-    cut_minor = np.flatnonzero(np.abs(th - 0.5 * math.pi) < 1e-12)  # y = 0
-    fixed = np.concatenate([ix[cut_major], iy[cut_minor]])
-    free = np.setdiff1d(np.arange(n_dof), fixed)
-    where = -np.ones(n_dof, dtype=int)
-    where[free] = np.arange(free.size)
-    # band-friendly order: node by node around the ring (θ, then r) — bandwidth 81 against
-    # reverse Cuthill–McKee's 133 on the toothed rim
-    node_of = np.empty(n_dof, dtype=int)
-    node_of[ix], node_of[iy] = np.arange(ix.size), np.arange(iy.size)
-    band_order = np.lexsort((r[node_of[free]], np.round(th[node_of[free]], 12)))
-    # BLAS single-threaded: OpenBLAS's threaded banded Cholesky took 14 s against 0.14 s on one
-    # thread for the default toothed rim (28818 dof, band 81) on a busy 2-core machine, and 5.7 s
-    # CPU for the 2 × 32 flat ring of the verify tier's wrap pass at load 10 (0.18 s on one thread)
-    with one_blas_thread():
-        lu = StiffnessFactor(stiffness[free][:, free], order=band_order)
-
-    bore = np.flatnonzero(np.abs(r - params.bore_radius_mm) < tol_r)
-    bore = bore[np.argsort(th[bore])]
-    x_bore = mesh.doflocs[:, bore].T
-    n_b = bore.size
-    # condense onto the bore: G = P K⁻¹ Pᵀ, the compliance between the bore dofs
-    # (x, y of node j at 2j, 2j + 1; zero rows/columns for dofs fixed by symmetry)
-    bore_dofs = np.column_stack([ix[bore], iy[bore]]).ravel()
-    is_free = where[bore_dofs] >= 0
-    select = sp.csr_matrix((np.ones(int(is_free.sum())), (where[bore_dofs[is_free]], np.flatnonzero(is_free))),
-                           shape=(free.size, 2 * n_b))
-    rows_free = where[bore_dofs[is_free]]
-    cols_free = np.flatnonzero(is_free)
-
-    lazy = n_b > LAZY_BORE_NODES if lazy_columns is None else bool(lazy_columns)
-
-    def condense(factor, n_k: int, done=None, chunk: int = 512):
-        """The compliance columns of the first ``n_k`` bore nodes, every bore node's rows:
-        (n_b, 2, n_k, 2), the kept block symmetrised. ``done``: columns already solved with
-        this factor (a narrower kept set's raw columns), reused."""
-        # in column blocks: the full K⁻¹P would be (free dofs × 2 n_b) doubles, 0.7 GB on the toothed rim
-        compliance = np.zeros((2 * n_b, 2 * n_k))
-        first = 0 if done is None else done.shape[1]
-        if first:
-            compliance[:, :first] = done
-        todo = cols_free[(cols_free >= first) & (cols_free < 2 * n_k)]
-        # the wrap mode solves its columns by block substitution, single-threaded (BLAS 3 on
-        # bandwidth-row blocks; threads only contend on a busy machine); the whole-bore mode as before
-        solve = factor.solve if condense_within_rad is None else factor.solve_many
-        with one_blas_thread():
-            for start_col in range(0, todo.size, chunk):
-                cols = todo[start_col:start_col + chunk]
-                rhs = np.zeros((free.size, cols.size))
-                rhs[where[bore_dofs[cols]], np.arange(cols.size)] = 1.0
-                compliance[np.ix_(cols_free, cols)] = solve(rhs)[rows_free]
-        raw = compliance.copy() if n_k < n_b else None
-        kept_block = compliance[:2 * n_k]
-        kept_block[...] = 0.5 * (kept_block + kept_block.T)
-        return compliance.reshape(n_b, 2, n_k, 2), raw
-
-    widenings: list[tuple[int, int]] = []
-    # the linear factor's raw columns, kept across widenings: lazy, a _LazyCompliance; else condense's
-    # raw columns (None before the first, and when every bore node is kept)
-    lu_columns: Any = None
-
-    def _press(n_k: int):
-        """The contact solve (linear, then Newton) with the compliance of the first ``n_k``
-        bore nodes; raises :class:`_Widen` if the contact needs more of them."""
-        nonlocal lu_columns
-        compliance: _LazyCompliance | _DenseCompliance
-        if lazy:  # one record of the linear factor's columns across widenings (its rows are every bore node's)
-            if lu_columns is None:
-                lu_columns = _LazyCompliance(lu, n_b, where[bore_dofs], rows_free, cols_free, free.size)
-            compliance = lu_columns
-        else:
-            compliance4, lu_columns = condense(lu, n_k, done=lu_columns)
-            compliance = _DenseCompliance(compliance4)
-        forces, active, used_normal, dist, bore_force, iterations, history = _contact_set(
-            compliance, np.zeros((n_b, 2)), x_bore, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
-            max_iterations=max_iterations, where=th[bore], kept=n_k, strict=geometry == "linear")
-        u = np.zeros(n_dof)
-        u[free] = lu.solve(select @ bore_force.ravel())
-        reaction = stiffness @ u
-        newton_steps: list[float] = []
-        if geometry == "nonlinear":
-            factor, refreshes = lu, 0
-            for newton in range(1, max_iterations + 1):
-                f_int = body.force(u)
-                du = factor.solve(-f_int[free])  # the response to the out-of-balance force
-                base = (select.T @ du).reshape(n_b, 2)
-                if not np.all(np.isfinite(base)):
-                    raise ConvergenceError(f"solve_ring (nonlinear): non-finite Newton step at iteration {newton}")
-                x_now = x_bore + np.column_stack([u[ix[bore]], u[iy[bore]]])
-                forces, active, used_normal, dist, bore_force, its, hist = _contact_set(
-                    compliance, base, x_now, contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
-                    max_iterations=max_iterations, where=th[bore], kept=n_k, strict=False, warm=active)
-                iterations += its
-                history += hist
-                du += factor.solve(select @ bore_force.ravel())
-                step = float(np.max(np.abs(du)))
-                if not np.isfinite(step):
-                    raise ConvergenceError(f"solve_ring (nonlinear): non-finite Newton step at iteration {newton}")
-                if newton_steps and step > 0.5 * newton_steps[-1]:
-                    # the linear stiffness contracts too slowly (or not at all: a ring on a few
-                    # point supports): refresh the tangent and its bore compliance at the current u,
-                    # and redo the step from there
-                    refreshes += 1
-                    tangent, _ = body(u)
-                    try:
-                        factor = StiffnessFactor(tangent[free][:, free], order=band_order)
-                    except RuntimeError as exc:  # splu: "Factor is exactly singular"
-                        raise ConvergenceError(f"solve_ring (nonlinear): singular tangent at Newton iteration {newton}") from exc
-                    compliance = (_LazyCompliance(factor, n_b, where[bore_dofs], rows_free, cols_free, free.size)
-                                  if lazy else _DenseCompliance(condense(factor, n_k)[0]))
-                    newton_steps.append(float("nan"))  # marks the refresh in the record
-                    continue
-                u[free] += du
-                newton_steps.append(step)
-                if step <= newton_tol_mm:
-                    # converged: its contact must not need a dropped node (an iterate before may)
-                    if (edge := _edge(active, dist, n_k)) is not None:
-                        raise edge
-                    break
-            else:
-                raise ConvergenceError(
-                    f"solve_ring (nonlinear): no convergence in {max_iterations} Newton iterations ({refreshes} tangent "
-                    "refreshes; last steps " + ", ".join(f"{x:.2e}" for x in newton_steps[-4:]) + " mm)"
-                )
-            newton_steps = [x for x in newton_steps if np.isfinite(x)]
-            contact = np.zeros(n_dof)
-            contact[ix[bore]] = forces * used_normal[:, 0]
-            contact[iy[bore]] = forces * used_normal[:, 1]
-            reaction = body.force(u) - contact
-        return u, forces, active, used_normal, dist, iterations, history, newton_steps, reaction
-
-    if condense_within_rad is None:
-        n_kept = n_b
-    else:
-        limit = _number("condense_within_rad", condense_within_rad, "rad", 0.0)
-        n_kept = min(n_b, max(2, int(np.searchsorted(th[bore], limit, side="right"))))
-    while True:
-        try:
-            with one_blas_thread():
-                result = _press(n_kept)
-            break
-        except _Widen as exc:
-            wider = min(n_b, max(exc.reach + (n_kept + 3) // 4, (3 * n_kept + 1) // 2))
-            log.info("solve_ring: contact condensed onto %d of %d bore nodes (θ ≤ %.4g°) reached its edge (%s): "
-                     "widened to %d nodes (θ ≤ %.4g°) and solved again", n_kept, n_b,
-                     math.degrees(th[bore[n_kept - 1]]), exc, wider, math.degrees(th[bore[wider - 1]]))
-            widenings.append((n_kept, wider))
-            n_kept = wider
+    system = _assemble_ring(params, mesh, th, r)
+    lazy = system.n_b > LAZY_BORE_NODES if lazy_columns is None else bool(lazy_columns)
+    press = partial(_press, system, contour=contour, bilateral=bilateral, gap_tol_mm=gap_tol_mm,
+                    max_iterations=max_iterations, geometry=geometry, newton_tol_mm=newton_tol_mm, lazy=lazy,
+                    block_solve=condense_within_rad is not None)
+    result, n_kept = _press_widening(press, system, condense_within_rad)
     u, forces, active, used_normal, dist, iterations, history, newton_steps, reaction = result
-    if n_kept < n_b:
-        log.debug("solve_ring: contact condensed onto %d of %d bore nodes (θ ≤ %.4g°), %d widening(s)", n_kept,
-                  n_b, math.degrees(th[bore[n_kept - 1]]), len(widenings))
 
-    mid = np.flatnonzero(np.abs(r - params.neutral_radius_mm) < tol_r)
+    bore, ix, iy, n_dof = system.bore, system.ix, system.iy, system.n_dof
+    mid = np.flatnonzero(np.abs(r - params.neutral_radius_mm) < system.tol_r)
     mid = mid[np.argsort(th[mid])]
-
-    def polar(nodes):
-        t = th[nodes]
-        ux, uy = u[ix[nodes]], u[iy[nodes]]
-        return t, ux * np.sin(t) + uy * np.cos(t), ux * np.cos(t) - uy * np.sin(t)
-
-    phi, omega, upsilon = polar(mid)
-    bphi, bomega, bups = polar(bore)
-    all_theta, all_omega, all_upsilon = polar(np.arange(ix.size))
+    phi, omega, upsilon = _polar(th, u, ix, iy, mid)
+    bphi, bomega, bups = _polar(th, u, ix, iy, bore)
+    all_theta, all_omega, all_upsilon = _polar(th, u, ix, iy, np.arange(ix.size))
     idx = np.flatnonzero(active)
     warnings = [WRAP_WARNING]
     elapsed = time.perf_counter() - start
@@ -998,8 +1079,8 @@ def solve_ring(
         contact_normal=used_normal[idx],
         max_gap_mm=float(np.max(dist[idx], initial=0.0)),
         max_penetration_mm=float(max(0.0, -np.min(dist))),
-        reaction_major_cut_n=float(reaction[ix[cut_major]].sum()),
-        reaction_minor_cut_n=float(reaction[iy[cut_minor]].sum()),
+        reaction_major_cut_n=float(reaction[ix[system.cut_major]].sum()),
+        reaction_minor_cut_n=float(reaction[iy[system.cut_minor]].sum()),
         layers=layers,
         divisions=divisions,
         dof=int(n_dof),
