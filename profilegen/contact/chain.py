@@ -715,6 +715,150 @@ def _stiffnesses(phi_of, theta0: float, t1: float, t2: float, t3: float) -> dict
             "secant_T1": t1 / e1, "secant_T2": t2 / e2}
 
 
+def _curve_breakpoints(gs, catalogue: dict | None | bool,
+                       breakpoints_nm) -> tuple[dict | None, tuple[float, float, float], str]:
+    """The catalogue row (True: the set's own, False/None: none), the breakpoints (T1, T2, T3
+    = the peak torque) and where T1, T2 came from ("given" or "catalogue")."""
+    if catalogue is True:
+        catalogue = catalogue_for(gs)
+    elif catalogue is False:
+        catalogue = None
+    source = "given"
+    if breakpoints_nm is None:
+        if catalogue is None:
+            raise ChainError("breakpoints_nm: give (T1, T2) in N·m when no catalogue is given or the set's size has "
+                             "no catalogue row")
+        breakpoints_nm, source = (catalogue["T1_nm"], catalogue["T2_nm"]), "catalogue"
+    t1 = _positive("breakpoints_nm[0]", breakpoints_nm[0], "N·m")
+    t2 = _number("breakpoints_nm[1]", breakpoints_nm[1], "N·m", t1)
+    t3 = float(gs.torque.peak_nm)
+    if not t3 > t2:
+        raise ChainError(f"torque.peak_nm = {t3:g} N·m: must exceed T2 = {t2:g} N·m for K3 (T2 … the peak torque)")
+    return catalogue, (t1, t2, t3), source
+
+
+def _flanks(inputs, sides: dict | None, *, stations: int, max_gap_mm: float, ball_supports: str) -> dict:
+    """Both flanks' {±1: (points, compliance)}: ``sides`` checked, or built when None."""
+    from .compliance import ContactCompliance
+    from .points import contact_points
+
+    if sides is None:
+        sides = {}
+        for s in (1, -1):
+            pts = contact_points(inputs, side=s, stations=stations, max_gap_mm=max_gap_mm)
+            comp = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
+                                           ball_supports=ball_supports)
+            sides[s] = (pts, comp)
+    if set(sides) != {1, -1}:
+        raise ChainError("sides: must map +1 and −1 to (points, compliance)")
+    for s, (pts, _) in sides.items():
+        if pts.side != s:
+            raise ChainError(f"sides[{s}]: its points are of side {pts.side}")
+    return sides
+
+
+class _FlankSolver:
+    """Each flank's solution at a torque magnitude, cached by (side, |T|): (rotation of the
+    rigid-ball mesh, with the ball springs, the load case, its notes)."""
+
+    def __init__(self, sides: dict, chain: ComplianceChain, *, settle_iterations: int, spring_iterations: int,
+                 spring_tol: float):
+        self.sides, self.chain = sides, chain
+        self.settle_iterations, self.spring_iterations, self.spring_tol = (settle_iterations, spring_iterations,
+                                                                           spring_tol)
+        self.cache: dict[tuple[int, float], tuple] = {}
+        # each flank's latest (|T|, converged springs): the next torque starts there
+        self.last_springs: dict[int, tuple] = {}
+
+    def start(self, side: int, magnitude: float):
+        """The springs to start the reference solve from: the flank's latest, scaled to ``magnitude``."""
+        if side not in self.last_springs:
+            return None
+        previous, springs = self.last_springs[side]
+        return springs * (magnitude / previous) ** (-1.0 / 3.0)  # ball loads ∝ T roughly, c ∝ Q^(−1/3)
+
+    def solve(self, side: int, magnitude: float):
+        """The flank's solution at |T| = ``magnitude``: cached, else the reference (:func:`_solve_side`)."""
+        from .analysis import load_case
+
+        key = (side, float(magnitude))
+        if key not in self.cache:
+            checkpoint()
+            pts, comp = self.sides[side]
+            phi_r, phi_b, sol, rigid_sol, settled, springs = _solve_side(
+                pts, comp, magnitude, self.chain.bearing, settle_iterations=self.settle_iterations,
+                spring_iterations=self.spring_iterations, spring_tol=self.spring_tol,
+                start_springs=self.start(side, magnitude))
+            if springs is not None:
+                self.last_springs[side] = (float(magnitude), springs)
+            case, notes = load_case(pts, magnitude, sol, settled)
+            self.cache[key] = (phi_r, phi_b, case, notes)
+        return self.cache[key]
+
+    def continuation(self, side: int, magnitudes) -> None:
+        """Fill the cache for one flank, |T| ascending, each torque from the one before."""
+        from .analysis import BallReactions, load_case
+
+        cache, chain, spring_tol = self.cache, self.chain, self.spring_tol
+        pts, comp = self.sides[side]
+        zone = ReducedZone(pts, comp, chain.bearing)
+        start = np.zeros(pts.count, bool)
+        start[int(np.argmin(pts.theta_rad))] = True
+        rigid_state = (start, np.asarray(comp.ball_active, bool), None)
+        spring_state, previous = rigid_state, None
+        cap = self.settle_iterations + self.spring_iterations
+        for m in sorted(magnitudes):
+            if (side, m) in cache:
+                continue
+            checkpoint()  # an engine's design stops here when superseded (a torque's solve: milliseconds)
+            tm = time.perf_counter()
+            rigid = zone.solve(m, rigid_state, springs_on=False, max_iterations=cap, spring_tol=spring_tol)
+            loaded, active, x = spring_state
+            if x is not None:
+                x = x - math.log(m / previous) / 3.0  # ball loads ∝ T roughly, c ∝ Q^(−1/3)
+            springs = None if rigid is None else zone.solve(
+                m, (loaded, active, x), springs_on=chain.bearing is not None, max_iterations=cap,
+                spring_tol=spring_tol)
+            if springs is None:  # the reduced loop cycled or did not end: the reference for this torque
+                log.info("torsional_curve: the reference solve at %g N·m (side %+d)", m, side)
+                self.solve(side, m)
+                continue
+            rigid_state = (rigid["loaded"], rigid["active"], None)
+            spring_state, previous = (springs["loaded"], springs["active"], springs["log_springs"]), m
+            sol = zone_solution(zone, m, springs, tm)
+            balls = BallReactions(comp.ball_angle_rad, springs["reactions"], springs["active"])
+            case, notes = load_case(pts, m, sol, balls)
+            cache[(side, m)] = (float(rigid["phi"]), float(springs["phi"]), case, notes)
+
+
+def _curve_stiffnesses(solve, theta0: dict, series: float, breakpoints: tuple[float, float, float], t_lm: float):
+    """K1–K3 of the mesh, the mesh with the balls and the whole chain on each flank, and the
+    lost motion (both flanks' rotations at ±``t_lm``) of each."""
+    t1, t2, t3 = breakpoints
+    k: dict = {}
+    lost = {}
+    for label, pick in (("mesh", 0), ("mesh_balls", 1), ("total", None)):
+        k[label] = {}
+        for s, name in ((1, "positive"), (-1, "negative")):
+            def phi_of(m, s=s, pick=pick):
+                r = solve(s, m)
+                return r[1] + m * series if pick is None else r[pick]
+            k[label][name] = _stiffnesses(phi_of, theta0[s], t1, t2, t3)
+        at = (lambda m, s, pick=pick: (solve(s, m)[1] + m * series) if pick is None else solve(s, m)[pick])
+        lost[label] = at(t_lm, 1) + at(t_lm, -1)
+    return k, lost
+
+
+def _odd_symmetry_defect(solve, torques, theta0: dict) -> float:
+    """The largest relative difference of the two flanks' rotations at the same |T| both ways."""
+    mags = sorted(set(np.abs(torques)) & set(-torques[torques < 0]))
+    defect = 0.0
+    for m in mags:
+        a, b = solve(1, m)[1] - theta0[1], solve(-1, m)[1] - theta0[-1]
+        defect = max(defect, abs(a - b) / max(abs(a), abs(b)))
+    return defect
+
+
 def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None, sides: dict | None = None,
                     breakpoints_nm: tuple[float, float] | None = None, lost_motion_fraction: float = 0.03,
                     catalogue: dict | None | bool = True, stations: int = 5, max_gap_mm: float = 0.12,
@@ -750,10 +894,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     modification along the face, if given), every ball one-sided with its Hertz spring in every
     slice, the tooth ring's twist in the slices (:mod:`profilegen.contact.face_curve`). One
     slice is the 2D curve; the result's ``sides`` stay the 2D flanks."""
-    from .analysis import BallReactions, load_case
-    from .compliance import ContactCompliance
     from .inputs import ContactInput
-    from .points import contact_points
 
     t0 = time.perf_counter()
     torques = np.sort(_checked_signed_torques(torques_nm))
@@ -768,37 +909,12 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     inputs = ContactInput.from_design(design, name="design")
     gs = inputs.gearset
     chain = compliance_chain(gs) if chain is None else chain
-    if catalogue is True:
-        catalogue = catalogue_for(gs)
-    elif catalogue is False:
-        catalogue = None
-    source = "given"
-    if breakpoints_nm is None:
-        if catalogue is None:
-            raise ChainError("breakpoints_nm: give (T1, T2) in N·m when no catalogue is given or the set's size has "
-                             "no catalogue row")
-        breakpoints_nm, source = (catalogue["T1_nm"], catalogue["T2_nm"]), "catalogue"
-    t1 = _positive("breakpoints_nm[0]", breakpoints_nm[0], "N·m")
-    t2 = _number("breakpoints_nm[1]", breakpoints_nm[1], "N·m", t1)
-    t3 = float(gs.torque.peak_nm)
-    if not t3 > t2:
-        raise ChainError(f"torque.peak_nm = {t3:g} N·m: must exceed T2 = {t2:g} N·m for K3 (T2 … the peak torque)")
+    catalogue, (t1, t2, t3), source = _curve_breakpoints(gs, catalogue, breakpoints_nm)
     rated = float(gs.torque.rated_nm)
     t_lm = f * rated
 
     built_here = sides is None  # flanks of this call alone: their slices are not worth keeping (FaceSlices.apply)
-    if sides is None:
-        sides = {}
-        for s in (1, -1):
-            pts = contact_points(inputs, side=s, stations=stations, max_gap_mm=max_gap_mm)
-            comp = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
-                                           ball_supports=ball_supports)
-            sides[s] = (pts, comp)
-    if set(sides) != {1, -1}:
-        raise ChainError("sides: must map +1 and −1 to (points, compliance)")
-    for s, (pts, _) in sides.items():
-        if pts.side != s:
-            raise ChainError(f"sides[{s}]: its points are of side {pts.side}")
+    sides = _flanks(inputs, sides, stations=stations, max_gap_mm=max_gap_mm, ball_supports=ball_supports)
     # the direction of rotation that loads each flank, in the package's angle sense
     rot_pos, rot_neg = sides[1][0].rotation, sides[-1][0].rotation
     warnings: list[str] = []
@@ -815,60 +931,9 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
         warnings.append("both flanks are loaded by the same direction of rotation: the two sides are not opposite")
 
     series = chain.series_compliance_rad_per_nm  # rad per N·m
-    cache: dict[tuple[int, float], tuple] = {}
-    last_springs: dict[int, tuple] = {}  # each flank's latest (|T|, converged springs): the next torque starts there
-
-    def start(side: int, magnitude: float):
-        if side not in last_springs:
-            return None
-        previous, springs = last_springs[side]
-        return springs * (magnitude / previous) ** (-1.0 / 3.0)  # ball loads ∝ T roughly, c ∝ Q^(−1/3)
-
-    def solve(side: int, magnitude: float):
-        key = (side, float(magnitude))
-        if key not in cache:
-            checkpoint()
-            pts, comp = sides[side]
-            phi_r, phi_b, sol, rigid_sol, settled, springs = _solve_side(
-                pts, comp, magnitude, chain.bearing, settle_iterations=settle_iterations,
-                spring_iterations=spring_iterations, spring_tol=spring_tol, start_springs=start(side, magnitude))
-            if springs is not None:
-                last_springs[side] = (float(magnitude), springs)
-            case, notes = load_case(pts, magnitude, sol, settled)
-            cache[key] = (phi_r, phi_b, case, notes)
-        return cache[key]
-
-    def continuation(side: int, magnitudes) -> None:
-        """Fill the cache for one flank, |T| ascending, each torque from the one before."""
-        pts, comp = sides[side]
-        zone = ReducedZone(pts, comp, chain.bearing)
-        start = np.zeros(pts.count, bool)
-        start[int(np.argmin(pts.theta_rad))] = True
-        rigid_state = (start, np.asarray(comp.ball_active, bool), None)
-        spring_state, previous = rigid_state, None
-        cap = settle_iterations + spring_iterations
-        for m in sorted(magnitudes):
-            if (side, m) in cache:
-                continue
-            checkpoint()  # an engine's design stops here when superseded (a torque's solve: milliseconds)
-            tm = time.perf_counter()
-            rigid = zone.solve(m, rigid_state, springs_on=False, max_iterations=cap, spring_tol=spring_tol)
-            loaded, active, x = spring_state
-            if x is not None:
-                x = x - math.log(m / previous) / 3.0  # ball loads ∝ T roughly, c ∝ Q^(−1/3)
-            springs = None if rigid is None else zone.solve(
-                m, (loaded, active, x), springs_on=chain.bearing is not None, max_iterations=cap,
-                spring_tol=spring_tol)
-            if springs is None:  # the reduced loop cycled or did not end: the reference for this torque
-                log.info("torsional_curve: the reference solve at %g N·m (side %+d)", m, side)
-                solve(side, m)
-                continue
-            rigid_state = (rigid["loaded"], rigid["active"], None)
-            spring_state, previous = (springs["loaded"], springs["active"], springs["log_springs"]), m
-            sol = zone_solution(zone, m, springs, tm)
-            balls = BallReactions(comp.ball_angle_rad, springs["reactions"], springs["active"])
-            case, notes = load_case(pts, m, sol, balls)
-            cache[(side, m)] = (float(rigid["phi"]), float(springs["phi"]), case, notes)
+    flanks = _FlankSolver(sides, chain, settle_iterations=settle_iterations, spring_iterations=spring_iterations,
+                          spring_tol=spring_tol)
+    solve = flanks.solve
 
     with one_blas_thread():
         if method == "continuation":
@@ -877,7 +942,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
             for t in torques:
                 needed[1 if t > 0 else -1].add(float(abs(t)))
             for s in (1, -1):
-                continuation(s, needed[s])
+                flanks.continuation(s, needed[s])
         rows = []
         for t in torques:
             side = 1 if t > 0 else -1
@@ -886,17 +951,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
             rows.append((sign * phi_r, sign * phi_b, sign * (phi_b + abs(t) * series), case))
             warnings += notes
         theta0 = {s: float(np.min(sides[s][0].theta_rad)) for s in (1, -1)}
-        k: dict = {}
-        lost = {}
-        for label, pick in (("mesh", 0), ("mesh_balls", 1), ("total", None)):
-            k[label] = {}
-            for s, name in ((1, "positive"), (-1, "negative")):
-                def phi_of(m, s=s, pick=pick):
-                    r = solve(s, m)
-                    return r[1] + m * series if pick is None else r[pick]
-                k[label][name] = _stiffnesses(phi_of, theta0[s], t1, t2, t3)
-            at = (lambda m, s, pick=pick: (solve(s, m)[1] + m * series) if pick is None else solve(s, m)[pick])
-            lost[label] = at(t_lm, 1) + at(t_lm, -1)
+        k, lost = _curve_stiffnesses(solve, theta0, series, (t1, t2, t3), t_lm)
         phi_r_rated, phi_b_rated = solve(1, rated)[:2]
     compliances = {
         "mesh_rad_per_nm": (phi_r_rated - theta0[1]) / rated,
@@ -904,12 +959,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
         **{f"{p.name}_rad_per_nm": p.compliance_rad_per_nm for p in chain.parts},
     }
     compliances["total_rad_per_nm"] = sum(compliances.values())
-    # odd symmetry: the same |T| both ways
-    mags = sorted(set(np.abs(torques)) & set(-torques[torques < 0]))
-    defect = 0.0
-    for m in mags:
-        a, b = solve(1, m)[1] - theta0[1], solve(-1, m)[1] - theta0[-1]
-        defect = max(defect, abs(a - b) / max(abs(a), abs(b)))
+    defect = _odd_symmetry_defect(solve, torques, theta0)
     flags = tuple(r[3].beyond_capacity for r in rows)
     return TorsionalCurve(
         torque_nm=torques, mesh_rad=np.array([r[0] for r in rows]), mesh_balls_rad=np.array([r[1] for r in rows]),
