@@ -237,32 +237,8 @@ def _allocate(lengths: list[float], minimum: list[int], total: int) -> list[int]
     return counts
 
 
-def toothed_quarter_mesh(
-    tooth,
-    rim_thickness_mm: float,
-    *,
-    rim_layers: int = 2,
-    tooth_layers: int = 4,
-    per_pitch: int = 16,
-    waves: int = 2,
-    check_intorder: int = 4,
-) -> ToothedRimMesh:
-    """Mapped 9-node-quad mesh of the toothed rim quarter 0 ≤ θ ≤ π/2 (see the module doc).
-
-    ``tooth``: a :class:`~profilegen.geometry.teeth.ToothProfile` (it carries z1, r_m and the root and
-    tip lines). ``rim_thickness_mm``: δ, the bore is at r_m − δ/2. ``rim_layers`` (≥ 1)
-    element layers from the bore to r_m, ``tooth_layers`` (≥ 1) from r_m to the surface,
-    ``per_pitch`` (even) element columns per tooth pitch. ``waves`` must be 2 (two symmetry
-    cuts). ``check_intorder``: the Gauss rule whose points (with the 9 nodes) the Jacobian is
-    checked at.
-
-    Returns a :class:`ToothedRimMesh`, which unpacks as ``(mesh, th, r)``.
-    """
-    start = time.perf_counter()
-    from skfem import MeshQuad, MeshQuad2
-    from skfem.mapping import MappingIsoparametric
-    from skfem.quadrature import get_quadrature
-
+def _toothed_arguments(tooth, rim_thickness_mm, *, waves, rim_layers, tooth_layers, per_pitch, check_intorder):
+    """The checked arguments of :func:`toothed_quarter_mesh`: z1, r_m, δ and the counts."""
     for name in ("teeth", "neutral_radius_mm", "dedendum_y_mm", "addendum_y_mm", "segments", "point"):
         if not hasattr(tooth, name):
             raise ToothedMeshError(f"tooth = {tooth!r}: must be a ToothProfile (has no {name!r})")
@@ -285,11 +261,14 @@ def toothed_quarter_mesh(
     tooth_layers = _whole("tooth_layers", tooth_layers, 1)
     per_pitch = _whole("per_pitch", per_pitch, 2, even=True)
     check_intorder = _whole("check_intorder", check_intorder, 1)
+    return z1, r_m, delta, rim_layers, tooth_layers, per_pitch, check_intorder
 
-    r_bore = r_m - 0.5 * delta
+
+def _pitch_columns(pieces, root_land_length: float, root_fraction: float, per_pitch: int):
+    """The surface pieces' names, their element columns per half pitch (the radial step one)
+    and the column index of their joins."""
     n_half = per_pitch // 2
-    pieces, step, (psi_root, r_f, root_land_length), half_pitch = _pieces(tooth)
-    rl_min, need = _quarter_columns(len(pieces), psi_root / half_pitch, n_half)
+    rl_min, need = _quarter_columns(len(pieces), root_fraction, n_half)
     minimum = [1] * len(pieces) + [rl_min]
     if need > n_half:
         raise ToothedMeshError(
@@ -300,17 +279,16 @@ def toothed_quarter_mesh(
     names = [p[0] for p in pieces] + ["step", "root land"]
     counts_all = counts[:-1] + [1, counts[-1]]
     edges = np.concatenate([[0], np.cumsum(counts_all)]).astype(float)  # column index of piece joins
+    return names, counts_all, edges
 
-    n_s = per_pitch * z1 // 4  # circumferential elements in the quarter
-    c = 0.5 * math.pi / n_s  # angle per column at the bottom
-    psi_mid = n_half * c  # = π/z1 up to round-off; the mid-space line of the bottom
 
-    curves = [p[2] for p in pieces] + [step]
-
+def _pitch_surface(curves: list, edges, psi_root: float, psi_mid: float, r_f: float):
+    """The surface of a pitch, σ ↦ (ψ, ρ) at column coordinate σ ∈ [−n_half, n_half]: the
+    ``curves`` (top land to the root step) and the root land, each over its columns."""
     def root_land(u):
         return (1.0 - u) * psi_root + u * psi_mid, np.full_like(u, r_f)
 
-    curves.append(root_land)
+    curves = curves + [root_land]
 
     def top(sigma):
         """(ψ, ρ) of the surface at column coordinate σ ∈ [−n_half, n_half] of a pitch."""
@@ -325,8 +303,17 @@ def toothed_quarter_mesh(
                 psi[sel], rho[sel] = curve(u)
         return np.where(sigma < 0, -psi, psi), rho
 
-    # structured grid in index space (s, j), counter-clockwise elements
-    n_j = rim_layers + tooth_layers
+    return top
+
+
+def _mapped_quarter(top, n_s: int, n_j: int, rim_layers: int, per_pitch: int, r_bore: float, r_m: float):
+    """The structured grid in index space (s, j), counter-clockwise 9-node elements, mapped
+    onto the quarter rim: even layers from the bore to r_m, then blended to the surface ``top``.
+    Returns the mesh, the grid's points and elements, every node's s, j and θ, r."""
+    from skfem import MeshQuad, MeshQuad2
+
+    n_half = per_pitch // 2
+    c = 0.5 * math.pi / n_s
     s_idx, j_idx = np.meshgrid(np.arange(n_s + 1), np.arange(n_j + 1), indexing="ij")
     p = np.vstack([s_idx.ravel(), j_idx.ravel()]).astype(float)
     node = np.arange((n_s + 1) * (n_j + 1)).reshape(n_s + 1, n_j + 1)
@@ -340,7 +327,7 @@ def toothed_quarter_mesh(
     a = j[inner] / rim_layers
     r[inner] = (1.0 - a) * r_bore + a * r_m
     outer = ~inner
-    eta = (j[outer] - rim_layers) / tooth_layers
+    eta = (j[outer] - rim_layers) / (n_j - rim_layers)
     pitch = np.floor((s[outer] + n_half) / per_pitch)
     sigma = s[outer] - pitch * per_pitch
     psi_t, rho_t = top(sigma)
@@ -353,8 +340,15 @@ def toothed_quarter_mesh(
     y = r * np.cos(th)
     x[minor], y[minor] = r[minor], 0.0
     mesh = replace(quad, doflocs=np.ascontiguousarray(np.vstack([x, y])))
+    return mesh, p, t, s, j, th, r
 
-    # Jacobians at the points of the check rule
+
+def _jacobian_check(mesh, p, t, check_intorder: int, per_pitch: int, tooth_layers: int, columns: dict):
+    """The smallest det J of each element and the smallest ratio to its largest, at the
+    points of the check rule and the 9 nodes; raises InvertedElementError if any is ≤ 0."""
+    from skfem.mapping import MappingIsoparametric
+    from skfem.quadrature import get_quadrature
+
     # (a quadratic element can fold over near an edge while det J > 0 at every Gauss point,
     # so its 9 nodes are checked too)
     X = np.hstack([get_quadrature(mesh.elem.refdom, check_intorder)[0], mesh.elem().doflocs.T])
@@ -368,23 +362,67 @@ def toothed_quarter_mesh(
             f"toothed_quarter_mesh: element {e} has det J = {worst[e]:.3g} mm² ≤ 0 (at a Gauss point or node) "
             f"(centre θ = {math.degrees(math.atan2(centre[0], centre[1])):.5g}°, r = {math.hypot(*centre):.6g} mm, "
             f"column {col} of the pitch, layer {int(p[1, t[0, e]])}); change per_pitch = {per_pitch} or "
-            f"tooth_layers = {tooth_layers} (columns per half pitch: {dict(zip(names, counts_all))})")
+            f"tooth_layers = {tooth_layers} (columns per half pitch: {columns})")
     ratio = float(np.min(worst / np.max(det, axis=1)))
+    return worst, ratio
 
-    def line(sel, key):
-        idx = np.flatnonzero(sel)
-        return idx[np.argsort(key[idx], kind="stable")]
 
+def _node_line(sel, key):
+    """The nodes of ``sel`` ordered by ``key``."""
+    idx = np.flatnonzero(sel)
+    return idx[np.argsort(key[idx], kind="stable")]
+
+
+def toothed_quarter_mesh(
+    tooth,
+    rim_thickness_mm: float,
+    *,
+    rim_layers: int = 2,
+    tooth_layers: int = 4,
+    per_pitch: int = 16,
+    waves: int = 2,
+    check_intorder: int = 4,
+) -> ToothedRimMesh:
+    """Mapped 9-node-quad mesh of the toothed rim quarter 0 ≤ θ ≤ π/2 (see the module doc).
+
+    ``tooth``: a :class:`~profilegen.geometry.teeth.ToothProfile` (it carries z1, r_m and the root and
+    tip lines). ``rim_thickness_mm``: δ, the bore is at r_m − δ/2. ``rim_layers`` (≥ 1)
+    element layers from the bore to r_m, ``tooth_layers`` (≥ 1) from r_m to the surface,
+    ``per_pitch`` (even) element columns per tooth pitch. ``waves`` must be 2 (two symmetry
+    cuts). ``check_intorder``: the Gauss rule whose points (with the 9 nodes) the Jacobian is
+    checked at.
+
+    Returns a :class:`ToothedRimMesh`, which unpacks as ``(mesh, th, r)``.
+    """
+    start = time.perf_counter()
+    z1, r_m, delta, rim_layers, tooth_layers, per_pitch, check_intorder = _toothed_arguments(
+        tooth, rim_thickness_mm, waves=waves, rim_layers=rim_layers, tooth_layers=tooth_layers, per_pitch=per_pitch,
+        check_intorder=check_intorder)
+
+    r_bore = r_m - 0.5 * delta
+    n_half = per_pitch // 2
+    pieces, step, (psi_root, r_f, root_land_length), half_pitch = _pieces(tooth)
+    names, counts_all, edges = _pitch_columns(pieces, root_land_length, psi_root / half_pitch, per_pitch)
+
+    n_s = per_pitch * z1 // 4  # circumferential elements in the quarter
+    c = 0.5 * math.pi / n_s  # angle per column at the bottom
+    psi_mid = n_half * c  # = π/z1 up to round-off; the mid-space line of the bottom
+    top = _pitch_surface([p[2] for p in pieces] + [step], edges, psi_root, psi_mid, r_f)
+
+    n_j = rim_layers + tooth_layers
+    mesh, p, t, s, j, th, r = _mapped_quarter(top, n_s, n_j, rim_layers, per_pitch, r_bore, r_m)
+    minor = s == n_s
+    worst, ratio = _jacobian_check(mesh, p, t, check_intorder, per_pitch, tooth_layers, dict(zip(names, counts_all)))
     top_j = float(n_j)
     result = ToothedRimMesh(
         mesh=mesh,
         th=th,
         r=r,
-        bore_nodes=line(j == 0, th),
-        neutral_nodes=line(j == rim_layers, th),
-        surface_nodes=line(j == top_j, th),
-        major_cut_nodes=line(s == 0, r),
-        minor_cut_nodes=line(minor, r),
+        bore_nodes=_node_line(j == 0, th),
+        neutral_nodes=_node_line(j == rim_layers, th),
+        surface_nodes=_node_line(j == top_j, th),
+        major_cut_nodes=_node_line(s == 0, r),
+        minor_cut_nodes=_node_line(minor, r),
         teeth=z1,
         per_pitch=per_pitch,
         rim_layers=rim_layers,
