@@ -41,24 +41,9 @@ a station is measured in the space it stands in (its own, or a neighbour's once 
 more than half a CS pitch: the CS is periodic), and beyond the space's outline, which ends on
 the CS tip circle, against the tip land. A corner's surface normal is turned into the CS
 material (a point 5 µm along it from the nearest CS point lies in it), then kept in its cone
-(outside it: the nearer edge). Before, a station was measured against its own space alone:
-over the tip land it took the distance to the space's end with the sign of r ≷ r_tip, a jump
-of twice that where it crossed the tip circle (±0.19 mm), and a corner's normal was turned to
-its cone's side, which flips it where the normal stands across the cone. Both happen near the
-minor axis once the free CS ring's ovalisation brings the CS tip circle onto the FS tips
-(0.09–0.15 mm of radial travel there): the retreat's fixed point cycled between two contact
-sets and the path ended ("end of path") with T(φ) still rising on five sets of the corpus
-(verify scene: csf14_100 298.7, csf20_120 678.5, csf20_160 502.2, csf25_160 993.1 and
-seed001_shf25 1492 N·m). With the surface whole they reach a limit point with T(φ) flat at
-its top (csf14_100: 417.0, 418.9, 418.8, 418.8, 405.6 N·m at φ = 6.55…6.96 mrad; csf20_160
-723.4, 724.8, 725.0, 724.3, 723.2): 419.1, 978.9, 725.0, 1392, 2087 N·m. The loaded zone's
-stations crossing the CS tip circle just past the tip rounds had the same jump (an overlap of
-the distance to the round, 30–40 µm, instead of the distance to the tip land, < 10 µm): the
-limit points of the other sets came from it and rose — csf25_100 1686 → 2198, seed000_csf40
-5886 → 7372, csf32_100 3254 → 4111, the default set 5841 → 7197 N·m (with the limit point's
-0.5 % tolerance of :func:`climb`; verify scene's inputs, ``ratcheting_torque(ContactInput.
-from_design(design))`` as the pipeline calls it: ``python tests/benchmarks/ratcheting.py
---verify SET``).
+(outside it: the nearer edge). Measured against its own space alone, a station's gap jumped
+where it crossed the tip circle; what that did to the estimates, and the numbers since:
+docs/theory/torsion.md, "The climb".
 
 Across the face (:class:`SlicedClimb`, :func:`section_inputs`): N axial slices of the 3D
 cup's sections (the design's deformation plus each section's change from the design
@@ -819,14 +804,7 @@ class DesignClimb:
         the space it stands in (its own, or a neighbour's where it has moved more than half a CS
         pitch: the CS is periodic), and beyond the space's outline, which ends on the CS tip
         circle, the surface is the tip land (the tip circle). → (gap, the point in its space's
-        frame, the number of pitches it was turned back by, whether the tip land is nearest).
-
-        Measured against its own space alone (before), a tooth's tip corner over the tip land took
-        the distance to the space's end with the sign of r ≷ r_tip: a jump of twice that
-        (±0.19 mm on the verify scene of tests/corpus/csf14_100.toml) where the corner crosses
-        the tip circle — the free CS ring's ovalisation brings the CS tip circle onto the FS tips
-        near the minor axis under load, and the retreat's fixed point then cycled, ending the
-        climb's path ("end of path") while T(φ) still rose."""
+        frame, the number of pitches it was turned back by, whether the tip land is nearest)."""
         from ..geometry.kinematics import turn
 
         p = np.asarray(p, dtype=float)

@@ -314,18 +314,20 @@ def _cs_outline_distance(inputs):
     """(PolylineDistance of CS spaces −1, 0, 1, the polygon of the CS's hollow) of the fitted CS
     outline (``inputs.cs_space`` repeated, sampled to 0.1 nm)."""
     return _cs_outline_distance_of(inputs.cs_space, float(inputs.cs_tip_radius_mm),
-                                   int(inputs.gearset.gear.circular_spline_teeth))
+                                   int(inputs.gearset.gear.circular_spline_teeth), inputs.cs_outline)
 
 
 @functools.lru_cache(maxsize=2)
-def _cs_outline_distance_of(cs_space, tip_radius_mm: float, cs_teeth: int):
+def _cs_outline_distance_of(cs_space, tip_radius_mm: float, cs_teeth: int, outline=None):
     """:func:`_cs_outline_distance` of one CS space (a frozen Chain, cached by identity): a torque
-    change in a warm process (the workbench) keeps the profile, and this ~0.25 s with it."""
+    change in a warm process (the workbench) keeps the profile, and this ~0.25 s with it.
+    ``outline``: the space's closed outline as the arc fit built it (None: built here)."""
     import shapely
 
     from ..profile.gearform import PolylineDistance, cs_local_chain, cs_outline
 
-    outline = cs_outline(cs_space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)  # the arc fit's, kept
+    if outline is None:
+        outline = cs_outline(cs_space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
     local = cs_local_chain(cs_space, outline).sample(1e-7)
     # outline.sample(1e-5), its elements a few hundred at a time: an engine's design stops between them
     # when superseded (the whole outline's ~2800 elements: ~40 ms)

@@ -44,7 +44,10 @@ class ContactInput:
     :class:`~profilegen.geometry.contour.Chain` of arcs and lines (``design.profile.space``);
     ``cs_tip_radius_mm``: the CS tip circle (``design.form.tip_radius_mm``);
     ``rim_contact_angle_rad``: the half angle over which the rim sits on the wave generator at
-    no load, from the rim FEM (None: not known, the compliance solves a flat ring for it).
+    no load, from the rim FEM (None: not known, the compliance solves a flat ring for it);
+    ``cs_outline``: the closed CS outline, ``cs_space`` repeated z2 times and joined on the tip
+    circle, as the arc fit built it (``design.profile.outline``; None: built from ``cs_space``
+    where needed).
     """
 
     gearset: GearSet
@@ -53,12 +56,15 @@ class ContactInput:
     cs_space: Chain
     cs_tip_radius_mm: float
     rim_contact_angle_rad: float | None = None
+    cs_outline: Chain | None = None
 
     def __post_init__(self):
         _typed("gearset", self.gearset, GearSet, "a GearSet")
         _typed("tooth", self.tooth, ToothProfile, "a ToothProfile (the FS tooth)")
         _typed("motion", self.motion, HarmonicDriveMotion, "a HarmonicDriveMotion")
         _typed("cs_space", self.cs_space, Chain, "a Chain (one tooth space of the fitted CS profile)")
+        if self.cs_outline is not None:
+            _typed("cs_outline", self.cs_outline, Chain, "None or a Chain (the CS outline of cs_space)")
         g = self.gearset.gear
         if (self.motion.cs_teeth, self.motion.waves) != (g.circular_spline_teeth, g.waves):
             raise ContactError(f"motion: cs_teeth = {self.motion.cs_teeth}, waves = {self.motion.waves} do not match "
@@ -90,7 +96,7 @@ class ContactInput:
             raise ContactError(f"{name}: has no fitted CS profile (design.profile is None)")
         fem = None if rim is None else rim.fem
         angle = float(fem.contact_angle_rad) if fem is not None and fem.contact_phi_rad.size else None
-        return cls(gearset, tooth, motion, profile.space, form.tip_radius_mm, angle)
+        return cls(gearset, tooth, motion, profile.space, form.tip_radius_mm, angle, profile.outline)
 
     @classmethod
     def of(cls, value, name: str = "inputs", *, error: type = ContactError) -> "ContactInput":

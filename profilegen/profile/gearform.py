@@ -21,7 +21,6 @@ tolerance.
 from __future__ import annotations
 
 import math
-import threading
 import time
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
@@ -836,35 +835,9 @@ def cs_local_chain(space, outline):
     return Chain(tuple(outline.elements[-n_unit:] + outline.elements[: 2 * n_unit]))
 
 
-#: the last few :func:`cs_outline` results, by (the space's identity, tip radius, teeth): the arc fit
-#: builds the outline of its CS space, and the contact's sliced curve the same one again (~35 ms)
-_OUTLINES: dict = {}
-_OUTLINES_SIZE = 4
-_OUTLINES_LOCK = threading.Lock()
-
-
 def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
     """The closed CS inner outline: ``space`` (a contour.Chain from the tip circle to the tip
-    circle, space 0) repeated every 2π/z2, neighbours joined by arcs of the tip circle.
-
-    The last few are kept by the space's identity (a frozen Chain; the entry holds it, so its id
-    cannot be reused while it lives) with the two numbers: the same space again returns the same
-    (frozen) outline object, which a new build would equal element for element."""
-    key = (id(space), float(tip_radius_mm), int(cs_teeth))
-    with _OUTLINES_LOCK:
-        hit = _OUTLINES.get(key)
-    if hit is not None and hit[0] is space:
-        return hit[1]
-    outline = _cs_outline(space, tip_radius_mm=tip_radius_mm, cs_teeth=cs_teeth)
-    with _OUTLINES_LOCK:
-        _OUTLINES[key] = (space, outline)
-        while len(_OUTLINES) > _OUTLINES_SIZE:
-            _OUTLINES.pop(next(iter(_OUTLINES)))
-    return outline
-
-
-def _cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
-    """:func:`cs_outline`, built."""
+    circle, space 0) repeated every 2π/z2, neighbours joined by arcs of the tip circle."""
     from ..geometry.contour import Arc, Chain
 
     pitch = 2 * np.pi / cs_teeth

@@ -240,22 +240,19 @@ def test_clearance_map_the_same_with_or_without_the_first_pass_of_fewer_pairs(fo
         np.testing.assert_array_equal(maps[0], maps[2])
 
 
-def test_cs_outline_of_the_same_space_is_kept(form_default):
-    """The outline of one space object is built once (the same frozen object again); the same
-    space with another tip radius, or a build from scratch, is another object — the latter equal
-    to the kept one point for point."""
-    from profilegen.profile.gearform import _cs_outline, cs_outline
+def test_the_contact_takes_the_arc_fits_cs_outline(default_sketch):
+    """The contact inputs carry the outline the arc fit built (the sliced curve does not build it
+    again), and that outline is the fitted space's: a build from scratch equals it point for
+    point; another tip radius gives another tip land."""
+    from profilegen.contact import ContactInput
+    from profilegen.profile.gearform import cs_outline
 
-    f = form_default
-    w = f.working_flank["right"]
-    a1 = Arc(w[0] - np.array([1.0, 0.0]), 1.0, 0.0, 0.1)
-    line = Line(a1.end, a1.end + 0.2 * a1.tangent(at_end=True))
-    space, outline = cs_chain(Chain((a1, line)), tip_radius_mm=f.tip_radius_mm, root_radius_mm=f.root_radius_mm,
-                              cs_teeth=202)
-    assert cs_outline(space, tip_radius_mm=f.tip_radius_mm, cs_teeth=202) is outline
-    fresh = _cs_outline(space, tip_radius_mm=f.tip_radius_mm, cs_teeth=202)
-    assert fresh is not outline
-    np.testing.assert_array_equal(fresh.sample(1e-4), outline.sample(1e-4))
-    wider = cs_outline(space, tip_radius_mm=f.tip_radius_mm + 0.01, cs_teeth=202)
-    assert wider is not outline and len(wider.elements) == len(outline.elements)
-    assert wider.elements[len(space.elements)].radius == pytest.approx(f.tip_radius_mm + 0.01)  # the tip land
+    prof, form = default_sketch.profile, default_sketch.form
+    assert ContactInput.from_design(default_sketch).cs_outline is prof.outline
+    z2 = default_sketch.gearset.gear.circular_spline_teeth
+    fresh = cs_outline(prof.space, tip_radius_mm=form.tip_radius_mm, cs_teeth=z2)
+    assert fresh is not prof.outline
+    np.testing.assert_array_equal(fresh.sample(1e-4), prof.outline.sample(1e-4))
+    wider = cs_outline(prof.space, tip_radius_mm=form.tip_radius_mm + 0.01, cs_teeth=z2)
+    assert len(wider.elements) == len(prof.outline.elements)
+    assert wider.elements[len(prof.space.elements)].radius == pytest.approx(form.tip_radius_mm + 0.01)  # the tip land
