@@ -81,7 +81,7 @@ import numpy as np
 from scipy.linalg import cho_factor, cho_solve
 
 from profilegen.errors import ConvergenceError, ProfilegenError
-from profilegen.contact.climb import solve_lcp
+from profilegen.lcp import solve_spd
 
 __all__ = ["DedoidalError", "TwoZoneClimb", "TwoZoneState", "n1_stiffness", "stability_limit"]
 
@@ -400,11 +400,11 @@ class TwoZoneClimb:
         + Pᵀτ, whose gradient is the translations' balance Dᵀx − k (τ − τ₀) + P."""
         tau = np.asarray(tau, dtype=float).copy()
         if not tau.size:  # nothing free: the plain LCP
-            x = solve_lcp(m_mat, q)
+            x = solve_spd(m_mat, q)
             return x, tau, x > 0.0
 
         def at(t):
-            x = solve_lcp(m_mat, q + df @ t)
+            x = solve_spd(m_mat, q + df @ t)
             h = 0.5 * x @ (m_mat @ x) + (q + df @ t) @ x - 0.5 * (t - rest) @ (k * (t - rest)) + load @ t
             return x, h, df.T @ x - k * (t - rest) + load
 

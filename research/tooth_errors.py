@@ -27,7 +27,7 @@ Model
   0 for the balls; D: each load's direction; C: the flexibility, S_2D/b, with the Hertz
   springs on the balls' diagonal). The KKT conditions of a strictly convex QP, so unique;
   solved by a primal–dual active set on the bordered system (as the chain's continuation),
-  Lemke's method (:func:`~profilegen.contact.solvers.lemke_lcp`, t = t⁺ − t⁻) when the
+  Lemke's method (:func:`~profilegen.lcp.lemke_lcp`, t = t⁺ − t⁻) when the
   active set cycles. The Hertz ball springs: the chain's secant fixed point
   (:class:`~profilegen.contact.chain.SpringIteration`). With no deviations the two zones
   carry T/2 each and reproduce the one-zone model (tests/research/test_tooth_errors.py).
@@ -503,7 +503,7 @@ class TwoZoneContact:
 
     def _lemke(self, ms, qs, as_, dmat):
         """Lemke on (x, ψ = φ − θ̂_min, t⁺, t⁻); the final loaded set re-solved by :meth:`_kkt`."""
-        from profilegen.contact.solvers import lemke_lcp
+        from profilegen.lcp import lemke_lcp
 
         m = qs.size
         n = self.n

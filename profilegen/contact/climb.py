@@ -72,7 +72,7 @@ friction angle ρ against the sliding (n' = n cos ρ ± t sin ρ, scaled by 1/co
 stays the normal force). The gap is still measured along n: the complementarity is on N and
 the normal gap, and the matrix S' = Rᵀ C D (rows along the normals n, columns along the forces
 d) is not symmetric — a non-associated contact, solved by Lemke's method
-(:func:`solve_lcp_lemke`; S' is a P-matrix, so the solution is unique and Lemke reaches it,
+(:func:`profilegen.lcp.solve_p_matrix`; S' is a P-matrix, so the solution is unique and Lemke reaches it,
 while its symmetric part is positive definite — checked at the end of the path by
 ``tests/benchmarks/ratcheting.py --friction``: μ = 0.15, forward, on the loaded stations
 max|S' − S'ᵀ|/max|S'| = 0.10 and the symmetric part's eigenvalues 1.7e-6 … 2.4e-4 mm/N on
@@ -150,50 +150,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve, solve_triangular
-from scipy.optimize import nnls
 
 from ..errors import ConvergenceError, ProfilegenError
+from ..lcp import solve_p_matrix, solve_spd
 
 __all__ = ["SLIDING", "ClimbError", "ClimbPath", "ClimbPoint", "DesignClimb", "SectionDeformation", "SlicedClimb",
-           "climb", "section_inputs", "sliding_tangent", "solve_lcp", "solve_lcp_lemke", "tooth_probes"]
-
-
-def _candidate_set(m: np.ndarray, q: np.ndarray, tol: float | None, solve_candidates, where: str) -> np.ndarray:
-    """The climb's LCP loop: F ≥ 0, w = M F + q ≥ 0, F·w = 0 solved on a candidate set — the
-    points with q_j < 0 first; ``solve_candidates(idx, tol)`` gives F on the candidates (zero
-    elsewhere); a point outside whose w comes out below −tol joins and the set is solved again."""
-    n = q.size
-    f = np.zeros(n)
-    if n == 0:
-        return f
-    scale = float(np.max(np.abs(q))) or 1.0
-    tol = 1e-12 * scale if tol is None else tol
-    cand = q < 0.0
-    for _ in range(n + 1):
-        idx = np.flatnonzero(cand)
-        f[:] = 0.0
-        if idx.size:
-            f[idx] = solve_candidates(idx, tol)
-        w = m @ f + q
-        bad = (~cand) & (w < -tol)
-        if not bad.any():
-            return f
-        cand |= bad
-    raise ConvergenceError(f"{where}: the candidate set did not settle")
-
-
-def solve_lcp(s: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.ndarray:
-    """F ≥ 0 with w = S F + q ≥ 0 and F·w = 0, for S symmetric positive definite: the
-    minimum of ½FᵀSF + qᵀF over F ≥ 0, as a non-negative least-squares problem on the
-    Cholesky factor of S restricted to the candidates (q_j < 0 first; a point whose w comes
-    out below −tol joins and the problem is solved again). Exact for SPD S."""
-
-    def on_candidates(idx, _tol):
-        low = np.linalg.cholesky(s[np.ix_(idx, idx)])
-        rhs = -solve_triangular(low, q[idx], lower=True)
-        return nnls(low.T, rhs, maxiter=50 * idx.size)[0]
-
-    return _candidate_set(s, q, tol, on_candidates, "climb.solve_lcp")
+           "climb", "section_inputs", "sliding_tangent", "tooth_probes"]
 
 
 #: the sliding speed (mm per rad of φ) over which the "-elastic" senses' friction turns from
@@ -206,39 +168,6 @@ SLIDING = ("static", "unloading", "forward", "backward", "forward-elastic", "bac
 
 class ClimbError(ProfilegenError, ValueError):
     """Bad input to a climb model (names the parameter, its value and allowed range)."""
-
-
-def solve_lcp_lemke(m: np.ndarray, q: np.ndarray, *, tol: float | None = None) -> np.ndarray:
-    """F ≥ 0 with w = M F + q ≥ 0 and F·w = 0 for a general square M — the climb with
-    friction, whose M is not symmetric (the force tilted off the normal its gap is measured
-    along: a non-associated contact). Lemke's complementary pivoting
-    (:func:`profilegen.contact.solvers.lemke_lcp`, lexicographic ratio test) on the
-    candidates (q_j < 0 first; a point whose w comes out below −tol joins and the problem is
-    solved again, as :func:`solve_lcp`), on M and q scaled to O(1), the forces then from the
-    active set's own equations. Lemke's method ends at the solution when M is a P-matrix
-    (every principal minor > 0; Cottle, Pang & Stone, The Linear Complementarity Problem, §4.4),
-    which it is when its symmetric part is positive definite (S + μ·(tangential coupling)
-    for small μ); the result is checked (F ≥ 0, w ≥ 0 to ``tol``), a failure raises
-    :class:`ConvergenceError`."""
-    from .solvers import lemke_lcp
-
-    scale = float(np.max(np.abs(q))) if q.size else 1.0
-    scale = scale or 1.0
-    d = float(np.mean(np.abs(np.diag(m)))) if q.size else 1.0
-    d = d or 1.0
-
-    def on_candidates(idx, tol_):
-        sub, f = m[np.ix_(idx, idx)], np.zeros(idx.size)
-        act, _ = lemke_lcp(sub / d, q[idx] / scale, "climb.solve_lcp_lemke")
-        if act.size:
-            f[act] = np.linalg.solve(sub[np.ix_(act, act)], -q[idx[act]])
-        w = sub @ f + q[idx]  # = (M F + q) on the candidates: F is zero elsewhere
-        if f.min() < -1e-9 * max(float(f.max()), 1e-300) or w.min(initial=0.0) < -1e3 * tol_:
-            raise ConvergenceError(f"climb.solve_lcp_lemke: Lemke's basis is not a solution (min F {f.min():.3g} N, "
-                                   f"min w {w.min(initial=0.0):.3g} mm): M is not a P-matrix here")
-        return np.maximum(f, 0.0)
-
-    return _candidate_set(m, q, tol, on_candidates, "climb.solve_lcp_lemke")
 
 
 def sliding_tangent(normal: np.ndarray, e_r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -1072,7 +1001,7 @@ class DesignClimb:
             full, probe, fa = self._matrices(active, springs)
             s_mat, p_mat, p_cs = self._effective(full, probe)
             off_st, off_probe = self._offset(active, fa)
-            f = (solve_lcp_lemke if self._friction else solve_lcp)(s_mat, q + off_st)
+            f = (solve_p_matrix if self._friction else solve_spd)(s_mat, q + off_st)
             react, gaps = self._reactions(f, active, fa)
             active, step = settle_step(active, react, gaps)
             if step is None:
@@ -1121,7 +1050,7 @@ class DesignClimb:
             pass
 
         def torque(phi):
-            return self.zones * float(lever @ solve_lcp(s_mat, gap - lever * phi)) / 1e3
+            return self.zones * float(lever @ solve_spd(s_mat, gap - lever * phi)) / 1e3
 
         lo, hi = float(theta.min()), float(theta.min()) + 1e-4
         while torque(hi) < torque_nm:

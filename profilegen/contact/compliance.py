@@ -162,7 +162,7 @@ from ..stagecache import checkpoint
 from ..geometry.wgbearing import DEFAULT_BALL_COUNT, default_race_thickness_mm  # noqa: F401 (re-exported)
 from .inputs import ContactInput
 from .springs import ball_totals, spring_block
-from .solvers import lemke_lcp
+from ..lcp import lemke_lcp
 
 __all__ = ["ComplianceError", "ComplianceMesh", "ContactCompliance", "DEFAULT_BALL_COUNT", "clear_cache",
            "default_race_thickness_mm", "no_load_ball_gap_mm", "settle_step"]

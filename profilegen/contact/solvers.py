@@ -118,12 +118,12 @@ import numpy as np
 import scipy.linalg as sla
 
 from ..errors import ConvergenceError, ProfilegenError
+from ..lcp import LemkeTableau
 from ..results import json_ready as _json, readonly as _readonly
 
 __all__ = [
     "ContactError",
     "ContactSolution",
-    "lemke_lcp",
     "solve_lemke",
     "solve_qp_active_set",
 ]
@@ -398,94 +398,6 @@ def _lemke_reinvert(p: _Scaled, idx: np.ndarray, where: str) -> tuple[np.ndarray
             )
     return m, psi
 
-
-
-class LemkeTableau:
-    """The revised tableau of Lemke's complementary pivoting for w = M z + q (rows
-    [I, −M, −1] x = q; variables 0..N−1 the w's, N..2N−1 the z's, 2N the artificial z0;
-    covering vector 1) with an explicit basis inverse, O(N²) per pivot. Shared by
-    :func:`solve_lemke` (the contact's bordered LCP) and
-    :func:`profilegen.contact.compliance.ContactCompliance.solve_unilateral` (teeth and balls)."""
-
-    def __init__(self, m_mat: np.ndarray, q: np.ndarray):
-        self.m, self.n = m_mat, q.size
-        self.binv = np.eye(self.n)
-        self.rhs = q.astype(float).copy()
-        self.basis = np.arange(self.n)
-
-    def column(self, j: int) -> np.ndarray:
-        """Column of variable j in the current basis."""
-        n = self.n
-        if j < n:
-            return self.binv[:, j].copy()
-        if j < 2 * n:
-            return -(self.binv @ self.m[:, j - n])
-        return -self.binv.sum(axis=1)
-
-    def pivot(self, row: int, col: np.ndarray, var: int) -> int:
-        """``var`` enters on ``row`` (its column ``col``); returns the variable that leaves."""
-        binv, rhs = self.binv, self.rhs
-        piv = binv[row] / col[row]
-        prow = rhs[row] / col[row]
-        binv[...] -= np.outer(col, piv)
-        binv[row] = piv
-        rhs -= col * prow
-        rhs[row] = prow
-        leaving = int(self.basis[row])
-        self.basis[row] = var
-        return leaving
-
-    def ratio_row(self, col: np.ndarray) -> int | None:
-        """The leaving row of the minimum-ratio test (z0's row on a tie, then lexicographic on
-        the rows of B⁻¹/col); None on a ray (no positive entry)."""
-        tol = 1e-11 * max(1.0, float(np.max(np.abs(col))))
-        cand = np.flatnonzero(col > tol)
-        if cand.size == 0:
-            return None
-        ratios = self.rhs[cand] / col[cand]
-        best = float(np.min(ratios))
-        ties = cand[ratios <= best + 1e-12 * (1.0 + abs(best))]
-        if ties.size > 1:
-            z0row = np.flatnonzero(self.basis[ties] == 2 * self.n)
-            if z0row.size:
-                ties = ties[z0row]
-            else:  # lexicographic rule on the rows of B⁻¹/col
-                for j in range(self.n):
-                    v = self.binv[ties, j] / col[ties]
-                    ties = ties[v <= np.min(v) + 1e-14 * (1.0 + np.max(np.abs(v)))]
-                    if ties.size == 1:
-                        break
-        return int(ties[0])
-
-
-
-def lemke_lcp(m_mat: np.ndarray, q: np.ndarray, where: str, max_pivots: int | None = None):
-    """Lemke's complementary pivoting for w = M z + q, w, z ≥ 0, wᵀz = 0 (covering vector 1,
-    lexicographic ratio test, revised form with an explicit basis inverse), as
-    :func:`~profilegen.contact.solvers.solve_lemke` pivots; for a copositive-plus M (here
-    positive semidefinite) it ends at a solution whenever one exists (Cottle, Pang & Stone
-    §4.4). Returns (the indices of the basic z's, pivots)."""
-    n = q.size
-    z0 = 2 * n
-    cap = 10 * n + 50 if max_pivots is None else int(max_pivots)
-    if np.all(q >= 0.0):
-        return np.zeros(0, dtype=int), 0
-    tab = LemkeTableau(m_mat, q)
-    leaving = tab.pivot(int(np.argmin(q)), tab.column(z0), z0)
-    pivots = 1
-    while leaving != z0:
-        entering = leaving + n if leaving < n else leaving - n
-        col = tab.column(entering)
-        row = tab.ratio_row(col)
-        if row is None:
-            raise ConvergenceError(f"{where}: Lemke's method ended on a ray at pivot {pivots}; impossible for a "
-                                   "positive definite compliance — numerical breakdown")
-        if pivots >= cap:
-            raise ConvergenceError(f"{where}: no complementary solution after {pivots} pivots")
-        leaving = tab.pivot(row, col, entering)
-        pivots += 1
-    basis = tab.basis
-    return np.sort(basis[(basis >= n) & (basis < z0)] - n), pivots
 
 
 def solve_lemke(compliance_mm_per_n, theta_rad, radius_mm, torque_nmm, *, max_pivots: int | None = None) -> ContactSolution:

@@ -38,7 +38,7 @@ Model
   nodes of the default toothed rim, 1228 of them kept (θ ≤ 69°). A bore of more than
   :data:`LAZY_BORE_NODES` nodes (the toothed rim) is not condensed up front: G's columns are
   solved as the contact solve asks for them (:class:`_LazyCompliance`; the LCP by
-  Lawson–Hanson's active-set method, :func:`_lcp_lazy`, one node entering at a time, warm
+  Lawson–Hanson's active-set method, :func:`profilegen.lcp.active_set_lazy`, one node entering at a time, warm
   from the last set) — ~80–150 nodes' columns per factor instead of all 1228.
 * Geometry: ``"linear"`` (small strain, ``linear_elasticity``) or ``"nonlinear"`` (total
   Lagrangian St Venant–Kirchhoff, :mod:`profilegen.rim.nonlinear`): modified Newton from
@@ -71,6 +71,7 @@ from .. import checks
 from ..geometry import series
 from ..blas import one_blas_thread
 from ..errors import ConvergenceError, ProfilegenError
+from ..lcp import active_set_lazy, principal_pivoting, spd_nnls
 from ..results import readonly as _readonly
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -479,78 +480,15 @@ class _LazyCompliance:
         return array.reshape(self.n_b, 2, n_k, 2)
 
 
-def _lcp_lazy(normal, compliance, q, max_steps: int, guess=None):
-    """The contact LCP of :func:`_lcp_from_set` (w = Sλ − q ≥ 0, λ ≥ 0, λ·w = 0, S_ij =
-    n_i·G_ij·n_j, SPD) by Lawson–Hanson's active-set method on the equivalent QP
-    min ½λᵀSλ − qᵀλ, λ ≥ 0, one node entering at a time: the most violated free node enters;
-    λ then moves from where it is toward the loaded set's equality solution and stops where
-    a loaded node's λ reaches zero, that node freed (finite: the objective falls at every
-    entry). ``guess``: a set to start from (the last solve's; from λ = 0 its nodes whose
-    equality solution is not positive leave first), else the empty set.
+def s_columns(normal, compliance, n: int):
+    """The contact LCP's columns for :mod:`profilegen.lcp`: S_ij = n_i·G_ij·n_j of the first ``n``
+    bore nodes (``compliance`` = G, a :class:`_DenseCompliance` or :class:`_LazyCompliance`;
+    each S_ij the same 4-term sum whichever columns are formed with it)."""
 
-    Only the columns of S of nodes that enter are formed (``compliance``, a
-    :class:`_LazyCompliance`, solves their G columns then). Block principal pivoting
-    (:func:`_lcp_from_set`) swaps every violator in at once — after the toothed rim's first
-    re-linearisation 200–400 free nodes violate by a hair, of which a few stay loaded — so
-    each of those would cost a column pair; here the first entries settle the rest. Returns
-    λ, or None after ``max_steps`` entries or for a singular S_AA (the caller then condenses
-    everything and runs NNLS)."""
-    from scipy.linalg import LinAlgError, cho_factor, cho_solve
+    def columns_of(nodes):
+        return np.einsum("ia,iajb,jb->ij", normal, compliance.take(nodes)[:n], normal[nodes])
 
-    n = q.size
-    tol = 1e-12 * max(float(np.max(np.abs(q), initial=0.0)), 1e-300)
-    lam = np.zeros(n)
-    passive = np.zeros(n, dtype=bool) if guess is None else np.asarray(guess, dtype=bool)[:n].copy()
-    column: dict[int, np.ndarray] = {}
-
-    def columns(idx):
-        new = [j for j in idx.tolist() if j not in column]
-        if new:
-            made = np.einsum("ia,iajb,jb->ij", normal, compliance.take(new)[:n], normal[new])
-            column.update(zip(new, made.T))
-        return np.column_stack([column[j] for j in idx.tolist()])
-
-    def settle() -> bool:
-        """λ on the loaded set from its feasible value toward the set's equality solution,
-        freeing the nodes whose λ reaches zero on the way (each pass frees one at least)."""
-        while passive.any():
-            idx = np.flatnonzero(passive)
-            cols = columns(idx)
-            try:
-                z = cho_solve(cho_factor(cols[idx], lower=True, check_finite=False), q[idx], check_finite=False)
-            except (LinAlgError, ValueError):
-                return False
-            if np.all(z > 0.0):
-                lam[:] = 0.0
-                lam[idx] = z
-                return True
-            old = lam[idx]
-            neg = z <= 0.0
-            den = old[neg] - z[neg]
-            alpha = float(np.min(np.where(den > 0.0, old[neg] / np.where(den > 0.0, den, 1.0), 0.0)))
-            new = old + alpha * (z - old)
-            out = neg & (new <= 1e-15 * max(float(np.max(old, initial=0.0)), 1e-300))
-            out[np.argmin(np.where(neg, new, np.inf))] = True  # at least the one that reached zero
-            new[out] = 0.0
-            lam[:] = 0.0
-            lam[idx] = new
-            passive[idx[out]] = False
-        lam[:] = 0.0
-        return True
-
-    if passive.any() and not settle():
-        return None
-    for _ in range(max_steps):
-        idx = np.flatnonzero(passive)
-        w = (columns(idx) @ lam[idx] - q) if idx.size else -q
-        free_w = np.where(passive, np.inf, w)
-        t = int(np.argmin(free_w))
-        if not free_w[t] < -tol:
-            return lam
-        passive[t] = True
-        if not settle():
-            return None
-    return None
+    return columns_of
 
 
 class _Widen(Exception):
@@ -575,59 +513,6 @@ def _edge(active, dist, n_k: int):
     if bad.size:
         why.append(f"{bad.size} dropped node(s) penetrate the cam (deepest {-np.min(dist[n_k:]):.3g} mm)")
     return _Widen(n_k if bad.size == 0 else n_k + int(bad[-1]) + 1, " and ".join(why))
-
-
-def _lcp_from_set(normal, compliance, q, guess, max_pivots: int = 60):
-    """The solution λ of the contact LCP w = Sλ − q ≥ 0, λ ≥ 0, λ·w = 0 (S_ij = n_i·G_ij·n_j,
-    ``compliance`` = G of the kept nodes, a :class:`_DenseCompliance` or :class:`_LazyCompliance`,
-    its rows cut to the n = ``q.size`` kept ones) found from a guessed active set, or None.
-
-    S is symmetric positive definite, so the LCP has one solution; a set A whose equations
-    S_AA λ_A = q_A give λ_A > 0 and w ≥ 0 off A is it (the same as Lawson–Hanson's NNLS to
-    rounding). From the guess (the last solve's set: a re-linearisation changes it by a few
-    to ~40 nodes) the sign violations are swapped in and out together (block principal
-    pivoting) while their number falls, else one at a time, the one of largest index (Murty's
-    rule, finite for a positive definite S: Júdice & Pires 1994); None after ``max_pivots``
-    or for a singular S_AA (the caller then solves the whole problem by NNLS). Only the
-    columns of S in A are formed: |A| ≈ 50–130 of ~1200 kept nodes on the toothed rim."""
-    from scipy.linalg import LinAlgError, cho_factor, cho_solve
-
-    active = np.asarray(guess, dtype=bool).copy()
-    tol = 1e-12 * max(float(np.max(np.abs(q), initial=0.0)), 1e-300)
-    fewest, chances = q.size + 1, 3
-    column: dict[int, np.ndarray] = {}  # S's columns formed so far (a pivot changes a few nodes)
-    for _ in range(max_pivots):
-        idx = np.flatnonzero(active)
-        if idx.size == 0:
-            return None
-        new = [j for j in idx.tolist() if j not in column]
-        if new:  # each S_ij the same 4-term sum whichever columns are formed with it
-            made = np.einsum("ia,iajb,jb->ij", normal, compliance.take(new)[:q.size], normal[new])
-            column.update(zip(new, made.T))
-        cols = np.column_stack([column[j] for j in idx.tolist()])
-        try:
-            lam = cho_solve(cho_factor(cols[idx], lower=True, check_finite=False), q[idx], check_finite=False)
-        except (LinAlgError, ValueError):
-            return None
-        w = cols @ lam - q
-        bad = np.zeros(q.size, dtype=bool)
-        bad[idx[~(lam > 0.0)]] = True
-        bad |= ~active & (w < -tol)
-        count = int(bad.sum())
-        if count == 0:
-            forces = np.zeros(q.size)
-            forces[idx] = lam
-            return forces
-        if count < fewest:
-            fewest, chances = count, 3
-        elif chances > 0:
-            chances -= 1
-        else:  # the block step stalls: one node, the last violator (Murty)
-            last = np.flatnonzero(bad)[-1]
-            bad[:] = False
-            bad[last] = True
-        active ^= bad
-    return None
 
 
 def _contact_set(compliance, base, x_now, contour, *, bilateral, gap_tol_mm, max_iterations, where, kept=None,
@@ -661,14 +546,11 @@ def _contact_set(compliance, base, x_now, contour, *, bilateral, gap_tol_mm, max
     reach past the kept nodes (only the converged state must not).
 
     ``warm``: a guess of the active set of the first ``kept`` nodes (the last call's): each
-    linearisation first tries its set (then the last iteration's) by :func:`_lcp_from_set`
+    linearisation first tries its set (then the last iteration's) by :func:`profilegen.lcp.principal_pivoting`
     and solves by NNLS only if that fails — the same unique solution, without NNLS's
     Lawson–Hanson iterations from an empty set (0.18 s a call on the toothed rim's 1228 kept
     nodes).
     """
-    from scipy.linalg import cholesky, solve_triangular
-    from scipy.optimize import nnls
-
     n_b = base.shape[0]
     n_k = n_b if kept is None else int(kept)
     if bilateral and n_k < n_b:
@@ -681,9 +563,10 @@ def _contact_set(compliance, base, x_now, contour, *, bilateral, gap_tol_mm, max
         q_all = np.einsum("ij,ij->i", disp - base, normal) - dist
         q = q_all[:n_k]
         if isinstance(compliance, _LazyCompliance):
-            forces = None if bilateral else _lcp_lazy(normal[:n_k], compliance, q, max_steps=4 * n_k, guess=guess)
+            forces = None if bilateral else active_set_lazy(s_columns(normal[:n_k], compliance, n_k), q,
+                                                            max_steps=4 * n_k, guess=guess)
         else:
-            forces = None if guess is None else _lcp_from_set(normal[:n_k], compliance, q, guess)
+            forces = None if guess is None else principal_pivoting(s_columns(normal[:n_k], compliance, n_k), q, guess)
         try:
             if forces is not None:
                 pass
@@ -693,9 +576,7 @@ def _contact_set(compliance, base, x_now, contour, *, bilateral, gap_tol_mm, max
                 forces = np.linalg.solve(schur, q)
             else:
                 compliance4 = compliance.dense(n_k)
-                schur = np.einsum("ia,iajb,jb->ij", normal[:n_k], compliance4[:n_k], normal[:n_k])
-                lower = cholesky(schur, lower=True)
-                forces, _ = nnls(lower.T, solve_triangular(lower, q, lower=True), maxiter=50 * n_k)
+                forces = spd_nnls(np.einsum("ia,iajb,jb->ij", normal[:n_k], compliance4[:n_k], normal[:n_k]), q)
         except (np.linalg.LinAlgError, RuntimeError) as exc:
             raise ConvergenceError(
                 f"solve_ring: contact problem not solvable at iteration {iteration} ({exc}); the contact "
@@ -1025,7 +906,7 @@ def solve_ring(
     every bore node (the condensation then dominates the toothed rim's time).
 
     ``lazy_columns``: solve the compliance's columns only as the contact asks for them
-    (:class:`_LazyCompliance`; the first contact solve by :func:`_lcp_lazy` from the empty
+    (:class:`_LazyCompliance`; the first contact solve by :func:`profilegen.lcp.active_set_lazy` from the empty
     set) instead of condensing every kept node up front — the same answer to rounding. None:
     lazily when the bore has more than :data:`LAZY_BORE_NODES` nodes (the toothed rim's 1601,
     not the flat rings' 65–129, whose full condensation is cheap).

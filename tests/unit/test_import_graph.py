@@ -152,10 +152,11 @@ def test_stages_never_import_the_output_layer(graph):
 
 #: The package's folders in pipeline order: a module may import its own folder and the folders
 #: before it, never one after it. ``base`` is the top level's shared modules (errors, argument
-#: checks, result conventions, BLAS threads, process pools, the stage cache's checkpoints).
+#: checks, result conventions, BLAS threads, process pools, the stage cache's checkpoints, the LCP
+#: solvers).
 LAYERS = ("base", "geometry", "gearset", "rim", "profile", "face", "contact", "stress", "pipeline", "output",
           "studies", "app", "front")
-BASE = {"errors", "checks", "results", "blas", "pools", "stagecache"}
+BASE = {"errors", "checks", "results", "blas", "pools", "stagecache", "lcp"}
 FRONT = {"cli", "bench", "__main__"}
 
 

@@ -37,7 +37,8 @@ import pytest
 
 import profilegen as pg
 from profilegen.contact.chain import BallBearing
-from profilegen.contact.climb import DesignClimb, climb, sliding_tangent, solve_lcp, solve_lcp_lemke
+from profilegen.contact.climb import DesignClimb, climb, sliding_tangent
+from profilegen.lcp import solve_p_matrix, solve_spd
 from profilegen.contact.ratchet import (
     BearingFitError,
     RatchetingError,
@@ -157,7 +158,7 @@ def test_lcp_against_enumeration():
         a = rng.normal(size=(6, 6))
         s = a @ a.T + 0.5 * np.eye(6)
         q = rng.normal(size=6)
-        f = solve_lcp(s, q)
+        f = solve_spd(s, q)
         best = None
         for mask in range(64):  # the one active set whose solution is complementary
             idx = [k for k in range(6) if mask >> k & 1]
@@ -213,7 +214,7 @@ class _OneTooth:
         return True
 
     def respond(self, q, state):
-        return (solve_lcp_lemke if self.mu else solve_lcp)(self.s, q), None, self.p, np.zeros_like(self.p)
+        return (solve_p_matrix if self.mu else solve_spd)(self.s, q), None, self.p, np.zeros_like(self.p)
 
 
 def test_climb_straight_flank_reaches_the_depth_at_k_r_h_cot_alpha():
@@ -371,7 +372,7 @@ def test_nonsymmetric_lcp_against_enumeration():
         s = a @ a.T + 0.5 * np.eye(6) + 0.3 * rng.normal(size=(6, 6))
         assert np.linalg.eigvalsh(0.5 * (s + s.T)).min() > 0.0
         q = rng.normal(size=6)
-        f = solve_lcp_lemke(s, q)
+        f = solve_p_matrix(s, q)
         found = []
         for mask in range(64):
             idx = [k for k in range(6) if mask >> k & 1]

@@ -175,7 +175,8 @@ def test_lazy_lcp_solves_the_complementarity_problem(seed):
     """The active-set LCP solver that forms S's columns only for nodes entering the set: on a
     random SPD problem (a compliance of 60 nodes, 2 dofs each), from the empty set and from a
     wrong guess, λ ≥ 0, w = Sλ − q ≥ 0 and λ·w = 0, and it asked for fewer columns than all."""
-    from profilegen.rim.ring import _DenseCompliance, _lcp_lazy
+    from profilegen.lcp import active_set_lazy
+    from profilegen.rim.ring import _DenseCompliance, s_columns
 
     rng = np.random.default_rng(seed)
     n = 60
@@ -195,7 +196,7 @@ def test_lazy_lcp_solves_the_complementarity_problem(seed):
     s = np.einsum("ia,iajb,jb->ij", normal, g.reshape(n, 2, n, 2), normal)
     for guess in (None, rng.random(n) < 0.5):
         asked.clear()
-        lam = _lcp_lazy(normal, comp, q, max_steps=4 * n, guess=guess)
+        lam = active_set_lazy(s_columns(normal, comp, n), q, max_steps=4 * n, guess=guess)
         w = s @ lam - q
         assert np.all(lam >= 0.0) and np.all(w >= -1e-10)
         assert abs(lam @ w) < 1e-10
