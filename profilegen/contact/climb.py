@@ -303,9 +303,10 @@ def _beyond(run, pts, s_fs, s_cs, state, nominal: float):
 
 def _follow(run, ended, m: int, state, phi_start: float, phi_step: float, *, max_steps: int, grow: float,
             max_torque_nm: float, max_halvings: int, max_retreat_step_mm: float, min_step_fraction: float,
-            warnings: list) -> list:
+            warnings: list) -> tuple[list, bool]:
     """The path's points from ``phi_start`` until a criterion ends it, with the step control
-    of :func:`climb`; what stopped it short is appended to ``warnings``."""
+    of :func:`climb` → (points, whether it ended with no equilibrium just beyond its last
+    point); what stopped it short is appended to ``warnings``."""
     s_fs, s_cs = np.zeros(m), np.zeros(m)
     pts: list[ClimbPoint] = []
     phi, step = float(phi_start), float(phi_step)
@@ -333,7 +334,7 @@ def _follow(run, ended, m: int, state, phi_start: float, phi_step: float, *, max
             if p is None:
                 warnings.append(f"{exc} (after {halvings} step halvings): no equilibrium just beyond "
                                 f"φ = {pts[-1].phi_rad if pts else phi:.6g} rad")
-                break
+                return pts, bool(pts)
             warnings.append(f"no fixed point found between φ = {pts[-1].phi_rad:.6g} and {p.phi_rad:.6g} rad "
                             f"({exc}); the path continued beyond")
             step, halvings = nominal, 0
@@ -347,7 +348,7 @@ def _follow(run, ended, m: int, state, phi_start: float, phi_step: float, *, max
         s_fs, s_cs, state = p.retreat_fs_mm, p.retreat_mm - p.retreat_fs_mm, p.state
         phi += step
         step *= grow
-    return pts
+    return pts, False
 
 
 def _refine_bracket(run, ended, pts: list, refine: int, warnings: list) -> tuple[list, bool]:
@@ -383,16 +384,17 @@ def _refine_bracket(run, ended, pts: list, refine: int, warnings: list) -> tuple
     return pts, stuck
 
 
-def _unended_path(pts: list, found, warnings: list) -> ClimbPath:
+def _unended_path(pts: list, found, no_equilibrium_beyond: bool, warnings: list) -> ClimbPath:
     """The path when no criterion lies on the refined points: a limit point the refinement
-    followed up, the end of the path, or no criterion (the largest torque each)."""
+    followed up, the end of the path (``no_equilibrium_beyond`` its last point), or no
+    criterion (the largest torque each)."""
     if found is not None and found[0] == "limit point":
         # the refinement's finer steps followed T(φ) up where the coarse step had found it
         # falling (another equilibrium branch past the peak): the peak of the refined path
         best = max(pts, key=lambda x: x.torque_nm)
         warnings.append("the limit point's refinement found T(φ) still rising: its largest torque is taken")
         return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "limit point", tuple(warnings))
-    if pts and warnings and "no equilibrium just beyond" in warnings[-1]:
+    if no_equilibrium_beyond:
         best = max(pts, key=lambda x: x.torque_nm)
         return ClimbPath(tuple(pts), best.torque_nm, best.phi_rad, "end of path", tuple(warnings))
     top = max(pts, key=lambda x: x.torque_nm) if pts else None
@@ -483,14 +485,14 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, gro
     def ended(path):
         return _criterion_met(path, corner_rule=corner_rule, limit_drop=limit_drop)
 
-    pts = _follow(run, ended, model.depth_mm.size, model.initial_state(), phi_start, phi_step, max_steps=max_steps,
+    pts, no_equilibrium_beyond = _follow(run, ended, model.depth_mm.size, model.initial_state(), phi_start, phi_step, max_steps=max_steps,
                   grow=grow, max_torque_nm=max_torque_nm, max_halvings=max_halvings,
                   max_retreat_step_mm=max_retreat_step_mm, min_step_fraction=min_step_fraction, warnings=warnings)
     found = ended(pts)
     pts, stuck = _refine_bracket(run, ended, pts, refine, warnings)
     hit = ended(pts)
     if hit is None:
-        return _unended_path(pts, found, warnings)
+        return _unended_path(pts, found, no_equilibrium_beyond, warnings)
     crit, k = hit
     if crit == "limit point":
         return _limit_point(pts, k, stuck, warnings)
