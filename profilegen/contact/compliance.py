@@ -1400,6 +1400,88 @@ def settle_step(active, reactions_n, gaps_mm, *, gap_tol_mm: float = 1e-15):
     return act, None
 
 
+def _contact_pairs(fs_points, fs_normals, fs_tooth_index, cs_points, cs_normals):
+    """The contact pairs checked (:meth:`ContactCompliance.build`'s arguments): (FS points (n, 2),
+    unit FS normals, whole FS tooth indices, CS points, CS normals opposite to the FS ones within
+    0.1 rad; −fs_normals when None)."""
+    fs_points = _points("fs_points", fs_points)
+    n = fs_points.shape[0]
+    fs_normals = _unit("fs_normals", fs_normals, n)
+    try:
+        idx = np.asarray(fs_tooth_index)
+        ok = idx.shape == (n,) and np.all(np.isfinite(idx.astype(float))) and np.all(idx == np.round(idx))
+    except (TypeError, ValueError):
+        ok = False
+    if not ok:
+        raise ComplianceError(f"fs_tooth_index: must be n = {n} whole numbers (one FS tooth per point), got "
+                              f"{np.shape(fs_tooth_index)}")
+    tooth_index = np.round(idx).astype(int)
+    cs_points = _points("cs_points", cs_points, n)
+    cs_normals = -fs_normals if cs_normals is None else _unit("cs_normals", cs_normals, n)
+    opposite = np.einsum("ij,ij->i", fs_normals, cs_normals)
+    bad = np.flatnonzero(opposite > -math.cos(0.1))
+    if bad.size:
+        raise ComplianceError(f"cs_normals: row {int(bad[0])} is not opposite to fs_normals (cos = "
+                              f"{opposite[bad[0]]:.4g}, must be < −cos 0.1 rad)")
+    return fs_points, fs_normals, tooth_index, cs_points, cs_normals
+
+
+def _ball_phase(ball_phase_rad) -> float:
+    """``ball_phase_rad`` as a finite float (rad)."""
+    try:
+        phase = float(ball_phase_rad)
+    except (TypeError, ValueError) as exc:
+        raise ComplianceError(f"ball_phase_rad = {ball_phase_rad!r}: must be a number (rad)") from exc
+    if not math.isfinite(phase):
+        raise ComplianceError(f"ball_phase_rad = {ball_phase_rad!r}: must be finite (rad)")
+    return phase
+
+
+def _wrap(inputs: ContactInput, wrap_half_angle_rad) -> tuple[float, str, list[str]]:
+    """The wrap half-angle that selects the candidate balls: (rad, its source, warnings), from
+    the rim's no-load contact angle when ``wrap_half_angle_rad`` is None."""
+    warnings: list[str] = []
+    if wrap_half_angle_rad is None:
+        wrap, wrap_source = wrap_half_angle(inputs.rim_contact_angle_rad, inputs.gearset)
+        warnings.append("the wrap angle that selects the candidate balls is ill-conditioned (docs/theory/rim.md)")
+    else:
+        wrap = _positive("wrap_half_angle_rad", wrap_half_angle_rad, "rad")
+        if wrap > 0.5 * math.pi:
+            raise ComplianceError(f"wrap_half_angle_rad = {wrap!r} rad: must be in (0, π/2]")
+        wrap_source = "given"
+    return wrap, wrap_source, warnings
+
+
+def _tooth_frames(inputs: ContactInput, fs_points, fs_normals, tooth_index, shift: float):
+    """The FS points and normals back in their teeth's frames (the inverse of
+    :mod:`profilegen.contact.points`' placement, WG at ``shift`` rad): (points, normals) (n, 2)."""
+    from ..geometry.kinematics import turn
+
+    g = inputs.gearset.gear
+    z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
+    phi = 2.0 * math.pi * tooth_index / z1 + shift
+    pose = inputs.motion.pose(phi)
+    angle = 2.0 * math.pi * tooth_index / z2  # one per point
+    local = pose.to_tooth(turn(fs_points, -angle))  # an angle per point
+    # normal: undo turn(·, angle), then the tooth frame's rotation (to_tooth without the origin)
+    n_cs = turn(fs_normals, -angle)  # an angle per point
+    c0, s0 = np.cos(pose.angle), np.sin(pose.angle)
+    local_n = np.column_stack([n_cs[:, 0] * c0 - n_cs[:, 1] * s0, n_cs[:, 0] * s0 + n_cs[:, 1] * c0])
+    return local, local_n
+
+
+def _candidate_balls(inputs: ContactInput, ball_count: int, phase: float, wrap: float, ball_supports: str):
+    """The zone's candidate balls: (their angles from the major axis, sorted; their no-load gaps,
+    None for "window"). "window": those within the wrap of θ = 0 (their images cover θ = π);
+    "all": the half ring θ in [−π/2, π/2), the others are images, gap 0 within the wrap."""
+    k = np.arange(ball_count)
+    theta = np.mod(phase + 2.0 * math.pi * k / ball_count + math.pi, 2.0 * math.pi) - math.pi
+    if ball_supports == "window":
+        return np.sort(theta[np.abs(theta) <= wrap + 1e-12]), None
+    balls = np.sort(theta[(theta >= -0.5 * math.pi) & (theta < 0.5 * math.pi)])
+    return balls, np.where(np.abs(balls) <= wrap + 1e-12, 0.0, no_load_ball_gap_mm(inputs, balls))
+
+
 # --------------------------------------------------------------------------- the result
 
 
@@ -1545,107 +1627,50 @@ class ContactCompliance:
         """
         start = time.perf_counter()
         grid = ComplianceMesh.of(mesh)
-        race_layers, margin_teeth, toothed_teeth = grid.race_layers, grid.margin_teeth, grid.toothed_teeth
-        per_pitch, flat_per_pitch, rim_layers, tooth_layers = (grid.per_pitch, grid.flat_per_pitch, grid.rim_layers,
-                                                               grid.tooth_layers)
-        cs_per_pitch, cs_tooth_layers, cs_back_layers = grid.cs_per_pitch, grid.cs_tooth_layers, grid.cs_back_layers
-        cs_outer_radius_mm, on_surface_tol_mm, substructure = (grid.cs_outer_radius_mm, grid.on_surface_tol_mm,
-                                                               grid.substructure)
         inputs = ContactInput.of(inputs, error=ComplianceError)
         gearset = inputs.gearset
         g = gearset.gear
         if g.waves != 2:
             raise ComplianceError(f"gearset.gear.waves = {g.waves}: the point-symmetric half ring needs U = 2")
-        fs_points = _points("fs_points", fs_points)
+        fs_points, fs_normals, tooth_index, cs_points, cs_normals = _contact_pairs(
+            fs_points, fs_normals, fs_tooth_index, cs_points, cs_normals)
         n = fs_points.shape[0]
-        fs_normals = _unit("fs_normals", fs_normals, n)
-        try:
-            idx = np.asarray(fs_tooth_index)
-            ok = idx.shape == (n,) and np.all(np.isfinite(idx.astype(float))) and np.all(idx == np.round(idx))
-        except (TypeError, ValueError):
-            ok = False
-        if not ok:
-            raise ComplianceError(f"fs_tooth_index: must be n = {n} whole numbers (one FS tooth per point), got "
-                                  f"{np.shape(fs_tooth_index)}")
-        tooth_index = np.round(idx).astype(int)
-        cs_points = _points("cs_points", cs_points, n)
-        cs_normals = -fs_normals if cs_normals is None else _unit("cs_normals", cs_normals, n)
-        opposite = np.einsum("ij,ij->i", fs_normals, cs_normals)
-        bad = np.flatnonzero(opposite > -math.cos(0.1))
-        if bad.size:
-            raise ComplianceError(f"cs_normals: row {int(bad[0])} is not opposite to fs_normals (cos = "
-                                  f"{opposite[bad[0]]:.4g}, must be < −cos 0.1 rad)")
         b = gearset.cup.face_width_mm if face_width_mm is None else _positive("face_width_mm", face_width_mm, "mm")
         ball_count = _whole("ball_count", ball_count, 3)
-        try:
-            phase = float(ball_phase_rad)
-        except (TypeError, ValueError) as exc:
-            raise ComplianceError(f"ball_phase_rad = {ball_phase_rad!r}: must be a number (rad)") from exc
-        if not math.isfinite(phase):
-            raise ComplianceError(f"ball_phase_rad = {ball_phase_rad!r}: must be finite (rad)")
-        margin = _whole("margin_teeth", margin_teeth, 0)
+        phase = _ball_phase(ball_phase_rad)
+        margin = _whole("margin_teeth", grid.margin_teeth, 0)
         race = _race_thickness(race_thickness_mm, g)
-        race_layers = _whole("race_layers", race_layers, 1)
+        race_layers = _whole("race_layers", grid.race_layers, 1)
         if race_interface not in ("bonded", "sliding"):
             raise ComplianceError(f"race_interface = {race_interface!r}: must be 'bonded' or 'sliding'")
         if ball_supports not in ("window", "all"):
             raise ComplianceError(f"ball_supports = {ball_supports!r}: must be 'window' (the balls within the wrap, "
                                   "rigid, zero gap) or 'all' (every ball one-sided at its no-load gap)")
-        if toothed_teeth not in ("loaded", "all"):
-            raise ComplianceError(f"toothed_teeth = {toothed_teeth!r}: must be 'loaded' or 'all'")
-        tol = _positive("on_surface_tol_mm", on_surface_tol_mm, "mm")
+        if grid.toothed_teeth not in ("loaded", "all"):
+            raise ComplianceError(f"toothed_teeth = {grid.toothed_teeth!r}: must be 'loaded' or 'all'")
+        tol = _positive("on_surface_tol_mm", grid.on_surface_tol_mm, "mm")
         settle_iterations = _whole("settle_iterations", settle_iterations, 0)
-        if cs_outer_radius_mm is None:
-            cs_outer_radius_mm = 1.1 * g.cs_pitch_radius_mm
-        cs_outer_radius_mm = _positive("cs_outer_radius_mm", cs_outer_radius_mm, "mm")
-        warnings: list[str] = []
-        if wrap_half_angle_rad is None:
-            wrap, wrap_source = wrap_half_angle(inputs.rim_contact_angle_rad, gearset)
-            warnings.append("the wrap angle that selects the candidate balls is ill-conditioned (docs/theory/rim.md)")
-        else:
-            wrap = _positive("wrap_half_angle_rad", wrap_half_angle_rad, "rad")
-            if wrap > 0.5 * math.pi:
-                raise ComplianceError(f"wrap_half_angle_rad = {wrap!r} rad: must be in (0, π/2]")
-            wrap_source = "given"
-
-        # FS points back to their tooth frames (inverse of contact.points' placement)
-        from ..geometry.kinematics import turn
-
-        z1, z2 = g.flexspline_teeth, g.circular_spline_teeth
+        cs_outer_radius_mm = _positive("cs_outer_radius_mm", 1.1 * g.cs_pitch_radius_mm
+                                       if grid.cs_outer_radius_mm is None else grid.cs_outer_radius_mm, "mm")
+        wrap, wrap_source, warnings = _wrap(inputs, wrap_half_angle_rad)
         shift = float(shift_rad)
-        phi = 2.0 * math.pi * tooth_index / z1 + shift
-        pose = inputs.motion.pose(phi)
-        angle = 2.0 * math.pi * tooth_index / z2  # one per point
-        local = pose.to_tooth(turn(fs_points, -angle))  # an angle per point
-        # normal: undo turn(·, angle), then the tooth frame's rotation (to_tooth without the origin)
-        n_cs = turn(fs_normals, -angle)  # an angle per point
-        c0, s0 = np.cos(pose.angle), np.sin(pose.angle)
-        local_n = np.column_stack([n_cs[:, 0] * c0 - n_cs[:, 1] * s0, n_cs[:, 0] * s0 + n_cs[:, 1] * c0])
-
-        # candidate balls: within the wrap of the major axis θ = 0 (their images cover θ = π)
-        k = np.arange(ball_count)
-        theta = np.mod(phase + 2.0 * math.pi * k / ball_count + math.pi, 2.0 * math.pi) - math.pi
-        if ball_supports == "window":
-            balls = np.sort(theta[np.abs(theta) <= wrap + 1e-12])
-            ball_gap = None
-        else:  # the zone's half ring: θ in [−π/2, π/2), the others are images
-            balls = np.sort(theta[(theta >= -0.5 * math.pi) & (theta < 0.5 * math.pi)])
-            ball_gap = np.where(np.abs(balls) <= wrap + 1e-12, 0.0, no_load_ball_gap_mm(inputs, balls))
+        local, local_n = _tooth_frames(inputs, fs_points, fs_normals, tooth_index, shift)
+        balls, ball_gap = _candidate_balls(inputs, ball_count, phase, wrap, ball_supports)
 
         with one_blas_thread():
             fs = _fs_flex(inputs.tooth, gearset, local, local_n, tooth_index, balls - shift, margin=margin,
-                          toothed_teeth=toothed_teeth, per_pitch=_whole("per_pitch", per_pitch, 2),
-                          flat_per_pitch=_whole("flat_per_pitch", flat_per_pitch, 1),
-                          rim_layers=_whole("rim_layers", rim_layers, 1),
-                          tooth_layers=_whole("tooth_layers", tooth_layers, 1), tol_mm=tol,
+                          toothed_teeth=grid.toothed_teeth, per_pitch=_whole("per_pitch", grid.per_pitch, 2),
+                          flat_per_pitch=_whole("flat_per_pitch", grid.flat_per_pitch, 1),
+                          rim_layers=_whole("rim_layers", grid.rim_layers, 1),
+                          tooth_layers=_whole("tooth_layers", grid.tooth_layers, 1), tol_mm=tol,
                           race_thickness_mm=race, race_layers=race_layers,
-                          race_sliding=race_interface == "sliding", substructure=bool(substructure))
+                          race_sliding=race_interface == "sliding", substructure=bool(grid.substructure))
             checkpoint()  # an engine's design stops here when superseded (between the FS and the CS)
             cs = _cs_flex(inputs.cs_space, gearset, cs_points, cs_normals, margin=margin,
-                          per_pitch=_whole("cs_per_pitch", cs_per_pitch, 2),
-                          tooth_layers=_whole("cs_tooth_layers", cs_tooth_layers, 1),
-                          back_layers=_whole("cs_back_layers", cs_back_layers, 1),
-                          outer_radius_mm=cs_outer_radius_mm, tol_mm=tol, substructure=bool(substructure))
+                          per_pitch=_whole("cs_per_pitch", grid.cs_per_pitch, 2),
+                          tooth_layers=_whole("cs_tooth_layers", grid.cs_tooth_layers, 1),
+                          back_layers=_whole("cs_back_layers", grid.cs_back_layers, 1),
+                          outer_radius_mm=cs_outer_radius_mm, tol_mm=tol, substructure=bool(grid.substructure))
             checkpoint()
             nb = balls.size
             # inside the single-threaded block too: OpenBLAS's threads took 0.46 s for this 196 × 196
