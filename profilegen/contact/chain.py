@@ -1,111 +1,33 @@
 """The compliance chain between input and output, and the torsional curve in both directions.
 
-The loaded contact (:mod:`profilegen.contact.compliance`, :mod:`profilegen.contact.analysis`)
-models the mesh: the FS tooth ring (a 2D plane-stress slice, S = S_2D/b) on the bearing's
-outer race on rigid radial ball supports, and a CS sector fixed 10 % outside the CS pitch
-circle. Its rotation is that of the FS bore's mean against the CS sector's fixed edge. The
-compliances it leaves out, each a named model here (units mm, N, MPa inside; stiffness in
-N·m/rad outside):
+The loaded contact (:mod:`profilegen.contact.compliance`) models the mesh only. This module
+adds what the torque passes through besides it — the cup wall and bottom in torsion, the CS body
+outside the modelled sector (series terms: K_total⁻¹ = K_mesh⁻¹ + Σ K_i⁻¹) — and the
+wave-generator balls as Hertz springs in the contact's ball supports, and solves the curve of
+rotation against torque on both flanks. Units mm, N, MPa inside; stiffness N·m/rad, torque N·m
+outside.
 
-Series terms (the torque passes through them whole, so K_total⁻¹ = K_mesh⁻¹ + Σ K_i⁻¹)
-------------------------------------------------------------------------------------------
-* **Cup wall** (:func:`tube_torsion_stiffness`): a thin-walled tube, θ = T L/(G J),
-  J = 2π r³ t (r the neutral radius r_m, t the rim thickness δ — the wall is taken as thick
-  as the rim). Length: from the cup bottom's upper face (z = t_b/2) to where the tooth ring
-  begins (l − b/2; l = ``cup.length_mm`` to the mid-face, b = ``cup.face_width_mm``), plus
-  b/3 for the tooth ring itself: the contact puts its torque on the ring evenly across the
-  face (S = S_2D/b), so the torque in the ring falls linearly to zero over b, and the mean
-  twist of the loaded face, weighted as the load is (the work-conjugate rotation), is that
-  of a tube of length b/3 under the whole torque. Exact for the thin tube; the thick tube
-  J = π/2 (r_o⁴ − r_i⁴) differs by (t/2r)²/… (:func:`thick_tube_torsion_stiffness`).
-* **Cup bottom / diaphragm** (:func:`annulus_torsion_stiffness`): an annular plate twisted in
-  its plane, shear τ_rθ = T/(2π r² t), u_θ/r = T/(4π G t)(1/r_i² − 1/r²): from the boss
-  r_i = ``cup.boss_radius_mm`` to the wall's mid-surface r_o = r_m, thickness
-  t = ``cup.bottom_thickness_mm``. The two formulas are one family: an annulus with
-  r_o − r_i = L ≪ r is a tube of length L (tested). The junction of wall and bottom is
-  counted once in each (their lengths meet at the wall's mid-surface and the bottom's upper
-  face); the whole cup is checked against :func:`cup_torsion_fem` — the cup as a body of
-  revolution, the torsion harmonic (n = 0) of :mod:`profilegen.rim.cup.fourier` (scikit-fem,
-  9-node quadrilaterals) with the torque put on the bore evenly across the tooth ring and
-  the boss clamped.
-* **CS body outside the modelled sector** (:func:`annulus_torsion_stiffness` again): the
-  compliance model fixes the CS at ``cs_outer_radius_mm`` = 1.1 × the CS pitch radius. The
-  ring from there to where it is held (its outer radius, ``circular_spline.outer_diameter_mm``
-  or 1.25 × the root diameter — ESTIMATE: a CS is bolted through its face on a bolt circle
-  a little inside that) is an annulus in torsion of the CS's width (taken = the face width
-  b, ESTIMATE). The mean rotation of an annulus's inner edge under any tangential traction
-  of torque T equals that under the uniform one (Betti with the uniform solution, whose
-  inner edge turns rigidly), so the series term is exact for the mean rotation; the sector
-  model's fixed radial cuts (the ring between the zones held rigid) are not corrected.
+Entry points:
 
-The wave-generator bearing (not a series term)
-----------------------------------------------
-The balls carry the rim radially. Every ball of the zone is a one-sided support at its
-no-load gap (``ball_supports="all"`` of :meth:`~profilegen.contact.compliance.
-ContactCompliance.build`, the curve's default and the contact stage's): the inner race sits on the cam, each ball
-floats between the races, loose by the bore's distance to the wave generator's contour
-(0 within the rim's no-load contact angle, sub-micron to ~1 µm outside it on the bundled
-sets), and takes load once the outer race (meshed under the bore) moves in by more than
-that; it never pulls. The window model (``ball_supports="window"``: only the balls within
-the no-load contact angle, the others no supports at all) lets the race pass 57 / 103 µm
-through the balls at 62.6° / 78.3° at the rated torque (default set) and makes the mesh 4.4×
-softer (tests/benchmarks/ball_physics.py). A ball's radial compliance lets the rim move in
-under the tooth forces' radial components, which opens the mesh and lets fewer teeth share
-the load. It enters the contact itself: each loaded ball's support in the Schur step of
-:class:`~profilegen.contact.compliance.ContactCompliance` becomes a spring
-(``ball_compliance_mm_per_n``). The spring is the bearing's radial approach at one ball,
-outer-race contact + inner-race contact, each a Hertz point contact (elliptical, exact:
-:func:`hertz_point_contact`) of a ball of diameter D in a groove of radius f·D on a race of
-pitch diameter d_m (:class:`BallBearing`; ESTIMATES: D = 0.075 × the FS pitch diameter —
-7.5 mm for size 40 —, f = 0.52, 23 balls, the outer race ``default_race_thickness_mm``
-thick). Hertz is δ = c_H Q^{2/3}: the spring is linearised as the secant δ(Q)/Q at each
-ball's own reaction and iterated with the contact to a fixed point (a few iterations); the
-no-load preload of the balls (the rim's pinching force, < 1 N/mm of face) is left out, as
-in the mesh model, which makes lightly loaded balls softer than they are. The races' ring
-bending is the mesh model's own (the outer race is meshed); the inner ring is taken rigid
-on a rigid cam. Its share of the compliance is reported as the rotation it adds to the
-mesh's at the rated torque.
+* :func:`whole_gear_curve` ``(design, contact=None)`` → :class:`TorsionalCurve`: what the
+  contact stage runs — the curve's torques (:func:`curve_torques_nm`), K1–K3 on the catalogue
+  row of the set's size and ratio (:func:`catalogue_for`), lost motion; its
+  :meth:`~TorsionalCurve.to_dict` is ``contact.json["torsional"]``, its
+  :meth:`~TorsionalCurve.headline` ``design.json["contact"]["torsional"]``;
+* :func:`torsional_curve` ``(design, torques_nm)`` → :class:`TorsionalCurve` at given signed
+  torques (``method="continuation"``, default, or the ``"lemke"`` reference; ``face_slices``:
+  the face as axial slices, :mod:`profilegen.contact.face_curve`);
+* :func:`compliance_chain` ``(gearset)`` → :class:`ComplianceChain` (its parts, each a
+  :class:`ChainPart`, and the :class:`BallBearing`); the parts' formulas :func:`tube_torsion_stiffness`,
+  :func:`thick_tube_torsion_stiffness`, :func:`annulus_torsion_stiffness`, the cup checked by
+  :func:`cup_torsion_fem`; :func:`hertz_point_contact` → :class:`HertzContact`.
 
-Left out (stated, not modelled)
--------------------------------
-The inner ring's bending and its fit on the cam, the cam's own compliance; the CS ring's
-ovalisation under the two zones' radial forces (the sector is fixed at 1.1 r_p) and its
-bolted joint; the wave generator's input-side stiffness (the catalogue's K's are measured
-with the wave generator locked: its torsion is not in them); coning of the cup (the load is
-even across the face); friction (so no hysteresis: loading and unloading give one curve).
+Errors: :class:`ChainError` (a ``ValueError``) naming a bad dimension, torque list, option or
+flank; :class:`~profilegen.errors.ConvergenceError` when a flank's contact, the ball set or the
+Hertz springs do not settle.
 
-The torsional curve
--------------------
-:func:`torsional_curve` solves the contact of both flanks — the right FS flank for one
-direction (``side = +1``), the left for the other (``side = −1``) — each with its own
-points and compliance, at every |T|, teeth and balls both one-sided (complementary), with
-the Hertz ball springs; the series terms add T/K_i. Rotations are signed in the direction that the
-positive torque turns the FS. At zero torque the FS is free between the two flanks'
-first contacts: the backlash is θ₀(+) + θ₀(−). K1, K2, K3 follow the catalogue's
-definitions on its breakpoints T1, T2 (K1 = T1/φ(T1), K2 = (T2 − T1)/(φ(T2) − φ(T1)),
-K3 = (T3 − T2)/(φ(T3) − φ(T2)) with T3 the set's peak torque), on the elastic rotation
-(the backlash taken out, as the catalogue's curve starts at the origin). Lost motion: the
-rotation span between +f·T_rated and −f·T_rated (f = 3 % by default), backlash included.
-
-Each flank's torques are solved by continuation in T (``method="continuation"``, default):
-in increasing |T|, each from the previous torque's loaded points, ball set and springs, on
-reduced systems (:class:`ReducedZone`; the balls by the settling rule :func:`~profilegen.
-contact.compliance.settle_step`, each closed at its gap) — 0.22 s CPU for the 32 torques of a
-design run and the breakpoints (seed000_csf40) against 3.4 s for the reference
-(``method="lemke"``: Lemke from scratch on teeth and balls at every torque and spring step),
-with the same answer: rigid balls to 4e-14, the springs to their tolerance.
-
-In a design run
----------------
-:func:`whole_gear_curve` is what the contact stage runs (profilegen.pipeline.design): the right
-flank's points and compliance taken from the stage's own contact (it holds every ball, as
-the curve; a contact solved on the window has its compliance rebuilt with every ball), the
-left built, the
-torques of :func:`curve_torques_nm` (32 on the default set, to ± the momentary torque), K1–K3
-on the breakpoints of the catalogue row for the set's size and ratio (:func:`catalogue_for`,
-from :mod:`profilegen.contact.catalogue`). Its result goes to ``contact.json["torsional"]``
-(:meth:`TorsionalCurve.to_dict`) and ``design.json["contact"]["torsional"]``
-(:meth:`TorsionalCurve.headline`).
+The models (their formulas, the bearing, what is left out) and the curve's definitions (K1–K3,
+backlash, lost motion): docs/theory/torsion.md, "The compliance chain".
 """
 
 from __future__ import annotations
@@ -866,7 +788,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
                     spring_tol: float = 1e-5, method: str = "continuation",
                     ball_supports: str = "all", face_slices=None) -> TorsionalCurve:
     """Rotation against signed torque (N·m; ≠ 0) for a design (or a :class:`~profilegen.
-    contact.inputs.ContactInput`), both flanks (see the module docstring).
+    contact.inputs.ContactInput`), both flanks (docs/theory/torsion.md, "The compliance chain").
 
     ``chain``: the series parts and the bearing (default :func:`compliance_chain` of the
     design's gear set). ``sides``: {+1: (points, compliance), −1: (…)} from an earlier call

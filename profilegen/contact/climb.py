@@ -1,146 +1,39 @@
 """The climb: the loaded FS teeth riding up the CS flanks, by continuation in the rotation.
 
-Used by :func:`profilegen.contact.ratchet.ratcheting_torque` (``climb=True``). Units mm, N,
-rad; torque N·m (``zones`` × Σ F·r / 1000).
+The ratcheting estimate's model (:func:`profilegen.contact.ratchet.ratcheting_torque`,
+``climb=True``, builds it). Units mm, N, rad; torque N·m (``zones`` × Σ F·r / 1000).
 
-Model
------
-Candidate points are *material* stations on the loaded FS flank of every tooth that can
-engage (fixed arc lengths, fine enough that the contact can move along them: each station
-keeps its FS normal and its FEM influence coefficients, which a rigid radial translation of
-its tooth does not change). Tooth k stands ``s_k`` (mm) radially out of its CS space: its
-stations are at p_j − s_k e_r,k. For a prescribed rigid rotation φ of the FS against the CS:
+At each rotation φ of the FS against the CS the loaded teeth stand out of their CS spaces by
+their retreat s (the FS side from the contact's influence coefficients, the CS side from the CS
+as a free ring); the gaps and lever arms of material stations on the loaded flanks and the FS
+tip corners are measured against the whole CS surface (every space and the tip lands between
+them), the contact forces solve the complementarity problem on that geometry, and s is
+iterated to its fixed point. T(φ) is followed over increasing φ (rotation control passes its
+maximum); the ratcheting torque is the first of: the limit point max T(φ); the force-weighted
+margin Σ F_k (h_k − s_k)/Σ F_k reaching 0; with ``corner_normal=False`` half of the load on
+the tip-corner stations. A path that ends with no equilibrium beyond a rising T is reported as
+"end of path", never as a torque.
 
-* the initial gaps g_j(s) are the exact distances of the shifted stations to the fitted CS
-  space (true arcs and lines), and the lever arms r_j(s) = (p_j(s) × n_j)·rotation: as s
-  grows the smallest gaps move to stations nearer the FS tip, whose normals are more radial
-  (the pressure angle rises, 10 → 46° on the default sets' tip arcs);
-* the contact forces F solve the linear complementarity problem F ≥ 0,
-  w = S F + g(s) − sin α ⊙ s_FS − r(s) φ ≥ 0, F·w = 0, with S the contact's influence
-  coefficients (FEM rim + teeth + race, Hertz ball springs at the balls' own reactions, the
-  ball set settled). S already holds, to first order, the normal opening sin α_j · s_FS,k that
-  the FS's own radial yielding s_FS = P F (the tip-land probes of
-  :mod:`profilegen.contact.ratchet`) causes; it is taken out of the gaps (lagged) so that
-  only the geometry beyond first order is added — at small s this is the linear contact
-  exactly;
-* the teeth's retreat is then s = P F + s_CS(F) (the CS ring's ovalisation, which S does not
-  hold), and the rotation's fixed point in s (and in the ball springs and ball set) is found
-  by successive substitution, warm-started from the previous rotation;
-* the FS tip corner: a sharp corner's contact normal is the CS surface's at the
-  nearest point, not the flank's — as a corner rides onto the CS tip round it turns from the
-  flank's normal (≤ 46° on the default sets) toward the tip land's (radial), within the
-  corner's cone of normals n = a n_f + b n_t (a, b ≥ 0; outside it the contact is on the flank
-  or the tip land). Each corner station has a second influence column along n_t, and its row
-  and column of S and P are a n_f + b n_t of the two (a congruence: S stays positive
-  definite); its lever arm and sin α (the CS ring's load, the lagged first-order retreat)
-  follow n. ``corner_normal=False``: the flank's normal kept (the model before; then half the
-  load on the corners ends the path, the "corner" rule, which stood in for this).
+Entry points:
 
-The CS surface (:meth:`DesignClimb.signed_gap`): every space and the tip lands between them —
-a station is measured in the space it stands in (its own, or a neighbour's once it has moved
-more than half a CS pitch: the CS is periodic), and beyond the space's outline, which ends on
-the CS tip circle, against the tip land. A corner's surface normal is turned into the CS
-material (a point 5 µm along it from the nearest CS point lies in it), then kept in its cone
-(outside it: the nearer edge). Measured against its own space alone, a station's gap jumped
-where it crossed the tip circle; what that did to the estimates, and the numbers since:
+* :class:`DesignClimb` — one engagement zone of a design (``inputs`` a
+  :class:`~profilegen.contact.inputs.ContactInput`); options for the corner normal, the ball
+  supports, the CS ring's scale and Coulomb friction (``friction_coefficient`` with
+  ``friction_sliding`` one of :data:`SLIDING`);
+* :class:`SlicedClimb` of :func:`section_inputs` — N axial slices of the 3D cup's sections
+  sharing φ, independent or with the face held straight (``coupled``);
+* :func:`climb` ``(model, phi_start, phi_step)`` → :class:`ClimbPath` (its points
+  :class:`ClimbPoint`, the criterion met, the limit torque);
+* :func:`sliding_tangent`, :func:`tooth_probes`; the complementarity problems are solved by
+  :func:`profilegen.lcp.solve_spd` (with friction, nonsymmetric: :func:`profilegen.lcp.solve_p_matrix`).
+
+Errors: :class:`ClimbError` (a ``ValueError``) for a bad friction option;
+:class:`~profilegen.errors.ConvergenceError` when no tooth comes within ``max_gap_mm``, the
+CS space's outline is not single-valued, or the retreat, the ball set or Lemke's basis does
+not settle.
+
+The model, its friction senses and what it leaves out, with the measured numbers:
 docs/theory/torsion.md, "The climb".
-
-Across the face (:class:`SlicedClimb`, :func:`section_inputs`): N axial slices of the 3D
-cup's sections (the design's deformation plus each section's change from the design
-section, so the CS stays the one generated), each a DesignClimb with its share of the face
-(``width_fraction``), sharing φ; independent (the face-load study's Winkler slices) or with the face
-held straight (``coupled``: a tooth retreats alike along the face). Every ball a one-sided
-support at its no-load gap: ``ball_supports="all"`` (the gaps enter the ball reactions, the
-teeth's separations and the retreat; the balls settle by :func:`profilegen.contact.
-compliance.settle_step`, the contact's one rule).
-
-The torque T(φ) = U Σ F_j r_j(s) / 1000 is followed over increasing φ (rotation control
-passes a maximum of T, which torque control cannot). The ratcheting torque is the first of:
-the limit point max T(φ) (refined by a parabola through the three points around it); the
-force-weighted margin Σ F_k (h_k − s_k)/Σ F_k reaching 0 (h_k the tooth's depth: its loaded
-tip corner above the CS tip circle); with ``corner_normal=False`` only, half of the load on the FS tip-corner
-stations (the force-weighted contact at the corner: the next step takes those teeth over the
-CS tips — with the corner normal followed, the corners' ride over the CS tip rounds is in the
-geometry, and at a coned face-end section the corners carry the load from the start).
-
-Friction (``DesignClimb(friction_coefficient=μ, friction_sliding=…)``, default
-none): Coulomb friction on the tooth contacts, μ = tan ρ, sliding (no stick). The force on
-the CS per unit normal force is d = n + μσ t, t the unit tangent of the flank out of the CS
-space (t ⊥ n, t·e_r < 0: toward the CS tip; :func:`sliding_tangent`) and σ = +1 where the FS
-slides out of its space relative to the CS, −1 where it slides in — the force tilted by the
-friction angle ρ against the sliding (n' = n cos ρ ± t sin ρ, scaled by 1/cos ρ so that N
-stays the normal force). The gap is still measured along n: the complementarity is on N and
-the normal gap, and the matrix S' = Rᵀ C D (rows along the normals n, columns along the forces
-d) is not symmetric — a non-associated contact, solved by Lemke's method
-(:func:`profilegen.lcp.solve_p_matrix`; S' is a P-matrix, so the solution is unique and Lemke reaches it,
-while its symmetric part is positive definite — checked at the end of the path by
-``tests/benchmarks/ratcheting.py --friction``: μ = 0.15, forward, on the loaded stations
-max|S' − S'ᵀ|/max|S'| = 0.10 and the symmetric part's eigenvalues 1.7e-6 … 2.4e-4 mm/N on
-seed000_csf40, 2.2e-6 … 2.8e-4 on csf32_100; a basis that is not a solution raises). The lever arms are d's, the CS ring is loaded
-by d's radial part (sin α + μσ t·e_r) and the FS retreat is P d. ``friction_sliding``:
-
-* "static": σ = +1 everywhere — the pull-out this climb models (the teeth ride out of their
-  spaces: friction holds them in, the radial part falls to N (sin α − μ cos α) and T rises);
-  "unloading": σ = −1 everywhere (the teeth sliding back in as the torque falls: the other
-  branch of a loading/unloading loop);
-* "forward": the gear running with the wave generator driving the load. σ per station from
-  the kinematics: its velocity relative to its CS space, −rotation · d/dφ of its place (the FS
-  turns against the CS the way the CS's forces push it, so φ falls for rotation +1). On
-  seed000_csf40 the teeth at φ > 0 move out into their spaces (entering: σ = −1, the force
-  tilted toward the radial, T falls for them), those at φ < 0 leave (σ = +1); the wave
-  generator then puts power in through the loaded teeth's radial motion, as it must
-  (tests/unit/test_ratchet.py);
-* "backward": running with the load driving (σ of "forward" reversed);
-* "forward-elastic", "backward-elastic": the same with the teeth's elastic retreat added to
-  the sliding. The retreat s(φ) is stationary in the wave generator's frame, so a tooth
-  running through the zone moves by −(ds/dφ) e_r besides its kinematic motion; σ from the sum,
-  s the fixed point's current iterate, the sign regularised over ±``SLIP_SPEED``.
-
-Why the elastic part matters: near the limit the loaded zone spans both sides of the major
-axis (seed000_csf40 at 4.9 kN·m, forward μ = 0.15: 43 teeth at φ = −32…47°, half the load at
-φ < 0, where the kinematic sense is "leaving"), and the retreat's change along the zone,
-|ds/dφ (e_r·t)| up to 1.46 mm/rad, exceeds the kinematic sliding (0.02–1.08 mm/rad): it
-reverses the sense of those teeth (51 % of the load) — with it every loaded tooth slides into
-its space while the wave generator drives (tests/benchmarks/ratcheting.py --friction). The
-kinematic-only "forward" is kept for the comparison; "forward-elastic" is the running model.
-"backward-elastic" is fragile: its senses switch along the path (seed000_csf40, μ = 0.15: no
-fixed point between φ = 1.49 and 3.09 mrad, the path jumped over it and ended on a spurious
-limit point at 3.77 kN·m); at μ ≤ 0.1 every loaded tooth slides out and it equals "static".
-
-A loading/unloading loop from it ("static" up, "unloading" down; ``ratcheting.py --hysteresis
-0.05,0.1,0.15``, the climb's φ: mesh, Hertz balls, CS ring, no cup or chain): the loop's
-width at T1 / T2 / rated is 0.034 / 0.10 / 0.13, 0.068 / 0.20 / 0.26, 0.10 / 0.30 / 0.38
-arcmin on seed000_csf40 (csf32_100 within 5 % of it) for μ = 0.05 / 0.1 / 0.15, the mean of the
-two branches within 0.6 % of the frictionless φ (friction is not the missing compliance of
-the torsional curve). Sliding without stick and no preload in the mesh: every contact opens as
-T → 0 and the loop closes there — the catalogue's hysteresis loss (the width at zero torque)
-needs stick (tangential compliance, a path-dependent contact) or the bearing's friction.
-
-The friction force's FEM influence: "probe" (default) puts each flank station's
-tangential force as t = x n + y e_r on its own normal's column and the radial column of its
-tooth's probe (the FS tip-land centre against the CS root; the tip corners' tangents are
-exact in their n_f, n_t columns); "exact" builds a tangent column at every flank station
-(a second direction at each point: on the design scene's 9 stations per tooth the build's S
-is then not positive definite — the stations are too close — so it serves the check: sketch
-default set, 5 stations, μ = 0.1: 9637 / 8239 / 9586 N·m (probe) against 9660 / 8239 / 9587
-(exact) static / forward / backward, no CS ring).
-
-Left out: the change of the influence coefficients
-of the CS side as its contact moves toward the CS tip (its sector's compliance is kept at
-the no-shift feet); stick (friction is always sliding, at μ); friction at the balls.
-Stations per tooth are limited by the FEM mesh (beyond ~9 on the
-default sets neighbouring stations' influence columns are numerically dependent and S is not
-positive definite); 7 and 9 stations gave 5.62 / 5.40 kN·m on seed000_csf40 with the flank
-normal at the corners. The candidate teeth (``max_gap_mm``, the no-load gap within which a
-tooth is in the model) move it too: 0.15 / 0.25 / 0.4 mm gave 4.59 / 5.11 / 4.94 kN·m on
-seed000_csf40 (61 / 77 / 99 teeth; the corner normal then taken as the direction to the
-foot; with the surface's normal 0.15 gives 4.76). With the flank normal at the corners the
-default sets' path ended ("end of path") with T(φ) still rising: the fixed point is not
-found just beyond φ ≈ 6.1 mrad even with the step halved 4 times. Looked at on seed000_csf40
-0.04 mrad beyond the last point: damped substitution (0.3) with the active stations and balls
-unchanged lets the retreat grow steadily (≈ 0.7 µm per iteration, no decay over 80) while T
-falls 5438 → 5372 N·m — no equilibrium nearby, the teeth ride out (a snap-through), not the
-contact jumping between stations: the end of the path is taken as the ratcheting point.
 """
 
 from __future__ import annotations
@@ -554,8 +447,8 @@ class _State:
 
 
 class DesignClimb:
-    """The climb model of a design's engagement zone (module docstring): material stations
-    ``stations`` per tooth on the loaded flank of every tooth whose no-load gap is within
+    """The climb model of a design's engagement zone (docs/theory/torsion.md, "The climb"):
+    material stations ``stations`` per tooth on the loaded flank of every tooth whose no-load gap is within
     ``max_gap_mm``, their influence coefficients with one radial probe per tooth (FS tip-land
     centre against the CS space's root, as :mod:`profilegen.contact.ratchet`), the Hertz ball
     springs of ``bearing`` (None: rigid balls) and the CS ring ``ring_matrix`` (m × 2m, the
@@ -751,8 +644,8 @@ class DesignClimb:
         return np.where(inside, -dist, dist), pw, wrap, land
 
     def _setup_friction(self, inputs, pts, e_pts, tip_actual, mu, sliding, tangents, e_probe):
-        """Coulomb friction on the stations (module docstring, "Friction"): the tangents out
-        of the spaces, their radial parts, the corners' tangents in the built columns, and the
+        """Coulomb friction on the stations (docs/theory/torsion.md, "Friction in the climb"): the
+        tangents out of the spaces, their radial parts, the corners' tangents in the built columns, and the
         sliding sense σ of every station (+1: the FS slides out of the space along the flank)."""
         from ..geometry.kinematics import turn
 

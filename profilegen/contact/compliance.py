@@ -1,145 +1,38 @@
-"""Influence coefficients (compliance matrix) of the loaded tooth contact (seed 000 §5.1–5.2).
+"""Influence coefficients (compliance matrix) of the loaded tooth contact.
 
 ``ContactCompliance.build(inputs, fs_points, fs_normals, fs_tooth_index, cs_points, cs_normals)``
-→ S (mm/N): S_kj = n_k·u_FS,k + n'_k·u_CS,k for a unit contact force at point j, with the
-two bodies loaded equally and oppositely along the common normal n_j (the FS pushed along
-−n_j, the CS along +n_j; n points out of the FS tooth, as :mod:`profilegen.contact.points`
-gives it). S is what seed 000's Eq. (9) calls a_kj + a_k'j' (before its division by r_k).
+→ S (mm/N): S_kj = n_k·u_FS,k + n'_k·u_CS,k for a unit contact force at point j, the two bodies
+loaded equally and oppositely along the common normal n_j (the FS pushed along −n_j, the CS
+along +n_j; n points out of the FS tooth, as :mod:`profilegen.contact.points` gives it).
 
-Model (small displacements about the undeformed bodies; linear, plane stress)
-------------------------------------------------------------------------------
-* **Face width.** Both bodies are 2D plane-stress slices, i.e. per mm of face width: their
-  influence coefficients are mm per (N/mm). A contact force F spread evenly over the face
-  width b is a line load F/b, so S = S_2D / b. b is the gear set's ``cup.face_width_mm``
-  (default 0.2 × the FS pitch diameter, ESTIMATE: 20 mm for the default set, about the
-  tooth width of a size-40 unit).
-* **Superposition on the undeformed rim.** The FS points come at their no-load positions
-  (wave generator inserted, CS frame). Each is mapped back to the undeformed FS by its
-  tooth index i and its tooth-frame coordinates — p_local = pose(φ_i).to_tooth(turn(p,
-  −2πi/z2)), the inverse of the placement in :mod:`profilegen.contact.points` (ψ = 0:
-  FS tooth i at φ_i = 2πi/z1 from the major axis, standing in CS space i) — and the
-  normal is turned back with the tooth frame. The elastic response to the tooth loads is
-  then computed on the undeformed rim: the rim's pre-stress from the wave generator
-  and the ~0.5 mm change of geometry are left out (seed 000 does the same; the rim
-  stage's geometric nonlinearity moves ω by ~7–10 µm out of 500, docs/theory/rim.md, so the
-  error of this linearisation is of the order of 1–2 %).
-* **FS: point-symmetric half ring.** The two engagement zones of a two-wave gear are
-  images of each other under the rotation by π (not mirror images: the tooth forces have
-  tangential components), so the FS is the half ring between two mid-space cuts with
-  the periodic tie u(θ + π) = R(π)u(θ) = −u(θ) (:func:`profilegen.rim.toothed.
-  toothed_half_ring_mesh`, 9-node isoparametric quads). Every load stands for itself
-  and its image in the other zone: S is the compliance of one zone with the other zone
-  loaded alike, so the contact solve of one zone must carry T/2 (each zone takes T/U).
-  Every pitch is toothed by default (``toothed_teeth="all"``; 14 columns per pitch, 4
-  tooth + 2 rim + 2 race layers: 97 998 dof for the default set). Mesh study (default
-  set, 196 points, 54 / 265 / 660 N·m): 24 columns per pitch on both bodies move the
-  secant stiffness by < 0.1 % and the largest tooth force by 0.2 / 0.1 / 1.8 %; 6 tooth
-  layers by < 0.1 % and 0.5 % at most; 3 rim layers by < 0.02 %. ``toothed_teeth="loaded"`` keeps teeth only on the pitches that carry a point
-  (± ``margin_teeth``) and makes the others a flat ring up to the root circle with
-  ``flat_per_pitch`` columns: half the time, but the diagonal of S moves by up to 13 %
-  (median 10 %, default set, 78 points) — the FS compliance is mostly the rim's, not the
-  tooth's (a point two teeth away sees ~0.96 of a point's own FS compliance), so the
-  remote rim's stiffness matters.
-* **Torque reaction (cup).** The FS rim is driven through its cup wall, whose shear flow
-  is uniform round the circumference: the reaction to the tooth forces' torque is a
-  uniform tangential traction on the bore, and the bore's mean rotation is held at zero
-  (a Lagrange condition, which is exactly that traction). This removes the rigid
-  rotation — the only rigid mode left by the periodic tie — and measures the FS's
-  angular deformation against its own bore; the cup's torsional wind-up is not in S
-  (add r_k r_j / k_cup for a cup of stiffness k_cup).
-* **Wave-generator balls.** Discrete radial supports on the bore at the ball angles
-  θ_b = ``ball_phase_rad`` + 2πb/N (N = ``ball_count``, default 23 — seed 000 §5.2's
-  CSF40-100 — an ESTIMATE for other sizes), only those within ``wrap_half_angle_rad`` of
-  the major axis (where the rim sits on the cam at no load; default: the rim stage's
-  contact angle, or a flat linear ring solve — ill-conditioned, docs/theory/rim.md). A ball
-  is a point support along e_r, frictionless, on the inner surface of the bearing's outer
-  race (below), or on the bore with ``race_thickness_mm=0`` (seed 000's model). The ball set is taken point-symmetric (the other zone's balls
-  are the images of this zone's; exact for even N, a choice of cage position for odd N).
-  Supports are added by a Schur complement of the flexibility of the free rim, so
-  dropping a ball that pulls (seed 000 steps 4–6: :meth:`ContactCompliance.settle_balls`)
-  needs no new factorisation. The no-load ball preload is left out (seed 000's rule: a
-  ball is dropped when the tooth loads alone pull on it).
-  ``ball_supports="all"`` (the default of the contact stage, :func:`~profilegen.contact.analysis.
-  solve_contact`, of the torsional curve and of the transmission error, :mod:`profilegen.contact.
-  chain`, :mod:`profilegen.contact.transmission`; :meth:`ContactCompliance.build` keeps the window
-  above as its own default for the callers that build one explicitly): every ball of the
-  zone (|θ| < π/2) a one-sided support at its no-load gap (:func:`no_load_ball_gap_mm`: the
-  design's no-load bore against the wave generator's contour, 0 within the wrap), the
-  teeth and the balls in one complementarity problem (:meth:`ContactCompliance.
-  solve_unilateral`, Lemke, exact; Hertz springs optional). Why: a flexible bearing has
-  balls all round, and under load the rim moves far into the balls the window leaves out
-  (default set, rated torque, ψ = 0: 57 µm at 62.6°, 103 µm at 78.3°, against no-load
-  gaps of 0.05 and 0.44 µm there). With them (default set / seed000_csf40, rated torque,
-  rigid balls) 8 of 11 balls carry load, the rotation is 27.5 / 23.0 arcsec instead of
-  120.1 / 104.8, and the secant mesh stiffness 4.4 / 4.5× the window's; over a ball
-  passage with rolling balls the rotation moves by 0.8 / 0.9 arcsec instead of 68 / 74
-  (the window's jump as a ball enters it is gone). tests/benchmarks/ball_supports.py.
-* **Outer race.** The wave-generator bearing's outer ring is a flat plane-stress ring of
-  thickness ``race_thickness_mm`` (default 2.5 % of the pitch diameter, 2.5 mm for the
-  default set: ESTIMATE — a size-40 flexible bearing leaves ~2–3 mm of ring outside its
-  ~7–8 mm balls; same E, ν as the FS) from the FS bore inward, with ``race_layers``
-  element layers in the same structured mesh as the rim
-  (:func:`profilegen.rim.toothed.toothed_half_ring_race_mesh`) and the same point-symmetric
-  tie; the balls act on its inner surface, the cup's torque reaction stays on the FS bore.
-  Race and bore are tied in the normal direction (ASSUMED closed: the no-load fit keeps
-  them together; the interface traction is not checked for tension). Tangentially they
-  slide without friction by default (``race_interface="sliding"``: each bore node has a
-  second, tangential dof for the race). Reason (order of magnitude): pinching the 0.9 mm
-  rim into its ellipse (±0.5 mm) takes < 1 N per mm of face width, so the no-load contact
-  pressure is tiny, and µ times the tooth loads' radial share (~1 MPa) is far below the
-  several-MPa interface shear that composite bending of rim + race would need; FS bores of
-  real gears also show fretting. ``"bonded"`` (shared nodes) is the upper bound: it bends
-  as one ring of thickness δ + t, 2–3× stiffer than the two rings sliding. The race makes
-  the mean FS diagonal of S ~10× (sliding) or ~19× (bonded) smaller (default set, 2.5 mm,
-  6 teeth × 5 stations, balls held): with it, the
-  balls' Hertzian compliance, the inner ring and cam, and the cup's wind-up — none
-  modelled — become the larger share of the torsional compliance.
-* **CS: toothed sector, fixed outside.** The internal teeth are meshed from the fitted CS
-  outline (``inputs.cs_space``: its arcs and lines, isoparametric) over the spaces
-  that carry a point ± ``margin_teeth``, between the tooth surface and the outer radius
-  ``cs_outer_radius_mm`` (default 1.1 × the CS pitch radius, ESTIMATE), which is fixed,
-  as are the sector's two radial cuts (through CS tooth centres). The coupling between
-  CS teeth through the fixed ring is small (at most 6 % of a tooth's own compliance two
-  teeth away, default set), and the sector reaches two teeth past the last loaded one.
-* **Point loads** enter through the quadratic shape functions of the boundary edge they
-  sit on (consistent nodal forces), and the displacement of a point is read with the
-  same functions, so S is symmetric by construction (Maxwell–Betti). A point load in 2D
-  has a logarithmically singular displacement under it: the diagonal of S_2D depends on
-  the mesh like log(h); for a line load F/b over a real face width this local term is the
-  Hertzian approach, which the 2D model leaves to the mesh (one element ≈ 0.05 mm).
-* **Substructures (the default build).** The FS half ring is z1/2 identical pitches (each
-  the pitch before it turned by 2π/z1; with ``toothed_teeth="loaded"`` two kinds, toothed
-  and flat), the CS sector identical spaces. One pitch of each kind is meshed and its
-  interior condensed onto its two mid-space cuts (static condensation, exact:
-  :class:`_Pitch`), with every pitch's dofs in its own turned frame, so that every pitch has
-  the same condensed stiffness and the periodic tie u(θ + π) = −u(θ) becomes the identity
-  between the last cut and the first. The cuts (~35 dof each) are then solved together
-  (:func:`_chain_flex`: the same banded Cholesky, 3.5k dof instead of 98k for the default
-  FS); a load on pitch k enters as its condensed cut load plus its interior term with the
-  loads on the same pitch, and the gauge projection below is applied to the result. The
-  same matrix as the whole mesh's (``substructure=False``, the reference) to rounding:
-  default set, max |ΔS| = 3.7e-11 of max |S|; the contact forces of the default set's
-  three torques within 1.0e-9 of the largest (node coordinates perturbed by 2e-16 move the
-  reference's own forces by up to 1.1e-9: this S is that ill-conditioned). About 10× less
-  CPU (default set: 0.37 s against 4.2 s, medians of 3 in one run).
-* **Cache.** The meshed and condensed pitch of each body (FS pitch, CS space: mesh,
-  stiffness, interior factor, condensed stiffness) and the factor of its cut system depend
-  on the geometry, material and mesh parameters only, not on where the points or balls sit:
-  :func:`_cached` keeps them between builds (keyed on the gear set, FS tooth and CS space
-  objects and the mesh numbers; :func:`clear_cache` forgets them), so the positions of a
-  transmission-error run (``shift_rad``) re-mesh and re-condense nothing. The same
-  operations on the same arrays: the matrices are bit for bit those of a fresh build
-  (default set, design scene: 0.28 → 0.16 s CPU per build).
-* **Solve.** Each body is factorised once (banded Cholesky; the FS in a folded order that
-  keeps the periodic ring banded) and all loads — the n contact normals and the candidate
-  balls — go through one blocked multi-right-hand-side forward substitution: the
-  flexibility is WᵀW with W = L⁻¹Y (BLAS 3). Only the band × band corner of a
-  sub-diagonal block of L is nonzero, so the factorisation and the substitution work on
-  that corner; a column of W starts at its load's first row, so each block solves only for
-  the loads that have started, and WᵀW is summed by ``syrk``. The result is the same
-  matrix up to rounding: the FS flexibility of a thin rim is ill-conditioned, and any two
-  correct orders of the sums differ at ~1e-9 relative (the contact forces of the default
-  set by < 1e-9).
+The model, in short (small displacements about the undeformed bodies, plane stress, per mm of
+face: S = S_2D / b): the FS as a toothed half ring with the point-symmetric tie
+u(θ + π) = −u(θ), on the wave-generator bearing's outer race (sliding on the bore, or bonded),
+on radial ball supports (the balls within the wrap, or every ball of the zone one-sided at its
+no-load gap, ``ball_supports="all"``); the cup's torque reaction a uniform traction on the
+bore; the CS a toothed sector meshed from the fitted outline, fixed outside. One pitch of each
+body is meshed and condensed onto its cuts (``ComplianceMesh(substructure=True)``, the
+default) and kept in a cache between builds (:func:`clear_cache`).
+
+Entry points:
+
+* :meth:`ContactCompliance.build` → :class:`ContactCompliance` (``inputs`` a
+  :class:`~profilegen.contact.inputs.ContactInput`; ``mesh`` a :class:`ComplianceMesh` or a
+  mapping of its fields); then :meth:`~ContactCompliance.settle_balls` (drop the balls that
+  pull), :meth:`~ContactCompliance.with_balls`, :meth:`~ContactCompliance.solve_unilateral`
+  (teeth and balls in one complementarity problem);
+* :func:`no_load_ball_gap_mm` (each ball's gap before load), :func:`settle_step` (the
+  ball-settling rule), :func:`default_race_thickness_mm`, :data:`DEFAULT_BALL_COUNT`.
+
+Errors: :class:`ComplianceError` (a ``ValueError``) naming the argument — points not (n, 2)
+and finite, normals not unit, CS normals not opposite to the FS ones within 0.1 rad, tooth
+indices not whole, an option out of range, a gear set with other than two waves, a contact
+point off the meshed surface by more than ``on_surface_tol_mm``;
+:class:`~profilegen.errors.ConvergenceError` when a stiffness is not positive definite, S is
+not (two points coincide), or the ball set or the Hertz springs do not settle.
+
+The model in full, its mesh study and its speed: docs/theory/contact.md, "The influence
+coefficients".
 """
 
 from __future__ import annotations
@@ -1489,7 +1382,7 @@ def _candidate_balls(inputs: ContactInput, ball_count: int, phase: float, wrap: 
 class ComplianceMesh:
     """The meshes :meth:`ContactCompliance.build` computes the influence coefficients on
     (``mesh=``, in the style of scipy.optimize's ``options=``): the defaults are the product's
-    (see the module docstring, "Mesh"); the rest are accuracy studies.
+    (docs/theory/contact.md, "The influence coefficients"); the rest are accuracy studies.
 
     FS: ``per_pitch`` columns per pitch on the toothed pitches, ``flat_per_pitch`` on the flat
     rim beyond them, ``rim_layers`` / ``tooth_layers`` layers, ``toothed_teeth`` "all" (every
@@ -1525,7 +1418,8 @@ class ComplianceMesh:
 
 @dataclass(frozen=True, slots=True, eq=False)
 class ContactCompliance:
-    """Influence coefficients of one engagement zone (see the module docstring).
+    """Influence coefficients of one engagement zone (the module docstring; the model:
+    docs/theory/contact.md, "The influence coefficients").
 
     ``matrix_mm_per_n``: S (n × n, mm/N, symmetric positive definite) with the active balls
     ``ball_active``; ``fs_matrix_mm_per_n`` / ``cs_matrix_mm_per_n``: its two parts.

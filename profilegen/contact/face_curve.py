@@ -1,65 +1,31 @@
 """The torsional curve across the face: N axial slices in parallel, each with its own no-load gaps.
 
 :func:`~profilegen.contact.chain.torsional_curve` solves one 2D section and spreads its load
-evenly over the face (S = S_2D/b, every axial position with the design section's gaps). The
-cup cones: its deformation ω(φ, z), υ(φ, z) grows from the diaphragm end toward the open end,
-so each axial position of a tooth stands a little differently in its CS space
-(:func:`slice_gap_shifts`: each point's exact separation in the slice's section). At
-low torque only part of the face may carry load. This module turns one flank's 2D contact
-(its points and :class:`~profilegen.contact.compliance.ContactCompliance`) into the same
-problem on N slices, which the curve's own solvers (the continuation of
-:class:`~profilegen.contact.reduced.ReducedZone` and the Lemke reference) solve unchanged:
+evenly over the face. The cup cones — its deformation grows from the diaphragm end toward the
+open end — so each axial position of a tooth stands a little differently in its CS space, and at
+low torque only part of the face carries load. This module turns one flank's 2D contact (its
+points and :class:`~profilegen.contact.compliance.ContactCompliance`) into the same problem on N
+slices, which the curve's own solvers solve unchanged: each slice the 2D section at its width
+with its own gaps, the slices sharing the rotation, every ball one body across them, the rim
+coupling them along the face over its shell decay length, optionally the tooth ring's own twist.
 
-* **Slice i** (at ζ_i of :func:`slice_layout`, standing for the width w_i, slice 0 at the
-  diaphragm end) is the 2D section at width w_i: its compliances × b/w_i (the 2D flexibilities
-  are per unit width), its points' initial separations e_k + Δe_ik (Δe from the section at z_i
-  against the design section z_0), its own copy of every wave-generator ball as a one-sided
-  support at the ball's no-load gap. The slices share the rotation φ, the balls, the tooth
-  ring's twist and the rim (below); without the rim's coupling (``coupling_length_mm=0``) they
-  are a Winkler foundation along the face, the *soft* bound of what partial face contact does
-  to the rotation.
-* **The balls.** A ball is one body: its Hertz contacts carry the sum of the reactions of
-  its shares in every slice, and it approaches by c_H (Σ_i R_i)^{2/3}
-  (:func:`~profilegen.contact.springs.spring_block`: its secant couples the shares, the
-  compliance's ``ball_body``). Each slice's bore still meets it one-sided at the ball's no-load
-  gap, so one end of the face may leave a ball the other end presses. With equal slices
-  (R_i = R/N) that is the 2D ball exactly. (Slices that each carried a share of the ball with
-  the ball's per-width stiffness, c_H (N R_i)^{2/3}, made a load at one face end meet a ball
-  N^{2/3} times too soft, and the curve's lost motion grow without bound with the slices.)
-* **The tooth ring's own twist** (``ring_twist=True``). The curve takes the cup wall and the
-  tooth ring as series terms, the ring as b/3 of tube (the torque entering evenly over the
-  face). Here the ring's twist goes into the slices: a tooth at z lags the cup bottom by the
-  wall's twist plus ∫ T(z′)/(G J) dz′ over the ring up to z, so slice i's gaps open by
-  r_k U Σ_j C_ij T_j, T_j slice j's zone torque, U the zones (the cup carries both zones' torque),
-  C_ij = ⟨min(ζ, ζ′)⟩/(G J) averaged over ζ in slice i and ζ′ in slice j (ζ from the ring's
-  diaphragm-end edge, J = 2π r_m³ δ): ζ_i + Δz/2 for i < j (the lower slice's mid-plane), ζ_i +
-  Δz/3 on the diagonal (ζ_i the slice's lower edge). An even load gives Σ C_ij/N² = b/(3GJ), the
-  curve's term; the series part keeps only the wall below the ring. With one slice the ring
-  is a rank-one term r rᵀ U C₁₁ that shifts φ by exactly T·b/(3GJ): the 2D curve to rounding. With
-  N > 1 the ring makes even identical slices load unevenly (the diaphragm end, which lags
-  less, more): ``ring_twist=False`` keeps the curve's b/3 series term instead, and identical
-  slices are then the 2D curve exactly.
+Entry points:
 
-* **The rim couples the slices; the teeth do not.** A tooth load moves the FS in two ways: the
-  tooth and the contact deform locally, and the rim (with the race under it) bends as a ring.
-  The ring's part is the same at the neighbouring teeth (a load on one tooth moves the next one
-  65–73 % as much as itself on the default set), and along the face the rim is a cylindrical
-  shell that spreads a load over its decay length L = √(r_m δ)/(3(1 − ν²))^{1/4}. So the FS
-  flexibility splits (:func:`local_fraction`): the local part, the fraction f of each tooth's own
-  block (f from the rim's far field at the teeth ±1, ±2, extrapolated to the loaded tooth:
-  0.26 on the default set), stays with its slice (× b/w_i); the rest of the rim's flexibility,
-  the balls' seats included, is a Pasternak foundation along the face of length λ
-  (``coupling_length_mm``, default L: :func:`rim_coupling_length_mm`;
-  :func:`slice_coupling_matrix`). The CS stays per slice. λ = 0 is the soft bound, independent
-  slices. The race, stiffer than the rim and one body across its width, would spread the load
-  further (default set, verify: lost motion 1.217 / 0.995 / 0.812 / 0.746 / 0.679 arcmin at λ =
-  0 / 2 / 5 / 8.4 / 50 mm), so L errs on the soft side.
+* :class:`FaceSlices` — the ``face_slices`` option of
+  :func:`~profilegen.contact.chain.torsional_curve` (slices, coning, nodes, the rim's coupling
+  length, the ring's twist): what a design's scene key ``face_slices`` sets;
+* :func:`slice_layout` (the slices' positions and widths), :func:`slice_gap_shifts` (each
+  point's change of separation in each slice's section), :func:`stack_slices` (the N-slice
+  problem), :func:`slice_chain` (the series terms without the tooth ring's twist);
+* the parts: :func:`local_fraction`, :func:`rim_coupling_length_mm`,
+  :func:`slice_coupling_matrix`, :func:`ring_twist_kernel`, :func:`flank_offset_gap_mm`.
 
-What it leaves out: the cup's deformation under the tooth forces (the sections are the cup
-pressed onto the cam at no torque); the opposite flank where coning makes a slice's gap
-negative (one flank, as the curve: such a slice is preloaded at no torque and its first
-contact is the curve's zero); the race's own spread along the face (above); the CS ring's
-coupling along the face.
+Errors: :class:`FaceCurveError` (a ``ValueError``) naming the bad argument: a slice count,
+widths or positions, a gap array of the wrong shape, a gear set without a cup, a compliance whose
+balls are not every ball one-sided (``ball_supports="all"``), flanks that do not share the balls.
+
+The model, what it leaves out and its convergence: docs/theory/torsion.md, "Against the
+catalogue, the gear as made (verify scene)" and "The slices' model".
 """
 
 from __future__ import annotations
@@ -349,9 +315,9 @@ class FaceSlices:
     ``slices`` N, ``coning`` ("cup", "semi_membrane", "none"), ``cup`` (the 3D cup; default
     press_cup of the set, built once for both flanks), ``design_z_mm`` (the CS's section;
     default mid-face), ``modification`` (the FS tooth's taper and crowning; default straight),
-    ``ring_twist`` (the tooth ring's twist in the slices, module docstring), ``nodes``
-    (:func:`slice_layout`: "midpoint", "ends" or "graded" toward the design section),
-    ``coupling_length_mm`` (the rim's coupling along the face, module docstring: None, the FS
+    ``ring_twist`` (the tooth ring's twist in the slices, docs/theory/torsion.md, "The slices'
+    model"), ``nodes`` (:func:`slice_layout`: "midpoint", "ends" or "graded" toward the design
+    section), ``coupling_length_mm`` (the rim's coupling along the face, the same page: None, the FS
     rim's shell decay length :func:`rim_coupling_length_mm`; 0: independent slices, the soft
     bound; λ > 0 mm)."""
 
@@ -456,7 +422,7 @@ class FaceSlices:
 def rim_coupling_length_mm(gearset) -> float:
     """L = √(r_m δ) / (3(1 − ν²))^{1/4} (mm): the length over which a cylindrical shell of radius
     r_m and thickness δ (the FS rim) spreads a load along its axis, the decay length of its
-    bending boundary layer — the rim's coupling of the slices (module docstring)."""
+    bending boundary layer — the rim's coupling of the slices (docs/theory/torsion.md, "The slices' model")."""
     g = gearset.gear
     nu = float(gearset.material.poisson_ratio)
     return math.sqrt(float(g.neutral_radius_mm) * float(g.rim_thickness_mm)) / (3.0 * (1.0 - nu * nu)) ** 0.25
@@ -514,11 +480,11 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
     it, see each slice at its own width); when ``ring_compliance_rad_per_nmm`` = 1/(G J) of the
     tooth ring (rad per N·mm per mm) is > 0, the ring's twist r_k r_l U (1/(GJ)) L_ij
     (:func:`ring_twist_kernel`) is added. ``coupling_length_mm`` λ > 0 couples the rim along the
-    face (module docstring): the FS flexibility less its local part (:func:`local_fraction`), the
+    face (docs/theory/torsion.md): the FS flexibility less its local part (:func:`local_fraction`), the
     balls' seats with it, as a Pasternak foundation (:func:`slice_coupling_matrix`;
     ``positions_mm`` the slices' sections, default the cells' middles); the local part and the CS
     stay per slice. An even load is the 2D section for any λ. Every slice's copy of a ball is a
-    share of that ball (``ball_body``: one spring under their summed reaction, module docstring).
+    share of that ball (``ball_body``: one spring under their summed reaction, docs/theory/torsion.md).
     Solve it with the curve's solvers."""
     if getattr(compliance, "ball_supports", "window") != "all":
         raise FaceCurveError(f"compliance.ball_supports = {compliance.ball_supports!r}: the slices need every ball "

@@ -126,7 +126,7 @@ class RatchetingOptions:
     friction; lubricated steel 0.05–0.15), ``climb_sliding`` the sense of the teeth's sliding it
     opposes: "static" (the pull-out the climb models), "forward" (running, the wave generator
     driving the load) or "backward" (running, the load driving) — see
-    :mod:`profilegen.contact.climb`, "Friction".
+    docs/theory/torsion.md, "Friction in the climb".
 
     Study knobs (docs/theory/torsion.md, "Ratcheting and transmission error"; 1 / 0 / True /
     "all" is the model): ``climb_ring_scale`` multiplies the CS ring's compliance in the climb

@@ -1,102 +1,36 @@
-"""Loaded tooth contact as a complementarity problem: the solvers (seed 000 §5.1, pure math).
+"""Loaded tooth contact as a complementarity problem: the solvers (pure math).
 
-The problem
------------
-``n`` candidate contact points ``k`` (pairs of points on the FS and CS flanks), with
+``n`` candidate contact points k (pairs of points on the FS and CS flanks): ``S`` (n×n, mm/N)
+the compliance, symmetric positive definite; ``θ_k`` (rad, ≥ 0) the initial angular separation
+and ``r_k`` (mm, > 0) the lever arm of the common normal; ``T`` (N·mm, > 0) the torque on the
+flexspline. Unknowns: the contact forces ``F_k ≥ 0`` (N) and the rigid rotation ``φ`` (rad) of
+the FS against the fixed CS, with the normal gaps after load (mm)
 
-* ``S`` (n×n, mm/N) the compliance: normal deflection at ``k`` (both bodies summed) per unit
-  normal force at ``j``; symmetric positive definite;
-* ``θ_k`` (rad, ≥ 0) the initial angular separation of pair ``k`` and ``r_k`` (mm, > 0) the lever
-  arm of its common normal about the rotation centre, so ``e_k = r_k θ_k`` (mm) is the initial
-  normal separation;
-* ``T`` (N·mm, > 0) the torque on the flexspline.
+    g_k = r_k (θ_k − φ) + Σ_j S_kj F_j ≥ 0,     F_k g_k = 0,     Σ_k r_k F_k = T.
 
-Unknowns: contact forces ``F_k ≥ 0`` (N) and the rigid rotation ``φ`` (rad) of the FS against the
-fixed CS. After load the normal gaps are (mm)
+The solution is unique (it is the minimiser of a strictly convex QP in the moments r_k F_k, φ
+the multiplier of the equilibrium), and φ never decreases as T grows.
 
-    g_k = r_k (θ_k − φ) + Σ_j S_kj F_j ≥ 0,     F_k g_k = 0 (complementarity),     Σ_k r_k F_k = T.
+* :func:`solve_lemke` — the package's contact solver: Lemke's complementary pivoting, which is
+  the CSF-40 study's "modified simplex" (restricted basis entry) made deterministic;
+* :func:`solve_qp_active_set` — an independent primal active-set method on the QP, for
+  cross-checks.
 
-(The seed writes the same rows divided by ``r_k``: its ``[S]`` is ``D⁻¹S`` with ``D = diag r``
-and its slack ``Y_k = g_k / r_k``, Eqs. 10–14.) In the moments ``M_k = r_k F_k`` (N·mm) these are
-exactly the KKT conditions of the strictly convex QP
+Each returns a :class:`ContactSolution` (forces, rotation, gaps, the active set, the
+complementarity and equilibrium residuals, warnings). Lemke's tableau itself, shared with the
+teeth-and-balls problem, is :mod:`profilegen.lcp`'s.
 
-    min_M  ½ Mᵀ A M + θᵀ M    s.t.  Σ M_k = T,  M ≥ 0,      A = D⁻¹ S D⁻¹ (rad per N·mm),
+Errors, rather than silent answers: ``T ≤ 0`` or non-finite, ``S`` not square / not
+symmetric / not positive definite / numerically singular, ``θ < 0``, ``r ≤ 0``, NaN or inf
+anywhere → :class:`ContactError` (a ``ValueError``) naming the parameter, its value, unit and
+allowed range; a pivot or iteration cap, a ray termination, a basis that is not a solution
+after reinversion, or a result with no loaded point →
+:class:`~profilegen.errors.ConvergenceError` naming the solver, the pivot, the applied torque
+fraction and the residual. When every candidate point is loaded the answer is only a bound
+(points not discretised would have closed too): ``all_points_loaded = True`` and a warning.
 
-with the Lagrangian ``½MᵀAM + θᵀM − φ(1ᵀM − T) − μᵀM``: stationarity gives
-``μ = AM + θ − φ1 = g / r`` (the angular gaps are the bound multipliers) and **φ is the
-multiplier of the equality** with a plus sign. ``A`` is positive definite, so ``M`` (hence
-``F``) is unique, and so is ``φ = θ_k + (AM)_k`` for any loaded ``k``. φ is also ``dV/dT`` of
-the optimal value ``V(T)``, which is convex: φ never decreases as T grows.
-
-Scaling
--------
-Raw ``S`` is ~1e-7 mm/N and θ ~1e-3 rad; the solvers work in pure numbers of order one:
-
-* ``a₀ = mean_k S_kk / r_k²`` (rad per N·mm) and ``τ = a₀ T`` (rad): the rotation the full torque
-  would cause if carried at one typical point;
-* ``m = M / T`` (Σ m = 1), ``Â = A / a₀`` (diagonal ≈ 1), ``θ̂ = (θ − θ_min) / τ ≥ 0`` (the shift
-  by the smallest separation ``θ_min`` is exact: it moves φ by θ_min and nothing else),
-  ``ψ = (φ − θ_min) / τ``, angular gaps ``ĝ = Âm + θ̂ − ψ1 = g / (r τ)``.
-
-Results are converted back: ``F = T m / r``, ``φ = θ_min + τ ψ``, ``g = r τ ĝ``.
-``complementarity_residual`` is ``max_k |F_k g_k| / (T (|φ − θ_min| + τ))`` — the products
-against the work scale of the torque on the elastic part of the rotation; the
-``equilibrium_residual`` is ``|Σ r_k F_k − T| / T``.
-
-The solvers
------------
-* :func:`solve_lemke` — **the package's contact solver**: Conry–Seireg's "modified simplex"
-  as Lemke's complementary pivoting (see below).
-* :func:`solve_qp_active_set` — an independent primal active-set method on the QP in ``m``
-  (equality kept, Cholesky of the loaded block grown by rank-one appends), for cross-checks.
-
-The phase-1 LP of Eqs. 15–17 exactly as printed is *not* a contact solver: its optimum (Z = 0)
-is any feasible point of Eqs. 10 and 12, and HiGHS returns a vertex that is not a contact
-solution (typically φ = 0 with the whole torque on one point and open gaps under load). The
-tests keep it as a negative example (docs/theory/contact.md).
-
-Why Lemke is Conry–Seireg's method. The seed's constraint rows (16)–(17) are the linear part
-of the KKT system above: ``w = 𝕄 z + q`` with ``z = (m, ψ)``, ``w = (ĝ, Σm − 1)``,
-
-    𝕄 = [[Â, −1], [1ᵀ, 0]],   q = (θ̂, −1),   w ≥ 0, z ≥ 0, wᵀz = 0.
-
-Conry and Seireg run the simplex method on these rows with artificial variables and the
-*restricted basis entry* rule "``F_k`` may not enter the basis while its slack ``Y_k`` is basic,
-and vice versa" (Wolfe's simplex method for QP). Lemke's method pivots on the same rows
-with a single artificial ``z₀`` (covering vector ``1``) and always enters the complement of the
-variable that just left; so at every basis each pair ``(m_k, ĝ_k)`` has at most one member
-basic — the restricted-entry rule, made deterministic. For the positive semidefinite ``𝕄``
-here Lemke's method with a lexicographic ratio test terminates in finitely many pivots at a
-solution whenever one exists (Cottle, Pang & Stone, *The Linear Complementarity Problem*,
-§4.4), and one does (the QP has a minimiser). No extra assumption, no cycling.
-
-The free variable φ. Lemke needs sign-constrained variables. After the shift by θ_min,
-the equality ``Σm = 1`` may be relaxed to ``Σm ≥ 1`` with multiplier ``ψ ≥ 0``: the
-objective is ≥ 0 on ``m ≥ 0`` and grows along every ray ``t m`` (``½t² mᵀÂm + t θ̂ᵀm``),
-so the relaxed optimum has ``Σm = 1`` and the two problems have the same solution;
-``ψ = (mᵀÂm + θ̂ᵀm) / Σm > 0``, i.e. ``φ > θ_min`` for every ``T > 0``.
-
-What the pivots mean. With ``q_ψ = −1`` the first pivot brings ``z₀`` in on the equilibrium row,
-and from then on ``1 − z₀ = Σm`` is the applied fraction of the torque and ``ψ − z₀`` the
-rotation at that load: Lemke's path *is* the loading history from 0 to T, one pivot per
-point that closes (or opens again). ``z₀`` leaving the basis is full load.
-
-Flags rather than silent answers
---------------------------------
-* ``T ≤ 0`` or non-finite, ``S`` not square / not symmetric / not positive definite /
-  numerically singular, ``θ < 0``, ``r ≤ 0``, NaN or inf anywhere → :class:`ContactError`
-  (a ``ValueError``) naming the parameter, its value, unit and allowed range.
-* *All gaps open* cannot happen for ``T > 0``: equilibrium needs a force, so at least the
-  point with the smallest θ closes (first contact). A result with no loaded point would be
-  a solver failure and raises :class:`~profilegen.errors.ConvergenceError`.
-* *A torque beyond what the contact can carry.* The model is linear elastic, so at this level
-  any torque is "carried"; what runs out is the set of candidate points: when **every**
-  point is loaded, points that were not discretised (further teeth, the flank beyond the
-  listed ones, tip corners) would have closed too, and the answer is only a bound.
-  The result then has ``all_points_loaded = True`` and a warning; the caller decides.
-* A pivot / iteration cap, a ray termination, or a basis that is not a solution after
-  reinversion raise :class:`~profilegen.errors.ConvergenceError` naming the solver, the
-  pivot, the applied torque fraction and the residual.
+The KKT derivation, the scaling, why Lemke is Conry–Seireg's method and what its pivots mean:
+docs/theory/contact.md, "The contact problem and its solvers".
 
 >>> import numpy as np
 >>> S = np.array([[2.0, 0.5], [0.5, 1.0]]) * 1e-7      # mm/N
@@ -157,7 +91,7 @@ class ContactSolution:
     round-off); ``loaded`` the active set (F > 0) as a boolean mask; ``iterations`` pivots (Lemke),
     active-set changes (QP) or HiGHS iterations (naive LP); ``complementarity_residual`` =
     max|F·g| / (T (φ − θ_min + τ)) and ``equilibrium_residual`` = |Σ r F − T| / T;
-    ``all_points_loaded``: every candidate point carries load (see the module docstring);
+    ``all_points_loaded``: every candidate point carries load (the answer is then a bound);
     ``warnings``: human-readable flags; ``diagnostics``: scales (``tau_rad``, ``theta_min_rad``,
     ``a0_rad_per_nmm``), solver specifics.
     """
@@ -226,7 +160,8 @@ class ContactSolution:
 
 @dataclass(frozen=True, slots=True)
 class _Scaled:
-    """The problem in the scaled variables of the module docstring."""
+    """The problem in the scaled variables (docs/theory/contact.md, "The contact problem and
+    its solvers": a₀, τ, m = M/T, Â, θ̂, ψ)."""
 
     S: np.ndarray  # mm/N, symmetrised
     theta: np.ndarray  # rad

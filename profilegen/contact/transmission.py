@@ -1,88 +1,37 @@
 """Loaded transmission error over a wave-generator turn: the contact at several positions ψ.
 
-As the wave generator turns by ψ (package angle sense, +y toward +x) with the CS fixed, the
-FS turns by −ψU/z1 against the CS at the ideal ratio, and FS tooth i moves against the
-major axis from φ_i = 2πi/z1 to φ_i + δ, δ = −ψ z2/z1 (the major axis turns by ψ, the FS by
-−ψU/z1; z2 = z1 + U). By the closure that :mod:`profilegen.contact.points` uses at ψ = 0,
-tooth i then still stands in CS space i as the generating tooth stands in space 0 at
-φ_i + δ. After ψ = 2π/z2 (δ = −2π/z1, one *tooth passage*) every tooth stands where its
-neighbour stood: the mesh repeats with the teeth relabelled. So the tooth-passage error is
-periodic in ψ with period 2π/z2 and ``span="tooth"`` samples it on [0, 2π/z2) evenly.
+As the wave generator turns by ψ with the CS fixed, FS tooth i moves against the major axis from
+φ_i = 2πi/z1 to φ_i + δ, δ = −ψ z2/z1; after one *tooth passage* (ψ = 2π/z2) the mesh repeats
+with the teeth relabelled. At each ψ everything that moves with the teeth is recomputed —
+the contact points and their gaps (``contact_points(shift_rad=δ)``) and the influence
+coefficients (``ContactCompliance.build(shift_rad=δ)``) — and the teeth and every ball of the
+zone are solved together (:func:`~profilegen.contact.analysis.solve_contact`, as the contact
+stage does), one zone with T/U. The wrap angle and the meshes are computed once and reused
+(they do not depend on ψ). The series compliances of :mod:`profilegen.contact.chain` add the
+same rotation at every ψ: they move the mean, not the error.
 
-At each ψ everything that moves with the teeth is recomputed, nothing is interpolated:
-the contact points and their initial gaps (``contact_points(shift_rad=δ)``: the fine scan
-and the refined minima of every tooth at its new φ), and the influence coefficients for
-those points (``ContactCompliance.build(shift_rad=δ)``): the points sit elsewhere on
-their flanks, and the balls sit elsewhere under the teeth (the rim turns by δ against the
-wave generator), so S is a new matrix at every ψ. Reused, because it is exact:
+Entry point: :func:`transmission_error` ``(inputs, torque_nm, positions=16, workers=None,
+options=None)`` → :class:`TransmissionError` (per position ψ: the loaded rotation φ beyond the
+kinematic position, the no-load first contact φ₀, the teeth and balls in contact; over ψ: the
+error φ − mean φ in arcsec and its peak-to-peak, the secant mesh stiffness and its ripple).
+``inputs``: a design or a :class:`~profilegen.contact.inputs.ContactInput`. ``options``: a
+:class:`TransmissionOptions` or a mapping of its fields — ``span`` ("tooth": one tooth passage),
+the flank, ``ball_motion`` ("wave_generator": the balls held at fixed angles from the major
+axis, the result exactly periodic; "cage": the balls rolling with the cage), ``ball_supports``,
+``hertz_balls``. Positions run in a process pool of ``workers`` (fork) when there are more than
+two.
 
-* the design's inputs (FS tooth, motion, fitted CS space): the kinematics of the mesh do not
-  depend on ψ, only the teeth's places in it;
-* the wrap angle that selects the candidate balls (the rim's no-load contact angle, or the
-  flat-ring solve when the rim FEM gave none): the no-load rim sits on the wave generator
-  the same way at every ψ (it is a property of the wave-generator frame); it is computed
-  once here, not once per position (the flat-ring solve alone took 0.3–7 s on the busy
-  machine);
-* the FE meshes themselves are the same at every ψ (one FS pitch, one CS space, condensed):
-  ``ContactCompliance.build`` keeps them (and the cut systems' factors) between calls in
-  its cache, in each worker process; the matrices are bit for bit those of a fresh build.
+>>> import profilegen
+>>> from profilegen.contact.transmission import transmission_error
+>>> design = profilegen.design(profilegen.load_gearset("default"))  # doctest: +SKIP
+>>> te = transmission_error(design, 265.0)  # doctest: +SKIP
+>>> te.peak_to_peak_arcsec, te.stiffness_ripple  # doctest: +SKIP
 
-The balls: ``ball_motion="wave_generator"`` (default) holds them at fixed angles from the
-major axis (ball 0 on it), so the load path under the teeth repeats with the tooth passage
-and the result is exactly periodic; it isolates the tooth-passage error. In the real
-bearing the balls roll: the cage turns at ≈ (1 − D/d_m)/2 of the wave generator's speed,
-i.e. the balls drift against the major axis by −ψ(1 + D/d_m)/2 (``ball_motion="cage"``, D
-and d_m from :class:`~profilegen.contact.chain.BallBearing`), a second, slower ripple with
-period 2π/N / ((1 + D/d_m)/2) in ψ (≈ 29° for 23 balls), not periodic over a tooth passage.
+Errors: :class:`TransmissionErrorError` (a ``ValueError``) naming a bad torque, position count,
+worker count or option.
 
-Per position the teeth and every ball of the zone are solved together, each ball a rigid
-one-sided support at its no-load gap (``ball_supports="all"``, the default:
-:meth:`~profilegen.contact.compliance.ContactCompliance.solve_unilateral`, Lemke on teeth
-and balls, through :func:`~profilegen.contact.analysis.solve_contact`, as the contact stage
-does), one zone with T/U; ``ball_supports="window"`` solves it with only the balls within the
-rim's no-load contact angle, the ones that pull dropped (``solve_contact``'s window option).
-The result:
-
-* ``rotation_rad``: φ(ψ), the loaded rotation of the FS against the CS beyond its
-  kinematic (ideal-ratio) position, in the direction that loads the flank — the output's
-  lag behind the ideal motion; ``first_contact_rad``: φ₀(ψ) = min θ_k, the same at no load
-  (the no-load error of the fitted CS against the ideal ratio);
-* ``error_arcsec``: φ(ψ) − mean φ in arcsec, its ``peak_to_peak_arcsec``;
-* ``stiffness_nm_per_rad``: the secant mesh stiffness T / (φ − φ₀) at each ψ and its
-  ``stiffness_ripple`` = max / min over ψ.
-
-The series compliances of :mod:`profilegen.contact.chain` (cup, CS body) add a rotation
-T/K that is the same at every ψ: they move the mean, not the error. The Hertz ball springs
-are left out by default (rigid balls, as the contact stage; ``hertz_balls=True`` adds them): their compliance does depend on ψ (the
-ball loads move with the teeth) and would add to the ripple.
-
-Positions run in a process pool of ``workers`` (fork: the inputs are inherited, not
-pickled) when there are more than two; each position is independent.
-
-Accuracy and cost (measured with the window's balls, before every ball became the default;
-default set, design scene, rated torque, 16 positions over a tooth passage,
-tests/benchmarks/transmission_error.py): 5 or 9 stations per flank, and a search
-depth of 0.12 or 0.2 mm, give the same error to 1e-4 arcsec (the loaded points are each
-tooth's refined closest points). The FE mesh is what moves it: 14 / 24 / 34 columns per
-FS pitch (16 / 28 / 40 per CS space, 4 / 4 / 6 tooth layers) give a peak-to-peak of 0.158
-/ 0.152 / 0.184 arcsec, the mean rotation 120.14 / 120.27 / 120.39 arcsec: a point load
-in the 2D mesh sees a compliance that depends on where it sits in its element, and the
-contact points slide along the flanks with ψ, so ~0.03 arcsec of the curve's detail is the
-mesh's. About 0.7 s CPU per position (0.3 s points, 0.35 s S, the solves ms): 11 s for 16,
-the same CPU in a pool of two.
-
-Why every ball: with the window's balls only, rolling balls (``ball_motion="cage"``) over
-one ball passage (ψ = 0 … 28.75°) move the default set's loaded rotation between 80.6 and
-148.8 arcsec (68 arcsec peak-to-peak, seed000_csf40 ~75) against 0.16 arcsec over a tooth
-passage with the balls held: the rotation rises while the balls drift, and drops by ~68
-arcsec when a ball enters the window (|θ| ≤ the rim's no-load contact angle, 57.7° for the
-default set). Balls outside the window are never supports there, and at the rated torque the
-race passes 57 µm through the 62.6° ball and 103 µm through the 78.3° one, whose no-load gaps
-are 0.045 and 0.44 µm (tests/benchmarks/ball_physics.py). With every ball one-sided at its
-gap (the default) the same ball passage (17 positions) moves the rotation between 26.85 and
-27.61 arcsec (default set; seed000_csf40 22.10–23.04), no step larger than 0.55 arcsec, 7–9
-of 11 balls loaded; the secant mesh stiffness is ~2.0·10⁶ N·m/rad instead of 4.55·10⁵
-(tests/benchmarks/ball_supports.py).
+The model, its accuracy and cost and why every ball is a support: docs/theory/torsion.md,
+"The transmission error".
 """
 
 from __future__ import annotations
@@ -157,7 +106,8 @@ class TransmissionOptions:
 
 @dataclass(frozen=True, slots=True, eq=False)
 class TransmissionError:
-    """The loaded contact at wave-generator positions ψ (see the module docstring).
+    """The loaded contact at wave-generator positions ψ (the module docstring; the model:
+    docs/theory/torsion.md, "The transmission error").
 
     Per position: ``psi_rad`` ψ, ``shift_rad`` δ = −ψ z2/z1 (the teeth's shift against the
     major axis), ``rotation_rad`` φ, ``first_contact_rad`` φ₀, ``teeth_in_contact`` (one
@@ -384,7 +334,7 @@ def transmission_error(inputs, torque_nm: float, *, positions: int = 16, workers
     wave-generator positions ψ (default: evenly over one tooth passage). ``workers``: processes
     (default: up to 2, one per position; 1 = in this process). ``options``: how to solve, a
     :class:`TransmissionOptions` or a mapping of its fields (span, flank, ball motion and
-    supports, …). See the module docstring."""
+    supports, …). The model: docs/theory/torsion.md, "The transmission error"."""
     chosen = TransmissionOptions.of(options)
     from .compliance import wrap_half_angle
 

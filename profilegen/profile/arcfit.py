@@ -1,65 +1,38 @@
 """Arc–line–arc (G1) fits of a circular-spline flank: least squares, minimax, one-sided.
 
-The CS flank from the envelope is a dense polyline of exact points; wire EDM and CAD
-want true arcs and lines. This stage fits one G1 composite *arc 1 – straight line –
-arc 2* to the flank (or one per branch, :func:`fit_profile_per_branch`).
+The CS flank from the envelope is a dense polyline of exact points; wire EDM and CAD want true
+arcs and lines. This stage fits one G1 composite *arc 1 – straight line – arc 2* to the flank
+(or one per branch, :func:`fit_profile_per_branch`).
 
-Parametrisation (it cannot express a kink). A composite is 8 numbers: start point
-(x0, y0) (mm), start tangent angle θ0 (rad, math angle from +x, counter-clockwise),
-arc 1 signed curvature κ1 (1/mm, > 0 turning left as in :attr:`contour.Arc.curvature`)
-and length s1 (mm), line length L ≥ 0 (mm), arc 2 signed curvature κ2 and length s2.
-Positions along an arc use sin(κs)/κ and (1 − cos κs)/κ written with ``sinc``, so
-κ → 0 is a straight line without a singularity. With free ends the composite has 6
-degrees of freedom (the start may slide along arc 1 and s2 does not move the curve),
-so the optimisers work on the 6 gauge-free numbers (mid-point of the line, its angle,
-κ1, L, κ2; the arcs run from the line's ends, continued along their circles) and the
-ends are placed at the feet of the first and last data point.
+A composite is 8 numbers (:data:`PARAM_NAMES`, :func:`composite`): start point (x0, y0) (mm),
+start tangent angle θ0 (rad, from +x, counter-clockwise), arc 1's signed curvature κ1 (1/mm,
+> 0 turning left) and length s1 (mm), the line's length L ≥ 0, arc 2's κ2 and s2. It cannot
+express a kink. The signed distance ``d`` of a point to it (:func:`signed_distance`; the end
+arcs continued along their circles) is positive on the space side: ``space_side`` says which
+side of the direction of travel the space is on ("left" for the right flank walked up from the
+tip circle; "auto" finds it from the ``swept`` callable, or else takes the side facing the CS
+tooth-space axis x = 0).
 
-Signed distance. ``d`` is the exact orthogonal distance of a point to the composite
-(its end arcs continued along their circles), **positive on the space side**, negative
-on the material side. ``space_side`` says which side of the direction of travel the
-space is on: for the right flank walked up from the tip circle (``working_flank
-["right"]``) the space (the swept region) is on the *left*; "auto" finds it from the
-``swept`` callable, or else takes the side facing the CS tooth-space axis (x = 0).
+:func:`fit_profile` ``(points, method=...)`` → :class:`ProfileFit`, ``method`` one of
+:data:`METHODS`:
 
-Methods of :func:`fit_profile`:
+* ``"least_squares"`` – min Σ d_i²;
+* ``"minimax"`` – the smallest max |d_i| (Chebyshev fit), certified (``diagnostics``:
+  ``lp_improvement``, the max error from every start); ``tie_break`` picks the least-RMS fit of
+  a family with the same max error;
+* ``"one_sided"`` – every point on the space side or on the fitted flank (d_i ≥ 0: the fitted
+  CS flank never enters the swept region) with the smallest max d_i, the ``backlash_mm``; with
+  ``swept`` (:func:`swept_depth_function`) the fitted chain is checked against the swept region.
 
-* ``"least_squares"`` – min Σ d_i² over the data points (``scipy.optimize.least_squares``,
-  Levenberg–Marquardt, from three three-piece splits of the data: circle fits to the
-  ends, a line in the middle; on a subsample, then polished on all points);
-* ``"minimax"`` – the smallest max |d_i| (Chebyshev fit): sequential linear programming
-  (HiGHS) with a trust region shaped by the Gauss–Newton metric, then Newton's method
-  on the KKT system of the active points (exchange until no point exceeds the level and
-  every multiplier is ≥ 0), from the least-squares fit centred in its error band and
-  ``starts − 1`` perturbations of it. ``diagnostics["lp_improvement"]``: the relative
-  decrease of the max error the LP still finds at the solution (first-order
-  certificate, ≈ 0); ``diagnostics["start_max_errors_mm"]``, ``["start_spread"]``: the
-  max error reached from every start and their spread.
-  The minimax composite need not be unique: where the error has slack (on the default
-  flank: arc 2 and the line length) a one-parameter family attains the same max
-  error. With ``tie_break=True`` (default) the fit of that family with the smallest RMS
-  error is returned (max error within 1e-9 relative of the optimum);
-* ``"one_sided"`` – every data point on the space side of the fitted flank or on it
-  (d_i ≥ 0: the fitted CS flank never enters the swept region), with the smallest
-  max d_i. ``backlash_mm`` = d_i is the normal clearance the fitted flank leaves.
-  A parallel (offset) curve of an arc–line–arc is again one, and every distance moves
-  by the offset, so the one-sided optimum is the minimax fit moved toward the material
-  by its max error: the max backlash is exactly twice the minimax error. The same SLP
-  with the one-sided constraint starts from there and certifies it. With ``swept``
-  given, the fitted chain is sampled (evenly, and densely where the backlash is ~0) and
-  checked against the swept region (:class:`OneSidedError` if it enters it deeper than
-  ``swept_tol_mm``). Between data points the true flank may bulge past the chords by up
-  to the envelope's chord error, so a fit that touches the data can dip a fraction of
-  that into the swept region (3e-8 mm on the default flank, chord error 1e-6 mm).
+Fits are remembered for the last few point sets (:func:`clear_cache`): fitting the same flank by
+another method reuses the shared stages, with the same result.
 
-The least-squares starts run on a subsample spread by arc length (``max_points``); the
-minimax and one-sided iterations and every reported error use all points. On the
-default flank (619 points) a fit takes ~15 ms (least squares), ~0.15 s (minimax or
-one-sided, 3 starts); 20 starts take ~0.75 s; the swept-region check adds ~0.1 s. The
-least-squares and minimax stages are remembered for the last few fitted point sets
-(keyed by the points' bytes and every option they depend on; :func:`clear_cache`), so
-fitting the same flank by another method (the pipeline fits it by all three) reuses
-them: the result is the same, only the stage time in ``diagnostics["times_s"]`` is ~0.
+Errors: :class:`FitError` (a ``ValueError``) naming a bad argument (too few or non-finite points,
+an unknown method or side, parameters out of range); :class:`OneSidedError` when a one-sided fit
+enters the swept region deeper than ``swept_tol_mm``; :class:`~profilegen.errors.ConvergenceError`
+when the least-squares or minimax iterations do not converge.
+
+The parametrisation, the three methods' algorithms and their cost: docs/theory/arcfit.md.
 
 >>> import numpy as np
 >>> exact = composite([0.0, 0.0, np.pi / 2, -1.0, 0.6, 0.3, 2.0, 0.5])  # R −1 mm, line, R 0.5 mm
