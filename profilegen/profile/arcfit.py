@@ -1244,32 +1244,8 @@ def fit_profile(
     ``RuntimeError``) if a solver does not converge.
     """
     t0 = time.perf_counter()
-    if method not in METHODS:
-        raise FitError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
-    if not (isinstance(starts, (int, np.integer)) and starts >= 1):
-        raise FitError(f"starts must be an integer >= 1, got {starts!r}")
-    if not (isinstance(max_points, (int, np.integer)) and max_points >= MIN_POINTS):
-        raise FitError(f"max_points must be an integer >= {MIN_POINTS}, got {max_points!r}")
-    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
-        raise FitError(f"max_iter must be an integer >= 1, got {max_iter!r}")
-    if not (isinstance(swept_tol_mm, (int, float)) and swept_tol_mm >= 0 and math.isfinite(swept_tol_mm)):
-        raise FitError(f"swept_tol_mm must be a finite number >= 0 mm, got {swept_tol_mm!r}")
-    if swept is not None and not callable(swept):
-        raise FitError(f"swept must be a callable depth(points) -> (n,) array or None, got {type(swept).__name__}")
-    p = _check_points(points, "points")
-    dev = _straightness(p)
-    if dev <= STRAIGHT_TOL_MM:
-        raise FitError(
-            f"points: all {len(p)} points lie within {dev:.1e} mm of a straight line (tolerance {STRAIGHT_TOL_MM:g} mm); "
-            "an arc–line–arc fit is ill-posed for a straight flank — use a single Line"
-        )
-    s = _arclength(p)
-    if np.any(np.diff(s) == 0):  # a point repeated exactly (the tip circle's clip with tip_clearance_mm = 0): once
-        p = p[np.r_[True, np.diff(s) > 0]]
-        s = _arclength(p)
-    if np.any(np.diff(s) <= 0):
-        k = int(np.argmax(np.diff(s) <= 0))
-        raise FitError(f"points: consecutive points {k} and {k + 1} coincide; points must be distinct and ordered along the flank")
+    _check_fit_options(method, starts, max_points, max_iter, swept_tol_mm, swept)
+    p, s, dev = _flank_points(points)
     side = _space_side(space_side, p, swept)
     prob = _Problem(p, _side_sign(side))
     diag: dict = {"points": len(p), "space_side": side, "straightness_mm": dev}
@@ -1293,27 +1269,11 @@ def fit_profile(
         times["minimax_s"] = stage["time_s"]
         if method == "minimax":
             diag["lp_improvement"] = stage["imp"]
-            D, _, _ = prob.eval(q_best, jac=False)
-            active = np.abs(np.abs(D) - F_mm) <= 1e-9 * F_mm
-            diag["active_points"] = int(active.sum())
-            diag["active_signs"] = np.sign(D[active]).astype(int).tolist()
+            diag.update(_active_points(prob, q_best, F_mm))
 
     if method == "one_sided":
         t = time.perf_counter()
-        D, _, _ = prob.eval(q_best, jac=False)
-        q_os = _offset(q_best, prob.sigma * float(D.min()))  # all D ≥ 0, max D = 2 × minimax
-        q_best, F, info = _solve(prob, q_os, one_sided=True, max_iter=max_iter)
-        if not info["converged"]:
-            imp = _lp_improvement(prob, q_best, True)
-            if not imp <= 1e-6:
-                raise OneSidedError(f"one_sided: no convergence in {max_iter} SLP iterations (max backlash {F:.3e} mm, "
-                                    f"LP improvement {imp:.2e})" + _IN_A_DESIGN)
-        diag["lp_improvement"] = _lp_improvement(prob, q_best, True)
-        diag["one_sided_iterations"] = int(info["iterations"])
-        D, _, _ = prob.eval(q_best, jac=False)
-        active = np.abs(D - F) <= 1e-9 * F
-        diag["active_points"] = int(active.sum())
-        diag["contact_points"] = int(np.sum(D <= 1e-9 * F))
+        q_best = _one_sided_stage(prob, q_best, max_iter, diag)
         times["one_sided_s"] = time.perf_counter() - t
 
     u_first, u_last, D = _feet(prob, q_best)
@@ -1324,10 +1284,7 @@ def fit_profile(
     chain = composite(p8)
     if method == "one_sided" and swept is not None:
         t = time.perf_counter()
-        v = np.concatenate([[np.inf], D, [np.inf]])
-        low = (v[1:-1] <= v[:-2]) & (v[1:-1] <= v[2:]) & (D <= 1e-2 * float(D.max()))
-        contacts = p[np.nonzero(low)[0][:20]]  # the local minima of the clearance ~ 0
-        diag.update(_check_swept(chain, swept, swept_tol_mm, float(np.median(np.diff(s))), contacts))
+        diag.update(_check_swept(chain, swept, swept_tol_mm, float(np.median(np.diff(s))), _clearance_minima(p, D)))
         times["swept_check_s"] = time.perf_counter() - t
     diag["evaluations"] = prob.evaluations
     diag["times_s"] = times
@@ -1343,6 +1300,78 @@ def fit_profile(
         time_s=time.perf_counter() - t0,
         diagnostics=diag,
     )
+
+
+def _check_fit_options(method: str, starts, max_points, max_iter, swept_tol_mm, swept) -> None:
+    """:func:`fit_profile`'s options, each checked (a :class:`FitError` naming it)."""
+    if method not in METHODS:
+        raise FitError(f"method must be one of {', '.join(METHODS)}, got {method!r}")
+    if not (isinstance(starts, (int, np.integer)) and starts >= 1):
+        raise FitError(f"starts must be an integer >= 1, got {starts!r}")
+    if not (isinstance(max_points, (int, np.integer)) and max_points >= MIN_POINTS):
+        raise FitError(f"max_points must be an integer >= {MIN_POINTS}, got {max_points!r}")
+    if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
+        raise FitError(f"max_iter must be an integer >= 1, got {max_iter!r}")
+    if not (isinstance(swept_tol_mm, (int, float)) and swept_tol_mm >= 0 and math.isfinite(swept_tol_mm)):
+        raise FitError(f"swept_tol_mm must be a finite number >= 0 mm, got {swept_tol_mm!r}")
+    if swept is not None and not callable(swept):
+        raise FitError(f"swept must be a callable depth(points) -> (n,) array or None, got {type(swept).__name__}")
+
+
+def _flank_points(points) -> tuple[np.ndarray, np.ndarray, float]:
+    """The flank's points checked: (points (n, 2) with an exact repeat dropped, their arc
+    length, their largest deviation from a straight line); a straight flank or two coinciding
+    points is a :class:`FitError`."""
+    p = _check_points(points, "points")
+    dev = _straightness(p)
+    if dev <= STRAIGHT_TOL_MM:
+        raise FitError(
+            f"points: all {len(p)} points lie within {dev:.1e} mm of a straight line (tolerance {STRAIGHT_TOL_MM:g} mm); "
+            "an arc–line–arc fit is ill-posed for a straight flank — use a single Line"
+        )
+    s = _arclength(p)
+    if np.any(np.diff(s) == 0):  # a point repeated exactly (the tip circle's clip with tip_clearance_mm = 0): once
+        p = p[np.r_[True, np.diff(s) > 0]]
+        s = _arclength(p)
+    if np.any(np.diff(s) <= 0):
+        k = int(np.argmax(np.diff(s) <= 0))
+        raise FitError(f"points: consecutive points {k} and {k + 1} coincide; points must be distinct and ordered along the flank")
+    return p, s, dev
+
+
+def _active_points(prob: _Problem, q: np.ndarray, F_mm: float) -> dict:
+    """The minimax fit's active points (|d| at the level ``F_mm``): their count and signs."""
+    D, _, _ = prob.eval(q, jac=False)
+    active = np.abs(np.abs(D) - F_mm) <= 1e-9 * F_mm
+    return {"active_points": int(active.sum()), "active_signs": np.sign(D[active]).astype(int).tolist()}
+
+
+def _one_sided_stage(prob: _Problem, q_minimax: np.ndarray, max_iter: int, diag: dict) -> np.ndarray:
+    """The one-sided fit from the minimax fit ``q_minimax`` moved toward the material by its max
+    error, by the SLP with the one-sided constraint; its diagnostics into ``diag``."""
+    D, _, _ = prob.eval(q_minimax, jac=False)
+    q_os = _offset(q_minimax, prob.sigma * float(D.min()))  # all D ≥ 0, max D = 2 × minimax
+    q_best, F, info = _solve(prob, q_os, one_sided=True, max_iter=max_iter)
+    if not info["converged"]:
+        imp = _lp_improvement(prob, q_best, True)
+        if not imp <= 1e-6:
+            raise OneSidedError(f"one_sided: no convergence in {max_iter} SLP iterations (max backlash {F:.3e} mm, "
+                                f"LP improvement {imp:.2e})" + _IN_A_DESIGN)
+    diag["lp_improvement"] = _lp_improvement(prob, q_best, True)
+    diag["one_sided_iterations"] = int(info["iterations"])
+    D, _, _ = prob.eval(q_best, jac=False)
+    active = np.abs(D - F) <= 1e-9 * F
+    diag["active_points"] = int(active.sum())
+    diag["contact_points"] = int(np.sum(D <= 1e-9 * F))
+    return q_best
+
+
+def _clearance_minima(p: np.ndarray, D: np.ndarray) -> np.ndarray:
+    """The data points (at most 20) where the one-sided fit's clearance ``D`` has a local
+    minimum ~ 0 (below 1 % of its largest): where the fitted flank touches the data."""
+    v = np.concatenate([[np.inf], D, [np.inf]])
+    low = (v[1:-1] <= v[:-2]) & (v[1:-1] <= v[2:]) & (D <= 1e-2 * float(D.max()))
+    return p[np.nonzero(low)[0][:20]]
 
 
 def fit_profile_per_branch(
