@@ -22,9 +22,11 @@ Entry points:
   :func:`thick_tube_torsion_stiffness`, :func:`annulus_torsion_stiffness`, the cup checked by
   :func:`cup_torsion_fem`; :func:`hertz_point_contact` → :class:`HertzContact`.
 
-Errors: :class:`ChainError` (a ``ValueError``) naming a bad dimension, torque list, option or
-flank; :class:`~profilegen.errors.ConvergenceError` when a flank's contact, the ball set or the
-Hertz springs do not settle.
+Errors: :class:`ChainError` (a ``ValueError``) naming the bad argument — a gear set without a cup
+or with a wall too short for its tooth ring, a CS held inside the modelled sector, a bearing that
+is not a :class:`BallBearing`, a torque that is zero or not finite, breakpoints missing where no
+catalogue row applies; :class:`~profilegen.errors.ConvergenceError` when the Hertz ball springs
+do not settle or the cup's FEM check fails.
 
 The models (their formulas, the bearing, what is left out) and the curve's definitions (K1–K3,
 backlash, lost motion): docs/theory/torsion.md, "The compliance chain".
