@@ -1,49 +1,34 @@
 """The cup pressed onto the wave-generator contour over the bearing's width: frictionless
-unilateral contact by collocation in φ with the harmonic solves as the
-compliance operator (docs/theory/cup.md: each solve stays 2D).
+unilateral contact by collocation in φ, with the cup's harmonic solves as the compliance
+operator (each solve stays 2D).
 
-Unknowns: the radial force μ_ij ≥ 0 (N) of the cam on bore node i of the bearing band
-(z_i) at collocation angle φ_j = j·(π/2)/(J − 1), j = 0..J − 1 — each the total of its
-symmetry group (±φ_j, π ± φ_j: a two-wave contour symmetric about both axes), so the
-generalised force of harmonic n (even) is P_n,i = Σ_j μ_ij cos nφ_j. With G_n the
-harmonic-n compliance between the band's radial dofs (boss clamped, the rest free), the
-bore's radial displacement at the collocation points is u = C μ,
-C = Σ_n G_n ⊗ a_n a_nᵀ, a_n = (cos nφ_j)_j, n = 0, 2, …, 2(J − 1) (as many harmonics as
-angles, so C is positive definite). The gap (first order, radial): g = u − w(φ_j) ≥ 0 with
-w = ρ − r_bore of the contour; μ ≥ 0, μ·g = 0 — the convex QP min ½μᵀCμ − wᵀμ, μ ≥ 0,
-solved exactly as the non-negative least-squares problem min |Lᵀμ − L⁻¹w| (C = LLᵀ) as
-:func:`profilegen.rim.ring._contact_set` does.
+The unknowns are the cam's radial forces on the bearing band's bore nodes at J collocation
+angles on 0..π/2 (each the total of its four symmetric copies: a two-wave contour is symmetric
+about both axes); the gaps are first order (radial, at the undeformed angle) or exact (the
+displaced bore point's signed distance to the contour, re-linearised until every loaded point
+is on it); the contact is a symmetric positive definite complementarity problem, solved
+exactly. Options: geometric nonlinearity (modified Newton on the harmonic-balance cup), and the
+wave-generator bearing's outer race between bore and balls
+(:class:`~profilegen.rim.cup.bearing.BearingRace`).
 
-The exact gap (``gap="exact"``): the bore point X_ij = r_bore·e_r(φ_j) displaced by its
-radial and tangential displacement (u_r, u_φ; both harmonic series, so the band's compliance
-G_n is 2m × 2m) has the signed distance d_ij to the contour (``contour.closest``: + outside,
-the bore free); the force acts along the contour's normal n at the foot, whose components
-(n_r, n_φ) in the point's frame weight the harmonics (P_n^U = Σ_j μ_ij n_r cos nφ_j,
-P_n^V = Σ_j μ_ij n_φ sin nφ_j: the four symmetric copies of a point have equal n_r and
-mirrored n_φ). With the gap linearised at the current iterate, g = d + n·Δu, the contact is
-the same QP with C = Σ_n B_nᵀ G_n B_n; it is re-linearised until every loaded point is on
-the contour and no free one penetrates (the 2D ring's :func:`profilegen.rim.ring.
-_contact_set`). The first-order gap differs by O(w0²/r): the tangential displacement moves a
-bore point along a contour whose radius changes, 2w0 sin 2φ per radian, and the contour's
-normal leans by r′/r (up to 2w0/r = 0.02 rad) from the radius.
+Entry point: :func:`press_cup` ``(geometry_or_gearset, contour=… | radial_mm=…, …)`` →
+:class:`CupContact` (the :class:`~profilegen.rim.cup.fourier.CupDeformation` with harmonics
+0..2(J − 1), and the contact state: forces, gaps, the race's state). :class:`DisplacedHalves` is
+a wave generator of two rigid halves pushed apart (the FEA-deformation study's model).
 
-Geometric nonlinearity (``nonlinear=True``): the internal force of the total Lagrangian St
-Venant–Kirchhoff cup by harmonic balance (:mod:`profilegen.rim.cup.nonlinear`), modified
-Newton with the linear harmonic stiffnesses: each step the response to the out-of-balance
-force is the "base" of the same contact problem (the 2D ring's Newton loop).
+>>> import profilegen
+>>> from profilegen.rim.cup import press_cup
+>>> c = press_cup(profilegen.load_gearset("default"), gap="exact")  # doctest: +SKIP
+>>> c.deformation.omega(0.0, c.z_mm[-1]), c.max_penetration_mm  # doctest: +SKIP
 
-The wave-generator bearing's outer race (``race``, :class:`~profilegen.rim.cup.bearing.BearingRace`):
-the bore bears on the race instead of the contour, the race on one ball row at z_c. Unknowns μ_ij
-(bore on race) and λ_j (balls on race, ≥ 0); the race's outer surface moves radially by
-W(F) + (z − z_c) B(M) with F_j = λ_j − Σ_i n_r μ_ij, M_j = −Σ_i n_r μ_ij (z_i − z_c) and W, B its
-radial and tilt compliances between the collocation angles; gaps bore − race ≥ 0 (in the gap
-above, the race's deviation from the contour along the normal) and race − (contour − Hertz
-approach) ≥ 0 at the ball row. One symmetric positive definite complementarity problem
-(blockdiag(C, S) + Zᵀ H Z, S the Hertz secants), solved as above; the secants iterated with the
-re-linearisations. Without a race: the rigid band (the limit of a stiff, stress-free race).
+Errors: :class:`~profilegen.rim.cup.geometry.CupError` (a ``ValueError``) naming a bad option
+or load (both or neither of ``contour`` and ``radial_mm``, odd harmonics, the exact gap without
+a contour, a race off the bearing band, a basis built for another geometry);
+:class:`~profilegen.errors.ConvergenceError` when a harmonic's stiffness is singular, the
+contact compliance is not positive definite, or the gaps or the Newton steps do not settle.
 
-The result is a :class:`~profilegen.rim.cup.fourier.CupDeformation` (harmonics 0..2(J − 1)) and
-the contact state (:class:`CupContact`).
+The formulation (the QP, the exact gap, the race's complementarity problem): docs/theory/cup.md,
+"The bore on the wave generator".
 """
 
 from __future__ import annotations
