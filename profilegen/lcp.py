@@ -16,7 +16,8 @@ teeth and balls of the contact, the ratcheting climb — and solve them here:
   it stalls), for an SPD S whose columns are expensive: both form only the columns they
   touch, through a ``columns_of(nodes)`` callback.
 * :func:`spd_nnls`: an SPD LCP exactly, by NNLS on the whole Cholesky factor (the fallback of
-  the two above).
+  the two above), and :func:`primal_dual_from_guess` (the cup's band: a few linear solves
+  from the last set, None if that does not settle).
 
 Each returns the solution or None (the lazy ones, when they give up) or raises
 :class:`~profilegen.errors.ConvergenceError` naming the caller's ``where``.
@@ -27,8 +28,8 @@ from __future__ import annotations
 import numpy as np
 from .errors import ConvergenceError
 
-__all__ = ["LemkeTableau", "active_set_lazy", "lemke_lcp", "principal_pivoting", "solve_p_matrix", "solve_spd",
-           "spd_nnls"]
+__all__ = ["LemkeTableau", "active_set_lazy", "lemke_lcp", "primal_dual_from_guess", "principal_pivoting",
+           "solve_p_matrix", "solve_spd", "spd_nnls"]
 
 
 class LemkeTableau:
@@ -314,6 +315,36 @@ def principal_pivoting(columns_of, q, guess, max_pivots: int = 60):
             bad[:] = False
             bad[last] = True
         active ^= bad
+    return None
+
+
+def primal_dual_from_guess(s: np.ndarray, q: np.ndarray, guess: np.ndarray | None, *,
+                           max_sets: int = 12) -> np.ndarray | None:
+    """λ ≥ 0 with w = Sλ − q ≥ 0, λ·w = 0 (S symmetric positive definite) by a primal–dual
+    active-set iteration from the ``guess`` (a boolean set: the last solve's, so a few linear
+    solves settle it): solve S_AA λ_A = q_A, then A ← {λ > 0 on A} ∪ {w < 0 off A}. None when
+    there is no guess, the set cycles, a block is singular or ``max_sets`` sets did not settle:
+    the caller then solves exactly (:func:`spd_nnls`)."""
+    from scipy.linalg import LinAlgError, solve
+
+    scale = max(float(np.max(np.abs(q))), 1e-300)
+    on = None if guess is None or not guess.any() else guess.copy()
+    seen: set[bytes] = set()
+    while on is not None and on.any() and len(seen) < max_sets:
+        key = on.tobytes()
+        if key in seen:  # it cycles
+            return None
+        seen.add(key)
+        try:
+            part = solve(s[np.ix_(on, on)], q[on], assume_a="pos", check_finite=False)
+        except (LinAlgError, ValueError):
+            return None
+        lam = np.zeros_like(q)
+        lam[on] = part
+        slack = s @ lam - q
+        if np.all(part > 0.0) and np.min(slack[~on], initial=0.0) >= -1e-12 * scale:
+            return lam
+        on = np.where(on, lam > 0.0, slack < -1e-12 * scale)
     return None
 
 

@@ -64,3 +64,18 @@ def test_a_nonsymmetric_p_matrix_is_solved_and_a_non_p_matrix_fails_loudly():
     bad = -np.eye(3)  # w = −z + q with q < 0: no solution
     with pytest.raises(ConvergenceError):
         lcp.solve_p_matrix(bad, -np.ones(3))
+
+
+def test_the_primal_dual_iteration_settles_from_the_solutions_set_and_declines_without_a_guess():
+    rng = np.random.default_rng(5)
+    n = 40
+    s, q = _spd(rng, n), rng.normal(size=n)
+    ref = lcp.spd_nnls(s, q)
+    near = ref > 0.0
+    near[np.flatnonzero(near)[0]] = False  # one node off the solution's set: a second set settles it
+    for guess in (ref > 0.0, near):
+        z = lcp.primal_dual_from_guess(s, q, guess)
+        assert z is not None
+        np.testing.assert_allclose(z, ref, rtol=1e-8, atol=1e-10)
+    assert lcp.primal_dual_from_guess(s, q, None) is None
+    assert lcp.primal_dual_from_guess(s, q, np.zeros(n, dtype=bool)) is None

@@ -44,6 +44,7 @@ import numpy as np
 
 from ... import checks
 from ...errors import ConvergenceError
+from ...lcp import primal_dual_from_guess, spd_nnls
 from ...results import readonly
 from ...stagecache import checkpoint
 from .bearing import BearingRace
@@ -468,35 +469,18 @@ def _complementary(compliance: np.ndarray, q: np.ndarray, guess: np.ndarray | No
                    angles: int) -> np.ndarray:
     """μ ≥ 0, Cμ − q ≥ 0, μ·(Cμ − q) = 0: first a primal–dual active-set iteration from the
     ``guess`` (the last set: a few linear solves), exactly by NNLS (min |Lᵀμ − L⁻¹q|, C = LLᵀ)
-    if it does not settle in 12 sets or cycles. ``m`` × ``angles``: the band's points (for the
-    error message)."""
-    from scipy.linalg import LinAlgError, cholesky, solve, solve_triangular
-    from scipy.optimize import nnls
+    if it does not settle in 12 sets or cycles (:mod:`profilegen.lcp`). ``m`` × ``angles``: the
+    band's points (for the error message)."""
+    from scipy.linalg import LinAlgError
 
-    scale = max(float(np.max(np.abs(q))), 1e-300)
-    on = None if guess is None or not guess.any() else guess.copy()
-    seen: set[bytes] = set()
-    while on is not None and on.any() and len(seen) < 12:  # primal–dual active set from the guess
-        key = on.tobytes()
-        if key in seen:  # it cycles: leave it to NNLS
-            break
-        seen.add(key)
-        try:
-            part = solve(compliance[np.ix_(on, on)], q[on], assume_a="pos", check_finite=False)
-        except (LinAlgError, ValueError):
-            break
-        mu = np.zeros_like(q)
-        mu[on] = part
-        slack = compliance @ mu - q
-        if np.all(part > 0.0) and np.min(slack[~on], initial=0.0) >= -1e-12 * scale:
-            return mu
-        on = np.where(on, mu > 0.0, slack < -1e-12 * scale)
+    mu = primal_dual_from_guess(compliance, q, guess, max_sets=12)
+    if mu is not None:
+        return mu
     try:
-        lower = cholesky(compliance, lower=True)
+        return spd_nnls(compliance, q)
     except LinAlgError as exc:
         raise ConvergenceError(f"press_cup: the contact compliance ({m} band nodes × {angles} angles) is "
                                f"not positive definite ({exc})") from exc
-    return nnls(lower.T, solve_triangular(lower, q, lower=True), maxiter=50 * q.size)[0]
 
 
 @dataclass(frozen=True, slots=True, eq=False)
