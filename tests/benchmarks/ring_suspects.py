@@ -1,0 +1,171 @@
+"""The CS's real section and the wave generator's plug as radial compliances: what they do to the
+ratcheting estimate and to K1/K2/K3 (research/ring_suspects.py; docs/theory/torsion.md,
+"Suspects measured").
+
+    python tests/benchmarks/ring_suspects.py [--sets 25:100 32:100 40:100 32:50] [--holes 16,0.6]
+        [--bores 0.25,0.5,0.7,0.85] [--climb] [--stiffness]
+
+Per ``profilegen new`` set (size:ratio): the factors on the climb's free thin CS ring (mode 2):
+the CS as a thick annulus (2D elasticity), its bolt holes (N holes of d = f × the ring's wall on
+its mid-radius: ESTIMATES — the gear set holds no CS bolt pattern), the wave generator's plug
+for each bore fraction (bore / the inner race's seat radius: ESTIMATES — the gear set holds no
+plug bore), and the ``climb_ring_scale`` they make: thick × holes + plug at bore 0.5 (a solid
+cam with a shaft or Oldham bore) and at 0.85 (a thin cam ring, a hollow-shaft wave generator).
+
+``--climb``: the verify scene's estimate (``ratcheting_torque`` on the verify design's contact
+inputs, as ``tests/benchmarks/ratcheting.py --verify``) with the CS ring × 1 (the product), ×
+the realistic scale and × the hollow-cam scale, against the catalogue (20–60 s a set).
+
+``--stiffness``: the design scene's one-section whole-gear model (every ball a one-sided Hertz
+support, the chain's series parts: ``tests/benchmarks/missing_compliance.py``'s "all + Hertz")
+with a radial ring compliance added to the contact's CS block (``tests/oracles/cs_ring.py``: the
+free CS ring, its E divided by the scale, so its compliance × the scale) — K1/K2/K3 over the
+catalogue and the compliance each adds at T1, T2 and the peak torque. The product's torsional
+curve has no CS ring ovalisation at all (only the CS body in torsion), so ×1 is itself a
+candidate; the ratcheting climb has had it all along.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import resource
+import sys
+import time
+import warnings
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+sys.path.insert(0, str(ROOT))
+
+
+import profilegen as pg  # noqa: E402
+from research.ring_suspects import Holes, ring_scale_factors  # noqa: E402
+
+
+def _catalogue(gs):
+    from profilegen.contact.chain import catalogue_for
+
+    row = catalogue_for(gs)
+    if row is None or row.get("ratcheting_torque_nm") is None:
+        return row, None
+    return row, {"torque_nm": row["ratcheting_torque_nm"], "source": row.get("ratcheting_source")}
+
+
+def factors(gs, holes_count, hole_fraction, bores):
+    from research.ring_suspects import cs_ring
+
+    cs = cs_ring(gs)
+    holes = Holes(holes_count, hole_fraction * cs.thickness_mm, cs.mean_radius_mm)
+    t0 = time.process_time()
+    f = ring_scale_factors(gs, holes=holes, bore_fractions=bores)
+    real = f["thick"] * f["holes"] + f["plug"].get(0.5, 0.0)
+    hollow = f["thick"] * f["holes"] + f["plug"].get(0.85, 0.0)
+    print(f"  CS ring r {cs.inner_radius_mm:.2f}…{cs.outer_radius_mm:.2f} mm (h/R {cs.thickness_mm / cs.mean_radius_mm:.3f}),"
+          f" width {cs.width_mm:g} mm; thin-ring mode 2 {f['thin_mm_per_n']:.4g} mm/N")
+    print(f"  thick annulus / thin ring {f['thick']:.4f}; {holes_count} holes Ø{holes.diameter_mm:.2f} mm on "
+          f"r {holes.radius_mm:.2f}: × {f['holes']:.3f} (hand bounds {f['holes_bounds'][0]:.3f} composite … "
+          f"{f['holes_bounds'][1]:.3g} ligaments)")
+    print("  plug (bore fraction: mode-2 compliance / the thin CS ring's): "
+          + ", ".join(f"{b:g}: {v:.4f}" for b, v in f["plug"].items()))
+    print(f"  climb_ring_scale: realistic (thick × holes + plug 0.5) {real:.3f}; hollow cam (… + plug 0.85) {hollow:.3f};"
+          f" {time.process_time() - t0:.1f} s CPU")
+    return real, hollow
+
+
+def climb_runs(gs, scales) -> None:
+    from profilegen.contact.inputs import ContactInput
+    from profilegen.contact.ratchet import ratcheting_torque
+
+    _, cat = _catalogue(gs)
+    t0 = time.perf_counter()
+    design = pg.design(gs, scene="verify", contact=False, stress=False)
+    inputs = ContactInput.from_design(design)
+    print(f"  verify design {time.perf_counter() - t0:.1f} s")
+    base = None
+    for label, s in scales:
+        t0 = time.perf_counter()
+        r = ratcheting_torque(inputs, catalogue=cat, options={"climb_ring_scale": s})
+        base = r.torque_nm if base is None else base
+        ratio = "—" if cat is None else f"{r.torque_nm / cat['torque_nm']:.2f}"
+        print(f"  ring × {s:.3f} ({label}): {r.torque_nm:.0f} N·m ({r.climb['criterion']}), {r.torque_nm / base:.3f} of "
+              f"×1, / catalogue {ratio} (catalogue {None if cat is None else cat['torque_nm']}); "
+              f"{time.perf_counter() - t0:.1f} s")
+
+
+def stiffness_runs(gs, scales) -> None:
+    from threadpoolctl import threadpool_limits
+
+    from profilegen.contact.chain import compliance_chain, torsional_curve
+    from profilegen.contact.compliance import ContactCompliance
+    from profilegen.contact.inputs import ContactInput
+    from tests.oracles.cs_ring import CSRing, cs_ring_compliance
+
+    row, _ = _catalogue(gs)
+    t1, t2, t3 = float(row["T1_nm"]), float(row["T2_nm"]), float(gs.torque.peak_nm)
+    c1, c2, c3 = (float(row[k]) for k in ("K1_nm_per_rad", "K2_nm_per_rad", "K3_nm_per_rad"))
+    design = pg.design(gs, scene="design", contact=False, stress=False)
+    inputs = ContactInput.from_design(design)
+    chain = compliance_chain(gs)
+    series = chain.series_compliance_rad_per_nm
+    curve = torsional_curve(design, [-t2, -t1, t1, t2], chain=chain, catalogue=row, ball_supports="all")
+    theta0 = curve.first_contact_rad["positive"]
+    pts = curve.sides[1][0]
+    with threadpool_limits(limits=1, user_api="blas"):
+        every = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
+                                        wrap_half_angle_rad=inputs.rim_contact_angle_rad, ball_supports="all")
+
+    def phis(comp):
+        out = {}
+        with threadpool_limits(limits=1, user_api="blas"):
+            for t in (t1, t2, t3):
+                sol, _, _ = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, t / pts.zones * 1e3,
+                                                  bearing=chain.bearing)
+                out[t] = float(sol.phi_rad) - theta0 + t * series
+        return out
+
+    base = phis(every)
+    ring = CSRing.from_gearset(gs)
+    print(f"  one section, every ball one-sided + Hertz + series parts (design scene); catalogue K1 {c1:.3g}, K2 {c2:.3g}, "
+          f"K3 {c3:.3g} N·m/rad on T1 {t1:g}, T2 {t2:g}, peak {t3:g} N·m")
+    print(f"  {'radial ring added to the CS block':40s} {'K1/cat':>7s} {'K2/cat':>7s} {'K3/cat':>7s} {'C(T1)':>9s} "
+          f"{'C(T2)':>9s} {'C(T3)':>9s}  (C: added rotation / T, rad/(N·m))")
+    for label, s in [("none (the product's curve)", 0.0)] + list(scales):
+        if s == 0.0:
+            p = base
+        else:
+            rg = dataclasses.replace(ring, youngs_modulus_mpa=ring.youngs_modulus_mpa / s)
+            extra = cs_ring_compliance(rg, pts.cs_point_mm, pts.normal, zones=pts.zones)
+            p = phis(dataclasses.replace(every, cs_matrix_mm_per_n=every.cs_matrix_mm_per_n + extra))
+        k1, k2, k3 = t1 / p[t1], (t2 - t1) / (p[t2] - p[t1]), (t3 - t2) / (p[t3] - p[t2])
+        d = {t: (p[t] - base[t]) / t for t in (t1, t2, t3)}
+        print(f"  {label:40s} {k1 / c1:7.3f} {k2 / c2:7.3f} {k3 / c3:7.3f} {d[t1]:9.3g} {d[t2]:9.3g} {d[t3]:9.3g}")
+
+
+def main() -> None:
+    resource.setrlimit(resource.RLIMIT_AS, (4_000_000_000, 4_000_000_000))
+    warnings.filterwarnings("ignore")
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--sets", nargs="*", default=["25:100", "32:100", "40:100", "32:50"], help="size:ratio")
+    ap.add_argument("--holes", default="16,0.6", help="hole count, hole diameter / the CS ring's wall")
+    ap.add_argument("--bores", default="0.25,0.5,0.7,0.85", help="plug bore / the inner race's seat radius")
+    ap.add_argument("--climb", action="store_true", help="the verify scene's ratcheting estimate per scale")
+    ap.add_argument("--stiffness", action="store_true", help="K1/K2/K3 with the radial ring compliance")
+    args = ap.parse_args()
+    count, frac = args.holes.split(",")
+    bores = tuple(float(x) for x in args.bores.split(","))
+    for spec in args.sets:
+        size, ratio = (int(x) for x in spec.split(":"))
+        gs = pg.new_gearset(size, ratio).gearset
+        print(f"\n=== CSF-{size}-{ratio} (profilegen new)")
+        real, hollow = factors(gs, int(count), float(frac), bores)
+        scales = [("CS thick + holes + plug bore 0.5", real), ("… + plug bore 0.85, a hollow cam", hollow)]
+        if args.climb:
+            climb_runs(gs, [("the product: free thin CS ring", 1.0)] + scales)
+        if args.stiffness:
+            stiffness_runs(gs, [("free thin CS ring (×1)", 1.0)] + [(f"free CS ring × {s:.3f}: {lab}", s)
+                                                                   for lab, s in scales])
+
+
+if __name__ == "__main__":
+    main()
