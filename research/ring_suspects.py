@@ -28,6 +28,11 @@ it for two opposite load zones, and the one the catalogue's ovalisation modes sh
   set: it is swept (a shaft bore to a lightened, hollow plug). The shaft in the bore, pressed or
   keyed, only stiffens it; an Oldham coupling leaves it empty (the upper bound).
 
+A third suspect is not a ring: **the outer race and the FS rim bending across the face** between
+the ball row (mid-width) and the face's ends, where the tooth load also sits — the strip model of
+:mod:`research.race_flexure` (c_ax = b³/(320 E I) per ball, in series with its Hertz spring),
+put into the climb as :class:`FlexedBearing` (``ratcheting_torque(options={"bearing": ...})``).
+
 Each factor enters the climb through the existing study option ``climb_ring_scale`` of
 :func:`profilegen.contact.ratchet.ratcheting_torque` (``tests/benchmarks/ring_suspects.py``).
 
@@ -47,12 +52,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from profilegen.contact.chain import BallBearing
+
 __all__ = [
+    "FlexedBearing",
     "Holes",
     "Ring",
     "annulus_mode_compliance",
     "cs_ring",
+    "flexed_bearing",
     "holed_ring_bounds",
+    "plate_flexure_compliance_mm_per_n",
     "plug_ring",
     "ring_scale_factors",
     "thin_ring_mode_compliance",
@@ -278,3 +288,79 @@ def ring_scale_factors(gearset, *, holes: Holes | None = None, bore_fractions=(0
         pr = plug_ring(gearset, f)
         out["plug"][f] = annulus_mode_compliance(pr, n_radial=n_radial, n_theta=n_theta) / thin
     return out
+
+
+def flexed_bearing(gearset) -> "FlexedBearing":
+    """The gear set's estimated ball bearing with the race-and-rim strip's axial flexure
+    (:func:`research.race_flexure.race_axial_flexure_compliance_mm_per_n`: strip = the ball pitch on
+    the outer race's mid-radius, the race and the rim sliding) in series with each ball's Hertz spring."""
+    from profilegen.contact.compliance import default_race_thickness_mm
+    from research.race_flexure import race_axial_flexure_compliance_mm_per_n
+
+    b = BallBearing.from_gearset(gearset)
+    t_race = default_race_thickness_mm(gearset.gear)
+    r_race = 0.5 * b.pitch_diameter_mm + 0.5 * b.ball_diameter_mm + 0.5 * t_race
+    strip = 2.0 * math.pi * r_race / b.ball_count
+    c_ax = race_axial_flexure_compliance_mm_per_n(float(gearset.cup.face_width_mm), strip, t_race,
+                                                  float(gearset.gear.rim_thickness_mm),
+                                                  float(gearset.material.youngs_modulus_mpa))
+    return FlexedBearing(b.ball_count, b.ball_diameter_mm, b.pitch_diameter_mm, b.groove_conformity,
+                         b.youngs_modulus_mpa, b.poisson_ratio, b.estimates + ("race axial flexure (strip model)",),
+                         flexure_mm_per_n=c_ax)
+
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class FlexedBearing(BallBearing):
+    """A :class:`~profilegen.contact.chain.BallBearing` whose ball springs have a linear
+    compliance ``flexure_mm_per_n`` in series with Hertz (the secant δ/Q + c)."""
+
+    flexure_mm_per_n: float = 0.0
+
+    def secant_compliance_mm_per_n(self, force_n, *, floor_n: float = 1.0) -> np.ndarray:
+        return BallBearing.secant_compliance_mm_per_n(self, force_n, floor_n=floor_n) + self.flexure_mm_per_n
+
+
+def plate_flexure_compliance_mm_per_n(face_width_mm: float, pitch_mm: float, rigidity_nmm: float, *,
+                                      divisions: int = 16) -> float:
+    """The strip model's c_ax checked as a plate: the race and rim (flexural rigidity D, N·mm) as a
+    Kirchhoff plate one ball pitch s wide (circumferential, x) and the face b long (axial, y),
+    periodic in x (slopes zero on x = 0 and x = s/2 by symmetry), free at the face's ends, under a
+    uniform pressure, held at its ball (a point at mid-width) — against the same plate held
+    along the whole line x = 0 (the 2D slice's ball, a radial support across the face). The
+    extra compliance is the difference of the load's mean deflections (work-conjugate, as the
+    slice's even load) per ball load q·s·b. scikit-fem's Morley triangle on the quarter
+    x ∈ [0, s/2], y ∈ [0, b/2] (symmetry on y = 0), ``divisions`` along the shorter side."""
+    from skfem import Basis, BilinearForm, ElementTriMorley, LinearForm, MeshTri, asm, condense, solve
+    from skfem.helpers import dd, ddot, trace
+
+    b, s, d = float(face_width_mm), float(pitch_mm), float(rigidity_nmm)
+    if not (b > 0.0 and s > 0.0 and d > 0.0):
+        raise ValueError(f"face_width_mm = {b!r}, pitch_mm = {s!r}, rigidity_nmm = {d!r}: must be > 0")
+    nu = 0.3
+    hx, hy = 0.5 * s, 0.5 * b
+    step = min(hx, hy) / divisions
+    mesh = MeshTri.init_tensor(np.linspace(0.0, hx, max(2, round(hx / step)) + 1),
+                               np.linspace(0.0, hy, max(2, round(hy / step)) + 1))
+
+    @BilinearForm
+    def plate(u, v, _):
+        return d * ((1.0 - nu) * ddot(dd(u), dd(v)) + nu * trace(dd(u)) * trace(dd(v)))
+
+    @LinearForm
+    def pressure(v, _):
+        return v
+
+    basis = Basis(mesh, ElementTriMorley())
+    k, f = asm(plate, basis), asm(pressure, basis)
+    slope, value = basis.facet_dofs[0], basis.nodal_dofs[0]
+    mid = mesh.p[:, mesh.facets].mean(axis=1)
+    tol = 1e-9 * max(hx, hy)
+    sym = np.flatnonzero((mid[0] < tol) | (mid[0] > hx - tol) | (mid[1] < tol))
+    on_x0 = np.flatnonzero(mesh.p[0] < tol)
+    corner = np.flatnonzero((mesh.p[0] < tol) & (mesh.p[1] < tol))
+    means = []
+    for held in (corner, on_x0):
+        u = solve(*condense(k, f, D=np.unique(np.concatenate([slope[sym], value[held]]))))
+        means.append(float(f @ u) / (hx * hy))
+    return (means[0] - means[1]) / (s * b)

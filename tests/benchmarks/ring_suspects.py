@@ -14,13 +14,17 @@ cam with a shaft or Oldham bore) and at 0.85 (a thin cam ring, a hollow-shaft wa
 
 ``--climb``: the verify scene's estimate (``ratcheting_torque`` on the verify design's contact
 inputs, as ``tests/benchmarks/ratcheting.py --verify``) with the CS ring × 1 (the product), ×
-the realistic scale and × the hollow-cam scale, against the catalogue (20–60 s a set).
+the realistic scale and × the hollow-cam scale, against the catalogue (20–60 s a set); then with the outer race and the FS rim bending across the face
+between the ball row and the face's ends (``research.race_flexure``'s strip model in series with
+each ball's Hertz spring: ``research.ring_suspects.flexed_bearing``), alone and with the
+realistic ring.
 
 ``--stiffness``: the design scene's one-section whole-gear model (every ball a one-sided Hertz
 support, the chain's series parts: ``tests/benchmarks/missing_compliance.py``'s "all + Hertz")
 with a radial ring compliance added to the contact's CS block (``tests/oracles/cs_ring.py``: the
 free CS ring, its E divided by the scale, so its compliance × the scale) — K1/K2/K3 over the
-catalogue and the compliance each adds at T1, T2 and the peak torque. The product's torsional
+catalogue and the compliance each adds at T1, T2 and the peak torque; then the race and rim's
+axial flexure (``flexed_bearing``) alone and with the realistic ring. The product's torsional
 curve has no CS ring ovalisation at all (only the CS body in torsion), so ×1 is itself a
 candidate; the ratcheting climb has had it all along.
 """
@@ -40,7 +44,7 @@ sys.path.insert(0, str(ROOT))
 
 
 import profilegen as pg  # noqa: E402
-from research.ring_suspects import Holes, ring_scale_factors  # noqa: E402
+from research.ring_suspects import Holes, flexed_bearing, plate_flexure_compliance_mm_per_n, ring_scale_factors  # noqa: E402
 
 
 def _catalogue(gs):
@@ -73,6 +77,21 @@ def factors(gs, holes_count, hole_fraction, bores):
     return real, hollow
 
 
+def plate_over_strip(gs, divisions: int = 16) -> float:
+    """The Morley plate's axial flexure over the strip model's, at the set's ball pitch and face."""
+    from profilegen.contact.chain import BallBearing
+    from profilegen.contact.compliance import default_race_thickness_mm
+    from research.race_flexure import race_axial_flexure_compliance_mm_per_n
+
+    b = BallBearing.from_gearset(gs)
+    t_race, t_rim = default_race_thickness_mm(gs.gear), float(gs.gear.rim_thickness_mm)
+    pitch = 2.0 * 3.141592653589793 * (0.5 * b.pitch_diameter_mm + 0.5 * b.ball_diameter_mm + 0.5 * t_race) / b.ball_count
+    e, face = float(gs.material.youngs_modulus_mpa), float(gs.cup.face_width_mm)
+    rigidity = e * (t_race ** 3 + t_rim ** 3) / (12.0 * (1.0 - 0.3 ** 2))
+    strip = race_axial_flexure_compliance_mm_per_n(face, pitch, t_race, t_rim, e)
+    return plate_flexure_compliance_mm_per_n(face, pitch, rigidity, divisions=divisions) / strip
+
+
 def climb_runs(gs, scales) -> None:
     from profilegen.contact.inputs import ContactInput
     from profilegen.contact.ratchet import ratcheting_torque
@@ -82,10 +101,16 @@ def climb_runs(gs, scales) -> None:
     design = pg.design(gs, scene="verify", contact=False, stress=False)
     inputs = ContactInput.from_design(design)
     print(f"  verify design {time.perf_counter() - t0:.1f} s")
+    flexed = flexed_bearing(gs)
+    print(f"  race + rim axial flexure (strip model) {flexed.flexure_mm_per_n:.3g} mm/N per ball in series with Hertz "
+          f"({float(flexed.secant_compliance_mm_per_n(500.0)) - flexed.flexure_mm_per_n:.3g} mm/N at 500 N); "
+          f"the plate (Morley) / the strip: {plate_over_strip(gs):.3f}")
     base = None
-    for label, s in scales:
+    runs = [(label, s, True) for label, s in scales] + [("+ race/rim axial flexure", 1.0, flexed),
+                                                        (f"{scales[1][0]} + flexure", scales[1][1], flexed)]
+    for label, s, bearing in runs:
         t0 = time.perf_counter()
-        r = ratcheting_torque(inputs, catalogue=cat, options={"climb_ring_scale": s})
+        r = ratcheting_torque(inputs, catalogue=cat, options={"climb_ring_scale": s, "bearing": bearing})
         base = r.torque_nm if base is None else base
         ratio = "—" if cat is None else f"{r.torque_nm / cat['torque_nm']:.2f}"
         print(f"  ring × {s:.3f} ({label}): {r.torque_nm:.0f} N·m ({r.climb['criterion']}), {r.torque_nm / base:.3f} of "
@@ -115,12 +140,12 @@ def stiffness_runs(gs, scales) -> None:
         every = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
                                         wrap_half_angle_rad=inputs.rim_contact_angle_rad, ball_supports="all")
 
-    def phis(comp):
+    def phis(comp, bearing=chain.bearing):
         out = {}
         with threadpool_limits(limits=1, user_api="blas"):
             for t in (t1, t2, t3):
                 sol, _, _ = comp.solve_unilateral(pts.theta_rad, pts.lever_mm, t / pts.zones * 1e3,
-                                                  bearing=chain.bearing)
+                                                  bearing=bearing)
                 out[t] = float(sol.phi_rad) - theta0 + t * series
         return out
 
@@ -130,13 +155,16 @@ def stiffness_runs(gs, scales) -> None:
           f"K3 {c3:.3g} N·m/rad on T1 {t1:g}, T2 {t2:g}, peak {t3:g} N·m")
     print(f"  {'radial ring added to the CS block':40s} {'K1/cat':>7s} {'K2/cat':>7s} {'K3/cat':>7s} {'C(T1)':>9s} "
           f"{'C(T2)':>9s} {'C(T3)':>9s}  (C: added rotation / T, rad/(N·m))")
-    for label, s in [("none (the product's curve)", 0.0)] + list(scales):
+    flexed = flexed_bearing(gs)
+    rows = [("none (the product's curve)", 0.0, chain.bearing)] + [(lab, s, chain.bearing) for lab, s in scales] + [
+        ("race/rim axial flexure (strip)", 0.0, flexed), (f"{scales[1][0]} + flexure", scales[1][1], flexed)]
+    for label, s, bearing in rows:
         if s == 0.0:
-            p = base
+            p = phis(every, bearing)
         else:
             rg = dataclasses.replace(ring, youngs_modulus_mpa=ring.youngs_modulus_mpa / s)
             extra = cs_ring_compliance(rg, pts.cs_point_mm, pts.normal, zones=pts.zones)
-            p = phis(dataclasses.replace(every, cs_matrix_mm_per_n=every.cs_matrix_mm_per_n + extra))
+            p = phis(dataclasses.replace(every, cs_matrix_mm_per_n=every.cs_matrix_mm_per_n + extra), bearing)
         k1, k2, k3 = t1 / p[t1], (t2 - t1) / (p[t2] - p[t1]), (t3 - t2) / (p[t3] - p[t2])
         d = {t: (p[t] - base[t]) / t for t in (t1, t2, t3)}
         print(f"  {label:40s} {k1 / c1:7.3f} {k2 / c2:7.3f} {k3 / c3:7.3f} {d[t1]:9.3g} {d[t2]:9.3g} {d[t3]:9.3g}")

@@ -87,3 +87,27 @@ def test_plug_ring_is_the_cam_under_the_bearing():
     assert p.loaded == "outer"
     with pytest.raises(ValueError):
         plug_ring(gs, 1.0)
+
+
+def test_flexed_bearing_adds_the_strip_in_series_with_hertz():
+    import profilegen as pg
+    from profilegen.contact.chain import BallBearing
+    from research.ring_suspects import flexed_bearing
+
+    gs = pg.new_gearset(32, 100).gearset
+    plain, flexed = BallBearing.from_gearset(gs), flexed_bearing(gs)
+    q = np.array([10.0, 500.0, 3000.0])
+    c = flexed.secant_compliance_mm_per_n(q) - plain.secant_compliance_mm_per_n(q)
+    assert np.allclose(c, flexed.flexure_mm_per_n, rtol=1e-12)
+    assert flexed.flexure_mm_per_n > 0.0
+
+
+def test_plate_flexure_tends_to_the_strip_when_the_pitch_is_narrow():
+    # a plate strip much narrower than the face bends as research/race_flexure.py's beam:
+    # c_ax = b³/(320 D s); at the gear's proportions (s ≈ 0.6 b) the point support adds a little
+    from research.ring_suspects import plate_flexure_compliance_mm_per_n
+
+    b, d = 20.0, 1.0
+    assert plate_flexure_compliance_mm_per_n(b, 1.0, d, divisions=8) == pytest.approx(b ** 3 / (320.0 * d), rel=2e-3)
+    wide = plate_flexure_compliance_mm_per_n(16.0, 10.0, d, divisions=8)
+    assert 1.0 < wide / (16.0 ** 3 / (320.0 * d * 10.0)) < 1.3
