@@ -4,6 +4,7 @@ ratcheting estimate and to K1/K2/K3 (research/ring_suspects.py; docs/theory/tors
 
     python tests/benchmarks/ring_suspects.py [--sets 25:100 32:100 40:100 32:50] [--holes 16,0.6]
         [--bores 0.25,0.5,0.7,0.85] [--climb] [--stiffness]
+    python tests/benchmarks/ring_suspects.py --holes-sweep [--sets 32:100]
 
 Per ``profilegen new`` set (size:ratio): the factors on the climb's free thin CS ring (mode 2):
 the CS as a thick annulus (2D elasticity), its bolt holes (N holes of d = f × the ring's wall on
@@ -18,6 +19,9 @@ the realistic scale and × the hollow-cam scale, against the catalogue (20–60 
 between the ball row and the face's ends (``research.race_flexure``'s strip model in series with
 each ball's Hertz spring: ``research.ring_suspects.flexed_bearing``), alone and with the
 realistic ring.
+
+``--holes-sweep``: the holed CS ring's factor for 8 / 16 / 24 holes of 0.4 / 0.6 / 0.8 × the wall
+(FEM, 16 × 384 elements on the quarter) beside its hand bounds (~2 min a set).
 
 ``--stiffness``: the design scene's one-section whole-gear model (every ball a one-sided Hertz
 support, the chain's series parts: ``tests/benchmarks/missing_compliance.py``'s "all + Hertz")
@@ -90,6 +94,20 @@ def plate_over_strip(gs, divisions: int = 16) -> float:
     rigidity = e * (t_race ** 3 + t_rim ** 3) / (12.0 * (1.0 - 0.3 ** 2))
     strip = race_axial_flexure_compliance_mm_per_n(face, pitch, t_race, t_rim, e)
     return plate_flexure_compliance_mm_per_n(face, pitch, rigidity, divisions=divisions) / strip
+
+
+def holes_sweep(gs) -> None:
+    from research.ring_suspects import annulus_mode_compliance, cs_ring, holed_ring_bounds
+
+    cs = cs_ring(gs)
+    solid = annulus_mode_compliance(cs, n_radial=16, n_theta=384)
+    for count in (8, 16, 24):
+        for frac in (0.4, 0.6, 0.8):
+            holes = Holes(count, frac * cs.thickness_mm, cs.mean_radius_mm)
+            f = annulus_mode_compliance(cs, holes=holes, n_radial=16, n_theta=384) / solid
+            lo, hi = holed_ring_bounds(cs, holes)
+            print(f"  {count} holes of {frac:g} × the wall (Ø{holes.diameter_mm:.2f} mm): × {f:.3f} (hand bounds {lo:.3f} "
+                  f"… {hi:.3g})", flush=True)
 
 
 def climb_runs(gs, scales) -> None:
@@ -179,6 +197,7 @@ def main() -> None:
     ap.add_argument("--bores", default="0.25,0.5,0.7,0.85", help="plug bore / the inner race's seat radius")
     ap.add_argument("--climb", action="store_true", help="the verify scene's ratcheting estimate per scale")
     ap.add_argument("--stiffness", action="store_true", help="K1/K2/K3 with the radial ring compliance")
+    ap.add_argument("--holes-sweep", action="store_true", help="the holes' factor over count and diameter only")
     args = ap.parse_args()
     count, frac = args.holes.split(",")
     bores = tuple(float(x) for x in args.bores.split(","))
@@ -186,6 +205,9 @@ def main() -> None:
         size, ratio = (int(x) for x in spec.split(":"))
         gs = pg.new_gearset(size, ratio).gearset
         print(f"\n=== CSF-{size}-{ratio} (profilegen new)")
+        if args.holes_sweep:
+            holes_sweep(gs)
+            continue
         real, hollow = factors(gs, int(count), float(frac), bores)
         scales = [("CS thick + holes + plug bore 0.5", real), ("… + plug bore 0.85, a hollow cam", hollow)]
         if args.climb:
