@@ -23,12 +23,15 @@ realistic ring.
 ``--holes-sweep``: the holed CS ring's factor for 8 / 16 / 24 holes of 0.4 / 0.6 / 0.8 × the wall
 (FEM, 16 × 384 elements on the quarter) beside its hand bounds (~2 min a set).
 
-``--stiffness``: the design scene's one-section whole-gear model (every ball a one-sided Hertz
+``--stiffness [--verify-csv FILE ...]``: the design scene's one-section whole-gear model (every ball a one-sided Hertz
 support, the chain's series parts: ``tests/benchmarks/missing_compliance.py``'s "all + Hertz")
 with a radial ring compliance added to the contact's CS block (``tests/oracles/cs_ring.py``: the
 free CS ring, its E divided by the scale, so its compliance × the scale) — K1/K2/K3 over the
 catalogue and the compliance each adds at T1, T2 and the peak torque; then the race and rim's
-axial flexure (``flexed_bearing``) alone and with the realistic ring. The product's torsional
+axial flexure (``flexed_bearing``) alone and with the realistic ring. With ``--verify-csv`` (the CSVs
+of ``python tests/benchmarks/catalogue_sizes.py --scene verify --csv FILE``) each row also gives the
+verify scene's K's with the row's added rotation C·T in series at T1, T2 and the peak torque (an
+estimate: the sliced curve has no hook for the ring; the slices see the same ring). The product's torsional
 curve has no CS ring ovalisation at all (only the CS body in torsion), so ×1 is itself a
 candidate; the ratcheting climb has had it all along.
 """
@@ -36,6 +39,7 @@ candidate; the ratcheting climb has had it all along.
 from __future__ import annotations
 
 import argparse
+import csv
 import dataclasses
 import resource
 import sys
@@ -136,7 +140,9 @@ def climb_runs(gs, scales) -> None:
               f"{time.perf_counter() - t0:.1f} s")
 
 
-def stiffness_runs(gs, scales) -> None:
+def stiffness_runs(gs, scales, verify=None) -> None:
+    """``verify``: the verify scene's (K1, K2, K3) / catalogue of this set (catalogue_sizes.py's CSV),
+    to which each row's added rotation C·T is added in series (an estimate), or None."""
     from threadpoolctl import threadpool_limits
 
     from profilegen.contact.chain import compliance_chain, torsional_curve
@@ -185,7 +191,14 @@ def stiffness_runs(gs, scales) -> None:
             p = phis(dataclasses.replace(every, cs_matrix_mm_per_n=every.cs_matrix_mm_per_n + extra), bearing)
         k1, k2, k3 = t1 / p[t1], (t2 - t1) / (p[t2] - p[t1]), (t3 - t2) / (p[t3] - p[t2])
         d = {t: (p[t] - base[t]) / t for t in (t1, t2, t3)}
-        print(f"  {label:40s} {k1 / c1:7.3f} {k2 / c2:7.3f} {k3 / c3:7.3f} {d[t1]:9.3g} {d[t2]:9.3g} {d[t3]:9.3g}")
+        line = f"  {label:40s} {k1 / c1:7.3f} {k2 / c2:7.3f} {k3 / c3:7.3f} {d[t1]:9.3g} {d[t2]:9.3g} {d[t3]:9.3g}"
+        if verify is not None:  # the verify scene's sliced curve + the same added rotation C·T (an estimate)
+            q1 = t1 / (verify[0] * c1) + d[t1] * t1
+            q2 = t1 / (verify[0] * c1) + (t2 - t1) / (verify[1] * c2) + d[t2] * t2
+            q3 = t1 / (verify[0] * c1) + (t2 - t1) / (verify[1] * c2) + (t3 - t2) / (verify[2] * c3) + d[t3] * t3
+            line += (f"   verify + C·T: {t1 / q1 / c1:.2f} / {(t2 - t1) / (q2 - q1) / c2:.2f} / "
+                     f"{(t3 - t2) / (q3 - q2) / c3:.2f}")
+        print(line)
 
 
 def main() -> None:
@@ -197,9 +210,17 @@ def main() -> None:
     ap.add_argument("--bores", default="0.25,0.5,0.7,0.85", help="plug bore / the inner race's seat radius")
     ap.add_argument("--climb", action="store_true", help="the verify scene's ratcheting estimate per scale")
     ap.add_argument("--stiffness", action="store_true", help="K1/K2/K3 with the radial ring compliance")
+    ap.add_argument("--verify-csv", type=Path, nargs="*", default=[],
+                    help="catalogue_sizes.py CSVs (--scene verify): each set's K's + the added C·T, in series")
     ap.add_argument("--holes-sweep", action="store_true", help="the holes' factor over count and diameter only")
     args = ap.parse_args()
     count, frac = args.holes.split(",")
+    verify = {}
+    for path in args.verify_csv:
+        with open(path, newline="", encoding="utf-8") as fh:
+            for row in csv.DictReader(fh):
+                verify[(int(row["size"]), int(row["ratio"]))] = tuple(float(row[k]) for k in ("K1_ratio", "K2_ratio",
+                                                                                              "K3_ratio"))
     bores = tuple(float(x) for x in args.bores.split(","))
     for spec in args.sets:
         size, ratio = (int(x) for x in spec.split(":"))
@@ -214,7 +235,7 @@ def main() -> None:
             climb_runs(gs, [("the product: free thin CS ring", 1.0)] + scales)
         if args.stiffness:
             stiffness_runs(gs, [("free thin CS ring (×1)", 1.0)] + [(f"free CS ring × {s:.3f}: {lab}", s)
-                                                                   for lab, s in scales])
+                                                                   for lab, s in scales], verify.get((size, ratio)))
 
 
 if __name__ == "__main__":
