@@ -28,6 +28,7 @@ import shapely
 from .. import checks
 from ..errors import ProfilegenError
 from ..results import readonly
+from ..stagecache import reuse
 
 if TYPE_CHECKING:  # pragma: no cover
     from ..profile.envelope import Envelope
@@ -131,8 +132,9 @@ def solve_section(gearset, deformation, z_mm: float, tooth, *, chord_tol_mm: flo
     period = 2.0 * math.pi / g.waves
     phi = period * np.arange(360) / 360
     upsilon = np.asarray(deformation.upsilon(phi, z_mm), dtype=float)
-    if fit is None:
-        fit = section_fit(deformation, z_mm, waves=g.waves)[0]
+    if fit is None:  # it reads the rim's deformation, not the tooth: a tooth change in an engine keeps it
+        fit = reuse("face_section_fit", lambda: section_fit(deformation, z_mm, waves=g.waves)[0], gearset=gearset,
+                    sections=(), key=(float(z_mm), int(g.waves)), owners=(deformation,))
     motion = HarmonicDriveMotion.from_gearset(gearset, fit)
     env = envelope_of(tooth, motion, cs_teeth=g.circular_spline_teeth, waves=g.waves, chord_tol_mm=chord_tol_mm,
                       n_t=n_t, n_phi=n_phi)

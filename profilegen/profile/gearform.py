@@ -628,7 +628,9 @@ class PolylineDistance:
     foot (h: the spacing), so within √(r0² + h²/4) of p, r0 being p's distance to its
     nearest tree point (≥ the true distance). When the ``k``-th nearest tree point is
     farther than that, the k nearest carry every segment that can hold the foot and the
-    minimum over their segments is exact; otherwise (rare) all segments are searched.
+    minimum over their segments is exact; otherwise (rare) all segments are searched. The 4
+    nearest are asked for first (they carry the foot for ~9 points in 10 near a dense polyline), the
+    ``k`` nearest for the rest: the same minimum, for half the segment distances.
     """
 
     def __init__(self, vertices: np.ndarray, *, k: int = 8):
@@ -648,18 +650,41 @@ class PolylineDistance:
         self.label = seg
         self.k = int(min(k, len(seg)))
         self.tree = cKDTree(self.a[seg] + f[:, None] * (self.b[seg] - self.a[seg]))
+        # each segment's terms of _segment_distance, once (the same numbers as computed there)
+        ex, ey = self.b[:, 0] - self.a[:, 0], self.b[:, 1] - self.a[:, 1]
+        len2 = ex * ex + ey * ey
+        self._ex, self._ey, self._safe = ex, ey, np.where(len2 > 0, len2, 1.0)
+        self._root, self._point = np.sqrt(len2), len2 == 0
 
     def distance(self, p: np.ndarray) -> np.ndarray:
         p = np.asarray(p, float)
-        r, j = self.tree.query(p, k=self.k)
-        r, j = r.reshape(len(p), -1), j.reshape(len(p), -1)
-        out = _segment_distance(p[:, None, :], self.a[self.label[j]], self.b[self.label[j]]).min(axis=1)
-        unsure = ~(r[:, -1] > np.sqrt(r[:, 0] ** 2 + 0.25 * self.h**2))
-        rare = np.flatnonzero(unsure)
+        out = np.empty(len(p))
+        todo = np.arange(len(p))
+        for k in sorted({min(4, self.k), self.k}):
+            if not todo.size:
+                break
+            r, j = self.tree.query(p[todo], k=k)
+            r, j = r.reshape(len(todo), -1), j.reshape(len(todo), -1)
+            sure = r[:, -1] > np.sqrt(r[:, 0] ** 2 + 0.25 * self.h**2)
+            out[todo[sure]] = self._to_segments(p[todo[sure]], self.label[j[sure]]).min(axis=1)
+            todo = todo[~sure]
+        rare = todo
         for k in range(0, rare.size, 256):  # against every segment, 256 points at a time
             at = rare[k:k + 256]
             out[at] = _segment_distance(p[at, None, :], self.a[None], self.b[None]).min(axis=1)
         return out
+
+    def _to_segments(self, p: np.ndarray, seg: np.ndarray) -> np.ndarray:
+        """Distance of each point p[i] to the segments seg[i, :]: :func:`_segment_distance`'s
+        arithmetic (the same numbers), its per-segment terms taken from ``__init__``."""
+        dx, dy = p[:, 0, None] - self.a[seg, 0], p[:, 1, None] - self.a[seg, 1]
+        ex, ey, safe = self._ex[seg], self._ey[seg], self._safe[seg]
+        r = (dx * ex + dy * ey) / safe
+        s = (dx * ey - dy * ex) / safe  # (a − p)_y e_x − (a − p)_x e_y, negations exact
+        to_a = np.sqrt(dx * dx + dy * dy)
+        bx, by = p[:, 0, None] - self.b[seg, 0], p[:, 1, None] - self.b[seg, 1]
+        to_b = np.sqrt(bx * bx + by * by)
+        return np.where(self._point[seg] | (r <= 0.0), to_a, np.where(r >= 1.0, to_b, np.abs(s) * self._root[seg]))
 
 
 def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
