@@ -76,7 +76,8 @@ def csf32_thick_wire():
 
 
 def _largest_fillet(gs, addendum_mm: float) -> float | None:
-    """None when the design takes the 0.145 mm fillet, else the largest that fits (the error's)."""
+    """None when the design takes the 0.145 mm fillet, else the largest that fits (as the error
+    says it)."""
     try:
         pg.design(gs.with_values({"tooth.addendum_mm": addendum_mm}), scene="sketch", contact=False, stress=False)
     except FilletError as exc:
@@ -85,8 +86,10 @@ def _largest_fillet(gs, addendum_mm: float) -> float | None:
 
 
 def test_the_root_fillet_verdict_over_addendum_is_one_threshold(csf32_thick_wire):
-    # 0.32224 failed while 0.32192 and 0.32257 designed; 0.3224 designed between failures
-    found = [_largest_fillet(csf32_thick_wire, a) for a in (0.3208, 0.32224, 0.3224)]
+    # 0.32224 failed while 0.32192 and 0.32257 designed, and 0.3224 designed between failures;
+    # the threshold is near 0.32104 now
+    found = [_largest_fillet(csf32_thick_wire, a) for a in (0.3208, 0.32105, 0.3224)]
     assert found[0] is None  # below the threshold: the fillet fits
     assert found[1] is not None and found[2] is not None  # above it: it does not fit again
-    assert found[1] > found[2]  # and the room shrinks as the addendum grows
+    assert 0.145 > found[1] > found[2]  # the room shrinks as the addendum grows, and the message
+    # says so in digits even a few nm below the 0.145 mm asked (it read "0.145 mm")
