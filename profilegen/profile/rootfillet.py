@@ -378,7 +378,7 @@ def round_space(space: Chain, *, radius_mm: float, tip_radius_mm: float, cs_teet
             f"{field}: the wire is too thick for the CS tooth space — a fillet of {radius_mm:.4g} mm (wire radius + "
             f"spark gap) does not fit in its {where} corner (it runs past the elements beside it"
             f"{'; the two root fillets would overlap' if where.startswith('root') else ''}); the largest that fits "
-            f"is {best:.4g} mm (wire radius + spark gap): {_what_fits(best, where)}") from None
+            f"is {_below(best, radius_mm)} mm (wire radius + spark gap): {_what_fits(best, where)}") from None
     try:
         els, done = _round(space, radius_mm, **kw)
     except _NoRoom:  # the tip corners: the largest round that fits
@@ -409,7 +409,7 @@ def round_space(space: Chain, *, radius_mm: float, tip_radius_mm: float, cs_teet
                     raise FilletError(
                         f"{field}: a {where} fillet of {radius_mm:.4g} mm (wire radius + spark gap) would cut into "
                         f"the mesh — it enters the FS tooth's swept region by {depth * 1e3:.3g} µm; the largest "
-                        f"root fillet that stays clear is {best:.4g} mm: {_what_fits(best, 'root')}")
+                        f"root fillet that stays clear is {_below(best, radius_mm)} mm: {_what_fits(best, 'root')}")
                 clearance = -depth
         elif arc.radius < radius_mm * (1 - 1e-12):
             msg = (f"the CS {where} corner (outside, convex for the ring material) is rounded with {arc.radius:.4g} mm, "
@@ -428,6 +428,15 @@ def round_space(space: Chain, *, radius_mm: float, tip_radius_mm: float, cs_teet
                 f"(radius + spark gap) can cut; the largest that fits is {el.radius:.4g} mm: "
                 f"{_what_fits(el.radius, 'arc')}")
     return RoundedSpace(Chain(tuple(els)), tuple(fillets), tuple(warnings))
+
+
+def _below(best: float, radius: float) -> str:
+    """``best`` with 4 significant digits, or as many more (up to 8) as show it below ``radius``:
+    near the limit the largest fillet that fits read "0.145 mm" beside the 0.145 mm asked."""
+    for digits in range(4, 9):
+        if f"{best:.{digits}g}" != f"{radius:.{digits}g}":
+            break
+    return f"{best:.{digits}g}"
 
 
 def _what_fits(best: float, where: str = "") -> str:

@@ -139,7 +139,7 @@ def main(argv=None) -> int:
         indexed = [(j, job) for j, job in indexed if j in failed]
         print(f"replaying {len(indexed)} failures of {', '.join(args.replay)}")
     counts: dict[str, Counter] = {"sketch": Counter(), "design": Counter()}
-    failures, t0 = [], time.perf_counter()
+    failures, t0, c0 = [], time.perf_counter(), time.process_time()
     for j, (i, name, changes, scene) in indexed:
         limit = args.time_limit_s * (4 if scene == "design" else 1)
         kind, what = outcome(run, sets[name], changes, scene, limit)
@@ -162,13 +162,14 @@ def main(argv=None) -> int:
     errors = Counter(f["error"].split(":")[0] for f in failures)
     summary = {"n": args.n, "seed": args.seed, "plain": args.plain, "jobs": [j for j, _ in indexed] if args.replay else
                [args.start, args.start + len(indexed)], "time_s": time.perf_counter() - t0,
+               "cpu_s": time.process_time() - c0,
                "counts": {s: dict(c) for s, c in counts.items()}, "cliffs": len(cliffs),
                "failures_by_type": dict(errors), "failures": failures}
     out = Path(args.out)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(summary, indent=1))
     print(f"\n{'plain profilegen.design' if args.plain else 'profilegen.Engine'}, seed {args.seed}, "
-          f"{time.perf_counter() - t0:.0f} s")
+          f"{time.perf_counter() - t0:.0f} s wall, {time.process_time() - c0:.0f} s CPU")
     for scene, c in counts.items():
         print(f"  {scene:7s} ok {c['ok']:5d}  named {c['named']:4d}  other {c['other']:3d}")
     print(f"  failures by type: {dict(errors)}")
