@@ -470,7 +470,7 @@ def _register_figures(app, sessions: Sessions) -> None:
         only the newest response of a callback: what the page shows is read from ``drawn``).
 
         The CS space goes with the points that draw the same at the view the page shows
-        (:func:`profilegen.app.views.lighter`: ~1 500 of the default sketch's 39 000); a zoom or a
+        (:func:`profilegen.app.views.lighter`: ~1 800 of the default sketch's 39 000); a zoom or a
         pan (``relayoutData``) sends the long lines' points again for the new view, as a Patch of
         their x and y alone, from the whole figure kept in the session (so a sub-µm zoom gets every
         point there is). In this callback too, so that a zoom's answer can never land on a newer
