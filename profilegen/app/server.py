@@ -479,8 +479,13 @@ def _register_figures(app, sessions: Sessions) -> None:
         trig = next((t for t in ("pin", "unpin", "figkey") if t in fired), ctx.triggered_id)
         try:
             s = _session(sessions, sid)
-            if fired == {"space"}:  # a zoom alone (the renderer merges triggers that come while one runs)
-                return _zoomed(s, relayout, drawn), no_update, no_update
+            with s.lock:
+                shown = s.space
+            if fired == {"space"} and shown is not None and shown[0] == drawn:
+                # a zoom alone on the figure the page shows (the renderer merges triggers that come while
+                # one runs, and keeps only the newest response: a zoom, or the first figure's autosize,
+                # that supersedes a figure on its way sends that figure instead, below)
+                return _zoomed(s, relayout, shown), no_update, no_update
             if trig in ("pin", "unpin"):
                 s.clicked(trig, pin if trig == "pin" else unpin)
             with s.lock:
@@ -506,13 +511,9 @@ def _register_figures(app, sessions: Sessions) -> None:
             log.warning("profilegen app: the figures failed: %s", _failure(exc))
             raise PreventUpdate from None
 
-    def _zoomed(s: Session, relayout, drawn):
+    def _zoomed(s: Session, relayout, shown):
         from dash.exceptions import PreventUpdate
 
-        with s.lock:
-            shown = s.space
-        if shown is None or shown[0] != drawn:
-            raise PreventUpdate  # the page shows another figure: its own answer is on the way
         key, fig, start, view = shown
         new = views.view_after(relayout, view, start)
         if new is None:
