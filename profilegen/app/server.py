@@ -451,28 +451,45 @@ def _register_render(app, sessions: Sessions) -> None:
 
 
 def _register_figures(app, sessions: Sessions) -> None:
-    """The figures' callback: the CS space and the fit error, once per profile and on pin / unpin."""
-    from dash import Input, Output, State, ctx
+    """The figures' callback: the CS space and the fit error, once per profile and on pin / unpin;
+    the CS space's points again at each zoom or pan."""
+    from dash import Input, Output, Patch, State, ctx, no_update
     from dash.exceptions import PreventUpdate
 
     @app.callback(
         Output("space", "figure"), Output("fit-error", "figure"), Output("drawn", "data"),
         Input("figkey", "data"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
+        Input("space", "relayoutData"),
         State("sid", "data"), State("drawn", "data"),
         prevent_initial_call=True,
     )
-    def figures(_figkey, pin, unpin, sid, drawn):
+    def figures(_figkey, pin, unpin, relayout, sid, drawn):
         """The CS space and the error figures: once per profile (the poll's ``figkey`` changes with
         it: a torque change keeps it) and on pin / unpin. A callback of their own, so that the
         snapshots that only add numbers never overlap a render that sends them (the browser keeps
-        only the newest response of a callback: what the page shows is read from ``drawn``)."""
-        trig = ctx.triggered_id
+        only the newest response of a callback: what the page shows is read from ``drawn``).
+
+        The CS space goes with the points that draw the same at the view the page shows
+        (:func:`profilegen.app.views.lighter`: ~1 800 of the default sketch's 39 000); a zoom or a
+        pan (``relayoutData``) sends the long lines' points again for the new view, as a Patch of
+        their x and y alone, from the whole figure kept in the session (so a sub-µm zoom gets every
+        point there is). In this callback too, so that a zoom's answer can never land on a newer
+        profile's figure."""
+        fired = {p.split(".")[0] for p in ctx.triggered_prop_ids}
+        trig = next((t for t in ("pin", "unpin", "figkey") if t in fired), ctx.triggered_id)
         try:
             s = _session(sessions, sid)
+            with s.lock:
+                shown = s.space
+            if fired == {"space"} and shown is not None and shown[0] == drawn:
+                # a zoom alone on the figure the page shows (the renderer merges triggers that come while
+                # one runs, and keeps only the newest response: a zoom, or the first figure's autosize,
+                # that supersedes a figure on its way sends that figure instead, below)
+                return _zoomed(s, relayout, shown), no_update, no_update
             if trig in ("pin", "unpin"):
                 s.clicked(trig, pin if trig == "pin" else unpin)
             with s.lock:
-                snap, pinned = s.profile_snap, s.pinned
+                snap, pinned, shown = s.profile_snap, s.pinned, s.space
             if snap is None:
                 raise PreventUpdate
             design = snap.design
@@ -481,12 +498,35 @@ def _register_figures(app, sessions: Sessions) -> None:
             if key == drawn:
                 raise PreventUpdate
             a = pinned.design if pinned is not None else None
-            return views.space_figure(design, pinned=a, job=token), views.error_figure(design, pinned=a), key
+            fig = views.space_figure(design, pinned=a, job=token)
+            start = views.initial_view(fig)
+            # the zoom stays across redesigns (uirevision): a zoomed page gets the points of its zoom
+            view = shown[3] if shown is not None and shown[3] != shown[2] else start
+            with s.lock:
+                s.space = (key, fig, start, view)
+            return views.lighter(fig, view), views.error_figure(design, pinned=a), key
         except PreventUpdate:
             raise
         except Exception as exc:  # noqa: BLE001 — the status bar says it (the figures stay)
             log.warning("profilegen app: the figures failed: %s", _failure(exc))
             raise PreventUpdate from None
+
+    def _zoomed(s: Session, relayout, shown):
+        from dash.exceptions import PreventUpdate
+
+        key, fig, start, view = shown
+        new = views.view_after(relayout, view, start)
+        if new is None:
+            raise PreventUpdate  # a resize, a legend click: the axes did not move
+        light = views.lighter(fig, new)
+        patch = Patch()
+        for i in views.heavy_traces(fig):
+            patch["data"][i]["x"] = light["data"][i]["x"]
+            patch["data"][i]["y"] = light["data"][i]["y"]
+        with s.lock:
+            if s.space is shown:
+                s.space = (key, fig, start, new)
+        return patch
 
 
 def _register_files(app, sessions: Sessions) -> None:

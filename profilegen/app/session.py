@@ -379,6 +379,9 @@ class Session:
         self.used = time.monotonic()
         self._profiles: OrderedDict[int, tuple[Any, int]] = OrderedDict()  # id(profile) -> (profile, token)
         self.profile_snap: Snapshot | None = None  # the newest snapshot with a profile (the figures' design)
+        # the space figure the page shows: (its key, the whole figure, the view it opens with, the view
+        # shown); the page gets its points thinned for the view (views.lighter), again at each zoom
+        self.space: tuple | None = None
         self._clicks: dict[str, Any] = {}
 
     @property

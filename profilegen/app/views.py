@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Row", "SCREEN_CHORD_MM", "changes", "error_figure", "numbers", "space_figure", "space_name",
-           "verdict_parts"]
+__all__ = ["Row", "SCREEN_CHORD_MM", "View", "changes", "error_figure", "heavy_traces", "initial_view", "lighter",
+           "numbers", "space_figure", "space_name", "verdict_parts", "view_after"]
 
 PINNED_COLOR = "#d62728"
 #: the chord tolerance the workbench samples the fitted arcs at (mm): 0.2 nm, a tenth of a pixel of
@@ -68,6 +68,155 @@ def space_figure(design, *, pinned=None, job: int | None = None, height_px: int 
     layout["meta"] = {"job": job, "gearset": design.gearset.name}
     layout["title"]["text"] = "CS tooth space, FS tooth poses (drag: zoom)"
     return fig
+
+
+# ------------------------------------------------------------------ the CS space's points, per view
+#: the widest plot (px) the space figure is taken to have: its real width (the page's, responsive) is
+#: at most this, so a data unit per pixel from it is at most the real one (its height is given)
+MAX_PLOT_WIDTH_PX = 2000
+#: the largest distance (px) a dropped point may lie from the line drawn without it
+DROP_TOLERANCE_PX = 0.25
+#: lines of fewer points are sent whole
+_FEW = 200
+#: the most points of a line simplified as one piece (:func:`_simplified`)
+_PIECE = 64
+
+
+@dataclass(frozen=True)
+class View:
+    """What the space figure shows: the axes' ranges (mm). ``window`` (x0, x1, y0, y1): the part
+    of the plane whose points are sent (the ranges widened for the equal axes, which may show more
+    than was asked for), and ``tol_mm``: the distance a dropped point may lie from the drawn line
+    (a quarter of a pixel at the widest plot)."""
+
+    x_range: tuple[float, float]
+    y_range: tuple[float, float]
+    height_px: int = 520
+
+    @property
+    def tol_mm(self) -> float:
+        (x0, x1), (y0, y1) = self.x_range, self.y_range
+        return DROP_TOLERANCE_PX * max(abs(x1 - x0) / MAX_PLOT_WIDTH_PX, abs(y1 - y0) / self.height_px)
+
+    @property
+    def window(self) -> tuple[float, float, float, float]:
+        (x0, x1), (y0, y1) = self.x_range, self.y_range
+        span = max(abs(x1 - x0), abs(y1 - y0))
+        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+        # equal axes: the plot may show up to its aspect ratio more along x, and a little more along y
+        return (cx - 2.0 * span, cx + 2.0 * span, cy - span, cy + span)
+
+
+def initial_view(fig: dict) -> View:
+    """The view a figure of :func:`space_figure` opens with (its axes' ranges)."""
+    layout = fig["layout"]
+    return View(tuple(map(float, layout["xaxis"]["range"])), tuple(map(float, layout["yaxis"]["range"])),
+                int(layout.get("height", 520)))
+
+
+def view_after(relayout: dict | None, view: View, initial: View) -> View | None:
+    """The view after a plotly ``relayoutData`` event (a zoom, a pan, a reset), from ``view``:
+    None when the event does not move the axes (a resize, a legend click)."""
+    if not relayout:
+        return None
+    if relayout.get("xaxis.autorange") or relayout.get("yaxis.autorange"):
+        return initial
+    ranges = []
+    for axis, now in (("xaxis", view.x_range), ("yaxis", view.y_range)):
+        pair = relayout.get(f"{axis}.range")
+        if pair is None and f"{axis}.range[0]" in relayout and f"{axis}.range[1]" in relayout:
+            pair = (relayout[f"{axis}.range[0]"], relayout[f"{axis}.range[1]"])
+        try:
+            ranges.append(now if pair is None else (float(pair[0]), float(pair[1])))
+        except (TypeError, ValueError, IndexError):
+            ranges.append(now)
+    if ranges[0] == view.x_range and ranges[1] == view.y_range:
+        return None
+    return View(ranges[0], ranges[1], view.height_px)
+
+
+def _simplified(x: np.ndarray, y: np.ndarray, starts: np.ndarray, ends: np.ndarray, tol: float) -> np.ndarray:
+    """Which points Douglas–Peucker keeps of the polylines x[a:b], y[a:b] (a, b of ``starts``,
+    ``ends``; no gaps inside): every dropped point lies within ``tol`` of the line through the kept
+    ones (the ends are kept). All the lines' segments are split a level at a time, in numpy: each
+    at its point farthest from its chord (the first of equals) while that is more than ``tol`` off."""
+    keep = np.zeros(x.size, bool)
+    # the lines cut into pieces of _PIECE points (their ends kept): fewer levels of splitting, a few
+    # more points sent
+    count = -(-(ends - 1 - starts) // _PIECE)
+    lo = np.repeat(starts, count) + _PIECE * (np.arange(int(count.sum())) - np.repeat(np.cumsum(count) - count, count))
+    hi = np.minimum(lo + _PIECE, np.repeat(ends - 1, count))
+    keep[lo] = keep[hi] = True
+    while True:
+        wide = hi - lo >= 2
+        lo, hi = lo[wide], hi[wide]
+        if lo.size == 0:
+            return keep
+        inner = hi - lo - 1
+        first = np.cumsum(inner) - inner
+        owner = np.repeat(np.arange(lo.size), inner)
+        idx = lo[owner] + 1 + np.arange(int(inner.sum())) - first[owner]
+        dx, dy = (x[hi] - x[lo])[owner], (y[hi] - y[lo])[owner]
+        px, py = x[idx] - x[lo][owner], y[idx] - y[lo][owner]
+        norm = np.hypot(dx, dy)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            d = np.where(norm > 0.0, np.abs(px * dy - py * dx) / norm, np.hypot(px, py))
+        far = np.maximum.reduceat(d, first)
+        hit = np.flatnonzero(d == far[owner])
+        at = idx[hit[np.unique(owner[hit], return_index=True)[1]]]  # each segment's first farthest point
+        split = far > tol
+        at = at[split]
+        keep[at] = True
+        lo, hi = np.concatenate([lo[split], at]), np.concatenate([at, hi[split]])
+
+
+def _thinned(xs, ys, view: View) -> tuple[list, list]:
+    """A polyline's points (None or NaN: gaps) for ``view``: the pieces that cross its window,
+    each simplified to its tolerance, a gap between pieces."""
+    x = np.array([math.nan if v is None else v for v in xs], dtype=float)
+    y = np.array([math.nan if v is None else v for v in ys], dtype=float)
+    ok = np.isfinite(x) & np.isfinite(y)
+    x0, x1, y0, y1 = view.window
+    # the segments whose box meets the window: both their ends are sent (a line through the window
+    # with no point inside it is drawn too)
+    seg = ok[:-1] & ok[1:]
+    seg &= (np.minimum(x[:-1], x[1:]) <= x1) & (np.maximum(x[:-1], x[1:]) >= x0)
+    seg &= (np.minimum(y[:-1], y[1:]) <= y1) & (np.maximum(y[:-1], y[1:]) >= y0)
+    sent = np.zeros(x.size, bool)
+    sent[:-1] |= seg
+    sent[1:] |= seg
+    sent |= ok & (x >= x0) & (x <= x1) & (y >= y0) & (y <= y1)  # lone points inside
+    edges = np.diff(np.concatenate([[0], sent.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    if starts.size == 0:
+        return [], []
+    k = np.flatnonzero(_simplified(x, y, starts, ends, view.tol_mm))
+    piece = np.searchsorted(starts, k, side="right")  # each kept point's piece: a gap (None) between pieces
+    gap = np.flatnonzero(np.diff(piece)) + 1
+    out_x, out_y = np.insert(x[k], gap, np.nan).tolist(), np.insert(y[k], gap, np.nan).tolist()
+    return [None if v != v else v for v in out_x], [None if v != v else v for v in out_y]
+
+
+def heavy_traces(fig: dict) -> list[int]:
+    """The indices of the figure's lines with many points (those :func:`lighter` thins)."""
+    return [i for i, t in enumerate(fig["data"])
+            if t.get("mode") == "lines" and len(t.get("x") or ()) >= _FEW]
+
+
+def lighter(fig: dict, view: View | None = None) -> dict:
+    """``fig`` (of :func:`space_figure`, not changed) with the points of its long lines that draw
+    the same at ``view`` (default: the view it opens with) left out: only the parts of each line
+    that cross the view's window, and of those only the points that lie more than a quarter of a
+    pixel from the line through their neighbours kept (Douglas–Peucker). Zoomed in, the page asks
+    again for the new view (the server keeps the whole figure), so the points under a sub-µm zoom
+    are those of the whole figure there. The default set's sketch: 39 000 points (1.0 MB) to ~1 800 (48 kB)."""
+    view = initial_view(fig) if view is None else view
+    out = {**fig, "data": list(fig["data"])}
+    for i in heavy_traces(fig):
+        t = fig["data"][i]
+        x, y = _thinned(t["x"], t["y"], view)
+        out["data"][i] = {**t, "x": x, "y": y}
+    return out
 
 
 def _sampled(elements) -> np.ndarray:

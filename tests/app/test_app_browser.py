@@ -244,6 +244,64 @@ def test_pin_a_design_and_compare_the_next_one_over_it(browser, app, tmp_path):
     _no_console_errors(browser)
 
 
+_FS_AT = """
+const t = document.querySelector('#space .js-plotly-plot').data.find(t => (t.name || '').startsWith('FS tooth at'));
+return [t.x, t.y];
+"""
+
+
+def _off_line(points, xs, ys):
+    """Each point's distance (mm) to the polyline xs, ys (None: a gap)."""
+    import numpy as np
+
+    line = np.array([[np.nan, np.nan] if x is None else [x, y] for x, y in zip(xs, ys)], float)
+    a, b = line[:-1], line[1:]
+    ok = np.all(np.isfinite(a) & np.isfinite(b), axis=1)
+    a, b = a[ok], b[ok]
+    d = b - a
+    p = np.asarray(points, float)[:, None, :]
+    t = np.clip(np.sum((p - a) * d, axis=2) / np.maximum(np.sum(d * d, axis=1), 1e-300), 0.0, 1.0)
+    return np.min(np.linalg.norm(p - (a + t[..., None] * d), axis=2), axis=1)
+
+
+def test_a_zoom_gets_the_points_of_its_view(browser, app):
+    """The page gets the CS space's lines thinned for the view it shows (a quarter pixel off the
+    whole figure's line at most); zoomed to a 2 µm box where the opening view's line is that far
+    off, the points there arrive (a Patch) and the line drawn follows the whole figure's to a
+    quarter pixel of the zoom (~1 nm)."""
+    import numpy as np
+    from selenium.webdriver.support.ui import WebDriverWait
+
+    _open(browser, app)
+    sessions = app.app.profilegen_sessions
+    with sessions._lock:  # the page's tab: the one its polls used last
+        tab = next(reversed(sessions._items.values()))
+    whole = next(t for t in tab.space[1]["data"] if t["name"].startswith("FS tooth at"))  # the whole figure
+    pts = np.column_stack([whole["x"], whole["y"]]).astype(float)
+    off = _off_line(pts, *browser.execute_script(_FS_AT))
+    centre = pts[int(np.argmax(off))]
+    assert 1e-5 < off.max() <= 0.25 * 1.4 / 520  # 10 nm ... a quarter pixel of the opening view (~1.4 mm high)
+    opening = browser.execute_script("const l = document.querySelector('#space .js-plotly-plot').layout;"
+                                     "return [l.xaxis.range.slice(), l.yaxis.range.slice()];")
+    half = 1e-3
+    browser.execute_script("""
+        Plotly.relayout(document.querySelector('#space .js-plotly-plot'),
+                        {'xaxis.range': [arguments[0] - arguments[2], arguments[0] + arguments[2]],
+                         'yaxis.range': [arguments[1] - arguments[2], arguments[1] + arguments[2]]});""",
+                           float(centre[0]), float(centre[1]), half)
+    WebDriverWait(browser, WAIT_S, poll_frequency=0.05).until(
+        lambda d: _off_line([centre], *d.execute_script(_FS_AT))[0] < 1e-9)
+    box = pts[np.all(np.abs(pts - centre) <= half, axis=1)]
+    assert len(box) > 3
+    assert float(np.max(_off_line(box, *browser.execute_script(_FS_AT)))) <= 0.25 * 2 * half / 520
+    # back to the opening view: its thinned lines again (the tests after this one see the page as opened)
+    browser.execute_script("Plotly.relayout(document.querySelector('#space .js-plotly-plot'), "
+                           "{'xaxis.range': arguments[0], 'yaxis.range': arguments[1]});", *opening)
+    WebDriverWait(browser, WAIT_S, poll_frequency=0.05).until(
+        lambda d: _off_line([centre], *d.execute_script(_FS_AT))[0] > 1e-5)
+    _no_console_errors(browser)
+
+
 def test_export_writes_the_design_folder_and_the_dxf_reads_back(browser, app, workspace):
     import ezdxf
 
