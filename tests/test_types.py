@@ -34,9 +34,7 @@ ROOT = Path(__file__).resolve().parents[1]
 KNOWN_ERRORS: dict[str, int] = {}
 
 #: public callable → its parameters (and "return") left bare, each with its reason. May only shrink.
-KNOWN_GAPS: dict[str, list[str]] = {
-    "profilegen.solve_ring": ["mesh"],  # rim/ring.py: a (mesh, θ, r) triple or a ToothedRimMesh, unpacked in place
-}
+KNOWN_GAPS: dict[str, list[str]] = {}
 
 #: result fields typed ``object``, each with its reason. May only shrink.
 KNOWN_UNTYPED_FIELDS: list[str] = []

@@ -61,6 +61,7 @@ import math
 import time
 from dataclasses import dataclass, field, replace
 from functools import partial
+from collections.abc import Iterable
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
@@ -872,7 +873,7 @@ def solve_ring(
     gap_tol_mm: float = 1e-9,
     geometry: str = "linear",
     newton_tol_mm: float = 1e-10,
-    mesh=None,
+    mesh: Iterable[Any] | None = None,
     tier: str | None = None,
     condense_within_rad: float | None = None,
     lazy_columns: bool | None = None,
