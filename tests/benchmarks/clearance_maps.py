@@ -26,6 +26,9 @@ import sys
 import tempfile
 from pathlib import Path
 
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from speed_changes import unpack  # noqa: E402  (a commit's tree, or a folder as it is)
+
 ROOT = Path(__file__).resolve().parents[2]
 
 RECORD = r"""
@@ -68,15 +71,6 @@ for args, kwargs in calls:
     rows.append({"cpu": time.process_time() - c0, "map": out.clearance_mm.tobytes().hex()})
 print(json.dumps(rows))
 """
-
-
-def unpack(ref: str, into: Path) -> Path:
-    if Path(ref).is_dir():
-        return Path(ref).resolve()
-    into.mkdir(parents=True)
-    archive = subprocess.run(["git", "-C", str(ROOT), "archive", ref], check=True, capture_output=True).stdout
-    subprocess.run(["tar", "-x", "-C", str(into)], input=archive, check=True)
-    return into
 
 
 def python(tree: Path, code: str, *args: str) -> str:
