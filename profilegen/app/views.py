@@ -110,8 +110,8 @@ class View:
 def initial_view(fig: dict) -> View:
     """The view a figure of :func:`space_figure` opens with (its axes' ranges)."""
     layout = fig["layout"]
-    return View(tuple(map(float, layout["xaxis"]["range"])), tuple(map(float, layout["yaxis"]["range"])),
-                int(layout.get("height", 520)))
+    (x0, x1), (y0, y1) = layout["xaxis"]["range"], layout["yaxis"]["range"]
+    return View((float(x0), float(x1)), (float(y0), float(y1)), int(layout.get("height", 520)))
 
 
 def view_after(relayout: dict | None, view: View, initial: View) -> View | None:
