@@ -93,3 +93,15 @@ def test_the_root_fillet_verdict_over_addendum_is_one_threshold(csf32_thick_wire
     assert found[1] is not None and found[2] is not None  # above it: it does not fit again
     assert 0.145 > found[1] > found[2]  # the room shrinks as the addendum grows, and the message
     # says so in digits even a few nm below the 0.145 mm asked (it read "0.145 mm")
+
+
+def test_a_tie_broken_member_is_certified_by_the_optimum_it_is_tied_to():
+    """The tie-break's member may lie up to TIE_ACCEPT·F above the minimax optimum, and the LP
+    certificate at that member then finds that much decrease: the fit is the optimum's, so it
+    must not raise. A seed002_short_cup perturbation (a sketch design) where it did, while its
+    neighbours designed: the perturbation study's one cliff after the tie-break change."""
+    gs = pg.load_gearset("seed002_short_cup").with_values({
+        "tooth.tip_arc_radius_mm": 0.409547069637568, "cup.root_fillet_radius_mm": 0.19201743620344078,
+        "requirements.max_lost_motion_arcmin": 0.9891161862046111, "material.youngs_modulus_mpa": 197853.30461797726})
+    d = pg.design(gs, scene="sketch")  # raised ConvergenceError ("no convergence in 200 SLP iterations")
+    assert d.verdict is not None
