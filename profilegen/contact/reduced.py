@@ -15,7 +15,7 @@ import numpy as np
 
 from .springs import ball_totals, spring_block
 
-__all__ = ["BallWeights", "ReducedZone", "SpringIteration", "zone_solution"]
+__all__ = ["ReducedZone", "SpringIteration", "zone_solution"]
 
 
 class SpringIteration:
@@ -57,72 +57,6 @@ class SpringIteration:
     @property
     def springs(self):
         return None if self.x is None else np.exp(self.x)
-
-
-#: the columns of W (:class:`BallWeights`) solved together: aligned blocks of this many, so that a
-#: column's numbers are those of one solve of all of them (the triangular solves of LAPACK's
-#: potrs take the right-hand sides in aligned groups; tests/unit/test_face_curve.py checks it)
-W_BLOCK = 8
-
-
-class BallWeights:
-    """W = (F_BB + C b)⁻¹ F_cBᵀ of one ball set (|B| × n points; C the springs' block), solved by
-    the columns that are asked for (:meth:`columns`), in aligned blocks of :data:`W_BLOCK`: the
-    solve of a spring iterate needs the columns of the loaded points only (a few dozen of the
-    sliced curve's 965), and a column's numbers do not depend on which others were solved with it.
-    ``w``: the n columns, those not solved yet 0 (the loaded points' reactions −W F read the
-    solved ones only: F is 0 elsewhere). ``cb_act``: F_cB's columns of the active balls."""
-
-    __slots__ = ("factor", "cb_act", "w", "_rhs", "_done", "_potrs")
-
-    def __init__(self, factor, cb_act):
-        self.factor, self.cb_act = factor, cb_act
-        n = cb_act.shape[0]
-        self._rhs = cb_act.T
-        self.w = np.zeros((cb_act.shape[1], n), order="F")  # the layout of potrs' answer
-        self._done = np.zeros(-(-n // W_BLOCK), bool)
-        self._potrs = None
-
-    @classmethod
-    def solved(cls, w, cb_act) -> "BallWeights":
-        """W given whole (no balls: |B| = 0)."""
-        out = cls(None, cb_act)
-        out.w, out._done[:] = w, True
-        return out
-
-    def _solve(self, rhs) -> np.ndarray:
-        """cho_solve(factor, rhs) without its checks (the factor and F_cB are finite): LAPACK's potrs."""
-        if self._potrs is None:
-            from scipy.linalg import get_lapack_funcs
-
-            self._potrs = get_lapack_funcs(("potrs",), (self.factor[0], self._rhs))[0]
-        x, info = self._potrs(self.factor[0], rhs, lower=self.factor[1], overwrite_b=False)
-        if info != 0:
-            raise ValueError(f"illegal value in {-info}th argument of internal potrs")
-        return x
-
-    def columns(self, cols) -> np.ndarray:
-        """``w`` with (at least) the columns ``cols`` solved."""
-        blocks = np.unique(np.asarray(cols) // W_BLOCK)
-        need = blocks[~self._done[blocks]]
-        if need.size:
-            n = self.w.shape[1]
-            start = prev = int(need[0])
-            for b in need[1:].tolist() + [-2]:  # each run of consecutive blocks: one solve
-                if b != prev + 1:
-                    lo, hi = start * W_BLOCK, min(n, (prev + 1) * W_BLOCK)
-                    self.w[:, lo:hi] = self._solve(self._rhs[:, lo:hi])
-                    start = b
-                prev = b
-            self._done[need] = True
-        return self.w
-
-    def whole(self) -> np.ndarray:
-        """``w`` with every column solved."""
-        if not self._done.all():
-            self.w = self._solve(self._rhs)
-            self._done[:] = True
-        return self.w
 
 
 class ReducedZone:
@@ -171,51 +105,44 @@ class ReducedZone:
 
     # --- the pieces for one ball set
     def _balls(self, active, springs):
-        """→ (the active balls, their :class:`BallWeights` W, the teeth's first-contact angles with
-        the balls' gaps closed, the reactions' part from the gaps (N)). With rigid balls
-        (``springs`` None) they depend on the ball set alone: kept by it, W solved whole (the
-        rigid solves of a curve's torques meet the same few sets again and again: 223 calls,
-        107 sets on the default set's design scene); with springs W is solved by the columns
-        the loaded points ask for."""
+        """→ (the active balls, W, the teeth's first-contact angles with the balls' gaps closed,
+        the reactions' part from the gaps (N)). With rigid balls (``springs`` None) they depend on
+        the ball set alone: kept by it (the rigid solves of a curve's torques meet the same few
+        sets again and again: 223 calls, 107 sets on the default set's design scene)."""
         if springs is not None:
-            return self._balls_made(active, springs, lazy=True)
+            return self._balls_made(active, springs)
         key = np.asarray(active, bool).tobytes()
         hit = self._rigid.get(key)
         if hit is None:
             hit = self._balls_made(active, None)
-            for a in (hit[0], hit[1].w, hit[2], hit[3]):
+            for a in hit:
                 if a is not self.theta:  # (the points' own angles where no ball has a gap: not ours to flag)
                     a.flags.writeable = False  # shared by every later call with this set
             if len(self._rigid) < 256:  # ~0.26 MB each on the sliced curve's 965 points
                 self._rigid[key] = hit
         return hit
 
-    def _balls_made(self, active, springs, *, lazy: bool = False):
+    def _balls_made(self, active, springs):
         from scipy.linalg import cho_factor, cho_solve
 
         act = np.flatnonzero(active)
         if act.size == 0:
-            return act, BallWeights.solved(np.zeros((0, self.r.size)), self.cb[:, act]), self.theta, np.zeros(0)
+            return act, np.zeros((0, self.r.size)), self.theta, np.zeros(0)
         block = self.bb[np.ix_(act, act)]
         if springs is not None:
             block = block + spring_block(springs, act, self.body) * self.b
         factor = cho_factor(block)
-        cb_act = self.cb[:, act]
-        w = BallWeights(factor, cb_act)
-        if not lazy:
-            w.whole()
+        w = cho_solve(factor, self.cb[:, act].T)
         gap = self.gap[act]
         if not np.any(gap):
             return act, w, self.theta, np.zeros(act.size)
         u = cho_solve(factor, gap)
-        return act, w, self.theta - (cb_act @ u) / self.r, -self.b * u
+        return act, w, self.theta - (self.cb[:, act] @ u) / self.r, -self.b * u
 
     def _columns(self, act, w, cols):
         out = np.ascontiguousarray(self._base_t[cols].T)  # C order, as the sum of two column gathers was
         if act.size:
-            coupling = w.cb_act @ w.columns(cols)[:, cols]
-            coupling /= self.b  # (in place: the same quotients)
-            out -= coupling
+            out -= (self.cb[:, act] @ w[:, cols]) / self.b
         return out
 
     def _contact(self, act, w, th, tz, loaded):
@@ -296,8 +223,8 @@ class ReducedZone:
             force, phi, gap, loaded, it = out
             total += it
             react = np.zeros(active.size)
-            if act.size:  # F is 0 off the loaded points, whose columns of W _contact solved
-                react[act] = react_gap - w.w @ force
+            if act.size:
+                react[act] = react_gap - w @ force
             # the balls' gaps after load (an active ball's: its spring's compression, ~0)
             ball_gap = self.gap + self.cb.T @ (force / self.b) + self.bb[:, act] @ (react[act] / self.b)
             if c is not None:  # each spring compressed by its ball's load (the sum over a ball's shares)
@@ -319,7 +246,7 @@ class ReducedZone:
             return None
         diag = self.base_diag.copy()
         if act.size:
-            diag -= np.einsum("ij,ji->i", w.cb_act, w.whole()) / self.b
+            diag -= np.einsum("ij,ji->i", self.cb[:, act], w) / self.b
         return {"phi": phi, "force": force, "gap": gap, "loaded": loaded, "active": active, "reactions": react,
                 "ball_gap": ball_gap, "log_springs": None if springs is None else springs.x, "diag": diag,
                 "iterations": total}

@@ -429,65 +429,13 @@ def test_rigid_ball_pieces_kept_by_the_ball_set(curve_2d):
     pts, comp = curve_2d.sides[1]
     zone = ReducedZone(pts, comp, None)
     active = np.asarray(comp.ball_active, bool)
-    arrays = lambda pieces: (pieces[0], pieces[1].w, pieces[2], pieces[3])  # noqa: E731
     first, again = zone._balls(active, None), zone._balls(active.copy(), None)
-    assert all(x is y for x, y in zip(arrays(first), arrays(again)))
-    assert not first[1].w.flags.writeable
-    for x, y in zip(arrays(first), arrays(zone._balls_made(active, None))):
+    assert all(x is y for x, y in zip(first, again))
+    assert not first[1].flags.writeable
+    for x, y in zip(first, zone._balls_made(active, None)):
         np.testing.assert_array_equal(x, y)
     fewer = active.copy()
     fewer[np.flatnonzero(active)[0]] = False
-    assert zone._balls(fewer, None)[1].w.shape[0] == first[1].w.shape[0] - 1
+    assert zone._balls(fewer, None)[1].shape[0] == first[1].shape[0] - 1
     springs = np.full(active.size, 1e-6)
     assert zone._balls(active, springs)[1] is not zone._balls(active, springs)[1]
-
-
-def test_ball_weights_by_columns_are_the_whole_solve_bit_for_bit():
-    """W = (F_BB + C b)⁻¹ F_cBᵀ solved by the columns the loaded points ask for (aligned blocks)
-    has the numbers of scipy's cho_solve of all n columns at once, bit for bit, whatever columns
-    were asked before; the blocks not asked stay 0. Sizes of the sliced curve (965 points, up to
-    55 balls). (Columns solved in runs that start off the blocks differ in the last bits: with
-    W_BLOCK = 1 this fails.)"""
-    from scipy.linalg import cho_factor, cho_solve
-
-    from profilegen.contact.reduced import W_BLOCK, BallWeights
-
-    n = 965
-    for seed in range(8):
-        rng = np.random.default_rng(seed)
-        a = int(rng.integers(20, 56))
-        cb = rng.standard_normal((n, 60)) * 1e-4
-        bb = rng.standard_normal((60, 60))
-        bb = (bb @ bb.T + 60.0 * np.eye(60)) * 1e-6
-        act = np.sort(rng.choice(60, a, replace=False))
-        factor = cho_factor(bb[np.ix_(act, act)])
-        whole = cho_solve(factor, cb[:, act].T)
-        w = BallWeights(factor, cb[:, act])
-        asked = np.zeros(n, bool)
-        for _ in range(6):
-            start = int(rng.integers(0, n - 60))
-            cols = np.sort(rng.choice(np.arange(start, start + 60), int(rng.integers(1, 40)), replace=False))
-            got = w.columns(cols)
-            asked[cols] = True
-            assert np.array_equal(got[:, cols], whole[:, cols])
-        solved = np.repeat(np.bincount(np.flatnonzero(asked) // W_BLOCK, minlength=-(-n // W_BLOCK)) > 0,
-                           W_BLOCK)[:n]
-        assert not np.any(got[:, ~solved])
-        assert np.array_equal(w.whole(), whole)
-
-
-def test_a_sprung_solve_is_the_same_with_w_solved_whole(design, curve_2d, monkeypatch):
-    """ReducedZone.solve with Hertz springs (W by the loaded points' columns) gives the same bits
-    as with every W solved whole (as before W was solved by columns)."""
-    from profilegen.contact import reduced
-
-    pts, comp = curve_2d.sides[1]
-    bearing = compliance_chain(design.gearset).bearing
-    state = (np.zeros(pts.count, bool), np.asarray(comp.ball_active, bool), None)
-    options = dict(springs_on=True, max_iterations=80, spring_tol=1e-5)
-    by_columns = ReducedZone(pts, comp, bearing).solve(300.0, state, **options)
-    monkeypatch.setattr(reduced.BallWeights, "columns", lambda self, cols: self.whole())
-    whole = ReducedZone(pts, comp, bearing).solve(300.0, state, **options)
-    assert by_columns["iterations"] > 2  # the springs did iterate
-    for key in ("phi", "force", "gap", "reactions", "ball_gap", "log_springs", "diag"):
-        assert np.array_equal(by_columns[key], whole[key]), key
