@@ -235,7 +235,8 @@ class TwoZoneClimb:
         tooth = np.concatenate([pts.tooth, pts.tooth[ci], teeth])
         comp = ContactCompliance.build(inputs, fs, normal, tooth,
                                        np.vstack([pts.cs_point_mm, pts.cs_point_mm[ci], cs_probe]),
-                                       race_thickness_mm=race_thickness_mm, ball_supports="all")
+                                       race_thickness_mm=race_thickness_mm, ball_supports="all",
+                                       cs_ring=False)  # the ring: ring_matrix below, as the climb's
         layout = SimpleNamespace(tooth=tooth, fs_point_mm=fs, normal=normal, lever_mm=np.ones(tooth.size),
                                  theta_rad=np.zeros(tooth.size), rotation=pts.rotation, side=pts.side,
                                  count=int(tooth.size))

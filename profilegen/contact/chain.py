@@ -48,6 +48,7 @@ from ..stagecache import checkpoint
 from ..errors import ConvergenceError
 from ..results import json_ready, readonly as _readonly
 from ..geometry.wgbearing import BallBearing, ChainError, HertzContact, hertz_point_contact  # noqa: F401 (re-exported: the chain's bearing)
+from .cs_ring import cs_held_radius  # noqa: F401 (re-exported: where the chain holds the CS)
 from .springs import ball_totals
 from .reduced import ReducedZone, zone_solution, SpringIteration  # noqa: F401 (the continuation's pieces, used here)
 
@@ -234,27 +235,13 @@ class ComplianceChain:
 
 LEFT_OUT = (
     "the bearing's inner ring bending and its fit on the cam; the cam's own compliance",
-    "the CS ring's ovalisation under the two zones' radial forces (the sector is held at 1.1 r_p) and its bolted joint",
+    "the CS's bolted joint and housing: its ring ovalises as a free thin ring (the upper bound; contact.cs_ring)",
     "the sector model's fixed radial cuts (the CS ring between the zones taken rigid)",
     "coning of the cup (the load is taken even across the face; torsional_curve(face_slices=N) takes it, "
     "contact.face_curve) and the cup's bending under the tooth forces",
     "the balls' preload from pinching the rim (lightly loaded balls come out softer)",
     "friction: no hysteresis, loading and unloading give one curve",
 )
-
-
-def cs_held_radius(gearset) -> tuple[float, str | None]:
-    cs = getattr(gearset, "circular_spline", None)
-    d_out = None if cs is None else cs.outer_diameter_mm
-    if d_out is not None:
-        return 0.5 * float(d_out), None
-    from ..gearset.sections import CS_OUTER_DIAMETER_PER_ROOT
-
-    g = gearset.gear
-    w0 = float(gearset.wave_generator.deflection_coefficient) * float(g.module_mm)
-    root = 2.0 * (float(g.pitch_radius_mm) + float(gearset.tooth.addendum_mm) + w0 + 0.25 * float(g.module_mm))
-    r = 0.5 * math.ceil(CS_OUTER_DIAMETER_PER_ROOT * root)
-    return r, f"cs_held_radius_mm = {r:.4g} (1.25 × the estimated CS root diameter)"
 
 
 def compliance_chain(gearset, *, cs_sector_radius_mm: float | None = None, cs_held_radius_mm: float | None = None,

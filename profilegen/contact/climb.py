@@ -331,7 +331,7 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, gro
           refine: int = 3, tol_mm: float = 1e-4, max_iterations: int = 30,
           max_torque_nm: float = math.inf, max_halvings: int = 4,
           max_retreat_step_mm: float = 0.02, min_step_fraction: float = 1.0 / 64.0,
-          limit_drop: float = 0.005) -> ClimbPath:
+          limit_drop: float = 0.01) -> ClimbPath:
     """Follow T(φ) from ``phi_start`` in steps of ``phi_step`` (grown ×``grow`` while nothing
     ends the path) until a criterion of the module docstring is met, then refine the
     bracket ``refine`` times (quarter steps from the point before it; where not one of them
@@ -351,11 +351,15 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, gro
     and only if none converges does the path end at the last point (criterion "end of path":
     no equilibrium was found just beyond it — under rotation control the teeth would snap).
 
-    A limit point is T falling more than ``limit_drop`` (0.5 %) below its largest so far: the
-    stations' contact switching makes T(φ) wiggle by ~0.1–0.3 % where it is flat, and the first
+    A limit point is T falling more than ``limit_drop`` (1 %) below its largest so far: the
+    stations' contact switching makes T(φ) wiggle by ~0.1–0.5 % where it is flat, and the first
     such wiggle ended the path before (seed000_csf40, verify scene: T flat at 6284–6300 N·m over
     φ = 4.65–4.77 mrad with 0.35 mm of the teeth still in their spaces, then rising to 7372 and
-    falling 3 % and on — the step grid ×1.01 took the wiggle, 6290 N·m, ×1 the later 7359).
+    falling 3 % and on — the step grid ×1.01 took the wiggle, 6290 N·m, ×1 the later 7359). The
+    default set's sketch scene wiggles by 0.51 % at 4540 N·m (φ = 4.75–4.79 mrad) before its
+    peak, 5484 N·m, after which T falls 2.5 % in two steps: with a 0.5 % threshold the
+    estimate was 4546 or 5484 N·m as the step grid fell (a nanometre of the CS flank, or
+    another CPU's round-off, chose).
 
     Step control: a step whose force-weighted mean retreat grows by more than
     ``max_retreat_step_mm`` is not taken but tried again halved (down to ``min_step_fraction``
@@ -531,7 +535,8 @@ class DesignClimb:
             np.vstack([pts.normal, tip_actual, self._tf[fi] if nt else np.zeros((0, 2)), e_r]),
             np.concatenate([pts.tooth, pts.tooth[self._ci], pts.tooth[fi], teeth]),
             np.vstack([pts.cs_point_mm, pts.cs_point_mm[self._ci], pts.cs_point_mm[fi], cs_probe]),
-            race_thickness_mm=race_thickness_mm, shift_rad=shift_rad, ball_supports=ball_supports)
+            race_thickness_mm=race_thickness_mm, shift_rad=shift_rad, ball_supports=ball_supports,
+            cs_ring=False)  # the ring is ring_factory's: radial, per tooth, with the current sin α
         #: each candidate ball's no-load gap to the bore (mm; 0 within the wrap; the window: all 0)
         gb = self._combined.ball_gap_mm
         self._g0 = np.zeros(self._combined.ball_angle_rad.size) if gb is None else np.asarray(gb, dtype=float)

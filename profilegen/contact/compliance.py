@@ -53,6 +53,7 @@ from ..errors import ConvergenceError, ProfilegenError
 from ..results import readonly as _readonly
 from ..stagecache import checkpoint
 from ..geometry.wgbearing import DEFAULT_BALL_COUNT, default_race_thickness_mm  # noqa: F401 (re-exported)
+from .cs_ring import CSRing, CSRingError, contact_ring_compliance
 from .inputs import ContactInput
 from .springs import ball_totals, spring_block
 from ..lcp import lemke_lcp
@@ -1457,6 +1458,11 @@ class ContactCompliance:
     #: one ball (the axial slices' copies, :func:`profilegen.contact.face_curve.stack_slices`),
     #: whose spring carries their summed reaction; None: every candidate its own ball
     ball_body: np.ndarray | None = None
+    #: the CS ring's ovalisation at the points (n × n, mm/N, whole face; included in
+    #: ``cs_matrix_mm_per_n``: :mod:`profilegen.contact.cs_ring`); None: the sector alone
+    cs_ring_mm_per_n: np.ndarray | None = None
+    #: the ring it is of (:class:`~profilegen.contact.cs_ring.CSRing`), or None
+    cs_ring: CSRing | None = None
 
     def __post_init__(self):
         for name in ("matrix_mm_per_n", "fs_matrix_mm_per_n", "cs_matrix_mm_per_n", "ball_angle_rad", "_flex_cc",
@@ -1468,6 +1474,8 @@ class ContactCompliance:
             object.__setattr__(self, "ball_gap_mm", _readonly(self.ball_gap_mm))
         if self.ball_body is not None:
             object.__setattr__(self, "ball_body", _readonly(self.ball_body, dtype=np.int64))
+        if self.cs_ring_mm_per_n is not None:
+            object.__setattr__(self, "cs_ring_mm_per_n", _readonly(self.cs_ring_mm_per_n))
         object.__setattr__(self, "tooth", _readonly(self.tooth, dtype=np.int64))
         object.__setattr__(self, "ball_active", _readonly(self.ball_active, dtype=bool))
 
@@ -1493,6 +1501,7 @@ class ContactCompliance:
         shift_rad: float = 0.0,
         ball_supports: str = "window",
         mesh: ComplianceMesh | Mapping | None = None,
+        cs_ring: bool = True,
     ) -> "ContactCompliance":
         """Influence coefficients for the contact points of one engagement zone.
 
@@ -1517,7 +1526,10 @@ class ContactCompliance:
         ``ball_supports``: "window" (the candidate balls are those within the wrap, rigid at
         zero gap; the default) or "all" (every ball of the zone, |θ| < π/2, a one-sided
         support at its no-load gap :func:`no_load_ball_gap_mm`, 0 within the wrap; the balls
-        within the wrap start active; solve with :meth:`solve_unilateral`).
+        within the wrap start active; solve with :meth:`solve_unilateral`). ``cs_ring``: add the
+        CS ring's ovalisation under both zones' forces to the CS block (the default;
+        :mod:`profilegen.contact.cs_ring`, a free thin ring) — False: the sector alone, held at
+        its outer radius (a study's or a model's own ring, as the ratcheting climb's).
         """
         start = time.perf_counter()
         grid = ComplianceMesh.of(mesh)
@@ -1566,18 +1578,28 @@ class ContactCompliance:
                           back_layers=_whole("cs_back_layers", grid.cs_back_layers, 1),
                           outer_radius_mm=cs_outer_radius_mm, tol_mm=tol, substructure=bool(grid.substructure))
             checkpoint()
+            ring = ring_s = None
+            cs_flex = cs.flex
+            if cs_ring:
+                try:
+                    ring = CSRing.of(inputs, width_mm=b)
+                except CSRingError as exc:
+                    raise ComplianceError(str(exc)) from exc
+                ring_s = contact_ring_compliance(ring, cs_points, fs_normals, zones=g.waves)
+                cs_flex = cs.flex + ring_s * b  # the sector's flexibility is per unit width, the ring's whole-face
             nb = balls.size
             # inside the single-threaded block too: OpenBLAS's threads took 0.46 s for this 196 × 196
             # Cholesky on the busy machine (cProfile), against milliseconds on one thread
             result = cls._assemble(
-                flex_cc=fs.flex[:n, :n], flex_cb=fs.flex[:n, n:], flex_bb=fs.flex[n:, n:], cs_flex=cs.flex,
+                flex_cc=fs.flex[:n, :n], flex_cb=fs.flex[:n, n:], flex_bb=fs.flex[n:, n:], cs_flex=cs_flex,
                 face_width_mm=b, tooth=tooth_index, ball_angle_rad=balls,
                 ball_active=np.ones(nb, bool) if ball_gap is None else ball_gap <= 0.0,
                 wrap_half_angle_rad=wrap, wrap_source=wrap_source,
                 dof={"fs": fs.dof, "cs": cs.dof}, time_s={"fs": fs.time_s, "cs": cs.time_s},
                 mesh={"fs": fs.mesh, "cs": cs.mesh, "fs_off_surface_max_mm": float(fs.off_surface_mm.max()),
                       "cs_off_surface_max_mm": float(cs.off_surface_mm.max())},
-                warnings=tuple(warnings), start=start, ball_supports=ball_supports, ball_gap=ball_gap)
+                warnings=tuple(warnings), start=start, ball_supports=ball_supports, ball_gap=ball_gap,
+                cs_ring_matrix=ring_s, cs_ring=ring)
         if settle_iterations and forces_n is not None:
             result = result.settle_balls(forces_n, max_iterations=settle_iterations)
         return result
@@ -1585,7 +1607,7 @@ class ContactCompliance:
     @classmethod
     def _assemble(cls, *, flex_cc, flex_cb, flex_bb, cs_flex, face_width_mm, tooth, ball_angle_rad, ball_active,
                   wrap_half_angle_rad, wrap_source, dof, time_s, mesh, warnings, start=None, ball_compliance=None,
-                  ball_supports="window", ball_gap=None, ball_body=None):
+                  ball_supports="window", ball_gap=None, ball_body=None, cs_ring_matrix=None, cs_ring=None):
         act = np.flatnonzero(ball_active)
         fs2d = flex_cc.copy()
         if act.size:
@@ -1606,7 +1628,7 @@ class ContactCompliance:
             times["total"] = time.perf_counter() - start
         return cls(total, fs_s, cs_s, face_width_mm, tooth, ball_angle_rad, ball_active, wrap_half_angle_rad,
                    wrap_source, dict(dof), times, mesh, flex_cc, flex_cb, flex_bb, tuple(warnings), ball_compliance,
-                   ball_supports, ball_gap, ball_body)
+                   ball_supports, ball_gap, ball_body, cs_ring_matrix, cs_ring)
 
     # --- balls ------------------------------------------------------------------------
     @property
@@ -1668,7 +1690,7 @@ class ContactCompliance:
             ball_angle_rad=self.ball_angle_rad, ball_active=act, wrap_half_angle_rad=self.wrap_half_angle_rad,
             wrap_source=self.wrap_source, dof=self.dof, time_s=self.time_s, mesh=self.mesh, warnings=self.warnings,
             ball_compliance=springs, ball_supports=self.ball_supports, ball_gap=self.ball_gap_mm,
-            ball_body=self.ball_body)
+            ball_body=self.ball_body, cs_ring_matrix=self.cs_ring_mm_per_n, cs_ring=self.cs_ring)
 
     def settle_balls(self, forces_n, *, max_iterations: int = 20, solve=None) -> "ContactCompliance":
         """Seed 000 steps 4–6 for the balls: drop the balls that pull, take back the dropped
@@ -1830,7 +1852,9 @@ class ContactCompliance:
         return {
             "model": "plane-stress FEM: FS point-symmetric toothed half ring on the bearing's outer race (if any) on "
                      "radial ball supports, bore mean "
-                     "rotation held; CS toothed sector fixed outside; S = S_2D / b",
+                     "rotation held; CS toothed sector fixed outside; S = S_2D / b"
+                     + ("; + the CS ring's ovalisation under both zones' forces (a free thin ring)"
+                        if self.cs_ring is not None else ""),
             "count": self.count,
             "face_width_mm": self.face_width_mm,
             "diagonal_mm_per_n": {"min": float(d.min()), "max": float(d.max())},
@@ -1838,6 +1862,9 @@ class ContactCompliance:
                                      "max": float(np.diag(self.fs_matrix_mm_per_n).max())},
             "cs_diagonal_mm_per_n": {"min": float(np.diag(self.cs_matrix_mm_per_n).min()),
                                      "max": float(np.diag(self.cs_matrix_mm_per_n).max())},
+            "cs_ring": None if self.cs_ring is None or self.cs_ring_mm_per_n is None else {
+                **self.cs_ring.to_dict(), "diagonal_mm_per_n": {"min": float(np.diag(self.cs_ring_mm_per_n).min()),
+                                                                "max": float(np.diag(self.cs_ring_mm_per_n).max())}},
             "ball_angle_deg": np.degrees(self.ball_angle_rad).tolist(),
             "ball_active": self.ball_active.tolist(),
             "wrap_half_angle_deg": math.degrees(self.wrap_half_angle_rad),

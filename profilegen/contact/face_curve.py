@@ -483,7 +483,8 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
     face (docs/theory/torsion.md): the FS flexibility less its local part (:func:`local_fraction`), the
     balls' seats with it, as a Pasternak foundation (:func:`slice_coupling_matrix`;
     ``positions_mm`` the slices' sections, default the cells' middles); the local part and the CS
-    stay per slice. An even load is the 2D section for any λ. Every slice's copy of a ball is a
+    stay per slice, but the CS ring's ovalisation (``compliance.cs_ring_mm_per_n``), one body
+    across the face, couples every slice alike. An even load is the 2D section for any λ. Every slice's copy of a ball is a
     share of that ball (``ball_body``: one spring under their summed reaction, docs/theory/torsion.md).
     Solve it with the curve's solvers."""
     if getattr(compliance, "ball_supports", "window") != "all":
@@ -515,7 +516,14 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
         normal=tile(points.normal), gap_mm=gap, lever_mm=tile(r))
     # the CS and the FS's local part per slice (× b/w_i); the rim's far field coupled along the face
     alone = np.diag(b / w)
-    cs = np.kron(alone, np.asarray(compliance.cs_matrix_mm_per_n, dtype=float))
+    ring = getattr(compliance, "cs_ring_mm_per_n", None)
+    ring_all = None
+    if ring is None:
+        cs = np.kron(alone, np.asarray(compliance.cs_matrix_mm_per_n, dtype=float))
+    else:  # the CS ring is one body across the face: a force on any slice moves every slice's points alike
+        ring = np.asarray(ring, dtype=float)
+        ring_all = np.kron(np.ones((ns, ns)), ring)
+        cs = np.kron(alone, np.asarray(compliance.cs_matrix_mm_per_n, dtype=float) - ring) + ring_all
     if c_ring > 0.0:
         rr = np.tile(r, ns)
         cs = cs + np.kron(ring_twist_kernel(w), np.ones((n, n))) * np.outer(rr, rr) * (c_ring * points.zones)
@@ -544,7 +552,7 @@ def stack_slices(points, compliance, gap_shift, *, widths_mm=None, ring_complian
         face_width_mm=b, tooth=tile(compliance.tooth), ball_angle_rad=tile(compliance.ball_angle_rad),
         ball_active=tile(compliance.ball_active), _flex_cc=flex_cc_stacked,
         _flex_cb=np.kron(scale, compliance._flex_cb), _flex_bb=np.kron(scale, compliance._flex_bb),
-        ball_gap_mm=gaps_b, ball_compliance_mm_per_n=springs, ball_body=tile(body))
+        ball_gap_mm=gaps_b, ball_compliance_mm_per_n=springs, ball_body=tile(body), cs_ring_mm_per_n=ring_all)
     return pts, comp
 
 

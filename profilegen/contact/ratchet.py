@@ -226,38 +226,25 @@ def check_bearing_fits(gearset, bearing=None, *, race_thickness_mm: float | None
 def cs_ring_radial_compliance(angles_rad, at_rad, *, mean_radius_mm: float, thickness_mm: float,
                               width_mm: float, youngs_modulus_mpa: float, harmonics: int = 200) -> np.ndarray:
     """Radial displacement (mm, outward) of a free thin ring at ``at_rad`` per unit outward
-    radial point load (N) at each of ``angles_rad``: an (m, k) matrix. Curved-beam theory,
-    inextensible bending for the harmonics n = 2 … (one rigid-body harmonic n = 1 is left to
-    the supports: the loads' resultant must vanish, as two opposite zones' do) plus the
-    extensional n = 0 term: w = 1/(2π) R/(E A) + (1/π) Σ_{n≥2} cos n(θ − θ_k) R³/(E I (n² − 1)²),
-    A = w h, I = w h³/12."""
-    r = _positive("mean_radius_mm", mean_radius_mm)
-    h = _positive("thickness_mm", thickness_mm)
-    w = _positive("width_mm", width_mm)
-    e = _positive("youngs_modulus_mpa", youngs_modulus_mpa, "MPa")
-    n_max = checks.whole("harmonics", harmonics, 2, error=RatchetingError)
-    a = np.atleast_1d(np.asarray(angles_rad, dtype=float))
-    t = np.atleast_1d(np.asarray(at_rad, dtype=float))
-    area, inertia = w * h, w * h ** 3 / 12.0
-    n = np.arange(2, n_max + 1, dtype=float)
-    coef = r ** 3 / (e * inertia * (n * n - 1.0) ** 2) / math.pi
-    d = t[:, None] - a[None, :]
-    bending = np.cos(d[..., None] * n) @ coef
-    return bending + r / (e * area) / (2.0 * math.pi)
+    radial point load (N) at each of ``angles_rad``: an (m, k) matrix —
+    :func:`profilegen.contact.cs_ring.ring_compliance` for one zone, radial loads:
+    w = 1/(2π) R/(E A) + (1/π) Σ_{n≥2} cos n(θ − θ_k) R³/(E I (n² − 1)²), A = w h, I = w h³/12."""
+    from .cs_ring import CSRing, CSRingError, ring_compliance
+
+    try:
+        ring = CSRing(mean_radius_mm, thickness_mm, width_mm, youngs_modulus_mpa)
+        return ring_compliance(ring, at_rad, angles_rad, zones=1, harmonics=harmonics)
+    except CSRingError as exc:
+        raise RatchetingError(str(exc)) from exc
 
 
 def _cs_ring_section(gearset, inputs) -> tuple[float, float, float, list[str]]:
-    """(mean radius, radial thickness, width) of the CS ring (mm) and the estimates in them."""
-    from .chain import cs_held_radius
+    """(mean radius, radial thickness, width) of the CS ring (mm) and the estimates in them: the
+    contact's own ring (:meth:`profilegen.contact.cs_ring.CSRing.of`)."""
+    from .cs_ring import CSRing
 
-    r_out, note = cs_held_radius(gearset)
-    estimates = [note] if note else []
-    # the root circle of the fitted CS space: its farthest point from the centre
-    pts = np.asarray(inputs.cs_space.sample(1e-3), dtype=float)
-    r_root = float(np.max(np.hypot(pts[:, 0], pts[:, 1])))
-    width = float(gearset.cup.face_width_mm)
-    estimates.append(f"cs_ring width = {width:.4g} mm (the face width), free ring (not bolted)")
-    return 0.5 * (r_root + r_out), r_out - r_root, width, estimates
+    ring = CSRing.of(inputs)
+    return ring.mean_radius_mm, ring.thickness_mm, ring.width_mm, list(ring.estimates)
 
 
 # --------------------------------------------------------------------------- the result
@@ -504,7 +491,7 @@ def _linear_model(inputs, gs, o: RatchetingOptions, estimates: list) -> _LinearM
     combined = ContactCompliance.build(
         inputs, np.vstack([points.fs_point_mm, fs_probe]), np.vstack([points.normal, e_r]),
         np.concatenate([points.tooth, teeth]), np.vstack([points.cs_point_mm, cs_probe]),
-        race_thickness_mm=o.race_thickness_mm)
+        race_thickness_mm=o.race_thickness_mm, cs_ring=False)  # the ring: below, radial, per tooth
     comp = _split(combined, points.count)
     depth = np.linalg.norm(corner, axis=1) - inputs.cs_tip_radius_mm
     slot = np.searchsorted(teeth, points.tooth)

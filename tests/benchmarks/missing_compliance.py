@@ -10,7 +10,7 @@ set's values), then the rotation at T1 and T2 of two models of the whole gear �
   cup wall + cup bottom + CS body); a candidate's change is added from the rigid-ball window
   mesh (solve_contact with the candidate's compliance, balls re-settled);
 * **all + Hertz**: every ball of the zone a one-sided Hertz support at its no-load gap
-  (ContactCompliance.build(ball_supports="all").solve_unilateral(bearing=)), plus the same
+  (ContactCompliance.build(ball_supports="all", cs_ring=False).solve_unilateral(bearing=)), plus the same
   series parts — P1's model, built here from the package, not from P1's files' changes;
 
 and each candidate for the missing compliance, added to both: the CS ring's ovalisation
@@ -102,13 +102,13 @@ def run(path: Path, clearances_um, races_mm=()) -> None:
     wrap = inputs.rim_contact_angle_rad
     with threadpool_limits(limits=1, user_api="blas"):
         window = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
-                                         wrap_half_angle_rad=wrap)
+                                         wrap_half_angle_rad=wrap, cs_ring=False)
     print(f"design + chain curve {time.process_time() - c0:.1f} s CPU; series parts {series:.4g} rad/(N·m); "
           f"first contact {theta0 * ARCSEC:.3f}″; no-load contact angle {math.degrees(wrap):.2f}°")
     c0 = time.process_time()
     with threadpool_limits(limits=1, user_api="blas"):
         every = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
-                                        wrap_half_angle_rad=wrap, ball_supports="all")
+                                        wrap_half_angle_rad=wrap, ball_supports="all", cs_ring=False)
     print(f"all-balls compliance {time.process_time() - c0:.1f} s CPU; balls at "
           + " ".join(f"{a:.1f}" for a in np.degrees(every.ball_angle_rad)) + "°, no-load gaps "
           + " ".join(f"{g * 1e3:.2f}" for g in every.ball_gap_mm) + " µm")
@@ -172,7 +172,7 @@ def run(path: Path, clearances_um, races_mm=()) -> None:
     for t_r in races_mm:
         with threadpool_limits(limits=1, user_api="blas"):
             thin = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
-                                           wrap_half_angle_rad=wrap, ball_supports="all", race_thickness_mm=t_r)
+                                           wrap_half_angle_rad=wrap, ball_supports="all", race_thickness_mm=t_r, cs_ring=False)
         a = all_phi(thin)
         models["all + Hertz"][0][f"race {t_r:g} mm (model {t_race:g} mm)"] = {t: a[t] - all0[t] for t in (t1, t2)}
     # the race and rim bending across the face between the ball (mid-width) and the face's ends (strip model)

@@ -31,9 +31,10 @@ catalogue and the compliance each adds at T1, T2 and the peak torque; then the r
 axial flexure (``flexed_bearing``) alone and with the realistic ring. With ``--verify-csv`` (the CSVs
 of ``python tests/benchmarks/catalogue_sizes.py --scene verify --csv FILE``) each row also gives the
 verify scene's K's with the row's added rotation C·T in series at T1, T2 and the peak torque (an
-estimate: the sliced curve has no hook for the ring; the slices see the same ring). The product's torsional
-curve has no CS ring ovalisation at all (only the CS body in torsion), so ×1 is itself a
-candidate; the ratcheting climb has had it all along.
+estimate: the slices see the same ring). The rows build the contact's CS sector alone
+(``cs_ring=False``) and add the ring to it; the product's curve takes the free thin ring (×1, the
+contact's own: :mod:`profilegen.contact.cs_ring`), so its verify CSVs already hold ×1 — give
+``--verify-csv`` only with CSVs of a product without the ring, or read the columns as increments.
 """
 
 from __future__ import annotations
@@ -162,7 +163,7 @@ def stiffness_runs(gs, scales, verify=None) -> None:
     pts = curve.sides[1][0]
     with threadpool_limits(limits=1, user_api="blas"):
         every = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
-                                        wrap_half_angle_rad=inputs.rim_contact_angle_rad, ball_supports="all")
+                                        wrap_half_angle_rad=inputs.rim_contact_angle_rad, ball_supports="all", cs_ring=False)
 
     def phis(comp, bearing=chain.bearing):
         out = {}
@@ -180,7 +181,7 @@ def stiffness_runs(gs, scales, verify=None) -> None:
     print(f"  {'radial ring added to the CS block':40s} {'K1/cat':>7s} {'K2/cat':>7s} {'K3/cat':>7s} {'C(T1)':>9s} "
           f"{'C(T2)':>9s} {'C(T3)':>9s}  (C: added rotation / T, rad/(N·m))")
     flexed = flexed_bearing(gs)
-    rows = [("none (the product's curve)", 0.0, chain.bearing)] + [(lab, s, chain.bearing) for lab, s in scales] + [
+    rows = [("none (the CS sector alone)", 0.0, chain.bearing)] + [(lab, s, chain.bearing) for lab, s in scales] + [
         ("race/rim axial flexure (strip)", 0.0, flexed), (f"{scales[1][0]} + flexure", scales[1][1], flexed)]
     for label, s, bearing in rows:
         if s == 0.0:

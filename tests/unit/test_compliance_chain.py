@@ -319,7 +319,8 @@ def test_whole_gear_in_the_design_outputs(sketch_design):
                                     ball_supports="all")
     sol, _, _ = every.solve_unilateral(pts.theta_rad, pts.lever_mm, rated / pts.zones * 1e3)
     assert mesh == pytest.approx(sol.phi_rad, rel=1e-9)
-    assert mesh < lemke.rotation_rad  # the window leaves out balls the rim moves into
+    # the contact stage's rated case solves the same model (every ball one-sided): the same rotation
+    assert "one-sided balls" in lemke.solution.method and mesh == pytest.approx(lemke.rotation_rad, rel=1e-9)
 
 
 def test_stiffnesses_follow_their_definitions_from_the_arrays(sketch_design):

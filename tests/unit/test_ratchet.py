@@ -306,8 +306,8 @@ class _Plateau(_Peak):
 
 
 def test_climb_passes_a_wiggle_of_t_below_the_limit_drop_but_not_a_fall():
-    """Where T(φ) is flat the stations' contact switching makes it wiggle (0.1–0.3 % on
-    seed000_csf40's verify scene): a dip of 0.2 % on a plateau (below the 0.5 % ``limit_drop``)
+    """Where T(φ) is flat the stations' contact switching makes it wiggle (0.1–0.5 % on
+    seed000_csf40's verify scene and the default set): a dip of 0.2 % on a plateau (below the 1 % ``limit_drop``)
     is passed, and the limit point is the true peak, 0.6 mN·m at φ = 0.9, where T falls (the first
     decrease of T ended the path before, at the dip: 0.3 mN·m, half of it); a dip of 2 % on the
     plateau is a fall, and the limit point is the plateau's 0.3 mN·m."""
