@@ -70,6 +70,71 @@ def test_ring_compliance_agrees_with_the_cs_ring_module():
     np.testing.assert_allclose(s, w[:, :4] + w[:, 4:], rtol=1e-9)
 
 
+def test_the_contacts_ring_along_any_direction_is_the_second_implementations():
+    """The package's ring (contact.cs_ring: e^{inψ} by products, the contact normals' radial and
+    tangential parts) against the oracle's term-by-term cos/sin sum, for directions that are
+    not radial (a tooth's normal is mostly tangential): every term of S_kj, the sin nψ one
+    included, and symmetric."""
+    from profilegen.contact.cs_ring import CSRing as Ring, contact_ring_compliance
+
+    rng = np.random.default_rng(7)
+    theta = rng.uniform(-0.8, 0.8, 9)
+    pts = (R + rng.uniform(-3.0, 3.0, 9))[:, None] * np.column_stack([np.sin(theta), np.cos(theta)])
+    dirs = rng.normal(size=(9, 2))
+    dirs /= np.hypot(*dirs.T)[:, None]
+    s = contact_ring_compliance(Ring(R, H, B, E), pts, dirs, zones=2)
+    oracle = cs_ring_compliance(CSRing(R - 0.5 * H, R + 0.5 * H, B, E), pts, dirs, zones=2, harmonics=200)
+    np.testing.assert_allclose(s, oracle, rtol=1e-12, atol=1e-12 * np.abs(oracle).max())
+    assert np.abs(s - s.T).max() == 0.0
+    # a tangential pair of forces only (b_k = b_j = 1): the n/n² weighting of the tangential load
+    tang = contact_ring_compliance(Ring(R, H, B, E), pts[:2], np.column_stack([np.cos(theta[:2]),
+                                                                               -np.sin(theta[:2])]))
+    n = np.arange(2, 201, 2)
+    psi = theta[0] - theta[1]
+    c = 2.0 * R ** 3 / (math.pi * E * B * H ** 3 / 12.0 * (n * n - 1.0) ** 2)
+    assert tang[0, 1] == pytest.approx(float(np.sum(c / (n * n) * np.cos(n * psi))), rel=1e-12)
+
+
+def test_roark_two_opposite_loads_on_the_contacts_ring():
+    """Two opposite radial loads P on a thin ring (Roark, thin circular rings): the diameter
+    through them grows by 0.1488 P R³/EI and the one across shrinks by 0.1366 P R³/EI — here
+    with the ring's hoop extension (R/(E A) on each diameter, known) taken off."""
+    from profilegen.contact.cs_ring import CSRing as Ring, ring_compliance
+
+    ring = Ring(R, H, B, E)
+    w = ring_compliance(ring, [0.0, 0.5 * math.pi], [0.0], zones=2)[:, 0]
+    # the hoop mode: each load P/(2πR) per unit length on both → w_0 = P R/(π E A), the diameter 2 w_0
+    ei, hoop = E * ring.second_moment_mm4, 2.0 * R / (math.pi * E * ring.area_mm2)
+    assert 2.0 * w[0] - hoop == pytest.approx(0.1488 * R ** 3 / ei, rel=2e-3)
+    assert 2.0 * w[1] - hoop == pytest.approx(-0.1366 * R ** 3 / ei, rel=2e-3)
+
+
+def test_the_contact_holds_the_ring_and_without_it_the_sector_alone(default_sketch):
+    """ContactCompliance.build adds the ring at the CS points along the FS normals to the CS
+    block, nothing else: the sector alone (cs_ring=False) + the ring = the default, the FS
+    block untouched; the ring's section is the one the climb takes."""
+    from profilegen.contact.compliance import ContactCompliance
+    from profilegen.contact.cs_ring import contact_ring_compliance
+    from profilegen.contact.inputs import ContactInput
+    from profilegen.contact.points import contact_points
+
+    inputs = ContactInput.from_design(default_sketch)
+    pts = contact_points(inputs, side=1, stations=3, max_gap_mm=0.05)
+    args = (inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm)
+    with_ring = ContactCompliance.build(*args)
+    alone = ContactCompliance.build(*args, cs_ring=False)
+    ring = contact_ring_compliance(with_ring.cs_ring, pts.cs_point_mm, pts.normal)
+    np.testing.assert_allclose(with_ring.cs_matrix_mm_per_n, alone.cs_matrix_mm_per_n + ring, rtol=1e-12,
+                               atol=1e-14 * np.abs(ring).max())
+    np.testing.assert_array_equal(with_ring.fs_matrix_mm_per_n, alone.fs_matrix_mm_per_n)
+    assert alone.cs_ring is None and alone.cs_ring_mm_per_n is None
+    r_mean, thick, width, _ = ratchet._cs_ring_section(inputs.gearset, inputs)
+    assert (with_ring.cs_ring.mean_radius_mm, with_ring.cs_ring.thickness_mm, with_ring.cs_ring.width_mm) == \
+        (r_mean, thick, width)
+    # the two zones push the ring out at the major axis: the ring adds to every point's own compliance
+    assert np.all(np.diag(ring) > 0.0)
+
+
 def test_cs_ring_section_properties_from_their_definitions():
     ring = CSRing(51.0, 64.0, 20.0, E)
     assert ring.thickness_mm == 13.0 and ring.radius_mm == 57.5
@@ -79,6 +144,7 @@ def test_cs_ring_section_properties_from_their_definitions():
 
 def test_ratcheting_takes_the_cs_rings_own_section(default_sketch):
     from profilegen.contact.inputs import ContactInput
+    from profilegen.contact.points import contact_points
 
     inputs = ContactInput.from_design(default_sketch)
     gs = inputs.gearset
