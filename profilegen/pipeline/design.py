@@ -1106,11 +1106,35 @@ def _with_contact(result: Design, step, early: "_EarlyStress | None" = None) -> 
         raise
 
 
+def _searched_deep_enough(contact, inputs, torques):
+    """The contact again, searched deeper, where a torque's rotation reaches past the separation
+    within which the points were searched (φ · the longest lever ≥ ``max_gap_mm``: a station
+    farther than that could touch — a large gear at its momentary torque, e.g. size 58 ratio 50:
+    204 µm against 120): the search to 1.5 × the largest reach (at least twice as deep), at most
+    twice; → (contact, a note or None). A case still beyond stays flagged (the verdict's
+    "contact inside the searched teeth")."""
+    from ..contact.analysis import solve_contact
+
+    note = None
+    for _ in range(2):
+        reach = max(c.reach_mm for c in contact.cases)
+        searched = float(contact.points.max_gap_mm)
+        if reach < searched:
+            break
+        deeper = max(2.0 * searched, 1.5 * reach)
+        note = (f"contact: the rotation reaches {reach * 1e3:.0f} µm at the longest lever arm, past the "
+                f"{searched * 1e3:.0f} µm within which the points were searched: searched again to {deeper * 1e3:.0f} µm")
+        contact = solve_contact(inputs, torques, max_gap_mm=deeper)
+        stage_checkpoint()
+    return contact, note
+
+
 def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, stages_early=None) -> Design:
     from ..contact.analysis import solve_contact
 
     contact = solve_contact(inputs, torques)  # teeth and every wave-generator ball (one-sided at its no-load gap)
     stage_checkpoint()
+    contact, searched = _searched_deep_enough(contact, inputs, torques)
     rated = contact.cases[0]
     pts = contact.points
     # error estimate: the independent solve (balls settled around the active-set QP of the teeth) at the rated torque
@@ -1128,10 +1152,10 @@ def _with_contact_solved(result: Design, stages, torques, inputs, t0, early, sta
     # the whole gear in torsion: both flanks (the left one built here), the compliance chain, K1–K3
     from ..contact.chain import whole_gear_curve
 
-    notes = list(contact.warnings)
+    notes = list(contact.warnings) + ([searched] if searched else [])
     torsional: TorsionalCurve | None = None
     try:
-        curve = whole_gear_curve(result, contact)
+        curve = whole_gear_curve(result, contact, max_gap_mm=contact.points.max_gap_mm)
     except ProfilegenError as exc:
         notes.append(f"torsional curve (both directions, compliance chain) failed, skipped: {exc}")
     else:
