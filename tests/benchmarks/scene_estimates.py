@@ -107,7 +107,8 @@ def run(work: Path, *, force: bool = False, workers: int = 2, only: list[str] | 
     total = time.perf_counter() - t0
     done = json.loads((work / "wall.json").read_text()) if (work / "wall.json").exists() else []
     done.append({"runs": len(tasks), "wall_s": total, "workers": min(workers, 2),
-                 "finished": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime())})
+                 "finished": time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime()),
+                 "load_average_1min_at_end": os.getloadavg()[0]})
     (work / "wall.json").write_text(json.dumps(done), encoding="utf-8")
     print(f"{len(tasks)} runs in {total:.0f} s wall", flush=True)
 
@@ -414,11 +415,14 @@ def docs_block(tab: dict) -> str:
     failed = [(n, s, e["error"]) for n, s, e in runs if e.get("error")]
     walls = {s: [e["wall_s"] for n, s2, e in runs if s2 == s and e.get("wall_s")] for s in SCENES}
     total = sum(w["wall_s"] for w in tab["wall"])
+    loads = [w["load_average_1min_at_end"] for w in tab["wall"] if "load_average_1min_at_end" in w]
+    load = (f" (1-min load average at the end: {min(loads):.1f}–{max(loads):.1f})"
+            if loads and len(loads) == len(tab["wall"]) else "")
     lines = [BEGIN, "",
              f"Measured at commit `{tab['commit'][:7]}` on {tab['date']}: {len(tab['sets'])} sets × 3 scenes, "
              f"{len(runs) - len(failed)} runs finished, {len(failed)} failed; "
              f"**{outside_count(tab)} numbers outside their estimate**. Wall time of the runs: {total / 60:.0f} min "
-             "on 2 processes of the shared 2-core machine (load average 5–19); one run "
+             f"on 2 processes of the shared 2-core machine{load}; one run "
              + ", ".join(f"{s} {min(w):.0f}–{max(w):.0f} s" for s, w in walls.items() if w) + ".", "",
              "| number | unit | kind | sketch → design: largest | sketch estimate | design → verify: largest | design estimate |",
              "|---|---|---|---|---|---|---|"]
