@@ -971,8 +971,8 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
         "model": ("axial slices graded toward the design section, each with the 3D cup's coning and the face stage's "
                   "tooth modification, sharing the rotation; the FS rim's far field (and the balls' seats) coupled "
                   "along the face over the rim's shell decay length, the teeth's and contacts' local compliance and "
-                  "the CS per slice; every ball one body, its Hertz spring under its shares' summed load "
-                  "(contact.face_curve)"),
+                  "the CS sector per slice, its ring one body across the face; every ball one body, its Hertz "
+                  "spring under its shares' summed load (contact.face_curve)"),
         "one_section": one.headline(),
         "max_gap_mm": float(sliced.sides[1][0].max_gap_mm) if sliced.sides else float(max_gap),
     }

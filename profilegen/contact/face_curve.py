@@ -586,5 +586,6 @@ def slice_chain(chain, widths_mm, face_width_mm: float, *, ring_twist: bool = Tr
 
 #: what the sliced curve still leaves out of the face (replaces the chain's "coning" item)
 SLICED_CONING = ("across the face: the rim couples the slices over its own shell length, without the bearing's race "
-                 "(one body across its width, it would spread the load further), the CS not at all; and their no-load "
+                 "(one body across its width, it would spread the load further), the CS's teeth not at all (its ring, "
+                 "one body, couples them alike); and their no-load "
                  "gaps are the cup's coning pressed on the wave generator, not its bending under the tooth forces")
