@@ -65,7 +65,7 @@ __all__ = [
     "catalogue_for",
     "catalogue_size",
     "cup_torsion_fem",
-    "curve_torques_nm",
+    "curve_ladder_nm", "curve_torques_nm",
     "hertz_point_contact",
     "thick_tube_torsion_stiffness",
     "torsional_curve",
@@ -114,19 +114,32 @@ def catalogue_for(gearset) -> dict | None:
     return out
 
 
-def curve_torques_nm(gearset, breakpoints_nm=None, *, count: int = 12) -> np.ndarray:
-    """The signed torques of a design's torsional curve (N·m): ``count`` magnitudes spaced
-    geometrically from 3 % of the rated torque to the momentary torque (the peak when the set
-    has none), with the breakpoints T1, T2, the rated and peak torques added, both
-    directions — ≥ 2 × ``count`` torques."""
+#: the torsional curve's lowest magnitude as a fraction of its highest (the momentary torque): about
+#: 3 % of the rated torque of a catalogue gear, whose momentary torque is ~4.5× the rated one
+CURVE_LOWEST_PER_TOP = 0.007
+
+
+def curve_ladder_nm(gearset, breakpoints_nm=None, *, count: int = 12) -> np.ndarray:
+    """The magnitudes of a design's torsional curve that do not read the rated torque (N·m):
+    ``count`` spaced geometrically from :data:`CURVE_LOWEST_PER_TOP` of the momentary torque (the
+    peak when the set has none) to it, the peak torque, and the breakpoints T1, T2 when given."""
     count = _whole("count", count, 2)
     tq = gearset.torque
-    rated, peak = float(tq.rated_nm), float(tq.peak_nm)
+    peak = float(tq.peak_nm)
     top = float(tq.momentary_nm) if tq.momentary_nm is not None else peak
-    levels = set(np.geomspace(0.03 * rated, top, count).round(6).tolist()) | {rated, peak, top}
+    levels = set(np.geomspace(CURVE_LOWEST_PER_TOP * top, top, count).round(6).tolist()) | {peak, top}
     if breakpoints_nm is not None:
         levels |= {float(t) for t in breakpoints_nm}
-    mags = np.array(sorted(m for m in levels if m > 0.0))
+    return np.array(sorted(m for m in levels if m > 0.0))
+
+
+def curve_torques_nm(gearset, breakpoints_nm=None, *, count: int = 12,
+                     lost_motion_fraction: float = 0.03) -> np.ndarray:
+    """The signed torques of a design's torsional curve (N·m): :func:`curve_ladder_nm`'s
+    magnitudes, the rated torque and the lost motion's (``lost_motion_fraction`` of the rated
+    torque), both directions — ≥ 2 × ``count`` torques."""
+    rated = float(gearset.torque.rated_nm)
+    mags = np.union1d(curve_ladder_nm(gearset, breakpoints_nm, count=count), [rated, lost_motion_fraction * rated])
     return np.concatenate([-mags[::-1], mags])
 
 
@@ -706,40 +719,114 @@ class _FlankSolver:
             self.cache[key] = (phi_r, phi_b, case, notes)
         return self.cache[key]
 
-    def continuation(self, side: int, magnitudes) -> None:
-        """Fill the cache for one flank, |T| ascending, each torque from the one before."""
-        from .analysis import BallReactions, load_case
+    def continuation(self, side: int, magnitudes, *, ladder=None, gearset=None) -> None:
+        """Fill the cache for one flank at ``magnitudes`` (|T|).
 
-        cache, chain, spring_tol = self.cache, self.chain, self.spring_tol
+        The rungs — the magnitudes in ``ladder`` (all of them when None) — are solved ascending,
+        each from the one before (:meth:`_ladder`); every other magnitude from the rung just below
+        it (the lowest from the start), alone. So each result is a function of the flank, the
+        ladder and its own |T|, not of the other torques asked for: a caller whose ladder does not
+        read the rated torque (:func:`whole_gear_curve`) gets, on a rated-torque change inside an
+        engine's design, the rungs from the earlier design (``gearset``: the set, for the reuse's
+        key) and solves only the few torques the rated torque sets."""
+        mags = sorted({float(m) for m in magnitudes})
+        keep = set(mags) if ladder is None else {float(m) for m in ladder}
+        rungs = tuple(m for m in mags if m in keep)
         pts, comp = self.sides[side]
-        zone = ReducedZone(pts, comp, chain.bearing)
+        bearing = self.chain.bearing
+        caps = (self.settle_iterations, self.spring_iterations, self.spring_tol)
+
+        def make():
+            return self._ladder(side, rungs)
+
+        if gearset is None:
+            entries, states = make()
+        else:
+            from ..stagecache import reuse
+            from .analysis import FLANK_SECTIONS
+
+            key = (side, rungs, caps, None if bearing is None else bearing.to_dict())
+            entries, states = reuse("curve_ladder", make, gearset=gearset, sections=FLANK_SECTIONS, key=key,
+                                    owners=(pts, comp))
+        for m in rungs:
+            self.cache.setdefault((side, m), entries[m])
+        zone = None
+        for m in mags:
+            if (side, m) in self.cache:
+                continue
+            below = [r for r in rungs if r < m and r in states]
+            if zone is None:
+                zone = ReducedZone(pts, comp, bearing)
+            state = states[below[-1]] if below else self._initial(pts, comp)
+            entry = self._step(zone, side, m, *state)
+            self.cache[(side, m)] = entry[0] if entry is not None else self._reference(side, m, None)[:4]
+
+    @staticmethod
+    def _initial(pts, comp):
+        """The continuation's start: the flank's first point loaded, the no-load ball set, no springs."""
         start = np.zeros(pts.count, bool)
         start[int(np.argmin(pts.theta_rad))] = True
-        rigid_state = (start, np.asarray(comp.ball_active, bool), None)
-        spring_state, previous = rigid_state, None
-        cap = self.settle_iterations + self.spring_iterations
-        for m in sorted(magnitudes):
-            if (side, m) in cache:
-                continue
+        rigid = (start, np.asarray(comp.ball_active, bool), None)
+        return rigid, rigid, None
+
+    def _ladder(self, side: int, rungs) -> tuple[dict, dict]:
+        """The rungs ascending, each from the one before: → ({|T|: cache entry}, {|T|: the state the
+        next torque starts from}) — a rung solved by the reference (the reduced loop cycled)
+        leaves no state, and the next starts from the last one that did."""
+        pts, comp = self.sides[side]
+        zone = ReducedZone(pts, comp, self.chain.bearing)
+        state = self._initial(pts, comp)
+        entries, states, last = {}, {}, None
+        for m in rungs:
             checkpoint()  # an engine's design stops here when superseded (a torque's solve: milliseconds)
-            tm = time.perf_counter()
-            rigid = zone.solve(m, rigid_state, springs_on=False, max_iterations=cap, spring_tol=spring_tol)
-            loaded, active, x = spring_state
-            if x is not None:
-                x = x - math.log(m / previous) / 3.0  # ball loads ∝ T roughly, c ∝ Q^(−1/3)
-            springs = None if rigid is None else zone.solve(
-                m, (loaded, active, x), springs_on=chain.bearing is not None, max_iterations=cap,
-                spring_tol=spring_tol)
-            if springs is None:  # the reduced loop cycled or did not end: the reference for this torque
-                log.info("torsional_curve: the reference solve at %g N·m (side %+d)", m, side)
-                self.solve(side, m)
+            step = self._step(zone, side, m, *state)
+            if step is None:  # the reduced loop cycled or did not end: the reference for this torque
+                entries[m] = self._reference(side, m, last)
+                springs = entries[m][4]
+                last = None if springs is None else (m, springs)
+                entries[m] = entries[m][:4]
                 continue
-            rigid_state = (rigid["loaded"], rigid["active"], None)
-            spring_state, previous = (springs["loaded"], springs["active"], springs["log_springs"]), m
-            sol = zone_solution(zone, m, springs, tm)
-            balls = BallReactions(comp.ball_angle_rad, springs["reactions"], springs["active"])
-            case, notes = load_case(pts, m, sol, balls)
-            cache[(side, m)] = (float(rigid["phi"]), float(springs["phi"]), case, notes)
+            entries[m], state = step
+            states[m] = state
+        return entries, states
+
+    def _step(self, zone, side: int, m: float, rigid_state, spring_state, previous):
+        """One torque of the continuation from a state: → (cache entry, the next state) or None."""
+        from .analysis import BallReactions, load_case
+
+        chain, spring_tol = self.chain, self.spring_tol
+        pts, comp = self.sides[side]
+        cap = self.settle_iterations + self.spring_iterations
+        tm = time.perf_counter()
+        rigid = zone.solve(m, rigid_state, springs_on=False, max_iterations=cap, spring_tol=spring_tol)
+        loaded, active, x = spring_state
+        if x is not None:
+            x = x - math.log(m / previous) / 3.0  # ball loads ∝ T roughly, c ∝ Q^(−1/3)
+        springs = None if rigid is None else zone.solve(
+            m, (loaded, active, x), springs_on=chain.bearing is not None, max_iterations=cap, spring_tol=spring_tol)
+        if springs is None:
+            log.info("torsional_curve: the reference solve at %g N·m (side %+d)", m, side)
+            return None
+        sol = zone_solution(zone, m, springs, tm)
+        balls = BallReactions(comp.ball_angle_rad, springs["reactions"], springs["active"])
+        case, notes = load_case(pts, m, sol, balls)
+        entry = (float(rigid["phi"]), float(springs["phi"]), case, notes)
+        state = ((rigid["loaded"], rigid["active"], None), (springs["loaded"], springs["active"],
+                                                          springs["log_springs"]), m)
+        return entry, state
+
+    def _reference(self, side: int, m: float, last):
+        """The reference solve (:func:`_solve_side`) at |T| = ``m``, its springs started from
+        ``last`` = (|T|, springs) scaled, or from none: → (φ rigid, φ springs, case, notes, springs)."""
+        from .analysis import load_case
+
+        pts, comp = self.sides[side]
+        start = None if last is None else last[1] * (m / last[0]) ** (-1.0 / 3.0)
+        phi_r, phi_b, sol, _, settled, springs = _solve_side(
+            pts, comp, m, self.chain.bearing, settle_iterations=self.settle_iterations,
+            spring_iterations=self.spring_iterations, spring_tol=self.spring_tol, start_springs=start)
+        case, notes = load_case(pts, m, sol, settled)
+        return phi_r, phi_b, case, notes, springs
 
 
 def _curve_stiffnesses(solve, theta0: dict, series: float, breakpoints: tuple[float, float, float], t_lm: float):
@@ -775,7 +862,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
                     catalogue: dict | None | bool = True, stations: int = 5, max_gap_mm: float = 0.12,
                     settle_iterations: int = 20, spring_iterations: int = 60,
                     spring_tol: float = 1e-5, method: str = "continuation",
-                    ball_supports: str = "all", face_slices=None) -> TorsionalCurve:
+                    ball_supports: str = "all", face_slices=None, ladder_nm=None) -> TorsionalCurve:
     """Rotation against signed torque (N·m; ≠ 0) for a design (or a :class:`~profilegen.
     contact.inputs.ContactInput`), both flanks (docs/theory/torsion.md, "The compliance chain").
 
@@ -804,7 +891,13 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
     rotation, each with its own no-load gaps from the cup's coning (and the FS tooth's
     modification along the face, if given), every ball one-sided with its Hertz spring in every
     slice, the tooth ring's twist in the slices (:mod:`profilegen.contact.face_curve`). One
-    slice is the 2D curve; the result's ``sides`` stay the 2D flanks."""
+    slice is the 2D curve; the result's ``sides`` stay the 2D flanks.
+
+    ``ladder_nm``: the magnitudes the continuation climbs through, each from the one before
+    (default: every torque solved); any other torque is solved from the ladder's rung just below
+    it (:meth:`_FlankSolver.continuation`): a ladder that does not depend on the rated torque
+    (:func:`curve_ladder_nm`) makes a rated-torque change inside an engine's design re-solve only
+    the torques it sets."""
     from .inputs import ContactInput
 
     t0 = time.perf_counter()
@@ -853,7 +946,7 @@ def torsional_curve(design, torques_nm, *, chain: ComplianceChain | None = None,
             for t in torques:
                 needed[1 if t > 0 else -1].add(float(abs(t)))
             for s in (1, -1):
-                flanks.continuation(s, needed[s])
+                flanks.continuation(s, needed[s], ladder=ladder_nm, gearset=gs)
         rows = []
         for t in torques:
             side = 1 if t > 0 else -1
@@ -942,7 +1035,10 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
                 right = ContactCompliance.build(inputs, pts.fs_point_mm, pts.normal, pts.tooth, pts.cs_point_mm,
                                                 wrap_half_angle_rad=wrap, ball_supports=supports)
             sides = {1: (pts, right), -1: (left, comp)}
-    torques = curve_torques_nm(gs, bp, count=count)
+    torques = curve_torques_nm(gs, bp, count=count, lost_motion_fraction=options.get("lost_motion_fraction", 0.03))
+    # the magnitudes that do not read the rated torque (the estimated breakpoints do): a rated-torque
+    # change inside an engine's design climbs none of them again
+    options.setdefault("ladder_nm", curve_ladder_nm(gs, bp if source == "catalogue" else None, count=count))
     spec, note = _scene_face_slices(design, options)
     if spec is None:
         curve = torsional_curve(inputs, torques, sides=sides, breakpoints_nm=bp, catalogue=cat, **options)

@@ -482,3 +482,22 @@ def test_catalogue_for_reads_the_catalogue_module_only():
     assert catalogue_for(gs(50))["K1_nm_per_rad"] == 10e4
     assert catalogue_for(gs(20)) is None
     assert catalogue_for(gs(100, teeth=400)) is None  # 200 mm is size 80: no row for it here
+
+
+def test_a_torque_off_the_ladder_is_solved_from_the_rung_below_whatever_else_is_asked(sketch_design):
+    """With a ladder, a torque that is not on it is solved from the ladder's rung just below, not
+    from the torque asked for before it: the same rotation and forces whether the curve asks for
+    it alone or among other torques off the ladder (what lets an engine keep the ladder over a
+    rated-torque change); on the ladder itself the continuation is the same as without one."""
+    from profilegen.contact.chain import curve_ladder_nm, torsional_curve
+
+    gs = sketch_design.gearset
+    ladder = curve_ladder_nm(gs)
+    m = float(np.sqrt(ladder[4] * ladder[5]))  # between two rungs
+    alone = torsional_curve(sketch_design, [m, -m], ladder_nm=ladder)
+    among = torsional_curve(sketch_design, [0.99 * m, m, 1.01 * m, -m], ladder_nm=ladder)
+    at = lambda c, t: c.rotation_rad[np.flatnonzero(c.torque_nm == t)[0]]  # noqa: E731
+    assert at(alone, m) == at(among, m) and at(alone, -m) == at(among, -m)
+    # and the continuation through every torque (no ladder) solves the same problem: within the springs' tolerance
+    plain = torsional_curve(sketch_design, [m, -m])
+    assert at(plain, m) == pytest.approx(at(alone, m), rel=1e-6)

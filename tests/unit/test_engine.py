@@ -83,6 +83,9 @@ def test_a_torque_change_with_the_contact_resolves_contact_and_stresses(base):
     # the flanks (points, compliance) read no torque: both taken from the first design, the same objects
     assert engine.runs["contact_flank"] == 2 and engine.hits["contact_flank"] == 2
     assert d.contact.compliance is cached.contact.compliance
+    # the torsional curve's ladder (its torques that do not read the rated torque): each flank's from
+    # the first design; only the rated torque's own (rated, the lost motion's) solved again
+    assert engine.runs["curve_ladder"] == 2 and engine.hits["curve_ladder"] == 2
     assert first_difference(comparable(d), comparable(pg.design(torque, scene=SKETCH, contact=True))) is None
     # the compliance reads the material: a stiffer FS builds both flanks again
     stiffer = engine.design(base.with_values({"material.youngs_modulus_mpa": 230000.0}), scene=SKETCH, contact=True)
