@@ -8,7 +8,8 @@ A sequence starts from a bundled set (``profiles/*.toml``) and makes ``--length`
 edit changes 1-3 things at random: a float field of the gear set by ±5 % (every section, the
 torques and requirements included), the scene (the sketch scene or a copy with one key changed:
 ``clearance_samples``, ``fit_check_positions``, ``chord_tol_mm``, ``n_phi``), or the fit method.
-After each edit the engine designs; so does :func:`profilegen.design`, afresh. Both must give
+After each edit the engine designs; so does :func:`profilegen.design`, afresh (``--contact``:
+both with the loaded contact, the torsional curve and its ladder). Both must give
 the same design.json (``Design.to_dict()``, which the output layer writes; the stage times and
 the seconds in stage notes left out, they differ between any two runs) or the same error (type
 and message). The engine's cache persists across all sequences, so later sequences also reuse
@@ -74,12 +75,13 @@ def first_difference(a, b, path="") -> str | None:
     return None
 
 
-def outcome(designer, gearset, scene, fit_method):
+def outcome(designer, gearset, scene, fit_method, contact: bool = False):
     """('ok', comparable design.json) or ('error', 'Type: message')."""
     from profilegen.errors import ProfilegenError
 
     try:
-        return "ok", comparable(designer(gearset, scene=scene, fit_method=fit_method))
+        extra = {"contact": True} if contact else {}
+        return "ok", comparable(designer(gearset, scene=scene, fit_method=fit_method, **extra))
     except ProfilegenError as exc:
         return "error", f"{type(exc).__name__}: {exc}"
 
@@ -124,7 +126,8 @@ def draw_states(rng: random.Random, sets: dict, length: int):
     return name, states
 
 
-def run(sequences: int, length: int, seed: int, *, pool: int | None = None, engine=None, log=print) -> dict:
+def run(sequences: int, length: int, seed: int, *, pool: int | None = None, engine=None, log=print,
+        contact: bool = False) -> dict:
     """Design ``sequences`` random edit sequences through ``engine`` (a new Engine by default) and
     afresh; with ``pool``, the states are drawn from ``pool`` sequences' states only (the fresh
     designs of a state repeat). The fresh design of inputs seen before is not made again (a
@@ -153,8 +156,8 @@ def run(sequences: int, length: int, seed: int, *, pool: int | None = None, engi
             scene = all_scenes[scene_index]
             key = json.dumps([set_name, changes, scene_index, method], sort_keys=True)
             if key not in fresh:  # the same inputs again (a sequence's start): design() gives the same design
-                fresh[key] = outcome(pg.design, gs, scene, method)
-            got = outcome(engine.design, gs, scene, method)
+                fresh[key] = outcome(pg.design, gs, scene, method, contact)
+            got = outcome(engine.design, gs, scene, method, contact)
             out["designs"] += 1
             out["errors"] += got[0] == "error"
             diff = first_difference(list(got), list(fresh[key]))
@@ -171,9 +174,11 @@ def main(argv=None) -> int:
     ap.add_argument("--sequences", type=int, default=200)
     ap.add_argument("--length", type=int, default=4)
     ap.add_argument("--seed", type=int, default=1)
+    ap.add_argument("--contact", action="store_true",
+                    help="every design with the loaded contact (its torsional curve's ladder kept across designs)")
     args = ap.parse_args(argv)
     t0 = time.perf_counter()
-    out = run(args.sequences, args.length, args.seed)
+    out = run(args.sequences, args.length, args.seed, contact=args.contact)
     print(f"{args.sequences} sequences of {args.length} edits, seed {args.seed}: {out['designs']} designs compared "
           f"({out['errors']} named errors, each compared too), {len(out['differences'])} differences, "
           f"{time.perf_counter() - t0:.0f} s")
