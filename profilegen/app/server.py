@@ -44,6 +44,11 @@ POLL_MS = 200
 #: when a newer call of it is on its way: with 0.12 s of 0.15 s, seen in the browser, one poll
 #: in three was dropped under load and its snapshot sent again)
 POLL_WAIT_S = 0.1
+#: how long the request's own response waits for its design (or its profile) before it draws the
+#: progress: a change that computes within it is drawn without the poll's next tick (a design-scene
+#: torque change: drawn 0.35 → 0.18 s, tests/benchmarks/app_latency.py). Not longer: the poll
+#: ticks within a longer wait and Dash keeps only the newest call's response (0.3 s: 0.32 s drawn)
+REQUEST_WAIT_S = 0.1
 
 
 _CSS = """
@@ -413,8 +418,10 @@ def _register_render(app, sessions: Sessions) -> None:
             if s is None:
                 raise PreventUpdate
             if trig == "req":
-                # the request's first snapshot, at once: the rest comes by the poll
-                snap = s.computer.latest() if req else None
+                # the request's snapshot: its finished design if it comes within REQUEST_WAIT_S (a torque
+                # change: ~0.07 s), which then reaches the page without waiting for the poll's next
+                # tick; else the newest at that time, the rest by the poll
+                snap = s.computer.newer(shown, timeout=REQUEST_WAIT_S) if req else None
                 if snap is None or snap.job != req:
                     raise PreventUpdate  # superseded: the newer request draws
             elif trig == "poll":
