@@ -426,7 +426,7 @@ def torsional_figure(curve: Any, *, title: str = "", ratio: float | None = None,
     for ax, pick in ((ax1, np.ones(t.size, bool)), (ax2, zoom)):
         for rot, style, label in ((curve.rotation_rad, "o-", f"whole gear (mesh + balls + cup + CS body{across})"),
                                   (curve.mesh_balls_rad, "s--", "mesh + Hertz ball springs"),
-                                  (curve.mesh_rad, "^:", "mesh only (rigid balls)")):
+                                  (curve.mesh_rad, "^:", "mesh only (teeth, rim, CS ring; rigid balls)")):
             ax.plot(t[pick], np.asarray(rot)[pick] * k, style, ms=3, lw=1, label=label)
         flagged = [i for i, f in enumerate(curve.flags) if f is not None and pick[i]]
         if flagged:

@@ -384,8 +384,8 @@ def _contact_section(design, png: bytes | None = None) -> str:
 coefficients (face width {c.compliance_info.get('face_width_mm', float('nan')):.4g} mm), Lemke's complementary
 pivoting on the teeth and {'every wave-generator ball (each a rigid one-sided support at its no-load gap)'
 if c.compliance_info.get('ball_supports') == 'all' else 'the balls within the rim’s no-load contact angle'}.
-The rotation and stiffness here are <b>the mesh's alone</b> (teeth and rim on rigid balls: no ball Hertz,
-inner ring, cam or cup wind-up){whole}.</p>
+The rotation and stiffness here are <b>the mesh's alone</b> (teeth, rim and the CS ring's ovalisation, on rigid
+balls: no ball Hertz, inner ring, cam or cup wind-up){whole}.</p>
 <table><tr><th>torque (N·m)</th><th>teeth in contact per zone</th><th>mesh rotation (arcmin)</th>
 <th>max tooth force (N)</th><th>mesh-only secant stiffness (N·m/rad)</th><th>capacity</th></tr>{rows}</table>
 <img src="{uri}" alt="loaded contact">"""
@@ -464,10 +464,11 @@ def _torsional_section(design, png: bytes | None = None) -> str:
     c = curve.compliances_at_rated
     total = c["total_rad_per_nm"]
     parts = {p.name: p for p in curve.chain.parts}
-    words = {"mesh": "the teeth and rim in mesh (FEM influence coefficients, rigid balls)",
+    words = {"mesh": "the teeth, the rim and the CS ring's ovalisation in mesh (FEM influence coefficients, a free "
+                     "thin CS ring, rigid balls)",
              "ball_hertz": "the wave-generator balls: Hertz contact at both races, iterated with the contact",
              "cup_wall": "cup wall in torsion (thin tube)", "cup_bottom": "cup bottom (diaphragm) twisted in its plane",
-             "cs_body": "the CS ring outside the modelled sector"}
+             "cs_body": "the CS body twisted outside the modelled sector"}
     comp_rows = "".join(
         f"<tr><td class=text>{html.escape(n[:-len('_rad_per_nm')].replace('_', ' '))}</td><td>{v * 1e6:.4g}</td>"
         f"<td>{v / total:.0%}</td><td class=text>"
