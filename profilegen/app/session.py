@@ -195,6 +195,7 @@ class Computer:
         self._final: Snapshot | None = None
         self._version = 0
         self._profile_version = 0  # the version that first had the running job's profile
+        self._profile = None  # that profile (the design's, once fitted)
         self._thread: threading.Thread | None = None
         self._closed = False
         self.ran: list[int] = []  # the jobs the thread started (for the tests)
@@ -281,7 +282,12 @@ class Computer:
         snap = Snapshot(**{**snap.__dict__, "version": self._version})
         before = self._snap
         if snap.has_profile and not (before is not None and before.job == snap.job and before.has_profile):
-            self._profile_version = self._version
+            # a profile the page has not had: the engine's very object of the last one (a torque
+            # change) is not new, and the request's wait goes on to the finished design
+            profile = getattr(snap.design, "profile", None)
+            if profile is None or profile is not self._profile:
+                self._profile_version = self._version
+            self._profile = profile
         self._snap = snap
         if snap.done:
             self._final = snap
