@@ -9,10 +9,12 @@ may call it without an edge upward to the engine or the pipeline.
 
 from __future__ import annotations
 
+import contextvars
+import threading
 from contextvars import ContextVar
 from typing import Any, Callable
 
-__all__ = ["STAGE_CACHE", "checkpoint", "reuse"]
+__all__ = ["STAGE_CACHE", "Beside", "checkpoint", "reuse"]
 
 #: the stage cache :func:`profilegen.pipeline.design.design` looks each stage up in: the engine's run
 #: (per thread); None — every plain design call — runs every stage. The cache keys each stage by
@@ -45,3 +47,31 @@ def reuse(name: str, compute: Callable[[], Any], *, gearset: Any, sections: tupl
     if run is None:
         return compute()
     return run.reuse(name, compute, gearset, tuple(sections), tuple(key), tuple(owners))
+
+
+class Beside:
+    """``fn(*args)`` on a thread of its own, started at once, in a copy of the caller's context (so
+    that its :func:`checkpoint` calls stop with the caller's design). For numpy-heavy work that can
+    run beside the caller's (numpy lets go of the interpreter in its loops). :meth:`result` waits
+    for it and returns its value or raises its error."""
+
+    def __init__(self, fn: Callable[..., Any], *args: Any):
+        self._value: Any = None
+        self._error: BaseException | None = None
+        context = contextvars.copy_context()
+
+        def run() -> None:
+            try:
+                self._value = context.run(fn, *args)
+            except BaseException as exc:  # noqa: BLE001 — handed to the caller at result()
+                self._error = exc
+
+        self._thread = threading.Thread(target=run, name=f"profilegen-beside-{getattr(fn, '__name__', 'call')}",
+                                        daemon=True)
+        self._thread.start()
+
+    def result(self) -> Any:
+        self._thread.join()
+        if self._error is not None:
+            raise self._error
+        return self._value

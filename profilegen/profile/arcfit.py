@@ -56,12 +56,13 @@ from itertools import pairwise
 from typing import Any
 
 import numpy as np
-from scipy.optimize import least_squares, linprog, minimize
+from scipy.optimize import least_squares, minimize
 
 from .. import checks
 from ..geometry.contour import Arc, Chain, Line
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import json_ready as _json, readonly as _readonly
+from .highs import solve_lp
 
 __all__ = [
     "METHODS",
@@ -70,6 +71,7 @@ __all__ = [
     "FitError",
     "OneSidedError",
     "ProfileFit",
+    "check_swept",
     "composite",
     "fit_profile",
     "fit_profile_per_branch",
@@ -90,7 +92,6 @@ STRAIGHT_TOL_MM = 1e-9
 LINE_CURVATURE = 1e-12  # |κ| below this (1/mm): the arc is written as a Line
 MIN_ELEMENT_MM = 1e-12  # elements shorter than this are left out of the chain
 SPREAD_FLOOR_MM = 1e-9  # start spreads are relative to max(best max error, this)
-_HIGHS = {"primal_feasibility_tolerance": 1e-10, "dual_feasibility_tolerance": 1e-10}
 _I_L = 4  # index of the line length in the gauge-free state q = (mx, my, θ, κ1, L, κ2)
 
 
@@ -506,10 +507,11 @@ def _lp_step(D, G, delta, z_lo_L, one_sided, cap: int = 150, T=None):
         lvl = np.concatenate([np.full(len(w), l) for w, (_, l) in zip(work, fam)])
         A = np.column_stack([sig[:, None] * G[rows], -lvl])
         b = -sig * D[rows]
-        res = linprog(c, A_ub=A, b_ub=b, bounds=bounds, method="highs", options=_HIGHS)
-        if res.status != 0:
+        solved = solve_lp(c, A, b, bounds)
+        if solved is None:
             return None, None, None
-        z, t = res.x[:6], float(res.x[6])
+        x, marginals = solved
+        z, t = x[:6], float(x[6])
         lin = D + G @ z
         tol = 1e-9  # relative to the max error (the LP is solved to 1e-10)
         added = False
@@ -522,7 +524,7 @@ def _lp_step(D, G, delta, z_lo_L, one_sided, cap: int = 150, T=None):
                 work[k] = np.union1d(work[k], np.intersect1d(near, cand[k]))
                 added = True
         if not added:
-            lam = -np.asarray(res.ineqlin.marginals, float)[: len(rows)]
+            lam = -marginals[: len(rows)]
             on = lam > 1e-10 * max(float(lam.max()), 1e-300)
             honest = float(lin.max() - min(0.0, lin.min())) if one_sided else float(np.abs(lin).max())
             return (z if T is None else zT @ z), max(t, honest) * unit, (rows[on], sig[on], lvl[on], lam[on])
@@ -1295,13 +1297,9 @@ def fit_profile(
                                f"{u_last:.4g} mm)" + _IN_A_DESIGN)
     p8 = _params_from_q(q_best, u_first, u_last)
     chain = composite(p8)
-    if method == "one_sided" and swept is not None:
-        t = time.perf_counter()
-        diag.update(_check_swept(chain, swept, swept_tol_mm, float(np.median(np.diff(s))), _clearance_minima(p, D)))
-        times["swept_check_s"] = time.perf_counter() - t
     diag["evaluations"] = prob.evaluations
     diag["times_s"] = times
-    return ProfileFit(
+    fit = ProfileFit(
         method=method,
         params=_params_dict(p8),
         chain=chain,
@@ -1313,6 +1311,27 @@ def fit_profile(
         time_s=time.perf_counter() - t0,
         diagnostics=diag,
     )
+    if method == "one_sided" and swept is not None:
+        check_swept(fit, swept, swept_tol_mm)
+        object.__setattr__(fit, "time_s", time.perf_counter() - t0)
+    return fit
+
+
+def check_swept(fit: ProfileFit, swept: Callable[[np.ndarray], np.ndarray], tol_mm: float = 1e-7) -> dict:
+    """The one-sided ``fit``'s chain checked against the swept region (``swept``, as
+    :func:`fit_profile` takes it): sampled evenly and densely around the data points where its
+    clearance is ~0. What :func:`fit_profile` does with ``swept``; apart, a caller can run it beside
+    other work. Adds the check's numbers (``swept_max_depth_mm``, ...) and its time to the fit's
+    diagnostics and returns them; raises :class:`OneSidedError` when the chain enters the region
+    deeper than ``tol_mm``."""
+    if fit.method != "one_sided":
+        raise FitError(f"check_swept: a one_sided fit is checked against the swept region, not a {fit.method} fit")
+    t = time.perf_counter()
+    out = _check_swept(fit.chain, swept, tol_mm, float(np.median(np.diff(fit.arclength_mm))),
+                       _clearance_minima(fit.points_mm, fit.error_mm))
+    fit.diagnostics.update(out)
+    fit.diagnostics.setdefault("times_s", {})["swept_check_s"] = time.perf_counter() - t
+    return out
 
 
 def _check_fit_options(method: str, starts, max_points, max_iter, swept_tol_mm, swept) -> None:

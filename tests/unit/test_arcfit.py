@@ -28,6 +28,7 @@ from profilegen.profile.arcfit import (
     PARAM_NAMES,
     FitError,
     OneSidedError,
+    check_swept,
     composite,
     fit_profile,
     fit_profile_per_branch,
@@ -267,6 +268,27 @@ def test_swept_region_check_catches_interference():
     assert ok.diagnostics["swept_max_depth_mm"] <= 1e-7
     with pytest.raises(OneSidedError, match="swept_tol_mm"):
         fit_profile(wobble, method="one_sided", space_side="left", swept=lambda p: inside(p) + 1e-3, starts=1)
+
+
+def test_the_swept_check_apart_is_the_check_fit_profile_makes():
+    """check_swept on a fit made without ``swept`` (the design runs it on a thread of its own):
+    the same samples and depths as fit_profile's own check, the same error when it fails, and
+    only for a one-sided fit."""
+    theta = np.linspace(0.2, 0.9, 200)
+    pts = 2.0 * np.column_stack([np.cos(theta), np.sin(theta)]) * (1 + 2e-4 * np.sin(25 * theta))[:, None]
+    inside = lambda p: 2.0 - np.hypot(*np.asarray(p).T)  # noqa: E731
+    swept = lambda p: inside(p) - 5e-4  # noqa: E731
+    checked = fit_profile(pts, method="one_sided", space_side="left", swept=swept, starts=1)
+    apart = fit_profile(pts, method="one_sided", space_side="left", starts=1)
+    assert "swept_max_depth_mm" not in apart.diagnostics
+    out = check_swept(apart, swept)
+    for key in ("swept_samples", "swept_max_depth_mm", "swept_at_mm", "swept_tol_mm"):
+        assert out[key] == checked.diagnostics[key] == apart.diagnostics[key]
+    assert apart.diagnostics["times_s"]["swept_check_s"] > 0
+    with pytest.raises(OneSidedError, match="swept_tol_mm"):
+        check_swept(apart, lambda p: inside(p) + 1e-3)
+    with pytest.raises(FitError, match="one_sided"):
+        check_swept(fit_profile(pts, method="minimax", space_side="left", starts=1), swept)
 
 
 def test_space_side_auto_faces_the_tooth_space_axis():

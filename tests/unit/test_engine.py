@@ -130,6 +130,40 @@ def test_cancel_stops_the_design_and_the_engine_goes_on(base):
     assert first_difference(comparable(d), comparable(pg.design(base, scene=SKETCH))) is None
 
 
+def test_work_beside_a_design_stops_with_it(base):
+    """stagecache.Beside (the arc fit's swept-region check beside the corners and the clearance
+    map) runs in a copy of its caller's context: a checkpoint on its thread stops when the design
+    it serves is cancelled, and its value or error reaches the caller at result()."""
+    from profilegen.stagecache import Beside, checkpoint
+
+    assert Beside(lambda a, b: a + b, 2, 3).result() == 5
+    with pytest.raises(ZeroDivisionError):
+        Beside(lambda: 1 / 0).result()
+    engine = Engine()
+    started, release, seen = threading.Event(), threading.Event(), {}
+
+    def work():
+        started.set()
+        release.wait(30)
+        checkpoint()
+        return "not stopped"
+
+    def progress(name):
+        if name == "gearform" and not seen:
+            beside = Beside(work)
+            assert started.wait(30)
+            engine.cancel()
+            release.set()
+            try:
+                seen["result"] = beside.result()
+            except Cancelled:
+                seen["result"] = "stopped"
+
+    with pytest.raises(Cancelled):
+        engine.design(base, scene=SKETCH, progress=progress)
+    assert seen == {"result": "stopped"}
+
+
 def test_stop_cancels_its_own_design_only_on_a_shared_engine(base):
     """An engine shared by threads (supersede=False, as the app's tabs share the process's engine):
     one design's stop() ends that design at its next checkpoint — inside a stage too: asked in the
@@ -183,6 +217,21 @@ def test_the_memory_budget_bounds_the_cache(base):
     none.design(base, scene=SKETCH)
     none.design(base, scene=SKETCH)
     assert none.stats()["entries"] == 0 and none.last_run == ("tooth", "rim", *GEOMETRY, "stress")
+
+
+def test_a_long_run_of_objects_is_sized_by_a_sample_near_what_walking_each_gives(warm, base, monkeypatch):
+    """The budget's sizes: a CS outline's ~2 800 arcs and lines sampled, against every one walked
+    (the sample cannot see the arrays its elements share, so it may read high, not low), and a
+    long array's buffer counted once however many times it is referred to."""
+    import numpy as np
+
+    outline = warm.design(base, scene=SKETCH).profile.outline
+    sampled = engine_module.nbytes(outline)
+    monkeypatch.setattr(engine_module, "_SAMPLED", 10**9)
+    walked = engine_module.nbytes(outline)
+    assert len(outline.elements) > 1000 and 0.9 * walked <= sampled <= 1.25 * walked
+    big = np.zeros(100_000)
+    assert 800_000 <= engine_module.nbytes([big] * 100 + [(big, big)] * 100) < 850_000
 
 
 @pytest.mark.parametrize("value", [-1, 1.5, True, "1G"])
