@@ -158,11 +158,27 @@ _ATOMS = (str, bytes, int, float, complex, bool, type(None), np.generic)
 _SKIP = (type, types.ModuleType, types.FunctionType, types.BuiltinFunctionType, types.MethodType)
 
 
+#: a list or tuple longer than this, of objects of a few classes (not numbers or strings), is measured
+#: by a sample of this many of them, scaled (a CS outline's ~2 800 arcs and lines: 7 ms walked one by
+#: one, ~3 % of a sketch-scene design)
+_SAMPLED = 64
+
+
+def _objects(items) -> bool:
+    """True when ``items`` are objects of at most four classes, none a number, string or array."""
+    kinds = set(map(type, items))
+    return len(kinds) <= 4 and not any(issubclass(k, _ATOMS + (np.ndarray,)) for k in kinds)
+
+
 def nbytes(value) -> int:
     """An estimate of the memory ``value`` holds: its numpy arrays' buffers and every container,
-    dataclass (slots or dict) and object reached from it, each counted once."""
-    seen: set[int] = set()
-    stack, total = [value], 0
+    dataclass (slots or dict) and object reached from it, each counted once; a long list or tuple
+    of objects of a few classes by :data:`_SAMPLED` of them, scaled."""
+    return _walk([value], set())
+
+
+def _walk(stack: list, seen: set[int]) -> int:
+    total = 0
     while stack:
         o = stack.pop()
         if id(o) in seen or isinstance(o, _SKIP):
@@ -184,6 +200,9 @@ def nbytes(value) -> int:
         if isinstance(o, dict):
             stack.extend(o.keys())
             stack.extend(o.values())
+        elif isinstance(o, (list, tuple)) and len(o) > _SAMPLED and _objects(o):
+            pick = o[:: len(o) // _SAMPLED][:_SAMPLED]
+            total += int(_walk(list(pick), seen) * len(o) / len(pick))
         elif isinstance(o, (list, tuple, set, frozenset)):
             stack.extend(o)
         else:
