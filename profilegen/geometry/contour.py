@@ -78,6 +78,15 @@ class Line:
         m, o = np.asarray(matrix, float), np.asarray(offset, float)
         return Line(m @ self.start + o, m @ self.end + o)
 
+    @classmethod
+    def trusted(cls, start: np.ndarray, end: np.ndarray) -> "Line":
+        """A Line from two read-only (2,) float arrays, without the constructor's conversions (for
+        the thousands of copies of an already checked element: a CS outline)."""
+        line = object.__new__(cls)
+        object.__setattr__(line, "start", start)
+        object.__setattr__(line, "end", end)
+        return line
+
     def to_dict(self) -> dict:
         return {"type": "line", "start_mm": self.start.tolist(), "end_mm": self.end.tolist(), "length_mm": self.length}
 
@@ -163,6 +172,17 @@ class Arc:
         """(centre, radius, start_deg, end_deg) running counter-clockwise — DXF's ARC."""
         a0, a1 = (self.start_angle, self.end_angle) if self.sweep > 0 else (self.end_angle, self.start_angle)
         return self.centre, self.radius, math.degrees(a0) % 360.0, math.degrees(a1) % 360.0
+
+    @classmethod
+    def trusted(cls, centre: np.ndarray, radius: float, start_angle: float, sweep: float) -> "Arc":
+        """An Arc from a read-only (2,) float array and checked numbers, without the constructor's
+        conversions and checks (for the thousands of copies of an already checked element)."""
+        arc = object.__new__(cls)
+        object.__setattr__(arc, "centre", centre)
+        object.__setattr__(arc, "radius", radius)
+        object.__setattr__(arc, "start_angle", start_angle)
+        object.__setattr__(arc, "sweep", sweep)
+        return arc
 
     def transformed(self, matrix: np.ndarray, offset=(0.0, 0.0)) -> "Arc":
         """Under a rotation (det +1) or a reflection (det −1) and a shift."""

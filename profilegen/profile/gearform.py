@@ -865,18 +865,44 @@ def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
     circle, space 0) repeated every 2π/z2, neighbours joined by arcs of the tip circle."""
     from ..geometry.contour import Arc, Chain
 
+    from ..geometry.contour import Line
+
     pitch = 2 * np.pi / cs_teeth
     # our CS polar angle runs clockwise; space k+1 is space k turned by −pitch in math angles
-    def rot(k):
-        c, s_ = np.cos(-k * pitch), np.sin(-k * pitch)
-        return np.array([[c, -s_], [s_, c]])
+    turn = -np.arange(cs_teeth + 1) * pitch
+    cos, sin = np.cos(turn), np.sin(turn)
 
+    def turned(p):  # the point p turned to every space (cs_teeth + 1, 2), read-only rows
+        out = np.empty((cs_teeth + 1, 2))
+        out[:, 0] = cos * p[0] - sin * p[1]
+        out[:, 1] = sin * p[0] + cos * p[1]
+        out.setflags(write=False)
+        return out
+
+    # every element's points turned to every space at once; the copies are built without the
+    # constructors' checks (each is a turned copy of a checked element: 2 800 of them on the default
+    # set, 15 → 5 ms)
+    columns = []
+    for e in space.elements:
+        if type(e) is Line:
+            columns.append((True, turned(e.start), turned(e.end)))
+        elif type(e) is Arc:
+            v = turned(e.start - e.centre)
+            columns.append((False, turned(e.centre), e.radius, np.arctan2(v[:, 1], v[:, 0]).tolist(), e.sweep))
+        else:
+            raise TypeError(f"cs_outline: a space of lines and arcs, not {type(e).__name__}")
+    nxt = turned(space.start)
+    centre = np.zeros(2)
+    centre.setflags(write=False)
     parts = []
-    start = space.start
     for k in range(cs_teeth):
-        sp = space.transformed(rot(k))
-        nxt_start = rot(k + 1) @ start
-        a0, a1 = _math_angle(sp.end), _math_angle(nxt_start)
+        els = []
+        for col in columns:
+            if col[0]:  # a line
+                els.append(Line.trusted(col[1][k], col[2][k]))
+            else:
+                els.append(Arc.trusted(col[1][k], col[2], col[3][k], col[4]))
+        a0, a1 = _math_angle(els[-1].end), _math_angle(nxt[k + 1])
         sweep = (a1 - a0 + np.pi) % (2 * np.pi) - np.pi  # the short way, clockwise (negative)
-        parts += list(sp.elements) + [Arc(np.zeros(2), tip_radius_mm, a0, sweep)]
+        parts += els + [Arc.trusted(centre, float(tip_radius_mm), a0, sweep)]
     return Chain(tuple(parts))

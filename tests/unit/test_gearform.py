@@ -256,3 +256,34 @@ def test_the_contact_takes_the_arc_fits_cs_outline(default_sketch):
     wider = cs_outline(prof.space, tip_radius_mm=form.tip_radius_mm + 0.01, cs_teeth=z2)
     assert len(wider.elements) == len(prof.outline.elements)
     assert wider.elements[len(prof.space.elements)].radius == pytest.approx(form.tip_radius_mm + 0.01)  # the tip land
+
+
+def test_the_outline_is_the_space_turned_to_every_tooth(default_sketch):
+    """cs_outline builds its copies in arrays and without the constructors' checks: against the
+    space's elements turned one by one by the rotation matrix (Arc/Line.transformed) and joined by
+    tip-circle arcs, every element's numbers agree to round-off, and every copy is what the
+    constructor would have accepted (the closed chain itself checks the joints)."""
+    from profilegen.profile.gearform import cs_outline
+
+    prof, form = default_sketch.profile, default_sketch.form
+    z2 = default_sketch.gearset.gear.circular_spline_teeth
+    outline = cs_outline(prof.space, tip_radius_mm=form.tip_radius_mm, cs_teeth=z2)
+    n = len(prof.space.elements) + 1
+    assert len(outline.elements) == z2 * n
+    for k in (0, 1, z2 // 3, z2 - 1):
+        turn = -k * 2 * math.pi / z2
+        rot = np.array([[math.cos(turn), -math.sin(turn)], [math.sin(turn), math.cos(turn)]])
+        for got, e in zip(outline.elements[k * n:(k + 1) * n - 1], prof.space.elements):
+            want = e.transformed(rot)
+            assert type(got) is type(want)
+            if isinstance(want, Line):
+                np.testing.assert_allclose([got.start, got.end], [want.start, want.end], rtol=0, atol=1e-12)
+                Line(got.start, got.end)
+            else:
+                np.testing.assert_allclose(got.centre, want.centre, rtol=0, atol=1e-12)
+                assert (got.radius, got.sweep) == (want.radius, want.sweep)
+                assert math.remainder(got.start_angle - want.start_angle, 2 * math.pi) == pytest.approx(0, abs=1e-12)
+                Arc(got.centre, got.radius, got.start_angle, got.sweep)
+        tip = outline.elements[(k + 1) * n - 1]
+        assert isinstance(tip, Arc) and tip.radius == form.tip_radius_mm and not tip.centre.flags.writeable
+        assert tip.sweep < 0  # clockwise, the short way to the next space
