@@ -932,6 +932,7 @@ def _arcfit_stage(env: Envelope, form: CircularSplineForm, tooth, motion: Harmon
     interference of the fitted profile with the FS tooth among them)."""
     t0 = time.perf_counter()
     profile = _fit_profile(env, form, tooth, motion, method=method, positions=scene.fit_check_positions,
+                           starts=scene.fit_starts,
                            cs=gearset.circular_spline)
     report = StageReport("arcfit", f"arc–line–arc, {method}", len(profile.space.elements),
                          time.perf_counter() - t0, profile.max_error_mm,
@@ -1301,7 +1302,7 @@ def _half(diameter_mm: float | None) -> float | None:
     return None if diameter_mm is None else diameter_mm / 2.0
 
 
-def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=None) -> CSProfile:
+def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, starts: int = 3, cs=None) -> CSProfile:
     """Fit the right working flank by every method, build the CS outline from the chosen one
     (its corners rounded for wire EDM as ``cs``, the gear set's ``circular_spline``, says;
     sharp without it), and check it against the FS tooth family at ``positions`` poses."""
@@ -1341,7 +1342,8 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     for m in FIT_METHODS:
         stage_checkpoint()
         try:
-            fits[m] = fit_profile(flank, method=m, space_side="left", swept_tol_mm=tol, max_iter=FIT_MAX_ITER)
+            fits[m] = fit_profile(flank, method=m, space_side="left", swept_tol_mm=tol, max_iter=FIT_MAX_ITER,
+                                  starts=starts)
             if m == "one_sided" and check is not None:
                 checker = Beside(check_swept, fits[m], check, tol)
         except ConvergenceError as exc:
@@ -1354,7 +1356,7 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, cs=No
     chain = fits[method].chain if method in fits else None  # with ridges: the per-branch chain below
     if ridges:
         per_branch = {"method": method, "space_side": "left", "swept": swept if method == "one_sided" else None,
-                      "swept_tol_mm": tol, "whole": False}  # the whole-flank fit is fits[method]
+                      "swept_tol_mm": tol, "whole": False, "starts": starts}  # the whole-flank fit is fits[method]
         try:
             branches = fit_profile_per_branch(flank, ridges, max_iter=FIT_MAX_ITER, **per_branch)
         except ConvergenceError as exc:
@@ -1413,7 +1415,7 @@ def _fit_again(fit, first: ConvergenceError, notes: list, flank, **options):
     had not converged within FIT_MAX_ITER: no cliff under a slider, where a neighbouring value
     converges at once), with a note; ``first`` again, with both tries named, if it fails too."""
     try:
-        result = fit(flank, **options, **FIT_RETRY)
+        result = fit(flank, **{**options, **FIT_RETRY})  # its starts over the scene's
     except ConvergenceError as exc:
         raise ConvergenceError(f"{first} (tried again with {FIT_RETRY['max_iter']} SLP iterations and "
                                f"{FIT_RETRY['starts']} starts: {str(exc).split(';')[0]})") from None

@@ -107,7 +107,7 @@ STAGE_INPUTS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "envelope": (("gear", "tooth", "wave_generator"), ("n_t", "n_phi")),
     "gearform": (("gear", "tooth", "wave_generator", "circular_spline"),
                  ("chord_tol_mm", "n_t", "n_phi", "clearance_samples", "brute_force_check")),
-    "arcfit": (("gear", "tooth", "wave_generator", "circular_spline"), ("fit_check_positions",)),
+    "arcfit": (("gear", "tooth", "wave_generator", "circular_spline"), ("fit_check_positions", "fit_starts")),
     "contact": (_GEOMETRY + ("torque",), ("contact", "ratcheting", "transmission_error", "face_slices")),
     "stress": (_ALL, ()),
 }
@@ -173,11 +173,14 @@ def _objects(items) -> bool:
 def nbytes(value) -> int:
     """An estimate of the memory ``value`` holds: its numpy arrays' buffers and every container,
     dataclass (slots or dict) and object reached from it, each counted once; a long list or tuple
-    of objects of a few classes by :data:`_SAMPLED` of them, scaled."""
+    of objects of a few classes by :data:`_SAMPLED` of them, scaled (the buffers behind their
+    array views once when a few are shared by all of them)."""
     return _walk([value], set())
 
 
-def _walk(stack: list, seen: set[int]) -> int:
+def _walk(stack: list, seen: set[int], bases: list | None = None) -> int:
+    """The sizes of what ``stack`` reaches (not in ``seen``); with ``bases``, the buffers behind
+    array views are put there instead of counted."""
     total = 0
     while stack:
         o = stack.pop()
@@ -188,7 +191,7 @@ def _walk(stack: list, seen: set[int]) -> int:
             if o.base is None:
                 total += o.nbytes
             else:
-                stack.append(o.base)
+                (stack if bases is None else bases).append(o.base)
             total += 112
             continue
         try:
@@ -202,7 +205,14 @@ def _walk(stack: list, seen: set[int]) -> int:
             stack.extend(o.values())
         elif isinstance(o, (list, tuple)) and len(o) > _SAMPLED and _objects(o):
             pick = o[:: len(o) // _SAMPLED][:_SAMPLED]
-            total += int(_walk(list(pick), seen) * len(o) / len(pick))
+            scale = len(o) / len(pick)
+            behind: list = []
+            total += int(_walk(list(pick), seen, behind) * scale)
+            # the buffers behind the sample's array views: a few shared by all the items (a CS
+            # outline's rows of one array per element of its space) count once, else each item's own
+            buffers = list({id(b): b for b in behind}.values())
+            shared = 4 * len(buffers) <= len(pick)
+            total += int(_walk(buffers, seen) * (1.0 if shared else scale))  # (the walk empties the list)
         elif isinstance(o, (list, tuple, set, frozenset)):
             stack.extend(o)
         else:

@@ -67,6 +67,7 @@ _KEYS: dict[str, tuple[str, bool, tuple[float, float] | tuple[str, ...] | None]]
     "brute_force_check": ("bool", True, None),
     "description": ("text", True, None),
     "fit_check_positions": ("count", False, (3, 100_000)),
+    "fit_starts": ("count", False, (1, 50)),
     "contact": ("bool", False, None),
     "tier": ("text", False, None),
     "figures": ("choice", False, ("all", "none")),
@@ -87,6 +88,9 @@ class Scene:
     brute_force_check: bool  # cross-check the boundary against the brute-force swept region
     description: str
     fit_check_positions: int = 2001  # FS tooth poses the fitted CS profile is checked against
+    #: the arc fit's minimax starts (the centred least-squares fit, the other least-squares optima,
+    #: perturbations); the best is kept
+    fit_starts: int = 3
     contact: bool = False  # loaded tooth contact at the gear set's torques (rated, peak, momentary)
     tier: str = ""  # the rim stage's tier (RIM_TIER_NAMES); "" → the scene's name
     figures: str = "all"  # the PNG figures of the files and reports: "all", or "none" (`--figures` draws them)

@@ -232,6 +232,16 @@ def test_a_long_run_of_objects_is_sized_by_a_sample_near_what_walking_each_gives
     assert len(outline.elements) > 1000 and 0.9 * walked <= sampled <= 1.25 * walked
     big = np.zeros(100_000)
     assert 800_000 <= engine_module.nbytes([big] * 100 + [(big, big)] * 100) < 850_000
+    # views of one buffer, in a long run of objects: the buffer once; each item's own buffer: each
+    rows = [pg.geometry.contour.Line.trusted(r, r + 1.0) for r in np.zeros((1000, 2))]
+    own = [pg.geometry.contour.Line((0.0, 0.0), (1.0, 1.0)) for _ in range(1000)]
+    monkeypatch.setattr(engine_module, "_SAMPLED", 64)
+    for items in (rows, own):
+        sampled = engine_module.nbytes(items)
+        monkeypatch.setattr(engine_module, "_SAMPLED", 10**9)
+        walked = engine_module.nbytes(items)
+        monkeypatch.setattr(engine_module, "_SAMPLED", 64)
+        assert 0.9 * walked <= sampled <= 1.25 * walked, (sampled, walked)
 
 
 @pytest.mark.parametrize("value", [-1, 1.5, True, "1G"])
