@@ -1174,9 +1174,13 @@ def _minimax_stage(prob: _Problem, q_lsq: np.ndarray, lsq_runs: list, *, starts:
     """Minimax from the LSQ fit (centred in its error band), the other LSQ optima and
     perturbations; each start runs the whole SLP + Newton solve on all points."""
     cands = [_centred(prob, q_lsq)]
+    skipped = 0
     for _, q, _ in lsq_runs[1:]:
         if len(cands) < starts and np.max(np.abs((q - q_lsq) / prob.scale)) > 1e-6:
-            cands.append(_centred(prob, q))
+            try:
+                cands.append(_centred(prob, q))
+            except OneSidedError:  # a degenerate optimum (an arc of ~zero radius) that cannot be centred:
+                skipped += 1      # not a start (it failed the whole fit; a perturbation starts instead)
     rng = np.random.default_rng(seed)
     k = 0
     while len(cands) < starts:
@@ -1201,6 +1205,8 @@ def _minimax_stage(prob: _Problem, q_lsq: np.ndarray, lsq_runs: list, *, starts:
     q_best, F_mm, info = runs[best]
     q_opt, F_opt = q_best, F_mm  # the minimax optimum the tie-break starts from
     diag: dict = {"starts_at_best": len(rms), "rms_spread_at_best": float((max(rms) - min(rms)) / max(min(rms), 1e-300))}
+    if skipped:
+        diag["lsq_optima_skipped"] = skipped
     if tie_break:
         q_best, ok = _tie_break(prob, q_best, F_mm)
         diag["tie_break"] = bool(ok)

@@ -7,7 +7,8 @@ of the same inputs, every number and text of design.json.
 A sequence starts from a bundled set (``profiles/*.toml``) and makes ``--length`` edits; each
 edit changes 1-3 things at random: a float field of the gear set by ±5 % (every section, the
 torques and requirements included), the scene (the sketch scene or a copy with one key changed:
-``clearance_samples``, ``fit_check_positions``, ``chord_tol_mm``, ``n_phi``), or the fit method.
+``clearance_samples``, ``fit_check_positions``, ``chord_tol_mm``, ``n_phi``, ``fit_starts``), or the
+fit method.
 After each edit the engine designs; so does :func:`profilegen.design`, afresh (``--contact``:
 both with the loaded contact, the torsional curve and its ladder). Both must give
 the same design.json (``Design.to_dict()``, which the output layer writes; the stage times and
@@ -102,7 +103,8 @@ def scenes():
     return [s, dataclasses.replace(s, name="sketch_c", tier="sketch", clearance_samples=121),
             dataclasses.replace(s, name="sketch_f", tier="sketch", fit_check_positions=241),
             dataclasses.replace(s, name="sketch_t", tier="sketch", chord_tol_mm=8e-5),
-            dataclasses.replace(s, name="sketch_p", tier="sketch", n_phi=201)]
+            dataclasses.replace(s, name="sketch_p", tier="sketch", n_phi=201),
+            dataclasses.replace(s, name="sketch_s", tier="sketch", fit_starts=3)]
 
 
 def draw_states(rng: random.Random, sets: dict, length: int):

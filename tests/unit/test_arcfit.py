@@ -291,6 +291,29 @@ def test_the_swept_check_apart_is_the_check_fit_profile_makes():
         check_swept(fit_profile(pts, method="minimax", space_side="left", starts=1), swept)
 
 
+def test_a_degenerate_least_squares_optimum_is_not_a_minimax_start():
+    """A secondary least-squares optimum with an arc of ~zero radius (seen on a short branch of a
+    perturbed seed-002 set: κ −5e17 1/mm) cannot be centred in its error band (the offset collapses
+    the arc): it is left out of the starts, a perturbation starts instead, and the fit is the one
+    without it — where it used to fail the whole fit with a OneSidedError."""
+    import profilegen.profile.arcfit as arcfit
+
+    pts, _ = _noisy()
+    p, s, _ = arcfit._flank_points(pts)
+    prob = arcfit._Problem(p, arcfit._side_sign("left"))
+    stage = arcfit._least_squares_stage(prob, p, s, 300)
+    q_lsq, runs = stage["q_lsq"], stage["lsq_runs"]
+    bad = q_lsq.copy()
+    bad[5] = 5e17  # κ2: a point-sized arc 2 (its sign the one the centring offset collapses)
+    with pytest.raises(OneSidedError):
+        arcfit._centred(prob, bad)
+    clean = arcfit._minimax_stage(prob, q_lsq, runs[:1], starts=2, max_iter=60, seed=0, tie_break=True)
+    with_bad = arcfit._minimax_stage(prob, q_lsq, [runs[0], (0.0, bad, 1)], starts=2, max_iter=60, seed=0,
+                                     tie_break=True)
+    assert with_bad["diag"]["lsq_optima_skipped"] == 1 and "lsq_optima_skipped" not in clean["diag"]
+    assert with_bad["F_mm"] == clean["F_mm"] and np.array_equal(with_bad["q_best"], clean["q_best"])
+
+
 def test_space_side_auto_faces_the_tooth_space_axis():
     # like a right CS flank (x > 0) walked up from the tip circle: the tooth-space axis
     # x = 0, and so the space, is on the left of travel; mirrored, on the right
