@@ -88,9 +88,6 @@ class Scene:
     brute_force_check: bool  # cross-check the boundary against the brute-force swept region
     description: str
     fit_check_positions: int = 2001  # FS tooth poses the fitted CS profile is checked against
-    #: the arc fit's minimax starts (the centred least-squares fit, the other least-squares optima,
-    #: perturbations); the best is kept
-    fit_starts: int = 3
     contact: bool = False  # loaded tooth contact at the gear set's torques (rated, peak, momentary)
     tier: str = ""  # the rim stage's tier (RIM_TIER_NAMES); "" → the scene's name
     figures: str = "all"  # the PNG figures of the files and reports: "all", or "none" (`--figures` draws them)
@@ -99,6 +96,9 @@ class Scene:
     #: with the contact and the face stage (tier cup3d): the torsional curve as this many axial
     #: slices, nodes on both face ends (contact.face_curve); 0: one section, the load even across the face
     face_slices: int = 0
+    #: the arc fit's minimax starts (the centred least-squares fit, the other least-squares optima,
+    #: perturbations); the best is kept
+    fit_starts: int = 3
 
     @property
     def rim_tier(self) -> str:

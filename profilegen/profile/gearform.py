@@ -882,7 +882,7 @@ def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
     # every element's points turned to every space at once; the copies are built without the
     # constructors' checks (each is a turned copy of a checked element: 2 800 of them on the default
     # set, 15 → 5 ms)
-    columns = []
+    columns: list[tuple] = []
     for e in space.elements:
         if type(e) is Line:
             columns.append((True, turned(e.start), turned(e.end)))
@@ -894,9 +894,9 @@ def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
     nxt = turned(space.start)
     centre = np.zeros(2)
     centre.setflags(write=False)
-    parts = []
+    parts: list = []
     for k in range(cs_teeth):
-        els = []
+        els: list = []
         for col in columns:
             if col[0]:  # a line
                 els.append(Line.trusted(col[1][k], col[2][k]))

@@ -17,7 +17,8 @@ from profilegen.pipeline.scenes import SceneError, bundled_scenes_path, parse_sc
 PRESETS = {
     "sketch": Scene("sketch", "ring theory", 1e-4, 96, 241, 91, False,
                     "interactive use and sweeps: analytic rim, coarse envelope", 181,
-                    figures="none"),  # no PNG figures (issue 14: tests/unit/test_scene_figures.py)
+                    figures="none",  # no PNG figures (issue 14: tests/unit/test_scene_figures.py)
+                    fit_starts=1),  # one minimax start: every start gave the same fit on the corpus (issue 31)
     "design": Scene("design", "3D cup FEM, coarse (nonlinear)", 1e-6, 96, 241, 361, False,  # rim: the coarse 3D cup (issue 28)
                     "the default: 1 nm envelope, classified, loaded contact", 721, True,
                     face_slices=5),  # the curve across the face as verify's, 5 graded slices (issue 28)
@@ -67,6 +68,8 @@ def test_the_bundled_file_holds_the_presets_unchanged():
         (_sketch_table(description=""), "description", "non-empty text"),
         (_sketch_table(rim=None), "rim", "missing"),
         (_sketch_table(fit_check_positions=2), "fit_check_positions", "[3, 100000]"),
+        (_sketch_table(fit_starts=0), "fit_starts", "[1, 50]"),
+        (_sketch_table(fit_starts=1.5), "fit_starts", "must be an integer"),
     ],
 )
 def test_a_bad_key_names_the_file_the_scene_and_the_key(table, key, text):
