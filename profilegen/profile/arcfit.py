@@ -63,6 +63,7 @@ from ..geometry.contour import Arc, Chain, Line
 from ..errors import ConvergenceError, ProfilegenError
 from ..results import json_ready as _json, readonly as _readonly
 from .highs import solve_lp
+from .marquardt import levenberg_marquardt
 
 __all__ = [
     "METHODS",
@@ -448,9 +449,10 @@ def _lsq(prob: _Problem, q0: np.ndarray, idx, max_nfev: int = 200):
 
     z0 = q0 / prob.scale
     z0[_I_L] = max(z0[_I_L], 1e-6)
-    # Levenberg–Marquardt (MINPACK) first; the bounded trust-region reflective method if
-    # the line length wants to go negative
-    res = least_squares(lambda z: both(z)[0], z0, jac=lambda z: both(z)[1], method="lm", ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=max_nfev)
+    # Levenberg–Marquardt first (profilegen.profile.marquardt: the same bits on every call, which
+    # MINPACK's is not); the bounded trust-region reflective method if the line length wants to go
+    # negative
+    res = levenberg_marquardt(both, z0, ftol=1e-15, xtol=1e-15, gtol=1e-15, max_nfev=max_nfev)
     if not res.x[_I_L] >= 0.0:
         lo = np.full(6, -np.inf)
         lo[_I_L] = 0.0
