@@ -898,7 +898,7 @@ def _gearform_stage(env: Envelope, form: CircularSplineForm, tooth, motion: Harm
     or the brute-force check's distance when the scene asks for it) and its notes."""
     t0 = time.perf_counter() - form.time_s  # the form was built with the trace (traced_form): its time counts here
     stage_checkpoint()
-    cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples)
+    cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=scene.clearance_samples, threads=2)
     form = _with_clearance(form, cmap)
     error, measure = cmap.min_mm, "min signed clearance FS tooth ↔ CS outline (mm; ≈ −chord error on the working flank)"
     if scene.brute_force_check:
@@ -1382,7 +1382,8 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, start
         notes += list(corners.warnings)
         cs_points = cs_local_chain(space, outline).sample(1e-7)
         stage_checkpoint()
-        cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points)
+        cmap = clearance_map(form, tooth, motion, phi_range=env.phi_range, samples=positions, cs_points=cs_points,
+                             threads=2)
     except BaseException:
         if checker is not None:
             checker.result()  # the check's own error first, as when it ran before the corners

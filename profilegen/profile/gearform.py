@@ -373,7 +373,7 @@ def _local_outline(form: CircularSplineForm, neighbours: int = 1) -> np.ndarray:
 def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion, *, phi_range: tuple[float, float],
                   samples: int = 361, candidates: int = 32,
                   cs_points: np.ndarray | None = None, search_per_mm: float = 800.0, neighbours: int = 4,
-                  deep_check_mm: float = 1e-7, few_first: bool | None = None) -> ClearanceMap:
+                  deep_check_mm: float = 1e-7, few_first: bool | None = None, threads: int = 1) -> ClearanceMap:
     """Signed distance between the FS tooth (with root lands) and the CS outline at each φ.
 
     ``cs_points`` (the CS outline around space 0, mm) defaults to the form's own
@@ -393,13 +393,14 @@ def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion,
     (default): False on the form's own outline (``cs_points`` None: on the default set's design scene
     278 of 361 poses need 4 ×, and the map takes 0.15 s instead of 0.20 s), True on a given one (the
     fitted outline's check: 214 of 721).
+    ``threads``: 2 measures the later half of the poses on a thread of its own (the same numbers).
     """
     if few_first is None:
         few_first = cs_points is not None
     from scipy.spatial import cKDTree
 
-    poly = shapely.Polygon(tooth.outline(n_per_mm=400.0))
-    shapely.prepare(poly)
+    ring = tooth.outline(n_per_mm=400.0)  # the tooth as a polygon: prepared in each thread (GEOS's
+    # prepared geometries are not for two threads at once: a shared one corrupted the heap)
     # distances to the real FS surface, not to the polygon's radial sector edges and
     # neutral-line arc, which only close it
     surface = PolylineDistance(tooth.surface(n_per_mm=400.0))
@@ -410,6 +411,32 @@ def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion,
     tree = (cKDTree(cs, leafsize=64, compact_nodes=False, balanced_tree=False) if len(cs) > _SPARSE_OUTLINE
             else cKDTree(cs, leafsize=16))
     phis = np.linspace(phi_range[0], phi_range[1], samples)
+    args = (motion, tree, cs, ring, surface, surface_pts, candidates, neighbours, deep_check_mm, few_first)
+    cut = (samples // 2) // _POSE_STRIDE * _POSE_STRIDE
+    if threads > 1 and cut >= _SPLIT_POSES:
+        # the later poses on a thread of their own (the KD-tree's queries, shapely's and numpy's loops
+        # let go of the interpreter); every pose is measured on its own, so the halves give the numbers
+        # the whole does
+        from ..stagecache import Beside
+
+        later = Beside(_clearances, phis[cut:], *args)
+        out = np.concatenate([_clearances(phis[:cut], *args), later.result()])
+    else:
+        out = _clearances(phis, *args)
+    return ClearanceMap(phis, out)
+
+
+#: the fewest poses in each half of a clearance map split over two threads
+_SPLIT_POSES = 64
+
+
+def _clearances(phis, motion, tree, cs, ring, surface, surface_pts, candidates, neighbours, deep_check_mm,
+                few_first) -> np.ndarray:
+    """The signed clearance at each of ``phis`` (:func:`clearance_map`'s search); ``ring``: the
+    tooth's outline (a polygon of its own is prepared here)."""
+    samples = len(phis)
+    poly = shapely.Polygon(ring)
+    shapely.prepare(poly)
     pose = motion.pose(phis)
     cos, sin = np.cos(pose.angle), np.sin(pose.angle)
     # every pose's candidates at once: the surface points nearest the CS, nearest first
@@ -450,7 +477,7 @@ def clearance_map(form: CircularSplineForm, tooth: ToothProfile, motion: Motion,
     if deep.size:
         out = out.copy()
         out[deep] = _deepest_inside(poly, surface, tree, cs, pose, deep, out[deep])
-    return ClearanceMap(phis, out)
+    return out
 
 
 #: the clearance map's CS outline up to this many points takes a KD-tree of smaller leaves

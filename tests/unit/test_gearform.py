@@ -287,3 +287,19 @@ def test_the_outline_is_the_space_turned_to_every_tooth(default_sketch):
         tip = outline.elements[(k + 1) * n - 1]
         assert isinstance(tip, Arc) and tip.radius == form.tip_radius_mm and not tip.centre.flags.writeable
         assert tip.sweep < 0  # clockwise, the short way to the next space
+
+
+def test_a_map_split_over_two_threads_is_the_map(default_sketch):
+    """clearance_map(threads=2) measures the later half of the poses on a thread of its own: every
+    pose is measured on its own, so the numbers are the single thread's, bit for bit (the fitted
+    outline's check and the form's own), and the halves do not share GEOS's prepared polygon (a
+    shared one corrupted the heap when first tried)."""
+    from profilegen.profile.gearform import cs_local_chain
+
+    d = default_sketch
+    fitted = cs_local_chain(d.profile.space, d.profile.outline).sample(1e-7)
+    for cs, samples in ((fitted, 301), (None, 257)):
+        one = clearance_map(d.form, d.tooth, d.motion, phi_range=d.envelope.phi_range, samples=samples, cs_points=cs)
+        two = clearance_map(d.form, d.tooth, d.motion, phi_range=d.envelope.phi_range, samples=samples, cs_points=cs,
+                            threads=2)
+        assert np.array_equal(one.phi, two.phi) and np.array_equal(one.clearance_mm, two.clearance_mm)
