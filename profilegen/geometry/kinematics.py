@@ -190,6 +190,21 @@ class HarmonicDriveMotion:
             angle_d2=tilt_d2,
         )
 
+    def frame(self, phi: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """The tooth frame's origin O (n, 2) and angle Φ (n,) at φ — :meth:`pose` without the
+        φ-derivatives (the same numbers: the deformation to first order only, half the work; the
+        swept-region depth's refinement asks for thousands of single frames)."""
+        phi = np.atleast_1d(np.asarray(phi, dtype=float))
+        (w, w1), (u, u1) = self.deformation.evaluate(phi, order=1)
+        k, rm = self.beta_rate, self.neutral_radius_mm
+        beta = k * phi
+        sb, cb = np.sin(beta), np.cos(beta)
+        a0, b0 = rm + w, u
+        origin = np.empty((phi.size, 2))
+        origin[:, 0] = a0 * sb + b0 * cb
+        origin[:, 1] = a0 * cb - b0 * sb
+        return origin, beta + np.arctan2(u - w1, rm + w + u1)
+
     def neutral_point(self, phi: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Polar radius ρ and angle γ of the tooth-frame origin (the seed's ρ, γ)."""
         phi = np.atleast_1d(np.asarray(phi, dtype=float))

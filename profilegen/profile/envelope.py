@@ -240,9 +240,18 @@ def swept_depth(
     c, s = np.cos(best_k * neighbour_angle), np.sin(best_k * neighbour_angle)
     rot = np.stack([pts[:, 0] * c - pts[:, 1] * s, pts[:, 0] * s + pts[:, 1] * c], -1)
 
+    frame = getattr(motion, "frame", None)  # origin and angle alone, where the motion gives them
+
     def depth_at(phi):
-        pose_ = motion.pose(phi)
-        return shape.depth(pose_.to_tooth(rot))
+        if frame is None:
+            return shape.depth(motion.pose(phi).to_tooth(rot))
+        origin, angle = frame(phi)
+        d = rot - origin  # Pose.to_tooth's arithmetic
+        c, s = np.cos(angle), np.sin(angle)
+        q = np.empty(d.shape)
+        q[..., 0] = d[..., 0] * c - d[..., 1] * s
+        q[..., 1] = d[..., 0] * s + d[..., 1] * c
+        return shape.depth(q)
 
     g = (np.sqrt(5.0) - 1.0) / 2.0
     x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)

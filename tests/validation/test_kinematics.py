@@ -269,3 +269,22 @@ def test_rack_motion_rolls_without_slip():
     c2 = c + [0.0, 0.7]
     v2 = _d5(lambda x: motion.pose(x).to_cs(c2), phi, 1e-4)
     np.testing.assert_allclose(np.hypot(*v2.T), 0.7, atol=1e-10)
+
+
+@pytest.mark.parametrize("harmonics", [1, 4])
+def test_the_frame_alone_is_the_poses_origin_and_angle(harmonics):
+    """HarmonicDriveMotion.frame (the swept-region depth's refinement) skips the φ-derivatives:
+    its origin and angle are the pose's, bit for bit, for a ring-theory and a many-harmonic
+    deformation, at any φ."""
+    if harmonics == 1:
+        deformation = ring_theory(0.25, 2)
+    else:
+        deformation = HarmonicDeformation(2, np.array([0.25, -0.012, 0.003, -0.0007]),
+                                          np.array([-0.125, 0.004, -0.001, 0.0002]), mean_mm=0.001)
+    motion = HarmonicDriveMotion(deformation, 24.5, 2, 102)
+    phi = np.linspace(-3.5, 3.5, 1001)
+    origin, angle = motion.frame(phi)
+    pose = motion.pose(phi)
+    assert np.array_equal(origin, pose.origin) and np.array_equal(angle, pose.angle)
+    o1, a1 = motion.frame(0.3)
+    assert o1.shape == (1, 2) and np.array_equal(a1, motion.pose(0.3).angle)
