@@ -400,3 +400,27 @@ def test_bad_ridges_and_params():
         composite([0, 0, 0, 1, 0.5, -0.1, 1, 0.5])
     with pytest.raises(FitError, match="params"):
         composite([0, 0, 0, 1, 0.5])
+
+
+def test_in_a_design_the_swept_check_s_error_comes_before_the_corners(monkeypatch):
+    """The design runs the CAD fit's swept-region check on a thread beside the corners and the
+    clearance map: when both fail, the design still names the check's error (as when the check ran
+    first), and when only the check fails, its error — not a result — comes out."""
+    import profilegen as pg
+    import profilegen.profile.arcfit as arcfit_module
+    import profilegen.profile.rootfillet as rootfillet
+    from profilegen.errors import FilletError
+
+    def failing_check(fit, swept, tol_mm=1e-7):
+        raise OneSidedError("one_sided: the fitted chain enters the swept region (planted)")
+
+    def failing_corners(*args, **kwargs):
+        raise FilletError("circular_spline.wire_radius_mm: planted")
+
+    gs = pg.load_gearset("default")
+    monkeypatch.setattr(arcfit_module, "check_swept", failing_check)
+    with pytest.raises(OneSidedError, match="planted"):
+        pg.design(gs, scene="sketch")
+    monkeypatch.setattr(rootfillet, "filleted_cs_chain", failing_corners)
+    with pytest.raises(OneSidedError, match="planted"):
+        pg.design(gs, scene="sketch")
