@@ -48,6 +48,7 @@ __all__ = ["StageReport", "CSProfile", "Design", "Verdict", "design", "check_gea
 MIN_BRANCH_POINTS = 12  # flank points a branch needs for its own arc–line–arc fit
 FIT_MAX_ITER = 200  # SLP iterations per start of the minimax / one-sided fits
 FIT_POINTS_MAX = 5000
+SWEPT_GRID_MAX = 721  # poses of the swept-region check's first search (the design and verify scenes' grid)
 """The most flank points the arc fit takes. The traced flank has ~0.77 points per ``n_t`` (seed002:
 79 at n_t = 96, 23 111 at 30 000) and the fit's linear programs grow faster than their rows (1.4 s
 at 2 316 points, 5.0 s at 7 707, 25 s at 23 111; 980 s at 282 779, n_t = 100 000): a longer flank
@@ -1310,7 +1311,10 @@ def _fit_profile(env, form, tooth, motion, *, method: str, positions: int, start
     from ..profile.rootfillet import filleted_cs_chain
 
     flank, thinned = _fit_points(form.working_flank["right"])
-    swept = swept_depth_function(tooth, motion, cs_teeth=form.cs_teeth, phi_range=env.phi_range)
+    # the swept region looked for at the scene's poses of the fitted profile's check, at most 721 (the
+    # deepest pose refined between its neighbours): the sketch scene's 181 take a quarter of the grid
+    swept = swept_depth_function(tooth, motion, cs_teeth=form.cs_teeth, phi_range=env.phi_range,
+                                 n_grid=min(positions, SWEPT_GRID_MAX))
 
     # a one-sided fit touches the envelope's vertices; between them it can be inside by up to
     # the envelope's own chord error (and twice that was seen: 0.22 nm at chord 0.1 nm on seed

@@ -964,14 +964,15 @@ class BranchFits:
 # ----------------------------------------------------------------------------- the fit
 
 
-def swept_depth_function(tooth, motion, *, cs_teeth: int, phi_range: tuple[float, float]
+def swept_depth_function(tooth, motion, *, cs_teeth: int, phi_range: tuple[float, float], n_grid: int = 721
                          ) -> Callable[[np.ndarray], np.ndarray]:
     """The swept-region membership of the FS ``tooth`` (a :class:`~profilegen.geometry.teeth.ToothProfile`)
     in ``motion`` over ``phi_range`` (rad, the envelope's pass), with its neighbours
     2π/``cs_teeth`` away, as ``depth(points) -> (n,)`` (mm, > 0 inside the region the tooth and
     its neighbours sweep; exact sign, first-order size near the boundary) — the ``swept``
-    argument of :func:`fit_profile`. (:func:`profilegen.profile.swept.swept_region` is another thing:
-    the brute-force polygon of that region.)"""
+    argument of :func:`fit_profile`. ``n_grid``: the poses over the pass each point's deepest one is
+    first looked for at (then refined between its neighbours to ~1e-8 rad). (:func:`profilegen.profile.swept.swept_region`
+    is another thing: the brute-force polygon of that region.)"""
     from .envelope import swept_depth, tooth_curves
 
     cs_teeth = checks.whole("cs_teeth", cs_teeth, 1, error=FitError)
@@ -979,7 +980,8 @@ def swept_depth_function(tooth, motion, *, cs_teeth: int, phi_range: tuple[float
     pitch = 2.0 * np.pi / cs_teeth
 
     def depth(points):
-        return swept_depth(np.asarray(points, float), motion, shape, phi_range=phi_range, neighbour_angle=pitch)[0]
+        return swept_depth(np.asarray(points, float), motion, shape, phi_range=phi_range, neighbour_angle=pitch,
+                           n_grid=n_grid)[0]
 
     return depth
 
