@@ -226,10 +226,10 @@ class NotEstimated:
 MEASURED: dict[str, Any] = {
     "corpus": "tests/corpus: 24 profilegen new sets (sizes 14-58, ratios 50-160, CSF/SHF) + 5 bundled sets",
     "sets": 29,
-    "commit": "e89da5e56aee7f83de928c3c5789657c0a6a5fce",
+    "commit": "8fc89b90463a96e57cf02134913569bc4b393570",
     "date": "2026-11-29",
     "command": "python tests/benchmarks/scene_estimates.py",
-    "wall_s": 263,  # the runs, 2 processes
+    "wall_s": 247,  # the runs, 2 processes
     "safety_factor": SAFETY_FACTOR,
 }
 
