@@ -37,7 +37,8 @@ from .deformation import Deformation
 if TYPE_CHECKING:  # pragma: no cover
     from numpy.typing import ArrayLike
 
-__all__ = ["Pose", "Motion", "HarmonicDriveMotion", "RackMotion", "turn", "unit_radial", "unit_tangential"]
+__all__ = ["Pose", "Motion", "HarmonicDriveMotion", "RackMotion", "to_tooth", "turn", "unit_radial",
+           "unit_tangential"]
 
 
 def turn(points, angle: float | np.ndarray) -> np.ndarray:
@@ -46,6 +47,27 @@ def turn(points, angle: float | np.ndarray) -> np.ndarray:
     p = np.asarray(points, dtype=float)
     c, s = np.cos(angle), np.sin(angle)
     return np.stack([p[..., 0] * c + p[..., 1] * s, -p[..., 0] * s + p[..., 1] * c], -1)
+
+
+def to_tooth(points, origin: np.ndarray, angle: np.ndarray) -> np.ndarray:
+    """CS-frame points (n, 2) — one per frame — to the tooth frames at ``origin`` (n, 2) and ``angle``
+    (n,) (:meth:`Pose.to_tooth`; :meth:`HarmonicDriveMotion.frame` gives the two alone)."""
+    d = np.asarray(points, dtype=float) - origin
+    c, s = np.cos(angle), np.sin(angle)
+    out = np.empty(d.shape)
+    out[..., 0] = d[..., 0] * c - d[..., 1] * s
+    out[..., 1] = d[..., 0] * s + d[..., 1] * c
+    return out
+
+
+def _placed(beta, sb, cb, rm, w, u, w1, u1) -> tuple[np.ndarray, np.ndarray]:
+    """The tooth frame's origin O = (r_m + ω) e_r(β) + υ e_t(β) and angle Φ = β + atan2(υ − ω′,
+    r_m + ω + υ′) (the one arithmetic of :meth:`HarmonicDriveMotion.pose` and ``frame``)."""
+    origin = np.empty((np.size(beta), 2))
+    a0 = rm + w
+    origin[:, 0] = a0 * sb + u * cb
+    origin[:, 1] = a0 * cb - u * sb
+    return origin, beta + np.arctan2(u - w1, rm + w + u1)
 
 
 def unit_radial(theta):
@@ -88,12 +110,7 @@ class Pose:
 
     def to_tooth(self, points: np.ndarray) -> np.ndarray:
         """CS-frame points (n, 2) — one per pose — to the tooth frame (inverse of ``to_cs``)."""
-        d = np.asarray(points, dtype=float) - self.origin
-        c, s = self.cos_sin
-        out = np.empty(d.shape)
-        out[..., 0] = d[..., 0] * c - d[..., 1] * s
-        out[..., 1] = d[..., 0] * s + d[..., 1] * c
-        return out
+        return to_tooth(points, self.origin, self.angle)
 
     def meshing_coefficients(self) -> tuple[np.ndarray, np.ndarray]:
         """``a`` and ``∂a/∂φ`` (each (n, 3)) such that the meshing function is
@@ -163,7 +180,6 @@ class HarmonicDriveMotion:
         beta = k * phi
         sb, cb = np.sin(beta), np.cos(beta)  # e_r(β) = (sb, cb), e_t(β) = (cb, −sb)
         # origin O = (r_m + ω) e_r + υ e_t and its φ-derivatives (de_r/dβ = e_t, de_t/dβ = −e_r)
-        a0, b0 = rm + w, u
         a1, b1 = w1 - k * u, u1 + k * (rm + w)
         a2, b2 = w2 - k * u1 - k * b1, u2 + k * w1 + k * a1
 
@@ -180,12 +196,13 @@ class HarmonicDriveMotion:
         num = n1 * d0 - n0 * d1  # q · dΦ_tilt/dφ
         tilt_d1 = num / q
         tilt_d2 = (n2 * d0 - n0 * d2) / q - num * 2.0 * (n0 * n1 + d0 * d1) / q**2
+        origin, angle = _placed(beta, sb, cb, rm, w, u, w1, u1)
         return Pose(
             phi=phi,
-            origin=combine(a0, b0),
+            origin=origin,
             origin_d1=combine(a1, b1),
             origin_d2=combine(a2, b2),
-            angle=beta + np.arctan2(n0, d0),
+            angle=angle,
             angle_d1=k + tilt_d1,
             angle_d2=tilt_d2,
         )
@@ -199,11 +216,7 @@ class HarmonicDriveMotion:
         k, rm = self.beta_rate, self.neutral_radius_mm
         beta = k * phi
         sb, cb = np.sin(beta), np.cos(beta)
-        a0, b0 = rm + w, u
-        origin = np.empty((phi.size, 2))
-        origin[:, 0] = a0 * sb + b0 * cb
-        origin[:, 1] = a0 * cb - b0 * sb
-        return origin, beta + np.arctan2(u - w1, rm + w + u1)
+        return _placed(beta, sb, cb, rm, w, u, w1, u1)
 
     def neutral_point(self, phi: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
         """Polar radius ρ and angle γ of the tooth-frame origin (the seed's ρ, γ)."""

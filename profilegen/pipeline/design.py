@@ -48,12 +48,14 @@ __all__ = ["StageReport", "CSProfile", "Design", "Verdict", "design", "check_gea
 MIN_BRANCH_POINTS = 12  # flank points a branch needs for its own arc–line–arc fit
 FIT_MAX_ITER = 200  # SLP iterations per start of the minimax / one-sided fits
 FIT_POINTS_MAX = 5000
-SWEPT_GRID_MAX = 721  # poses of the swept-region check's first search (the design and verify scenes' grid)
 """The most flank points the arc fit takes. The traced flank has ~0.77 points per ``n_t`` (seed002:
 79 at n_t = 96, 23 111 at 30 000) and the fit's linear programs grow faster than their rows (1.4 s
 at 2 316 points, 5.0 s at 7 707, 25 s at 23 111; 980 s at 282 779, n_t = 100 000): a longer flank
 is thinned to every k-th point (its ends kept), the spacing a grid of ~6 500 would trace. No
 bundled scene comes near it; the clearance map still checks the fitted outline on its own poses."""
+SWEPT_GRID_MAX = 721
+"""The most poses at which the swept-region check of the fitted flank first looks for each point's
+deepest pose (the design and verify scenes' grid; a scene with fewer ``fit_check_positions`` takes those)."""
 
 log = logging.getLogger(__name__)
 

@@ -42,7 +42,7 @@ import numpy as np
 import shapely
 
 from ..errors import ConvergenceError, EnvelopeError
-from ..geometry.kinematics import Motion, turn, unit_radial, unit_tangential
+from ..geometry.kinematics import Motion, to_tooth, turn, unit_radial, unit_tangential
 from ..results import readonly as _readonly
 from ..stagecache import checkpoint
 
@@ -245,13 +245,7 @@ def swept_depth(
     def depth_at(phi):
         if frame is None:
             return shape.depth(motion.pose(phi).to_tooth(rot))
-        origin, angle = frame(phi)
-        d = rot - origin  # Pose.to_tooth's arithmetic
-        c, s = np.cos(angle), np.sin(angle)
-        q = np.empty(d.shape)
-        q[..., 0] = d[..., 0] * c - d[..., 1] * s
-        q[..., 1] = d[..., 0] * s + d[..., 1] * c
-        return shape.depth(q)
+        return shape.depth(to_tooth(rot, *frame(phi)))
 
     g = (np.sqrt(5.0) - 1.0) / 2.0
     x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)

@@ -890,9 +890,7 @@ def cs_local_chain(space, outline):
 def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
     """The closed CS inner outline: ``space`` (a contour.Chain from the tip circle to the tip
     circle, space 0) repeated every 2π/z2, neighbours joined by arcs of the tip circle."""
-    from ..geometry.contour import Arc, Chain
-
-    from ..geometry.contour import Line
+    from ..geometry.contour import Arc, Chain, Line
 
     pitch = 2 * np.pi / cs_teeth
     # our CS polar angle runs clockwise; space k+1 is space k turned by −pitch in math angles
@@ -908,7 +906,7 @@ def cs_outline(space, *, tip_radius_mm: float, cs_teeth: int):
 
     # every element's points turned to every space at once; the copies are built without the
     # constructors' checks (each is a turned copy of a checked element: 2 800 of them on the default
-    # set, 15 → 5 ms)
+    # set, 15.6 → 2.3 ms)
     columns: list[tuple] = []
     for e in space.elements:
         if type(e) is Line:
