@@ -49,6 +49,9 @@ POLL_WAIT_S = 0.1
 #: torque change: drawn 0.35 → 0.18 s, tests/benchmarks/app_latency.py). Not longer: the poll
 #: ticks within a longer wait and Dash keeps only the newest call's response (0.3 s: 0.32 s drawn)
 REQUEST_WAIT_S = 0.1
+#: the longest the figures' callback waits for the profile of the page's request (it returns as soon
+#: as the profile is there, or a newer request supersedes it, or the design fails)
+FIGURE_WAIT_S = 600.0
 
 
 _CSS = """
@@ -154,7 +157,7 @@ def _page(s: Session):
 
     return html.Div([
         dcc.Store(id="sid", data=s.id), dcc.Store(id="req", data=0), dcc.Store(id="shown", data=0),
-        dcc.Store(id="drawn", data=""), dcc.Store(id="figkey", data=""),
+        dcc.Store(id="drawn", data=""),
         # always on: re-enabling a disabled Interval from a callback did not restart it reliably (Dash 4.4,
         # seen in the browser tests); an idle tick waits POLL_WAIT_S on the server for a new snapshot,
         # then is answered with 204 (nothing new)
@@ -366,9 +369,11 @@ def _field_edited(s: Session, trig: dict, texts: dict, slider_values, field_ids,
 
     if trig.get("type") == "slider":
         texts[trig["path"]] = slider_values[slider_ids.index(trig["path"])]
-    before = s.history.current
+    before, shown = s.history.current, dict(s.errors)  # the errors the page shows (the last edit's)
     errors = s.edit(texts)
-    err_out = [errors.get(p, "") for p in error_ids]
+    # only the marks that change: each output prop the page gets is a round of its renderer over every
+    # component (61 empty marks took ~50 ms of the browser's CPU beside the computation, on 2 cores)
+    err_out = [errors.get(p, "") if p in errors or p in shown else no_update for p in error_ids]
     if errors:
         stray = errors.get("")
         out = list(keep)
@@ -402,16 +407,15 @@ def _register_render(app, sessions: Sessions) -> None:
 
     @app.callback(
         Output("verdict", "children"), Output("numbers", "children"), Output("progress", "children"),
-        Output("shown", "data"), Output("figkey", "data"),
+        Output("shown", "data"),
         Input("req", "data"), Input("poll", "n_intervals"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
-        State("sid", "data"), State("shown", "data"), State("figkey", "data"),
+        State("sid", "data"), State("shown", "data"),
         prevent_initial_call=True,
     )
-    def render(req, _n, pin, unpin, sid, shown, figkey):
-        """The verdict, the numbers and the progress line of the newest snapshot, and the token of
-        its profile (``figkey``: the figures follow in :func:`figures`, once per profile). On the
-        poll it is a long poll: it waits up to POLL_WAIT_S for a snapshot newer than the page's
-        (``shown``) and draws it in the same response."""
+    def render(req, _n, pin, unpin, sid, shown):
+        """The verdict, the numbers and the progress line of the newest snapshot (the figures go
+        their own way: :func:`figures`). On the poll it is a long poll: it waits up to POLL_WAIT_S
+        for a snapshot newer than the page's (``shown``) and draws it in the same response."""
         trig = ctx.triggered_id
         try:
             s = sessions.get(sid) if trig == "poll" else _session(sessions, sid)
@@ -433,15 +437,13 @@ def _register_render(app, sessions: Sessions) -> None:
                 snap = s.computer.latest()
                 if snap is None:
                     raise PreventUpdate
-            out = [no_update] * 5
+            out = [no_update] * 4
             design = snap.design
             token = None if design is None or design.profile is None else s.profile_token(design.profile, snap.job)
             out[2], out[3] = _progress_text(snap, token), snap.version
             if token is not None:
                 with s.lock:
                     s.profile_snap = snap
-                if str(token) != figkey:
-                    out[4] = str(token)
                 s.drawn(snap)
                 before = s.before if snap.done else s.shown
                 if before is not None and before.job == snap.job:
@@ -454,27 +456,33 @@ def _register_render(app, sessions: Sessions) -> None:
         except Exception as exc:  # noqa: BLE001
             from dash import html
 
-            return ([html.Span("ERROR", className="pg-badge pg-ERROR"), _bad(_failure(exc))],) + (no_update,) * 4
+            return ([html.Span("ERROR", className="pg-badge pg-ERROR"), _bad(_failure(exc))],) + (no_update,) * 3
 
 
 def _register_figures(app, sessions: Sessions) -> None:
-    """The figures' callback: the CS space and the fit error, once per profile and on pin / unpin;
-    the CS space's points again at each zoom or pan."""
+    """The figures' callback: the CS space and the fit error, once per profile (waited for from the
+    page's request) and on pin / unpin; the CS space's points again at each zoom or pan."""
     from dash import Input, Output, Patch, State, ctx, no_update
     from dash.exceptions import PreventUpdate
 
     @app.callback(
         Output("space", "figure"), Output("fit-error", "figure"), Output("drawn", "data"),
-        Input("figkey", "data"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
+        Input("req", "data"), Input("pin", "n_clicks"), Input("unpin", "n_clicks"),
         Input("space", "relayoutData"),
         State("sid", "data"), State("drawn", "data"),
         prevent_initial_call=True,
     )
-    def figures(_figkey, pin, unpin, relayout, sid, drawn):
-        """The CS space and the error figures: once per profile (the poll's ``figkey`` changes with
-        it: a torque change keeps it) and on pin / unpin. A callback of their own, so that the
-        snapshots that only add numbers never overlap a render that sends them (the browser keeps
-        only the newest response of a callback: what the page shows is read from ``drawn``).
+    def figures(req, pin, unpin, relayout, sid, drawn):
+        """The CS space and the error figures: once per profile and on pin / unpin. The page's
+        request (``req``) waits here for its design's profile, and the figures leave the moment it
+        is there: not a round trip after the verdict's response has reached the page (an input
+        downstream of the verdict's callback would make the page hold this one until that
+        callback's response). A torque change keeps the profile (the engine's cached object): its
+        figures are not sent again. A callback of its own, so that the snapshots that only add
+        numbers never overlap a render that sends them; and the only one that writes the figures:
+        the browser keeps only the newest response of a callback, so a zoom (or a pin) while a
+        request waits waits for that profile in its turn and sends its figures (what the page shows
+        is read from ``drawn``).
 
         The CS space goes with the points that draw the same at the view the page shows
         (:func:`profilegen.app.views.lighter`: ~1 800 of the default sketch's 39 000); a zoom or a
@@ -483,20 +491,26 @@ def _register_figures(app, sessions: Sessions) -> None:
         point there is). In this callback too, so that a zoom's answer can never land on a newer
         profile's figure."""
         fired = {p.split(".")[0] for p in ctx.triggered_prop_ids}
-        trig = next((t for t in ("pin", "unpin", "figkey") if t in fired), ctx.triggered_id)
         try:
             s = _session(sessions, sid)
             with s.lock:
-                shown = s.space
-            if fired == {"space"} and shown is not None and shown[0] == drawn:
+                shown, waiting = s.space, s.figure_wait
+            if fired == {"space"} and waiting is None and shown is not None and shown[0] == drawn:
                 # a zoom alone on the figure the page shows (the renderer merges triggers that come while
                 # one runs, and keeps only the newest response: a zoom, or the first figure's autosize,
                 # that supersedes a figure on its way sends that figure instead, below)
                 return _zoomed(s, relayout, shown), no_update, no_update
-            if trig in ("pin", "unpin"):
-                s.clicked(trig, pin if trig == "pin" else unpin)
+            if "space" in fired and shown is not None:
+                _keep_view(s, relayout, shown)  # the figure on its way opens at the page's new view
+            for trig in ("pin", "unpin"):
+                if trig in fired:
+                    s.clicked(trig, pin if trig == "pin" else unpin)
+            job = req if "req" in fired else waiting
+            snap = _request_profile(s, job) if job else None
             with s.lock:
-                snap, pinned, shown = s.profile_snap, s.pinned, s.space
+                pinned, shown = s.pinned, s.space
+                if snap is None and not job:
+                    snap = s.profile_snap
             if snap is None:
                 raise PreventUpdate
             design = snap.design
@@ -504,19 +518,45 @@ def _register_figures(app, sessions: Sessions) -> None:
             key = f"{token}:{id(pinned)}"
             if key == drawn:
                 raise PreventUpdate
-            a = pinned.design if pinned is not None else None
-            fig = views.space_figure(design, pinned=a, job=token)
-            start = views.initial_view(fig)
-            # the zoom stays across redesigns (uirevision): a zoomed page gets the points of its zoom
-            view = shown[3] if shown is not None and shown[3] != shown[2] else start
             with s.lock:
-                s.space = (key, fig, start, view)
-            return views.lighter(fig, view), views.error_figure(design, pinned=a), key
+                ready, s.prebuilt = s.prebuilt, None
+            if ready is not None and ready[0] is design and ready[1][0] == key and ready[1][3] == _view(shown, ready[1][2]):
+                built = ready[1]
+            else:
+                built = _figures_of(design, pinned, token, shown)
+            with s.lock:
+                s.space = built[:4]
+            return built[4], built[5], key
         except PreventUpdate:
             raise
         except Exception as exc:  # noqa: BLE001 — the status bar says it (the figures stay)
             log.warning("profilegen app: the figures failed: %s", _failure(exc))
             raise PreventUpdate from None
+
+    def _request_profile(s: Session, job: int):  # noqa: E301
+        """The snapshot of request ``job`` once it has its profile (also noted as the figures'
+        design for a later pin); None when a newer request superseded it or it failed."""
+        with s.lock:
+            s.figure_wait = job
+        try:
+            snap = s.computer.wait(job, profile=True, timeout=FIGURE_WAIT_S)
+        finally:
+            with s.lock:
+                if s.figure_wait == job:
+                    s.figure_wait = None
+        if snap is None or snap.design is None or snap.design.profile is None:
+            return None
+        with s.lock:
+            if s.profile_snap is None or s.profile_snap.job <= snap.job:
+                s.profile_snap = snap
+        return snap
+
+    def _keep_view(s: Session, relayout, shown: tuple) -> None:
+        """Note a zoom that came while a request waits: its figures open at it (:func:`_view`)."""
+        new = views.view_after(relayout, shown[3], shown[2])
+        with s.lock:
+            if new is not None and s.space is shown:
+                s.space = (*shown[:3], new)
 
     def _zoomed(s: Session, relayout, shown):
         from dash.exceptions import PreventUpdate
@@ -534,6 +574,42 @@ def _register_figures(app, sessions: Sessions) -> None:
             if s.space is shown:
                 s.space = (key, fig, start, new)
         return patch
+
+
+def _view(shown, start):
+    """The view a new figure opens at: the page's zoom when it has one (uirevision keeps it across
+    redesigns, so a zoomed page gets the points of its zoom), else the figure's own start."""
+    return shown[3] if shown is not None and shown[3] != shown[2] else start
+
+
+def _figures_of(design, pinned, token: int, shown) -> tuple:
+    """A profile's figures: (key, the whole CS-space figure, its start view, the view it opens at,
+    the figure thinned for that view, the fit-error figure)."""
+    a = pinned.design if pinned is not None else None
+    fig = views.space_figure(design, pinned=a, job=token)
+    start = views.initial_view(fig)
+    view = _view(shown, start)
+    return (f"{token}:{id(pinned)}", fig, start, view, views.lighter(fig, view), views.error_figure(design, pinned=a))
+
+
+def prebuild_figures(s: Session, job: int, design) -> None:
+    """Build a request's figures on the computation's thread the moment its profile is fitted,
+    before the profile is published (``Session(on_profile=...)``): built there they take ~10 ms;
+    on the figures' callback's thread, beside the stages still running and the verdict's callback,
+    the interpreter's lock made that ~30 ms of every sketch change. A profile the page already has
+    (a torque change: the engine's same object) builds nothing."""
+    token = s.profile_token(design.profile, job)
+    with s.lock:
+        pinned, shown = s.pinned, s.space
+    if shown is not None and shown[0] == f"{token}:{id(pinned)}":
+        return
+    try:
+        built = _figures_of(design, pinned, token, shown)
+    except Exception as exc:  # noqa: BLE001 — the figures' callback builds them again and says why
+        log.warning("profilegen app: the figures failed: %s", _failure(exc))
+        return
+    with s.lock:
+        s.prebuilt = (design, built)
 
 
 def _register_files(app, sessions: Sessions) -> None:
@@ -596,7 +672,7 @@ def make_app(gearset: GearSet | None = None, *, workspace: str | Path = ".", sce
     start_scene = scene or gs.scene
     if start_scene not in SCENES:
         raise ProfilegenError(f"scene = {start_scene!r}: the app takes one of {', '.join(SCENES)}")
-    sessions = Sessions(lambda: Session(gs, start_scene, ws), limit=sessions_limit)
+    sessions = Sessions(lambda: Session(gs, start_scene, ws, on_profile=prebuild_figures), limit=sessions_limit)
     # update_title "": Dash's "None or ''" (the page's title stays while a callback runs)
     app = WorkbenchApp(__name__, title="profilegen", update_title="", serve_locally=True,
                        suppress_callback_exceptions=True, assets_ignore=".*")

@@ -186,8 +186,9 @@ class Computer:
     once; a newer request supersedes the running one (abandoned at its next stage) and any
     queued one, and a superseded request's results are never published."""
 
-    def __init__(self, compute: Callable = redesign):
+    def __init__(self, compute: Callable = redesign, *, on_profile: Callable[[int, Any], None] | None = None):
         self._compute = compute
+        self._on_profile = on_profile
         self._cv = threading.Condition()
         self._next = 0
         self._pending: tuple | None = None
@@ -322,6 +323,10 @@ class Computer:
                 self._publish(Snapshot(**base, stages=tuple(stages), **keep))
 
         def partial(design) -> None:
+            if self._on_profile is not None and design.profile is not None and job == self._next:
+                snap = self._snap
+                if not (snap is not None and snap.job == job and snap.has_profile):
+                    self._on_profile(job, design)  # before it is published: see Session(on_profile=...)
             with self._cv:
                 self._publish(Snapshot(**base, design=design, stages=tuple(stages),
                                        has_profile=design.profile is not None))
@@ -371,11 +376,13 @@ class State:
 class Session:
     """One browser tab: its history, its computer, its pinned design and its workspace."""
 
-    def __init__(self, gearset: GearSet, scene: str, workspace: Workspace, *, compute: Callable = redesign):
+    def __init__(self, gearset: GearSet, scene: str, workspace: Workspace, *, compute: Callable = redesign,
+                 on_profile: Callable[[Session, int, Any], None] | None = None):
         self.id = uuid.uuid4().hex
         self.workspace = workspace
         self.history = History(State(gearset, scene))
-        self.computer = Computer(compute)
+        self.computer = Computer(compute, on_profile=None if on_profile is None else
+                                 lambda job, design: on_profile(self, job, design))
         self.lock = threading.RLock()
         self.fields = schema.form_fields(gearset)
         self.pinned: Snapshot | None = None  # the Snapshot pinned for A/B
@@ -388,6 +395,8 @@ class Session:
         # the space figure the page shows: (its key, the whole figure, the view it opens with, the view
         # shown); the page gets its points thinned for the view (views.lighter), again at each zoom
         self.space: tuple | None = None
+        self.figure_wait: int | None = None  # the request whose profile the figures' callback waits for
+        self.prebuilt: tuple | None = None  # ((key, design), figures) built as the profile came (on_profile)
         self._clicks: dict[str, Any] = {}
 
     @property

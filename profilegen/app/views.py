@@ -209,13 +209,23 @@ def lighter(fig: dict, view: View | None = None) -> dict:
     that cross the view's window, and of those only the points that lie more than a quarter of a
     pixel from the line through their neighbours kept (Douglas–Peucker). Zoomed in, the page asks
     again for the new view (the server keeps the whole figure), so the points under a sub-µm zoom
-    are those of the whole figure there. The default set's sketch: 39 000 points (1.0 MB) to ~1 800 (48 kB)."""
-    view = initial_view(fig) if view is None else view
+    are those of the whole figure there. The default set's sketch: 39 000 points (1.0 MB) to ~1 800 (48 kB).
+
+    The axes open at ``view``: a page zoomed before a redesign keeps its zoom with the new
+    profile's points for it (the new figure's own opening ranges would otherwise override the
+    zoom — plotly keeps a user's zoom only while the figure's ranges stay — and show lines thinned
+    to a window the page no longer shows)."""
+    start = initial_view(fig)
+    view = start if view is None else view
     out = {**fig, "data": list(fig["data"])}
     for i in heavy_traces(fig):
         t = fig["data"][i]
         x, y = _thinned(t["x"], t["y"], view)
         out["data"][i] = {**t, "x": x, "y": y}
+    if view != start:
+        layout = fig["layout"]
+        out["layout"] = {**layout, "xaxis": {**layout["xaxis"], "range": list(view.x_range)},
+                         "yaxis": {**layout["yaxis"], "range": list(view.y_range)}}
     return out
 
 

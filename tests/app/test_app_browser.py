@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import threading
 import time
 from pathlib import Path
 
@@ -299,6 +300,60 @@ def test_a_zoom_gets_the_points_of_its_view(browser, app):
                            "{'xaxis.range': arguments[0], 'yaxis.range': arguments[1]});", *opening)
     WebDriverWait(browser, WAIT_S, poll_frequency=0.05).until(
         lambda d: _off_line([centre], *d.execute_script(_FS_AT))[0] > 1e-5)
+    _no_console_errors(browser)
+
+
+def test_a_zoom_while_a_change_computes_gets_the_new_profile_at_its_view(browser, app):
+    """The figures of a change leave from the request's own wait for its profile; a zoom while it
+    waits supersedes that call on the page (the browser keeps a callback's newest response), so the
+    zoom's call waits in its turn and brings the new profile's figure, thinned for the zoomed view:
+    the page ends on the new job's figure, at the zoom, with the points of the zoom."""
+    import numpy as np
+
+    first = _open(browser, app)
+    sessions = app.app.profilegen_sessions
+    with sessions._lock:
+        tab = next(reversed(sessions._items.values()))
+    fast = tab.computer._compute
+    started = threading.Event()
+
+    def slow(gs, scene, **kw):  # the profile comes 1.5 s after the request: time to zoom meanwhile
+        started.set()
+        time.sleep(1.5)
+        return fast(gs, scene, **kw)
+
+    tab.computer._compute = slow
+    try:
+        value = float(_field(browser, "wave_generator.deflection_coefficient").get_attribute("value"))
+        _type(browser, "wave_generator.deflection_coefficient", f"{value + 0.004:.6g}")
+        assert started.wait(WAIT_S)
+        x, y = browser.execute_script(_FS_AT)
+        centre = np.array([np.nanmean(np.asarray(x, float)), np.nanmean(np.asarray(y, float))])
+        half = 2e-3
+        browser.execute_script("""
+            Plotly.relayout(document.querySelector('#space .js-plotly-plot'),
+                            {'xaxis.range': [arguments[0] - arguments[2], arguments[0] + arguments[2]],
+                             'yaxis.range': [arguments[1] - arguments[2], arguments[1] + arguments[2]]});""",
+                               float(centre[0]), float(centre[1]), half)
+        assert tab.figure_wait is not None  # the zoom came while the request waited for its profile
+        second = _settled(browser, after_job=first["job"])
+    finally:
+        tab.computer._compute = fast
+    assert second["figure_job"] == second["job"] > first["job"] and second["space"] != first["space"]
+    # the page stays at the zoom (its y range as asked, x widened for the equal axes)
+    (x0, x1), (y0, y1) = browser.execute_script(
+        "const l = document.querySelector('#space .js-plotly-plot').layout; return [l.xaxis.range, l.yaxis.range];")
+    assert abs(y0 - (centre[1] - half)) < 1e-9 and abs(y1 - (centre[1] + half)) < 1e-9
+    assert x0 <= centre[0] - half and centre[0] + half <= x1 and x1 - x0 < 8 * half
+    whole = next(t for t in tab.space[1]["data"] if t["name"].startswith("FS tooth at"))
+    pts = np.column_stack([whole["x"], whole["y"]]).astype(float)
+    box = pts[np.all(np.abs(pts - centre) <= half, axis=1)]
+    if len(box):  # the new pose's line through the zoom is drawn to a quarter pixel of the zoom
+        assert float(np.max(_off_line(box, *browser.execute_script(_FS_AT)))) <= 0.25 * 2 * half / 520
+    browser.execute_script("Plotly.relayout(document.querySelector('#space .js-plotly-plot'), "
+                           "{'xaxis.autorange': true, 'yaxis.autorange': true});")
+    _click(browser, "undo")
+    _settled(browser, after_job=second["job"])
     _no_console_errors(browser)
 
 

@@ -194,6 +194,56 @@ def test_a_poll_waits_for_the_next_snapshot_and_returns_it_at_once(gearset):
     c.close()
 
 
+def test_the_profile_hook_runs_once_per_request_before_its_profile_is_published(gearset, tmp_path):
+    """Session(on_profile=...) (the app builds the figures there): called with the tab, the job and
+    the design the moment the profile is fitted and before any waiter can see it; once per request
+    (a later partial design with the same profile does not call it again); never for a request
+    already superseded."""
+    seen = []
+    profile = object()
+
+    class Partial:
+        def __init__(self, key):
+            self.key, self.profile = key, profile
+
+    def compute(gs, scene, *, progress, on_profile, on_stage, stop=None):
+        key = gs.wave_generator.deflection_coefficient
+        on_profile(Partial(key))
+        on_stage(Partial(key))  # a slower stage adds to the design: the profile is not new
+        return Partial(key)
+
+    def hook(session, job, design):
+        snap = session.computer.latest()
+        seen.append((session, job, design.key, snap is not None and snap.job == job and snap.has_profile))
+
+    s = Session(gearset, "sketch", Workspace(tmp_path), compute=compute, on_profile=hook)
+    job = s.submit()
+    snap = s.computer.wait(job, profile=False, timeout=10)
+    assert snap is not None and snap.done
+    assert seen == [(s, job, gearset.wave_generator.deflection_coefficient, False)]  # not yet published
+    # a superseded request: its profile comes after a newer submit, and the hook is not called for it
+    gate, late = threading.Event(), []
+
+    def held(gs, scene, *, progress, on_profile, on_stage, stop=None):
+        if not late:
+            late.append(1)
+            assert gate.wait(10)
+        on_profile(Partial(gs.wave_generator.deflection_coefficient))
+        return Partial(gs.wave_generator.deflection_coefficient)
+
+    s.computer._compute = held
+    s.edit({"wave_generator.deflection_coefficient": "1.1"})
+    first = s.submit()
+    while not late:
+        time.sleep(0.01)
+    s.edit({"wave_generator.deflection_coefficient": "1.2"})
+    second = s.submit()
+    gate.set()
+    assert s.computer.wait(second, profile=False, timeout=10).done
+    assert [j for _, j, _, _ in seen] == [job, second] and first not in [j for _, j, _, _ in seen]
+    s.close()
+
+
 def test_a_design_error_is_one_line_not_a_traceback(gearset):
     def failing(gs, scene, **k):
         raise GearSetError(["circular_spline.wire_radius_mm: the wire is too thick"])
