@@ -10,6 +10,12 @@ otherwise answer a value seen before at once), median of ``-n`` changes each:
   verdict and numbers on the page (the figures stay: the profile did not change);
 * design scene, a tooth change (addendum coefficient): drawn = to the new CS space in the figure;
 
+Drawn is measured twice: on the page's own clock (the Enter's keydown event to the animation frame
+after plotly has drawn the new figure, or after the progress line says "done": what a user sees)
+and through the WebDriver (from this process's Enter to the 20 ms poll of the page that finds it
+drawn: the key's dispatch and the polls add ~30-40 ms a user does not see). The goals are judged
+on the page's clock; both are printed.
+
 The app runs as ``profilegen app --port 0`` in a process of its own, started afresh for each case
 (the browser's driver in the app's process took its interpreter lock at every poll of the page,
 slowing the computation it measures). For each: compute = ``profilegen.app.compute.redesign`` alone for the same kind of change in this
@@ -51,6 +57,39 @@ CASES = (("sketch", "tooth.addendum_coefficient", 0.800, 0.001, "figure"),
          ("design", "torque.rated_nm", 265.0, 0.7, "done"),
          ("design", "tooth.addendum_coefficient", 0.800, 0.001, "figure"))
 
+#: the page's own clock: the Enter's event time, and the frame after each new CS-space plot (plotly's
+#: afterplot, then the next animation frame: the one that paints it) and after each "done" on the
+#: progress line, with the job each was of
+_PAGE_CLOCK = """
+if (!window.__lat) {
+  window.__lat = {enter: null, figure: [], done: []};
+  document.addEventListener('keydown', e => { if (e.key === 'Enter') window.__lat.enter = e.timeStamp; }, true);
+  const frame = (list, job) => requestAnimationFrame(() => list.push([job, performance.now()]));
+  const hook = () => {
+    const g = document.querySelector('#space .js-plotly-plot');
+    if (g && !g.__latHooked) {
+      g.__latHooked = true;
+      g.on('plotly_afterplot', () => frame(window.__lat.figure, g._fullLayout.meta ? g._fullLayout.meta.job : null));
+    }
+    const p = document.getElementById('progress');
+    if (p && !p.__latHooked) {
+      p.__latHooked = true;
+      new MutationObserver(() => { const m = /^job ([0-9]+),.*, done/.exec(p.textContent);
+                                   if (m) frame(window.__lat.done, Number(m[1])); })
+        .observe(p, {childList: true, characterData: true, subtree: true});
+    }
+  };
+  hook(); setInterval(hook, 100);
+}
+window.__lat.enter = null; window.__lat.figure.length = 0; window.__lat.done.length = 0;
+"""
+
+_PAGE_DRAWN = """
+const l = window.__lat, kind = arguments[0], after = arguments[1];
+const hit = l[kind].find(([job, t]) => job !== null && job > after);
+return l.enter === null || !hit ? null : (hit[1] - l.enter) / 1000;
+"""
+
 _BYTES = """
 return performance.getEntriesByType('resource').filter(e => e.name.includes('_dash-update-component'))
     .reduce((a, e) => a + (e.encodedBodySize || 0), 0);
@@ -63,14 +102,19 @@ def _browser(tmp: Path):
     return driver(tmp / "chromium", tb.SCREEN, {"browser": "ALL"})
 
 
-def _changes(driver, path: str, values, *, until: str) -> tuple[list[float], list[int]]:
+def _changes(driver, path: str, values, *, until: str) -> tuple[list[float], list[float], list[int]]:
+    """Per change: the drawn time as this process sees it through the WebDriver (from the Enter
+    sent to the poll that finds it drawn), the same on the page's own clock (the Enter's event to
+    the frame that paints it: what the user sees, without the WebDriver's key dispatch and its
+    20 ms polls), and the bytes the page received."""
     from selenium.webdriver.common.keys import Keys
     from selenium.webdriver.support.ui import WebDriverWait
 
-    times, sizes = [], []
+    times, page, sizes = [], [], []
     for v in values:
         before = tb._state(driver)
         driver.execute_script("performance.clearResourceTimings()")
+        driver.execute_script(_PAGE_CLOCK)
         box = tb._field(driver, path)  # the value typed, then the clock starts at its Enter
         driver.execute_script("arguments[0].scrollIntoView({block: 'center'})", box)
         box.send_keys(Keys.CONTROL, "a")
@@ -84,8 +128,12 @@ def _changes(driver, path: str, values, *, until: str) -> tuple[list[float], lis
                 lambda d, job=before["job"]: (tb._state(d)["figure_job"] or 0) > job)
         times.append(time.perf_counter() - t0)
         tb._settled(driver, after_job=before["job"])  # let the rest finish before the next change
+        seen = driver.execute_script(_PAGE_DRAWN, "done" if until == "done" else "figure", before["job"])
+        if seen is None:
+            raise RuntimeError(f"{path} = {v}: the page's clock did not see the change drawn")
+        page.append(float(seen))
         sizes.append(int(driver.execute_script(_BYTES)))
-    return times, sizes
+    return times, page, sizes
 
 
 class _Served:
@@ -212,7 +260,8 @@ def main() -> None:
                     tb._settled(driver)
                     first_render = time.perf_counter() - t0
                     # the browser's values and the compute's: each fresh (never designed in this process)
-                    drawn, sizes = _changes(driver, path, [first + step * (k + 1) for k in range(args.n)], until=until)
+                    drawn, page, sizes = _changes(driver, path, [first + step * (k + 1) for k in range(args.n)],
+                                                  until=until)
                 finally:
                     app.stop()
                 compute = _compute(gs, scene, path, [first - step * (k + 1) for k in range(args.n)])
@@ -220,6 +269,7 @@ def main() -> None:
                     cli[scene] = statistics.median(_cold_cli(scene, args.cli_runs, tmp))
                 rows[f"{scene}: {path}"] = {
                     "first_render_s": first_render, "drawn_s": statistics.median(drawn),
+                    "drawn_page_s": statistics.median(page),
                     "compute_s": statistics.median(compute), "bytes": statistics.median(sizes),
                     "cold_cli_s": cli[scene], "cli_over_drawn": cli[scene] / statistics.median(drawn)}
         finally:
@@ -227,7 +277,8 @@ def main() -> None:
     cancel = _cancel(gs, args.cancel) if args.cancel else None
     print(f"load average {os.getloadavg()[0]:.1f} on {os.cpu_count()} CPUs (medians of -n {args.n})")
     for name, r in rows.items():
-        print(f"{name}: drawn {r['drawn_s']:.3f} s, compute {r['compute_s']:.3f} s, {r['bytes'] / 1e3:.0f} kB to the "
+        print(f"{name}: drawn {r['drawn_page_s']:.3f} s on the page's clock ({r['drawn_s']:.3f} s through the "
+              f"WebDriver), compute {r['compute_s']:.3f} s, {r['bytes'] / 1e3:.0f} kB to the "
               f"page, cold CLI {r['cold_cli_s']:.2f} s ({r['cli_over_drawn']:.1f}x the drawn change); app cold start "
               f"to first render {r['first_render_s']:.2f} s")
     if cancel is not None:
