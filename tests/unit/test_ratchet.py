@@ -731,3 +731,10 @@ def test_the_peak_of_three_points_is_the_parabola_vertex_however_close_the_point
             assert xv == pytest.approx(2.1e-3, rel=1e-9, abs=1e-15) and yv == pytest.approx(4200.0, rel=1e-12)
     assert _parabola_peak((0.0, 1.0, 2.0), (1.0, 0.0, 1.0)) is None  # a minimum
     assert _parabola_peak((0.0, 1.0, 2.0), (0.0, 1.0, 1.9)) is None  # the vertex beyond the bracket
+    # two abscissae ulps apart with torques 0.02 N·m apart (a climb's refinement): a curvature of
+    # ~1e20 and a "peak" of 3.4e10 N·m between points of ~2440 N·m — not pinned by its points
+    x1 = 0.008104410
+    assert _parabola_peak((0.00808935, x1, x1 + 4 * math.ulp(x1)), (2439.30, 2442.45, 2442.43)) is None
+    # a vertex within the three points' spread above the largest is kept (an uneven bracket)
+    xv, yv = _parabola_peak((2.0e-3, 2.09e-3, 2.3e-3), [t(v) for v in (2.0e-3, 2.09e-3, 2.3e-3)])
+    assert xv == pytest.approx(2.1e-3, rel=1e-9) and yv == pytest.approx(4200.0, rel=1e-12)
