@@ -1,7 +1,8 @@
 """The model against the catalogue at every size (issue 29, build item 3).
 
     python tests/benchmarks/catalogue_sizes.py [--scene design|verify] [--sizes 14 17 ...] [--ratios 100 50]
-                                              [--rim 0.024] [--csv FILE] [--png FILE] [--json FILE]
+                                              [--rim 0.024 [--rim-parts all|ring|cup]] [--csv FILE]
+                                              [--png FILE] [--json FILE]
                                               [--plot-only JSON]
 
 For each size (default 14, 17, 20, 25, 32, 40, 50, 58) and ratio (default 100): the gear set
@@ -23,7 +24,10 @@ the catalogue row of that size and ratio (``profilegen.contact.catalogue.catalog
   floor of the catalogue's transmission accuracy (also an upper limit), not a comparable value;
 * the ratcheting estimate (verify scene only) against the catalogue's ratcheting torque where
   published (sizes 25, 32, 40 at ratios 50, 80, 100; table 4 of the LLC catalogue);
-* with ``--rim F`` the sets' rim (and cup wall and bottom) at δ/r_m = F instead of the rule's 3 %:
+* with ``--rim F`` the sets' rim (and cup wall and bottom) at δ/r_m = F instead of the rule's 3 %
+  (``--rim-parts ring``: the tooth ring and the wall, which may not be thicker than the ring, the
+  bottom as the rule; ``cup``: the wall and the bottom, the ring as the rule); the figure then goes
+  to /tmp unless ``--png`` says where:
   a study of the rim (the strength section of docs/validation/catalogue-sizes.md), not what
   ``new`` writes;
 * the strength checks (``Design.stress``): the tooth ring's fatigue (Goodman at the rated torque)
@@ -72,10 +76,12 @@ COLUMNS = ("size", "ratio", "scene", "verdict", "seconds",
            "failed_checks", "error")
 
 
-def with_rim(made, rim_per_neutral_radius: float):
+def with_rim(made, rim_per_neutral_radius: float, parts: str = "all"):
     """The set ``made`` (a :class:`profilegen.gearset.new.CatalogueSet`) with its rim, cup wall and
     cup bottom at δ/r_m = ``rim_per_neutral_radius`` instead of the rule's 3 % (δ solved from
-    r_m = d/2 − 1.2 m − δ/2, as the rule does): a study of the rim, not a set ``new`` writes."""
+    r_m = d/2 − 1.2 m − δ/2, as the rule does): a study of the rim, not a set ``new`` writes.
+    ``parts``: "all"; "ring" (the ring and the wall, the bottom as written); "cup" (the wall and
+    the bottom, the ring as written)."""
     import tomllib
 
     from profilegen.gearset import parse_gearset
@@ -84,18 +90,23 @@ def with_rim(made, rim_per_neutral_radius: float):
     g = data["gear"]
     frac = float(rim_per_neutral_radius)
     delta = round(frac * (g["module_mm"] * g["flexspline_teeth"] / 2.0 - 1.2 * g["module_mm"]) / (1.0 + frac / 2.0), 4)
-    g["rim_thickness_mm"] = delta
-    data["cup"]["wall_thickness_mm"] = data["cup"]["bottom_thickness_mm"] = delta
+    if parts not in ("all", "ring", "cup"):
+        raise SystemExit(f"--rim-parts {parts!r}: one of all, ring, cup")
+    if parts in ("all", "ring"):
+        g["rim_thickness_mm"] = delta
+    data["cup"]["wall_thickness_mm"] = delta
+    if parts in ("all", "cup"):
+        data["cup"]["bottom_thickness_mm"] = delta
     return parse_gearset(data)
 
 
-def measure(size: int, ratio: int, scene: str, rim: float | None = None) -> dict:
+def measure(size: int, ratio: int, scene: str, rim: float | None = None, rim_parts: str = "all") -> dict:
     out = dict.fromkeys(COLUMNS)
     out.update(size=size, ratio=ratio, scene=scene)
     row = catalogue_row(size, ratio)
     out["ratchet_cat_nm"] = row.get("ratcheting_torque_nm")
     made = pg.new_gearset(size, ratio)
-    gs = made.gearset if rim is None else with_rim(made, rim)
+    gs = made.gearset if rim is None else with_rim(made, rim, rim_parts)
     t0 = time.perf_counter()
     try:
         d = pg.design(gs, scene=scene)
@@ -262,11 +273,15 @@ def main(argv=None) -> None:
     ap.add_argument("--ratios", type=int, nargs="+", default=[100])
     ap.add_argument("--rim", type=float, default=None,
                     help="a study of the rim: δ/r_m (e.g. 0.024) instead of the rule's 0.03, rim = wall = bottom")
+    ap.add_argument("--rim-parts", default="all", choices=("all", "ring", "cup"),
+                    help="with --rim: all (default), ring (ring and wall), cup (wall and bottom)")
     ap.add_argument("--csv", type=Path, default=Path("/tmp/catalogue_sizes.csv"))
     ap.add_argument("--json", type=Path, default=None, help="default: the CSV's path with .json")
-    ap.add_argument("--png", type=Path, default=ROOT / "docs" / "img" / "catalogue_sizes.png")
+    ap.add_argument("--png", type=Path, default=None, help="default: docs/img/catalogue_sizes.png (with --rim: /tmp)")
     ap.add_argument("--plot-only", type=Path, nargs="+", default=None, help="redraw from JSONs this script wrote")
     a = ap.parse_args(argv)
+    if a.png is None:  # a rim study does not overwrite the docs' figure of the sets as written
+        a.png = Path("/tmp/catalogue_sizes_rim.png") if a.rim is not None else ROOT / "docs" / "img" / "catalogue_sizes.png"
     if a.plot_only:
         merged = {}
         for p in a.plot_only:
@@ -289,7 +304,7 @@ def main(argv=None) -> None:
     json_path = a.json or a.csv.with_suffix(".json")
     for ratio in a.ratios:
         for size in a.sizes:
-            r = measure(size, ratio, a.scene, a.rim)
+            r = measure(size, ratio, a.scene, a.rim, a.rim_parts)
             rows.append(r)
             print(f"size {size} ratio {ratio} ({a.scene}): {r['seconds']:.0f} s, K1/K2/K3 m/c "
                   f"{fmt(r['K1_ratio'], '.2f')}/{fmt(r['K2_ratio'], '.2f')}/{fmt(r['K3_ratio'], '.2f')}, "
