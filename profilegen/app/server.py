@@ -520,10 +520,10 @@ def _register_figures(app, sessions: Sessions) -> None:
                 raise PreventUpdate
             with s.lock:
                 ready, s.prebuilt = s.prebuilt, None
-            if ready is not None and ready[0] is design and ready[1][0] == key and ready[1][3] == _view(shown, ready[1][2]):
-                built = ready[1]
-            else:
-                built = _figures_of(design, pinned, token, shown)
+            # the figures built as the profile came, if they are of this design, pin and view
+            fresh = ready is not None and ready[0] is design and ready[1][0] == key
+            built = ready[1] if fresh and ready[1][3] == _view(shown, ready[1][2]) else (
+                _figures_of(design, pinned, token, shown))
             with s.lock:
                 s.space = built[:4]
             return built[4], built[5], key
@@ -533,7 +533,7 @@ def _register_figures(app, sessions: Sessions) -> None:
             log.warning("profilegen app: the figures failed: %s", _failure(exc))
             raise PreventUpdate from None
 
-    def _request_profile(s: Session, job: int):  # noqa: E301
+    def _request_profile(s: Session, job: int):
         """The snapshot of request ``job`` once it has its profile (also noted as the figures'
         design for a later pin); None when a newer request superseded it or it failed."""
         with s.lock:

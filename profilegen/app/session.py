@@ -326,7 +326,10 @@ class Computer:
             if self._on_profile is not None and design.profile is not None and job == self._next:
                 snap = self._snap
                 if not (snap is not None and snap.job == job and snap.has_profile):
-                    self._on_profile(job, design)  # before it is published: see Session(on_profile=...)
+                    try:  # before it is published: see Session(on_profile=...)
+                        self._on_profile(job, design)
+                    except Exception:  # noqa: BLE001 — a figure's failure must not fail the design
+                        log.exception("profilegen app: the profile hook failed")
             with self._cv:
                 self._publish(Snapshot(**base, design=design, stages=tuple(stages),
                                        has_profile=design.profile is not None))
@@ -396,7 +399,7 @@ class Session:
         # shown); the page gets its points thinned for the view (views.lighter), again at each zoom
         self.space: tuple | None = None
         self.figure_wait: int | None = None  # the request whose profile the figures' callback waits for
-        self.prebuilt: tuple | None = None  # ((key, design), figures) built as the profile came (on_profile)
+        self.prebuilt: tuple | None = None  # (design, figures) built as its profile came (on_profile)
         self._clicks: dict[str, Any] = {}
 
     @property

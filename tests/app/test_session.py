@@ -244,6 +244,29 @@ def test_the_profile_hook_runs_once_per_request_before_its_profile_is_published(
     s.close()
 
 
+def test_a_failing_profile_hook_does_not_fail_the_design(gearset, tmp_path, caplog):
+    """The hook builds figures: its failure is logged, and the design still finishes and is
+    published (the figures' callback builds them again and says why)."""
+    profile = object()
+
+    class Done:
+        def __init__(self, key):
+            self.key, self.profile = key, profile
+
+    def compute(gs, scene, *, progress, on_profile, on_stage, stop=None):
+        on_profile(Done(1))
+        return Done(1)
+
+    def hook(session, job, design):
+        raise RuntimeError("a figure failed")
+
+    s = Session(gearset, "sketch", Workspace(tmp_path), compute=compute, on_profile=hook)
+    snap = s.computer.wait(s.submit(), profile=False, timeout=10)
+    assert snap is not None and snap.done and snap.error is None and snap.design.key == 1
+    assert "the profile hook failed" in caplog.text
+    s.close()
+
+
 def test_a_design_error_is_one_line_not_a_traceback(gearset):
     def failing(gs, scene, **k):
         raise GearSetError(["circular_spline.wire_radius_mm: the wire is too thick"])
