@@ -265,6 +265,15 @@ def _off_line(points, xs, ys):
     return np.min(np.linalg.norm(p - (a + t[..., None] * d), axis=2), axis=1)
 
 
+def _zoom_to(browser, centre, half: float) -> None:
+    """Zoom the CS space to the box of half-width ``half`` (mm) about ``centre``, as a drag does."""
+    browser.execute_script("""
+        Plotly.relayout(document.querySelector('#space .js-plotly-plot'),
+                        {'xaxis.range': [arguments[0] - arguments[2], arguments[0] + arguments[2]],
+                         'yaxis.range': [arguments[1] - arguments[2], arguments[1] + arguments[2]]});""",
+                           float(centre[0]), float(centre[1]), half)
+
+
 def test_a_zoom_gets_the_points_of_its_view(browser, app):
     """The page gets the CS space's lines thinned for the view it shows (a quarter pixel off the
     whole figure's line at most); zoomed to a 2 µm box where the opening view's line is that far
@@ -285,11 +294,7 @@ def test_a_zoom_gets_the_points_of_its_view(browser, app):
     opening = browser.execute_script("const l = document.querySelector('#space .js-plotly-plot').layout;"
                                      "return [l.xaxis.range.slice(), l.yaxis.range.slice()];")
     half = 1e-3
-    browser.execute_script("""
-        Plotly.relayout(document.querySelector('#space .js-plotly-plot'),
-                        {'xaxis.range': [arguments[0] - arguments[2], arguments[0] + arguments[2]],
-                         'yaxis.range': [arguments[1] - arguments[2], arguments[1] + arguments[2]]});""",
-                           float(centre[0]), float(centre[1]), half)
+    _zoom_to(browser, centre, half)
     WebDriverWait(browser, WAIT_S, poll_frequency=0.05).until(
         lambda d: _off_line([centre], *d.execute_script(_FS_AT))[0] < 1e-9)
     box = pts[np.all(np.abs(pts - centre) <= half, axis=1)]
@@ -330,11 +335,7 @@ def test_a_zoom_while_a_change_computes_gets_the_new_profile_at_its_view(browser
         x, y = browser.execute_script(_FS_AT)
         centre = np.array([np.nanmean(np.asarray(x, float)), np.nanmean(np.asarray(y, float))])
         half = 2e-3
-        browser.execute_script("""
-            Plotly.relayout(document.querySelector('#space .js-plotly-plot'),
-                            {'xaxis.range': [arguments[0] - arguments[2], arguments[0] + arguments[2]],
-                             'yaxis.range': [arguments[1] - arguments[2], arguments[1] + arguments[2]]});""",
-                               float(centre[0]), float(centre[1]), half)
+        _zoom_to(browser, centre, half)
         assert tab.figure_wait is not None  # the zoom came while the request waited for its profile
         second = _settled(browser, after_job=first["job"])
     finally:
