@@ -14,8 +14,11 @@ value in the file, with its source:
   (100 mm for size 40) and csf32_100 (80 mm for size 32) are 0.984 ×. A rule 5.5 % smaller
   (2.4 mm × size) would read size 50's 120 mm as size 45. m = d / z1, rounded to 6 decimals.
 * **teeth**: z1 = U·ratio, z2 = z1 + U with U = 2 waves (ratio = z1/(z2 − z1)).
-* **rim** δ: δ/r_m = 3 % (:data:`RIM_PER_NEUTRAL_RADIUS`, seed 001's rule of thumb, the
-  bundled sets 2.98–3.4 %), r_m = d/2 − dedendum − δ/2 solved for δ.
+* **rim** δ: δ/r_m = 3 % (:data:`RIM_PER_NEUTRAL_RADIUS`, seed 001's rule of thumb; the
+  bundled sets 1.84 % (``default``, seed 004's ring) to 3.38 %), r_m = d/2 − dedendum − δ/2
+  solved for δ. The cup's wall and bottom are as thick (the reader's defaults). This thickness
+  sets K2 and K3: at 2 % the model meets the catalogue's stiffness
+  (docs/validation/catalogue-sizes.md, "The cup's thickness sets K2 and K3").
 * **tooth**: the project's default DCTA tooth in units of the module (as every bundled set).
 * **wave generator**: ω* = 1 (w0 = m), an elliptical cam under a flexible ball bearing whose
   radial section is the contact model's own estimate: two races of 2.5 % d
@@ -268,7 +271,9 @@ flexspline_teeth = {z1}
 circular_spline_teeth = {z2}
 waves = 2
 # ESTIMATE: delta/r_m = 3 % (seed 001's rule of thumb) with r_m = d/2 - 1.2 m - delta/2:
-# delta = {_g(rim, 4)} mm, the derived r_m = {_g(r_m, 4)} mm (delta/w0 = {rim / m:.2f}).
+# delta = {_g(rim, 4)} mm, the derived r_m = {_g(r_m, 4)} mm (delta/w0 = {rim / m:.2f}). Published rings
+# span 1.84-3.4 % of r_m; this thickness (and the cup's wall and bottom, as thick) sets the stiffness
+# K2/K3: at 2 % the model meets the catalogue's (docs/validation/catalogue-sizes.md).
 rim_thickness_mm = {_g(rim, 4)}
 
 [tooth]
