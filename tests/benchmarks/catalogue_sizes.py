@@ -3,7 +3,7 @@
     python tests/benchmarks/catalogue_sizes.py [--scene design|verify] [--sizes 14 17 ...] [--ratios 100 50]
                                               [--rim 0.024 [--rim-parts all|ring|cup]] [--csv FILE]
                                               [--png FILE] [--json FILE]
-                                              [--plot-only JSON]
+                                              [--plot-only JSON] [--plot-cups JSON ...]
 
 For each size (default 14, 17, 20, 25, 32, 40, 50, 58) and ratio (default 100): the gear set
 ``profilegen.new_gearset(size, ratio)`` writes (catalogue proportions, no per-size fitting: one
@@ -266,6 +266,45 @@ def plot(rows: list, path: Path) -> None:
     print(f"figure: {path}")
 
 
+def plot_cups(runs: list, path: Path) -> None:
+    """K1, K2, K3 and the torsion at T2 over the catalogue against size, one line style per run of
+    this script (``--json`` files of one ratio), each labelled by its sets' δ/r_m: the rim study of
+    docs/validation/catalogue-sizes.md ("The cup's thickness sets K2 and K3")."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(9, 4.6), dpi=110)
+    ax.axhspan(1 - BAND, 1 + BAND, color="0.88", label=f"±{BAND:.0%}")
+    ax.axhline(1.0, color="0.5", lw=0.8)
+    series = (("K1_ratio", "K1", "o", "C0"), ("K2_ratio", "K2", "s", "C1"), ("K3_ratio", "K3", "^", "C2"),
+              ("phi_T2_ratio", "torsion at T2", "d", "C3"))
+    styles = ("-", "--", ":", "-.")
+    for i, rows in enumerate(runs):
+        fracs = sorted({round(float(r["rim_per_neutral_radius"]), 4) for r in rows})
+        ratios = sorted({r["ratio"] for r in rows})
+        name = "/".join(f"{f:.1%}" for f in fracs) + " of r_m, ratio " + "/".join(map(str, ratios))
+        for key, label, marker, color in series:
+            pts = sorted((r["size"], r[key]) for r in rows if r[key] is not None)
+            if pts:
+                ax.plot(*zip(*pts), marker=marker, ls=styles[i % len(styles)], color=color, ms=5,
+                        mfc=color if i == 0 else "white", label=f"{label}, cup {name}")
+    ax.set_xscale("log")
+    ax.set_xticks(SIZES)
+    ax.set_xticklabels([str(s) for s in SIZES])
+    ax.minorticks_off()
+    ax.set_xlabel("size")
+    ax.set_ylabel("model / catalogue (verify scene)")
+    ax.set_title("profilegen new sets with the tooth ring, cup wall and bottom at δ/r_m", fontsize=10)
+    ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0))
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path)
+    print(f"figure: {path}")
+
+
 def main(argv=None) -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--scene", default="verify", help="design scene (default verify; 'design' is the quick pass)")
@@ -279,7 +318,12 @@ def main(argv=None) -> None:
     ap.add_argument("--json", type=Path, default=None, help="default: the CSV's path with .json")
     ap.add_argument("--png", type=Path, default=None, help="default: docs/img/catalogue_sizes.png (with --rim: /tmp)")
     ap.add_argument("--plot-only", type=Path, nargs="+", default=None, help="redraw from JSONs this script wrote")
+    ap.add_argument("--plot-cups", type=Path, nargs="+", default=None,
+                    help="the rim study's figure from runs' JSONs (one line style each, labelled by δ/r_m)")
     a = ap.parse_args(argv)
+    if a.plot_cups:
+        plot_cups([json.loads(p.read_text()) for p in a.plot_cups], a.png or ROOT / "docs" / "img" / "catalogue_cup.png")
+        return
     if a.png is None:  # a rim study does not overwrite the docs' figure of the sets as written
         a.png = Path("/tmp/catalogue_sizes_rim.png") if a.rim is not None else ROOT / "docs" / "img" / "catalogue_sizes.png"
     if a.plot_only:
