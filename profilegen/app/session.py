@@ -400,6 +400,7 @@ class Session:
         self.space: tuple | None = None
         self.figure_wait: int | None = None  # the request whose profile the figures' callback waits for
         self.prebuilt: tuple | None = None  # (design, figures) built as its profile came (on_profile)
+        self.error_figure: tuple | None = None  # (key, the fit-error figure) of the CS space last sent
         self._clicks: dict[str, Any] = {}
 
     @property

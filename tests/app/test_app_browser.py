@@ -239,10 +239,19 @@ def test_pin_a_design_and_compare_the_next_one_over_it(browser, app, tmp_path):
     assert "A" in table.split("\n")[0] and "B" in table.split("\n")[0]
     changed = browser.find_elements("css selector", "#numbers .pg-changed")
     assert changed, "the numbers that moved are highlighted"
+    # the fit error follows the CS space (its own callback, on the space drawn): A under B there too
+    WebDriverWait(browser, WAIT_S).until(lambda d: "A (pinned)" in d.execute_script(_ERROR_TRACES))
     _shot(browser, tmp_path, "compare")
     _click(browser, "unpin")
     WebDriverWait(browser, WAIT_S).until(lambda d: "A (pinned): CS space" not in _state(d)["traces"])
+    WebDriverWait(browser, WAIT_S).until(lambda d: "A (pinned)" not in d.execute_script(_ERROR_TRACES))
     _no_console_errors(browser)
+
+
+_ERROR_TRACES = """
+const g = document.querySelector('#fit-error .js-plotly-plot');
+return g && g.data ? g.data.map(t => t.name) : [];
+"""
 
 
 _FS_AT = """
