@@ -399,7 +399,7 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, gro
 
 def _parabola_peak(x, y) -> tuple[float, float] | None:
     """The vertex (x_v, y_v) of the parabola through three points, if it is a maximum inside
-    [x_0, x_2] that rises above the largest y by no more than the three y's spread; else None.
+    [x_0, x_2] at or above the largest y by no more than the three y's spread; else None.
     Newton's divided differences, exact for three points and well conditioned however close the
     points (a bracket refined to ~1e-9 rad made numpy's polyfit, which fits the raw monomials,
     warn of a poorly conditioned fit). The rise's bound: two abscissae a few ulps apart with
@@ -419,7 +419,9 @@ def _parabola_peak(x, y) -> tuple[float, float] | None:
     if not x0 <= xv <= x2:
         return None
     yv = y0 + d1 * (xv - x0) + c2 * (xv - x0) * (xv - x1)
-    if not yv - max(y) <= max(y) - min(y):
+    # a peak inside the bracket is above its points; one below them is round-off (abscissae ulps
+    # apart), one far above is not pinned by them
+    if not max(y) <= yv <= max(y) + (max(y) - min(y)):
         return None
     return float(xv), float(yv)
 

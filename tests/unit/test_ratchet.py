@@ -713,6 +713,31 @@ def test_the_climbs_polar_outline_fills_long_straight_steps():
     assert np.max(np.abs(np.diff(radius))) <= 5e-3 and radius.min() < r < radius.max()
 
 
+def test_a_limit_point_lies_between_its_bracket_and_the_path_top_plus_the_bracket_spread():
+    """Whatever the path's spacing (abscissae ulps apart included) and its noise, the limit point
+    the climb reports is at least the largest of the bracket's three torques (a parabola's peak
+    inside the bracket is above its points; else the path's largest) and at most the path's
+    largest plus the bracket's spread: never a torque the path did not come near (3.4e10 N·m was
+    reported between points of ~2440 N·m)."""
+    from types import SimpleNamespace
+
+    from profilegen.contact.climb import _limit_point
+
+    rng = np.random.default_rng(7)
+    for _ in range(2000):
+        n = int(rng.integers(3, 12))
+        steps = rng.choice([1e-3, 1e-6, 1e-12, 0.0], size=n, p=[0.7, 0.1, 0.1, 0.1]) * rng.uniform(0.5, 2.0, n)
+        phi = np.cumsum(steps) + 1e-3
+        phi = np.array([p + k * math.ulp(p) for k, p in enumerate(phi)])  # strictly increasing, some by ulps
+        torque = 2440.0 - 1e7 * (phi - phi[n // 2]) ** 2 + rng.normal(0.0, 0.05, n)
+        pts = [SimpleNamespace(phi_rad=float(p), torque_nm=float(t)) for p, t in zip(phi, torque)]
+        k = n - 1
+        got = _limit_point(pts, k, False, []).torque_nm
+        bracket = torque[max(k - 2, 0):k + 1]
+        assert got >= bracket.max() - 1e-9
+        assert got <= torque[:k + 1].max() + (bracket.max() - bracket.min()) + 1e-9
+
+
 def test_the_peak_of_three_points_is_the_parabola_vertex_however_close_the_points():
     """The limit point's refinement takes the vertex of the parabola through the bracket's three
     points: exact for a parabola, also on a bracket of nanoradians (where fitting the raw
