@@ -137,9 +137,11 @@ class Pose:
 
 
 class Motion(Protocol):
-    """Anything that gives the tooth-frame pose at an array of φ."""
+    """Anything that gives the tooth-frame pose at an array of φ, and its origin and angle alone."""
 
     def pose(self, phi) -> Pose: ...
+
+    def frame(self, phi) -> tuple[np.ndarray, np.ndarray]: ...
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -257,3 +259,8 @@ class RackMotion:
             angle_d1=-ones,
             angle_d2=0 * ones,
         )
+
+    def frame(self, phi: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+        """The rack frame's origin and angle at φ (those of :meth:`pose`)."""
+        pose = self.pose(phi)
+        return pose.origin, pose.angle

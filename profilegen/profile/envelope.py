@@ -240,12 +240,8 @@ def swept_depth(
     c, s = np.cos(best_k * neighbour_angle), np.sin(best_k * neighbour_angle)
     rot = np.stack([pts[:, 0] * c - pts[:, 1] * s, pts[:, 0] * s + pts[:, 1] * c], -1)
 
-    frame = getattr(motion, "frame", None)  # origin and angle alone, where the motion gives them
-
-    def depth_at(phi):
-        if frame is None:
-            return shape.depth(motion.pose(phi).to_tooth(rot))
-        return shape.depth(to_tooth(rot, *frame(phi)))
+    def depth_at(phi):  # the frame's origin and angle alone: no pose derivatives
+        return shape.depth(to_tooth(rot, *motion.frame(phi)))
 
     g = (np.sqrt(5.0) - 1.0) / 2.0
     x1, x2 = hi - g * (hi - lo), lo + g * (hi - lo)
