@@ -40,6 +40,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import partial
 
 import numpy as np
 from scipy.linalg import cho_factor, cho_solve, solve_triangular
@@ -167,19 +168,30 @@ def _point(model, phi, f, s_fs, s_cs, state, lever, iterations) -> ClimbPoint:
     return ClimbPoint(float(phi), torque, s_fs + s_cs, s_fs.copy(), f, margin, alpha, mean_s, corner, iterations, state)
 
 
-def _criterion_met(path, *, corner_rule: bool, limit_drop: float):
-    """(criterion, index of the first point past it) or None; a limit point: T fell more than
-    ``limit_drop`` below its largest so far — the index is then the point after that largest."""
-    top = 0
+def _criterion_met(path, *, corner_rule: bool, limit_drop: float, limit_span: float = 0.0, final: bool = True):
+    """(criterion, index of the first point past it) or None. A limit point: T fell more than
+    ``limit_drop`` below its largest so far and stayed below that largest while the teeth's
+    force-weighted retreat grew by ``limit_span`` × the margin they had at the largest (a fall
+    that T climbs back out of within the span is the stations' contact switching, not a limit
+    point; a span in the rotation would be met by one coarse step); the index is then the
+    point after that largest. ``final``: the path has ended (its last point is the last there
+    will be), so a fall not yet confirmed counts — unless T rose above it again. The margin and
+    corner criteria met while a fall waits for its span end the path at that fall's limit point
+    (T had already passed its largest)."""
+    top, falling = 0, False
     for k, p in enumerate(path):
-        if p.margin_mm <= 0.0:
-            return "margin", k
-        if corner_rule and p.corner_share >= 0.5:
-            return "corner", k
+        crossed = "margin" if p.margin_mm <= 0.0 else "corner" if corner_rule and p.corner_share >= 0.5 else None
+        if crossed:
+            return ("limit point", top + 1) if falling else (crossed, k)
         if k >= 1 and p.torque_nm < (1.0 - limit_drop) * path[top].torque_nm:
-            return "limit point", top + 1
+            falling = True
+            t = path[top]
+            if p.mean_retreat_mm - t.mean_retreat_mm >= limit_span * t.margin_mm:
+                return "limit point", top + 1
         if p.torque_nm >= path[top].torque_nm:
-            top = k
+            top, falling = k, False
+    if final and falling:
+        return "limit point", top + 1
     return None
 
 
@@ -332,7 +344,7 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, gro
           refine: int = 3, tol_mm: float = 1e-4, max_iterations: int = 30,
           max_torque_nm: float = math.inf, max_halvings: int = 4,
           max_retreat_step_mm: float = 0.02, min_step_fraction: float = 1.0 / 64.0,
-          limit_drop: float = 0.01) -> ClimbPath:
+          limit_drop: float = 0.01, limit_span: float = 0.1) -> ClimbPath:
     """Follow T(φ) from ``phi_start`` in steps of ``phi_step`` (grown ×``grow`` while nothing
     ends the path) until a criterion of the module docstring is met, then refine the
     bracket ``refine`` times (quarter steps from the point before it; where not one of them
@@ -360,7 +372,15 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, gro
     default set's sketch scene wiggles by 0.51 % at 4540 N·m (φ = 4.75–4.79 mrad) before its
     peak, 5484 N·m, after which T falls 2.5 % in two steps: with a 0.5 % threshold the
     estimate was 4546 or 5484 N·m as the step grid fell (a nanometre of the CS flank, or
-    another CPU's round-off, chose).
+    another CPU's round-off, chose). A fall is a limit point only once it has lasted: T stays
+    below its largest while the teeth's force-weighted retreat grows by ``limit_span`` (10 %) of
+    the margin they had at the largest (or the path ends: no equilibrium further on). A
+    CSF-32-100 with a shorter, steeper tooth (addendum 0.5 m, 15°, tip arc 1.0 m) and the CS ring ×
+    1.375 fell 1.3 % at 1174 N·m (α 19 → 22°, retreat +14 µm of a 372 µm margin, φ +3 %), then
+    rose again to its peak, 1728 N·m (α 27°), and fell from there on; the first fall had ended the
+    path (the estimate 32 % low, and lower than with more compliance added). Under torque control
+    the gear would jump past such a local peak to the equilibrium of the same torque further on,
+    its teeth still in their spaces: the ratcheting torque is the peak they do not come back from.
 
     Step control: a step whose force-weighted mean retreat grows by more than
     ``max_retreat_step_mm`` is not taken but tried again halved (down to ``min_step_fraction``
@@ -380,10 +400,11 @@ def climb(model, phi_start: float, phi_step: float, *, max_steps: int = 100, gro
                                                     max_iterations=max_iterations)
         return _point(model, phi, f, s_fs, s_cs, state, lever, it)
 
-    def ended(path):
-        return _criterion_met(path, corner_rule=corner_rule, limit_drop=limit_drop)
+    def ended(path, final=True):
+        return _criterion_met(path, corner_rule=corner_rule, limit_drop=limit_drop, limit_span=limit_span,
+                              final=final)
 
-    pts, no_equilibrium_beyond = _follow(run, ended, model.depth_mm.size, model.initial_state(), phi_start, phi_step, max_steps=max_steps,
+    pts, no_equilibrium_beyond = _follow(run, partial(ended, final=False), model.depth_mm.size, model.initial_state(), phi_start, phi_step, max_steps=max_steps,
                   grow=grow, max_torque_nm=max_torque_nm, max_halvings=max_halvings,
                   max_retreat_step_mm=max_retreat_step_mm, min_step_fraction=min_step_fraction, warnings=warnings)
     found = ended(pts)

@@ -282,7 +282,10 @@ def test_climb_limit_point_kept_when_its_bracket_cannot_be_refined():
     t_star = star * math.exp(-1.0 / 8.0) / 1e3
     free = climb(_Peak(), 0.05, 0.05)
     assert free.criterion == "limit point" and free.torque_nm == pytest.approx(t_star, rel=1e-3)
-    base, top, fall = climb(_Peak(), 0.05, 0.05, refine=0).points[-3:]
+    coarse = climb(_Peak(), 0.05, 0.05, refine=0).points
+    i = max(range(len(coarse)), key=lambda j: coarse[j].torque_nm)
+    base, top, fall = coarse[i - 1:i + 2]  # the toy has no retreat: its fall is never confirmed and
+    # the path runs on to its end, where the fall after its largest torque is the limit point
     assert base.torque_nm < top.torque_nm > fall.torque_nm
     path = climb(_Peak((base.phi_rad + 1e-9, top.phi_rad - 1e-9)), 0.05, 0.05, refine=4)
     assert path.criterion == "limit point"
@@ -305,17 +308,57 @@ class _Plateau(_Peak):
         return np.array([-phi]), np.array([t / phi])
 
 
-def test_climb_passes_a_wiggle_of_t_below_the_limit_drop_but_not_a_fall():
+def test_climb_passes_a_wiggle_of_t_below_the_limit_drop_and_a_fall_it_climbs_back_out_of():
     """Where T(φ) is flat the stations' contact switching makes it wiggle (0.1–0.5 % on
-    seed000_csf40's verify scene and the default set): a dip of 0.2 % on a plateau (below the 1 % ``limit_drop``)
-    is passed, and the limit point is the true peak, 0.6 mN·m at φ = 0.9, where T falls (the first
-    decrease of T ended the path before, at the dip: 0.3 mN·m, half of it); a dip of 2 % on the
-    plateau is a fall, and the limit point is the plateau's 0.3 mN·m."""
-    wiggle = climb(_Plateau(0.002), 0.05, 0.05)
-    assert any(0.4 < p.phi_rad < 0.5 for p in wiggle.points)  # the dip was met
-    assert wiggle.criterion == "limit point" and wiggle.torque_nm == pytest.approx(0.6e-3, rel=2e-2)
-    fall = climb(_Plateau(0.02), 0.05, 0.05)
-    assert fall.criterion == "limit point" and fall.torque_nm == pytest.approx(0.3e-3, rel=1e-2)
+    seed000_csf40's verify scene and the default set): a dip of 0.2 % on a plateau (below the 1 %
+    ``limit_drop``) is passed, and the limit point is the true peak, 0.6 mN·m at φ = 0.9, where T
+    falls (the first decrease of T ended the path before, at the dip: 0.3 mN·m, half of it). A
+    dip of 2 % that T climbs back out of is passed too: the toy has no retreat, so its fall is
+    never confirmed by the teeth moving out (``limit_span``) and the path runs on — a fall is
+    only the limit point where T does not come back above it."""
+    for dip in (0.002, 0.02):
+        path = climb(_Plateau(dip), 0.05, 0.05)
+        assert any(0.4 < p.phi_rad < 0.5 for p in path.points)  # the dip was met
+        assert path.criterion == "limit point" and path.torque_nm == pytest.approx(0.6e-3, rel=2e-2)
+
+
+class _Points:
+    """A path's points for the criterion alone: φ, T, the force-weighted retreat and margin."""
+
+    def __init__(self, rows):
+        self.rows = [dict(phi_rad=p, torque_nm=t, mean_retreat_mm=s, margin_mm=m, corner_share=0.0)
+                     for p, t, s, m in rows]
+
+    def __call__(self, n=None):
+        return [type("P", (), r)() for r in self.rows[:n]]
+
+
+def test_a_fall_is_a_limit_point_once_the_teeth_have_moved_out_by_a_tenth_of_their_margin():
+    """The rule of the limit point (profilegen.contact.climb._criterion_met), on the path of a
+    CSF-32-100 with a shorter tooth (docs/theory/torsion.md): T fell 1.3 % (1174.4 → 1159.0 N·m)
+    while the retreat grew 13.7 µm of the 371.8 µm margin, then rose to 1209 N·m — not a limit
+    point, whether or not the path has ended after it; the same fall lasting until the retreat has
+    grown by 10 % of that margin is one, at the point after the largest; a fall still waiting for
+    its span when the path ends is one only once it has ended (``final``); and a margin crossing
+    while a fall waits is the fall's limit point (T had passed its largest)."""
+    from profilegen.contact.climb import _criterion_met
+
+    rule = dict(corner_rule=True, limit_drop=0.01, limit_span=0.1)
+    rows = [(2.561e-3, 1143.2, 0.1361, 0.3829), (2.637e-3, 1174.4, 0.1419, 0.3718),
+            (2.734e-3, 1159.0, 0.1556, 0.3511)]
+    back = _Points(rows + [(2.842e-3, 1209.1, 0.1651, 0.3365), (2.977e-3, 1303.5, 0.1708, 0.3230)])
+    assert _criterion_met(back(), **rule, final=False) is None
+    assert _criterion_met(back(), **rule, final=True) is None  # T came back above the fall
+    assert _criterion_met(back(3), **rule, final=False) is None  # waiting for the span
+    assert _criterion_met(back(3), **rule, final=True) == ("limit point", 2)  # the path ended there
+    lasting = _Points(rows + [(2.80e-3, 1150.0, 0.1419 + 0.1 * 0.3718 + 1e-6, 0.33)])
+    assert _criterion_met(lasting(), **rule, final=False) == ("limit point", 2)
+    short = _Points(rows + [(2.80e-3, 1150.0, 0.1419 + 0.1 * 0.3718 - 1e-4, 0.33)])
+    assert _criterion_met(short(), **rule, final=False) is None
+    crossed = _Points(rows + [(2.80e-3, 1100.0, 0.16, -1e-3)])
+    assert _criterion_met(crossed(), **rule, final=False) == ("limit point", 2)
+    plain = _Points([(1e-3, 100.0, 0.01, 0.02), (2e-3, 150.0, 0.02, -1e-3)])
+    assert _criterion_met(plain(), **rule, final=False) == ("margin", 1)
 
 
 def test_climb_with_no_equilibrium_beyond_a_rising_path_fails_loudly():
