@@ -1,7 +1,8 @@
 """The model against the catalogue at every size (issue 29, build item 3).
 
     python tests/benchmarks/catalogue_sizes.py [--scene design|verify] [--sizes 14 17 ...] [--ratios 100 50]
-                                              [--rim 0.024 [--rim-parts all|ring|cup]] [--csv FILE]
+                                              [--rim 0.024 [--rim-parts all|ring|cup]]
+                                              [--set SECTION.KEY=VALUE ...] [--csv FILE]
                                               [--png FILE] [--json FILE]
                                               [--plot-only JSON] [--plot-cups JSON ...]
 
@@ -30,6 +31,10 @@ the catalogue row of that size and ratio (``profilegen.contact.catalogue.catalog
   to /tmp unless ``--png`` says where:
   a study of the rim (the strength section of docs/validation/catalogue-sizes.md), not what
   ``new`` writes;
+* with ``--set SECTION.KEY=VALUE`` (repeatable) any other value of the sets' TOML changed, e.g.
+  ``--set tooth.addendum_coefficient=0.5 --set wave_generator.deflection_coefficient=0.8``: a study
+  of a proportion ``new`` chooses (the tooth's form in docs/theory/torsion.md, "Suspects measured"),
+  not what ``new`` writes; the figure then goes to /tmp unless ``--png`` says where;
 * the strength checks (``Design.stress``): the tooth ring's fatigue (Goodman at the rated torque)
   and yield (momentary torque) safety and the cup bottom's yield safety, with the tooth-root
   stress taken apart: the assembly stress σ_ass = K_σ · E δ/2 · Δκ (K_σ, and Δκ over the
@@ -73,20 +78,15 @@ COLUMNS = ("size", "ratio", "scene", "verdict", "seconds",
            "K1_one_section_ratio", "K2_one_section_ratio", "K3_one_section_ratio", "crowning_um", "taper_um_per_mm",
            "ring_fatigue_safety", "ring_yield_safety", "bottom_yield_safety", "rim_per_neutral_radius",
            "stress_factor", "curvature_over_ellipse", "assembly_mpa", "load_rated_mpa", "load_momentary_mpa",
-           "failed_checks", "error")
+           "failed_checks", "error", "settings")
 
 
-def with_rim(made, rim_per_neutral_radius: float, parts: str = "all"):
-    """The set ``made`` (a :class:`profilegen.gearset.new.CatalogueSet`) with its rim, cup wall and
+def with_rim(data: dict, rim_per_neutral_radius: float, parts: str = "all") -> None:
+    """Put into ``data`` (the TOML tables of a set ``profilegen new`` wrote) its rim, cup wall and
     cup bottom at δ/r_m = ``rim_per_neutral_radius`` instead of the rule's 3 % (δ solved from
     r_m = d/2 − 1.2 m − δ/2, as the rule does): a study of the rim, not a set ``new`` writes.
     ``parts``: "all"; "ring" (the ring and the wall, the bottom as written); "cup" (the wall and
     the bottom, the ring as written)."""
-    import tomllib
-
-    from profilegen.gearset import parse_gearset
-
-    data = tomllib.loads(made.text)
     g = data["gear"]
     frac = float(rim_per_neutral_radius)
     delta = round(frac * (g["module_mm"] * g["flexspline_teeth"] / 2.0 - 1.2 * g["module_mm"]) / (1.0 + frac / 2.0), 4)
@@ -97,16 +97,45 @@ def with_rim(made, rim_per_neutral_radius: float, parts: str = "all"):
     data["cup"]["wall_thickness_mm"] = delta
     if parts in ("all", "cup"):
         data["cup"]["bottom_thickness_mm"] = delta
-    return parse_gearset(data)
 
 
-def measure(size: int, ratio: int, scene: str, rim: float | None = None, rim_parts: str = "all") -> dict:
+def with_settings(data: dict, settings: list) -> None:
+    """Put each ``SECTION.KEY=VALUE`` of ``settings`` (VALUE a TOML value) into ``data`` (the TOML
+    tables of a set): a study of a proportion ``new`` chooses (e.g.
+    ``wave_generator.deflection_coefficient=0.8``, ``tooth.addendum_coefficient=0.6``), not a set
+    ``new`` writes."""
+    import tomllib
+
+    for item in settings:
+        key, sep, value = item.partition("=")
+        section, dot, name = key.strip().rpartition(".")
+        if not sep or not dot:
+            raise SystemExit(f"--set {item!r}: SECTION.KEY=VALUE, e.g. tooth.addendum_coefficient=0.6")
+        table = data
+        for part in section.split("."):
+            table = table.setdefault(part, {})
+        table[name] = tomllib.loads(f"v = {value.strip()}")["v"]
+
+
+def measure(size: int, ratio: int, scene: str, rim: float | None = None, rim_parts: str = "all",
+            settings: list | None = None) -> dict:
     out = dict.fromkeys(COLUMNS)
     out.update(size=size, ratio=ratio, scene=scene)
     row = catalogue_row(size, ratio)
     out["ratchet_cat_nm"] = row.get("ratcheting_torque_nm")
     made = pg.new_gearset(size, ratio)
-    gs = made.gearset if rim is None else with_rim(made, rim, rim_parts)
+    gs = made.gearset
+    if rim is not None or settings:
+        import tomllib
+
+        from profilegen.gearset import parse_gearset
+
+        data = tomllib.loads(made.text)
+        if rim is not None:
+            with_rim(data, rim, rim_parts)
+        with_settings(data, settings or [])
+        gs = parse_gearset(data)
+        out["settings"] = "; ".join(settings or []) or None
     t0 = time.perf_counter()
     try:
         d = pg.design(gs, scene=scene)
@@ -314,6 +343,9 @@ def main(argv=None) -> None:
                     help="a study of the rim: δ/r_m (e.g. 0.024) instead of the rule's 0.03, rim = wall = bottom")
     ap.add_argument("--rim-parts", default="all", choices=("all", "ring", "cup"),
                     help="with --rim: all (default), ring (ring and wall), cup (wall and bottom)")
+    ap.add_argument("--set", dest="settings", action="append", default=[], metavar="SECTION.KEY=VALUE",
+                    help="a study of a proportion: put VALUE (TOML) into the set's table, e.g. "
+                         "wave_generator.deflection_coefficient=0.8 (repeatable; the figure then goes to /tmp)")
     ap.add_argument("--csv", type=Path, default=Path("/tmp/catalogue_sizes.csv"))
     ap.add_argument("--json", type=Path, default=None, help="default: the CSV's path with .json")
     ap.add_argument("--png", type=Path, default=None, help="default: docs/img/catalogue_sizes.png (with --rim: /tmp)")
@@ -325,7 +357,7 @@ def main(argv=None) -> None:
         plot_cups([json.loads(p.read_text()) for p in a.plot_cups], a.png or ROOT / "docs" / "img" / "catalogue_cup.png")
         return
     if a.png is None:  # a rim study does not overwrite the docs' figure of the sets as written
-        a.png = Path("/tmp/catalogue_sizes_rim.png") if a.rim is not None else ROOT / "docs" / "img" / "catalogue_sizes.png"
+        a.png = Path("/tmp/catalogue_sizes_rim.png") if a.rim is not None or a.settings else ROOT / "docs" / "img" / "catalogue_sizes.png"
     if a.plot_only:
         merged = {}
         for p in a.plot_only:
@@ -348,7 +380,7 @@ def main(argv=None) -> None:
     json_path = a.json or a.csv.with_suffix(".json")
     for ratio in a.ratios:
         for size in a.sizes:
-            r = measure(size, ratio, a.scene, a.rim, a.rim_parts)
+            r = measure(size, ratio, a.scene, a.rim, a.rim_parts, a.settings)
             rows.append(r)
             print(f"size {size} ratio {ratio} ({a.scene}): {r['seconds']:.0f} s, K1/K2/K3 m/c "
                   f"{fmt(r['K1_ratio'], '.2f')}/{fmt(r['K2_ratio'], '.2f')}/{fmt(r['K3_ratio'], '.2f')}, "

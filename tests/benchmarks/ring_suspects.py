@@ -3,7 +3,7 @@ ratcheting estimate and to K1/K2/K3 (research/ring_suspects.py; docs/theory/tors
 "Suspects measured").
 
     python tests/benchmarks/ring_suspects.py [--sets 25:100 32:100 40:100 32:50] [--holes 16,0.6]
-        [--bores 0.25,0.5,0.7,0.85] [--climb] [--stiffness]
+        [--bores 0.25,0.5,0.7,0.85] [--climb] [--stiffness] [--set SECTION.KEY=VALUE ...]
     python tests/benchmarks/ring_suspects.py --holes-sweep [--sets 32:100]
 
 Per ``profilegen new`` set (size:ratio): the factors on the climb's free thin CS ring (mode 2):
@@ -214,6 +214,8 @@ def main() -> None:
     ap.add_argument("--verify-csv", type=Path, nargs="*", default=[],
                     help="catalogue_sizes.py CSVs (--scene verify): each set's K's + the added C·T, in series")
     ap.add_argument("--holes-sweep", action="store_true", help="the holes' factor over count and diameter only")
+    ap.add_argument("--set", dest="settings", action="append", default=[], metavar="SECTION.KEY=VALUE",
+                    help="a proportion of the sets changed (catalogue_sizes.py --set), e.g. tooth.addendum_coefficient=0.5")
     args = ap.parse_args()
     count, frac = args.holes.split(",")
     verify = {}
@@ -225,8 +227,19 @@ def main() -> None:
     bores = tuple(float(x) for x in args.bores.split(","))
     for spec in args.sets:
         size, ratio = (int(x) for x in spec.split(":"))
-        gs = pg.new_gearset(size, ratio).gearset
-        print(f"\n=== CSF-{size}-{ratio} (profilegen new)")
+        made = pg.new_gearset(size, ratio)
+        gs = made.gearset
+        if args.settings:
+            import tomllib
+
+            from catalogue_sizes import with_settings  # this script's folder: the same study knob
+
+            from profilegen.gearset import parse_gearset
+
+            data = tomllib.loads(made.text)
+            with_settings(data, args.settings)
+            gs = parse_gearset(data)
+        print(f"\n=== CSF-{size}-{ratio} (profilegen new{''.join(' --set ' + x for x in args.settings)})")
         if args.holes_sweep:
             holes_sweep(gs)
             continue
