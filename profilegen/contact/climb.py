@@ -227,10 +227,10 @@ def _follow(run, ended, m: int, state, phi_start: float, phi_step: float, *, max
                 phi = pts[-1].phi_rad + step
                 continue
         except ConvergenceError as exc:
-            if pts and halvings < max_halvings:  # a shorter step from the last point
+            if halvings < max_halvings:  # a shorter step from the last point (or toward the start's own)
                 halvings += 1
                 step *= 0.5
-                phi = pts[-1].phi_rad + step
+                phi = (pts[-1].phi_rad if pts else float(phi_start) - float(phi_step)) + step
                 continue
             # no fixed point just past the last point: look beyond (1, 2, 4 × the step before
             # the halvings) — only where none is found does the path end
@@ -475,6 +475,19 @@ def tooth_probes(inputs, points, shift_rad: float = 0.0):
 
 
 
+def _every_nth_from_tip(tooth, t_mm, keep, n: int) -> np.ndarray:
+    """A mask keeping, of each tooth's kept stations ordered along the flank, every ``n``-th
+    counted from its tip end (so the tip corner stays)."""
+    out = np.zeros(keep.size, bool)
+    if n <= 1:
+        return keep.copy()
+    for t in np.unique(tooth[keep]):
+        idx = np.flatnonzero(keep & (tooth == t))
+        idx = idx[np.argsort(t_mm[idx])][::-1]  # from the tip
+        out[idx[::n]] = True
+    return out
+
+
 class _State:
     __slots__ = ("active", "springs", "done", "offset")
 
@@ -514,61 +527,77 @@ class DesignClimb:
         keep &= ~close
         if not keep.any():
             raise ConvergenceError(f"climb: no tooth comes within max_gap_mm = {max_gap_mm} mm of the CS")
-        pts = _Subset(every, keep)
-        teeth, phis, fs_probe, e_r, cs_probe, corner = tooth_probes(inputs, pts, shift_rad)
-        g = inputs.gearset.gear
-        self.teeth, self.phis = teeth, phis
-        self.slot = np.searchsorted(teeth, pts.tooth)
-        self.n, self.zones, self.rotation = pts.count, int(pts.zones), int(pts.rotation)
-        back = -2.0 * math.pi * pts.tooth / g.circular_spline_teeth
-        self._p0 = np.vstack([turn(pts.fs_point_mm[k:k + 1], a) for k, a in enumerate(back)])
-        self._n0 = np.vstack([turn(pts.normal[k:k + 1], a) for k, a in enumerate(back)])
-        tb = -2.0 * math.pi * teeth / g.circular_spline_teeth
-        self._e0 = np.vstack([turn(e_r[k:k + 1], a) for k, a in enumerate(tb)])
-        self._space = inputs.cs_space
-        # the space's outline in polar form (angle from +y, radius): CS material lies beyond it
-        outline = _dense(np.asarray(inputs.cs_space.sample(1e-3), dtype=float), 5e-3)
-        th = np.arctan2(outline[:, 0], outline[:, 1])
-        order = np.argsort(th)
-        self._rim_theta, self._rim_r = th[order], np.hypot(outline[order, 0], outline[order, 1])
-        self._tip_r = float(inputs.cs_tip_radius_mm)
-        self._cs_pitch = 2.0 * math.pi / g.circular_spline_teeth
-        if np.any(np.diff(np.hypot(outline[:, 0], outline[:, 1])[np.argsort(th)]) > 0.5) or not (
-                np.all(np.diff(th) > 0) or np.all(np.diff(th) < 0)):
-            raise ConvergenceError("climb: the CS space's outline is not single-valued in the polar angle; "
-                                   "the overlap of a station cannot be told")
-        e_pts = pts.fs_point_mm / np.linalg.norm(pts.fs_point_mm, axis=1)[:, None]
-        self.sin_alpha = np.einsum("ij,ij->i", pts.normal, e_pts)
-        self.depth_mm = np.linalg.norm(corner, axis=1) - inputs.cs_tip_radius_mm
-        self.corner = pts.t_mm >= float(inputs.tooth.length_mm) - 1e-9
-        self.t_mm = pts.t_mm
-        self.points = pts
-        #: the FS tip-corner stations whose contact normal follows the CS surface (corner_normal):
-        #: a second influence column each, along the tip land's outward normal (tooth frame +y)
-        self._ci = np.flatnonzero(self.corner) if corner_normal else np.zeros(0, int)
-        self.corner_criterion = not corner_normal
-        pose = inputs.motion.pose(pts.phi_rad[self._ci]) if self._ci.size else None
-        tip_n = np.zeros((0, 2)) if pose is None else np.column_stack([np.sin(pose.angle), np.cos(pose.angle)])
-        self._tn0 = tip_n  # CS space 0's frame, as _n0
-        self._sa_flank = self.sin_alpha.copy()
-        tip_actual = np.vstack([turn(tip_n[k:k + 1], -b) for k, b in enumerate(back[self._ci])]) if self._ci.size \
-            else np.zeros((0, 2))
-        self._sa_tip = np.einsum("ij,ij->i", tip_actual, e_pts[self._ci])
-        nc = self._ci.size
-        self._a, self._b = np.ones(nc), np.zeros(nc)
-        self._setup_friction(inputs, pts, e_pts, tip_actual, friction_coefficient, friction_sliding,
-                             friction_tangents, e_r[self.slot])
-        # "exact": a tangent column at every flank station (a corner's tangent is a combination
-        # of its n_f and n_t columns: a third direction at one point is singular)
-        fi = self._fi if self._friction and self._tangents == "exact" else np.zeros(0, int)
-        nt = fi.size
-        self._combined = ContactCompliance.build(
-            inputs, np.vstack([pts.fs_point_mm, pts.fs_point_mm[self._ci], pts.fs_point_mm[fi], fs_probe]),
-            np.vstack([pts.normal, tip_actual, self._tf[fi] if nt else np.zeros((0, 2)), e_r]),
-            np.concatenate([pts.tooth, pts.tooth[self._ci], pts.tooth[fi], teeth]),
-            np.vstack([pts.cs_point_mm, pts.cs_point_mm[self._ci], pts.cs_point_mm[fi], cs_probe]),
-            race_thickness_mm=race_thickness_mm, shift_rad=shift_rad, ball_supports=ball_supports,
-            cs_ring=False)  # the ring is ring_factory's: radial, per tooth, with the current sin α
+        #: what the model had to change to be built (e.g. stations thinned), for the estimate's warnings
+        self.notes: list[str] = []
+        thin = 1
+        while True:  # stations closer than the FE mesh resolves make S singular: every 2nd, then 4th
+            sub = keep & _every_nth_from_tip(every.tooth, every.t_mm, keep, thin)
+            pts = _Subset(every, sub)
+            teeth, phis, fs_probe, e_r, cs_probe, corner = tooth_probes(inputs, pts, shift_rad)
+            g = inputs.gearset.gear
+            self.teeth, self.phis = teeth, phis
+            self.slot = np.searchsorted(teeth, pts.tooth)
+            self.n, self.zones, self.rotation = pts.count, int(pts.zones), int(pts.rotation)
+            back = -2.0 * math.pi * pts.tooth / g.circular_spline_teeth
+            self._p0 = np.vstack([turn(pts.fs_point_mm[k:k + 1], a) for k, a in enumerate(back)])
+            self._n0 = np.vstack([turn(pts.normal[k:k + 1], a) for k, a in enumerate(back)])
+            tb = -2.0 * math.pi * teeth / g.circular_spline_teeth
+            self._e0 = np.vstack([turn(e_r[k:k + 1], a) for k, a in enumerate(tb)])
+            self._space = inputs.cs_space
+            # the space's outline in polar form (angle from +y, radius): CS material lies beyond it
+            outline = _dense(np.asarray(inputs.cs_space.sample(1e-3), dtype=float), 5e-3)
+            th = np.arctan2(outline[:, 0], outline[:, 1])
+            order = np.argsort(th)
+            self._rim_theta, self._rim_r = th[order], np.hypot(outline[order, 0], outline[order, 1])
+            self._tip_r = float(inputs.cs_tip_radius_mm)
+            self._cs_pitch = 2.0 * math.pi / g.circular_spline_teeth
+            if np.any(np.diff(np.hypot(outline[:, 0], outline[:, 1])[np.argsort(th)]) > 0.5) or not (
+                    np.all(np.diff(th) > 0) or np.all(np.diff(th) < 0)):
+                raise ConvergenceError("climb: the CS space's outline is not single-valued in the polar angle; "
+                                       "the overlap of a station cannot be told")
+            e_pts = pts.fs_point_mm / np.linalg.norm(pts.fs_point_mm, axis=1)[:, None]
+            self.sin_alpha = np.einsum("ij,ij->i", pts.normal, e_pts)
+            self.depth_mm = np.linalg.norm(corner, axis=1) - inputs.cs_tip_radius_mm
+            self.corner = pts.t_mm >= float(inputs.tooth.length_mm) - 1e-9
+            self.t_mm = pts.t_mm
+            self.points = pts
+            #: the FS tip-corner stations whose contact normal follows the CS surface (corner_normal):
+            #: a second influence column each, along the tip land's outward normal (tooth frame +y)
+            self._ci = np.flatnonzero(self.corner) if corner_normal else np.zeros(0, int)
+            self.corner_criterion = not corner_normal
+            pose = inputs.motion.pose(pts.phi_rad[self._ci]) if self._ci.size else None
+            tip_n = np.zeros((0, 2)) if pose is None else np.column_stack([np.sin(pose.angle), np.cos(pose.angle)])
+            self._tn0 = tip_n  # CS space 0's frame, as _n0
+            self._sa_flank = self.sin_alpha.copy()
+            tip_actual = np.vstack([turn(tip_n[k:k + 1], -b) for k, b in enumerate(back[self._ci])]) if self._ci.size \
+                else np.zeros((0, 2))
+            self._sa_tip = np.einsum("ij,ij->i", tip_actual, e_pts[self._ci])
+            nc = self._ci.size
+            self._a, self._b = np.ones(nc), np.zeros(nc)
+            self._setup_friction(inputs, pts, e_pts, tip_actual, friction_coefficient, friction_sliding,
+                                 friction_tangents, e_r[self.slot])
+            # "exact": a tangent column at every flank station (a corner's tangent is a combination
+            # of its n_f and n_t columns: a third direction at one point is singular)
+            fi = self._fi if self._friction and self._tangents == "exact" else np.zeros(0, int)
+            nt = fi.size
+            try:
+                self._combined = ContactCompliance.build(
+                    inputs, np.vstack([pts.fs_point_mm, pts.fs_point_mm[self._ci], pts.fs_point_mm[fi], fs_probe]),
+                    np.vstack([pts.normal, tip_actual, self._tf[fi] if nt else np.zeros((0, 2)), e_r]),
+                    np.concatenate([pts.tooth, pts.tooth[self._ci], pts.tooth[fi], teeth]),
+                    np.vstack([pts.cs_point_mm, pts.cs_point_mm[self._ci], pts.cs_point_mm[fi], cs_probe]),
+                    race_thickness_mm=race_thickness_mm, shift_rad=shift_rad, ball_supports=ball_supports,
+                    cs_ring=False)  # the ring is ring_factory's: radial, per tooth, with the current sin α
+            except ConvergenceError as exc:
+                if thin >= 4 or "not positive definite" not in str(exc):
+                    raise
+                spacing_now = thin * spacing
+                thin *= 2
+                self.notes.append(f"the stations {spacing_now:.3g} mm apart on the flank make the contact's "
+                                  f"compliance singular (the FE mesh does not resolve them): every "
+                                  f"{'second' if thin == 2 else 'fourth'} station of each tooth kept")
+                continue
+            break
         #: each candidate ball's no-load gap to the bore (mm; 0 within the wrap; the window: all 0)
         gb = self._combined.ball_gap_mm
         self._g0 = np.zeros(self._combined.ball_angle_rad.size) if gb is None else np.asarray(gb, dtype=float)

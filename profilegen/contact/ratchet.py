@@ -668,6 +668,7 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     # the gear running under load meets every position: the lowest estimate of those that ended on a criterion
     ok = [r for r in runs if r[0].criterion != "none" and math.isfinite(r[0].torque_nm)]
     path, model, shift_rad = min(ok or runs, key=lambda r: r[0].torque_nm if math.isfinite(r[0].torque_nm) else math.inf)
+    warnings += [f"climb: {w}" for w in getattr(model, "notes", ())]
     warnings += [w if w.startswith("climb") else f"climb: {w}" for w in path.warnings]
     info = {"criterion": path.criterion, "torque_nm": path.torque_nm, "phi_rad": path.phi_rad,
             "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,

@@ -15,12 +15,26 @@ value in the file, with its source:
   (2.4 mm × size) would read size 50's 120 mm as size 45. m = d / z1, rounded to 6 decimals.
 * **teeth**: z1 = U·ratio, z2 = z1 + U with U = 2 waves (ratio = z1/(z2 − z1)).
 * **rim** δ: δ/r_m = 3 % (:data:`RIM_PER_NEUTRAL_RADIUS`, seed 001's rule of thumb; the
-  bundled sets 1.84 % (``default``, seed 004's ring) to 3.38 %), r_m = d/2 − dedendum − δ/2
+  bundled sets 1.84 % (``default``, seed 004's ring) to 3.38 %) from ratio 80 up, 4 % at ratio
+  50 and below (:func:`deflection_and_rim`, with the deflection below), r_m = d/2 − dedendum − δ/2
   solved for δ. The cup's wall and bottom are as thick (the reader's defaults). This thickness
   sets K2 and K3: at 2 % the model meets the catalogue's stiffness
   (docs/validation/catalogue-sizes.md, "The cup's thickness sets K2 and K3").
 * **tooth**: the project's default DCTA tooth in units of the module (as every bundled set).
-* **wave generator**: ω* = 1 (w0 = m), an elliptical cam under a flexible ball bearing whose
+* **deflection and rim at low ratios** (:func:`deflection_and_rim`): ω* = 1 (w0 = m) from ratio 80
+  up; ω* = 0.6 and δ/r_m = 4 % at ratio 50 and below; linear in the ratio between. The ring's
+  bending strain at the major axis goes as δ·w0/r_m², and w0/r_m ≈ ω*/ratio: with ω* = 1 and 3 %
+  every ratio-50 set failed the tooth ring's fatigue check in every scene (safety 0.77 at the rated
+  torque, yield 1.22 at the momentary: design scene, sizes 14–58). Over ω* 0.5–0.7 × δ/r_m 3–5 %
+  at size 32, ratio 50 (``tests/benchmarks/catalogue_sizes.py --scene design --sizes 32 --ratios
+  50 --rim F --set wave_generator.deflection_coefficient=K``), 0.6 and 4 % is the only pair that
+  passes (fatigue 1.57, yield 2.43; 3 % 1.33, 5 % 1.45 — the seed-001 stress factor K_σ falls as
+  the ring thickens against the tooth, the shell stress rises); ω* = 0.5 leaves the default tooth
+  no working flank. Ratios 60 and 70 on the ramp: fatigue 1.83 and 2.02. The catalogue's own
+  ratio-50 gears are not published in this detail; its ratcheting torques, lower at ratio 50 than at
+  80 (size 40: 1800 against 2800 N·m) though the teeth are larger, say that they engage less deep
+  than ω* = 1 would.
+* **wave generator**: ω* as above, an elliptical cam under a flexible ball bearing whose
   radial section is the contact model's own estimate: two races of 2.5 % d
   (:func:`profilegen.contact.compliance.default_race_thickness_mm`) and balls of 7.5 % d
   (:meth:`profilegen.contact.chain.BallBearing.from_gearset`), 12.5 % d in all.
@@ -68,7 +82,7 @@ from dataclasses import dataclass
 from ..errors import ProfilegenError
 
 __all__ = ["CatalogueSet", "NewSetError", "PITCH_DIAMETER_PER_SIZE_MM", "RATIO_RANGE", "SERIES", "SIZES",
-           "WIRE_DIAMETERS_MM", "derived_quantities", "new_gearset", "wire_for_module"]
+           "WIRE_DIAMETERS_MM", "deflection_and_rim", "derived_quantities", "new_gearset", "wire_for_module"]
 
 
 class NewSetError(ProfilegenError, ValueError):
@@ -84,6 +98,10 @@ RATIO_RANGE = (30, 320)
 WAVES = 2
 PITCH_DIAMETER_PER_SIZE_MM = 2.54
 RIM_PER_NEUTRAL_RADIUS = 0.03
+#: the deflection ω* and rim δ/r_m from FULL_RATIO up (1, RIM_PER_NEUTRAL_RADIUS) and at LOW_RATIO and
+#: below (DEFLECTION_AT_LOW_RATIO, RIM_AT_LOW_RATIO), linear between (:func:`deflection_and_rim`)
+FULL_RATIO, LOW_RATIO = 80, 50
+DEFLECTION_AT_LOW_RATIO, RIM_AT_LOW_RATIO = 0.6, 0.04
 WIRE_DIAMETERS_MM = (0.02, 0.03, 0.05, 0.07, 0.1, 0.15, 0.2, 0.25)
 WIRE_CORNER_PER_MODULE = 0.2
 CSG_TORQUE_FACTOR = 1.3
@@ -197,6 +215,17 @@ class _Proportions:
     face: float  # face width
     boss: float  # boss radius
     fillet: float  # root fillet radius
+    kappa: float  # deflection coefficient ω* (w0 = ω* m)
+    rim_fraction: float  # δ/r_m
+
+
+def deflection_and_rim(ratio: float) -> tuple[float, float]:
+    """(ω*, δ/r_m) of a set ``new`` writes for ``ratio`` (the module docstring's rule): 1 and 3 %
+    from :data:`FULL_RATIO` (80) up, 0.6 and 4 % at :data:`LOW_RATIO` (50) and below, linear
+    between (ω* rounded to 4 decimals, as the file writes it)."""
+    f = min(1.0, max(0.0, (FULL_RATIO - ratio) / (FULL_RATIO - LOW_RATIO)))
+    kappa = round(1.0 + f * (DEFLECTION_AT_LOW_RATIO - 1.0), 4)
+    return kappa, RIM_PER_NEUTRAL_RADIUS + f * (RIM_AT_LOW_RATIO - RIM_PER_NEUTRAL_RADIUS)
 
 
 def _proportions(size: int, ratio: int, series: str, name: str) -> _Proportions:
@@ -206,8 +235,9 @@ def _proportions(size: int, ratio: int, series: str, name: str) -> _Proportions:
     d = PITCH_DIAMETER_PER_SIZE_MM * size
     m = round(d / z1, 6)
     d = m * z1
-    # δ = 3 % of r_m, r_m = d/2 - dedendum - δ/2
-    rim = round(RIM_PER_NEUTRAL_RADIUS * (d / 2.0 - _DEDENDUM * m) / (1.0 + RIM_PER_NEUTRAL_RADIUS / 2.0), 4)
+    kappa, frac = deflection_and_rim(ratio)
+    # δ = frac · r_m, r_m = d/2 - dedendum - δ/2
+    rim = round(frac * (d / 2.0 - _DEDENDUM * m) / (1.0 + frac / 2.0), 4)
     r_m = d / 2.0 - _DEDENDUM * m - rim / 2.0
     bearing = math.ceil(BEARING_SECTION_PER_PITCH_DIAMETER * d * 100.0 + 1e-9) / 100.0  # up to 0.01 mm
     wire_r, gap = wire_for_module(m)
@@ -215,7 +245,7 @@ def _proportions(size: int, ratio: int, series: str, name: str) -> _Proportions:
     boss = round(r_m / 2.0, 3)
     fillet = round(0.6 * m, 4)
     return _Proportions(size, ratio, series, name, z1, z2, m, d, rim, r_m, bearing, wire_r, gap, length, face, boss,
-                        fillet)
+                        fillet, kappa, frac)
 
 
 def _torques(size_torque_nm: float, series: str, rated: float | None, peak: float | None,
@@ -240,6 +270,29 @@ def _torques(size_torque_nm: float, series: str, rated: float | None, peak: floa
         momentary = float(f"{max(rated * MOMENTARY_PER_RATED, peak):.3g}")
         lines.append("# ESTIMATE: momentary = rated x 304/67 (the SHF-25-80's catalogue torques, as the SHF-25 tooth-ring study quotes them), 3 digits.")
     return rated, peak, momentary, "\n".join(lines)
+
+
+def _rim_rule(p: _Proportions) -> str:
+    """The rim rule's words for ``p``'s ratio (a comment of the file)."""
+    if p.ratio >= FULL_RATIO:
+        return "3 % (seed 001's rule of thumb)"
+    if p.ratio <= LOW_RATIO:
+        return (f"{100 * RIM_AT_LOW_RATIO:g} % at ratio {LOW_RATIO} and below (with omega* = "
+                f"{DEFLECTION_AT_LOW_RATIO:g}: the tooth\n# ring's strength)")
+    return (f"{100 * p.rim_fraction:.3g} % (3 % from ratio {FULL_RATIO}, {100 * RIM_AT_LOW_RATIO:g} % at {LOW_RATIO}, "
+            "linear between:\n# the tooth ring's strength)")
+
+
+def _deflection_lines(p: _Proportions) -> str:
+    """The [wave_generator] deflection line and its comment for ``p``'s ratio."""
+    w0 = _g(round(p.kappa * p.m, 6))
+    if p.kappa == 1.0:
+        return f"deflection_coefficient = 1.0  # ESTIMATE: the standard omega* = 1 (w0 = m = {w0} mm)"
+    return (f"# ESTIMATE: omega* = 1 from ratio {FULL_RATIO} up, {DEFLECTION_AT_LOW_RATIO:g} at ratio {LOW_RATIO} and below, "
+            "linear between\n"
+            f"# (profilegen.gearset.new.deflection_and_rim): with omega* = 1 and a 3 % rim every ratio-{LOW_RATIO} set failed\n"
+            "# the tooth ring's fatigue check (safety 0.77); the ring's bending strain goes as delta w0 / r_m^2.\n"
+            f"deflection_coefficient = {_g(p.kappa, 4)}  # w0 = {w0} mm")
 
 
 def _set_text(p: _Proportions, t_rated: float, t_peak: float, t_mom: float, rule: str) -> str:
@@ -270,10 +323,10 @@ module_mm = {_g(m)}
 flexspline_teeth = {z1}
 circular_spline_teeth = {z2}
 waves = 2
-# ESTIMATE: delta/r_m = 3 % (seed 001's rule of thumb) with r_m = d/2 - 1.2 m - delta/2:
-# delta = {_g(rim, 4)} mm, the derived r_m = {_g(r_m, 4)} mm (delta/w0 = {rim / m:.2f}). Published rings
-# span 1.84-3.4 % of r_m; this thickness (and the cup's wall and bottom, as thick) sets the stiffness
-# K2/K3: at 2 % the model meets the catalogue's (docs/validation/catalogue-sizes.md).
+# ESTIMATE: delta/r_m = {_rim_rule(p)},
+# r_m = d/2 - 1.2 m - delta/2: delta = {_g(rim, 4)} mm, the derived r_m = {_g(r_m, 4)} mm (delta/w0 = {rim / (p.kappa * m):.2f}).
+# Published rings span 1.84-3.4 % of r_m; this thickness (and the cup's wall and bottom, as thick)
+# sets the stiffness K2/K3: at 2 % the model meets the catalogue's (docs/validation/catalogue-sizes.md).
 rim_thickness_mm = {_g(rim, 4)}
 
 [tooth]
@@ -281,7 +334,7 @@ rim_thickness_mm = {_g(rim, 4)}
 kind = "dcta"
 """ + "".join(f"{k} = {_g(v)}\n" for k, v in _TOOTH) + f"""
 [wave_generator]
-deflection_coefficient = 1.0  # ESTIMATE: the standard omega* = 1 (w0 = m = {_g(m)} mm)
+{_deflection_lines(p)}
 contour = "elliptical_cam"    # cup-type sets: an elliptical cam under a flexible ball bearing
 # ESTIMATE: the bearing's radial section 12.5 % of d, the contact model's own bearing estimate
 # (races 2.5 % of d each, balls 7.5 % of d), rounded up to 0.01 mm.

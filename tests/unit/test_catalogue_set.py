@@ -1,7 +1,8 @@
 """`profilegen new` (profilegen.gearset.new): a gear set of catalogue proportions from a size
 and a ratio, checked against the rules the module states (each written independently here:
-z1 = 2·ratio, z2 = z1 + 2, d = m·z1 = 2.54 mm × size (tenths of an inch), δ = 3 % of r_m = d/2 − 1.2 m − δ/2,
-w0 = m, wire corner ≤ 0.2 m, bearing section ≥ 12.5 % of d), and `profilegen check`'s derived
+z1 = 2·ratio, z2 = z1 + 2, d = m·z1 = 2.54 mm × size (tenths of an inch), δ = 3 % of r_m = d/2 − 1.2 m − δ/2
+and w0 = m from ratio 80 up, 4 % and w0 = 0.6 m at ratio 50 and below, linear between, wire corner ≤ 0.2 m,
+bearing section ≥ 12.5 % of d), and `profilegen check`'s derived
 quantities against the default set's published numbers (seed 004: m = 0.5 mm, z 200/202,
 δ = 0.9 mm)."""
 
@@ -20,6 +21,25 @@ SIZES = (14, 17, 20, 25, 32, 40, 50, 58)
 CASES = [(size, ratio) for size in SIZES for ratio in (50, 100)]
 
 
+def _rule(ratio):
+    """(ω*, δ/r_m) as the module states the rule: 1 and 3 % from ratio 80 up, 0.6 and 4 % at 50 and
+    below, linear in the ratio between."""
+    if ratio >= 80:
+        return 1.0, 0.03
+    if ratio <= 50:
+        return 0.6, 0.04
+    w = (ratio - 50) / 30
+    return 0.6 + 0.4 * w, 0.04 - 0.01 * w
+
+
+@pytest.mark.parametrize("ratio", [30, 50, 55, 60, 65, 70, 79, 80, 81, 160])
+def test_low_ratios_get_a_smaller_deflection_and_a_thicker_rim(ratio):
+    gs = new_gearset(32, ratio).gearset
+    kappa, frac = _rule(ratio)
+    assert gs.wave_generator.deflection_coefficient == pytest.approx(kappa, abs=5e-5)  # 4 decimals written
+    assert gs.gear.rim_thickness_mm / gs.gear.neutral_radius_mm == pytest.approx(frac, rel=2e-3)
+
+
 @pytest.fixture(scope="module")
 def made():
     return {case: new_gearset(*case) for case in CASES}
@@ -35,8 +55,9 @@ def test_new_set_follows_its_rules_and_passes_check(made, size, ratio):
     d = g.module_mm * g.flexspline_teeth
     assert d == pytest.approx(2.54 * size, rel=5e-6)  # module x z1 = the pitch diameter of the size
     assert g.neutral_radius_mm == pytest.approx(d / 2 - 1.2 * g.module_mm - g.rim_thickness_mm / 2, abs=1e-12)
-    assert g.rim_thickness_mm / g.neutral_radius_mm == pytest.approx(0.03, rel=2e-3)
-    assert gs.deflection_mm == pytest.approx(g.module_mm)
+    kappa, frac = _rule(ratio)
+    assert g.rim_thickness_mm / g.neutral_radius_mm == pytest.approx(frac, rel=2e-3)
+    assert gs.deflection_mm == pytest.approx(kappa * g.module_mm, rel=1e-4)
     cs = gs.circular_spline
     assert cs.wire_radius_mm + cs.spark_gap_mm <= 0.2 * g.module_mm + 1e-12
     assert gs.wave_generator.bearing_thickness_mm >= 0.125 * d
@@ -50,7 +71,7 @@ def test_new_set_follows_its_rules_and_passes_check(made, size, ratio):
     for block in new.text.split("\n[")[1:]:
         assert "ESTIMATE" in block or "given" in block, block.splitlines()[0]
     q = derived_quantities(gs)
-    assert (q["ratio"], q["deflection_mm"]) == (ratio, g.module_mm)
+    assert q["ratio"] == ratio and q["deflection_mm"] == pytest.approx(kappa * g.module_mm, rel=1e-4)
     assert (q["pitch_radius_mm"], q["cs_pitch_radius_mm"]) == pytest.approx((d / 2, g.module_mm * (2 * ratio + 2) / 2))
 
 

@@ -361,6 +361,17 @@ def test_a_fall_is_a_limit_point_once_the_teeth_have_moved_out_by_a_tenth_of_the
     assert _criterion_met(plain(), **rule, final=False) == ("margin", 1)
 
 
+def test_climb_starts_nearer_the_first_contact_when_its_first_rotation_has_no_fixed_point():
+    """A first rotation with no fixed point is tried again with the step halved toward the first
+    contact (a CSF-50-50's retreat cycled at 0.26 mrad and the path ended with no point, "no
+    criterion": the verdict's ratcheting NOT CHECKED); the path then runs to the true limit point."""
+    star = 8.0 ** (-1.0 / 8.0)
+    path = climb(_Peak((0.03, 0.06)), 0.05, 0.05)
+    assert path.points[0].phi_rad == pytest.approx(0.025)
+    assert path.criterion == "limit point"
+    assert path.torque_nm == pytest.approx(star * math.exp(-1.0 / 8.0) / 1e3, rel=1e-3)
+
+
 def test_climb_with_no_equilibrium_beyond_a_rising_path_fails_loudly():
     """Where no fixed point exists beyond some rotation while T(φ) still rises (no limit point
     reached), the path must end as "end of path" — the verdict's NOT CHECKED — never as a limit
@@ -454,6 +465,21 @@ def corner_model(design):
 
     return DesignClimb(ContactInput.from_design(design), side=1, stations=5, max_gap_mm=0.08, race_thickness_mm=None,
                        bearing=None, ring_factory=None)
+
+
+def test_stations_closer_than_the_mesh_resolves_are_thinned_not_a_failure(design, corner_model):
+    """Thirteen stations a tooth on the default set (0.076 mm apart on the flank) make the contact's
+    compliance singular (the FE mesh's elements hold more stations than nodes): the model keeps
+    every second station of each tooth, counted from its tip, and says so — a CSF-32-50 with
+    omega* = 0.6 (its engaged flank short against the mesh) had no ratcheting estimate at all."""
+    from profilegen.contact.inputs import ContactInput
+
+    dense = DesignClimb(ContactInput.from_design(design), side=1, stations=13, max_gap_mm=0.08,
+                        race_thickness_mm=None, bearing=None, ring_factory=None)
+    assert len(dense.notes) == 1 and "every second station" in dense.notes[0]
+    assert corner_model.notes == []  # five stations: built as they are
+    assert np.bincount(dense.slot).max() <= 7
+    assert dense.corner.any()  # counted from the tip: the tip corners stay
 
 
 def test_corner_normal_turns_with_the_cs_tip_round(corner_model):
