@@ -357,6 +357,8 @@ def _cmd_new(args) -> int:
 
     made = new_gearset(args.size, args.ratio, series=args.series, torque_rated_nm=args.torque_rated,
                        torque_peak_nm=args.torque_peak, torque_momentary_nm=args.torque_momentary)
+    for note in made.notes:
+        print(f"note: {note}", file=sys.stderr)
     if args.out is None:
         sys.stdout.write(made.text)
         return 0

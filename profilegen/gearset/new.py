@@ -30,7 +30,9 @@ value in the file, with its source:
   50 --rim F --set wave_generator.deflection_coefficient=K``), 0.6 and 4 % is the only pair that
   passes (fatigue 1.57, yield 2.43; 3 % 1.33, 5 % 1.45 — the seed-001 stress factor K_σ falls as
   the ring thickens against the tooth, the shell stress rises); ω* = 0.5 leaves the default tooth
-  no working flank. Ratios 60 and 70 on the ramp: fatigue 1.83 and 2.02. The catalogue's own
+  no working flank. Ratios 60 and 70 on the ramp: fatigue 1.83 and 2.02. Below ratio 50 the rules
+  give no sound set (size 32, ratio 30: fatigue 0.35, yield 0.62): :attr:`CatalogueSet.notes` and
+  the file's header say so. The catalogue's own
   ratio-50 gears are not published in this detail; its ratcheting torques, lower at ratio 50 than at
   80 (size 40: 1800 against 2800 N·m) though the teeth are larger, say that they engage less deep
   than ω* = 1 would.
@@ -122,6 +124,8 @@ class CatalogueSet:
 
     text: str
     gearset: object  # profilegen.gearset.GearSet
+    #: what the rules could not do for this set (the CLI prints them; the file says them too)
+    notes: tuple[str, ...] = ()
 
     def write(self, path) -> None:
         from pathlib import Path
@@ -190,7 +194,17 @@ def new_gearset(size: int, ratio: int, *, series: str = "csf", torque_rated_nm: 
         gearset = parse_gearset(tomllib.loads(text))
     except ProfilegenError as exc:  # a given torque out of order (peak < rated, ...): the reader's own line
         raise NewSetError(str(exc)) from None
-    return CatalogueSet(text=text, gearset=gearset)
+    return CatalogueSet(text=text, gearset=gearset, notes=_notes(ratio))
+
+
+def _notes(ratio: int) -> tuple[str, ...]:
+    """What the rules cannot promise for ``ratio`` (a line of the file and of the CLI each)."""
+    if ratio >= LOW_RATIO:
+        return ()
+    return (f"ratio {ratio} is below {LOW_RATIO}: with these rules the tooth ring fails its strength check "
+            f"(size 32, ratio 30, design scene: fatigue safety 0.35, yield 0.62), and the default tooth has no "
+            f"working flank below omega* = {DEFLECTION_AT_LOW_RATIO:g}: give the tooth, deflection and rim "
+            "yourself",)
 
 
 @dataclass(frozen=True)
@@ -295,6 +309,14 @@ def _deflection_lines(p: _Proportions) -> str:
             f"deflection_coefficient = {_g(p.kappa, 4)}  # w0 = {w0} mm")
 
 
+def _note_lines(ratio: int) -> str:
+    """:func:`_notes` as comment lines of the file's header ("" when there are none)."""
+    import textwrap
+
+    return "".join("\n" + "\n".join(textwrap.wrap("NOTE: " + n, 96, initial_indent="# ", subsequent_indent="# "))
+                   for n in _notes(ratio))
+
+
 def _set_text(p: _Proportions, t_rated: float, t_peak: float, t_mom: float, rule: str) -> str:
     """The gear-set TOML of proportions ``p`` and these torques, each number with the rule it comes
     from (``rule``: the torques' comment lines)."""
@@ -307,7 +329,7 @@ def _set_text(p: _Proportions, t_rated: float, t_peak: float, t_mom: float, rule
     return f"""# A {label}-{size}-{ratio} strain wave gear of catalogue proportions, written by
 # `profilegen new --size {size} --ratio {ratio} --series {series}` (profilegen.gearset.new).
 # Given: the size ({size}), the ratio ({ratio}) and the series. Every other number is an ESTIMATE
-# by the rule named beside it (the rules and their sources: profilegen/gearset/new.py).{shf}
+# by the rule named beside it (the rules and their sources: profilegen/gearset/new.py).{shf}{_note_lines(ratio)}
 
 name = "{name}"
 description = "{label}-{size}-{ratio} (catalogue proportions, estimated): m = {_g(m)} mm, z = {z1}/{z2}, d = {_g(d, 3)} mm"

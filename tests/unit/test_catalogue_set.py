@@ -40,6 +40,17 @@ def test_low_ratios_get_a_smaller_deflection_and_a_thicker_rim(ratio):
     assert gs.gear.rim_thickness_mm / gs.gear.neutral_radius_mm == pytest.approx(frac, rel=2e-3)
 
 
+def test_below_ratio_50_new_says_the_rules_give_no_sound_set(capsys, tmp_path):
+    """Ratio 30 (fatigue 0.35 with these rules, no working flank below omega* = 0.6): the set is
+    written, and its notes, its header and the CLI's stderr say so; ratio 50 has no note."""
+    low = new_gearset(32, 30)
+    assert len(low.notes) == 1 and "below 50" in low.notes[0] and "give the tooth" in low.notes[0]
+    assert "# NOTE: ratio 30 is below 50" in low.text
+    assert new_gearset(32, 50).notes == () and "NOTE" not in new_gearset(32, 50).text
+    assert main(["new", "--size", "32", "--ratio", "30", "--out", str(tmp_path / "g.toml")]) == 0
+    assert "note: ratio 30 is below 50" in capsys.readouterr().err
+
+
 @pytest.fixture(scope="module")
 def made():
     return {case: new_gearset(*case) for case in CASES}
