@@ -58,11 +58,22 @@ def section_map(form, section: FaceSection, samples: int, phi_range=None):
                          few_first=False)
 
 
+#: a sampled minimum at or above −TOUCH_MM (mm) is a touch: it is not refined by the parabola
+TOUCH_MM = 1e-6
+
+
 def parabolic_minimum(phi: np.ndarray, c: np.ndarray) -> tuple[float, float]:
     """The sampled minimum of c(φ), refined by the parabola through it and its two neighbours
-    (kept only when its vertex lies between them and below the sample)."""
+    (kept only when its vertex lies between them and below the sample) — where the sample
+    interferes (below −:data:`TOUCH_MM`). A touching minimum stays the sample's: near a touch
+    c(φ) has a kink, not a parabola's bottom (a tooth touches its CS, c ≈ 0, over the engaged
+    poses and the clearance rises beyond them), and the parabola through the last touching samples
+    and the first rising one has its vertex between two zeros and below them: csf58_50 with
+    ω* = 0.6, design scene, −2.77 µm at the design section's engaged edge, which no tooth
+    modification can clear (the design section never moves): the face FAILed where the verify
+    scene cleared it."""
     i = int(np.argmin(c))
-    if 0 < i < c.size - 1:
+    if 0 < i < c.size - 1 and c[i] < -TOUCH_MM:
         h = phi[i + 1] - phi[i]
         a, b = 0.5 * (c[i + 1] + c[i - 1]) - c[i], 0.5 * (c[i + 1] - c[i - 1])
         if a > 0 and abs(b) < 2 * a:

@@ -57,7 +57,8 @@ value in the file, with its source:
   (1100/950 MPa, σ_-1 = 495 MPa), which no source names for a flexspline (seed 000 names no
   material). With it the tooth ring's fatigue safety of every ratio-100 set was 1.35 < 1.5
   (design scene: σ_ass = 325 MPa, σ_load = 57 MPa at the rated torque); with 35CrMnSiA 1.78.
-  Ratio 50 fails with either (docs/validation/catalogue-sizes.md, "Strength").
+  With ω* = 1 and a 3 % rim ratio 50 failed with either (docs/validation/catalogue-sizes.md,
+  "Strength"): hence the low-ratio rule above.
 * **torques**: rated T = k·d²·b (:attr:`profilegen.gearset.GearSet.size_torque_nm`, the law the
   gear set's own torque check uses); peak and momentary ×167/67 and ×304/67 (seed 001's
   SHF-25-80 catalogue torques); CSG: ×1.3 (Harmonic Drive LLC's CSF & CSG catalogue, "Harmonic

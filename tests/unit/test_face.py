@@ -129,8 +129,27 @@ def test_design_row_is_the_2d_design_map(gearset, linear):
     np.testing.assert_allclose(linear.clearance_mm[d][near], cmap.clearance_mm[near], atol=2e-7)
     np.testing.assert_allclose(linear.clearance_mm[d], cmap.clearance_mm, atol=1e-3)
     assert linear.clearance_mm[d].min() == pytest.approx(cmap.min_mm, abs=2e-7)
-    # and the map's minimum over the face at the design section is that section's row
-    assert linear.table[d].min_clearance_mm <= linear.clearance_mm[d].min() + 1e-12
+    # and the map's minimum over the face at the design section is that section's row: the sampled
+    # one (its own CS touches it; a parabola through the edge of the touching poses dips below 0)
+    assert linear.table[d].min_clearance_mm == linear.clearance_mm[d].min()
+
+
+def test_a_touching_minimum_is_the_samples_not_a_parabola_through_a_kink():
+    """The design section touches its own CS (c ≈ 0) over the engaged poses and its clearance rises
+    beyond them: the parabola through the last touching samples and the first rising one has its
+    vertex between two zeros and below them — csf58_50 with ω* = 0.6, design scene: −2.77 µm, which no
+    tooth modification could clear (the design section never moves), and the face FAILed where the
+    verify scene cleared it. An interfering minimum between samples is still refined."""
+    from profilegen.face.clearance import parabolic_minimum
+
+    phi = np.radians(np.arange(-62.0, -54.0))
+    plateau = np.array([8e-3, 3.0e-3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0])  # rising beyond the engaged zone
+    low, _ = parabolic_minimum(phi, plateau)
+    assert low == 0.0  # a touch is the sample's
+    assert parabolic_minimum(phi, plateau - 1e-3)[0] < -1e-3 - 1e-4  # an interfering one is refined
+    smooth = (np.degrees(phi) + 57.6) ** 2 * 1e-4 - 5e-3  # an interference between samples, at -57.6°
+    value, at = parabolic_minimum(phi, smooth)
+    assert value == pytest.approx(-5e-3, abs=1e-12) and np.degrees(at) == pytest.approx(-57.6)
 
 
 def test_linear_change_is_compensated_by_a_taper(gearset, twisted):
