@@ -529,12 +529,24 @@ class DesignClimb:
             raise ConvergenceError(f"climb: no tooth comes within max_gap_mm = {max_gap_mm} mm of the CS")
         #: what the model had to change to be built (e.g. stations thinned), for the estimate's warnings
         self.notes: list[str] = []
+        g = inputs.gearset.gear
+        self._space = inputs.cs_space
+        # the space's outline in polar form (angle from +y, radius): CS material lies beyond it
+        outline = _dense(np.asarray(inputs.cs_space.sample(1e-3), dtype=float), 5e-3)
+        th = np.arctan2(outline[:, 0], outline[:, 1])
+        order = np.argsort(th)
+        self._rim_theta, self._rim_r = th[order], np.hypot(outline[order, 0], outline[order, 1])
+        self._tip_r = float(inputs.cs_tip_radius_mm)
+        self._cs_pitch = 2.0 * math.pi / g.circular_spline_teeth
+        if np.any(np.diff(np.hypot(outline[:, 0], outline[:, 1])[np.argsort(th)]) > 0.5) or not (
+                np.all(np.diff(th) > 0) or np.all(np.diff(th) < 0)):
+            raise ConvergenceError("climb: the CS space's outline is not single-valued in the polar angle; "
+                                   "the overlap of a station cannot be told")
         thin = 1
         while True:  # stations closer than the FE mesh resolves make S singular: every 2nd, then 4th
             sub = keep & _every_nth_from_tip(every.tooth, every.t_mm, keep, thin)
             pts = _Subset(every, sub)
             teeth, phis, fs_probe, e_r, cs_probe, corner = tooth_probes(inputs, pts, shift_rad)
-            g = inputs.gearset.gear
             self.teeth, self.phis = teeth, phis
             self.slot = np.searchsorted(teeth, pts.tooth)
             self.n, self.zones, self.rotation = pts.count, int(pts.zones), int(pts.rotation)
@@ -543,18 +555,6 @@ class DesignClimb:
             self._n0 = np.vstack([turn(pts.normal[k:k + 1], a) for k, a in enumerate(back)])
             tb = -2.0 * math.pi * teeth / g.circular_spline_teeth
             self._e0 = np.vstack([turn(e_r[k:k + 1], a) for k, a in enumerate(tb)])
-            self._space = inputs.cs_space
-            # the space's outline in polar form (angle from +y, radius): CS material lies beyond it
-            outline = _dense(np.asarray(inputs.cs_space.sample(1e-3), dtype=float), 5e-3)
-            th = np.arctan2(outline[:, 0], outline[:, 1])
-            order = np.argsort(th)
-            self._rim_theta, self._rim_r = th[order], np.hypot(outline[order, 0], outline[order, 1])
-            self._tip_r = float(inputs.cs_tip_radius_mm)
-            self._cs_pitch = 2.0 * math.pi / g.circular_spline_teeth
-            if np.any(np.diff(np.hypot(outline[:, 0], outline[:, 1])[np.argsort(th)]) > 0.5) or not (
-                    np.all(np.diff(th) > 0) or np.all(np.diff(th) < 0)):
-                raise ConvergenceError("climb: the CS space's outline is not single-valued in the polar angle; "
-                                       "the overlap of a station cannot be told")
             e_pts = pts.fs_point_mm / np.linalg.norm(pts.fs_point_mm, axis=1)[:, None]
             self.sin_alpha = np.einsum("ij,ij->i", pts.normal, e_pts)
             self.depth_mm = np.linalg.norm(corner, axis=1) - inputs.cs_tip_radius_mm

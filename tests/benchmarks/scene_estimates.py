@@ -396,15 +396,24 @@ def _est_cell(rec: dict, unit: str) -> tuple[str, str]:
     return f"{rec['observed']:.3g}{kind}", f"**{rec['value']:.2g}{kind}**"
 
 
-def outside_count(tab: dict) -> int:
-    n = 0
+def _excesses(tab: dict, values: dict) -> list[str]:
+    """The measured differences of ``tab`` beyond ``values`` (cheap scene → number key → the
+    estimate's value in its kind, None: no estimate), one line each."""
+    out = []
     for cheap, dear in PAIRS:
-        for key, est in tab["estimates"][cheap].items():
-            if "not_estimated" in est:
+        for key, value in values.get(cheap, {}).items():
+            if value is None:
                 continue
-            n += sum(1 for v in tab["differences"][f"{cheap}-{dear}"][key].values()
-                     if v.get("abs") is not None and v["normalised"] > est["value"])
-    return n
+            for name, v in tab["differences"][f"{cheap}-{dear}"].get(key, {}).items():
+                if v.get("abs") is not None and v["normalised"] > value:
+                    out.append(f"{cheap} {key} {name}: {v['normalised']:.3g} > {value:.3g}")
+    return out
+
+
+def outside_count(tab: dict) -> int:
+    """Differences beyond the estimates derived from this same measurement (0 unless a policy holds
+    one back)."""
+    return len(_excesses(tab, {c: {k: r.get("value") for k, r in rows.items()} for c, rows in tab["estimates"].items()}))
 
 
 def outside_package(tab: dict) -> list[str]:
@@ -414,15 +423,8 @@ def outside_package(tab: dict) -> list[str]:
     from this same measurement (0 by construction)."""
     from profilegen.pipeline import scene_estimates as se
 
-    out = []
-    for cheap, dear in PAIRS:
-        for key, rec in se.ESTIMATES.get(cheap, {}).items():
-            if not isinstance(rec, se.Estimate):
-                continue
-            for name, v in tab["differences"][f"{cheap}-{dear}"].get(key, {}).items():
-                if v.get("abs") is not None and v["normalised"] > rec.value:
-                    out.append(f"{cheap} {key} {name}: {v['normalised']:.3g} > {rec.value:.3g} ({rec.kind})")
-    return out
+    return _excesses(tab, {c: {k: r.value if isinstance(r, se.Estimate) else None for k, r in rows.items()}
+                           for c, rows in se.ESTIMATES.items()})
 
 
 def docs_block(tab: dict) -> str:
