@@ -182,8 +182,9 @@ def ratcheting_overestimate(ratio: float) -> tuple[float | None, str]:
             return factor, basis
     low = RATCHETING_OVERESTIMATE[-1]
     return None, (f"the model's overestimate of the catalogue's ratcheting torque is measured at ratios {low[0]:g} "
-                  f"and above ({low[1]:.3g}× at {low[0]:g}, growing as the ratio falls); at ratio {ratio:.4g} no "
-                  "bound is known to be conservative")
+                  f"and above ({low[1]:.3g}× at {low[0]:g}, on sets with the deflection and rim of profilegen new); "
+                  f"at ratio {ratio:.4g} there is no catalogue value to compare with and no bound is known to be "
+                  "conservative")
 
 #: the verdict's three outcomes
 PASS, FAIL, INCOMPLETE = "PASS", "FAIL", "INCOMPLETE"

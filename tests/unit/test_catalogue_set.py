@@ -47,8 +47,20 @@ def test_below_ratio_50_new_says_the_rules_give_no_sound_set(capsys, tmp_path):
     assert len(low.notes) == 1 and "below 50" in low.notes[0] and "give the tooth" in low.notes[0]
     assert "# NOTE: ratio 30 is below 50" in low.text
     assert new_gearset(32, 50).notes == () and "NOTE" not in new_gearset(32, 50).text
+    assert new_gearset(32, 80).notes == () and "NOTE" not in new_gearset(32, 80).text
     assert main(["new", "--size", "32", "--ratio", "30", "--out", str(tmp_path / "g.toml")]) == 0
     assert "note: ratio 30 is below 50" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("ratio", [51, 60, 79])
+def test_between_the_catalogue_ratios_new_says_the_ratcheting_bound_is_the_larger(ratio):
+    """Ratios 51-79 have no catalogue ratcheting torque: the verdict divides by the larger of ratio 50's
+    and 80's factors, which can fail a set (ratio 60 does, sizes 25-40): the file says so before verify."""
+    from profilegen.pipeline.design import ratcheting_overestimate
+    made_set = new_gearset(32, ratio)
+    assert len(made_set.notes) == 1 and "between the catalogue's ratios 50 and 80" in made_set.notes[0]
+    assert f"# NOTE: ratio {ratio} lies between" in made_set.text
+    assert ratcheting_overestimate(ratio)[0] == max(ratcheting_overestimate(50)[0], ratcheting_overestimate(80)[0])
 
 
 @pytest.fixture(scope="module")
