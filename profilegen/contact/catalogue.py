@@ -6,8 +6,10 @@ Sources:
   Type Component Sets & Housed Units" catalogue, as published at
   https://www.yumpu.com/en/document/view/46053898/csf-csg-pdf-harmonic-drive-llc — page 50
   ("Torsional Stiffness", tables 41 and 42: component-set values) and page 14 ("Technical
-  Terms": table 4, CSF ratcheting torque; table 5, CSF buckling torque). The text of that
-  page's table 43 (ratio 1/80 and above) is cut off in the stored copy, and so is K3 of table 42.
+  Terms": table 4, CSF ratcheting torque, sizes 8-100 at ratios 30-160; table 5, CSF buckling
+  torque; tables 6 and 7, the same for CSG, sizes 14-40), https://www.yumpu.com/en/document/
+  view/46053898/csf-csg-pdf-harmonic-drive-llc/14. The text of page 50's table 43 (ratio 1/80
+  and above) is cut off in the stored copy, and so is K3 of table 42.
 * Ratio 80 and above (the row our ratio-100 sets are compared with), and K3 at ratio 50:
   Harmonic Drive AG, "CHA Series Hollow Shaft Servo Actuators" engineering data, document
   1018854 12/2015 V01, p. 50, section 3.3.5 "Torsional Stiffness", tables 50.3 (sizes 14–25) and
@@ -37,10 +39,14 @@ columns): transmission accuracy, hysteresis loss and lost motion, each an upper 
 
 Missing here (no value, never a guess): the rating table (rated, peak and momentary torques
 per size and ratio: not in the sources available to this project — the gear sets' torques are
-their own ESTIMATES); ratcheting and buckling torques of sizes other than 25, 32, 40 (the stored
-page 14 lists those three); K1/K2/K3 of size 40 at ratio 30 and of sizes 50/58 at ratio 30 (not
+their own ESTIMATES); K1/K2/K3 of size 40 at ratio 30 and of sizes 50/58 at ratio 30 (not
 printed); the LLC catalogue's table 43 (ratio ≥ 80, cut off in the stored copy: the CHA i > 50
 column stands for it); the CHA tables' repeatability (< ±0.1 arcmin, the actuator's, not kept).
+
+The CSG tables (:data:`RATCHETING_TORQUE_CSG_NM`, :data:`BUCKLING_TORQUE_CSG_NM`) are kept
+as printed; :func:`catalogue_row` gives the CSF's, since a gear set does not say its series (at
+the cells both print the CSG's ratcheting torque is 1.19-1.30× the CSF's: the "30 % increase in
+torque capacity" of p. 4).
 
 Definitions (catalogue, p. 50): the curve is approximated by three lines, K1 from 0 to T1,
 K2 from T1 to T2, K3 above T2 (the rotation at T1 is φ1 = T1/K1, at T2 φ2 = φ1 + (T2 − T1)/K2),
@@ -61,8 +67,9 @@ from functools import partial
 from .. import checks
 from ..errors import ProfilegenError
 
-__all__ = ["ACCURACY_ARCMIN", "ACCURACY_LIMITS_ARCMIN", "BUCKLING_TORQUE_NM", "CHA_SOURCE", "CatalogueError",
-           "RATCHETING_TORQUE_NM", "SOURCE", "STIFFNESS", "catalogue_row", "torsion_angle_rad"]
+__all__ = ["ACCURACY_ARCMIN", "ACCURACY_LIMITS_ARCMIN", "BUCKLING_TORQUE_CSG_NM", "BUCKLING_TORQUE_NM", "CHA_SOURCE",
+           "CatalogueError", "RATCHETING_TORQUE_CSG_NM", "RATCHETING_TORQUE_NM", "SOURCE", "STIFFNESS",
+           "catalogue_row", "torsion_angle_rad"]
 
 
 class CatalogueError(ProfilegenError, ValueError):
@@ -161,15 +168,38 @@ ACCURACY_ARCMIN = {
     (50, 58): _acc(0.7, 1.0), (80, 58): _acc(0.5, 1.0),
 }
 
-#: (ratio, size) → ratcheting torque (N·m), table 4 "CSF Ratcheting Torque", page 14.
-RATCHETING_TORQUE_NM = {
-    (50, 25): 450.0, (80, 25): 680.0, (100, 25): 500.0,
-    (50, 32): 980.0, (80, 32): 1400.0, (100, 32): 1000.0,
-    (50, 40): 1800.0, (80, 40): 2800.0, (100, 40): 2100.0,
-}
+def _by_ratio(ratios: tuple[int, ...], rows: dict[int, tuple]) -> dict[tuple[int, int], float]:
+    """{(ratio, size): N·m} from a table printed a row per size (None: printed "-", no value)."""
+    return {(r, size): float(v) for size, row in rows.items() for r, v in zip(ratios, row, strict=True)
+            if v is not None}
+
+
+#: (ratio, size) → ratcheting torque (N·m), table 4 "CSF Ratcheting Torque", page 14 (every size
+#: and ratio the table prints; "-" cells left out). The torque at which the teeth skip (the
+#: catalogue's "Technical Terms").
+RATCHETING_TORQUE_NM = _by_ratio((30, 50, 80, 100, 120, 160), {
+    8: (11, 12, None, 14, None, None), 11: (29, 34, None, 43, None, None),
+    14: (59, 88, 110, 84, None, None), 17: (100, 150, 200, 160, 120, None),
+    20: (170, 220, 350, 260, 240, 220), 25: (340, 450, 680, 500, 470, 450),
+    32: (720, 980, 1400, 1000, 980, 980), 40: (None, 1800, 2800, 2100, 1900, 1800),
+    45: (None, 2700, 3900, 3100, 2800, 2600), 50: (None, 3700, 5400, 4100, 3800, 3600),
+    58: (None, 5800, 8200, 6400, 5800, 5600), 65: (None, 7800, 11000, 9400, 8300, 8000),
+    80: (None, 14000, 22000, 16000, 15000, 14000), 90: (None, 20000, 30000, 23000, 21000, 20000),
+    100: (None, 29000, 44000, 33000, 30000, 28000),
+})
 
 #: size → buckling torque (N·m, all ratios), table 5 "CSF Buckling Torque", page 14.
-BUCKLING_TORQUE_NM = {25: 1000.0, 32: 2200.0, 40: 4300.0}
+BUCKLING_TORQUE_NM = {8: 35.0, 11: 90.0, 14: 190.0, 17: 330.0, 20: 560.0, 25: 1000.0, 32: 2200.0, 40: 4300.0,
+                      45: 5800.0, 50: 8000.0, 58: 12000.0, 65: 17000.0, 80: 31000.0, 90: 45000.0, 100: 58000.0}
+
+#: (ratio, size) → the CSG (high-torque) series' ratcheting torque (N·m), table 6, page 14.
+RATCHETING_TORQUE_CSG_NM = _by_ratio((50, 80, 100, 120, 160), {
+    14: (110, 140, 100, None, None), 17: (190, 260, 200, 150, None), 20: (280, 450, 330, 310, 280),
+    25: (580, 880, 650, 610, 580), 32: (1200, 1800, 1300, 1200, 1200), 40: (2300, 3600, 2700, 2400, 2300),
+})
+
+#: size → the CSG series' buckling torque (N·m, all ratios), table 7, page 14.
+BUCKLING_TORQUE_CSG_NM = {14: 260.0, 17: 500.0, 20: 800.0, 25: 1700.0, 32: 3500.0, 40: 6700.0}
 
 _whole = partial(checks.whole, error=CatalogueError)
 

@@ -99,3 +99,84 @@ def test_rows_for_every_size_and_the_ratio_columns():
     assert catalogue_row(14, 30)["K1_nm_per_rad"] == 1.9e3
     with pytest.raises(CatalogueError, match="ratio"):
         catalogue_row(50, 30)  # sizes 50 and 58: no i = 30 column
+
+
+# Harmonic Drive LLC, CSF & CSG catalogue, p. 14 ("Technical Terms"), typed again as printed: one
+# line per size, the ratios' columns in the table's order, "-" a dash. Table 4 (CSF ratcheting
+# torque, N·m; ratios 30 50 80 100 120 160), table 5 (CSF buckling torque, all ratios), tables 6
+# and 7 (CSG; ratios 50 80 100 120 160).
+TABLE_4 = """
+8 11 12 - 14 - -
+11 29 34 - 43 - -
+14 59 88 110 84 - -
+17 100 150 200 160 120 -
+20 170 220 350 260 240 220
+25 340 450 680 500 470 450
+32 720 980 1400 1000 980 980
+40 - 1800 2800 2100 1900 1800
+45 - 2700 3900 3100 2800 2600
+50 - 3700 5400 4100 3800 3600
+58 - 5800 8200 6400 5800 5600
+65 - 7800 11000 9400 8300 8000
+80 - 14000 22000 16000 15000 14000
+90 - 20000 30000 23000 21000 20000
+100 - 29000 44000 33000 30000 28000
+"""
+TABLE_5 = "8 35 11 90 14 190 17 330 20 560 25 1000 32 2200 40 4300 45 5800 50 8000 58 12000 65 17000 80 31000 90 45000 100 58000"
+TABLE_6 = """
+14 110 140 100 - -
+17 190 260 200 150 -
+20 280 450 330 310 280
+25 580 880 650 610 580
+32 1200 1800 1300 1200 1200
+40 2300 3600 2700 2400 2300
+"""
+TABLE_7 = "14 260 17 500 20 800 25 1700 32 3500 40 6700"
+
+
+def _printed(text: str, ratios: tuple[int, ...]) -> dict:
+    out = {}
+    for line in text.strip().splitlines():
+        size, *cells = line.split()
+        assert len(cells) == len(ratios), line
+        out.update({(r, int(size)): None if c == "-" else float(c) for r, c in zip(ratios, cells)})
+    return out
+
+
+def _pairs(text: str) -> dict:
+    v = text.split()
+    return {int(v[i]): float(v[i + 1]) for i in range(0, len(v), 2)}
+
+
+@pytest.mark.parametrize("printed, module, ratios", [
+    (TABLE_4, "RATCHETING_TORQUE_NM", (30, 50, 80, 100, 120, 160)),
+    (TABLE_6, "RATCHETING_TORQUE_CSG_NM", (50, 80, 100, 120, 160)),
+])
+def test_ratcheting_tables_equal_the_second_transcription(printed, module, ratios):
+    from profilegen.contact import catalogue
+
+    table, kept = _printed(printed, ratios), getattr(catalogue, module)
+    assert {k: v for k, v in table.items() if v is not None} == kept  # every value, and no dash filled in
+
+
+def test_buckling_tables_equal_the_second_transcription():
+    from profilegen.contact.catalogue import BUCKLING_TORQUE_CSG_NM, BUCKLING_TORQUE_NM
+
+    assert _pairs(TABLE_5) == BUCKLING_TORQUE_NM and _pairs(TABLE_7) == BUCKLING_TORQUE_CSG_NM
+
+
+def test_ratcheting_rows_read_as_the_catalogue_says():
+    """What the tables say together, which a typing slip in either copy would break: every size's
+    ratio-80 torque is its largest (80 engages deepest of the ratios > 50), the CSG's is 1.19-1.30×
+    the CSF's ("a 30 % increase in torque capacity", p. 4), and buckling lies above ratcheting."""
+    from profilegen.contact.catalogue import (BUCKLING_TORQUE_NM, RATCHETING_TORQUE_CSG_NM,
+                                              RATCHETING_TORQUE_NM)
+
+    for (ratio, size), t in RATCHETING_TORQUE_NM.items():
+        if (80, size) in RATCHETING_TORQUE_NM:
+            assert t <= RATCHETING_TORQUE_NM[(80, size)]
+        assert t < BUCKLING_TORQUE_NM[size]
+    for key, t in RATCHETING_TORQUE_CSG_NM.items():
+        assert 1.15 <= t / RATCHETING_TORQUE_NM[key] <= 1.31
+    assert catalogue_row(58, 100)["ratcheting_torque_nm"] == 6400.0
+    assert catalogue_row(14, 120)["ratcheting_torque_nm"] is None  # printed "-"
