@@ -66,6 +66,7 @@ from .climb import tooth_probes as _probes
 __all__ = [
     "BearingFitError",
     "CATALOGUE_RATCHETING",
+    "CLIMB_GAP_PER_MODULE",
     "Ratcheting",
     "RatchetingError",
     "RatchetingOptions",
@@ -80,6 +81,14 @@ log = logging.getLogger(__name__)
 #: :data:`profilegen.contact.catalogue.RATCHETING_TORQUE_NM` (CSF table 4: CSF-40-100 2100 N·m);
 #: the pipeline passes its row (``contact.chain.catalogue_for``).
 CATALOGUE_RATCHETING = None
+
+#: the climb's teeth: every tooth whose no-load gap to the CS is within this many modules. At the
+#: limit point the FS has turned by φ·r ≈ 0.5-0.7 m at its stations on `profilegen new`'s sets
+#: (φ ≈ 5.6-6.7 mrad, r ≈ 100 m at ratio 100), so a tooth farther than that cannot touch before it.
+#: An absolute 0.15 mm (before) took every such tooth at size 14 (0.84 m) and left out those
+#: beyond 0.20 m at size 58, whose estimate rose 40 % with them (20448 -> 28594 N·m; 28593 at
+#: 1.2 m): the cut must scale with the gear. A path that turns farther is said (``_climb``).
+CLIMB_GAP_PER_MODULE = 1.0
 
 
 class RatchetingError(ProfilegenError, ValueError):
@@ -118,7 +127,8 @@ class RatchetingOptions:
     ``climb``: follow the climb (:mod:`profilegen.contact.climb`: ``climb_stations`` material
     stations per tooth on the teeth within ``climb_max_gap_mm`` of the CS, the rotation
     continued until a criterion or ``climb_max_torque_nm``, default 1.5 × the linear
-    estimate); its torque is the estimate when a criterion ends it, the linear one stays in
+    estimate; ``climb_max_gap_mm`` None: :data:`CLIMB_GAP_PER_MODULE` × the module, so that
+    geometrically similar gears climb on the same teeth); its torque is the estimate when a criterion ends it, the linear one stays in
     ``torque_linear_nm``. ``climb_positions``: the climb at that many wave-generator positions
     evenly over one tooth passage (shift − k·2π/(z1·N)), the estimate their minimum (the gear
     running under load meets every position; each in ``climb["positions"]``; N× the time);
@@ -149,7 +159,7 @@ class RatchetingOptions:
     spring_tol: float = 1e-6
     climb: bool = True
     climb_stations: int = 9
-    climb_max_gap_mm: float = 0.15
+    climb_max_gap_mm: float | None = None
     climb_max_torque_nm: float | None = None
     climb_positions: int = 1
     climb_friction: float = 0.0
@@ -647,6 +657,10 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
             return cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
                                              youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
     rated = float(gs.torque.rated_nm)
+    if max_gap_mm is None:
+        max_gap_mm = CLIMB_GAP_PER_MODULE * float(gs.gear.module_mm)
+    else:
+        max_gap_mm = _positive("climb_max_gap_mm", max_gap_mm, "mm")
     if max_torque_nm is None:
         max_torque_nm = 1.5 * linear if math.isfinite(linear) else 20.0 * rated
     else:
@@ -670,6 +684,11 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     path, model, shift_rad = min(ok or runs, key=lambda r: r[0].torque_nm if math.isfinite(r[0].torque_nm) else math.inf)
     warnings += [f"climb: {w}" for w in getattr(model, "notes", ())]
     warnings += [w if w.startswith("climb") else f"climb: {w}" for w in path.warnings]
+    points = getattr(model, "points", None)
+    if points is not None and math.isfinite(path.phi_rad) and path.phi_rad * float(np.max(points.lever_mm)) >= max_gap_mm:
+        warnings.append(f"climb: at its end the FS has turned {path.phi_rad * float(np.max(points.lever_mm)) * 1e3:.0f} "
+                        f"µm at its stations, beyond the {max_gap_mm * 1e3:.0f} µm gap within which its teeth were "
+                        "taken: a tooth left out could have touched (raise climb_max_gap_mm)")
     info = {"criterion": path.criterion, "torque_nm": path.torque_nm, "phi_rad": path.phi_rad,
             "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,
             "points": model.n, "teeth": int(model.teeth.size), "ring_scale": ring_scale, "shift_rad": shift_rad,

@@ -151,40 +151,52 @@ def interference_tol_mm(scene) -> float:
     return max(INTERFERENCE_TOL_MM, scene.chord_tol_mm)
 
 
-#: The ratcheting model's estimate over the catalogue's ratcheting torque, the largest measured in
-#: each row of the catalogue's ratios: (lowest ratio of the row, factor, what it was measured on).
-#: The overestimate depends on the ratio, so each row has its own. Measured in the verify scene on
-#: the sets ``profilegen new`` writes (the package's model of the catalogue's gears) of sizes 25 /
-#: 32 / 40 (``python tests/benchmarks/catalogue_sizes.py --scene verify --ratios R``, the climb's
-#: limit point at a 1 % fall of T that lasts while the teeth move out by 10 % of their margin):
-#: ratio 100 2226 / 500 = 4.45, 4231 / 1000 = 4.23, 7780 / 2100 = 3.70; ratio 80 2493 / 680 = 3.67,
-#: 5069 / 1400 = 3.62, 8974 / 2800 = 3.20; ratio 50 (omega* = 0.6 and a 4 % rim, ``new``'s rule
-#: below ratio 80) 806 / 450 = 1.79, 1690 / 980 = 1.72, 3351 / 1800 = 1.86. No catalogue value lies
-#: between ratios 50 and 80: there the larger of the two rows' factors. Until the model errs on
-#: the safe side the verdict checks the bound estimate / the factor of the set's row — at or below
-#: every catalogue value compared on the sets ``new`` writes (tests/unit/test_verdict.py lists
-#: them, earlier models' too) — never the raw estimate; below ratio 50 there is no catalogue value
-#: to compare with, so the check is not made there.
+#: The ratcheting model's estimate over the catalogue's ratcheting torque, the largest over sizes
+#: 14-58 in each of the catalogue's ratio columns: (the column's ratio, factor, what it was measured
+#: on). Measured in the verify scene on the sets ``profilegen new`` writes (the package's model of
+#: the catalogue's gears; ω* = 0.6 and a 4 % rim at ratio 50) against the CSF ratcheting table
+#: (:data:`profilegen.contact.catalogue.RATCHETING_TORQUE_NM`): ``python
+#: tests/benchmarks/catalogue_sizes.py --scene verify --ratios 100 50 80 120 160``. Over the sizes:
+#: ratio 50 1.64-2.00, 80 4.17-4.69, 100 4.47-5.06, 120 4.08-5.05, 160 2.99-3.33 (size 14 has no
+#: cell at 120 and 160). The overestimate depends on the ratio, so each column has its own; between
+#: two columns (no catalogue value) the larger of the two, above the largest the largest of all,
+#: below ratio 50 none (no catalogue value compared: the check is not made). Until the model errs
+#: on the safe side the verdict checks the bound estimate / factor — at or below every catalogue
+#: value compared on the sets ``new`` writes (tests/unit/test_verdict.py lists them, earlier
+#: models' too) — never the raw estimate.
 RATCHETING_OVERESTIMATE = (
-    (80, 2225.99 / 500.0, "the largest estimate / catalogue measured at ratios 80-100: a size-25 ratio-100 set, 4.45"),
-    (51, 2225.99 / 500.0, "no catalogue value between ratios 50 and 80: the larger factor of the two rows, 4.45"),
-    (50, 3350.61 / 1800.0, "the largest estimate / catalogue measured at ratio 50: a size-40 ratio-50 set, 1.86"),
+    (50, 439.09 / 220.0, "the largest estimate / catalogue of the ratio-50 column, sizes 14-58: size 20, 2.00"),
+    (80, 515.49 / 110.0, "the largest estimate / catalogue of the ratio-80 column, sizes 14-58: size 14, 4.69"),
+    (100, 425.00 / 84.0, "the largest estimate / catalogue of the ratio-100 column, sizes 14-58: size 14, 5.06"),
+    (120, 605.72 / 120.0, "the largest estimate / catalogue of the ratio-120 column, sizes 17-58: size 17, 5.05"),
+    (160, 732.03 / 220.0, "the largest estimate / catalogue of the ratio-160 column, sizes 20-58: size 20, 3.33"),
 )
-#: the largest of them (every row)
+#: the largest of them (every column)
 RATCHETING_MODEL_OVER_CATALOGUE = max(f for _, f, _ in RATCHETING_OVERESTIMATE)
 
 
 def ratcheting_overestimate(ratio: float) -> tuple[float | None, str]:
     """The factor the verdict divides the ratcheting estimate by for a gear of ``ratio``, and its
-    basis (:data:`RATCHETING_OVERESTIMATE`); ``(None, why)`` below the lowest row measured."""
-    for lowest, factor, basis in RATCHETING_OVERESTIMATE:
-        if ratio >= lowest:
+    basis (:data:`RATCHETING_OVERESTIMATE`): a catalogue column's own; between two columns the
+    larger of theirs; above the largest column the largest of all; ``(None, why)`` below the
+    lowest column measured."""
+    columns = RATCHETING_OVERESTIMATE
+    for col, factor, basis in columns:
+        if abs(ratio - col) <= 1e-9 * col:
             return factor, basis
-    low = RATCHETING_OVERESTIMATE[-1]
-    return None, (f"the model's overestimate of the catalogue's ratcheting torque is measured at ratios {low[0]:g} "
-                  f"and above ({low[1]:.3g}× at {low[0]:g}, on sets with the deflection and rim of profilegen new); "
-                  f"at ratio {ratio:.4g} there is no catalogue value to compare with and no bound is known to be "
-                  "conservative")
+    low = columns[0]
+    if ratio < low[0]:
+        return None, (f"the model's overestimate of the catalogue's ratcheting torque is measured at ratios {low[0]:g} "
+                      f"and above ({low[1]:.2f}× at {low[0]:g}, on sets with the deflection and rim of profilegen "
+                      f"new); at ratio {ratio:.4g} no catalogue value has been compared and no bound is known to be "
+                      "conservative")
+    if ratio > columns[-1][0]:
+        return RATCHETING_MODEL_OVER_CATALOGUE, (
+            f"above the catalogue's largest ratio ({columns[-1][0]:g}) no catalogue value: the largest factor of "
+            f"every column, {RATCHETING_MODEL_OVER_CATALOGUE:.3g}")
+    (a, fa, _), (b, fb, _) = next((c, d) for c, d in zip(columns, columns[1:]) if c[0] < ratio < d[0])
+    return max(fa, fb), (f"no catalogue value between ratios {a:g} and {b:g}: the larger factor of the two "
+                         f"columns, {max(fa, fb):.3g}")
 
 #: the verdict's three outcomes
 PASS, FAIL, INCOMPLETE = "PASS", "FAIL", "INCOMPLETE"

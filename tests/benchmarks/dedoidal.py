@@ -4,7 +4,7 @@
 
 Per gear set (default: seed000_csf40 and csf32_100; design scene, no contact or stress in the
 design run), the climb built as ``ratcheting_torque`` builds it (9 stations, teeth within
-0.15 mm, every ball one-sided at its no-load gap with its Hertz spring, the free CS ring):
+one module (ratchet.CLIMB_GAP_PER_MODULE), every ball one-sided at its no-load gap with its Hertz spring, the free CS ring):
 
 1. the one-zone climb (profilegen.contact.climb, the estimate today);
 2. the two-zone climb (research.dedoidal.TwoZoneClimb, the FS as the whole ring, the
@@ -77,7 +77,8 @@ def _setup(gs, design):
         return ratchet.cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
                                                  youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
     bearing = BallBearing.from_gearset(gs)
-    zone = DesignClimb(inputs, side=1, stations=9, max_gap_mm=0.15, race_thickness_mm=None, bearing=bearing,
+    zone = DesignClimb(inputs, side=1, stations=9, max_gap_mm=ratchet.CLIMB_GAP_PER_MODULE * float(gs.gear.module_mm),
+                       race_thickness_mm=None, bearing=bearing,
                        ring_factory=factory, ball_supports="all")
     return inputs, zone, bearing, (r_mean, thick, width)
 

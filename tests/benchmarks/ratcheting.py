@@ -96,7 +96,8 @@ def _climb_setup(gs, design, **kw):
         return ratchet.cs_ring_radial_compliance(ang, phis, mean_radius_mm=r_mean, thickness_mm=thick, width_mm=width,
                                                  youngs_modulus_mpa=float(gs.material.youngs_modulus_mpa))
     kw.setdefault("ball_supports", "all")  # as ratcheting_torque
-    return DesignClimb(inputs, side=1, stations=9, max_gap_mm=0.15, race_thickness_mm=None,
+    return DesignClimb(inputs, side=1, stations=9, max_gap_mm=ratchet.CLIMB_GAP_PER_MODULE * float(gs.gear.module_mm),
+                       race_thickness_mm=None,
                        bearing=BallBearing.from_gearset(gs), ring_factory=factory, **kw)
 
 
