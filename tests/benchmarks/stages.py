@@ -629,6 +629,14 @@ def _arcfit(inp: _Inputs, repeats: int) -> list[dict]:
     return rows
 
 
+def contact_mesh_label() -> str:
+    """The product's contact FEM as the contact study's rows name it (its mesh defaults)."""
+    from profilegen.contact.compliance import ComplianceMesh
+
+    mesh = ComplianceMesh()
+    return f"FEM {mesh.per_pitch}/{mesh.cs_per_pitch} col./pitch, {mesh.tooth_layers} layers"
+
+
 def _contact(inp: _Inputs, repeats: int) -> list[dict]:
     from profilegen.contact import ContactInput
     from profilegen.contact.analysis import solve_contact
@@ -640,8 +648,10 @@ def _contact(inp: _Inputs, repeats: int) -> list[dict]:
     d = inp.design
     torques = inp.torques_nm
     stations, = _defaults(solve_contact, "stations")
-    fs_cols, cs_cols, layers = _defaults(ContactCompliance.build, "per_pitch", "cs_per_pitch", "tooth_layers")
-    default_fem = f"FEM {fs_cols}/{cs_cols} col./pitch, {layers} layers"
+    from profilegen.contact.compliance import ComplianceMesh
+
+    layers = ComplianceMesh().tooth_layers
+    default_fem = contact_mesh_label()
 
     def build(points, cols, tooth_layers):
         return ContactCompliance.build(ContactInput.from_design(d), points.fs_point_mm, points.normal, points.tooth,
@@ -692,7 +702,7 @@ def _contact(inp: _Inputs, repeats: int) -> list[dict]:
         sols, t, n = _timed(naive, repeats, inp.long_s)
         err, _ = errors([s.phi_rad for s in sols])
         rows.append(_row("contact", "naive LP (seed 000), FEM reused", t, n, err, reference=ref_label,
-                         note="balls held; a phase-1 LP vertex, not a contact solution (DESIGN trap 4)"))
+                         note="balls held; a phase-1 LP vertex, not a contact solution (seed 000's LP as published)"))
     except ProfilegenError as exc:
         log.warning("contact study: the naive LP left out: %s", exc)
     inp.step("contact: Lemke, 3 stations")
@@ -744,7 +754,7 @@ def _stress(inp: _Inputs, repeats: int) -> list[dict]:
         sigma = clamp_sigma_r_mpa(out.field, cup.boss_radius_mm)
         note = (f"one plate solution; the whole stress stage (tooth ring, {len(res.cup_bottom) + 1} plate cases, "
                 f"diaphragm) took {res.time_s:.3g} s" if model == "consistent"
-                else "the paper's f(r)·w(φ) (DESIGN trap 5)")
+                else "the paper's f(r)·w(φ), not a solution of the plate (seed 002 as published)")
         rows.append(_row("stress", f"{model} plate", t, n, err(sigma), reference=ref_label, scene=scene, note=note))
     for nr in (8, 16, 32) if inp.quick else (8, 16, 32, 64):
         inp.step(f"stress: Morley plate, {nr} radial divisions")

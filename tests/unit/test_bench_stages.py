@@ -174,6 +174,17 @@ def test_bad_arguments_name_the_parameter(gearset, kwargs, name):
         stage_benchmark(gearset, **kwargs)
 
 
+def test_the_contact_study_names_the_product_mesh():
+    """The contact study (left out of the cheap stages above) labels its rows with the product's
+    mesh defaults: reading them from ContactCompliance.build's old keywords crashed `profilegen
+    bench` with a KeyError once they moved into ComplianceMesh."""
+    from profilegen.contact.compliance import ComplianceMesh
+    from tests.benchmarks.stages import contact_mesh_label
+
+    m = ComplianceMesh()
+    assert contact_mesh_label() == f"FEM {m.per_pitch}/{m.cs_per_pitch} col./pitch, {m.tooth_layers} layers"
+
+
 def test_stage_names_are_the_pipeline_stages(gearset):
     """Every studied stage is one the pipeline reports (its time and error estimate), except
     the deformation fit, which the rim stage does; and every such stage of a design with
