@@ -55,7 +55,8 @@ def test_below_ratio_50_new_says_the_rules_give_no_sound_set(capsys, tmp_path):
 @pytest.mark.parametrize("ratio", [51, 60, 79])
 def test_between_the_catalogue_ratios_new_says_the_ratcheting_bound_is_the_larger(ratio):
     """Ratios 51-79 have no catalogue ratcheting torque: the verdict divides by the larger of ratio 50's
-    and 80's factors, which can fail a set (ratio 60 does, sizes 25-40): the file says so before verify."""
+    and 80's factors, which can fail a set (ratio 60 passes it by 1-2 %, sizes 25-40): the file says so
+    before verify."""
     from profilegen.pipeline.design import ratcheting_overestimate
     made_set = new_gearset(32, ratio)
     assert len(made_set.notes) == 1 and "between the catalogue's ratios 50 and 80" in made_set.notes[0]
