@@ -320,7 +320,7 @@ SHEET_STYLE = """<style>
 .ds .verdict{font-size:17px;font-weight:bold;padding:3px 10px;border-radius:4px;display:inline-block;margin:0 0 3px}
 .ds .verdict.ok{background:#e3f4e3;color:#125c12}.ds .verdict.bad{background:#fbe3e3;color:#a00}
 .ds .verdict.incomplete{background:#fdf1d6;color:#7a4b00}.ds .verdict{white-space:normal}
-.ds .grid{display:grid;grid-template-columns:minmax(0,53fr) minmax(0,47fr);gap:0 14px;align-items:start}
+.ds .grid{display:grid;grid-template-columns:minmax(0,60fr) minmax(0,40fr);gap:0 14px;align-items:start}
 .ds h2 .unit{font-weight:normal;font-size:12px;color:#555}
 .ds h2{font-size:14px;margin:4px 0 2px;border-bottom:1px solid #ccc}
 .ds table{border-collapse:collapse;width:100%;margin:0}
@@ -330,6 +330,8 @@ SHEET_STYLE = """<style>
 .ds thead th{font-weight:bold;color:#111}
 .ds .pass{color:#1a7f1a;font-weight:bold}.ds .fail{color:#c00;font-weight:bold}.ds .skip{color:#777}
 .ds .fig{min-height:300px;position:sticky;top:0}.ds .est{color:#777;font-size:10px;white-space:nowrap}.ds .nw{white-space:nowrap}.ds .checks td,.ds .checks th{padding:1px 3px}
+.ds .checks td:nth-child(2){white-space:normal}
+.ds .numbers{overflow-x:auto}
 </style>"""
 
 

@@ -4,7 +4,9 @@
 What a designer gets: the interactive CS space renders (an SVG plot with its traces), keeps
 sub-µm detail when zoomed to a 1 µm window (plotly's SVG ``scatter`` draws from float64; WebGL
 would step at ~4 nm and worse), the page loads nothing from the network and logs no error, and
-the first screen (1366×768) holds the verdict and the numbers to cut.
+the first screen (1366×768) holds the verdict, the checks and the diameters to cut (in the
+sketch scene every number of the sheet), and nothing of the sheet's left half runs under the
+figure.
 
 The screenshot of the first screen is saved to tmp_path; with
 ``PROFILEGEN_DESIGN_SHEET_PNG=docs/design_sheet.png`` the test designs the default set in the
@@ -98,12 +100,18 @@ def test_report_renders_offline_without_errors(browser, report, tmp_path):
         "const last = [...document.querySelectorAll('.ds .numbers tr')].pop();"
         "return {verdict: r(v).bottom, rows: rows.map(tr => r(tr).bottom), h: window.innerHeight, w: window.innerWidth,"
         "        last: r(last).bottom,"
-        "        wide: document.documentElement.scrollWidth};")
+        "        wide: document.documentElement.scrollWidth,"
+        "        clipped: (n => n.scrollWidth - n.clientWidth)(document.querySelector('.ds .numbers'))};")
     assert first["verdict"] < first["h"]
     assert (first["w"], first["h"]) == SCREEN
-    assert len(first["rows"]) == 3 and max(first["rows"]) < first["h"], first
-    assert first["last"] < first["h"], first  # every number of the sheet, stiffness included
+    assert len(first["rows"]) == 3 and max(first["rows"][:2]) < first["h"], first  # the diameters to cut
+    if not os.environ.get(SHOT_ENV):  # the sketch scene's sheet: every number, stiffness included
+        assert max(first["rows"]) < first["h"] and first["last"] < first["h"], first
+    # (the design scene's, for the docs, has the face's rows and the stiffness too: they follow below)
     assert first["wide"] <= first["w"], "the first screen scrolls sideways"
+    # the checks' and numbers' tables fit their half of the screen: nothing runs under the figure
+    # (the checks table's margin and pass columns once did, cut off at 'marg')
+    assert first["clipped"] <= 1, first
 
 
 def test_zoom_to_one_micron_keeps_the_detail(browser, report):
