@@ -322,6 +322,16 @@ def test_a_folder_holding_user_files_is_refused_before_the_stages(tmp_path):
     assert sorted(p.name for p in out.iterdir()) == ["notes.txt"] and sorted(p.name for p in tmp_path.iterdir()) == ["mine"]
 
 
+def test_an_output_path_nothing_can_be_made_in_is_refused_before_the_stages(tmp_path):
+    """--out under a folder that takes no new file (/proc here; a read-only mount alike): one line
+    naming --out and the folder, exit 2, before any stage — it failed after all nine, naming an
+    internal lock file (found by a new user)."""
+    res = run_cli("design", "--scene", "sketch", "--out", "/proc/profilegen-x", cwd=tmp_path)
+    assert res.returncode == 2
+    (line,) = res.stderr.splitlines()
+    assert "--out" in line and "'/proc'" in line and ".lock" not in line and "[1/" not in res.stderr
+
+
 def test_ctrl_c_during_design_is_one_line_exit_130_and_no_traceback(tmp_path):
     """SIGINT to the whole process group (a terminal's Ctrl-C) while the stages run: exit 130,
     one line on stderr after the progress lines, no traceback, no output folder."""

@@ -6,7 +6,9 @@ another file that do not show its content.
 A path whose folder name is longer than a file name may be (255 bytes on the usual file systems,
 less what the staging folder's name adds beside it), or whose whole length with the files written
 in it is over the system's path limit (4096 bytes on Linux), would fail deep in the writers with
-``OSError [Errno 36] File name too long``; :func:`check_out_path` makes it one line naming the option:
+``OSError [Errno 36] File name too long``, and a path where nothing can be made (``/proc/x``, a
+read-only mount) failed only after every stage had run; :func:`check_out_path` makes each one line
+naming the option:
 
 >>> check_out_path("results/" + "x" * 300)  # doctest: +ELLIPSIS
 Traceback (most recent call last):
@@ -63,6 +65,28 @@ def check_out_path(path: str | os.PathLike, *, option: str = "--out") -> None:
         raise ExportError(f"{option}: the path is {total} bytes long (made absolute), at most {PATH_MAX - INSIDE} "
                           f"(the system's limit on a path is {PATH_MAX} bytes, less {INSIDE} for the files written in "
                           f"it); give a shorter {option}")
+    _check_writable(text, option)
+
+
+def _check_writable(text: str, option: str) -> None:
+    """The nearest folder of ``text`` that exists (the folder itself, else the first parent that
+    does) must take a new file: an anonymous one is made there and dropped, so nothing is left."""
+    import tempfile
+
+    here = os.path.abspath(text)
+    while not os.path.exists(here):
+        up = os.path.dirname(here)
+        if up == here:
+            break
+        here = up
+    if os.path.exists(here) and not os.path.isdir(here):
+        return  # a file where the folder should be: the output folder's own check names it
+    try:
+        with tempfile.TemporaryFile(dir=here):
+            pass
+    except OSError as exc:
+        raise ExportError(f"{option}: cannot write {text!r}: nothing can be made in '{here}' "
+                          f"({exc.strerror or exc}); give a folder you can write") from None
 
 
 def named_file_problem(exc: Exception, path: str | os.PathLike, what: str, command: str = "check") -> str:
