@@ -241,7 +241,7 @@ def _follow(run, ended, m: int, state, phi_start: float, phi_step: float, *, max
                                 f"φ = {pts[-1].phi_rad if pts else phi:.6g} rad")
                 return pts, bool(pts)
             warnings.append(f"no fixed point found between φ = {pts[-1].phi_rad:.6g} and {p.phi_rad:.6g} rad "
-                            f"({exc}); the path continued beyond")
+                            f"({exc}); the path continued beyond (a rotation passed over, not the estimate)")
             step, halvings = nominal, 0
         pts.append(p)
         if ended(pts):
@@ -274,7 +274,8 @@ def _refine_bracket(run, ended, pts: list, refine: int, warnings: list) -> tuple
             try:
                 q = run(base.phi_rad + j * h, s_fs, s_cs, state)
             except ConvergenceError as exc:  # skipped: the next quarter step may have one (a fixed
-                warnings.append(str(exc))  # point missed by 2e-4 mm at csf14_100's peak)
+                # point missed by 2e-4 mm at csf14_100's peak)
+                warnings.append(f"refining the peak, one rotation was passed over, the path's points kept ({exc})")
                 failed = True
                 continue
             fine.append(q)

@@ -274,6 +274,8 @@ class Ratcheting:
     ``separation_mm`` its Δr (FS side + CS ring), ``separation_fs_mm``, ``separation_cs_mm``,
     ``pressure_angle_deg`` its force-weighted α, ``valid`` (not flagged by the contact),
     ``flags`` (the contact's reason, or None). ``catalogue``: {"torque_nm", "source"} or None.
+    ``diagnostics``: what the linear diagnostics say when the climb gives the estimate (not
+    warnings of the estimate; with no climb, or a climb that met no criterion, they are warnings).
     """
 
     torque_nm: float
@@ -303,6 +305,7 @@ class Ratcheting:
     mean_separation_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
     torque_linear_nm: float | None = None
     climb: dict | None = None
+    diagnostics: tuple[str, ...] = field(default=())
 
     def __post_init__(self):
         for name in ("torques_nm", "tooth_phi_deg", "depth_mm", "separation_mm", "separation_fs_mm",
@@ -367,6 +370,7 @@ class Ratcheting:
             "estimates": list(self.estimates),
             "time_s": self.time_s,
             "warnings": list(self.warnings),
+            "diagnostics": list(self.diagnostics),
         })
 
 
@@ -616,9 +620,12 @@ def ratcheting_torque(design, *, catalogue: dict | None = CATALOGUE_RATCHETING,
     torque, extrapolated, exponent, fitted, proportional = _criterion(torques, mean_h, mean_sep, valid, warnings)
     linear = float(torque)
     climb_info = None
+    diagnostics: list[str] = []
     if o.climb:
-        # the climb gives the estimate: the linear criterion's words are its diagnostics, not the estimate
-        warnings[:] = [f"linear diagnostics (torque_linear_nm, not the estimate): {w}" for w in warnings]
+        # the climb gives the estimate: the linear criterion's words are its diagnostics (kept in
+        # ``diagnostics``, not among the estimate's warnings), unless the climb meets no criterion
+        diagnostics = [f"linear diagnostics (torque_linear_nm, not the estimate): {w}" for w in warnings]
+        warnings.clear()
         torque, extrapolated, climb_info = _climb(inputs, gs, side=o.side, bearing=bearing, cs_ring=o.cs_ring,
                                                   race_thickness_mm=o.race_thickness_mm, stations=o.climb_stations,
                                                   max_gap_mm=o.climb_max_gap_mm, linear=linear,
@@ -628,6 +635,9 @@ def ratcheting_torque(design, *, catalogue: dict | None = CATALOGUE_RATCHETING,
                                                   corner_normal=corner_normal, ball_supports=o.climb_ball_supports,
                                                   positions=positions, friction=friction,
                                                   sliding=o.climb_sliding)
+    if climb_info is not None and climb_info["criterion"] == "none":  # the linear estimate stands: its words too
+        warnings[:0] = diagnostics
+        diagnostics = []
     cat = None if catalogue is None else dict(catalogue)
     if cat is None:
         warnings.append("no catalogue ratcheting torque with a source: the comparison is left out")
@@ -638,7 +648,7 @@ def ratcheting_torque(design, *, catalogue: dict | None = CATALOGUE_RATCHETING,
     return Ratcheting(float(torque), model, criterion, torques, tooth_k, phi_k, h, sep, sep_fs, sep_cs, alpha, valid,
                       tuple(flags), extrapolated, exponent, rated, cat, parts, tuple(estimates),
                       time.perf_counter() - t0, tuple(dict.fromkeys(warnings)), fitted, proportional, mean_h, mean_sep,
-                      linear, climb_info)
+                      linear, climb_info, tuple(diagnostics))
 
 
 def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, max_gap_mm, linear, max_torque_nm,

@@ -45,6 +45,17 @@ def test_similar_gears_climb_on_the_same_teeth_and_torque_over_size_cubed(simila
     assert per_cube[58] / per_cube[14] == pytest.approx(1.0, abs=0.05)
 
 
+def test_the_linear_diagnostics_are_not_the_estimates_warnings(similar):
+    """With the climb giving the estimate, what the linear diagnostics say (an estimate of their
+    own, extrapolated) is kept apart: a user read it among the verify run's notes as the estimate."""
+    for s in SIZES:
+        r = similar[s][2]
+        assert r.climb["criterion"] != "none"
+        assert not [w for w in r.warnings if "linear diagnostics" in w]
+        assert all(w.startswith("linear diagnostics") for w in r.diagnostics)
+        assert r.to_dict()["diagnostics"] == list(r.diagnostics)
+
+
 def test_a_cut_the_path_turns_beyond_is_said(similar):
     """A fifth of a module: the limit point turns the stations farther than that (φ·r ≈ 0.5 m)."""
     d, m, product = similar[58]
