@@ -1070,6 +1070,7 @@ def whole_gear_curve(design, contact=None, *, count: int = 12, catalogue: dict |
         "design_section_z_mm": spec.design_z_mm,
         "taper_um_per_mm": None if mod is None else float(mod.taper_mm_per_mm) * 1e3,
         "crowning_um": None if mod is None else float(mod.crowning_mm) * 1e3,
+        "shift_um_per_mm": None if mod is None else float(getattr(mod, "shift_mm_per_mm", 0.0)) * 1e3,
         "model": ("axial slices graded toward the design section, each with the 3D cup's coning and the face stage's "
                   "tooth modification, sharing the rotation; the FS rim's far field (and the balls' seats) coupled "
                   "along the face over the rim's shell decay length, the teeth's and contacts' local compliance and "

@@ -411,11 +411,15 @@ class FaceSlices:
         play = first[1] + first[-1]
         if np.any(play < 0.0):
             i = int(np.argmin(play))
+            g = inputs.gearset.gear
+            um = -play[i] * 0.5 * float(g.module_mm) * int(g.flexspline_teeth) * 1e3  # at the pitch circle
+            why = ("the teeth interfere there (a tooth modification along the face is needed)" if self.modification is None
+                   else "the face stage's modification clears its own sections and poses within its tolerance, the "
+                        "slices' stations see this much more")
             warnings.append(f"across the face ({self.slices} slices, {self.coning} coning): the two flanks overlap "
                             f"at no load in {int(np.count_nonzero(play < 0.0))} slice(s), most at z = {z[i]:.4g} mm "
-                            f"({play[i] * 180.0 * 60.0 / math.pi:.3g} arcmin): the teeth interfere there (a tooth "
-                            "modification along the face is needed); the one-flank curve counts the overlap as "
-                            "rotation, where both flanks would be preloaded")
+                            f"({play[i] * 180.0 * 60.0 / math.pi:.3g} arcmin, {um:.2g} µm at the pitch circle): {why}; "
+                            "the one-flank curve counts the overlap as rotation, where both flanks would be preloaded")
         return out, tuple(warnings)
 
 

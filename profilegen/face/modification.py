@@ -60,7 +60,8 @@ from .sections import FaceError, cup_deformation, ring_span
 if TYPE_CHECKING:  # pragma: no cover
     from .stage import FaceWidth
 
-__all__ = ["ToothModification", "apply_modification", "modified_tooth", "radial_shift", "solve_modification",
+__all__ = ["ToothModification", "apply_modification", "modification_words", "modified_tooth", "radial_shift",
+           "solve_modification",
            "thickness_change"]
 
 #: the finite-difference step of the first sensitivity (mm of tooth thickness): thinner, the way
@@ -118,6 +119,14 @@ def modified_tooth(gearset, thickness_change_mm: float, radial_shift_mm: float =
     return tooth_from_gearset(_GearSetView(gearset, _ToothFields(t, h), gear))
 
 
+def modification_words(taper_mm_per_mm: float, crowning_mm: float, shift_mm_per_mm: float = 0.0) -> str:
+    """'taper T µm/mm, crowning C µm' and, when the tooth is shifted, 'radial shift S µm/mm (a conical FS)'."""
+    text = f"taper {taper_mm_per_mm * 1e3:.3g} µm/mm, crowning {crowning_mm * 1e3:.3g} µm"
+    if shift_mm_per_mm:
+        text += f", radial shift {shift_mm_per_mm * 1e3:.4g} µm/mm (a conical FS)"
+    return text
+
+
 def radial_shift(z_mm, *, shift_mm_per_mm: float, design_z_mm: float) -> np.ndarray:
     """Δy(z) = shift · (z − z_d) of the module docstring (mm, > 0 away from the gear centre)."""
     return shift_mm_per_mm * (np.asarray(z_mm, dtype=float) - design_z_mm)
@@ -165,6 +174,12 @@ class ToothModification:
     @property
     def max_interference_mm(self) -> float:
         return float(max(0.0, -min(r.min_clearance_mm for r in self.table)))
+
+    @property
+    def words(self) -> str:
+        """The modification in a few words, the radial shift named when there is one (figures'
+        titles, the report): 'taper 0 µm/mm, crowning 0 µm' alone hid a conical FS."""
+        return modification_words(self.taper_mm_per_mm, self.crowning_mm, self.shift_mm_per_mm)
 
     @property
     def max_backlash_mm(self) -> float:
@@ -299,7 +314,7 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
     method = ("minimax LP (scipy HiGHS): the least largest backlash over the sections' engaged poses, no "
               "interference at any pose of any section; clearances linear in the thickness change, recomputed "
               "after each step (secant sensitivities)")
-    done, best = 0, None
+    done, best, lp_failed = 0, None, ""
     for it in range(1, iterations + 1):
         rows_ub, rhs_ub = [], []
         for k in range(z.size):
@@ -315,7 +330,7 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
         lp = linprog(cost, A_ub=np.vstack(rows_ub), b_ub=np.concatenate(rhs_ub),
                      bounds=[(-0.01, 0.01)] + ([(-0.1, 0.1)] if crowning else []) + [(None, None)], method="highs")
         if lp.status != 0:
-            warnings.append(f"tooth modification: the LP failed ({lp.message}); the last step is kept")
+            lp_failed = f"the LP failed at step {it} ({lp.message})"
             break
         taper, crown = float(lp.x[0]), (float(lp.x[1]) if crowning else 0.0)
         predicted = float(lp.x[-1])
@@ -338,18 +353,20 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
     if best is None:
         found = _search_on_maps(gearset, face, a, c if crowning else None, cache=cache)
         if found is not None:
-            warnings.append(f"tooth modification: the LP found no interference-free step ({done} steps: the "
-                            "clearance is not linear in the thickness there); a search (regula falsi) on the exact maps "
-                            "along the taper or the crowning found one")
+            warnings.append(f"tooth modification: the LP found no interference-free step ({lp_failed or f'{done} steps'}: "
+                            "the clearance is not linear in the thickness there); a search (regula falsi) on the exact "
+                            "maps along the taper or the crowning found one")
             method += "; fallback: regula falsi on the exact maps along the taper, then the crowning"
         else:
             found = _search_on_maps(gearset, face, a, None, cache=cache, shift=True)
             if found is None:
-                warnings.append(f"tooth modification: still interfering after {done} LP steps and the search along "
-                                "the taper and crowning and along the radial shift")
+                warnings.append(f"tooth modification: still interfering after {done} LP steps"
+                                f"{f' ({lp_failed})' if lp_failed else ''} and the search along the taper and "
+                                "crowning and along the radial shift")
             else:
-                warnings.append(f"tooth modification: no thickness taper or crowning clears the face ({done} LP steps "
-                                "and the search along them); the FS tooth is shifted radially along the face (a conical "
+                warnings.append(f"tooth modification: no thickness taper or crowning clears the face "
+                                f"({lp_failed or f'{done} LP steps'}, and the search along them); the FS tooth is "
+                                "shifted radially along the face (a conical "
                                 f"FS: {found[5] * 1e3:.3g} µm/mm, {np.min(found[6]) * 1e3:.3g} … "
                                 f"{np.max(found[6]) * 1e3:.3g} µm over the face, > 0 outward)")
                 method += ("; fallback: regula falsi on the exact maps along the taper, then the crowning, then the "
@@ -359,6 +376,8 @@ def solve_modification(gearset, deformation, face: FaceWidth, *, crowning: bool 
             predicted = None
     else:
         _, taper, crown, ds, secs, predicted = best
+        if lp_failed:
+            warnings.append(f"tooth modification: {lp_failed}; the best interference-free step before it is kept")
     return _finish(gearset, face, secs, ds, taper, crown, "computed", method, done, predicted, start, warnings, cache,
                    shift, dy)
 

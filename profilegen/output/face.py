@@ -33,7 +33,7 @@ def face_png_job(design):
              f"{face.design_section_z_mm:g} mm), {len(face.sections)} sections")
     return face_png, (face.z_mm, face.phi_rad, face.clearance_mm, face.design_section_z_mm,
                       None if mod is None else mod.clearance_mm,
-                      None if mod is None else (mod.taper_mm_per_mm, mod.crowning_mm), title,
+                      None if mod is None else mod.words, title,
                       face.interference_tol_mm)
 
 
@@ -49,8 +49,10 @@ def face_png(z_mm, phi_rad, clearance_mm, design_z_mm: float, modified_mm=None, 
 
     maps = [("unmodified FS teeth", np.asarray(clearance_mm))]
     if modified_mm is not None:
-        taper, crown = modification
-        maps.append((f"modified: taper {taper * 1e3:.3g} µm/mm, crowning {crown * 1e3:.3g} µm", np.asarray(modified_mm)))
+        if not isinstance(modification, str):  # (taper, crowning[, shift]) in mm
+            from ..face.modification import modification_words
+            modification = modification_words(*modification)
+        maps.append((f"modified: {modification}", np.asarray(modified_mm)))
     fig, axes = fixed_figure((6.4 * len(maps), 4.2), 1, len(maps), left=0.8, right=1.0, bottom=0.6, top=0.6,
                              wgap=0.6, squeeze=False)
     z = np.asarray(z_mm, float)
@@ -133,6 +135,16 @@ def _limit(mod) -> str:
             f"{worst.min_clearance_mm * 1e3:.2g} µm of the CS.")
 
 
+def _shift_words(mod) -> str:
+    """The radial shift in the report's sentence, when the tooth is shifted (a conical FS)."""
+    if not mod.shift_mm_per_mm:
+        return ""
+    dy = np.asarray(mod.radial_shift_mm) * 1e3
+    return (f"; and the whole tooth, tip and root circles, is <b>shifted radially by {mod.shift_mm_per_mm * 1e3:.4g} µm "
+            f"per mm</b> along the face, zero at the design section ({dy.min():.3g} … {dy.max():.3g} µm over the face, "
+            "> 0 outward: a conical FS, in the \"To cut\" table)")
+
+
 def face_section_html(design, png_uri: str | None = None) -> str:
     """The report section "Across the face width", in plain words, or "" without a face."""
     face = getattr(design, "face", None)
@@ -142,8 +154,14 @@ def face_section_html(design, png_uri: str | None = None) -> str:
     lo, hi = face.z_mm[0], face.z_mm[-1]
     eng = face.phi_rad[face.engaged]
     engaged = (f"{math.degrees(eng[0]):.1f}° to {math.degrees(eng[-1]):.1f}°" if eng.size else "nowhere")
-    choice = ("chosen as the section whose one CS profile is interference-free at every section with the least "
-              "largest backlash" if face.design_choice == "auto" else "as the gear set's [face] design_section_z_mm says")
+    if face.design_choice != "auto":
+        choice = "as the gear set's [face] design_section_z_mm says"
+    elif face.max_interference_mm > face.interference_tol_mm:
+        choice = ("the section of deepest engagement: no section's one CS profile is interference-free at every section "
+                  "with the teeth unmodified, so the tooth modification below clears the face")
+    else:
+        choice = ("chosen as the section whose one CS profile is interference-free at every section with the least "
+                  "largest backlash")
     if mod is None:
         modtext = "<p>No tooth modification was asked for.</p>"
     else:
@@ -151,7 +169,7 @@ def face_section_html(design, png_uri: str | None = None) -> str:
         modtext = f"""<p>The flexspline teeth are then modified along the face ({how}): their thickness on the pitch line
 changes by Δs(z) = taper·(z − z_d) − crowning·(u² − u_d²), u = (z − z_mid)/(b/2), zero at the design section, with
 <b>taper {mod.taper_mm_per_mm * 1e3:.3g} µm per mm</b> and <b>crowning {mod.crowning_mm * 1e3:.3g} µm</b>
-(the face ends that much thinner than the mid-face). {html.escape(mod.method[:1].upper() + mod.method[1:])}.
+(the face ends that much thinner than the mid-face){_shift_words(mod)}. {html.escape(mod.method[:1].upper() + mod.method[1:])}.
 With it the largest interference over the face is {mod.max_interference_mm * 1e3:.3g} µm and the largest
 backlash {mod.max_backlash_mm * 1e3:.2f} µm (without: {face.max_interference_mm * 1e3:.3g} µm and
 {face.max_backlash_mm * 1e3:.2f} µm). {_limit(mod)} Each section's modified tooth is a DXF: <code>face_tooth_01.dxf</code>

@@ -500,7 +500,8 @@ def _torsional_section(design, png: bytes | None = None) -> str:
         ratios = one.get("model_over_catalogue") or {}
         mod = ("straight FS teeth" if face.get("taper_um_per_mm") is None else
                f"the FS teeth modified as made (taper {face['taper_um_per_mm']:.3g} µm/mm, "
-               f"crowning {face['crowning_um']:.3g} µm)")
+               f"crowning {face['crowning_um']:.3g} µm"
+               + (f", radial shift {face['shift_um_per_mm']:.4g} µm/mm" if face.get("shift_um_per_mm") else "") + ")")
         across = (f"<p>Across the face: the curve is solved as {face['slices']} axial slices sharing the rotation, "
                   f"nodes on both face ends, each with the 3D cup's coning (the CS cut at z = "
                   f"{face['design_section_z_mm']:g} mm) and {html.escape(mod)}; the slices are independent, the soft "
