@@ -442,6 +442,9 @@ def _cmd_bench(args) -> int:
 def _parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(prog="profilegen", description="Conjugate tooth profiles for strain wave gears.")
     p.add_argument("-v", "--verbose", action="store_true", help="log what each stage does")
+    from . import __version__
+
+    p.add_argument("--version", action="version", version=f"profilegen {__version__}")
     sub = p.add_subparsers(dest="command", required=True)
     d = sub.add_parser("design", help="run the pipeline on a gear set and write export/<name>/")
     d.add_argument("gearset", nargs="?", help="a gear-set TOML file or a bundled name (default: the bundled default set)")

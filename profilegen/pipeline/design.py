@@ -307,6 +307,10 @@ class Verdict:
             text += f" — not modelled: {', '.join(self.not_modelled)}"
         return text
 
+    def __str__(self) -> str:
+        """``print(design.verdict)``: its one :attr:`line`, as the CLI prints it."""
+        return self.line
+
     def to_dict(self) -> dict:
         return {"status": self.status, "passed": self.passed, "line": self.line, "failures": list(self.failures),
                 "not_checked": list(self.not_checked), "not_modelled": list(self.not_modelled),
