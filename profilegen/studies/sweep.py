@@ -610,6 +610,10 @@ def init_worker() -> None:
 
     threadpool_limits(1)
     clear_cache()  # a forked worker starts without its parent's remembered fits
+    # a stage's warning is the point's (its design's warnings, the table's `warnings` column); logged
+    # here it reached the terminal with no handler but Python's last resort, a line with no point
+    # named — an optimisation printed 136 of them
+    logging.getLogger("profilegen").setLevel(logging.ERROR)
     # a worker whose sweep was killed (kill -9: no shutdown) would wait for work forever
     parent = os.getppid()
 

@@ -343,3 +343,19 @@ def test_a_design_that_raises_is_recorded_with_its_type(tmp_path):
         res = run_sweep(spec, tmp_path / "s", executor=ex, designer=flaky, figure=False)
     assert [r["status"] for r in res.rows] == ["ok", "error"]
     assert res.rows[1]["error_type"] == "GearSetError" and "tooth.addendum_mm" in res.rows[1]["error_message"]
+
+
+def test_a_workers_stage_warning_is_the_points_not_an_unnamed_line():
+    """In a study's worker a stage's logged warning (kept in the point's design warnings and the
+    table's `warnings` column) printed through the command line's handler, which a forked worker
+    inherits, as a line naming no point (136 of them in one optimisation); an error still prints."""
+    import subprocess
+    import sys
+
+    code = ("import logging; logging.basicConfig(level=logging.WARNING); "  # the CLI's, inherited by a forked worker
+            "from profilegen.studies.sweep import init_worker; init_worker(); "
+            "logging.getLogger('profilegen.profile.rootfillet').warning('kept sharp'); "
+            "logging.getLogger('profilegen.profile.rootfillet').error('broken')")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+    assert "kept sharp" not in res.stderr and "broken" in res.stderr
