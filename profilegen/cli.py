@@ -345,9 +345,7 @@ def _cmd_check(args) -> int:
             print(f"{where}: derived: {format_derived(gs)}")
             for note in gs.warnings:
                 print(f"{where}: note: {note}")
-            from .stress.stage import missing_strength_limits
-
-            missing = missing_strength_limits(gs.material)
+            missing = gs.material.missing_strength_limits
             if missing:
                 print(f"{where}: note: no {', '.join('material.' + m for m in missing)}: `profilegen design` will "
                       "leave the strength checks that need them NOT CHECKED and its verdict INCOMPLETE (give them in "

@@ -315,12 +315,23 @@ class WaveGenerator:
 class Material:
     """Flexspline material (linear elastic) and optional strength limits (MPa)."""
 
+    #: the strength limits the yield checks and the fatigue checks need (the stress stage's)
+    YIELD_LIMITS: ClassVar[tuple[str, ...]] = ("yield_strength_mpa",)
+    FATIGUE_LIMITS: ClassVar[tuple[str, ...]] = ("bending_endurance_limit_mpa", "shear_endurance_limit_mpa",
+                                                 "ultimate_strength_mpa")
+
     youngs_modulus_mpa: float
     poisson_ratio: float
     yield_strength_mpa: float | None = None
     ultimate_strength_mpa: float | None = None
     bending_endurance_limit_mpa: float | None = None
     shear_endurance_limit_mpa: float | None = None
+
+    @property
+    def missing_strength_limits(self) -> tuple[str, ...]:
+        """The limits the stress stage's checks need and this material does not give: each missing
+        one leaves its checks NOT CHECKED and the verdict INCOMPLETE."""
+        return tuple(k for k in (*self.YIELD_LIMITS, *self.FATIGUE_LIMITS) if getattr(self, k) is None)
 
     @property
     def shear_modulus_mpa(self) -> float:

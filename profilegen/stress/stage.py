@@ -223,20 +223,8 @@ def root_thickness_mm(tooth, fillet_radius_mm: float) -> float:
     return float(2.0 * abs(p[k - 1, 0] + u * (p[k, 0] - p[k - 1, 0])))
 
 
-#: the material's strength limits the yield checks and the fatigue checks need (MPa)
-YIELD_LIMITS = ("yield_strength_mpa",)
-FATIGUE_LIMITS = ("bending_endurance_limit_mpa", "shear_endurance_limit_mpa", "ultimate_strength_mpa")
-
-
-def missing_strength_limits(material) -> tuple[str, ...]:
-    """The ``material`` fields the stress stage's checks need and the gear set does not give (the
-    yield checks: :data:`YIELD_LIMITS`, the fatigue checks: :data:`FATIGUE_LIMITS`): each missing
-    one makes its checks NOT CHECKED and the verdict INCOMPLETE."""
-    return tuple(k for k in (*YIELD_LIMITS, *FATIGUE_LIMITS) if getattr(material, k) is None)
-
-
 def _limits(material, fatigue: bool | None) -> tuple[bool, list[str]]:
-    missing = [k for k in missing_strength_limits(material) if k in FATIGUE_LIMITS]
+    missing = [k for k in material.missing_strength_limits if k in material.FATIGUE_LIMITS]
     if fatigue and missing:
         raise StressError(f"material.{missing[0]}: missing, and the fatigue checks need it (give "
                           f"{', '.join('material.' + m for m in missing)} in MPa, or pass fatigue=False)")
