@@ -87,7 +87,8 @@ CATALOGUE_RATCHETING = None
 #: (φ ≈ 5.6-6.7 mrad, r ≈ 100 m at ratio 100), so a tooth farther than that cannot touch before it.
 #: An absolute 0.15 mm (before) took every such tooth at size 14 (0.84 m) and left out those
 #: beyond 0.20 m at size 58, whose estimate rose 40 % with them (20448 -> 28594 N·m; 28593 at
-#: 1.2 m): the cut must scale with the gear. A path that turns farther is said (``_climb``).
+#: 1.2 m; ``tests/benchmarks/ratcheting.py --verify --gaps``): the cut must scale with the gear. A
+#: path that turns farther is said (``_climb``).
 CLIMB_GAP_PER_MODULE = 1.0
 
 

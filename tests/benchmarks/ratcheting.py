@@ -1,6 +1,7 @@
 """Ratcheting torque estimate (issue 16 item 4) and its bad inputs.
 
-    python tests/benchmarks/ratcheting.py --verify [sets]   (the verify scene's estimate and the climb's path)
+    python tests/benchmarks/ratcheting.py --verify [--gaps 0.2,0.5,0.84,1.2] [sets]   (the verify scene's
+        estimate and the climb's path; --gaps: again with the climb's teeth cut at each gap, in modules)
     python tests/benchmarks/ratcheting.py [--climb-only] [--ring-scale 2,4,8] [--shift 0.25,0.5,0.75]
         [--positions 8] [--face 2,4] [--parts] [--perturb 1,-1,100,-100]
         [--friction 0,0.05,0.1,0.15 [--sliding static,forward,backward] [--friction-only]] [profiles/...]
@@ -479,6 +480,13 @@ def verify_run(path: Path) -> None:
     for w in r.warnings:
         if w.startswith("climb"):
             print(f"  {w}")
+    m = float(gs.gear.module_mm)
+    for g in ARGS.get("gaps") or ():  # the climb's teeth cut at g modules (the product's: CLIMB_GAP_PER_MODULE)
+        t2 = time.perf_counter()
+        rg = ratcheting_torque(inputs, options={"climb_max_gap_mm": g * m})
+        cg = rg.climb
+        print(f"  teeth within {g:g} m = {g * m:.3f} mm: {rg.torque_nm:.1f} N·m ({cg['criterion']}), {cg['teeth']} teeth, "
+              f"{cg['points']} stations, {time.perf_counter() - t2:.1f} s")
 
 
 def main() -> None:
@@ -507,6 +515,9 @@ def main() -> None:
     ap.add_argument("--positions-sliding", default="forward-elastic", help="the sliding sense for --positions")
     ap.add_argument("--verify", action="store_true",
                     help="only the verify scene's estimate with the climb's path, as the pipeline calls it")
+    ap.add_argument("--gaps", type=floats, default=[],
+                    help="with --verify: the climb again on the teeth within each of these gaps (in modules), e.g. "
+                         "0.2,0.5,0.84,1.2 (the product's: ratchet.CLIMB_GAP_PER_MODULE)")
     args = ap.parse_args()
     ARGS.update({k: v for k, v in vars(args).items() if k != "sets"})
     for path in args.sets or SETS:
