@@ -695,11 +695,12 @@ def _climb(inputs, gs, *, side, bearing, cs_ring, race_thickness_mm, stations, m
     path, model, shift_rad = min(ok or runs, key=lambda r: r[0].torque_nm if math.isfinite(r[0].torque_nm) else math.inf)
     warnings += [f"climb: {w}" for w in getattr(model, "notes", ())]
     warnings += [w if w.startswith("climb") else f"climb: {w}" for w in path.warnings]
-    points = getattr(model, "points", None)
-    if points is not None and math.isfinite(path.phi_rad) and path.phi_rad * float(np.max(points.lever_mm)) >= max_gap_mm:
-        warnings.append(f"climb: at its end the FS has turned {path.phi_rad * float(np.max(points.lever_mm)) * 1e3:.0f} "
-                        f"µm at its stations, beyond the {max_gap_mm * 1e3:.0f} µm gap within which its teeth were "
-                        "taken: a tooth left out could have touched (raise climb_max_gap_mm)")
+    points = getattr(model, "points", None)  # (a study's duck-typed model may have none)
+    reach = path.phi_rad * float(np.max(points.lever_mm)) if points is not None else math.nan
+    if reach >= max_gap_mm:  # NaN (no points, no limit point) compares False
+        warnings.append(f"climb: at its end the FS has turned {reach * 1e3:.0f} µm at its stations, beyond the "
+                        f"{max_gap_mm * 1e3:.0f} µm gap within which its teeth were taken: a tooth left out could "
+                        "have touched (raise climb_max_gap_mm)")
     info = {"criterion": path.criterion, "torque_nm": path.torque_nm, "phi_rad": path.phi_rad,
             "max_torque_nm": max_torque_nm, "stations_per_tooth": stations, "max_gap_mm": max_gap_mm,
             "points": model.n, "teeth": int(model.teeth.size), "ring_scale": ring_scale, "shift_rad": shift_rad,

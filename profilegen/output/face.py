@@ -42,16 +42,14 @@ def face_png(z_mm, phi_rad, clearance_mm, design_z_mm: float, modified_mm=None, 
     """The map z × φ, colour = clearance (µm, the scale stopping at SCALE_UM), interference (< 0)
     in red; where a section interferes by more than ``tol_mm`` (the envelope's chord: below it
     is the polyline's noise), the −tol contour and a cross with the depth at its deepest pose.
-    The design section dashed. A second panel with the modified teeth when given."""
+    The design section dashed. A second panel with the modified teeth when given, titled by
+    ``modification`` (its words: :attr:`profilegen.face.modification.ToothModification.words`)."""
     from matplotlib.colors import TwoSlopeNorm
 
     from .plot import fixed_figure, png_bytes
 
     maps = [("unmodified FS teeth", np.asarray(clearance_mm))]
     if modified_mm is not None:
-        if not isinstance(modification, str):  # (taper, crowning[, shift]) in mm
-            from ..face.modification import modification_words
-            modification = modification_words(*modification)
         maps.append((f"modified: {modification}", np.asarray(modified_mm)))
     fig, axes = fixed_figure((6.4 * len(maps), 4.2), 1, len(maps), left=0.8, right=1.0, bottom=0.6, top=0.6,
                              wgap=0.6, squeeze=False)

@@ -416,7 +416,7 @@ MUTANTS: tuple[Mutant, ...] = (
            "max_gap_mm = CLIMB_GAP_PER_MODULE * float(gs.gear.module_mm)", "max_gap_mm = 0.15",
            (U + "test_climb_similarity.py",), "the climb's teeth cut at an absolute gap: similar gears climb on different teeth"),
     Mutant("climb-reach-unsaid", "profilegen/contact/ratchet.py",
-           "path.phi_rad * float(np.max(points.lever_mm)) >= max_gap_mm:", "path.phi_rad * float(np.max(points.lever_mm)) >= 9e9:",
+           "if reach >= max_gap_mm:", "if reach >= 9e9:",
            (U + "test_climb_similarity.py",), "a path that turns its stations beyond the teeth's cut, unsaid"),
     Mutant("face-touch-refined", "profilegen/face/clearance.py",
            "if 0 < i < c.size - 1 and c[i] < -TOUCH_MM:", "if 0 < i < c.size - 1:",
